@@ -1,0 +1,91 @@
+// sitlnet common: errors, time units and small network value types shared by
+// every module. One public header per module; this is the one for common/.
+#ifndef SITLNET_COMMON_COMMON_H_
+#define SITLNET_COMMON_COMMON_H_
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace sitlnet {
+
+//---------------------------------- Errors ----------------------------------
+
+// Bad input or a failed system operation. what() is one line that names the
+// place (file:line:col, robot, device) and the rule or the system error.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Always-on invariant check for bugs (not for bad input): prints the condition
+// and aborts, as Drake's DRAKE_DEMAND does.
+[[noreturn]] void DemandFailed(const char* condition, const char* file, int line);
+#define SITLNET_DEMAND(condition)                                   \
+  do {                                                              \
+    if (!(condition)) {                                             \
+      ::sitlnet::DemandFailed(#condition, __FILE__, __LINE__);      \
+    }                                                               \
+  } while (0)
+
+// "<what>: <strerror(err)>", iproute2 style.
+std::string SystemErrorMessage(std::string_view what, int err);
+
+//----------------------------------- Time -----------------------------------
+
+// Virtual and wall time are integer nanoseconds everywhere.
+using TimeNs = int64_t;
+inline constexpr TimeNs kNsPerUs = 1000;
+inline constexpr TimeNs kNsPerMs = 1000 * kNsPerUs;
+inline constexpr TimeNs kNsPerS = 1000 * kNsPerMs;
+
+// CLOCK_MONOTONIC in nanoseconds.
+TimeNs MonotonicNowNs();
+
+//---------------------------- Network value types ---------------------------
+
+// An IPv4 address in host byte order.
+struct Ipv4 {
+  uint32_t host_order = 0;
+  friend bool operator==(Ipv4, Ipv4) = default;
+  friend auto operator<=>(Ipv4, Ipv4) = default;
+};
+
+// Parses a dotted quad; nullopt if malformed.
+std::optional<Ipv4> ParseIpv4(std::string_view text);
+std::string FormatIpv4(Ipv4 address);
+
+// An IPv4 prefix, e.g. 10.77.0.0/24. The address is normalized to the network.
+struct Ipv4Prefix {
+  Ipv4 network;
+  int length = 0;
+  uint32_t Mask() const { return length == 0 ? 0 : ~uint32_t{0} << (32 - length); }
+  bool Contains(Ipv4 address) const {
+    return (address.host_order & Mask()) == network.host_order;
+  }
+  bool Overlaps(const Ipv4Prefix& other) const;
+  Ipv4 Broadcast() const { return Ipv4{network.host_order | ~Mask()}; }
+  // Number of addresses in the prefix (2^(32-length)).
+  uint64_t Size() const { return uint64_t{1} << (32 - length); }
+};
+
+// Parses "a.b.c.d/len"; nullopt if malformed or if host bits are set.
+std::optional<Ipv4Prefix> ParseIpv4Prefix(std::string_view text);
+std::string FormatIpv4Prefix(const Ipv4Prefix& prefix);
+
+// A 48-bit Ethernet/802.11 MAC address.
+struct MacAddress {
+  std::array<uint8_t, 6> bytes{};
+  friend bool operator==(const MacAddress&, const MacAddress&) = default;
+  bool IsGroup() const { return (bytes[0] & 0x01) != 0; }  // broadcast/multicast
+};
+std::string FormatMac(const MacAddress& mac);
+// The locally administered MAC of robot `index`: 02:00:00:00:hi:lo.
+MacAddress RobotMac(int index);
+
+}  // namespace sitlnet
+
+#endif  // SITLNET_COMMON_COMMON_H_

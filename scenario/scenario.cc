@@ -1,0 +1,83 @@
+// Loading: text -> proto spec (with source locations) -> validated Scenario.
+#include "scenario/scenario.h"
+
+#include <google/protobuf/io/tokenizer.h>
+#include <google/protobuf/text_format.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "scenario/source_locator.h"
+#include "scenario/validation.h"
+
+namespace sitlnet {
+namespace {
+
+using scenario_internal::SourceLocator;
+
+// Collects the first protobuf parse error as "source:line:col: message".
+class FirstErrorCollector : public google::protobuf::io::ErrorCollector {
+ public:
+  explicit FirstErrorCollector(std::string source_name) : source_name_(std::move(source_name)) {}
+  void AddError(int line, int column, const std::string& message) override {
+    if (!first_.empty()) return;
+    first_ = source_name_ + ":" + std::to_string(line + 1) + ":" + std::to_string(column + 1) +
+             ": " + message;
+  }
+  const std::string& first() const { return first_; }
+
+ private:
+  std::string source_name_;
+  std::string first_;
+};
+
+}  // namespace
+
+int Scenario::RobotIndex(std::string_view robot_name) const {
+  for (const RobotPlan& robot : robots) {
+    if (robot.name == robot_name) return robot.index;
+  }
+  return -1;
+}
+
+Scenario LoadScenarioText(std::string_view text, const std::string& source_name) {
+  Scenario scenario;
+  scenario.source_path = source_name;
+  SourceLocator locator(source_name, proto::Scenario::descriptor());
+  FirstErrorCollector errors(source_name);
+  google::protobuf::TextFormat::Parser parser;
+  parser.RecordErrorsTo(&errors);
+  parser.WriteLocationsTo(locator.tree());
+  if (!parser.ParseFromString(std::string(text), &scenario.spec)) {
+    throw Error(errors.first().empty() ? source_name + ": cannot parse scenario" : errors.first());
+  }
+  scenario_internal::ValidateAndDerive(locator, &scenario);
+  return scenario;
+}
+
+Scenario LoadScenarioFile(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) throw Error(SystemErrorMessage("open scenario \"" + path + "\"", errno));
+  std::ostringstream text;
+  text << file.rdbuf();
+  return LoadScenarioText(text.str(), path);
+}
+
+void CheckAddressPlanAgainstRoutes(const Scenario& scenario,
+                                   const std::vector<HostRoute>& host_routes) {
+  const std::pair<const char*, Ipv4Prefix> ours[] = {{"wlan_subnet", scenario.wlan_subnet},
+                                                     {"ctl_subnet", scenario.ctl_subnet}};
+  for (const auto& [field, prefix] : ours) {
+    for (const HostRoute& route : host_routes) {
+      if (route.destination.length == 0) continue;
+      if (prefix.Overlaps(route.destination)) {
+        throw Error(scenario.source_path + ": addresses." + field + " " +
+                    FormatIpv4Prefix(prefix) + " overlaps host route " +
+                    FormatIpv4Prefix(route.destination) + " dev " + route.device +
+                    "; choose another subnet");
+      }
+    }
+  }
+}
+
+}  // namespace sitlnet

@@ -1,0 +1,81 @@
+// sitlnet scenario: parse a .textproto scenario file into a validated,
+// immutable Scenario (MuJoCo's spec -> model step). Every module reads its
+// configuration from here; field meanings and defaults are in docs/scenario.md.
+#ifndef SITLNET_SCENARIO_SCENARIO_H_
+#define SITLNET_SCENARIO_SCENARIO_H_
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "common/common.h"
+#include "sitlnet/scenario.pb.h"
+
+namespace sitlnet {
+
+//------------------------------- Derived plan -------------------------------
+
+// Per-robot facts derived from the scenario at load time.
+struct RobotPlan {
+  int index = 0;                 // Position in the scenario's robot list, from 0.
+  std::string name;              // As written in the scenario.
+  std::string netns;             // "<scenario>-<robot>", an `ip netns` name.
+  std::string root_veth;         // Root-namespace end of ctl0: "<scenario>-c<index>".
+  MacAddress wlan_mac;           // RobotMac(index).
+  Ipv4 wlan_address;             // On wlan0, inside the wlan subnet.
+  Ipv4 ctl_root_address;         // Root side of the ctl0 point-to-point /30.
+  Ipv4 ctl_robot_address;        // Robot side of the ctl0 /30 (ctl0 inside the robot).
+  proto::Robot spec;             // The robot as written, defaults readable via accessors.
+  proto::Airframe airframe;      // Resolved airframe (the named one or the default).
+};
+
+// A validated scenario. Immutable after LoadScenario* returns.
+struct Scenario {
+  std::string source_path;       // File it came from ("<string>" for in-memory text).
+  proto::Scenario spec;          // As parsed; proto2 accessors yield the defaults.
+  std::string name;
+  std::vector<RobotPlan> robots;
+  Ipv4Prefix wlan_subnet;
+  Ipv4Prefix ctl_subnet;
+  TimeNs iteration_ns = 0;
+  TimeNs physics_step_ns = 0;
+  TimeNs network_step_ns = 0;
+  TimeNs duration_ns = 0;
+  int physics_steps_per_iteration = 0;  // N_phy
+  int network_steps_per_iteration = 0;  // N_net
+
+  // Index of the robot called `name`, or -1.
+  int RobotIndex(std::string_view robot_name) const;
+};
+
+//-------------------------------- Loading -----------------------------------
+
+// Reads, parses and validates a scenario file. Throws Error whose message is
+// one line "path:line:col: <what>: <rule>" (line and column from 1).
+Scenario LoadScenarioFile(const std::string& path);
+
+// Same for text already in memory; `source_name` prefixes error messages.
+Scenario LoadScenarioText(std::string_view text, const std::string& source_name);
+
+// Longest scenario name: the root-side veth "<name>-c<index>" must fit the
+// kernel's 15-character interface names with up to 1000 robots.
+inline constexpr int kMaxScenarioNameLength = 10;
+inline constexpr int kMaxRobots = 1000;
+inline constexpr int kMaxRobotNameLength = 32;
+
+//------------------------- Checks against the host --------------------------
+
+// An IPv4 route of the root namespace, as nns reads it with libnl.
+struct HostRoute {
+  Ipv4Prefix destination;
+  std::string device;
+};
+
+// Throws Error naming the scenario subnet and the host route it overlaps.
+// Default routes (0.0.0.0/0) do not count: they shadow nothing.
+void CheckAddressPlanAgainstRoutes(const Scenario& scenario,
+                                   const std::vector<HostRoute>& host_routes);
+
+}  // namespace sitlnet
+
+#endif  // SITLNET_SCENARIO_SCENARIO_H_

@@ -1,0 +1,141 @@
+#include "scenario/scenario.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace sitlnet {
+namespace {
+
+std::string SourceDir() {
+  const char* dir = std::getenv("SITLNET_SOURCE_DIR");
+  return dir ? dir : ".";
+}
+
+// Expects loading `text` to fail with a message that starts with `location`
+// and contains `rule`.
+void ExpectRejected(const std::string& text, const std::string& location, const std::string& rule) {
+  try {
+    LoadScenarioText(text, "t.textproto");
+    FAIL() << "accepted: " << text;
+  } catch (const Error& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.rfind(location, 0), 0u) << message;
+    EXPECT_NE(message.find(rule), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
+  }
+}
+
+constexpr char kTwo[] = "name: \"t\"\nrobot { name: \"a\" }\nrobot { name: \"b\" }\n";
+
+TEST(ScenarioTest, ShippedExamplesLoad) {
+  for (const char* file : {"two_robots", "line3"}) {
+    const Scenario scenario = LoadScenarioFile(SourceDir() + "/scenarios/" + file + ".textproto");
+    EXPECT_FALSE(scenario.robots.empty()) << file;
+  }
+}
+
+TEST(ScenarioTest, DerivesNamesAddressesAndDefaults) {
+  const Scenario scenario = LoadScenarioText(kTwo, "t.textproto");
+  ASSERT_EQ(scenario.robots.size(), 2u);
+  const RobotPlan& b = scenario.robots[1];
+  EXPECT_EQ(b.netns, "t-b");
+  EXPECT_EQ(b.root_veth, "t-c1");
+  EXPECT_EQ(FormatMac(b.wlan_mac), "02:00:00:00:00:01");
+  EXPECT_EQ(FormatIpv4(b.wlan_address), "10.77.0.2");
+  EXPECT_EQ(FormatIpv4(b.ctl_root_address), "10.78.0.5");
+  EXPECT_EQ(FormatIpv4(b.ctl_robot_address), "10.78.0.6");
+  EXPECT_EQ(scenario.iteration_ns, 10'000'000);
+  EXPECT_EQ(scenario.physics_steps_per_iteration, 10);
+  EXPECT_EQ(scenario.network_steps_per_iteration, 1);
+  EXPECT_DOUBLE_EQ(scenario.spec.radio().tx_power_dbm(), 16.0206);
+  EXPECT_DOUBLE_EQ(b.airframe.mass_kg(), 1.325);
+  EXPECT_EQ(scenario.RobotIndex("b"), 1);
+  EXPECT_EQ(scenario.RobotIndex("zz"), -1);
+}
+
+TEST(ScenarioTest, SyntaxErrorNamesLineAndColumn) {
+  ExpectRejected("name: \"t\"\nrobot { nme: \"a\" }\n", "t.textproto:2:", "no field named \"nme\"");
+}
+
+TEST(ScenarioTest, RejectsBadScenarioNames) {
+  ExpectRejected("name: \"Bad-Name\"\nrobot { name: \"a\" }\n", "t.textproto:1:1", "scenario name");
+  ExpectRejected("name: \"elevenchars\"\nrobot { name: \"a\" }\n", "t.textproto:1:1", "1..10");
+}
+
+TEST(ScenarioTest, RejectsDuplicateAndOverlongRobotNames) {
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" }\nrobot { name: \"a\" }\n", "t.textproto:3:9",
+                 "robot \"a\": duplicate robot name");
+  ExpectRejected("name: \"t\"\nrobot { name: \"" + std::string(33, 'x') + "\" }\n",
+                 "t.textproto:2:9", "1..32");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a-b\" }\n", "t.textproto:2:9", "characters");
+}
+
+TEST(ScenarioTest, RejectsNoRobots) { ExpectRejected("name: \"t\"\n", "t.textproto", "robot"); }
+
+TEST(ScenarioTest, RejectsIterationNotMultipleOfStep) {
+  ExpectRejected(std::string(kTwo) + "timing {\n  iteration_us: 10000\n  physics_step_us: 3000\n}\n",
+                 "t.textproto:6:3", "not a whole multiple of physics_step_us 3000");
+  ExpectRejected(std::string(kTwo) + "timing { network_step_us: 0 }\n", "t.textproto:4:10",
+                 "must be > 0");
+}
+
+TEST(ScenarioTest, RejectsOutOfRangeRadio) {
+  ExpectRejected(std::string(kTwo) + "radio { tx_power_dbm: 40 }\n", "t.textproto:4:9",
+                 "tx_power_dbm 40 out of range [-10, 30]");
+  ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211B rate_mbps: 54 }\n",
+                 "t.textproto:4:35", "not a rate of STANDARD_80211B");
+}
+
+TEST(ScenarioTest, RejectsAddressesOutsideOrClashing) {
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" wlan_address: \"10.9.0.1\" }\n",
+                 "t.textproto:2:19", "not a host address of 10.77.0.0/24");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" }\nrobot { name: \"b\" wlan_address: \"10.77.0.1\" }\n",
+                 "t.textproto:3:1", "already used");
+  ExpectRejected(std::string(kTwo) + "addresses { wlan_subnet: \"10.78.0.0/24\" }\n",
+                 "t.textproto:4:13", "overlaps wlan_subnet");
+  ExpectRejected(std::string(kTwo) + "addresses { wlan_subnet: \"10.77.0.1/24\" }\n",
+                 "t.textproto:4:13", "no host bits");
+  ExpectRejected(std::string(kTwo) + "addresses { wlan_subnet: \"10.77.0.0/30\" }\n"
+                 "robot { name: \"c\" }\n", "t.textproto:4:13", "no room for 3 robots");
+}
+
+TEST(ScenarioTest, RejectsUnknownAirframeAndBadObstacle) {
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" airframe: \"x9\" }\n", "t.textproto:2:19",
+                 "unknown airframe \"x9\"");
+  ExpectRejected(std::string(kTwo) + "obstacle { size_m { x: 1 y: 0 z: 1 } }\n",
+                 "t.textproto:4:12", "size_m");
+}
+
+TEST(ScenarioTest, HostRouteClashIsRefused) {
+  const Scenario scenario = LoadScenarioText(kTwo, "t.textproto");
+  const std::vector<HostRoute> fine = {{*ParseIpv4Prefix("0.0.0.0/0"), "eth0"},
+                                       {*ParseIpv4Prefix("192.0.2.0/24"), "eth0"}};
+  EXPECT_NO_THROW(CheckAddressPlanAgainstRoutes(scenario, fine));
+  const std::vector<HostRoute> clash = {{*ParseIpv4Prefix("10.0.0.0/8"), "vpn0"}};
+  try {
+    CheckAddressPlanAgainstRoutes(scenario, clash);
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("wlan_subnet 10.77.0.0/24 overlaps host route "
+                                             "10.0.0.0/8 dev vpn0"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
+TEST(ScenarioTest, MissingFileNamesThePath) {
+  EXPECT_THROW(
+      {
+        try {
+          LoadScenarioFile("/nonexistent/x.textproto");
+        } catch (const Error& e) {
+          EXPECT_NE(std::string(e.what()).find("/nonexistent/x.textproto"), std::string::npos);
+          throw;
+        }
+      },
+      Error);
+}
+
+}  // namespace
+}  // namespace sitlnet

@@ -1,0 +1,282 @@
+#include "scenario/validation.h"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace sitlnet::scenario_internal {
+namespace {
+
+bool IsNameChar(char c, bool allow_upper) {
+  return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' ||
+         (allow_upper && c >= 'A' && c <= 'Z');
+}
+
+bool IsValidName(const std::string& name, size_t max_length, bool allow_upper) {
+  if (name.empty() || name.size() > max_length) return false;
+  for (char c : name) {
+    if (!IsNameChar(c, allow_upper)) return false;
+  }
+  return true;
+}
+
+std::string Num(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+bool InRange(double value, double low, double high) {
+  return std::isfinite(value) && value >= low && value <= high;
+}
+
+void ValidateName(const SourceLocator& at, Scenario* scenario) {
+  const std::string& name = scenario->spec.name();
+  if (!IsValidName(name, kMaxScenarioNameLength, false)) {
+    at.Fail({{"name"}}, "scenario name \"" + name + "\" must be 1.." +
+                            std::to_string(kMaxScenarioNameLength) +
+                            " characters of a-z, 0-9 and '_' (it prefixes every device name)");
+  }
+  scenario->name = name;
+}
+
+void ValidateAirframes(const SourceLocator& at, const proto::Scenario& spec) {
+  std::set<std::string> names;
+  for (int i = 0; i < spec.airframe_size(); ++i) {
+    const proto::Airframe& airframe = spec.airframe(i);
+    const std::string who = "airframe \"" + airframe.name() + "\": ";
+    if (airframe.name().empty()) at.Fail({{"airframe", i}}, "airframe needs a name");
+    if (!names.insert(airframe.name()).second) {
+      at.Fail({{"airframe", i}, {"name"}}, who + "duplicate airframe name");
+    }
+    const std::pair<const char*, double> positive[] = {
+        {"mass_kg", airframe.mass_kg()},
+        {"arm_x_m", airframe.arm_x_m()},
+        {"arm_y_m", airframe.arm_y_m()},
+        {"ixx_kg_m2", airframe.ixx_kg_m2()},
+        {"iyy_kg_m2", airframe.iyy_kg_m2()},
+        {"izz_kg_m2", airframe.izz_kg_m2()},
+        {"thrust_coefficient", airframe.thrust_coefficient()},
+        {"max_rotor_speed_rad_s", airframe.max_rotor_speed_rad_s()},
+        {"motor_time_constant_up_s", airframe.motor_time_constant_up_s()},
+        {"motor_time_constant_down_s", airframe.motor_time_constant_down_s()}};
+    for (const auto& [field, value] : positive) {
+      if (!(std::isfinite(value) && value > 0)) {
+        at.Fail({{"airframe", i}, {field}}, who + field + " " + Num(value) + " must be > 0");
+      }
+    }
+  }
+}
+
+const proto::Airframe& FindAirframe(const proto::Scenario& spec, const std::string& name) {
+  static const proto::Airframe kDefault;
+  for (const proto::Airframe& airframe : spec.airframe()) {
+    if (airframe.name() == name) return airframe;
+  }
+  return kDefault;
+}
+
+void ValidateObstacles(const SourceLocator& at, const proto::Scenario& spec) {
+  for (int i = 0; i < spec.obstacle_size(); ++i) {
+    const proto::Obstacle& box = spec.obstacle(i);
+    const std::string who = "obstacle " + std::to_string(i) +
+                            (box.name().empty() ? "" : " \"" + box.name() + "\"") + ": ";
+    if (!box.has_size_m()) at.Fail({{"obstacle", i}}, who + "size_m is required");
+    const double sizes[] = {box.size_m().x(), box.size_m().y(), box.size_m().z()};
+    for (double size : sizes) {
+      if (!(std::isfinite(size) && size > 0)) {
+        at.Fail({{"obstacle", i}, {"size_m"}}, who + "every size_m component must be > 0");
+      }
+    }
+  }
+}
+
+bool IsValidRate(proto::Radio::Standard standard, double rate_mbps) {
+  static const double kOfdm[] = {6, 9, 12, 18, 24, 36, 48, 54};
+  static const double kDsss[] = {1, 2, 5.5, 11};
+  if (standard == proto::Radio::STANDARD_80211B) {
+    for (double rate : kDsss) {
+      if (rate == rate_mbps) return true;
+    }
+    return false;
+  }
+  for (double rate : kOfdm) {
+    if (rate == rate_mbps) return true;
+  }
+  return false;
+}
+
+void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
+  if (!IsValidRate(radio.standard(), radio.rate_mbps())) {
+    at.Fail({{"radio"}, {"rate_mbps"}},
+            "radio: rate_mbps " + Num(radio.rate_mbps()) + " is not a rate of " +
+                proto::Radio::Standard_Name(radio.standard()) +
+                " (802.11a/g: 6 9 12 18 24 36 48 54; 802.11b: 1 2 5.5 11)");
+  }
+  if (!InRange(radio.tx_power_dbm(), -10, 30)) {
+    at.Fail({{"radio"}, {"tx_power_dbm"}},
+            "radio: tx_power_dbm " + Num(radio.tx_power_dbm()) + " out of range [-10, 30]");
+  }
+  if (!InRange(radio.path_loss_exponent(), 1, 10)) {
+    at.Fail({{"radio"}, {"path_loss_exponent"}},
+            "radio: path_loss_exponent " + Num(radio.path_loss_exponent()) +
+                " out of range [1, 10]");
+  }
+  if (radio.has_reference_loss_db() && !InRange(radio.reference_loss_db(), 0, 200)) {
+    at.Fail({{"radio"}, {"reference_loss_db"}}, "radio: reference_loss_db out of range [0, 200]");
+  }
+  if (!InRange(radio.shadowing_db_per_wall(), 0, 200) ||
+      !InRange(radio.shadowing_db_per_m(), 0, 100)) {
+    at.Fail({{"radio"}}, "radio: shadowing_db_per_wall must be in [0, 200] and "
+                         "shadowing_db_per_m in [0, 100]");
+  }
+  if (radio.queue_limit_frames() < 1) {
+    at.Fail({{"radio"}, {"queue_limit_frames"}}, "radio: queue_limit_frames must be >= 1");
+  }
+}
+
+void ValidateTiming(const SourceLocator& at, Scenario* scenario) {
+  const proto::Timing& timing = scenario->spec.timing();
+  const std::pair<const char*, int64_t> positive[] = {
+      {"iteration_us", timing.iteration_us()},
+      {"physics_step_us", timing.physics_step_us()},
+      {"network_step_us", timing.network_step_us()},
+      {"duration_ms", timing.duration_ms()}};
+  for (const auto& [field, value] : positive) {
+    if (value <= 0) {
+      at.Fail({{"timing"}, {field}}, std::string("timing: ") + field + " " +
+                                         std::to_string(value) + " must be > 0");
+    }
+  }
+  const std::pair<const char*, int64_t> steps[] = {{"physics_step_us", timing.physics_step_us()},
+                                                   {"network_step_us", timing.network_step_us()}};
+  for (const auto& [field, step] : steps) {
+    if (timing.iteration_us() % step != 0) {
+      at.Fail({{"timing"}, {field}}, std::string("timing: iteration_us ") +
+                                         std::to_string(timing.iteration_us()) +
+                                         " is not a whole multiple of " + field + " " +
+                                         std::to_string(step));
+    }
+  }
+  if (!(std::isfinite(timing.realtime_factor()) && timing.realtime_factor() > 0)) {
+    at.Fail({{"timing"}, {"realtime_factor"}}, "timing: realtime_factor must be > 0");
+  }
+  scenario->iteration_ns = timing.iteration_us() * kNsPerUs;
+  scenario->physics_step_ns = timing.physics_step_us() * kNsPerUs;
+  scenario->network_step_ns = timing.network_step_us() * kNsPerUs;
+  scenario->duration_ns = timing.duration_ms() * kNsPerMs;
+  scenario->physics_steps_per_iteration =
+      static_cast<int>(timing.iteration_us() / timing.physics_step_us());
+  scenario->network_steps_per_iteration =
+      static_cast<int>(timing.iteration_us() / timing.network_step_us());
+}
+
+Ipv4Prefix ParsePrefixField(const SourceLocator& at, const char* field, const std::string& text) {
+  const auto prefix = ParseIpv4Prefix(text);
+  if (!prefix || prefix->length < 8 || prefix->length > 30) {
+    at.Fail({{"addresses"}, {field}}, std::string("addresses: ") + field + " \"" + text +
+                                          "\" must be an IPv4 prefix a.b.c.d/8../30 with no "
+                                          "host bits set");
+  }
+  return *prefix;
+}
+
+void ValidateAddresses(const SourceLocator& at, Scenario* scenario) {
+  const proto::AddressPlan& plan = scenario->spec.addresses();
+  scenario->wlan_subnet = ParsePrefixField(at, "wlan_subnet", plan.wlan_subnet());
+  scenario->ctl_subnet = ParsePrefixField(at, "ctl_subnet", plan.ctl_subnet());
+  if (scenario->wlan_subnet.Overlaps(scenario->ctl_subnet)) {
+    // Point at whichever of the two the file sets.
+    const char* field = plan.has_ctl_subnet() ? "ctl_subnet" : "wlan_subnet";
+    at.Fail({{"addresses"}, {field}}, "addresses: ctl_subnet " + plan.ctl_subnet() +
+                                          " overlaps wlan_subnet " + plan.wlan_subnet());
+  }
+  const uint64_t robots = scenario->spec.robot_size();
+  if (scenario->wlan_subnet.Size() - 2 < robots) {
+    at.Fail({{"addresses"}, {"wlan_subnet"}},
+            "addresses: wlan_subnet " + plan.wlan_subnet() + " has no room for " +
+                std::to_string(robots) + " robots");
+  }
+  if (scenario->ctl_subnet.Size() / 4 < robots) {
+    at.Fail({{"addresses"}, {"ctl_subnet"}},
+            "addresses: ctl_subnet " + plan.ctl_subnet() + " has room for " +
+                std::to_string(scenario->ctl_subnet.Size() / 4) + " /30 pairs, not " +
+                std::to_string(robots));
+  }
+  if (plan.txqueuelen() < 1) at.Fail({{"addresses"}, {"txqueuelen"}}, "txqueuelen must be >= 1");
+  if (plan.physics_port() < 1 || plan.physics_port() > 65535) {
+    at.Fail({{"addresses"}, {"physics_port"}}, "addresses: physics_port must be in [1, 65535]");
+  }
+}
+
+void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
+  const proto::Scenario& spec = scenario->spec;
+  if (spec.robot_size() == 0) at.Fail({}, "a scenario needs at least one robot");
+  if (spec.robot_size() > kMaxRobots) {
+    at.Fail({{"robot", kMaxRobots}}, "at most " + std::to_string(kMaxRobots) + " robots");
+  }
+  std::set<std::string> names;
+  std::set<Ipv4> wlan_addresses;
+  for (int i = 0; i < spec.robot_size(); ++i) {
+    const proto::Robot& robot = spec.robot(i);
+    const std::string who = "robot \"" + robot.name() + "\": ";
+    if (!IsValidName(robot.name(), kMaxRobotNameLength, true)) {
+      at.Fail({{"robot", i}, {"name"}},
+              who + "name must be 1.." + std::to_string(kMaxRobotNameLength) +
+                  " characters of A-Z, a-z, 0-9 and '_'");
+    }
+    if (!names.insert(robot.name()).second) {
+      at.Fail({{"robot", i}, {"name"}}, who + "duplicate robot name");
+    }
+    const double position[] = {robot.position_m().x(), robot.position_m().y(),
+                               robot.position_m().z()};
+    for (double coordinate : position) {
+      if (!std::isfinite(coordinate)) at.Fail({{"robot", i}, {"position_m"}}, who + "non-finite");
+    }
+    if (!robot.airframe().empty() && FindAirframe(spec, robot.airframe()).name().empty()) {
+      at.Fail({{"robot", i}, {"airframe"}}, who + "unknown airframe \"" + robot.airframe() + "\"");
+    }
+    RobotPlan plan;
+    plan.index = i;
+    plan.name = robot.name();
+    plan.netns = scenario->name + "-" + robot.name();
+    plan.root_veth = scenario->name + "-c" + std::to_string(i);
+    plan.wlan_mac = RobotMac(i);
+    plan.wlan_address = Ipv4{scenario->wlan_subnet.network.host_order + 1 + uint32_t(i)};
+    if (robot.has_wlan_address()) {
+      const auto address = ParseIpv4(robot.wlan_address());
+      if (!address || !scenario->wlan_subnet.Contains(*address) ||
+          *address == scenario->wlan_subnet.network ||
+          *address == scenario->wlan_subnet.Broadcast()) {
+        at.Fail({{"robot", i}, {"wlan_address"}},
+                who + "wlan_address \"" + robot.wlan_address() + "\" is not a host address of " +
+                    FormatIpv4Prefix(scenario->wlan_subnet));
+      }
+      plan.wlan_address = *address;
+    }
+    if (!wlan_addresses.insert(plan.wlan_address).second) {
+      at.Fail({{"robot", i}}, who + "wlan address " + FormatIpv4(plan.wlan_address) +
+                                  " is already used by another robot");
+    }
+    const uint32_t pair_base = scenario->ctl_subnet.network.host_order + 4 * uint32_t(i);
+    plan.ctl_root_address = Ipv4{pair_base + 1};
+    plan.ctl_robot_address = Ipv4{pair_base + 2};
+    plan.spec = robot;
+    plan.airframe = FindAirframe(spec, robot.airframe());
+    scenario->robots.push_back(std::move(plan));
+  }
+}
+
+}  // namespace
+
+void ValidateAndDerive(const SourceLocator& locator, Scenario* scenario) {
+  ValidateName(locator, scenario);
+  ValidateAirframes(locator, scenario->spec);
+  ValidateObstacles(locator, scenario->spec);
+  ValidateRadio(locator, scenario->spec.radio());
+  ValidateTiming(locator, scenario);
+  ValidateAddresses(locator, scenario);
+  ValidateAndDeriveRobots(locator, scenario);
+}
+
+}  // namespace sitlnet::scenario_internal
