@@ -1,0 +1,238 @@
+// sitlnet mac_phy_sim: a deterministic discrete-event simulator of an 802.11
+// DCF medium (MAC + PHY + channel with obstacle shadowing). Pure library: no
+// sockets, no Linux calls, no global state. The model, its defaults, its
+// sources and what it leaves out are described in docs/mac_phy_sim.md.
+//
+// Usage: build a MediumConfig, construct a Medium, AddStation() for every
+// radio (ids are dense, 0, 1, 2, ... in the order added), AddObstacle() for
+// every box, then alternate SubmitFrame() (Ethernet II frames, virtual time)
+// and AdvanceTo(until_ns), which appends the deliveries due up to until_ns.
+#ifndef SITLNET_MAC_PHY_SIM_MAC_PHY_SIM_H_
+#define SITLNET_MAC_PHY_SIM_MAC_PHY_SIM_H_
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "common/common.h"
+
+namespace sitlnet::mac {
+
+//------------------------------- Configuration ------------------------------
+
+enum class Standard : uint8_t {
+  k80211a,  // OFDM, 5 GHz, 6..54 Mb/s (IEEE 802.11-2016 clause 17).
+  k80211b,  // DSSS/CCK, 2.4 GHz, 1, 2, 5.5, 11 Mb/s, long preamble (clauses 15, 16).
+  k80211g,  // ERP-OFDM, 2.4 GHz, 6..54 Mb/s (clause 18), no DSSS protection.
+};
+
+// Plain values only; every field has the default ns-3 3.37 uses (see
+// ../shared/reference.md) unless noted. Validated by the Medium constructor.
+struct MediumConfig {
+  Standard standard = Standard::k80211a;
+  double rate_mbps = 54;                  // Data rate of every station (no rate control).
+  double tx_power_dbm = 16.0206;
+  double noise_figure_db = 7;
+  double rx_sensitivity_dbm = -101;       // Weaker signals are not even interference-tracked.
+  double cca_energy_detect_dbm = -62;     // Energy at or above this makes CCA busy.
+  double preamble_detect_snr_db = 4;      // ns-3 ThresholdPreambleDetectionModel.
+  double preamble_detect_min_rssi_dbm = -82;
+  double path_loss_exponent = 3;          // Log-distance model.
+  std::optional<double> reference_loss_db;  // Loss at 1 m; unset: Friis at the frequency.
+  bool shadowing = true;                  // Sommer et al. 2011 obstacle model.
+  double shadowing_db_per_wall = 9;       // beta
+  double shadowing_db_per_m = 0.4;        // gamma
+  uint32_t rts_threshold_bytes = 0;       // MPDUs longer than this use RTS/CTS; 0: never.
+  uint32_t queue_limit_frames = 100;      // Per-station drop-tail transmit queue.
+  int short_retry_limit = 7;              // dot11ShortRetryLimit: attempts for short frames.
+  int long_retry_limit = 4;               // dot11LongRetryLimit: attempts when RTS is used.
+  std::optional<int> cw_min;              // Override of the standard's CWmin (tests).
+  std::optional<int> cw_max;              // Override of the standard's CWmax (tests).
+  bool short_slot = false;                // 802.11g only: 9 us slot instead of 20 us.
+  // Frame capture (ns-3 SimpleFrameCaptureModel): while the preamble of the
+  // frame being received is still in progress, switch to a new frame that is
+  // this much stronger. Unset: no capture (ns-3's default).
+  std::optional<double> capture_margin_db;
+  uint64_t seed = 1;  // Every random draw derives from this (per-station streams).
+};
+
+// Derived PHY/MAC constants of a config (what the medium actually uses).
+struct PhyInfo {
+  double frequency_mhz = 0;       // Channel centre: 5180 (11a, ch 36) or 2412 (b/g, ch 1).
+  double noise_floor_dbm = 0;     // kTB over the channel bandwidth + noise figure.
+  double reference_loss_db = 0;   // At 1 m.
+  double ack_rate_mbps = 0;       // Control-response rate for the configured data rate.
+  TimeNs slot_ns = 0, sifs_ns = 0, difs_ns = 0, eifs_ns = 0;
+  int cw_min = 0, cw_max = 0;
+};
+
+// Computes the derived constants; throws Error("<field> <value> ...") on a bad config.
+PhyInfo DerivePhyInfo(const MediumConfig& config);
+
+// Exact PPDU duration of a PSDU of `psdu_bytes` at `rate_mbps` (preamble,
+// header, and for 802.11g the 6 us signal extension). Throws Error for a rate
+// the standard does not have.
+TimeNs PpduDurationNs(Standard standard, double rate_mbps, int psdu_bytes);
+
+//------------------------------- Geometry -----------------------------------
+
+struct Vec3 {
+  double x = 0, y = 0, z = 0;
+};
+
+// A box obstacle: centre, full edge lengths along its own axes, yaw about +z.
+struct Box {
+  Vec3 center_m;
+  Vec3 size_m;
+  double yaw_deg = 0;
+};
+
+using StationId = int;  // Dense: 0 .. station_count()-1, in the order added.
+
+//---------------------------- Outputs: deliveries ---------------------------
+
+// A frame that reached a station's MAC intact (first copy; duplicates are
+// filtered). Broadcast/multicast frames produce one Delivery per receiver.
+struct Delivery {
+  StationId station = 0;               // Receiver.
+  StationId source = 0;                // Transmitter of the frame.
+  std::vector<uint8_t> ethernet_frame; // As submitted (dst MAC, src MAC, type, payload).
+  TimeNs delivery_ns = 0;              // End of the PPDU at the receiver.
+  double rx_power_dbm = 0;
+  double sinr_db = 0;                  // Lowest SINR over the frame.
+};
+
+//------------------------------ Outputs: trace ------------------------------
+
+enum class FrameKind : uint8_t { kData, kAck, kRts, kCts };
+
+enum class RxOutcome : uint8_t {
+  kReceived,          // Decoded (it may still be a duplicate or for another station).
+  kCollided,          // Preamble missed or frame lost because of overlapping frames.
+  kError,             // Decoding failed at the drawn error rate without interference.
+  kBelowSensitivity,  // Too weak to detect (under sensitivity or preamble thresholds).
+  kTransmitting,      // The receiver was itself transmitting (half duplex).
+};
+
+struct RxRecord {
+  StationId station = 0;
+  RxOutcome outcome = RxOutcome::kBelowSensitivity;
+  double rx_power_dbm = 0;
+  double sinr_db = 0;  // Lowest SINR over the frame; noise-only SNR when not locked.
+};
+
+// One transmission on the air. Emitted when it ends, so the trace is ordered
+// by end_ns (equal ends in event order); start_ns gives the pcap timestamp.
+struct TxRecord {
+  TimeNs start_ns = 0, end_ns = 0;
+  StationId source = 0;
+  FrameKind kind = FrameKind::kData;
+  bool retry = false;           // Frame Control Retry bit.
+  uint16_t sequence_number = 0; // 12 bits; 0 for control frames.
+  uint16_t duration_us = 0;     // Duration/ID field (NAV).
+  double rate_mbps = 0;
+  MacAddress receiver;          // addr1 (broadcast for group frames).
+  MacAddress transmitter;       // addr2 (absent on air for ACK/CTS; still filled).
+  // The exact MPDU as sent: 802.11 header, LLC/SNAP + payload for DATA, FCS.
+  std::vector<uint8_t> mpdu;
+  std::vector<RxRecord> receptions;  // Every other station, by StationId.
+};
+
+enum class DropReason : uint8_t { kRetryLimit, kQueueFull };
+
+struct DropRecord {
+  TimeNs time_ns = 0;
+  StationId station = 0;
+  DropReason reason = DropReason::kQueueFull;
+  MacAddress destination;
+  uint16_t sequence_number = 0;
+  size_t ethernet_bytes = 0;
+};
+
+// Either a transmission or a drop; exactly one of the two is set.
+struct TraceEvent {
+  std::optional<TxRecord> tx;
+  std::optional<DropRecord> drop;
+};
+
+//----------------------------- Counters -------------------------------------
+
+struct StationCounters {
+  // Transmit side.
+  uint64_t frames_submitted = 0;   // Accepted by SubmitFrame.
+  uint64_t malformed = 0;          // Rejected by SubmitFrame (too short/long).
+  uint64_t queue_drops = 0;        // Arrived at a full queue.
+  uint64_t data_tx = 0;            // DATA transmissions, retries included.
+  uint64_t retries = 0;            // DATA transmissions with the Retry bit.
+  uint64_t rts_tx = 0, cts_tx = 0, ack_tx = 0;
+  uint64_t tx_failures = 0;        // ACK or CTS timeouts (collisions or errors).
+  uint64_t sent_ok = 0;            // Unicast acknowledged, or group frame sent.
+  uint64_t lost_retry_limit = 0;   // Dropped after the last attempt.
+  // Receive side.
+  uint64_t rx_delivered = 0;       // Deliveries to this station.
+  uint64_t rx_duplicates = 0;      // Retransmissions already delivered.
+  uint64_t rx_collided = 0, rx_error = 0, rx_below_sensitivity = 0;
+};
+
+//------------------------------- The medium ---------------------------------
+
+// The simulated medium. Not thread-safe; movable, not copyable.
+class Medium {
+ public:
+  explicit Medium(const MediumConfig& config);  // Throws Error on a bad config.
+  ~Medium();
+  Medium(Medium&&) noexcept;
+  Medium& operator=(Medium&&) noexcept;
+
+  const MediumConfig& config() const;
+  const PhyInfo& phy() const;
+
+  // Adds a radio; returns its id (= number of stations before the call).
+  StationId AddStation(const MacAddress& mac, const Vec3& position_m);
+  int station_count() const;
+
+  // Moves a station at virtual time max(at_ns, now_ns()). Frames already on
+  // the air keep the power they started with.
+  void SetStationPosition(StationId station, const Vec3& position_m, TimeNs at_ns);
+
+  // Adds an obstacle (any time; applies to transmissions starting later).
+  void AddObstacle(const Box& box);
+
+  // Queues `ethernet_frame` (>= 14 bytes: dst MAC, src MAC, ethertype,
+  // payload; at most 2304 bytes of MSDU) at station `source` at virtual time
+  // max(at_ns, now_ns()). A group destination MAC means no ACK and no retry.
+  // The bytes are copied. Returns false (and counts `malformed`) if rejected.
+  bool SubmitFrame(StationId source, std::span<const uint8_t> ethernet_frame, TimeNs at_ns);
+
+  // Runs every event with time <= until_ns, appends deliveries in time order
+  // to *deliveries (may be null), and sets now_ns() to until_ns.
+  void AdvanceTo(TimeNs until_ns, std::vector<Delivery>* deliveries);
+
+  // Time of the earliest pending event, nullopt if none (a realtime driver
+  // sleeps until then or until a new frame arrives).
+  std::optional<TimeNs> NextEventNs();
+  TimeNs now_ns() const;
+
+  // Tracing is off by default and costs nothing then. Enabled, every
+  // transmission and drop is buffered until DrainTrace moves it out.
+  void EnableTrace(bool enabled);
+  void DrainTrace(std::vector<TraceEvent>* out);
+
+  const StationCounters& counters(StationId station) const;
+  size_t queued_frames(StationId station) const;  // Waiting, excluding the one in service.
+
+  // Channel loss between two stations at their current positions (dB,
+  // path loss + shadowing), from the cache.
+  double LossDb(StationId a, StationId b);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace sitlnet::mac
+
+#endif  // SITLNET_MAC_PHY_SIM_MAC_PHY_SIM_H_
