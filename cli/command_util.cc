@@ -1,0 +1,31 @@
+// Helpers shared by the command files.
+#include <cstdio>
+#include <cstring>
+#include <exception>
+
+#include "cli/commands.h"
+#include "nns/nns.h"
+
+namespace sitlnet::cli {
+
+bool WantsHelp(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--")) return false;
+    if (!std::strcmp(argv[i], "-h") || !std::strcmp(argv[i], "--help")) return true;
+  }
+  return false;
+}
+
+int ReportErrors(const char* command, int error_code, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const nns::PrivilegeError& e) {
+    std::fprintf(stderr, "sitlnet %s: %s\n", command, e.what());
+    return kExitPrivileges;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sitlnet %s: %s\n", command, e.what());
+    return error_code;
+  }
+}
+
+}  // namespace sitlnet::cli

@@ -1,0 +1,117 @@
+// nns internals shared by the library's files; not part of the public API.
+#ifndef SITLNET_NNS_INTERNAL_H_
+#define SITLNET_NNS_INTERNAL_H_
+
+#include <sys/types.h>
+
+#include <string>
+#include <vector>
+
+#include "nns/nns.h"
+
+struct nl_sock;
+struct rtnl_link;
+
+namespace sitlnet::nns::internal {
+
+//--------------------------------- netlink ----------------------------------
+
+// A connected NETLINK_ROUTE socket, bound to the namespace of the thread that
+// created it (the kernel keeps it there after the thread leaves).
+class RouteSocket {
+ public:
+  RouteSocket();
+  ~RouteSocket();
+  RouteSocket(const RouteSocket&) = delete;
+  RouteSocket& operator=(const RouteSocket&) = delete;
+  nl_sock* get() const { return sock_; }
+
+ private:
+  nl_sock* sock_ = nullptr;
+};
+
+// Owns a struct rtnl_link*.
+struct LinkDeleter {
+  void operator()(rtnl_link* link) const;
+};
+
+// Interface index of `name` in the socket's namespace, or 0 if absent.
+int LinkIndex(const RouteSocket& sock, const std::string& name);
+
+// Settings applied to a link before it goes up (one RTM_NEWLINK change).
+struct LinkSettings {
+  const MacAddress* mac = nullptr;  // Null: keep.
+  int txqueuelen = 0;               // 0: keep.
+  bool ipv6_silent = false;         // addrgenmode none (must precede link-up).
+  bool multicast_off = false;       // Clear IFF_MULTICAST.
+  bool ipv4_no_forwarding = false;  // Per-interface forwarding=0, proxy_arp=0.
+};
+// `what` names the device and robot for error messages.
+void ConfigureLink(const RouteSocket& sock, int ifindex, const LinkSettings& settings,
+                   const std::string& what);
+void AddIpv4Address(const RouteSocket& sock, int ifindex, Ipv4 address, int prefix_length,
+                    const std::string& what);
+void SetLinkUp(const RouteSocket& sock, int ifindex, const std::string& what);
+
+// Creates veth `root_name` in link group `group` of the socket's namespace,
+// with peer `peer_name` in the namespace `peer_netns_fd`. Throws Error (EEXIST
+// included).
+void CreateVeth(const RouteSocket& sock, const std::string& root_name, uint32_t group,
+                const std::string& peer_name, int peer_netns_fd, const std::string& what);
+
+// Names of the links of the socket's namespace that are in link group `group`.
+std::vector<std::string> LinksInGroup(const RouteSocket& sock, uint32_t group);
+
+// Deletes every link of group `group` in one RTM_DELLINK (one batch in the
+// kernel: one RCU grace period instead of one per link).
+void DeleteLinkGroup(const RouteSocket& sock, uint32_t group);
+
+// Deletes link `name` if present; returns whether it was there.
+bool DeleteLinkIfPresent(const RouteSocket& sock, const std::string& name);
+
+// Every link of the socket's namespace with its IPv4 addresses.
+std::vector<LinkInfo> DumpLinks(const RouteSocket& sock);
+
+//----------------------------------- TAP ------------------------------------
+
+// Creates the persistent TAP `ifname` in the CALLING THREAD's namespace.
+void CreatePersistentTap(const std::string& ifname, const std::string& what);
+
+//------------------------------ Namespaces ----------------------------------
+
+// Makes /run/netns exist and be a shared mount (once per process).
+void PrepareNetnsDir();
+
+// Creates namespace `name` and leaves the CALLING THREAD inside it; the caller
+// must restore its namespace (ScopedNetns on the original fd does).
+void CreateNetnsAndEnter(const std::string& name);
+
+// Namespace identity (st_dev, st_ino) of a namespace file.
+struct NsId {
+  dev_t dev = 0;
+  ino_t ino = 0;
+  friend bool operator==(const NsId&, const NsId&) = default;
+};
+bool StatNs(const std::string& path, NsId* id);
+
+//------------------------------- Processes ----------------------------------
+
+// Main threads whose /proc/<pid>/ns/net is one of `namespaces`; `owner[i]` is
+// the index in `namespaces` of process i. The scan skips the calling process.
+std::vector<ProcessInfo> ScanProcesses(const std::vector<NsId>& namespaces,
+                                       std::vector<int>* owner);
+
+// SIGTERM, bounded wait on pidfds, SIGKILL for survivors, bounded wait.
+void TerminateProcesses(const std::vector<ProcessInfo>& processes, DownReport* report);
+
+//--------------------------------- State ------------------------------------
+
+std::string StatePath(const std::string& scenario);
+// Link group of the scenario's root-side veths, derived from its name.
+uint32_t LinkGroupForScenario(const std::string& scenario);
+void WriteState(const ScenarioState& state);  // Atomic (write + rename).
+void RemoveState(const std::string& scenario);
+
+}  // namespace sitlnet::nns::internal
+
+#endif  // SITLNET_NNS_INTERNAL_H_

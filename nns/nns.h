@@ -1,0 +1,221 @@
+// sitlnet nns: robot network namespaces, their TAP and veth devices,
+// addresses, isolation and teardown, with libnl (no shelling out to `ip`).
+// Design, ownership rule and measured costs: docs/nns.md.
+#ifndef SITLNET_NNS_NNS_H_
+#define SITLNET_NNS_NNS_H_
+
+#include <sys/types.h>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/common.h"
+#include "scenario/scenario.h"
+
+namespace sitlnet::nns {
+
+//------------------------------- File handles -------------------------------
+
+// Owns one file descriptor; closes it on destruction. -1 means empty.
+class UniqueFd {
+ public:
+  UniqueFd() = default;
+  explicit UniqueFd(int fd) : fd_(fd) {}
+  UniqueFd(UniqueFd&& other) noexcept : fd_(other.Release()) {}
+  UniqueFd& operator=(UniqueFd&& other) noexcept;
+  UniqueFd(const UniqueFd&) = delete;
+  UniqueFd& operator=(const UniqueFd&) = delete;
+  ~UniqueFd() { Reset(); }
+
+  int get() const { return fd_; }
+  bool valid() const { return fd_ >= 0; }
+  int Release();
+  void Reset(int fd = -1);
+
+ private:
+  int fd_ = -1;
+};
+
+//-------------------------------- Privileges --------------------------------
+
+// One line naming what the calling process lacks (CAP_NET_ADMIN,
+// CAP_SYS_ADMIN, read-write /dev/net/tun) and how to get it (sudo, or the
+// docker flags); nullopt when everything needed is there.
+std::optional<std::string> MissingPrivileges();
+
+// Throws PrivilegeError with MissingPrivileges()'s line, if any.
+class PrivilegeError : public Error {
+ public:
+  using Error::Error;
+};
+void RequirePrivileges();
+
+//----------------------------- Named namespaces -----------------------------
+
+// Directory of named network namespaces, shared with iproute2 (`ip netns`).
+inline constexpr const char* kNetnsDir = "/run/netns";
+
+// "/run/netns/<name>".
+std::string NetnsPath(const std::string& name);
+
+// True if /run/netns/<name> exists (whether or not something is mounted on it).
+bool NetnsExists(const std::string& name);
+
+// Creates a named namespace exactly as `ip netns add` does: /run/netns as a
+// shared mount, an empty file, a new namespace bind-mounted onto it. Throws
+// Error if the name exists. Does not change the calling thread's namespace.
+void CreateNetns(const std::string& name);
+
+// Unmounts and removes /run/netns/<name> (lazy unmount, as `ip netns del`).
+// Returns false if it did not exist. Processes inside are NOT killed: see Down.
+bool RemoveNetns(const std::string& name);
+
+// Opens the namespace file (O_RDONLY|O_CLOEXEC), for setns or IFLA_NET_NS_FD.
+UniqueFd OpenNetns(const std::string& name);
+
+// Moves the calling thread into namespace `name` and back on destruction.
+// setns affects only the calling thread: use it on the thread that will open
+// sockets or TAPs, and do not hand the scope to another thread. A netlink or
+// UDP socket opened inside stays bound to that namespace after leaving.
+class ScopedNetns {
+ public:
+  explicit ScopedNetns(const std::string& name);
+  explicit ScopedNetns(int netns_fd);  // Does not take ownership of netns_fd.
+  ~ScopedNetns();
+  ScopedNetns(const ScopedNetns&) = delete;
+  ScopedNetns& operator=(const ScopedNetns&) = delete;
+
+ private:
+  void Enter(int netns_fd, const std::string& what);
+  UniqueFd original_;
+};
+
+//----------------------------------- TAP ------------------------------------
+
+// Opens the existing (persistent) TAP `ifname` inside namespace `netns` with
+// IFF_TAP|IFF_NO_PI and returns its fd, usable from any thread and namespace.
+// `nonblocking` sets O_NONBLOCK (the tapbridge drains to EAGAIN). Throws Error
+// if the device does not exist or is not a TAP.
+UniqueFd AttachTap(const std::string& netns, const std::string& ifname, bool nonblocking = true);
+
+//------------------------------- Host routes --------------------------------
+
+// IPv4 routes of the main table of the calling thread's namespace, read with
+// libnl, for CheckAddressPlanAgainstRoutes.
+std::vector<HostRoute> ReadHostRoutes();
+
+//------------------------- Scenario state (ownership) -----------------------
+
+// `up` writes /run/sitlnet/<scenario>/state BEFORE it creates anything: a
+// namespace or device with one of our names is ours only if the state file of
+// that scenario lists it. `down` and `exec` read it; /run is a tmpfs, so it
+// vanishes at reboot together with the namespaces.
+inline constexpr const char* kStateDir = "/run/sitlnet";
+
+struct RobotState {
+  int index = 0;
+  std::string name;
+  std::string netns;
+  std::string root_veth;
+  Ipv4 wlan_address;
+  Ipv4 ctl_root_address;
+  Ipv4 ctl_robot_address;
+};
+
+struct ScenarioState {
+  std::string name;
+  std::string source_path;
+  int physics_port = 0;
+  std::vector<RobotState> robots;
+
+  // "<ctl_root_address>:<physics_port>" of robot `index` (SITLNET_PHYSICS_ADDR).
+  std::string PhysicsAddress(const RobotState& robot) const;
+};
+
+ScenarioState StateFromScenario(const Scenario& scenario);
+std::string FormatState(const ScenarioState& state);
+// Throws Error naming `source` and the line on malformed text.
+ScenarioState ParseState(const std::string& text, const std::string& source);
+
+// Scenarios that have a state file, sorted by name.
+std::vector<std::string> ListScenarios();
+// The state of scenario `name`, or nullopt if it has none.
+std::optional<ScenarioState> ReadScenarioState(const std::string& name);
+
+// A robot picked by the user: "robot" (unique among the scenarios up),
+// "<scenario>-<robot>" (its namespace name), or `scenario` + "robot".
+struct RobotRef {
+  ScenarioState scenario;
+  RobotState robot;
+};
+// Throws Error (one line, listing candidates when ambiguous) if not found.
+RobotRef ResolveRobot(const std::vector<ScenarioState>& scenarios, const std::string& robot,
+                      const std::string& scenario_name = "");
+
+//-------------------------------- Up / down ---------------------------------
+
+struct UpOptions {
+  // Called after robot `robots_done` (1-based count) is fully configured.
+  // Throwing from it aborts `up`, which then rolls back (used by tests and by
+  // the CLI's fault-injection hook, docs/nns.md).
+  std::function<void(int robots_done)> on_robot_done;
+};
+
+// Brings the scenario's robots up (see docs/nns.md for the exact devices):
+// privileges, `down` of our own leftovers, refusal of foreign objects with our
+// names and of address clashes with host routes (nothing touched), then per
+// robot: namespace, lo, wlan0 TAP, ctl0 veth, addresses, isolation. Any
+// failure rolls back everything created and rethrows.
+void Up(const Scenario& scenario, const UpOptions& options = {});
+
+struct DownReport {
+  int namespaces_removed = 0;
+  int links_removed = 0;
+  int processes_terminated = 0;  // Exited after SIGTERM.
+  int processes_killed = 0;      // Needed SIGKILL.
+};
+
+// Tears scenario `name` down from its state file: SIGTERM then SIGKILL every
+// process in its namespaces (bounded wait on pidfds), unmount and remove the
+// namespaces, delete the root-side veths by exact name, remove the state.
+// Idempotent; a scenario without a state file is a no-op.
+DownReport Down(const std::string& name);
+// Down for every scenario in ListScenarios().
+DownReport DownAll();
+
+//--------------------------------- Status -----------------------------------
+
+struct ProcessInfo {
+  pid_t pid = 0;
+  std::string command;  // /proc/<pid>/comm
+};
+
+struct LinkInfo {
+  std::string name;
+  std::string kind;  // "tun", "veth", "loopback", ...
+  bool up = false;
+  std::string mac;
+  std::vector<std::string> ipv4;  // "a.b.c.d/len"
+  int txqueuelen = 0;
+};
+
+struct RobotStatus {
+  RobotState robot;
+  bool netns_present = false;
+  bool root_veth_present = false;
+  std::vector<LinkInfo> links;  // Inside the robot's namespace.
+  std::vector<ProcessInfo> processes;
+};
+
+// Reads devices and processes of every robot of `state`.
+std::vector<RobotStatus> Status(const ScenarioState& state);
+
+// Processes whose network namespace is /run/netns/<netns> (inode match on
+// /proc/<pid>/ns/net). Empty if the namespace does not exist.
+std::vector<ProcessInfo> ProcessesInNetns(const std::string& netns);
+
+}  // namespace sitlnet::nns
+
+#endif  // SITLNET_NNS_NNS_H_

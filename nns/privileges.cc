@@ -1,0 +1,50 @@
+// Privilege check: one line naming what is missing and how to get it.
+#include <fcntl.h>
+#include <linux/capability.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "nns/internal.h"
+
+namespace sitlnet::nns {
+namespace {
+
+// Effective capability bit `cap`, read with capget (no libcap dependency).
+bool HasEffectiveCapability(int cap) {
+  __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct data[_LINUX_CAPABILITY_U32S_3]{};
+  if (syscall(SYS_capget, &header, data) != 0) return false;
+  return (data[cap / 32].effective & (1u << (cap % 32))) != 0;
+}
+
+}  // namespace
+
+std::optional<std::string> MissingPrivileges() {
+  std::string missing;
+  auto add = [&missing](const std::string& item) {
+    missing += (missing.empty() ? "" : ", ") + item;
+  };
+  // TAP/veth creation and addresses need CAP_NET_ADMIN; unshare, setns and
+  // the /run/netns mounts need CAP_SYS_ADMIN (reference.md).
+  if (!HasEffectiveCapability(CAP_NET_ADMIN)) add("CAP_NET_ADMIN");
+  if (!HasEffectiveCapability(CAP_SYS_ADMIN)) add("CAP_SYS_ADMIN");
+  const int tun = open("/dev/net/tun", O_RDWR | O_CLOEXEC);
+  if (tun >= 0) {
+    close(tun);
+  } else {
+    add("read-write /dev/net/tun (" + std::string(std::strerror(errno)) + ")");
+  }
+  if (missing.empty()) return std::nullopt;
+  return "missing " + missing +
+         ": run as root (sudo), or in docker add --cap-add NET_ADMIN --cap-add SYS_ADMIN "
+         "--device /dev/net/tun --security-opt apparmor=unconfined";
+}
+
+void RequirePrivileges() {
+  if (auto missing = MissingPrivileges()) throw PrivilegeError(*missing);
+}
+
+}  // namespace sitlnet::nns

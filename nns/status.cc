@@ -1,0 +1,40 @@
+// `status`: what exists now for each robot of a scenario, read from the
+// kernel (links, addresses, processes), not from memory.
+#include <memory>
+
+#include "nns/internal.h"
+
+namespace sitlnet::nns {
+
+std::vector<RobotStatus> Status(const ScenarioState& state) {
+  std::vector<RobotStatus> result;
+  std::vector<internal::NsId> namespaces;
+  std::vector<size_t> robot_of_namespace;
+  internal::RouteSocket root;
+  for (const RobotState& robot : state.robots) {
+    RobotStatus status;
+    status.robot = robot;
+    status.root_veth_present = internal::LinkIndex(root, robot.root_veth) != 0;
+    internal::NsId id;
+    if (internal::StatNs(NetnsPath(robot.netns), &id)) {
+      status.netns_present = true;
+      namespaces.push_back(id);
+      robot_of_namespace.push_back(result.size());
+      std::unique_ptr<internal::RouteSocket> inside;
+      {
+        ScopedNetns enter(robot.netns);
+        inside = std::make_unique<internal::RouteSocket>();
+      }
+      status.links = internal::DumpLinks(*inside);
+    }
+    result.push_back(std::move(status));
+  }
+  std::vector<int> owner;
+  const std::vector<ProcessInfo> processes = internal::ScanProcesses(namespaces, &owner);
+  for (size_t i = 0; i < processes.size(); ++i) {
+    result[robot_of_namespace[owner[i]]].processes.push_back(processes[i]);
+  }
+  return result;
+}
+
+}  // namespace sitlnet::nns

@@ -1,0 +1,170 @@
+// Teardown that works from names alone (after kill -9 of everything): the
+// processes of a namespace are found by inode match of /proc/<pid>/ns/net.
+#include <dirent.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <fstream>
+#include <set>
+
+#include "nns/internal.h"
+
+namespace sitlnet::nns {
+namespace {
+
+// Bounded waits for processes to exit after SIGTERM, then after SIGKILL.
+constexpr TimeNs kTermWaitNs = 2 * kNsPerS;
+constexpr TimeNs kKillWaitNs = 2 * kNsPerS;
+// A process may fork while we kill; rescan at most this many times.
+constexpr int kMaxKillRounds = 4;
+
+std::string ReadComm(pid_t pid) {
+  std::ifstream file("/proc/" + std::to_string(pid) + "/comm");
+  std::string comm;
+  std::getline(file, comm);
+  return comm;
+}
+
+// Waits until every pidfd is readable (process exited) or `timeout_ns`
+// passes; returns the indices still running. poll() on pidfds is an event
+// wait: no sleep, no pid reuse race.
+std::vector<size_t> WaitForExit(const std::vector<UniqueFd>& pidfds, std::vector<size_t> pending,
+                                TimeNs timeout_ns) {
+  const TimeNs deadline = MonotonicNowNs() + timeout_ns;
+  while (!pending.empty()) {
+    const TimeNs left_ns = deadline - MonotonicNowNs();
+    if (left_ns <= 0) break;
+    std::vector<pollfd> fds;
+    for (size_t i : pending) fds.push_back(pollfd{pidfds[i].get(), POLLIN, 0});
+    const int ready = poll(fds.data(), fds.size(), static_cast<int>(left_ns / kNsPerMs) + 1);
+    if (ready < 0 && errno != EINTR) break;
+    std::vector<size_t> still;
+    for (size_t k = 0; k < fds.size(); ++k) {
+      if ((fds[k].revents & (POLLIN | POLLHUP | POLLERR)) == 0) still.push_back(pending[k]);
+    }
+    pending.swap(still);
+  }
+  return pending;
+}
+
+}  // namespace
+
+namespace internal {
+
+std::vector<ProcessInfo> ScanProcesses(const std::vector<NsId>& namespaces,
+                                       std::vector<int>* owner) {
+  std::vector<ProcessInfo> found;
+  if (owner) owner->clear();
+  if (namespaces.empty()) return found;
+  DIR* proc = opendir("/proc");
+  if (proc == nullptr) throw Error(SystemErrorMessage("list /proc", errno));
+  const pid_t self = getpid();
+  while (dirent* entry = readdir(proc)) {
+    char* end = nullptr;
+    const long pid = std::strtol(entry->d_name, &end, 10);
+    if (*end != '\0' || pid <= 0 || pid == self) continue;
+    NsId id;
+    // The thread-group leader's namespace only: a daemon (tapbridge) whose
+    // worker thread briefly enters a robot's namespace is not inside it.
+    if (!StatNs("/proc/" + std::string(entry->d_name) + "/ns/net", &id)) continue;
+    for (size_t i = 0; i < namespaces.size(); ++i) {
+      if (namespaces[i] == id) {
+        found.push_back(ProcessInfo{static_cast<pid_t>(pid), ReadComm(pid)});
+        if (owner) owner->push_back(static_cast<int>(i));
+        break;
+      }
+    }
+  }
+  closedir(proc);
+  return found;
+}
+
+void TerminateProcesses(const std::vector<ProcessInfo>& processes, DownReport* report) {
+  std::vector<UniqueFd> pidfds;
+  std::vector<size_t> pending;
+  for (const ProcessInfo& process : processes) {
+    UniqueFd fd(static_cast<int>(syscall(SYS_pidfd_open, process.pid, 0)));
+    if (!fd.valid()) continue;  // Already gone.
+    if (syscall(SYS_pidfd_send_signal, fd.get(), SIGTERM, nullptr, 0) != 0) continue;
+    pending.push_back(pidfds.size());
+    pidfds.push_back(std::move(fd));
+  }
+  const size_t signalled = pending.size();
+  pending = WaitForExit(pidfds, std::move(pending), kTermWaitNs);
+  report->processes_terminated += static_cast<int>(signalled - pending.size());
+  if (pending.empty()) return;
+  for (size_t i : pending) syscall(SYS_pidfd_send_signal, pidfds[i].get(), SIGKILL, nullptr, 0);
+  report->processes_killed += static_cast<int>(pending.size());
+  pending = WaitForExit(pidfds, std::move(pending), kKillWaitNs);
+  if (!pending.empty()) {
+    throw Error("process " + std::to_string(processes[pending[0]].pid) +
+                " did not exit within 2 s of SIGKILL (uninterruptible sleep?)");
+  }
+}
+
+}  // namespace internal
+
+std::vector<ProcessInfo> ProcessesInNetns(const std::string& netns) {
+  internal::NsId id;
+  if (!internal::StatNs(NetnsPath(netns), &id)) return {};
+  return internal::ScanProcesses({id}, nullptr);
+}
+
+DownReport Down(const std::string& name) {
+  DownReport report;
+  const std::optional<ScenarioState> state = ReadScenarioState(name);
+  if (!state) return report;
+
+  // 1. Processes, all namespaces of the scenario in one /proc scan per round.
+  std::vector<internal::NsId> namespaces;
+  for (const RobotState& robot : state->robots) {
+    internal::NsId id;
+    if (internal::StatNs(NetnsPath(robot.netns), &id)) namespaces.push_back(id);
+  }
+  for (int round = 0; round < kMaxKillRounds; ++round) {
+    const std::vector<ProcessInfo> processes = internal::ScanProcesses(namespaces, nullptr);
+    if (processes.empty()) break;
+    internal::TerminateProcesses(processes, &report);
+  }
+  // 2. Root-side veths by exact name (the peer ctl0 goes with them), then
+  // 3. the namespaces (their TAPs and loopback go with the last reference).
+  // One batched delete of the scenario's link group when the group holds
+  // only our veths (measured: 64 links in 37 ms instead of 1.5 s one by one),
+  // then by exact name for anything left.
+  internal::RouteSocket root;
+  const uint32_t group = internal::LinkGroupForScenario(name);
+  std::set<std::string> ours;
+  for (const RobotState& robot : state->robots) ours.insert(robot.root_veth);
+  const std::vector<std::string> in_group = internal::LinksInGroup(root, group);
+  if (!in_group.empty() && std::all_of(in_group.begin(), in_group.end(),
+                                       [&](const auto& link) { return ours.count(link) != 0; })) {
+    internal::DeleteLinkGroup(root, group);
+    report.links_removed += static_cast<int>(in_group.size());
+  }
+  for (const RobotState& robot : state->robots) {
+    if (internal::DeleteLinkIfPresent(root, robot.root_veth)) ++report.links_removed;
+  }
+  for (const RobotState& robot : state->robots) {
+    if (RemoveNetns(robot.netns)) ++report.namespaces_removed;
+  }
+  internal::RemoveState(name);
+  return report;
+}
+
+DownReport DownAll() {
+  DownReport total;
+  for (const std::string& name : ListScenarios()) {
+    const DownReport one = Down(name);
+    total.namespaces_removed += one.namespaces_removed;
+    total.links_removed += one.links_removed;
+    total.processes_terminated += one.processes_terminated;
+    total.processes_killed += one.processes_killed;
+  }
+  return total;
+}
+
+}  // namespace sitlnet::nns
