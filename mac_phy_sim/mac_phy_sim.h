@@ -33,25 +33,25 @@ enum class Standard : uint8_t {
 // ../shared/reference.md) unless noted. Validated by the Medium constructor.
 struct MediumConfig {
   Standard standard = Standard::k80211a;
-  double rate_mbps = 54;                  // Data rate of every station (no rate control).
+  double rate_mbps = 54;  // Data rate of every station (no rate control).
   double tx_power_dbm = 16.0206;
   double noise_figure_db = 7;
-  double rx_sensitivity_dbm = -101;       // Weaker signals are not even interference-tracked.
-  double cca_energy_detect_dbm = -62;     // Energy at or above this makes CCA busy.
-  double preamble_detect_snr_db = 4;      // ns-3 ThresholdPreambleDetectionModel.
+  double rx_sensitivity_dbm = -101;    // Weaker signals are not even interference-tracked.
+  double cca_energy_detect_dbm = -62;  // Energy at or above this makes CCA busy.
+  double preamble_detect_snr_db = 4;   // ns-3 ThresholdPreambleDetectionModel.
   double preamble_detect_min_rssi_dbm = -82;
-  double path_loss_exponent = 3;          // Log-distance model.
+  double path_loss_exponent = 3;            // Log-distance model.
   std::optional<double> reference_loss_db;  // Loss at 1 m; unset: Friis at the frequency.
-  bool shadowing = true;                  // Sommer et al. 2011 obstacle model.
-  double shadowing_db_per_wall = 9;       // beta
-  double shadowing_db_per_m = 0.4;        // gamma
-  uint32_t rts_threshold_bytes = 0;       // MPDUs longer than this use RTS/CTS; 0: never.
-  uint32_t queue_limit_frames = 100;      // Per-station drop-tail transmit queue.
-  int short_retry_limit = 7;              // dot11ShortRetryLimit: attempts for short frames.
-  int long_retry_limit = 4;               // dot11LongRetryLimit: attempts when RTS is used.
-  std::optional<int> cw_min;              // Override of the standard's CWmin (tests).
-  std::optional<int> cw_max;              // Override of the standard's CWmax (tests).
-  bool short_slot = false;                // 802.11g only: 9 us slot instead of 20 us.
+  bool shadowing = true;                    // Sommer et al. 2011 obstacle model.
+  double shadowing_db_per_wall = 9;         // beta
+  double shadowing_db_per_m = 0.4;          // gamma
+  uint32_t rts_threshold_bytes = 0;         // MPDUs longer than this use RTS/CTS; 0: never.
+  uint32_t queue_limit_frames = 100;        // Per-station drop-tail transmit queue.
+  int short_retry_limit = 7;                // dot11ShortRetryLimit: attempts for short frames.
+  int long_retry_limit = 4;                 // dot11LongRetryLimit: attempts when RTS is used.
+  std::optional<int> cw_min;                // Override of the standard's CWmin (tests).
+  std::optional<int> cw_max;                // Override of the standard's CWmax (tests).
+  bool short_slot = false;                  // 802.11g only: 9 us slot instead of 20 us.
   // Frame capture (ns-3 SimpleFrameCaptureModel): while the preamble of the
   // frame being received is still in progress, switch to a new frame that is
   // this much stronger. Unset: no capture (ns-3's default).
@@ -61,10 +61,10 @@ struct MediumConfig {
 
 // Derived PHY/MAC constants of a config (what the medium actually uses).
 struct PhyInfo {
-  double frequency_mhz = 0;       // Channel centre: 5180 (11a, ch 36) or 2412 (b/g, ch 1).
-  double noise_floor_dbm = 0;     // kTB over the channel bandwidth + noise figure.
-  double reference_loss_db = 0;   // At 1 m.
-  double ack_rate_mbps = 0;       // Control-response rate for the configured data rate.
+  double frequency_mhz = 0;      // Channel centre: 5180 (11a, ch 36) or 2412 (b/g, ch 1).
+  double noise_floor_dbm = 0;    // kTB over the channel bandwidth + noise figure.
+  double reference_loss_db = 0;  // At 1 m.
+  double ack_rate_mbps = 0;      // Control-response rate for the configured data rate.
   TimeNs slot_ns = 0, sifs_ns = 0, difs_ns = 0, eifs_ns = 0;
   int cw_min = 0, cw_max = 0;
 };
@@ -97,12 +97,12 @@ using StationId = int;  // Dense: 0 .. station_count()-1, in the order added.
 // A frame that reached a station's MAC intact (first copy; duplicates are
 // filtered). Broadcast/multicast frames produce one Delivery per receiver.
 struct Delivery {
-  StationId station = 0;               // Receiver.
-  StationId source = 0;                // Transmitter of the frame.
-  std::vector<uint8_t> ethernet_frame; // As submitted (dst MAC, src MAC, type, payload).
-  TimeNs delivery_ns = 0;              // End of the PPDU at the receiver.
+  StationId station = 0;                // Receiver.
+  StationId source = 0;                 // Transmitter of the frame.
+  std::vector<uint8_t> ethernet_frame;  // As submitted (dst MAC, src MAC, type, payload).
+  TimeNs delivery_ns = 0;               // End of the PPDU at the receiver.
   double rx_power_dbm = 0;
-  double sinr_db = 0;                  // Lowest SINR over the frame.
+  double sinr_db = 0;  // Lowest SINR over the frame.
 };
 
 //------------------------------ Outputs: trace ------------------------------
@@ -130,12 +130,12 @@ struct TxRecord {
   TimeNs start_ns = 0, end_ns = 0;
   StationId source = 0;
   FrameKind kind = FrameKind::kData;
-  bool retry = false;           // Frame Control Retry bit.
-  uint16_t sequence_number = 0; // 12 bits; 0 for control frames.
-  uint16_t duration_us = 0;     // Duration/ID field (NAV).
+  bool retry = false;            // Frame Control Retry bit.
+  uint16_t sequence_number = 0;  // 12 bits; 0 for control frames.
+  uint16_t duration_us = 0;      // Duration/ID field (NAV).
   double rate_mbps = 0;
-  MacAddress receiver;          // addr1 (broadcast for group frames).
-  MacAddress transmitter;       // addr2 (absent on air for ACK/CTS; still filled).
+  MacAddress receiver;     // addr1 (broadcast for group frames).
+  MacAddress transmitter;  // addr2 (absent on air for ACK/CTS; still filled).
   // The exact MPDU as sent: 802.11 header, LLC/SNAP + payload for DATA, FCS.
   std::vector<uint8_t> mpdu;
   std::vector<RxRecord> receptions;  // Every other station, by StationId.
@@ -162,18 +162,18 @@ struct TraceEvent {
 
 struct StationCounters {
   // Transmit side.
-  uint64_t frames_submitted = 0;   // Accepted by SubmitFrame.
-  uint64_t malformed = 0;          // Rejected by SubmitFrame (too short/long).
-  uint64_t queue_drops = 0;        // Arrived at a full queue.
-  uint64_t data_tx = 0;            // DATA transmissions, retries included.
-  uint64_t retries = 0;            // DATA transmissions with the Retry bit.
+  uint64_t frames_submitted = 0;  // Accepted by SubmitFrame.
+  uint64_t malformed = 0;         // Rejected by SubmitFrame (too short/long).
+  uint64_t queue_drops = 0;       // Arrived at a full queue.
+  uint64_t data_tx = 0;           // DATA transmissions, retries included.
+  uint64_t retries = 0;           // DATA transmissions with the Retry bit.
   uint64_t rts_tx = 0, cts_tx = 0, ack_tx = 0;
-  uint64_t tx_failures = 0;        // ACK or CTS timeouts (collisions or errors).
-  uint64_t sent_ok = 0;            // Unicast acknowledged, or group frame sent.
-  uint64_t lost_retry_limit = 0;   // Dropped after the last attempt.
+  uint64_t tx_failures = 0;       // ACK or CTS timeouts (collisions or errors).
+  uint64_t sent_ok = 0;           // Unicast acknowledged, or group frame sent.
+  uint64_t lost_retry_limit = 0;  // Dropped after the last attempt.
   // Receive side.
-  uint64_t rx_delivered = 0;       // Deliveries to this station.
-  uint64_t rx_duplicates = 0;      // Retransmissions already delivered.
+  uint64_t rx_delivered = 0;   // Deliveries to this station.
+  uint64_t rx_duplicates = 0;  // Retransmissions already delivered.
   uint64_t rx_collided = 0, rx_error = 0, rx_below_sensitivity = 0;
 };
 
@@ -228,8 +228,9 @@ class Medium {
   // path loss + shadowing), from the cache.
   double LossDb(StationId a, StationId b);
 
+  struct State;  // Opaque: defined in medium_state.h, internal to the library.
+
  private:
-  struct State;
   std::unique_ptr<State> state_;
 };
 

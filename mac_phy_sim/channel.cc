@@ -1,0 +1,217 @@
+#include "mac_phy_sim/channel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace sitlnet::mac {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+// Parameter interval [t_in, t_out] of p + t d inside [lo, hi] on one axis.
+bool Slab(double p, double d, double lo, double hi, double* t_in, double* t_out) {
+  if (std::fabs(d) < 1e-15) return p >= lo && p <= hi;
+  double t1 = (lo - p) / d, t2 = (hi - p) / d;
+  if (t1 > t2) std::swap(t1, t2);
+  *t_in = std::max(*t_in, t1);
+  *t_out = std::min(*t_out, t2);
+  return *t_in <= *t_out;
+}
+
+}  // namespace
+
+BoxCrossing CrossBox(const Box& box, const Vec3& a, const Vec3& b) {
+  // Into the box frame: translate, then rotate by -yaw about z.
+  const double c = std::cos(-box.yaw_deg * kDegToRad), s = std::sin(-box.yaw_deg * kDegToRad);
+  auto local = [&](const Vec3& p) {
+    const double x = p.x - box.center_m.x, y = p.y - box.center_m.y;
+    return Vec3{c * x - s * y, s * x + c * y, p.z - box.center_m.z};
+  };
+  const Vec3 la = local(a), lb = local(b);
+  const Vec3 d{lb.x - la.x, lb.y - la.y, lb.z - la.z};
+  double t_in = -std::numeric_limits<double>::infinity();
+  double t_out = std::numeric_limits<double>::infinity();
+  const Vec3 h{box.size_m.x / 2, box.size_m.y / 2, box.size_m.z / 2};
+  if (!Slab(la.x, d.x, -h.x, h.x, &t_in, &t_out) || !Slab(la.y, d.y, -h.y, h.y, &t_in, &t_out) ||
+      !Slab(la.z, d.z, -h.z, h.z, &t_in, &t_out)) {
+    return {};
+  }
+  const double enter = std::max(t_in, 0.0), leave = std::min(t_out, 1.0);
+  if (enter >= leave) return {};
+  BoxCrossing crossing;
+  crossing.walls = (t_in > 0 ? 1 : 0) + (t_out < 1 ? 1 : 0);
+  crossing.inside_m = (leave - enter) * std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+  return crossing;
+}
+
+Channel::Channel(double reference_loss_db, double exponent, bool shadowing, double db_per_wall,
+                 double db_per_m)
+    : reference_loss_db_(reference_loss_db),
+      exponent_(exponent),
+      shadowing_(shadowing),
+      db_per_wall_(db_per_wall),
+      db_per_m_(db_per_m) {}
+
+int Channel::AddStation(const Vec3& position_m) {
+  const int index = static_cast<int>(positions_.size());
+  positions_.push_back(position_m);
+  dirty_.push_back(1);
+  any_dirty_ = true;
+  if (positions_.size() > stride_) {
+    // Grow the matrix by doubling; copy the computed rows.
+    const size_t new_stride = std::max<size_t>(8, stride_ * 2);
+    std::vector<double> grown(new_stride * new_stride, 0.0);
+    for (size_t i = 0; i < stride_; ++i) {
+      std::copy_n(&loss_db_[i * stride_], stride_, &grown[i * new_stride]);
+    }
+    loss_db_ = std::move(grown);
+    stride_ = new_stride;
+  }
+  return index;
+}
+
+void Channel::SetPosition(int station, const Vec3& position_m) {
+  positions_[station] = position_m;
+  dirty_[station] = 1;
+  any_dirty_ = true;
+}
+
+void Channel::AddObstacle(const Box& box) {
+  boxes_.push_back(box);
+  visit_stamp_.push_back(0);
+  grid_stale_ = true;
+  std::fill(dirty_.begin(), dirty_.end(), 1);
+  any_dirty_ = !dirty_.empty();
+}
+
+double Channel::PathLossDb(double distance_m) const {
+  // ns-3 LogDistancePropagationLossModel: the reference loss at or below d0 = 1 m.
+  if (distance_m <= 1.0) return reference_loss_db_;
+  return reference_loss_db_ + 10 * exponent_ * std::log10(distance_m);
+}
+
+void Channel::Refresh() {
+  const int n = static_cast<int>(positions_.size());
+  for (int i = 0; i < n; ++i) {
+    if (!dirty_[i]) continue;
+    for (int j = 0; j < n; ++j) {
+      if (j == i || (dirty_[j] && j < i)) continue;  // Pair done when j was refreshed.
+      const double loss = ComputeLoss(i, j);
+      loss_db_[static_cast<size_t>(i) * stride_ + j] = loss;
+      loss_db_[static_cast<size_t>(j) * stride_ + i] = loss;
+    }
+  }
+  std::fill(dirty_.begin(), dirty_.end(), 0);
+  any_dirty_ = false;
+}
+
+double Channel::ComputeLoss(int a, int b) {
+  const Vec3& pa = positions_[a];
+  const Vec3& pb = positions_[b];
+  const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
+  double loss = PathLossDb(std::sqrt(dx * dx + dy * dy + dz * dz));
+  if (shadowing_ && !boxes_.empty()) loss += ShadowingDb(pa, pb);
+  return loss;
+}
+
+void Channel::RebuildGrid() {
+  grid_stale_ = false;
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0;
+  double x1 = -x0, y1 = -x0;
+  for (const Box& box : boxes_) {
+    const double c = std::fabs(std::cos(box.yaw_deg * kDegToRad));
+    const double s = std::fabs(std::sin(box.yaw_deg * kDegToRad));
+    const double hx = (c * box.size_m.x + s * box.size_m.y) / 2;
+    const double hy = (s * box.size_m.x + c * box.size_m.y) / 2;
+    x0 = std::min(x0, box.center_m.x - hx);
+    x1 = std::max(x1, box.center_m.x + hx);
+    y0 = std::min(y0, box.center_m.y - hy);
+    y1 = std::max(y1, box.center_m.y + hy);
+  }
+  // About four cells per box over the covered area, at most 256 per axis.
+  const double area = std::max((x1 - x0) * (y1 - y0), 1e-6);
+  cell_m_ = std::max(std::sqrt(area / (4.0 * boxes_.size())), 1e-3);
+  cell_m_ = std::max({cell_m_, (x1 - x0) / 256, (y1 - y0) / 256});
+  grid_x0_ = x0;
+  grid_y0_ = y0;
+  grid_nx_ = std::max(1, static_cast<int>(std::ceil((x1 - x0) / cell_m_)));
+  grid_ny_ = std::max(1, static_cast<int>(std::ceil((y1 - y0) / cell_m_)));
+  cells_.assign(static_cast<size_t>(grid_nx_) * grid_ny_, {});
+  for (int k = 0; k < static_cast<int>(boxes_.size()); ++k) {
+    const Box& box = boxes_[k];
+    const double c = std::fabs(std::cos(box.yaw_deg * kDegToRad));
+    const double s = std::fabs(std::sin(box.yaw_deg * kDegToRad));
+    const double hx = (c * box.size_m.x + s * box.size_m.y) / 2;
+    const double hy = (s * box.size_m.x + c * box.size_m.y) / 2;
+    auto cell_of = [&](double v, double origin, int count) {
+      return std::clamp(static_cast<int>(std::floor((v - origin) / cell_m_)), 0, count - 1);
+    };
+    for (int ix = cell_of(box.center_m.x - hx, x0, grid_nx_);
+         ix <= cell_of(box.center_m.x + hx, x0, grid_nx_); ++ix) {
+      for (int iy = cell_of(box.center_m.y - hy, y0, grid_ny_);
+           iy <= cell_of(box.center_m.y + hy, y0, grid_ny_); ++iy) {
+        cells_[static_cast<size_t>(iy) * grid_nx_ + ix].push_back(k);
+      }
+    }
+  }
+}
+
+double Channel::ShadowingDb(const Vec3& a, const Vec3& b) {
+  if (boxes_.empty()) return 0;
+  if (grid_stale_) RebuildGrid();
+  if (++stamp_ == 0) {  // Wrapped: reset stamps so none looks visited.
+    std::fill(visit_stamp_.begin(), visit_stamp_.end(), 0);
+    stamp_ = 1;
+  }
+  // Clip the xy projection of the segment to the grid rectangle.
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  double t_in = 0, t_out = 1;
+  const double gx1 = grid_x0_ + grid_nx_ * cell_m_, gy1 = grid_y0_ + grid_ny_ * cell_m_;
+  if (!Slab(a.x, dx, grid_x0_, gx1, &t_in, &t_out) ||
+      !Slab(a.y, dy, grid_y0_, gy1, &t_in, &t_out)) {
+    return 0;
+  }
+  double loss_db = 0;
+  auto visit = [&](int ix, int iy) {
+    for (int k : cells_[static_cast<size_t>(iy) * grid_nx_ + ix]) {
+      if (visit_stamp_[k] == stamp_) continue;
+      visit_stamp_[k] = stamp_;
+      const BoxCrossing crossing = CrossBox(boxes_[k], a, b);
+      loss_db += db_per_wall_ * crossing.walls + db_per_m_ * crossing.inside_m;
+    }
+  };
+  // Amanatides & Woo grid traversal from the entry point.
+  const double px = a.x + t_in * dx, py = a.y + t_in * dy;
+  int ix = std::clamp(static_cast<int>(std::floor((px - grid_x0_) / cell_m_)), 0, grid_nx_ - 1);
+  int iy = std::clamp(static_cast<int>(std::floor((py - grid_y0_) / cell_m_)), 0, grid_ny_ - 1);
+  const int step_x = dx > 0 ? 1 : -1, step_y = dy > 0 ? 1 : -1;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double delta_x = std::fabs(dx) > 1e-15 ? cell_m_ / std::fabs(dx) : inf;
+  const double delta_y = std::fabs(dy) > 1e-15 ? cell_m_ / std::fabs(dy) : inf;
+  double next_x = inf, next_y = inf;
+  if (std::fabs(dx) > 1e-15) {
+    const double boundary = grid_x0_ + (ix + (dx > 0 ? 1 : 0)) * cell_m_;
+    next_x = (boundary - a.x) / dx;
+  }
+  if (std::fabs(dy) > 1e-15) {
+    const double boundary = grid_y0_ + (iy + (dy > 0 ? 1 : 0)) * cell_m_;
+    next_y = (boundary - a.y) / dy;
+  }
+  while (true) {
+    visit(ix, iy);
+    if (next_x <= next_y) {
+      if (next_x > t_out) break;
+      ix += step_x;
+      next_x += delta_x;
+    } else {
+      if (next_y > t_out) break;
+      iy += step_y;
+      next_y += delta_y;
+    }
+    if (ix < 0 || iy < 0 || ix >= grid_nx_ || iy >= grid_ny_) break;
+  }
+  return loss_db;
+}
+
+}  // namespace sitlnet::mac

@@ -1,0 +1,111 @@
+// DCF channel access (IEEE 802.11-2016 10.3.2, 10.3.4): a station's medium is
+// busy while it transmits, is locked on a frame, senses energy at or above
+// the CCA-ED threshold, or its NAV is set. After the medium has been idle for
+// DIFS (EIFS after a failed reception) the backoff counts down one slot per
+// idle slot; it freezes (keeping whole elapsed slots, as ns-3's
+// ChannelAccessManager does) when the medium turns busy. A station whose
+// counter reaches zero in the same instant another starts still transmits:
+// that is how DCF collisions happen.
+#include <algorithm>
+
+#include "mac_phy_sim/medium_state.h"
+
+namespace sitlnet::mac {
+namespace {
+
+void ScheduleAccess(State& s, int station) {
+  StationState& st = s.stations[station];
+  const TimeNs ifs = st.use_eifs ? s.phy.eifs_ns : s.phy.difs_ns;
+  st.count_origin_ns = std::max(st.idle_since_ns + ifs, st.backoff_start_ns);
+  st.access_at_ns = st.count_origin_ns + st.backoff_slots * s.phy.slot_ns;
+  ++st.access_generation;
+  s.scheduler.Push(st.access_at_ns, EventType::kAccess, station, st.access_generation);
+}
+
+void OnBusy(State& s, int station) {
+  StationState& st = s.stations[station];
+  if (st.access_at_ns < 0) return;
+  if (st.access_at_ns == s.now_ns) return;  // Counter hits zero now: transmit anyway.
+  if (s.now_ns > st.count_origin_ns) {
+    const int elapsed = static_cast<int>((s.now_ns - st.count_origin_ns) / s.phy.slot_ns);
+    st.backoff_slots -= std::min(elapsed, st.backoff_slots);
+  }
+  // An immediate access (no backoff, 10.3.4.2) that the medium interrupted
+  // turns into a random backoff.
+  if (st.backoff_slots == 0) st.backoff_slots = DrawUniform(st, st.cw);
+  st.access_at_ns = -1;
+  ++st.access_generation;
+  st.backoff_start_ns = s.now_ns;
+}
+
+}  // namespace
+
+int DrawUniform(StationState& st, int max_inclusive) {
+  // Lemire's multiply-shift: unbiased enough for 2^64 draws, platform independent.
+  const unsigned __int128 product =
+      static_cast<unsigned __int128>(st.rng()) * static_cast<uint64_t>(max_inclusive + 1);
+  return static_cast<int>(product >> 64);
+}
+
+void UpdateCca(State& s, int station) {
+  StationState& st = s.stations[station];
+  const bool busy = st.transmitting_tx >= 0 || st.rx.tx >= 0 ||
+                    (st.active_signals > 0 && st.energy_mw >= s.cca_mw) ||
+                    st.nav_until_ns > s.now_ns;
+  if (busy == st.busy) return;
+  st.busy = busy;
+  if (busy) {
+    OnBusy(s, station);
+  } else {
+    st.idle_since_ns = s.now_ns;
+    if (st.backoff_pending) ScheduleAccess(s, station);
+  }
+}
+
+void SetNav(State& s, int station, TimeNs until_ns) {
+  StationState& st = s.stations[station];
+  if (until_ns <= st.nav_until_ns) return;
+  st.nav_until_ns = until_ns;
+  s.scheduler.Push(until_ns, EventType::kNavEnd, station, 0);
+}
+
+void StartBackoff(State& s, int station) {
+  StationState& st = s.stations[station];
+  st.backoff_slots = DrawUniform(st, st.cw);
+  st.backoff_start_ns = s.now_ns;
+  st.backoff_pending = true;
+  st.access_at_ns = -1;
+  ++st.access_generation;
+  if (!st.busy) ScheduleAccess(s, station);
+}
+
+void RequestAccess(State& s, int station) {
+  StationState& st = s.stations[station];
+  if (st.backoff_pending || st.exchange != Exchange::kIdle) return;  // Access will come.
+  if (st.busy) {
+    StartBackoff(s, station);
+    return;
+  }
+  // 10.3.4.2: idle medium and a zero backoff counter: transmit once the
+  // medium has been idle for DIFS/EIFS, without a random backoff.
+  st.backoff_slots = 0;
+  st.backoff_start_ns = s.now_ns;
+  st.backoff_pending = true;
+  ScheduleAccess(s, station);
+}
+
+void OnAccess(State& s, int station, uint64_t generation) {
+  StationState& st = s.stations[station];
+  if (generation != st.access_generation || st.access_at_ns != s.now_ns) return;  // Stale.
+  st.access_at_ns = -1;
+  st.backoff_pending = false;
+  st.backoff_slots = 0;
+  if (!st.has_current || st.exchange != Exchange::kIdle) return;  // Post-backoff done.
+  if (st.transmitting_tx < 0) {
+    StartCurrentFrame(s, station);
+  } else {
+    StartBackoff(s, station);  // Busy sending a response at this very instant.
+  }
+}
+
+}  // namespace sitlnet::mac

@@ -1,0 +1,248 @@
+// Frame exchange (IEEE 802.11-2016 10.3.2.5-10.3.2.11): drop-tail queue,
+// DATA/ACK and RTS/CTS/DATA/ACK sequences, ACK/CTS timeouts (ns-3: SIFS +
+// slot + PHY preamble/header), retries with short/long retry counters and
+// binary exponential backoff, duplicate filtering by (TA, sequence number).
+#include <algorithm>
+
+#include "mac_phy_sim/medium_state.h"
+
+namespace sitlnet::mac {
+namespace {
+
+uint16_t Micros(TimeNs ns) { return static_cast<uint16_t>((ns + kNsPerUs - 1) / kNsPerUs); }
+
+int DataPsduBytes(const Frame& frame) {
+  return MpduBytesForEthernet(static_cast<int>(frame.ethernet->size()));
+}
+
+TimeNs DataDurationNs(const State& s, const Frame& frame) {
+  return PpduDurationNs(s.config.standard, s.data_mode.mode.rate_mbps, DataPsduBytes(frame));
+}
+
+void TraceDrop(State& s, int station, DropReason reason, const MacAddress& destination,
+               uint16_t sequence_number, size_t bytes) {
+  if (!s.trace_enabled) return;
+  TraceEvent event;
+  event.drop = DropRecord{s.now_ns, station, reason, destination, sequence_number, bytes};
+  s.trace.push_back(std::move(event));
+}
+
+// Takes the next queued frame into service, if any.
+void NextFrame(State& s, int station) {
+  StationState& st = s.stations[station];
+  st.has_current = false;
+  if (st.queue.empty()) return;
+  st.current = std::move(st.queue.front());
+  st.queue.pop_front();
+  st.has_current = true;
+  st.current.sequence_number = st.next_sequence_number;
+  st.next_sequence_number = static_cast<uint16_t>((st.next_sequence_number + 1) & 0x0fff);
+}
+
+// The frame in service is done (acknowledged, sent to a group, or dropped):
+// reset CW and run a post-backoff (10.3.4.3), carrying the next frame if any.
+void FinishCurrent(State& s, int station) {
+  StationState& st = s.stations[station];
+  st.exchange = Exchange::kIdle;
+  st.cw = s.phy.cw_min;
+  NextFrame(s, station);
+  StartBackoff(s, station);
+}
+
+void ExchangeFailed(State& s, int station) {
+  StationState& st = s.stations[station];
+  const bool was_cts = st.exchange == Exchange::kWaitCts;
+  st.exchange = Exchange::kIdle;
+  st.timeout_waits_for_rx = false;
+  ++st.counters.tx_failures;
+  Frame& f = st.current;
+  const bool data_after_cts = !was_cts && f.use_rts;
+  const bool exhausted = data_after_cts ? f.long_attempts >= s.config.long_retry_limit
+                                        : f.short_attempts >= s.config.short_retry_limit;
+  if (exhausted) {
+    ++st.counters.lost_retry_limit;
+    TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
+              f.ethernet->size());
+    FinishCurrent(s, station);
+    return;
+  }
+  st.cw = std::min(2 * st.cw + 1, s.phy.cw_max);
+  StartBackoff(s, station);
+}
+
+void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& ra,
+                      uint16_t duration_us) {
+  StationState& st = s.stations[station];
+  st.response_pending = true;
+  st.response_kind = kind;
+  st.response_ra = ra;
+  st.response_duration_us = duration_us;
+  s.scheduler.Push(s.now_ns + s.phy.sifs_ns, EventType::kRespond, station, 0);
+}
+
+void SendData(State& s, int station) {
+  StationState& st = s.stations[station];
+  Frame& f = st.current;
+  const uint16_t duration = f.group ? 0 : Micros(s.phy.sifs_ns + s.ack_ns);
+  Transmission& tx = StartTransmission(s, station, FrameKind::kData, s.data_mode, DataPsduBytes(f),
+                                       f.destination, duration);
+  tx.retry = f.data_sent_before;
+  tx.sequence_number = f.sequence_number;
+  tx.ethernet = f.ethernet;
+  ++st.counters.data_tx;
+  if (f.data_sent_before) ++st.counters.retries;
+  f.data_sent_before = true;
+  if (f.use_rts) {
+    ++f.long_attempts;
+  } else {
+    ++f.short_attempts;
+  }
+  st.exchange = f.group ? Exchange::kIdle : Exchange::kWaitAck;
+}
+
+}  // namespace
+
+void OnEnqueue(State& s, int station, Bytes ethernet) {
+  StationState& st = s.stations[station];
+  if (st.queue.size() >= s.config.queue_limit_frames) {
+    ++st.counters.queue_drops;
+    MacAddress destination;
+    std::copy_n(ethernet->begin(), 6, destination.bytes.begin());
+    TraceDrop(s, station, DropReason::kQueueFull, destination, 0, ethernet->size());
+    return;
+  }
+  Frame frame;
+  std::copy_n(ethernet->begin(), 6, frame.destination.bytes.begin());
+  frame.group = frame.destination.IsGroup();
+  frame.ethernet = std::move(ethernet);
+  frame.use_rts = !frame.group && s.config.rts_threshold_bytes > 0 &&
+                  DataPsduBytes(frame) > static_cast<int>(s.config.rts_threshold_bytes);
+  st.queue.push_back(std::move(frame));
+  if (!st.has_current) {
+    NextFrame(s, station);
+    RequestAccess(s, station);
+  }
+}
+
+void StartCurrentFrame(State& s, int station) {
+  StationState& st = s.stations[station];
+  Frame& f = st.current;
+  if (!f.use_rts) {
+    SendData(s, station);
+    return;
+  }
+  // RTS Duration: CTS + DATA + ACK + 3 SIFS (9.3.1.2).
+  const uint16_t duration = Micros(3 * s.phy.sifs_ns + s.cts_ns + DataDurationNs(s, f) + s.ack_ns);
+  StartTransmission(s, station, FrameKind::kRts, s.control_mode, kRtsBytes, f.destination,
+                    duration);
+  ++st.counters.rts_tx;
+  ++f.short_attempts;
+  st.exchange = Exchange::kWaitCts;
+}
+
+void OnOwnTxEnd(State& s, const Transmission& tx) {
+  StationState& st = s.stations[tx.source];
+  if (tx.kind == FrameKind::kData && tx.group) {
+    ++st.counters.sent_ok;
+    FinishCurrent(s, tx.source);
+    return;
+  }
+  if ((tx.kind == FrameKind::kData && st.exchange == Exchange::kWaitAck) ||
+      (tx.kind == FrameKind::kRts && st.exchange == Exchange::kWaitCts)) {
+    ++st.timeout_generation;
+    st.timeout_waits_for_rx = false;
+    s.scheduler.Push(s.now_ns + s.timeout_ns, EventType::kTimeout, tx.source,
+                     st.timeout_generation);
+  }
+}
+
+void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntry& entry) {
+  StationState& st = s.stations[station];
+  const bool for_me = tx.ra == st.mac;
+  switch (tx.kind) {
+    case FrameKind::kData: {
+      if (!tx.group && !for_me) return;
+      if (!tx.group) {
+        ScheduleResponse(s, station, FrameKind::kAck, tx.ta, 0);
+        auto& last = st.last_sequence_from;
+        if (static_cast<int>(last.size()) <= tx.source) last.resize(tx.source + 1, -1);
+        if (tx.retry && last[tx.source] == tx.sequence_number) {
+          ++st.counters.rx_duplicates;
+          return;
+        }
+        last[tx.source] = tx.sequence_number;
+      }
+      ++st.counters.rx_delivered;
+      if (s.deliveries != nullptr) {
+        s.deliveries->push_back(
+            Delivery{station, tx.source, *tx.ethernet, s.now_ns, entry.power_dbm, entry.sinr_db});
+      }
+      return;
+    }
+    case FrameKind::kRts:
+      // Answer only with an idle NAV (10.3.2.7).
+      if (for_me && st.nav_until_ns <= s.now_ns) {
+        const TimeNs rest = tx.duration_us * kNsPerUs - s.phy.sifs_ns - s.cts_ns;
+        ScheduleResponse(s, station, FrameKind::kCts, tx.ta, Micros(std::max<TimeNs>(rest, 0)));
+      }
+      return;
+    case FrameKind::kCts:
+      if (for_me && st.exchange == Exchange::kWaitCts) {
+        ++st.timeout_generation;
+        st.timeout_waits_for_rx = false;
+        st.exchange = Exchange::kIdle;
+        ScheduleResponse(s, station, FrameKind::kData, st.current.destination, 0);
+      }
+      return;
+    case FrameKind::kAck:
+      if (for_me && st.exchange == Exchange::kWaitAck) {
+        ++st.timeout_generation;
+        st.timeout_waits_for_rx = false;
+        ++st.counters.sent_ok;
+        FinishCurrent(s, station);
+      }
+      return;
+  }
+}
+
+void OnLockedRxEnd(State& s, int station) {
+  StationState& st = s.stations[station];
+  if (st.timeout_waits_for_rx && st.exchange != Exchange::kIdle) ExchangeFailed(s, station);
+  st.timeout_waits_for_rx = false;
+}
+
+void OnTimeout(State& s, int station, uint64_t generation) {
+  StationState& st = s.stations[station];
+  if (generation != st.timeout_generation || st.exchange == Exchange::kIdle) return;
+  if (st.rx.tx >= 0) {
+    // A frame started before the timeout: it may be the response (ns-3 waits too).
+    st.timeout_waits_for_rx = true;
+    return;
+  }
+  ExchangeFailed(s, station);
+}
+
+void OnRespond(State& s, int station) {
+  StationState& st = s.stations[station];
+  if (!st.response_pending) return;
+  st.response_pending = false;
+  if (st.transmitting_tx >= 0) return;
+  switch (st.response_kind) {
+    case FrameKind::kAck:
+      StartTransmission(s, station, FrameKind::kAck, s.control_mode, kAckBytes, st.response_ra, 0);
+      ++st.counters.ack_tx;
+      return;
+    case FrameKind::kCts:
+      StartTransmission(s, station, FrameKind::kCts, s.control_mode, kCtsBytes, st.response_ra,
+                        st.response_duration_us);
+      ++st.counters.cts_tx;
+      return;
+    case FrameKind::kData:
+      if (st.has_current) SendData(s, station);
+      return;
+    case FrameKind::kRts:
+      return;
+  }
+}
+
+}  // namespace sitlnet::mac

@@ -1,0 +1,192 @@
+// The public API of the medium and its event loop.
+#include <cmath>
+
+#include "mac_phy_sim/error_rate.h"
+#include "mac_phy_sim/medium_state.h"
+
+namespace sitlnet::mac {
+namespace {
+
+double DbmToMw(double dbm) { return std::pow(10.0, dbm / 10); }
+
+ModeEntry MakeMode(const PhyMode& mode) { return ModeEntry{mode, PerfectSinr(mode)}; }
+
+// SplitMix64 (Steele et al. 2014): decorrelated per-station seeds from one seed.
+uint64_t SplitMix64(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+bool IsStale(const State& s, const Event& e) {
+  switch (e.type) {
+    case EventType::kAccess:
+      return e.aux != s.stations[e.station].access_generation;
+    case EventType::kTimeout:
+      return e.aux != s.stations[e.station].timeout_generation;
+    default:
+      return false;
+  }
+}
+
+void Dispatch(State& s, const Event& e) {
+  switch (e.type) {
+    case EventType::kEnqueue: {
+      PendingFrame& pending = s.pending_frames[e.aux];
+      Bytes bytes = std::move(pending.ethernet);
+      s.free_pending_frames.push_back(static_cast<int>(e.aux));
+      OnEnqueue(s, e.station, std::move(bytes));
+      return;
+    }
+    case EventType::kMove:
+      s.channel.SetPosition(e.station, s.pending_moves[e.aux].position_m);
+      s.free_pending_moves.push_back(static_cast<int>(e.aux));
+      return;
+    case EventType::kAccess:
+      OnAccess(s, e.station, e.aux);
+      return;
+    case EventType::kTxEnd:
+      OnTxEnd(s, static_cast<int>(e.aux));
+      return;
+    case EventType::kTimeout:
+      OnTimeout(s, e.station, e.aux);
+      return;
+    case EventType::kRespond:
+      OnRespond(s, e.station);
+      return;
+    case EventType::kNavEnd:
+      UpdateCca(s, e.station);
+      return;
+  }
+}
+
+}  // namespace
+
+Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
+    : config(config_in),
+      phy(phy_in),
+      data_mode(MakeMode(ModeFor(config_in.standard, config_in.rate_mbps))),
+      control_mode(MakeMode(ModeFor(config_in.standard, phy_in.ack_rate_mbps))),
+      header_mode(MakeMode(HeaderModeFor(config_in.standard))),
+      channel(phy_in.reference_loss_db, config_in.path_loss_exponent, config_in.shadowing,
+              config_in.shadowing_db_per_wall, config_in.shadowing_db_per_m) {
+  noise_mw = DbmToMw(phy.noise_floor_dbm);
+  cca_mw = DbmToMw(config.cca_energy_detect_dbm);
+  preamble_ns = PreambleAndHeaderNs(config.standard);
+  signal_extension_ns = SignalExtensionNs(config.standard);
+  ack_ns = PpduDurationNs(config.standard, phy.ack_rate_mbps, kAckBytes);
+  cts_ns = PpduDurationNs(config.standard, phy.ack_rate_mbps, kCtsBytes);
+  // ns-3's AckTimeout/CtsTimeout: SIFS + slot + PHY preamble and header.
+  timeout_ns = phy.sifs_ns + phy.slot_ns + preamble_ns;
+}
+
+Medium::Medium(const MediumConfig& config)
+    : state_(std::make_unique<State>(config, DerivePhyInfo(config))) {}
+Medium::~Medium() = default;
+Medium::Medium(Medium&&) noexcept = default;
+Medium& Medium::operator=(Medium&&) noexcept = default;
+
+const MediumConfig& Medium::config() const { return state_->config; }
+const PhyInfo& Medium::phy() const { return state_->phy; }
+int Medium::station_count() const { return static_cast<int>(state_->stations.size()); }
+TimeNs Medium::now_ns() const { return state_->now_ns; }
+
+StationId Medium::AddStation(const MacAddress& mac, const Vec3& position_m) {
+  State& s = *state_;
+  const int id = static_cast<int>(s.stations.size());
+  StationState& st = s.stations.emplace_back();
+  st.mac = mac;
+  st.rng.seed(SplitMix64(s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));
+  st.cw = s.phy.cw_min;
+  st.idle_since_ns = s.now_ns;
+  s.channel.AddStation(position_m);
+  return id;
+}
+
+void Medium::SetStationPosition(StationId station, const Vec3& position_m, TimeNs at_ns) {
+  State& s = *state_;
+  SITLNET_DEMAND(station >= 0 && station < station_count());
+  int slot;
+  if (!s.free_pending_moves.empty()) {
+    slot = s.free_pending_moves.back();
+    s.free_pending_moves.pop_back();
+  } else {
+    slot = static_cast<int>(s.pending_moves.size());
+    s.pending_moves.emplace_back();
+  }
+  s.pending_moves[slot] = PendingMove{station, position_m};
+  s.scheduler.Push(std::max(at_ns, s.now_ns), EventType::kMove, station,
+                   static_cast<uint64_t>(slot));
+}
+
+void Medium::AddObstacle(const Box& box) { state_->channel.AddObstacle(box); }
+
+bool Medium::SubmitFrame(StationId source, std::span<const uint8_t> ethernet_frame, TimeNs at_ns) {
+  State& s = *state_;
+  SITLNET_DEMAND(source >= 0 && source < station_count());
+  StationState& st = s.stations[source];
+  if (ethernet_frame.size() < static_cast<size_t>(kEthernetHeaderBytes) ||
+      ethernet_frame.size() - kEthernetHeaderBytes + kLlcSnapBytes > kMaxMsduBytes) {
+    ++st.counters.malformed;
+    return false;
+  }
+  ++st.counters.frames_submitted;
+  int slot;
+  if (!s.free_pending_frames.empty()) {
+    slot = s.free_pending_frames.back();
+    s.free_pending_frames.pop_back();
+  } else {
+    slot = static_cast<int>(s.pending_frames.size());
+    s.pending_frames.emplace_back();
+  }
+  s.pending_frames[slot] = PendingFrame{source, std::make_shared<const std::vector<uint8_t>>(
+                                                    ethernet_frame.begin(), ethernet_frame.end())};
+  s.scheduler.Push(std::max(at_ns, s.now_ns), EventType::kEnqueue, source,
+                   static_cast<uint64_t>(slot));
+  return true;
+}
+
+void Medium::AdvanceTo(TimeNs until_ns, std::vector<Delivery>* deliveries) {
+  State& s = *state_;
+  s.deliveries = deliveries;
+  while (!s.scheduler.empty() && s.scheduler.top().time_ns <= until_ns) {
+    const Event event = s.scheduler.Pop();
+    if (IsStale(s, event)) continue;
+    s.now_ns = event.time_ns;
+    Dispatch(s, event);
+  }
+  if (until_ns > s.now_ns) s.now_ns = until_ns;
+  s.deliveries = nullptr;
+}
+
+std::optional<TimeNs> Medium::NextEventNs() {
+  State& s = *state_;
+  while (!s.scheduler.empty() && IsStale(s, s.scheduler.top())) s.scheduler.Pop();
+  if (s.scheduler.empty()) return std::nullopt;
+  return s.scheduler.top().time_ns;
+}
+
+void Medium::EnableTrace(bool enabled) { state_->trace_enabled = enabled; }
+
+void Medium::DrainTrace(std::vector<TraceEvent>* out) {
+  for (TraceEvent& event : state_->trace) out->push_back(std::move(event));
+  state_->trace.clear();
+}
+
+const StationCounters& Medium::counters(StationId station) const {
+  SITLNET_DEMAND(station >= 0 && station < station_count());
+  return state_->stations[station].counters;
+}
+
+size_t Medium::queued_frames(StationId station) const {
+  SITLNET_DEMAND(station >= 0 && station < station_count());
+  return state_->stations[station].queue.size();
+}
+
+double Medium::LossDb(StationId a, StationId b) {
+  SITLNET_DEMAND(a >= 0 && a < station_count() && b >= 0 && b < station_count());
+  return a == b ? 0.0 : state_->channel.LossDb(a, b);
+}
+
+}  // namespace sitlnet::mac

@@ -1,0 +1,187 @@
+// Internal state of a Medium and the stages that act on it. The stages are
+// split by responsibility (ns-3's decomposition, without its object system):
+//   channel_access.cc  CCA busy/idle, NAV, IFS, backoff countdown (DCF)
+//   frame_exchange.cc  queue, DATA/ACK, RTS/CTS, timeouts, retries, duplicates
+//   reception.cc       PHY: signal arrival, preamble lock, interference/SINR
+//                      chunks, error-rate draw at the end
+//   transmission.cc    putting a PPDU on the air and taking it off (+ trace)
+//   medium.cc          the public API and the event loop
+#ifndef SITLNET_MAC_PHY_SIM_MEDIUM_STATE_H_
+#define SITLNET_MAC_PHY_SIM_MEDIUM_STATE_H_
+
+#include <deque>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "mac_phy_sim/channel.h"
+#include "mac_phy_sim/mac_phy_sim.h"
+#include "mac_phy_sim/phy_mode.h"
+#include "mac_phy_sim/scheduler.h"
+
+namespace sitlnet::mac {
+
+using Bytes = std::shared_ptr<const std::vector<uint8_t>>;
+
+// A PHY mode plus the SINR above which its error rate is exactly zero.
+struct ModeEntry {
+  PhyMode mode;
+  double perfect_sinr = 0;
+};
+
+// An MSDU in a station's queue or in service.
+struct Frame {
+  Bytes ethernet;
+  MacAddress destination;
+  bool group = false;
+  uint16_t sequence_number = 0;
+  int short_attempts = 0;         // RTS attempts, or DATA attempts without RTS.
+  int long_attempts = 0;          // DATA attempts after a CTS.
+  bool data_sent_before = false;  // Sets the Retry bit.
+  bool use_rts = false;
+};
+
+// What one receiver saw of one transmission.
+struct RxEntry {
+  int station = 0;
+  double power_mw = 0;
+  double power_dbm = 0;
+  RxOutcome outcome = RxOutcome::kBelowSensitivity;
+  double sinr_db = 0;
+};
+
+// A PPDU on the air.
+struct Transmission {
+  int id = 0;
+  int source = 0;
+  FrameKind kind = FrameKind::kData;
+  TimeNs start_ns = 0, end_ns = 0;
+  const ModeEntry* mode = nullptr;
+  bool retry = false;
+  bool group = false;
+  uint16_t sequence_number = 0;
+  uint16_t duration_us = 0;
+  MacAddress ra, ta;
+  Bytes ethernet;           // DATA only.
+  std::vector<RxEntry> rx;  // Receivers above sensitivity, by station id.
+};
+
+// The frame a station's PHY is locked on, with its SINR history so far.
+struct Reception {
+  int tx = -1;  // Transmission id, -1 when not receiving.
+  int entry = 0;
+  double power_mw = 0;
+  TimeNs start_ns = 0, chunk_start_ns = 0;
+  double interference_mw = 0;
+  double success_probability = 1;
+  double min_sinr = 0;
+  bool interfered = false;
+};
+
+enum class Exchange : uint8_t { kIdle, kWaitAck, kWaitCts };
+
+struct StationState {
+  MacAddress mac;
+  std::mt19937_64 rng;
+  StationCounters counters;
+  // Transmit queue and the frame in service.
+  std::deque<Frame> queue;
+  bool has_current = false;
+  Frame current;
+  uint16_t next_sequence_number = 0;
+  int cw = 0;
+  // Channel access (DCF).
+  bool busy = false;
+  TimeNs idle_since_ns = 0;
+  bool use_eifs = false;         // Last reception failed (10.3.2.3.7).
+  bool backoff_pending = false;  // Counting down (for a frame, or post-backoff).
+  int backoff_slots = 0;
+  TimeNs backoff_start_ns = 0;
+  TimeNs count_origin_ns = 0;  // Where slot counting starts for the scheduled access.
+  TimeNs access_at_ns = -1;    // Scheduled access, -1 if none.
+  uint64_t access_generation = 0;
+  TimeNs nav_until_ns = 0;
+  // PHY.
+  int transmitting_tx = -1;
+  int active_signals = 0;
+  double energy_mw = 0;
+  Reception rx;
+  // Frame exchange.
+  Exchange exchange = Exchange::kIdle;
+  uint64_t timeout_generation = 0;
+  bool timeout_waits_for_rx = false;
+  bool response_pending = false;
+  FrameKind response_kind = FrameKind::kAck;
+  MacAddress response_ra;
+  uint16_t response_duration_us = 0;
+  std::vector<int> last_sequence_from;  // Per source station, -1: none (duplicates).
+};
+
+struct PendingMove {
+  int station = 0;
+  Vec3 position_m;
+};
+
+struct PendingFrame {
+  int station = 0;
+  Bytes ethernet;
+};
+
+struct Medium::State {
+  State(const MediumConfig& config, const PhyInfo& phy);
+
+  MediumConfig config;
+  PhyInfo phy;
+  ModeEntry data_mode, control_mode, header_mode;
+  double noise_mw = 0, cca_mw = 0;
+  TimeNs preamble_ns = 0, signal_extension_ns = 0, ack_ns = 0, cts_ns = 0, timeout_ns = 0;
+
+  Channel channel;
+  Scheduler scheduler;
+  TimeNs now_ns = 0;
+  std::vector<StationState> stations;
+  std::vector<Transmission> transmissions;  // Pool, indexed by id.
+  std::vector<int> free_transmissions;
+  std::vector<PendingFrame> pending_frames;
+  std::vector<int> free_pending_frames;
+  std::vector<PendingMove> pending_moves;
+  std::vector<int> free_pending_moves;
+
+  bool trace_enabled = false;
+  std::vector<TraceEvent> trace;
+  std::vector<Delivery>* deliveries = nullptr;  // Set during AdvanceTo.
+};
+
+using State = Medium::State;
+
+// ---- channel_access.cc
+void UpdateCca(State& s, int station);
+void RequestAccess(State& s, int station);  // A frame became current.
+void StartBackoff(State& s, int station);   // Draw from CW and count down.
+void OnAccess(State& s, int station, uint64_t generation);
+void SetNav(State& s, int station, TimeNs until_ns);
+int DrawUniform(StationState& st, int max_inclusive);
+
+// ---- frame_exchange.cc
+void OnEnqueue(State& s, int station, Bytes ethernet);
+void StartCurrentFrame(State& s, int station);      // Backoff done: RTS or DATA.
+void OnOwnTxEnd(State& s, const Transmission& tx);  // MAC side of a finished PPDU.
+void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntry& entry);
+void OnLockedRxEnd(State& s, int station);  // Resolves a deferred timeout.
+void OnTimeout(State& s, int station, uint64_t generation);
+void OnRespond(State& s, int station);
+
+// ---- transmission.cc
+Transmission& StartTransmission(State& s, int source, FrameKind kind, const ModeEntry& mode,
+                                int psdu_bytes, const MacAddress& ra, uint16_t duration_us);
+void OnTxEnd(State& s, int tx_id);
+
+// ---- reception.cc
+void SignalArrives(State& s, int station, Transmission& tx, int entry_index);
+// Removes the signal; returns true if it was the locked frame and decoded.
+bool SignalEnds(State& s, int station, Transmission& tx, int entry_index);
+void AbortReception(State& s, int station);  // Station starts transmitting.
+
+}  // namespace sitlnet::mac
+
+#endif  // SITLNET_MAC_PHY_SIM_MEDIUM_STATE_H_

@@ -1,0 +1,136 @@
+// PHY reception and interference: each station sums the power of every
+// signal on the air at it; the frame it is locked on accumulates its success
+// probability chunk by chunk, one chunk per interval of constant interference
+// (ns-3 InterferenceHelper's piecewise SINR), split into PHY header and
+// payload parts that use their own modes.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "mac_phy_sim/error_rate.h"
+#include "mac_phy_sim/medium_state.h"
+
+namespace sitlnet::mac {
+namespace {
+
+double ToDb(double linear) { return 10 * std::log10(linear); }
+
+// Success probability of [a, b) of the locked frame at constant `sinr`.
+double ChunkSuccess(const State& s, const Transmission& tx, TimeNs a, TimeNs b, double sinr) {
+  double success = 1;
+  const TimeNs header_end = tx.start_ns + s.preamble_ns;
+  const TimeNs payload_end = tx.end_ns - s.signal_extension_ns;
+  // PHY header: the SIGNAL / PLCP header bits, pro rata of the overlap.
+  const TimeNs header_overlap = std::min(b, header_end) - std::max(a, tx.start_ns);
+  if (header_overlap > 0 && sinr < s.header_mode.perfect_sinr) {
+    const double bits =
+        HeaderBits(s.config.standard) * static_cast<double>(header_overlap) / s.preamble_ns;
+    success *= ChunkSuccessRate(s.header_mode.mode, sinr, bits);
+  }
+  const TimeNs payload_overlap = std::min(b, payload_end) - std::max(a, header_end);
+  if (payload_overlap > 0 && sinr < tx.mode->perfect_sinr) {
+    const double bits = tx.mode->mode.rate_mbps * static_cast<double>(payload_overlap) / 1000.0;
+    success *= ChunkSuccessRate(tx.mode->mode, sinr, bits);
+  }
+  return success;
+}
+
+// Closes the current constant-interference chunk of the locked frame at now.
+void CloseChunk(State& s, StationState& st) {
+  Reception& rx = st.rx;
+  if (s.now_ns <= rx.chunk_start_ns) return;
+  const double sinr = rx.power_mw / (s.noise_mw + rx.interference_mw);
+  rx.min_sinr = std::min(rx.min_sinr, sinr);
+  rx.success_probability *=
+      ChunkSuccess(s, s.transmissions[rx.tx], rx.chunk_start_ns, s.now_ns, sinr);
+  rx.chunk_start_ns = s.now_ns;
+}
+
+void Lock(State& s, StationState& st, Transmission& tx, int entry_index, double interference_mw) {
+  Reception& rx = st.rx;
+  rx.tx = tx.id;
+  rx.entry = entry_index;
+  rx.power_mw = tx.rx[entry_index].power_mw;
+  rx.start_ns = rx.chunk_start_ns = s.now_ns;
+  rx.interference_mw = interference_mw;
+  rx.success_probability = 1;
+  rx.min_sinr = std::numeric_limits<double>::infinity();
+  rx.interfered = interference_mw > 0;
+}
+
+}  // namespace
+
+void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
+  StationState& st = s.stations[station];
+  RxEntry& entry = tx.rx[entry_index];
+  const double energy_before = st.active_signals > 0 ? st.energy_mw : 0.0;
+  st.energy_mw = energy_before + entry.power_mw;
+  ++st.active_signals;
+  entry.sinr_db = ToDb(entry.power_mw / s.noise_mw);
+  if (st.transmitting_tx >= 0) {
+    entry.outcome = RxOutcome::kTransmitting;  // Half duplex.
+    return;
+  }
+  if (st.rx.tx >= 0) {
+    CloseChunk(s, st);
+    const auto& capture = s.config.capture_margin_db;
+    const double locked_dbm = ToDb(st.rx.power_mw);
+    if (capture && entry.power_dbm >= locked_dbm + *capture &&
+        s.now_ns < st.rx.start_ns + s.preamble_ns) {
+      // Frame capture (ns-3 SimpleFrameCaptureModel): drop the weaker frame.
+      Transmission& old_tx = s.transmissions[st.rx.tx];
+      old_tx.rx[st.rx.entry].outcome = RxOutcome::kCollided;
+      Lock(s, st, tx, entry_index, energy_before);
+      return;
+    }
+    st.rx.interference_mw += entry.power_mw;
+    st.rx.interfered = true;
+    entry.outcome = RxOutcome::kCollided;
+    return;
+  }
+  // Preamble detection (ns-3 ThresholdPreambleDetectionModel): RSSI and SINR thresholds.
+  const double sinr_db = ToDb(entry.power_mw / (s.noise_mw + energy_before));
+  const bool strong_enough = entry.power_dbm >= s.config.preamble_detect_min_rssi_dbm;
+  if (strong_enough && sinr_db >= s.config.preamble_detect_snr_db) {
+    Lock(s, st, tx, entry_index, energy_before);
+    return;
+  }
+  const bool detectable_alone = strong_enough && entry.sinr_db >= s.config.preamble_detect_snr_db;
+  entry.outcome = detectable_alone ? RxOutcome::kCollided : RxOutcome::kBelowSensitivity;
+}
+
+bool SignalEnds(State& s, int station, Transmission& tx, int entry_index) {
+  StationState& st = s.stations[station];
+  RxEntry& entry = tx.rx[entry_index];
+  bool decoded = false;
+  if (st.rx.tx == tx.id) {
+    CloseChunk(s, st);
+    const double p = st.rx.success_probability;
+    decoded = p >= 1.0 || (p > 0.0 && std::generate_canonical<double, 53>(st.rng) < p);
+    entry.sinr_db = ToDb(st.rx.min_sinr);
+    entry.outcome = decoded ? RxOutcome::kReceived
+                            : (st.rx.interfered ? RxOutcome::kCollided : RxOutcome::kError);
+    st.use_eifs = !decoded;
+    st.rx.tx = -1;
+  } else if (st.rx.tx >= 0) {
+    CloseChunk(s, st);
+    st.rx.interference_mw = std::max(0.0, st.rx.interference_mw - entry.power_mw);
+  }
+  if (--st.active_signals == 0) {
+    st.energy_mw = 0;  // Exactly: no residue of floating-point subtraction.
+    if (st.rx.tx >= 0) st.rx.interference_mw = 0;
+  } else {
+    st.energy_mw -= entry.power_mw;
+    if (st.rx.tx >= 0 && st.active_signals == 1) st.rx.interference_mw = 0;
+  }
+  return decoded;
+}
+
+void AbortReception(State& s, int station) {
+  StationState& st = s.stations[station];
+  if (st.rx.tx < 0) return;
+  s.transmissions[st.rx.tx].rx[st.rx.entry].outcome = RxOutcome::kTransmitting;
+  st.rx.tx = -1;
+}
+
+}  // namespace sitlnet::mac

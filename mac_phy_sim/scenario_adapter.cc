@@ -1,0 +1,52 @@
+#include "mac_phy_sim/scenario_adapter.h"
+
+namespace sitlnet::mac {
+namespace {
+
+Vec3 ToVec3(const proto::Vec3& v) { return Vec3{v.x(), v.y(), v.z()}; }
+
+}  // namespace
+
+MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
+  const proto::Radio& radio = scenario.spec.radio();
+  MediumConfig config;
+  switch (radio.standard()) {
+    case proto::Radio::STANDARD_80211B:
+      config.standard = Standard::k80211b;
+      break;
+    case proto::Radio::STANDARD_80211G:
+      config.standard = Standard::k80211g;
+      break;
+    default:
+      config.standard = Standard::k80211a;
+      break;
+  }
+  config.rate_mbps = radio.rate_mbps();
+  config.tx_power_dbm = radio.tx_power_dbm();
+  config.noise_figure_db = radio.noise_figure_db();
+  config.rx_sensitivity_dbm = radio.rx_sensitivity_dbm();
+  config.cca_energy_detect_dbm = radio.cca_energy_detect_dbm();
+  config.path_loss_exponent = radio.path_loss_exponent();
+  if (radio.has_reference_loss_db()) config.reference_loss_db = radio.reference_loss_db();
+  config.shadowing = radio.shadowing();
+  config.shadowing_db_per_wall = radio.shadowing_db_per_wall();
+  config.shadowing_db_per_m = radio.shadowing_db_per_m();
+  config.rts_threshold_bytes = radio.rts_threshold_bytes();
+  config.queue_limit_frames = radio.queue_limit_frames();
+  config.seed = scenario.spec.timing().seed();
+  return config;
+}
+
+Medium MakeMediumFromScenario(const sitlnet::Scenario& scenario) {
+  Medium medium(MediumConfigFromScenario(scenario));
+  for (const RobotPlan& robot : scenario.robots) {
+    medium.AddStation(robot.wlan_mac, ToVec3(robot.spec.position_m()));
+  }
+  for (const proto::Obstacle& obstacle : scenario.spec.obstacle()) {
+    medium.AddObstacle(
+        Box{ToVec3(obstacle.center_m()), ToVec3(obstacle.size_m()), obstacle.yaw_deg()});
+  }
+  return medium;
+}
+
+}  // namespace sitlnet::mac

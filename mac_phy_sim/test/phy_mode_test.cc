@@ -1,0 +1,98 @@
+// Airtime, interframe spaces and control rates against IEEE 802.11-2016 and
+// the oracle table of ../shared/reference.md.
+#include "mac_phy_sim/phy_mode.h"
+
+#include <gtest/gtest.h>
+
+namespace sitlnet::mac {
+namespace {
+
+TEST(PhyModeTest, OfdmAirtimeMatchesReferenceTable) {
+  // reference.md "OFDM airtime oracle (us)": rows L = 14, 92, 612, 1536.
+  const double rates[] = {6, 9, 12, 18, 24, 36, 48, 54};
+  const struct {
+    int psdu_bytes;
+    int airtime_us[8];
+  } rows[] = {
+      {14, {44, 36, 32, 28, 28, 24, 24, 24}},
+      {92, {148, 108, 84, 64, 52, 44, 36, 36}},
+      {612, {840, 568, 432, 296, 228, 160, 124, 112}},
+      {1536, {2072, 1388, 1048, 704, 536, 364, 280, 248}},
+  };
+  for (const auto& row : rows) {
+    for (int i = 0; i < 8; ++i) {
+      EXPECT_EQ(PpduDurationNs(Standard::k80211a, rates[i], row.psdu_bytes),
+                row.airtime_us[i] * kNsPerUs)
+          << "L=" << row.psdu_bytes << " rate=" << rates[i];
+    }
+  }
+}
+
+TEST(PhyModeTest, ErpOfdmAddsSignalExtension) {
+  // 18.3.2.4: ERP-OFDM PPDUs end with 6 us of signal extension.
+  EXPECT_EQ(PpduDurationNs(Standard::k80211g, 54, 1536), (248 + 6) * kNsPerUs);
+}
+
+TEST(PhyModeTest, DsssAirtimeLongPreamble) {
+  // 192 + ceil(8 L / R) us.
+  EXPECT_EQ(PpduDurationNs(Standard::k80211b, 1, 14), (192 + 112) * kNsPerUs);
+  EXPECT_EQ(PpduDurationNs(Standard::k80211b, 11, 1536), (192 + 1118) * kNsPerUs);   // 1117.1
+  EXPECT_EQ(PpduDurationNs(Standard::k80211b, 5.5, 1536), (192 + 2235) * kNsPerUs);  // 2234.2
+  EXPECT_EQ(PpduDurationNs(Standard::k80211b, 2, 1536), (192 + 6144) * kNsPerUs);
+}
+
+TEST(PhyModeTest, RejectsRatesTheStandardLacks) {
+  EXPECT_THROW(PpduDurationNs(Standard::k80211a, 11, 100), Error);
+  EXPECT_THROW(PpduDurationNs(Standard::k80211b, 54, 100), Error);
+}
+
+TEST(PhyModeTest, TimingPerStandard) {
+  // reference.md "802.11 timing (us)".
+  MediumConfig a;
+  const PhyInfo pa = DerivePhyInfo(a);
+  EXPECT_EQ(pa.slot_ns, 9 * kNsPerUs);
+  EXPECT_EQ(pa.sifs_ns, 16 * kNsPerUs);
+  EXPECT_EQ(pa.difs_ns, 34 * kNsPerUs);
+  EXPECT_EQ(pa.eifs_ns, 94 * kNsPerUs);
+  EXPECT_EQ(pa.cw_min, 15);
+  EXPECT_EQ(pa.cw_max, 1023);
+  MediumConfig b;
+  b.standard = Standard::k80211b;
+  b.rate_mbps = 11;
+  const PhyInfo pb = DerivePhyInfo(b);
+  EXPECT_EQ(pb.slot_ns, 20 * kNsPerUs);
+  EXPECT_EQ(pb.sifs_ns, 10 * kNsPerUs);
+  EXPECT_EQ(pb.difs_ns, 50 * kNsPerUs);
+  EXPECT_EQ(pb.eifs_ns, 364 * kNsPerUs);
+  EXPECT_EQ(pb.cw_min, 31);
+  MediumConfig g;
+  g.standard = Standard::k80211g;
+  EXPECT_EQ(DerivePhyInfo(g).difs_ns, 50 * kNsPerUs);
+  g.short_slot = true;
+  EXPECT_EQ(DerivePhyInfo(g).difs_ns, 28 * kNsPerUs);
+}
+
+TEST(PhyModeTest, ControlRateIsHighestBasicRateNotAbove) {
+  EXPECT_EQ(ControlRateFor(Standard::k80211a, 54), 24);
+  EXPECT_EQ(ControlRateFor(Standard::k80211a, 18), 12);
+  EXPECT_EQ(ControlRateFor(Standard::k80211a, 9), 6);
+  EXPECT_EQ(ControlRateFor(Standard::k80211b, 11), 2);
+  EXPECT_EQ(ControlRateFor(Standard::k80211b, 1), 1);
+}
+
+TEST(PhyModeTest, NoiseFloorAndReferenceLossDefaults) {
+  // reference.md: -93.97 dBm over 20 MHz with NF 7; Friis at 1 m 46.6777 dB
+  // (5.15 GHz) and 40.046 dB (2.4 GHz).
+  MediumConfig a;
+  const PhyInfo pa = DerivePhyInfo(a);
+  EXPECT_NEAR(pa.noise_floor_dbm, -93.97, 0.005);
+  EXPECT_NEAR(pa.reference_loss_db, 46.6777, 0.0005);
+  MediumConfig g;
+  g.standard = Standard::k80211g;
+  EXPECT_NEAR(DerivePhyInfo(g).reference_loss_db, 40.046, 0.0005);
+}
+
+TEST(PhyModeTest, EthernetFrameGrowsBy22BytesOnAir) { EXPECT_EQ(MpduBytesForEthernet(1514), 1536); }
+
+}  // namespace
+}  // namespace sitlnet::mac
