@@ -1,0 +1,132 @@
+// Connectors: how the coordinator drives a simulator (physics or network).
+//
+// Simulator side: a `Simulator` runs one iteration when asked. Coordinator
+// side: a `Connector` sends START and waits for END, either by a direct call
+// into a Simulator in this process (InProcessConnector) or over a socket to a
+// connector process (RemoteConnector, served there by ServeCoordinator()).
+#ifndef SITLNET_COORDINATOR_CONNECTOR_H_
+#define SITLNET_COORDINATOR_CONNECTOR_H_
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "common/common.h"
+#include "coordinator/transport.h"
+#include "sitlnet/coordinator.pb.h"
+
+namespace sitlnet::coordinator {
+
+inline constexpr uint32_t kProtocolVersion = proto::coord::PROTOCOL_VERSION_CURRENT;
+
+enum class Role { kPhysics, kNetwork };
+std::string RoleName(Role role);  // "physics" / "network"
+
+//------------------------------ Simulator side ------------------------------
+
+// Lets a simulator report progress inside an iteration.
+class IterationContext {
+ public:
+  virtual ~IterationContext() = default;
+  // Physics in lockstep-robots mode: every robot's command for this iteration
+  // has arrived; the coordinator may start the network's iteration now.
+  virtual void CommandsCollected() = 0;
+};
+
+// A simulator the coordinator can step. Implementations: the physics and
+// medium connectors, and SyntheticSimulator (benchmarks, tests).
+class Simulator {
+ public:
+  virtual ~Simulator() = default;
+  // Physics: robot poses at virtual time 0. Network: empty.
+  virtual proto::coord::Poses InitialPoses() { return {}; }
+  // Advances the simulation over [start.start_ns(), start.end_ns()) and fills
+  // `end` (physics: poses at end_ns). `end` arrives cleared; iteration and
+  // busy_ns are filled by the caller. Throw Error to abort the run.
+  virtual void RunIteration(const proto::coord::Start& start, proto::coord::End* end,
+                            IterationContext& context) = 0;
+};
+
+// Runs `simulator` for a coordinator over `channel` until Stop: sends Hello,
+// expects Welcome, then answers every Start with End. Returns Stop's reason.
+// Throws Error if the coordinator refuses the handshake (its message), sends
+// Error, closes the connection, or the simulator throws (then the coordinator
+// is told with an Error message first). Returns "interrupted" if
+// interrupt_fd fires while waiting for the coordinator.
+struct ConnectorIdentity {
+  std::string name;
+  Role role = Role::kPhysics;
+  uint64_t scenario_hash = 0;
+};
+std::string ServeCoordinator(Channel& channel, Simulator& simulator,
+                             const ConnectorIdentity& identity, TimeNs handshake_timeout_ns,
+                             int interrupt_fd = -1);
+
+//----------------------------- Coordinator side -----------------------------
+
+// How long and on what a connector call may wait.
+struct WaitLimits {
+  TimeNs deadline_ns = kNoDeadline;  // Absolute, CLOCK_MONOTONIC.
+  TimeNs timeout_ns = 0;             // The configured timeout, for messages.
+  int interrupt_fd = -1;             // Returns false early when readable.
+};
+
+// The coordinator's handle on one connector. Errors are thrown as Error whose
+// message names the connector and the iteration, e.g. "physics connector
+// 'phys0' did not answer START of iteration 42 within 5000 ms".
+class Connector {
+ public:
+  Connector(std::string name, Role role) : name_(std::move(name)), role_(role) {}
+  virtual ~Connector() = default;
+  const std::string& name() const { return name_; }
+  Role role() const { return role_; }
+  // "physics connector 'phys0'".
+  std::string Describe() const;
+
+  virtual const proto::coord::Poses& initial_poses() const = 0;
+  // Sends START (returns without waiting for the iteration).
+  virtual void Begin(const proto::coord::Start& start, const WaitLimits& limits) = 0;
+  // Waits for CommandsCollected of `iteration`; false if interrupted.
+  virtual bool AwaitCommandsCollected(uint64_t iteration, const WaitLimits& limits) = 0;
+  // Waits for END of `iteration` into `end`; false if interrupted.
+  virtual bool Finish(uint64_t iteration, proto::coord::End* end, const WaitLimits& limits) = 0;
+  // Tells the connector the run is over (best effort, never throws).
+  virtual void Stop(const std::string& reason) = 0;
+
+ private:
+  std::string name_;
+  Role role_;
+};
+
+// Calls a Simulator in this process. kOwnThread runs it on a worker thread so
+// physics and network overlap; kCallerThread runs it inside Finish() on the
+// caller's thread (no hand-off; cannot be used for lockstep-robots physics).
+enum class Threading { kOwnThread, kCallerThread };
+std::unique_ptr<Connector> MakeInProcessConnector(std::string name, Role role, Simulator* simulator,
+                                                  Threading threading);
+
+// What the coordinator demands of a connecting connector.
+struct HandshakeExpectation {
+  uint64_t scenario_hash = 0;
+  TimeNs iteration_ns = 0;
+  bool lockstep_robots = false;
+};
+
+// Accepts connections on `listener` until one physics and one network
+// connector completed the handshake. A connector with another protocol
+// version or scenario hash, or a second one of a role, is sent Error and the
+// call throws Error naming it. Times out (Error) at limits.deadline_ns.
+struct AcceptedConnectors {
+  std::unique_ptr<Connector> physics;
+  std::unique_ptr<Connector> network;
+};
+AcceptedConnectors AcceptConnectors(Listener& listener, const HandshakeExpectation& expect,
+                                    const WaitLimits& limits, FrameCodecOptions codec = {});
+
+// Handshake on an already-accepted channel (AcceptConnectors uses it).
+std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpectation& expect,
+                                           const WaitLimits& limits);
+
+}  // namespace sitlnet::coordinator
+
+#endif  // SITLNET_COORDINATOR_CONNECTOR_H_

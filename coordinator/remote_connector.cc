@@ -1,0 +1,294 @@
+// Socket side of connectors: the coordinator's RemoteConnector, its
+// handshake, and ServeCoordinator() that runs inside a connector process.
+#include <cstdio>
+
+#include "coordinator/connector.h"
+
+namespace sitlnet::coordinator {
+namespace {
+
+using proto::coord::CoordinatorMessage;
+
+std::string Ms(TimeNs ns) { return std::to_string(ns / kNsPerMs) + " ms"; }
+
+std::string Hex(uint64_t value) {
+  char text[24];
+  std::snprintf(text, sizeof text, "0x%016llx", static_cast<unsigned long long>(value));
+  return text;
+}
+
+const char* KindName(CoordinatorMessage::KindCase kind) {
+  switch (kind) {
+    case CoordinatorMessage::kHello:
+      return "Hello";
+    case CoordinatorMessage::kWelcome:
+      return "Welcome";
+    case CoordinatorMessage::kStart:
+      return "Start";
+    case CoordinatorMessage::kEnd:
+      return "End";
+    case CoordinatorMessage::kStop:
+      return "Stop";
+    case CoordinatorMessage::kError:
+      return "Error";
+    case CoordinatorMessage::kCommandsCollected:
+      return "CommandsCollected";
+    default:
+      return "an empty message";
+  }
+}
+
+class RemoteConnector final : public Connector {
+ public:
+  RemoteConnector(std::string name, Role role, Channel channel, proto::coord::Poses poses)
+      : Connector(std::move(name), role), channel_(std::move(channel)), poses_(std::move(poses)) {}
+
+  const proto::coord::Poses& initial_poses() const override { return poses_; }
+
+  void Begin(const proto::coord::Start& start, const WaitLimits& limits) override {
+    *out_.mutable_start() = start;
+    try {
+      channel_.Send(out_, limits.deadline_ns);
+    } catch (const TransportError& e) {
+      throw Error(Describe() + ": sending START of iteration " + std::to_string(start.iteration()) +
+                  ": " + Explain(e, limits));
+    }
+  }
+
+  bool AwaitCommandsCollected(uint64_t iteration, const WaitLimits& limits) override {
+    if (!ReceiveExpected(iteration, "CommandsCollected", limits)) return false;
+    if (in_.kind_case() != CoordinatorMessage::kCommandsCollected ||
+        in_.commands_collected().iteration() != iteration) {
+      throw Unexpected(iteration, "CommandsCollected");
+    }
+    return true;
+  }
+
+  bool Finish(uint64_t iteration, proto::coord::End* end, const WaitLimits& limits) override {
+    if (!ReceiveExpected(iteration, "END", limits)) return false;
+    if (in_.kind_case() != CoordinatorMessage::kEnd || in_.end().iteration() != iteration) {
+      throw Unexpected(iteration, "END");
+    }
+    end->Swap(in_.mutable_end());
+    return true;
+  }
+
+  void Stop(const std::string& reason) override {
+    CoordinatorMessage stop;
+    stop.mutable_stop()->set_reason(reason);
+    try {
+      channel_.Send(stop, MonotonicNowNs() + kNsPerS);
+    } catch (const Error&) {
+      // Already gone: nothing to tell it.
+    }
+  }
+
+ private:
+  std::string Explain(const TransportError& e, const WaitLimits& limits) const {
+    if (e.kind() == TransportError::Kind::kClosed) {
+      return std::string(e.what()) + " (connector crashed or exited)";
+    }
+    return e.what();
+  }
+
+  // Receives the answer to START of `iteration`; turns transport failures
+  // into messages naming this connector.
+  bool ReceiveExpected(uint64_t iteration, const char* what, const WaitLimits& limits) {
+    try {
+      if (!channel_.Receive(&in_, limits.deadline_ns, limits.interrupt_fd)) return false;
+    } catch (const TransportError& e) {
+      const std::string k = std::to_string(iteration);
+      if (e.kind() == TransportError::Kind::kTimeout) {
+        throw Error(Describe() + " did not answer START of iteration " + k + " with " + what +
+                    " within " + Ms(limits.timeout_ns));
+      }
+      throw Error(Describe() + " failed during iteration " + k + ": " + Explain(e, limits));
+    }
+    if (in_.kind_case() == CoordinatorMessage::kError) {
+      throw Error(Describe() + " reported an error in iteration " + std::to_string(iteration) +
+                  ": " + in_.error().message());
+    }
+    return true;
+  }
+
+  Error Unexpected(uint64_t iteration, const char* what) const {
+    std::string got = KindName(in_.kind_case());
+    if (in_.has_end()) got += " of iteration " + std::to_string(in_.end().iteration());
+    if (in_.has_commands_collected()) {
+      got += " of iteration " + std::to_string(in_.commands_collected().iteration());
+    }
+    return Error(Describe() + ": protocol error: expected " + what + " of iteration " +
+                 std::to_string(iteration) + ", got " + got);
+  }
+
+  Channel channel_;
+  proto::coord::Poses poses_;
+  CoordinatorMessage out_;
+  CoordinatorMessage in_;
+};
+
+void SendErrorQuietly(Channel& channel, const std::string& message) {
+  CoordinatorMessage error;
+  error.mutable_error()->set_message(message);
+  try {
+    channel.Send(error, MonotonicNowNs() + kNsPerS);
+  } catch (const Error&) {
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpectation& expect,
+                                           const WaitLimits& limits) {
+  CoordinatorMessage hello;
+  try {
+    if (!channel.Receive(&hello, limits.deadline_ns, limits.interrupt_fd)) return nullptr;
+  } catch (const TransportError& e) {
+    throw Error(std::string("connector handshake: ") + e.what());
+  }
+  if (!hello.has_hello()) {
+    const std::string what =
+        std::string("connector handshake: expected Hello, got ") + KindName(hello.kind_case());
+    SendErrorQuietly(channel, what);
+    throw Error(what);
+  }
+  const proto::coord::Hello& h = hello.hello();
+  const Role role = h.role() == proto::coord::ROLE_NETWORK ? Role::kNetwork : Role::kPhysics;
+  const std::string who = RoleName(role) + " connector '" + h.connector_name() + "'";
+  std::string refusal;
+  if (h.role() != proto::coord::ROLE_PHYSICS && h.role() != proto::coord::ROLE_NETWORK) {
+    refusal = "connector '" + h.connector_name() + "' has no role (physics or network)";
+  } else if (h.protocol_version() != kProtocolVersion) {
+    refusal = who + " speaks protocol version " + std::to_string(h.protocol_version()) +
+              ", the coordinator " + std::to_string(kProtocolVersion);
+  } else if (h.scenario_hash() != expect.scenario_hash) {
+    refusal = who + " loaded a different scenario: hash " + Hex(h.scenario_hash()) +
+              ", the coordinator's is " + Hex(expect.scenario_hash);
+  }
+  if (!refusal.empty()) {
+    SendErrorQuietly(channel, refusal);
+    throw Error(refusal);
+  }
+  CoordinatorMessage welcome;
+  welcome.mutable_welcome()->set_protocol_version(kProtocolVersion);
+  welcome.mutable_welcome()->set_iteration_ns(expect.iteration_ns);
+  welcome.mutable_welcome()->set_lockstep_robots(expect.lockstep_robots);
+  try {
+    channel.Send(welcome, limits.deadline_ns);
+  } catch (const TransportError& e) {
+    throw Error(who + ": sending Welcome: " + e.what());
+  }
+  proto::coord::Poses poses = h.initial_poses();
+  return std::make_unique<RemoteConnector>(h.connector_name(), role, std::move(channel),
+                                           std::move(poses));
+}
+
+AcceptedConnectors AcceptConnectors(Listener& listener, const HandshakeExpectation& expect,
+                                    const WaitLimits& limits, FrameCodecOptions codec) {
+  AcceptedConnectors accepted;
+  while (!accepted.physics || !accepted.network) {
+    Fd fd;
+    try {
+      fd = listener.Accept(limits.deadline_ns, limits.interrupt_fd);
+    } catch (const TransportError& e) {
+      const std::string missing = !accepted.physics && !accepted.network ? "physics and network"
+                                  : !accepted.physics                    ? "physics"
+                                                                         : "network";
+      if (e.kind() == TransportError::Kind::kTimeout) {
+        throw Error("no " + missing + " connector connected to " + listener.endpoint().ToString() +
+                    " within " + Ms(limits.timeout_ns));
+      }
+      throw;
+    }
+    if (!fd.valid()) return accepted;  // Interrupted.
+    std::unique_ptr<Connector> connector =
+        AcceptConnector(Channel(std::move(fd), codec), expect, limits);
+    if (!connector) return accepted;
+    auto& slot = connector->role() == Role::kPhysics ? accepted.physics : accepted.network;
+    if (slot) {
+      const std::string what =
+          "a second " + connector->Describe() + " connected; already have " + slot->Describe();
+      connector->Stop(what);
+      throw Error(what);
+    }
+    slot = std::move(connector);
+  }
+  return accepted;
+}
+
+//----------------------------- Connector process ----------------------------
+
+namespace {
+class RemoteContext final : public IterationContext {
+ public:
+  RemoteContext(Channel& channel, uint64_t iteration) : channel_(channel), iteration_(iteration) {}
+  void CommandsCollected() override {
+    CoordinatorMessage message;
+    message.mutable_commands_collected()->set_iteration(iteration_);
+    channel_.Send(message);
+  }
+
+ private:
+  Channel& channel_;
+  uint64_t iteration_;
+};
+}  // namespace
+
+std::string ServeCoordinator(Channel& channel, Simulator& simulator,
+                             const ConnectorIdentity& identity, TimeNs handshake_timeout_ns,
+                             int interrupt_fd) {
+  CoordinatorMessage out;
+  proto::coord::Hello* hello = out.mutable_hello();
+  hello->set_protocol_version(kProtocolVersion);
+  hello->set_scenario_hash(identity.scenario_hash);
+  hello->set_role(identity.role == Role::kPhysics ? proto::coord::ROLE_PHYSICS
+                                                  : proto::coord::ROLE_NETWORK);
+  hello->set_connector_name(identity.name);
+  *hello->mutable_initial_poses() = simulator.InitialPoses();
+  const TimeNs deadline = MonotonicNowNs() + handshake_timeout_ns;
+  CoordinatorMessage in;
+  try {
+    channel.Send(out, deadline);
+    if (!channel.Receive(&in, deadline, interrupt_fd)) return "interrupted";
+  } catch (const TransportError& e) {
+    throw Error("handshake with the coordinator: " + std::string(e.what()));
+  }
+  if (in.has_error()) throw Error("the coordinator refused: " + in.error().message());
+  if (!in.has_welcome()) {
+    throw Error(std::string("handshake with the coordinator: expected Welcome, got ") +
+                KindName(in.kind_case()));
+  }
+  for (;;) {
+    try {
+      if (!channel.Receive(&in, kNoDeadline, interrupt_fd)) return "interrupted";
+    } catch (const TransportError& e) {
+      throw Error("coordinator connection: " + std::string(e.what()));
+    }
+    if (in.has_stop()) return in.stop().reason();
+    if (in.has_error()) throw Error("the coordinator reported: " + in.error().message());
+    if (!in.has_start()) {
+      throw Error(std::string("coordinator protocol error: expected Start, got ") +
+                  KindName(in.kind_case()));
+    }
+    const proto::coord::Start& start = in.start();
+    out.Clear();
+    proto::coord::End* end = out.mutable_end();
+    RemoteContext context(channel, start.iteration());
+    const TimeNs begin = MonotonicNowNs();
+    try {
+      simulator.RunIteration(start, end, context);
+    } catch (const Error& e) {
+      SendErrorQuietly(channel, e.what());
+      throw;
+    }
+    end->set_busy_ns(MonotonicNowNs() - begin);
+    end->set_iteration(start.iteration());
+    try {
+      channel.Send(out);
+    } catch (const TransportError& e) {
+      throw Error("coordinator connection: sending END: " + std::string(e.what()));
+    }
+  }
+}
+
+}  // namespace sitlnet::coordinator

@@ -1,0 +1,335 @@
+#include "coordinator/transport.h"
+
+#include <fcntl.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <ctime>
+
+namespace sitlnet::coordinator {
+namespace {
+
+TransportError SystemError(std::string_view what, int err) {
+  return TransportError(TransportError::Kind::kSystem, SystemErrorMessage(what, err));
+}
+
+void SetNonBlocking(int fd) {
+  const int flags = fcntl(fd, F_GETFL);
+  if (flags < 0 || fcntl(fd, F_SETFL, flags | O_NONBLOCK) < 0) {
+    throw SystemError("set O_NONBLOCK on socket", errno);
+  }
+}
+
+// Milliseconds poll() may wait before `deadline_ns`, rounded up so we never
+// wake just before the deadline and spin.
+int PollTimeoutMs(TimeNs deadline_ns) {
+  if (deadline_ns == kNoDeadline) return -1;
+  const TimeNs left = deadline_ns - MonotonicNowNs();
+  if (left <= 0) return 0;
+  const TimeNs ms = (left + kNsPerMs - 1) / kNsPerMs;
+  return ms > INT32_MAX ? INT32_MAX : static_cast<int>(ms);
+}
+
+sockaddr_un UnixAddress(const std::string& path) {
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  if (path.empty() || path.size() >= sizeof address.sun_path) {
+    throw Error("unix socket path \"" + path + "\" must have 1.." +
+                std::to_string(sizeof address.sun_path - 1) + " characters");
+  }
+  std::memcpy(address.sun_path, path.c_str(), path.size() + 1);
+  return address;
+}
+
+// Resolves host:port (numeric or by name) to the first IPv4/IPv6 address.
+addrinfo* Resolve(const Endpoint& endpoint, bool passive) {
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = passive ? AI_PASSIVE : 0;
+  addrinfo* result = nullptr;
+  const std::string port = std::to_string(endpoint.port);
+  const int rc = getaddrinfo(endpoint.host.empty() ? nullptr : endpoint.host.c_str(), port.c_str(),
+                             &hints, &result);
+  if (rc != 0) {
+    throw TransportError(TransportError::Kind::kSystem,
+                         "resolve \"" + endpoint.ToString() + "\": " + gai_strerror(rc));
+  }
+  return result;
+}
+
+void ConfigureTcp(int fd) {
+  // Lock-step frames are small and latency-bound: Nagle would hold each END
+  // back until the previous frame is acknowledged.
+  const int one = 1;
+  setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+}
+
+}  // namespace
+
+Fd& Fd::operator=(Fd&& other) noexcept {
+  if (this != &other) {
+    Reset();
+    fd_ = std::exchange(other.fd_, -1);
+  }
+  return *this;
+}
+
+void Fd::Reset() {
+  if (fd_ >= 0) close(fd_);
+  fd_ = -1;
+}
+
+std::string Endpoint::ToString() const {
+  return kind == Kind::kUnix ? "unix:" + path : host + ":" + std::to_string(port);
+}
+
+Endpoint ParseEndpoint(std::string_view text) {
+  Endpoint endpoint;
+  std::string_view rest = text;
+  if (rest.starts_with("unix:")) {
+    endpoint.path = std::string(rest.substr(5));
+    if (endpoint.path.empty()) throw Error("endpoint \"" + std::string(text) + "\": empty path");
+    return endpoint;
+  }
+  if (rest.starts_with("/") || rest.starts_with(".")) {
+    endpoint.path = std::string(rest);
+    return endpoint;
+  }
+  if (rest.starts_with("tcp:")) rest.remove_prefix(4);
+  const size_t colon = rest.rfind(':');
+  int port = -1;
+  if (colon != std::string_view::npos) {
+    const std::string_view digits = rest.substr(colon + 1);
+    auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), port);
+    if (ec != std::errc() || end != digits.data() + digits.size()) port = -1;
+  }
+  if (colon == std::string_view::npos || port < 0 || port > 65535) {
+    throw Error("endpoint \"" + std::string(text) +
+                "\": expected unix:/path, /path or host:port with port 0..65535");
+  }
+  endpoint.kind = Endpoint::Kind::kTcp;
+  endpoint.host = std::string(rest.substr(0, colon));
+  // "[::1]:port" style brackets are accepted for IPv6 literals.
+  if (endpoint.host.size() >= 2 && endpoint.host.front() == '[' && endpoint.host.back() == ']') {
+    endpoint.host = endpoint.host.substr(1, endpoint.host.size() - 2);
+  }
+  endpoint.port = port;
+  return endpoint;
+}
+
+//---------------------------------- Channel ---------------------------------
+
+Channel::Channel(Fd socket, FrameCodecOptions options)
+    : socket_(std::move(socket)), encoder_(options), max_frame_bytes_(options.max_frame_bytes) {
+  SITLNET_DEMAND(socket_.valid());
+  SetNonBlocking(socket_.get());
+  sockaddr_storage address{};
+  socklen_t length = sizeof address;
+  if (getsockname(socket_.get(), reinterpret_cast<sockaddr*>(&address), &length) == 0 &&
+      (address.ss_family == AF_INET || address.ss_family == AF_INET6)) {
+    ConfigureTcp(socket_.get());
+  }
+}
+
+bool Channel::Wait(short events, TimeNs deadline_ns, int interrupt_fd, const char* doing) {
+  for (;;) {
+    pollfd fds[2] = {{socket_.get(), events, 0}, {interrupt_fd, POLLIN, 0}};
+    const int n = poll(fds, interrupt_fd >= 0 ? 2 : 1, PollTimeoutMs(deadline_ns));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw SystemError(std::string("poll while ") + doing, errno);
+    }
+    if (interrupt_fd >= 0 && (fds[1].revents & POLLIN)) return false;
+    if (fds[0].revents != 0) return true;  // Ready, or an error the next call reports.
+    if (n == 0 && deadline_ns != kNoDeadline && MonotonicNowNs() >= deadline_ns) {
+      throw TransportError(TransportError::Kind::kTimeout, std::string("timed out ") + doing);
+    }
+  }
+}
+
+void Channel::Send(const proto::coord::CoordinatorMessage& message, TimeNs deadline_ns) {
+  const std::string_view frame = encoder_.Encode(message);
+  if (encoder_.last_encoding() == FrameEncoding::kZlib) ++compressed_frames_sent_;
+  size_t done = 0;
+  while (done < frame.size()) {
+    const ssize_t n = send(socket_.get(), frame.data() + done, frame.size() - done, MSG_NOSIGNAL);
+    if (n > 0) {
+      done += static_cast<size_t>(n);
+      continue;
+    }
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+      Wait(POLLOUT, deadline_ns, -1, "sending a frame");
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && (errno == EPIPE || errno == ECONNRESET)) {
+      throw TransportError(TransportError::Kind::kClosed, "peer closed the connection");
+    }
+    throw SystemError("send frame", errno);
+  }
+  bytes_sent_ += frame.size();
+}
+
+bool Channel::FillAtLeast(size_t bytes, TimeNs deadline_ns, int interrupt_fd) {
+  while (inbox_end_ - inbox_begin_ < bytes) {
+    if (inbox_begin_ > 0) {  // Compact so the buffer does not grow without bound.
+      std::memmove(inbox_.data(), inbox_.data() + inbox_begin_, inbox_end_ - inbox_begin_);
+      inbox_end_ -= inbox_begin_;
+      inbox_begin_ = 0;
+    }
+    // Read what is needed, or more (64 KiB of room) so the next frame is
+    // often already here: one recv per frame in the steady state.
+    const size_t room = std::max(bytes, size_t{64} << 10);
+    if (inbox_.size() < room) inbox_.resize(room);
+    const ssize_t n =
+        recv(socket_.get(), inbox_.data() + inbox_end_, inbox_.size() - inbox_end_, 0);
+    if (n > 0) {
+      inbox_end_ += static_cast<size_t>(n);
+      continue;
+    }
+    if (n == 0) {
+      throw TransportError(TransportError::Kind::kClosed,
+                           inbox_end_ == 0 ? "peer closed the connection"
+                                           : "peer closed the connection in the middle of a frame");
+    }
+    if (errno == EAGAIN || errno == EWOULDBLOCK) {
+      if (!Wait(POLLIN, deadline_ns, interrupt_fd, "waiting for a frame")) return false;
+      continue;
+    }
+    if (errno == EINTR) continue;
+    if (errno == ECONNRESET) {
+      throw TransportError(TransportError::Kind::kClosed, "peer reset the connection");
+    }
+    throw SystemError("recv frame", errno);
+  }
+  return true;
+}
+
+bool Channel::Receive(proto::coord::CoordinatorMessage* message, TimeNs deadline_ns,
+                      int interrupt_fd) {
+  if (!FillAtLeast(kFrameHeaderBytes, deadline_ns, interrupt_fd)) return false;
+  FrameEncoding encoding{};
+  size_t body = 0;
+  try {
+    body = ParseFrameHeader(reinterpret_cast<const uint8_t*>(inbox_.data() + inbox_begin_),
+                            max_frame_bytes_, &encoding);
+  } catch (const Error& e) {
+    throw TransportError(TransportError::Kind::kBadFrame, e.what());
+  }
+  // Once a header is in, the rest of the frame is not interruptible: leaving
+  // half a frame consumed would desynchronize the stream.
+  FillAtLeast(kFrameHeaderBytes + body, deadline_ns, -1);
+  const std::string_view body_bytes(inbox_.data() + inbox_begin_ + kFrameHeaderBytes, body);
+  inbox_begin_ += kFrameHeaderBytes + body;
+  if (inbox_begin_ == inbox_end_) inbox_begin_ = inbox_end_ = 0;  // Decoded below before reuse.
+  try {
+    DecodeFrameBody(encoding, body_bytes, max_frame_bytes_, &scratch_, message);
+  } catch (const Error& e) {
+    throw TransportError(TransportError::Kind::kBadFrame, e.what());
+  }
+  return true;
+}
+
+//--------------------------------- Listener ---------------------------------
+
+Listener::Listener(const Endpoint& endpoint) : endpoint_(endpoint) {
+  if (endpoint.kind == Endpoint::Kind::kUnix) {
+    const sockaddr_un address = UnixAddress(endpoint.path);
+    socket_ = Fd(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+    if (!socket_.valid()) throw SystemError("create unix socket", errno);
+    unlink(endpoint.path.c_str());  // A stale socket from a killed run.
+    if (bind(socket_.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) < 0) {
+      throw SystemError("bind unix socket \"" + endpoint.path + "\"", errno);
+    }
+  } else {
+    addrinfo* info = Resolve(endpoint, /*passive=*/true);
+    socket_ = Fd(socket(info->ai_family, SOCK_STREAM | SOCK_CLOEXEC, 0));
+    const int one = 1;
+    if (socket_.valid()) setsockopt(socket_.get(), SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    const int rc = socket_.valid() ? bind(socket_.get(), info->ai_addr, info->ai_addrlen) : -1;
+    const int err = errno;
+    freeaddrinfo(info);
+    if (rc < 0) throw SystemError("bind tcp \"" + endpoint.ToString() + "\"", err);
+    sockaddr_storage bound{};
+    socklen_t length = sizeof bound;
+    getsockname(socket_.get(), reinterpret_cast<sockaddr*>(&bound), &length);
+    endpoint_.port =
+        ntohs(bound.ss_family == AF_INET ? reinterpret_cast<sockaddr_in*>(&bound)->sin_port
+                                         : reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port);
+  }
+  if (listen(socket_.get(), 16) < 0) throw SystemError("listen on " + endpoint_.ToString(), errno);
+  SetNonBlocking(socket_.get());
+}
+
+Listener::~Listener() {
+  if (endpoint_.kind == Endpoint::Kind::kUnix && socket_.valid()) unlink(endpoint_.path.c_str());
+}
+
+Fd Listener::Accept(TimeNs deadline_ns, int interrupt_fd) {
+  for (;;) {
+    const int fd = accept4(socket_.get(), nullptr, nullptr, SOCK_CLOEXEC);
+    if (fd >= 0) return Fd(fd);
+    if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
+      throw SystemError("accept on " + endpoint_.ToString(), errno);
+    }
+    pollfd fds[2] = {{socket_.get(), POLLIN, 0}, {interrupt_fd, POLLIN, 0}};
+    const int n = poll(fds, interrupt_fd >= 0 ? 2 : 1, PollTimeoutMs(deadline_ns));
+    if (n < 0 && errno != EINTR) throw SystemError("poll on " + endpoint_.ToString(), errno);
+    if (interrupt_fd >= 0 && (fds[1].revents & POLLIN)) return Fd();
+    if (n == 0 && deadline_ns != kNoDeadline && MonotonicNowNs() >= deadline_ns) {
+      throw TransportError(TransportError::Kind::kTimeout,
+                           "timed out waiting for a connection on " + endpoint_.ToString());
+    }
+  }
+}
+
+//---------------------------------- Connect ---------------------------------
+
+Fd Connect(const Endpoint& endpoint, TimeNs deadline_ns) {
+  for (;;) {
+    Fd fd;
+    int rc = -1;
+    int err = 0;
+    if (endpoint.kind == Endpoint::Kind::kUnix) {
+      const sockaddr_un address = UnixAddress(endpoint.path);
+      fd = Fd(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+      rc = connect(fd.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address);
+      err = errno;
+    } else {
+      addrinfo* info = Resolve(endpoint, /*passive=*/false);
+      fd = Fd(socket(info->ai_family, SOCK_STREAM | SOCK_CLOEXEC, 0));
+      rc = connect(fd.get(), info->ai_addr, info->ai_addrlen);
+      err = errno;
+      freeaddrinfo(info);
+    }
+    if (rc == 0) return fd;
+    const bool not_yet = err == ENOENT || err == ECONNREFUSED;
+    if (!not_yet || MonotonicNowNs() >= deadline_ns) {
+      throw TransportError(not_yet ? TransportError::Kind::kTimeout : TransportError::Kind::kSystem,
+                           SystemErrorMessage("connect to " + endpoint.ToString(), err));
+    }
+    // The coordinator may not be listening yet (started in either order):
+    // retry at a coarse interval, this is a one-time startup wait.
+    timespec pause{0, 10 * kNsPerMs};
+    nanosleep(&pause, nullptr);
+  }
+}
+
+std::pair<Fd, Fd> SocketPair() {
+  int fds[2];
+  if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) < 0) {
+    throw SystemError("socketpair", errno);
+  }
+  return {Fd(fds[0]), Fd(fds[1])};
+}
+
+}  // namespace sitlnet::coordinator
