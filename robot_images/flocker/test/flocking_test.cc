@@ -55,3 +55,22 @@ TEST(FlockingTest, SpeedIsCapped) {
 
 }  // namespace
 }  // namespace sitlnet::flocker
+
+#include "robot_images/flocker/neighbour_table.h"
+
+namespace sitlnet::flocker {
+namespace {
+
+TEST(NeighbourTableTest, ForgetsAfterTimeoutWithoutNews) {
+  NeighbourTable table(2'000'000'000);
+  table.Heard(1, {{1, 0}, {0, 0}}, 0);
+  table.Heard(2, {{2, 0}, {0, 0}}, 1'500'000'000);
+  EXPECT_EQ(table.Current(2'000'000'000).size(), 2u);
+  EXPECT_EQ(table.Current(2'000'000'001).size(), 1u);  // robot 1 silent for > 2 s
+  EXPECT_EQ(table.Indices(), std::vector<uint32_t>{2});
+  table.Heard(1, {{1, 0}, {0, 0}}, 2'500'000'000);       // news again: back
+  EXPECT_EQ(table.Current(3'000'000'000).size(), 2u);
+}
+
+}  // namespace
+}  // namespace sitlnet::flocker

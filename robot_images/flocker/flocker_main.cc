@@ -1,0 +1,234 @@
+// flocker: sitlnet's sample onboard software. Flies one multirotor with VAT
+// flocking, learning its neighbours only from their UDP beacons on wlan0.
+// Its clock is RobotState.sim_time_ns, so it works in realtime and lockstep.
+// Usage and flags: docs/robot-images.md, or `flocker --help`.
+#include <google/protobuf/text_format.h>
+
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "physics_mujoco/client/physics_client.h"
+#include "robot_images/flocker/beacon_link.h"
+#include "robot_images/flocker/controller.h"
+#include "robot_images/flocker/flocking.h"
+#include "robot_images/flocker/neighbour_table.h"
+#include "sitlnet/scenario.pb.h"
+
+namespace sitlnet::flocker {
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+void OnSignal(int) { g_stop = 1; }
+
+struct Options {
+  Vec2 target_m{0, 0};
+  double altitude_m = 5;
+  double broadcast_hz = 10;
+  double neighbour_timeout_s = 2;  // tau
+  uint16_t beacon_port = 47000;
+  std::string device = "wlan0";
+  std::string airframe_text;       // proto Airframe in text format; empty: defaults
+  double lidar_fov_deg = 360;
+  double log_period_s = 1;
+};
+
+constexpr char kUsage[] =
+    "usage: flocker [--target X,Y] [--altitude-m Z] [--broadcast-hz F] [--neighbour-timeout-s T]\n"
+    "               [--beacon-port P] [--device DEV] [--airframe TEXTPROTO] [--lidar-fov-deg D]\n"
+    "               [--log-period-s S]\n"
+    "Runs inside a robot namespace; needs SITLNET_PHYSICS_ADDR and SITLNET_ROBOT_INDEX.\n";
+
+[[noreturn]] void Die(const std::string& message) {
+  std::fprintf(stderr, "flocker: %s\n", message.c_str());
+  std::exit(2);
+}
+
+double ParseNumber(const char* flag, const char* text) {
+  char* end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !std::isfinite(value)) {
+    Die(std::string(flag) + ": \"" + text + "\" is not a number");
+  }
+  return value;
+}
+
+Options ParseOptions(int argc, char** argv) {
+  Options options;
+  for (int i = 1; i < argc; ++i) {
+    const std::string flag = argv[i];
+    if (flag == "--help" || flag == "-h") {
+      std::fputs(kUsage, stdout);
+      std::exit(0);
+    }
+    if (i + 1 >= argc) Die(flag + " needs a value\n" + kUsage);
+    const char* value = argv[++i];
+    if (flag == "--target") {
+      double x, y;
+      if (std::sscanf(value, "%lf,%lf", &x, &y) != 2) Die("--target wants X,Y");
+      options.target_m = {x, y};
+    } else if (flag == "--altitude-m") {
+      options.altitude_m = ParseNumber("--altitude-m", value);
+    } else if (flag == "--broadcast-hz") {
+      options.broadcast_hz = ParseNumber("--broadcast-hz", value);
+      if (options.broadcast_hz <= 0) Die("--broadcast-hz must be > 0");
+    } else if (flag == "--neighbour-timeout-s") {
+      options.neighbour_timeout_s = ParseNumber("--neighbour-timeout-s", value);
+    } else if (flag == "--beacon-port") {
+      options.beacon_port = static_cast<uint16_t>(ParseNumber("--beacon-port", value));
+    } else if (flag == "--device") {
+      options.device = value;
+    } else if (flag == "--airframe") {
+      options.airframe_text = value;
+    } else if (flag == "--lidar-fov-deg") {
+      options.lidar_fov_deg = ParseNumber("--lidar-fov-deg", value);
+    } else if (flag == "--log-period-s") {
+      options.log_period_s = ParseNumber("--log-period-s", value);
+    } else {
+      Die("unknown flag " + flag + "\n" + kUsage);
+    }
+  }
+  return options;
+}
+
+AirframeParams ToParams(const proto::Airframe& a) {
+  AirframeParams p;
+  p.mass_kg = a.mass_kg();
+  p.arm_x_m = a.arm_x_m();
+  p.arm_y_m = a.arm_y_m();
+  p.inertia_kg_m2 = {a.ixx_kg_m2(), a.iyy_kg_m2(), a.izz_kg_m2()};
+  p.thrust_coefficient = a.thrust_coefficient();
+  p.drag_coefficient = a.drag_coefficient();
+  p.max_rotor_speed_rad_s = a.max_rotor_speed_rad_s();
+  return p;
+}
+
+VehicleState ToVehicleState(const proto::RobotState& s) {
+  VehicleState v;
+  v.position_m = {s.position_m().x(), s.position_m().y(), s.position_m().z()};
+  v.velocity_m_s = {s.velocity_m_s().x(), s.velocity_m_s().y(), s.velocity_m_s().z()};
+  v.orientation = Eigen::Quaterniond(s.orientation().w(), s.orientation().x(),
+                                     s.orientation().y(), s.orientation().z());
+  v.angular_velocity_rad_s = {s.angular_velocity_rad_s().x(), s.angular_velocity_rad_s().y(),
+                              s.angular_velocity_rad_s().z()};
+  return v;
+}
+
+double Yaw(const Eigen::Quaterniond& q) {
+  return std::atan2(2 * (q.w() * q.z() + q.x() * q.y()), 1 - 2 * (q.y() * q.y() + q.z() * q.z()));
+}
+
+// Lidar hits as world-frame points (rays that hit nothing are skipped).
+std::vector<Vec2> ObstaclePoints(const proto::RobotState& s, double fov_deg, double yaw_rad) {
+  std::vector<Vec2> points;
+  const int rays = s.lidar_range_m_size();
+  float max_range = 0;
+  for (float r : s.lidar_range_m()) max_range = std::max(max_range, r);
+  const double fov_rad = fov_deg * M_PI / 180;
+  for (int i = 0; i < rays; ++i) {
+    const double range = s.lidar_range_m(i);
+    if (range >= max_range * 0.999) continue;
+    const double angle = yaw_rad + fov_rad * (double(i) / rays - 0.5);
+    points.emplace_back(s.position_m().x() + range * std::cos(angle),
+                        s.position_m().y() + range * std::sin(angle));
+  }
+  return points;
+}
+
+int Run(const Options& options) {
+  proto::Airframe airframe;
+  if (!options.airframe_text.empty() &&
+      !google::protobuf::TextFormat::ParseFromString(options.airframe_text, &airframe)) {
+    Die("--airframe: not a text-format Airframe");
+  }
+  const AirframeParams params = ToParams(airframe);
+  const char* index_text = std::getenv("SITLNET_ROBOT_INDEX");
+  if (index_text == nullptr) Die("SITLNET_ROBOT_INDEX is not set (run me with sitlnet exec)");
+  const uint32_t me = static_cast<uint32_t>(std::atoi(index_text));
+
+  auto client = physics_client::PhysicsClient::FromEnvironment();
+  BeaconLink link(options.device, options.beacon_port);
+  NeighbourTable table(static_cast<int64_t>(options.neighbour_timeout_s * 1e9));
+  const FlockingParams flocking;
+  const ControllerGains gains;
+  const int64_t beacon_period_ns = static_cast<int64_t>(1e9 / options.broadcast_hz);
+  const int64_t log_period_ns = static_cast<int64_t>(options.log_period_s * 1e9);
+  int64_t next_beacon_ns = 0;
+  int64_t next_log_ns = 0;
+  double yaw_rad = NAN;
+
+  client.SendRotorSpeeds({0, 0, 0, 0}, 0);  // tells the server where to send states
+  proto::RobotState state;
+  while (!g_stop) {
+    if (!client.Receive(&state, 1000)) {
+      client.SendRotorSpeeds({0, 0, 0, 0}, 0);  // server not there yet: announce again
+      continue;
+    }
+    const int64_t now_ns = state.sim_time_ns();
+    const VehicleState vehicle = ToVehicleState(state);
+    if (std::isnan(yaw_rad)) yaw_rad = Yaw(vehicle.orientation);
+
+    for (const proto::FlockerBeacon& beacon : link.Drain()) {
+      if (beacon.robot() == me) continue;
+      table.Heard(beacon.robot(), {{beacon.x_m(), beacon.y_m()}, {beacon.vx_m_s(), beacon.vy_m_s()}},
+                  now_ns);
+    }
+    const std::vector<Neighbour> neighbours = table.Current(now_ns);
+    const Vec2 position(vehicle.position_m.x(), vehicle.position_m.y());
+    const Vec2 velocity(vehicle.velocity_m_s.x(), vehicle.velocity_m_s.y());
+    // Flock only once airborne, so the swarm does not drag robots along the ground.
+    const bool airborne = vehicle.position_m.z() > 0.5 * options.altitude_m;
+    const Vec2 desired = airborne ? DesiredVelocity(flocking, position, velocity, neighbours,
+                                                    ObstaclePoints(state, options.lidar_fov_deg,
+                                                                   Yaw(vehicle.orientation)),
+                                                    options.target_m)
+                                  : Vec2::Zero();
+    const RotorSpeeds speeds =
+        ComputeRotorSpeeds(params, gains, vehicle, desired, options.altitude_m, yaw_rad);
+
+    // Beacon before the command: in lockstep pacing, frames written before the
+    // command for step k enter the medium during step k.
+    if (now_ns >= next_beacon_ns) {
+      proto::FlockerBeacon beacon;
+      beacon.set_robot(me);
+      beacon.set_sim_time_ns(now_ns);
+      beacon.set_x_m(position.x());
+      beacon.set_y_m(position.y());
+      beacon.set_z_m(vehicle.position_m.z());
+      beacon.set_vx_m_s(velocity.x());
+      beacon.set_vy_m_s(velocity.y());
+      link.Send(beacon);
+      next_beacon_ns = std::max(next_beacon_ns + beacon_period_ns, now_ns);
+    }
+    client.SendRotorSpeeds(speeds, state.step());
+
+    if (now_ns >= next_log_ns) {
+      std::string heard;
+      for (uint32_t index : table.Indices()) heard += " " + std::to_string(index);
+      std::printf("t=%.2f pos=%.2f,%.2f,%.2f vel=%.2f,%.2f neighbours=[%s ]\n", now_ns * 1e-9,
+                  vehicle.position_m.x(), vehicle.position_m.y(), vehicle.position_m.z(),
+                  velocity.x(), velocity.y(), heard.c_str());
+      std::fflush(stdout);
+      next_log_ns = now_ns + log_period_ns;
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace sitlnet::flocker
+
+int main(int argc, char** argv) {
+  std::signal(SIGINT, sitlnet::flocker::OnSignal);
+  std::signal(SIGTERM, sitlnet::flocker::OnSignal);
+  const auto options = sitlnet::flocker::ParseOptions(argc, argv);
+  try {
+    return sitlnet::flocker::Run(options);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "flocker: %s\n", error.what());
+    return 1;
+  }
+}
