@@ -21,6 +21,8 @@ int RunUpCommand(int argc, char** argv);
 int RunDownCommand(int argc, char** argv);
 int RunExecCommand(int argc, char** argv);
 int RunStatusCommand(int argc, char** argv);
+int RunMediumCommand(int argc, char** argv);   // cli/medium_command.cc (tapbridge)
+int RunCaptureCommand(int argc, char** argv);  // cli/capture_command.cc (tapbridge)
 
 // True if any argument before "--" is -h or --help.
 bool WantsHelp(int argc, char** argv);

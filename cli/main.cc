@@ -19,6 +19,8 @@ constexpr Command kCommands[] = {
     {"exec", sitlnet::cli::RunExecCommand, "run a program inside a robot's namespace"},
     {"status", sitlnet::cli::RunStatusCommand, "show robots, devices and processes"},
     {"down", sitlnet::cli::RunDownCommand, "remove everything a scenario created"},
+    {"medium", sitlnet::cli::RunMediumCommand, "run the simulated 802.11 medium of a scenario"},
+    {"capture", sitlnet::cli::RunCaptureCommand, "stream the medium's 802.11 view as pcap"},
 };
 
 void PrintUsage(FILE* out) {

@@ -1,0 +1,49 @@
+// A robot's persistent wlan0 TAP, attached from the root namespace.
+#ifndef SITLNET_TAPBRIDGE_TAP_PORT_H_
+#define SITLNET_TAPBRIDGE_TAP_PORT_H_
+
+#include <sys/types.h>
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+
+namespace sitlnet::tapbridge {
+
+// Owns the TAP fd (non-blocking) and an fd of the namespace's /proc/net/dev
+// (opened inside the namespace, so reads keep showing that namespace).
+class TapPort {
+ public:
+  // Enters /run/netns/<netns> on the calling thread, opens /dev/net/tun with
+  // TUNSETIFF IFF_TAP|IFF_NO_PI `ifname`, returns to the original namespace.
+  // Throws Error "attach TAP <ifname> in netns <netns>: <why>".
+  TapPort(const std::string& netns, const std::string& ifname);
+  ~TapPort();
+  TapPort(const TapPort&) = delete;
+  TapPort& operator=(const TapPort&) = delete;
+
+  int fd() const { return fd_; }
+  const std::string& netns() const { return netns_; }
+  // Inode of the namespace attached to (to notice a namespace replaced).
+  ino_t netns_inode() const { return netns_inode_; }
+
+  // One frame into `buffer`; its length, 0 when drained (EAGAIN), -errno on error.
+  ssize_t Read(std::span<uint8_t> buffer);
+  // One frame out; 0 or -errno.
+  int Write(std::span<const uint8_t> frame);
+  // tx_dropped of the TAP as the kernel counts it (frames the kernel could not
+  // queue for us to read: the TAP overflowed). nullopt if unreadable.
+  std::optional<uint64_t> KernelTxDropped();
+
+ private:
+  std::string netns_;
+  std::string ifname_;
+  int fd_ = -1;
+  int proc_net_dev_fd_ = -1;
+  ino_t netns_inode_ = 0;
+};
+
+}  // namespace sitlnet::tapbridge
+
+#endif  // SITLNET_TAPBRIDGE_TAP_PORT_H_

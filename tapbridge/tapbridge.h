@@ -1,0 +1,266 @@
+// sitlnet tapbridge: joins the robots' wlan0 TAP devices to a simulated 802.11
+// medium. Frames read from a TAP enter the medium stamped with their virtual
+// time; deliveries are written to the destination TAPs at the wall instant of
+// their virtual time (realtime pacing) or before the next step (lockstep).
+// Also writes the medium's on-air view as 802.11 + radiotap pcap.
+// Design, pacing, counters and the control socket protocol: docs/tapbridge.md.
+#ifndef SITLNET_TAPBRIDGE_TAPBRIDGE_H_
+#define SITLNET_TAPBRIDGE_TAPBRIDGE_H_
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/common.h"
+#include "scenario/scenario.h"
+
+namespace sitlnet::tapbridge {
+
+//------------------------------ Medium interface -----------------------------
+// What the bridge needs from a medium model. mac_phy_sim implements it through
+// MakeMacPhySimMedium; MakeRelayMedium is the no-medium floor for benchmarks.
+
+// One frame handed to one station, as decided by the medium.
+struct Delivery {
+  int station = 0;             // Destination station (robot index).
+  TimeNs time_ns = 0;          // Virtual instant the frame is received (end of PPDU).
+  std::vector<uint8_t> frame;  // Ethernet frame (dst, src, ethertype, payload), no FCS.
+  double rx_power_dbm = 0;
+  double sinr_db = 0;
+};
+
+enum class AirFrameKind { kData, kAck, kRts, kCts };
+
+// One transmission on the air, for the pcap view.
+struct AirFrame {
+  TimeNs start_ns = 0;  // Virtual instant the PPDU starts.
+  TimeNs duration_ns = 0;
+  int transmitter = 0;  // Station index.
+  AirFrameKind kind = AirFrameKind::kData;
+  bool retry = false;   // 802.11 retry bit (data frames sent again).
+  bool failed = false;  // Collided or lost at its receiver(s): bad FCS in the pcap.
+  double rate_mbps = 0;
+  int channel_mhz = 0;  // 0: the standard's default channel (5180 or 2412).
+  bool band_5ghz = true;
+  bool ofdm = true;       // False for 802.11b DSSS/CCK.
+  double signal_dbm = 0;  // At the receiver (the addressed one, else the strongest).
+  double noise_dbm = -93.97;
+  uint16_t duration_field_us = 0;  // The MAC header's Duration/ID (NAV).
+  uint16_t sequence = 0;           // 12-bit sequence number for data frames.
+  MacAddress receiver;             // RA: addr1 (DA for data frames).
+  MacAddress sender;               // TA: addr2 for data and RTS.
+  std::vector<uint8_t> ethernet;   // Data frames: the Ethernet frame carried.
+  // The MPDU with FCS as the medium sent it; empty: built from the fields above.
+  std::vector<uint8_t> mpdu;
+};
+
+// Medium counters of one station.
+struct MediumCounters {
+  uint64_t sent = 0;         // Frames accepted from the station into its queue.
+  uint64_t delivered = 0;    // Frames handed to this station as a receiver.
+  uint64_t queue_drops = 0;  // Dropped because the station's queue was full.
+  std::vector<std::pair<std::string, uint64_t>> lost;   // By reason, e.g. "retry_limit".
+  std::vector<std::pair<std::string, uint64_t>> other;  // Model details (retries, ACKs sent).
+};
+
+class MediumModel {
+ public:
+  virtual ~MediumModel() = default;
+  // Frame `ethernet` from `station` enters its queue at virtual `at_ns`, which
+  // is >= every earlier Submit or AdvanceTo instant.
+  virtual void Submit(int station, TimeNs at_ns, std::span<const uint8_t> ethernet) = 0;
+  // Runs the medium up to and including `until_ns`, appending deliveries (in
+  // time order) and, if `air` is not null, on-air frames.
+  virtual void AdvanceTo(TimeNs until_ns, std::vector<Delivery>* deliveries,
+                         std::vector<AirFrame>* air) = 0;
+  // Instant of the next internal event, nullopt when idle.
+  virtual std::optional<TimeNs> NextEventNs() const = 0;
+  // Moves a station (ENU metres) effective now.
+  virtual void SetPosition(int station, double x_m, double y_m, double z_m) = 0;
+  // A disabled (detached) station neither sends nor receives from now on.
+  virtual void SetStationEnabled(int station, bool enabled) = 0;
+  virtual MediumCounters Counters(int station) const = 0;
+  // Largest Ethernet frame the medium accepts (14-byte header + MSDU - 8 LLC/SNAP).
+  virtual size_t MaxEthernetFrameBytes() const = 0;
+};
+
+// 802.11 simulated medium (mac_phy_sim) configured from the scenario.
+std::unique_ptr<MediumModel> MakeMacPhySimMedium(const Scenario& scenario);
+
+// No medium: every frame is delivered at the instant it was submitted, to the
+// station owning its destination MAC (or to all others for group addresses).
+std::unique_ptr<MediumModel> MakeRelayMedium(const std::vector<MacAddress>& station_macs);
+
+// 802.11 maximum MSDU (IEEE 802.11-2016 9.2.4.7.1: 2304 octets) as an Ethernet
+// frame: 14-byte header + 2304 - 8 bytes of LLC/SNAP = 2310 bytes.
+inline constexpr size_t kMax80211EthernetFrameBytes = 14 + 2304 - 8;
+
+//------------------------------------ Bridge ---------------------------------
+
+// Per-robot counters kept by the bridge (medium counters are separate).
+struct PortCounters {
+  uint64_t frames_read = 0;
+  uint64_t bytes_read = 0;
+  uint64_t oversize_dropped = 0;        // Above MaxEthernetFrameBytes: dropped, counted.
+  uint64_t runt_dropped = 0;            // Shorter than an Ethernet header.
+  uint64_t unknown_source_dropped = 0;  // Source MAC is not the robot's (docs/tapbridge.md).
+  uint64_t frames_written = 0;
+  uint64_t write_errors = 0;       // write() to the TAP failed (e.g. ENOBUFS).
+  uint64_t kernel_tx_dropped = 0;  // TAP queue overflow seen by the kernel (tx_dropped).
+  bool attached = false;
+};
+
+// Delivery lateness: wall instant written minus wall instant due.
+struct LatenessStats {
+  uint64_t count = 0;
+  TimeNs p50_ns = 0;
+  TimeNs p99_ns = 0;
+  TimeNs max_ns = 0;
+};
+
+struct BridgeOptions {
+  double realtime_factor = 1.0;  // Virtual seconds per wall second (realtime pacing).
+  uint64_t seed = 1;             // Lockstep intra-step offsets.
+  // Writes log lines (one line each, no newline); default: stderr with a prefix.
+  std::function<void(const std::string&)> log;
+  // Attach only these robots (indices); empty: all.
+  std::vector<int> robots;
+};
+
+class EventLoop;
+
+// Receives every on-air frame (pcap writer, live subscribers).
+using AirFrameObserver = std::function<void(const AirFrame&)>;
+
+// Owns the TAP ports and the medium. Use from one thread.
+class BridgeCore {
+ public:
+  BridgeCore(const Scenario& scenario, std::unique_ptr<MediumModel> medium, BridgeOptions options);
+  ~BridgeCore();
+  BridgeCore(const BridgeCore&) = delete;
+  BridgeCore& operator=(const BridgeCore&) = delete;
+
+  // Opens every robot's persistent wlan0 TAP in its namespace. Throws Error
+  // naming the robot and namespace on failure (scenario not up).
+  void AttachAll();
+
+  void AddAirFrameObserver(AirFrameObserver observer);
+  // On-air frames are produced (and observers called) only while enabled,
+  // so an unobserved medium does not pay for its trace. Default: enabled.
+  void SetAirFrameCapture(bool enabled);
+
+  //---- Realtime driver: registers TAPs and a timerfd on `loop`; virtual time
+  //---- 0 is the wall instant `wall_origin_ns` (CLOCK_MONOTONIC).
+  void StartRealtime(EventLoop* loop, TimeNs wall_origin_ns);
+  TimeNs VirtualNowNs() const;
+
+  //---- Lockstep driver: drains every TAP, enters the frames during
+  //---- (previous until, until_ns] at seeded instants in robot order, runs the
+  //---- medium to until_ns and writes every delivery due by then.
+  void StepLockstep(TimeNs until_ns);
+
+  // Position update from the coordinator or the control socket.
+  void SetPosition(int robot, double x_m, double y_m, double z_m);
+
+  // Robot whose namespace vanished: close its TAP, disable its station, log.
+  void Detach(int robot, const std::string& reason);
+  // Tries to attach a detached robot again (its namespace came back); true if
+  // attached afterwards.
+  bool Reattach(int robot);
+
+  int robot_count() const;
+  const Scenario& scenario() const;
+  const PortCounters& port_counters(int robot) const;
+  MediumCounters medium_counters(int robot) const;
+  // Lateness since the last call (realtime only), then reset.
+  LatenessStats TakeLateness();
+  // Lateness since StartRealtime.
+  LatenessStats TotalLateness() const;
+  // Refreshes kernel_tx_dropped from the namespaces' /proc/net/dev.
+  void RefreshKernelCounters();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+//------------------------------------ Event loop -----------------------------
+
+// One epoll loop. Callbacks get the epoll event mask.
+class EventLoop {
+ public:
+  EventLoop();
+  ~EventLoop();
+  EventLoop(const EventLoop&) = delete;
+  EventLoop& operator=(const EventLoop&) = delete;
+
+  void Add(int fd, uint32_t events, std::function<void(uint32_t)> callback);
+  void Modify(int fd, uint32_t events);
+  void Remove(int fd);
+  // Runs after every batch of events (the bridge advances the medium there).
+  void SetAfterBatch(std::function<void()> callback);
+  // Waits once (timeout_ms -1: forever) and dispatches.
+  void RunOnce(int timeout_ms);
+  void Run();  // Until Stop().
+  void Stop();
+  bool stopped() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+//------------------------------------ pcap -----------------------------------
+
+// pcap (nanosecond, DLT_IEEE802_11_RADIO = 127) encoding of the on-air view.
+// Timestamps are `epoch_offset_ns` + the frame's virtual start instant.
+std::string PcapFileHeader();
+std::string EncodePcapRecord(const AirFrame& frame, TimeNs epoch_offset_ns);
+// The 802.11 MPDU with FCS (no radiotap), as it appears in the record.
+std::vector<uint8_t> Encode80211Mpdu(const AirFrame& frame);
+
+//------------------------------------ Daemon ---------------------------------
+
+struct DaemonOptions {
+  std::string pcap_path;                   // Empty: no file.
+  std::string control_socket;              // Empty: ControlSocketPath(scenario name).
+  TimeNs stats_interval_ns = 5 * kNsPerS;  // Lag/counter log period.
+  bool use_relay_medium = false;           // Benchmarks: no 802.11 model.
+  std::function<void(const std::string&)> log;
+};
+
+// "/run/sitlnet/<scenario>/medium.sock".
+std::string ControlSocketPath(const std::string& scenario_name);
+
+// Runs the medium daemon of a scenario that is up until SIGINT/SIGTERM:
+// attaches the TAPs, paces in realtime, serves the control socket, logs lag.
+// Returns the process exit status.
+int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options);
+
+//------------------------------ Control client -------------------------------
+// Length-prefixed (uint32 little-endian) protobuf messages from
+// proto/sitlnet/medium.proto over the Unix stream socket.
+
+class ControlClient {
+ public:
+  explicit ControlClient(const std::string& socket_path);  // Throws Error.
+  ~ControlClient();
+  ControlClient(const ControlClient&) = delete;
+  ControlClient& operator=(const ControlClient&) = delete;
+  // Serialized MediumRequest in, serialized MediumResponse out. Throws Error.
+  std::string Call(const std::string& request_bytes);
+  // After a subscribe_pcap response, the socket carries a raw pcap stream.
+  int fd() const { return fd_; }
+
+ private:
+  int fd_ = -1;
+};
+
+}  // namespace sitlnet::tapbridge
+
+#endif  // SITLNET_TAPBRIDGE_TAPBRIDGE_H_
