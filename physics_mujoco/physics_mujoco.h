@@ -1,0 +1,175 @@
+// sitlnet physics_mujoco: MuJoCo multirotors flown by robot software over UDP on each robot's
+// ctl0 veth. Frames, units and models are described in docs/physics.md, the wire protocols
+// (native protobuf and ArduPilot JSON) in docs/protocols.md.
+//
+// World: the pure simulation (no network): one mjData per robot on a shared mjModel per
+//   airframe, rotor and motor models, IMU and lidar. PhysicsServer: a World plus the UDP
+//   endpoints of every robot; the coordinator calls Advance(k), the standalone mode
+//   RunRealtime().
+#ifndef SITLNET_PHYSICS_MUJOCO_PHYSICS_MUJOCO_H_
+#define SITLNET_PHYSICS_MUJOCO_PHYSICS_MUJOCO_H_
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "common/common.h"
+#include "scenario/scenario.h"
+
+namespace sitlnet::physics {
+
+//--------------------------------- Values -----------------------------------
+
+// Rotors per airframe: quad-X, in ArduPilot's motor order (1 front-right CCW, 2 rear-left CCW,
+// 3 front-left CW, 4 rear-right CW).
+inline constexpr int kRotors = 4;
+using RotorSpeeds = std::array<double, kRotors>;  // rad/s
+
+struct Vec3d {
+  double x = 0, y = 0, z = 0;
+};
+
+// Unit quaternion (w, x, y, z) rotating body-frame vectors into the world frame.
+struct Quat {
+  double w = 1, x = 0, y = 0, z = 0;
+};
+
+// Kinematic state of one robot. World frame ENU, body frame FLU.
+struct RobotPose {
+  Vec3d position_m;
+  Quat orientation;
+  Vec3d velocity_m_s;            // World frame.
+  Vec3d angular_velocity_rad_s;  // Body frame.
+};
+
+// One IMU sample in the body frame (FLU), noise and bias included.
+struct ImuSample {
+  Vec3d gyro_rad_s;
+  Vec3d accel_m_s2;  // Specific force: (0, 0, +9.81) at rest.
+};
+
+//---------------------------------- World -----------------------------------
+
+enum class Integrator {
+  kEuler,  // MuJoCo's semi-implicit Euler: position lags z0 - g t^2/2 by g t dt / 2.
+  kRk4,    // 4th-order Runge-Kutta: exact for constant acceleration (default).
+};
+
+struct WorldOptions {
+  Integrator integrator = Integrator::kRk4;
+  int threads = 2;  // Threads stepping robots, the caller's included (>= 1).
+};
+
+// The MuJoCo world of a scenario. Not thread-safe: one caller at a time.
+class World {
+ public:
+  // Builds one model per airframe and one mjData per robot at its start pose. Throws Error
+  // naming the airframe if MuJoCo rejects a model. `scenario` must outlive the World.
+  explicit World(const Scenario& scenario, const WorldOptions& options = {});
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  int robot_count() const;
+  TimeNs step_ns() const;
+  // Virtual time of a robot (steps taken x step_ns).
+  TimeNs time_ns(int robot) const;
+  int64_t steps(int robot) const;
+
+  // Advances every robot that is not frame-driven by `steps` physics steps.
+  void Advance(int steps);
+  // Advances one robot only (ArduPilot's frame-driven lock-step).
+  void AdvanceRobot(int robot, int steps);
+  // A frame-driven robot is skipped by Advance() and stepped with AdvanceRobot().
+  void SetFrameDriven(int robot, bool frame_driven);
+  bool frame_driven(int robot) const;
+
+  // Target rotor speeds, reached through the first-order motor lag. Clamped to
+  // [0, max_rotor_speed_rad_s].
+  void SetRotorTarget(int robot, const RotorSpeeds& target_rad_s);
+  // Sets target and actual speeds at once (no lag): tests and initial conditions.
+  void SetRotorSpeeds(int robot, const RotorSpeeds& speeds_rad_s);
+  const RotorSpeeds& rotor_speeds(int robot) const;
+  const RotorSpeeds& rotor_target(int robot) const;
+
+  RobotPose Pose(int robot) const;
+  // Draws noise from the robot's seeded generator: call once per published sample.
+  ImuSample Imu(int robot);
+  // Ranges (m) of the robot's lidar rays (empty without lidar), see robot.proto.
+  void Lidar(int robot, std::vector<float>* ranges_m) const;
+  // Sets the linear velocity (world ENU): initial conditions for tests and scripted starts.
+  void SetVelocity(int robot, const Vec3d& velocity_m_s);
+  // Back to the start pose, motors stopped, time 0.
+  void ResetRobot(int robot);
+
+  const proto::Airframe& airframe(int robot) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+//------------------------------ Protocol server -----------------------------
+
+// Per-robot counters; every dropped packet is counted in exactly one drop counter.
+struct RobotCounters {
+  uint64_t commands_accepted = 0;
+  uint64_t states_sent = 0;
+  uint64_t dropped_malformed = 0;       // Truncated, garbage, not a MotorCommand.
+  uint64_t dropped_invalid = 0;         // Wrong rotor count, NaN, out-of-range values.
+  uint64_t dropped_wrong_robot = 0;     // MotorCommand.robot is another robot's index.
+  uint64_t dropped_foreign_source = 0;  // Not from this robot's ctl0 address.
+  uint64_t failsafe_cuts = 0;           // Times the silence timeout cut the motors.
+  uint64_t send_errors = 0;
+  // ArduPilot JSON endpoint.
+  uint64_t json_frames = 0;    // New frames (each advanced physics by 1/frame_rate).
+  uint64_t json_resends = 0;   // Repeated frame_count: last reply sent again.
+  uint64_t json_restarts = 0;  // Smaller frame_count: robot reset.
+  uint64_t json_missed_frames = 0;
+  uint64_t json_dropped = 0;  // Bad magic/size, foreign source.
+};
+
+struct ServerOptions {
+  WorldOptions world;
+};
+
+// A World plus, per robot, a UDP socket on RobotPlan::ctl_root_address:physics_port (native
+// protocol) and optionally one on :ardupilot_json_port. Sockets use IP_FREEBIND, so the server
+// may start before the scenario's ctl0 veths exist.
+class PhysicsServer {
+ public:
+  // Throws Error naming the robot and address if a socket cannot be bound.
+  explicit PhysicsServer(const Scenario& scenario, const ServerOptions& options = {});
+  ~PhysicsServer();
+  PhysicsServer(const PhysicsServer&) = delete;
+  PhysicsServer& operator=(const PhysicsServer&) = delete;
+
+  // Handles every packet waiting on every socket (non-blocking). JSON frames step their robot.
+  void Poll();
+  // Poll(), then advances the world-clocked robots by `steps`, sending each subscribed robot
+  // its RobotState at its state rate and cutting motors of robots silent past their timeout.
+  void Advance(int steps);
+
+  // An fd that becomes readable when Poll() has packets to handle (epoll).
+  int wait_fd() const;
+  World& world();
+  const World& world() const;
+  const RobotCounters& counters(int robot) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Standalone realtime mode (`sitlnet physics`): advances the server one physics step at a
+// time, virtual time following the wall clock x the scenario's realtime_factor, handling
+// packets as they arrive, until `stop` is set or `duration_ns` of virtual time has passed
+// (<= 0: no limit). Returns the largest lag behind the wall clock seen, in ns.
+TimeNs RunRealtime(PhysicsServer* server, double realtime_factor, TimeNs duration_ns,
+                   const std::atomic<bool>& stop);
+
+}  // namespace sitlnet::physics
+
+#endif  // SITLNET_PHYSICS_MUJOCO_PHYSICS_MUJOCO_H_

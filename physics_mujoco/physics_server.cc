@@ -1,0 +1,294 @@
+// PhysicsServer: the World plus every robot's UDP endpoints (docs/protocols.md).
+#include <poll.h>
+#include <sys/epoll.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+
+#include "physics_mujoco/ardupilot_json.h"
+#include "physics_mujoco/control_server.h"
+#include "physics_mujoco/physics_mujoco.h"
+#include "physics_mujoco/udp_socket.h"
+
+namespace sitlnet::physics {
+namespace {
+
+// Larger than any valid MotorCommand or servo packet; a bigger datagram is malformed.
+constexpr size_t kReceiveBufferBytes = 2048;
+
+struct Endpoint {
+  int robot = 0;
+  Ipv4 robot_address;
+  UdpSocket native;
+  UdpSocket json;  // fd -1 when the robot has no ArduPilot endpoint
+  double max_speed_rad_s = 0;
+  // Native protocol.
+  bool subscribed = false;
+  sockaddr_in reply{};
+  bool has_command = false;
+  bool motors_cut = false;
+  TimeNs last_command_ns = 0;
+  uint64_t command_step = 0;
+  TimeNs state_period_ns = 0;
+  TimeNs next_state_ns = 0;
+  TimeNs timeout_ns = 0;  // 0: failsafe off
+  // ArduPilot JSON.
+  FrameTracker tracker;
+  std::string last_json;
+  uint16_t json_rate_hz = 0;
+  int64_t json_base_steps = 0;
+  int64_t json_frames = 0;
+  RobotCounters counters;
+};
+
+}  // namespace
+
+struct PhysicsServer::Impl {
+  const Scenario& scenario;
+  World world;
+  std::vector<Endpoint> endpoints;
+  int epoll_fd = -1;
+  proto::RobotState state;  // reused buffers
+  std::string wire;
+  std::vector<float> lidar;
+
+  Impl(const Scenario& s, const ServerOptions& options) : scenario(s), world(s, options.world) {}
+  ~Impl() {
+    if (epoll_fd >= 0) close(epoll_fd);
+  }
+
+  void Watch(int fd, uint64_t key) {
+    epoll_event event{};
+    event.events = EPOLLIN;
+    event.data.u64 = key;
+    if (epoll_ctl(epoll_fd, EPOLL_CTL_ADD, fd, &event) != 0) {
+      throw Error(SystemErrorMessage("physics server: epoll_ctl", errno));
+    }
+  }
+
+  void HandleNative(Endpoint& ep, const uint8_t* data, ssize_t size, const sockaddr_in& from) {
+    if (SockaddrIpv4(from) != ep.robot_address) {
+      ++ep.counters.dropped_foreign_source;
+      return;
+    }
+    DecodedCommand command;
+    const CommandVerdict verdict =
+        size > static_cast<ssize_t>(kReceiveBufferBytes)
+            ? CommandVerdict::kMalformed
+            : DecodeMotorCommand(data, size, ep.robot, ep.max_speed_rad_s, &command);
+    switch (verdict) {
+      case CommandVerdict::kMalformed:
+        ++ep.counters.dropped_malformed;
+        return;
+      case CommandVerdict::kInvalid:
+        ++ep.counters.dropped_invalid;
+        return;
+      case CommandVerdict::kWrongRobot:
+        ++ep.counters.dropped_wrong_robot;
+        return;
+      case CommandVerdict::kAccepted:
+        break;
+    }
+    ++ep.counters.commands_accepted;
+    world.SetRotorTarget(ep.robot, command.target_rad_s);
+    ep.has_command = true;
+    ep.motors_cut = false;
+    ep.last_command_ns = world.time_ns(ep.robot);
+    ep.command_step = command.step;
+    ep.reply = from;
+    ep.subscribed = true;
+  }
+
+  void HandleJson(Endpoint& ep, const uint8_t* data, ssize_t size, const sockaddr_in& from) {
+    const auto packet = size <= static_cast<ssize_t>(kReceiveBufferBytes)
+                            ? ParseServoPacket(data, size)
+                            : std::nullopt;
+    if (SockaddrIpv4(from) != ep.robot_address || !packet) {
+      ++ep.counters.json_dropped;
+      return;
+    }
+    uint64_t missed = 0;
+    const FrameAction action = ep.tracker.OnFrame(packet->frame_count, &missed);
+    if (action == FrameAction::kResend) {
+      ++ep.counters.json_resends;
+      if (!ep.last_json.empty()) Send(ep, ep.json, ep.last_json, from);
+      return;
+    }
+    if (action == FrameAction::kRestart) {
+      ++ep.counters.json_restarts;
+      world.ResetRobot(ep.robot);
+      ep.json_rate_hz = 0;
+    }
+    ++ep.counters.json_frames;
+    ep.counters.json_missed_frames += missed;
+    world.SetRotorTarget(ep.robot, PwmToRotorSpeeds(*packet, ep.max_speed_rad_s));
+    if (packet->frame_rate_hz != ep.json_rate_hz) {  // new rate: count frames from here
+      ep.json_rate_hz = packet->frame_rate_hz;
+      ep.json_base_steps = world.steps(ep.robot);
+      ep.json_frames = 0;
+    }
+    ++ep.json_frames;
+    // Frame n ends at n / frame_rate: whole physics steps, the remainder carried (exact over
+    // many frames when 1/frame_rate is not a multiple of the step).
+    const int64_t target_steps =
+        ep.json_base_steps +
+        ep.json_frames * kNsPerS / (int64_t{ep.json_rate_hz} * world.step_ns());
+    world.AdvanceRobot(ep.robot, static_cast<int>(target_steps - world.steps(ep.robot)));
+    ep.last_json =
+        FormatJsonState(world.time_ns(ep.robot), world.Pose(ep.robot), world.Imu(ep.robot));
+    Send(ep, ep.json, ep.last_json, from);
+  }
+
+  void Send(Endpoint& ep, const UdpSocket& sock, const std::string& bytes, const sockaddr_in& to) {
+    if (!sock.SendTo(bytes.data(), bytes.size(), to)) ++ep.counters.send_errors;
+  }
+
+  void Drain(Endpoint& ep, bool json) {
+    uint8_t buffer[kReceiveBufferBytes];
+    sockaddr_in from{};
+    const UdpSocket& sock = json ? ep.json : ep.native;
+    for (ssize_t n; (n = sock.Receive(buffer, sizeof buffer, &from)) >= 0;) {
+      if (json) {
+        HandleJson(ep, buffer, n, from);
+      } else {
+        HandleNative(ep, buffer, n, from);
+      }
+    }
+  }
+
+  void Poll() {
+    epoll_event events[64];
+    for (;;) {
+      const int n = epoll_wait(epoll_fd, events, 64, 0);
+      if (n <= 0) return;
+      for (int i = 0; i < n; ++i) {
+        Drain(endpoints[events[i].data.u64 / 2], events[i].data.u64 % 2 == 1);
+      }
+      if (n < 64) return;
+    }
+  }
+
+  int StepsUntilEvent(const Endpoint& ep) const {
+    const TimeNs now = world.time_ns(ep.robot);
+    TimeNs next = ep.next_state_ns;
+    if (ep.has_command && !ep.motors_cut && ep.timeout_ns > 0) {
+      next = std::min(next, ep.last_command_ns + ep.timeout_ns);
+    }
+    const TimeNs step = world.step_ns();
+    return static_cast<int>(std::max<TimeNs>(1, (next - now + step - 1) / step));
+  }
+
+  void Service(Endpoint& ep) {
+    const TimeNs now = world.time_ns(ep.robot);
+    if (ep.has_command && !ep.motors_cut && ep.timeout_ns > 0 &&
+        now - ep.last_command_ns >= ep.timeout_ns) {
+      world.SetRotorTarget(ep.robot, RotorSpeeds{});  // ESC failsafe: motors spin down
+      ep.motors_cut = true;
+      ++ep.counters.failsafe_cuts;
+    }
+    if (now < ep.next_state_ns) return;
+    while (ep.next_state_ns <= now) ep.next_state_ns += ep.state_period_ns;
+    if (!ep.subscribed) return;
+    world.Lidar(ep.robot, &lidar);
+    FillRobotState(ep.robot, world.steps(ep.robot), now, world.Pose(ep.robot), world.Imu(ep.robot),
+                   lidar, world.rotor_speeds(ep.robot), ep.command_step, ep.motors_cut, &state);
+    state.SerializeToString(&wire);
+    Send(ep, ep.native, wire, ep.reply);
+    ++ep.counters.states_sent;
+  }
+
+  void Advance(int steps) {
+    Poll();
+    for (int remaining = steps; remaining > 0;) {
+      int chunk = remaining;
+      for (const Endpoint& ep : endpoints) {
+        if (!world.frame_driven(ep.robot)) chunk = std::min(chunk, StepsUntilEvent(ep));
+      }
+      world.Advance(chunk);
+      remaining -= chunk;
+      for (Endpoint& ep : endpoints) {
+        if (!world.frame_driven(ep.robot)) Service(ep);
+      }
+    }
+  }
+};
+
+PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& options)
+    : impl_(std::make_unique<Impl>(scenario, options)) {
+  impl_->epoll_fd = epoll_create1(EPOLL_CLOEXEC);
+  if (impl_->epoll_fd < 0) throw Error(SystemErrorMessage("physics server: epoll_create1", errno));
+  const uint32_t port = scenario.spec.addresses().physics_port();
+  impl_->endpoints.resize(scenario.robots.size());
+  for (const RobotPlan& plan : scenario.robots) {
+    const std::string who = scenario.source_path + ": robot \"" + plan.name + "\"";
+    const proto::Robot& spec = plan.spec;
+    if (!(std::isfinite(spec.state_rate_hz()) && spec.state_rate_hz() > 0)) {
+      throw Error(who + ": state_rate_hz must be > 0");
+    }
+    if (spec.command_timeout_ms() < 0) throw Error(who + ": command_timeout_ms must be >= 0");
+    if (spec.ardupilot_json_port() > 65535 || spec.ardupilot_json_port() == port) {
+      throw Error(who + ": ardupilot_json_port must be in [1, 65535] and differ from physics_port");
+    }
+    Endpoint& ep = impl_->endpoints[plan.index];
+    ep.robot = plan.index;
+    ep.robot_address = plan.ctl_robot_address;
+    ep.max_speed_rad_s = plan.airframe.max_rotor_speed_rad_s();
+    ep.state_period_ns =
+        std::max<TimeNs>(1, std::llround(static_cast<double>(kNsPerS) / spec.state_rate_hz()));
+    ep.next_state_ns = ep.state_period_ns;
+    ep.timeout_ns = spec.command_timeout_ms() * kNsPerMs;
+    ep.native = UdpSocket::Bind(plan.ctl_root_address, static_cast<uint16_t>(port), true, who);
+    impl_->Watch(ep.native.fd(), 2 * uint64_t(plan.index));
+    if (spec.ardupilot_json_port() != 0) {
+      ep.json =
+          UdpSocket::Bind(plan.ctl_root_address, static_cast<uint16_t>(spec.ardupilot_json_port()),
+                          true, who + " (ArduPilot JSON)");
+      impl_->Watch(ep.json.fd(), 2 * uint64_t(plan.index) + 1);
+      impl_->world.SetFrameDriven(plan.index, true);
+    }
+  }
+}
+
+PhysicsServer::~PhysicsServer() = default;
+
+void PhysicsServer::Poll() { impl_->Poll(); }
+void PhysicsServer::Advance(int steps) { impl_->Advance(steps); }
+int PhysicsServer::wait_fd() const { return impl_->epoll_fd; }
+World& PhysicsServer::world() { return impl_->world; }
+const World& PhysicsServer::world() const { return impl_->world; }
+const RobotCounters& PhysicsServer::counters(int robot) const {
+  SITLNET_DEMAND(robot >= 0 && robot < static_cast<int>(impl_->endpoints.size()));
+  return impl_->endpoints[robot].counters;
+}
+
+TimeNs RunRealtime(PhysicsServer* server, double realtime_factor, TimeNs duration_ns,
+                   const std::atomic<bool>& stop) {
+  SITLNET_DEMAND(realtime_factor > 0);
+  const TimeNs step_ns = server->world().step_ns();
+  const TimeNs start_ns = MonotonicNowNs();
+  TimeNs max_lag_ns = 0;
+  for (int64_t steps = 0; !stop.load() && (duration_ns <= 0 || steps * step_ns < duration_ns);) {
+    const TimeNs due_ns =
+        start_ns +
+        static_cast<TimeNs>(static_cast<double>((steps + 1) * step_ns) / realtime_factor);
+    const TimeNs now_ns = MonotonicNowNs();
+    if (now_ns < due_ns) {
+      // Sleep until the step is due, waking early for packets (handled at once, so a command
+      // takes effect at the next step).
+      pollfd fd{server->wait_fd(), POLLIN, 0};
+      const TimeNs wait_ns = due_ns - now_ns;
+      const timespec timeout{static_cast<time_t>(wait_ns / kNsPerS),
+                             static_cast<long>(wait_ns % kNsPerS)};
+      if (ppoll(&fd, 1, &timeout, nullptr) > 0) server->Poll();
+      continue;
+    }
+    max_lag_ns = std::max(max_lag_ns, now_ns - due_ns);
+    server->Advance(1);
+    ++steps;
+  }
+  return max_lag_ns;
+}
+
+}  // namespace sitlnet::physics

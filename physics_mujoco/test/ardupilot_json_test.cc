@@ -1,0 +1,207 @@
+// ArduPilot JSON SITL backend, exercised by a client written from ArduPilot's protocol
+// description (libraries/SITL/examples/JSON/readme.md), over UDP on loopback.
+#include "physics_mujoco/ardupilot_json.h"
+
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+#include <vector>
+
+#include "physics_mujoco/physics_mujoco.h"
+#include "physics_mujoco/test/test_scenarios.h"
+
+namespace sitlnet::physics {
+namespace {
+
+using testing::MakeScenario;
+using testing::TestJsonPort;
+using testing::WaitReadable;
+
+// What arducopter --model JSON:<address> would send: 40 bytes little-endian.
+std::string ServoPacket16(uint16_t frame_rate, uint32_t frame_count, uint16_t pwm_all) {
+  std::string bytes(40, '\0');
+  auto put16 = [&](int at, uint16_t v) {
+    bytes[at] = static_cast<char>(v & 0xff);
+    bytes[at + 1] = static_cast<char>(v >> 8);
+  };
+  put16(0, 18458);
+  put16(2, frame_rate);
+  for (int i = 0; i < 4; ++i) bytes[4 + i] = static_cast<char>((frame_count >> (8 * i)) & 0xff);
+  for (int ch = 0; ch < 16; ++ch) put16(8 + 2 * ch, ch < 4 ? pwm_all : 1500);
+  return bytes;
+}
+
+// Numbers after "key": in the JSON text (ArduPilot matches keys as substrings too).
+std::vector<double> Field(const std::string& json, const std::string& key) {
+  const size_t at = json.find("\"" + key + "\":");
+  if (at == std::string::npos) return {};
+  const char* p = json.c_str() + at + key.size() + 3;
+  std::vector<double> values;
+  if (*p == '[') ++p;
+  for (;;) {
+    char* end = nullptr;
+    values.push_back(std::strtod(p, &end));
+    if (*end != ',' || values.size() == 4 || end[1] == '"') break;
+    p = end + 1;
+  }
+  return values;
+}
+
+class JsonClient {
+ public:
+  explicit JsonClient(const char* from) : fd_(socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0)) {
+    sockaddr_in local{};
+    local.sin_family = AF_INET;
+    inet_pton(AF_INET, from, &local.sin_addr);
+    EXPECT_EQ(bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local), 0);
+    server_.sin_family = AF_INET;
+    server_.sin_port = htons(TestJsonPort());
+    inet_pton(AF_INET, "127.77.0.1", &server_.sin_addr);
+  }
+  ~JsonClient() { close(fd_); }
+  void Send(const std::string& bytes) {
+    sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&server_),
+           sizeof server_);
+  }
+  // One reply, or "" after 2 s.
+  std::string Receive() {
+    if (!WaitReadable(fd_, 2000)) return "";
+    char buffer[2048];
+    const ssize_t n = recv(fd_, buffer, sizeof buffer, 0);
+    return n > 0 ? std::string(buffer, n) : "";
+  }
+
+ private:
+  int fd_;
+  sockaddr_in server_{};
+};
+
+class ArduPilotJsonTest : public ::testing::Test {
+ protected:
+  ArduPilotJsonTest()
+      : scenario_(MakeScenario("robot { name: \"a\" position_m { x: 1 y: 2 z: 10 } "
+                               "ardupilot_json_port: " +
+                               std::to_string(TestJsonPort()) + " }")),
+        server_(scenario_) {}
+
+  // Sends one packet and returns the reply, handling it on this thread.
+  std::string Exchange(const std::string& packet) {
+    client_.Send(packet);
+    if (!WaitReadable(server_.wait_fd(), 2000)) return "";
+    server_.Poll();
+    return client_.Receive();
+  }
+
+  Scenario scenario_;
+  PhysicsServer server_;
+  JsonClient client_{"127.77.0.2"};
+};
+
+TEST_F(ArduPilotJsonTest, EachNewFrameAdvancesOneOverFrameRate) {
+  const std::string first = Exchange(ServoPacket16(1000, 1, 1000));
+  ASSERT_FALSE(first.empty());
+  EXPECT_EQ(first.front(), '\n');
+  EXPECT_EQ(first.back(), '\n');
+  EXPECT_EQ(first.find(' '), std::string::npos);  // keys written without spaces
+  EXPECT_DOUBLE_EQ(Field(first, "timestamp")[0], 0.001);
+  EXPECT_DOUBLE_EQ(Field(Exchange(ServoPacket16(1000, 2, 1000)), "timestamp")[0], 0.002);
+  // 400 Hz is 2.5 ms a frame: whole 1 ms steps, remainder carried, exact every 2 frames.
+  EXPECT_NEAR(Field(Exchange(ServoPacket16(400, 3, 1000)), "timestamp")[0], 0.004, 1e-12);
+  EXPECT_NEAR(Field(Exchange(ServoPacket16(400, 4, 1000)), "timestamp")[0], 0.007, 1e-12);
+  EXPECT_EQ(server_.counters(0).json_frames, 4u);
+}
+
+TEST_F(ArduPilotJsonTest, RepeatedFrameCountResendsWithoutAdvancing) {
+  Exchange(ServoPacket16(1000, 7, 1000));
+  const std::string reply = Exchange(ServoPacket16(1000, 8, 1000));
+  const std::string again = Exchange(ServoPacket16(1000, 8, 1000));
+  EXPECT_EQ(again, reply);
+  EXPECT_EQ(server_.world().steps(0), 2);
+  EXPECT_EQ(server_.counters(0).json_resends, 1u);
+  // A jump counts the missed frames and still advances one frame.
+  EXPECT_DOUBLE_EQ(Field(Exchange(ServoPacket16(1000, 11, 1000)), "timestamp")[0], 0.003);
+  EXPECT_EQ(server_.counters(0).json_missed_frames, 2u);
+}
+
+TEST_F(ArduPilotJsonTest, SmallerFrameCountRestartsTheVehicle) {
+  for (uint32_t frame = 100; frame < 400; ++frame) Exchange(ServoPacket16(1000, frame, 1000));
+  EXPECT_LT(server_.world().Pose(0).position_m.z, 10 - 0.1);  // fell with motors off
+  const std::string reply = Exchange(ServoPacket16(1000, 1, 1000));
+  EXPECT_EQ(server_.counters(0).json_restarts, 1u);
+  EXPECT_DOUBLE_EQ(Field(reply, "timestamp")[0], 0.001);
+  // Back at the start: ENU (1, 2, 10) is NED (2, 1, -10), minus one step of fall.
+  const auto position = Field(reply, "position");
+  ASSERT_EQ(position.size(), 3u);
+  EXPECT_DOUBLE_EQ(position[0], 2);
+  EXPECT_DOUBLE_EQ(position[1], 1);
+  EXPECT_NEAR(position[2], -10, 1e-4);
+}
+
+TEST_F(ArduPilotJsonTest, FieldsAreInNedAndFrd) {
+  // The robot starts with yaw 0 (nose east): NED quaternion is a +90 deg turn about down.
+  const std::string reply = Exchange(ServoPacket16(1000, 1, 1000));
+  const auto q = Field(reply, "quaternion");
+  ASSERT_EQ(q.size(), 4u);
+  EXPECT_NEAR(q[0], std::sqrt(0.5), 1e-9);
+  EXPECT_NEAR(q[3], std::sqrt(0.5), 1e-9);
+  // Falling: velocity down (NED z) positive after one 1 ms step, g * dt.
+  EXPECT_NEAR(Field(reply, "velocity")[2], 9.81 * 0.001, 1e-9);
+  // Free fall: the accelerometer measures nothing.
+  EXPECT_NEAR(Field(reply, "accel_body")[2], 0, 1e-6);
+  EXPECT_EQ(Field(reply, "gyro").size(), 3u);
+}
+
+TEST(ArduPilotJsonRestTest, AccelBodyReadsMinusGAtRestOnTheGround) {
+  // Collision box half height 0.25 * 0.14 = 0.035 m: resting on the ground.
+  const Scenario scenario =
+      MakeScenario("robot { name: \"a\" position_m { z: 0.035 } ardupilot_json_port: " +
+                   std::to_string(TestJsonPort()) + " }");
+  PhysicsServer server(scenario);
+  JsonClient client("127.77.0.2");
+  std::string reply;
+  for (uint32_t frame = 1; frame <= 500; ++frame) {
+    client.Send(ServoPacket16(1000, frame, 1000));
+    ASSERT_TRUE(WaitReadable(server.wait_fd(), 2000));
+    server.Poll();
+    reply = client.Receive();
+  }
+  // readme: accel_body reads about (0, 0, -9.81) at rest (FRD: gravity's reaction is up = -z).
+  EXPECT_NEAR(Field(reply, "accel_body")[2], -9.81, 0.01);
+  EXPECT_NEAR(Field(reply, "position")[2], -0.035, 0.005);
+}
+
+TEST_F(ArduPilotJsonTest, BadPacketsAreDroppedAndCounted) {
+  std::string bad_magic = ServoPacket16(1000, 1, 1000);
+  bad_magic[0] = 0;
+  client_.Send(bad_magic);
+  client_.Send(ServoPacket16(1000, 1, 1000).substr(0, 39));
+  client_.Send(ServoPacket16(0, 1, 1000));  // frame_rate 0
+  JsonClient stranger("127.77.0.9");
+  stranger.Send(ServoPacket16(1000, 1, 1000));
+  const TimeNs deadline = MonotonicNowNs() + 5 * kNsPerS;
+  while (server_.counters(0).json_dropped < 4 && MonotonicNowNs() < deadline) {
+    if (WaitReadable(server_.wait_fd(), 100)) server_.Poll();
+  }
+  EXPECT_EQ(server_.counters(0).json_dropped, 4u);
+  EXPECT_EQ(server_.world().steps(0), 0);
+  EXPECT_FALSE(Exchange(ServoPacket16(1000, 1, 1000)).empty());
+}
+
+TEST(ArduPilotJsonCodecTest, PwmMapsLinearlyToRotorSpeed) {
+  ServoPacket packet;
+  packet.channels = 16;
+  packet.pwm_us = {1000, 1500, 2000, 2200};
+  const RotorSpeeds speeds = PwmToRotorSpeeds(packet, 2000);
+  EXPECT_EQ(speeds[0], 0);
+  EXPECT_EQ(speeds[1], 1000);
+  EXPECT_EQ(speeds[2], 2000);
+  EXPECT_EQ(speeds[3], 2000);  // clamped
+}
+
+}  // namespace
+}  // namespace sitlnet::physics

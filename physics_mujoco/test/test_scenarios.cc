@@ -1,0 +1,26 @@
+#include "physics_mujoco/test/test_scenarios.h"
+
+#include <poll.h>
+#include <unistd.h>
+
+namespace sitlnet::physics::testing {
+
+uint16_t TestPhysicsPort() { return static_cast<uint16_t>(20000 + 2 * (getpid() % 15000)); }
+uint16_t TestJsonPort() { return static_cast<uint16_t>(TestPhysicsPort() + 1); }
+
+Scenario MakeScenario(const std::string& body) {
+  const std::string text = "name: \"phys\"\n" + body +
+                           "\naddresses { ctl_subnet: \"127.77.0.0/16\" physics_port: " +
+                           std::to_string(TestPhysicsPort()) +
+                           " }\n"
+                           "timing { iteration_us: 10000 physics_step_us: 1000 "
+                           "network_step_us: 10000 }\n";
+  return LoadScenarioText(text, "test.textproto");
+}
+
+bool WaitReadable(int fd, int timeout_ms) {
+  pollfd p{fd, POLLIN, 0};
+  return poll(&p, 1, timeout_ms) > 0;
+}
+
+}  // namespace sitlnet::physics::testing

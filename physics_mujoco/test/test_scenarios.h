@@ -1,0 +1,26 @@
+// Scenarios and helpers shared by the physics_mujoco unit tests.
+#ifndef SITLNET_PHYSICS_MUJOCO_TEST_TEST_SCENARIOS_H_
+#define SITLNET_PHYSICS_MUJOCO_TEST_TEST_SCENARIOS_H_
+
+#include <cstdint>
+#include <string>
+
+#include "scenario/scenario.h"
+
+namespace sitlnet::physics::testing {
+
+// A scenario with `body` inserted (robots, obstacles, airframes...). Its ctl subnet is on the
+// loopback network (127.77.0.0/16: robot i's server at 127.77.0.(4i+1), robot side .(4i+2)),
+// so protocol tests run without privileges; physics_port is unique to this process.
+Scenario MakeScenario(const std::string& body);
+
+// UDP port of the physics server in MakeScenario's scenarios, and a second free one.
+uint16_t TestPhysicsPort();
+uint16_t TestJsonPort();
+
+// Waits (poll) until `fd` is readable or `timeout_ms` passes; true if readable.
+bool WaitReadable(int fd, int timeout_ms);
+
+}  // namespace sitlnet::physics::testing
+
+#endif  // SITLNET_PHYSICS_MUJOCO_TEST_TEST_SCENARIOS_H_

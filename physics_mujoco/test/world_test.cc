@@ -1,0 +1,196 @@
+// Flight physics against closed-form oracles (issue 5): hover, free fall, yaw, collision,
+// lidar, IMU at rest, determinism.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "physics_mujoco/frames.h"
+#include "physics_mujoco/physics_mujoco.h"
+#include "physics_mujoco/test/test_scenarios.h"
+
+namespace sitlnet::physics {
+namespace {
+
+using testing::MakeScenario;
+
+constexpr double kG = 9.81;  // MuJoCo's gravity in our models (world_builder.cc)
+
+double HoverSpeed(const proto::Airframe& airframe) {
+  return std::sqrt(airframe.mass_kg() * kG / (4 * airframe.thrust_coefficient()));
+}
+
+void SetHover(World* world, int robot) {
+  const double w = HoverSpeed(world->airframe(robot));
+  world->SetRotorSpeeds(robot, {w, w, w, w});
+}
+
+TEST(WorldTest, HoverAtOmegaHoverHoldsAltitudeWithinOneCentimetreForTenSeconds) {
+  const Scenario scenario = MakeScenario("robot { name: \"a\" position_m { z: 5 } }");
+  World world(scenario);
+  SetHover(&world, 0);
+  double worst_m = 0;
+  for (int ms = 0; ms < 10000; ms += 10) {
+    world.Advance(10);
+    worst_m = std::max(worst_m, std::abs(world.Pose(0).position_m.z - 5));
+  }
+  EXPECT_EQ(world.time_ns(0), 10 * kNsPerS);
+  EXPECT_LT(worst_m, 0.01);
+  EXPECT_NEAR(world.Pose(0).position_m.x, 0, 0.01);
+  EXPECT_NEAR(world.Pose(0).position_m.y, 0, 0.01);
+}
+
+TEST(WorldTest, CrazyflieSizedAirframeHoversToo) {
+  // The 27 g airframe of docs/physics.md (gym-pybullet-drones' Crazyflie 2 figures).
+  const Scenario scenario = MakeScenario(
+      "airframe { name: \"cf2\" mass_kg: 0.027 arm_x_m: 0.02807 arm_y_m: 0.02807 "
+      "ixx_kg_m2: 1.4e-5 iyy_kg_m2: 1.4e-5 izz_kg_m2: 2.17e-5 thrust_coefficient: 2.8816e-8 "
+      "drag_coefficient: 7.2404e-10 max_rotor_speed_rad_s: 2274 }\n"
+      "robot { name: \"a\" airframe: \"cf2\" position_m { z: 1 } }");
+  World world(scenario);
+  SetHover(&world, 0);
+  world.Advance(10000);
+  EXPECT_NEAR(world.Pose(0).position_m.z, 1, 0.01);
+}
+
+TEST(WorldTest, FreeFallMatchesHalfGTSquaredWithinOneMillimetre) {
+  const Scenario scenario = MakeScenario("robot { name: \"a\" position_m { z: 20 } }");
+  World world(scenario);
+  for (int ms = 100; ms <= 1000; ms += 100) {
+    world.Advance(100);
+    const double t = ms / 1000.0;
+    EXPECT_NEAR(world.Pose(0).position_m.z, 20 - kG * t * t / 2, 1e-3) << "t = " << t;
+    EXPECT_NEAR(world.Pose(0).velocity_m_s.z, -kG * t, 1e-6) << "t = " << t;
+  }
+  // A falling IMU measures no specific force.
+  const ImuSample imu = world.Imu(0);
+  EXPECT_NEAR(imu.accel_m_s2.z, 0, 1e-6);
+}
+
+TEST(WorldTest, SemiImplicitEulerLagsFreeFallByHalfGTDt) {
+  // Documents why RK4 is the default: Euler's position error is g t dt / 2 (4.9 mm here).
+  const Scenario scenario = MakeScenario("robot { name: \"a\" position_m { z: 20 } }");
+  World world(scenario, WorldOptions{Integrator::kEuler, 1});
+  world.Advance(1000);
+  EXPECT_NEAR(world.Pose(0).position_m.z, 20 - kG / 2 - kG * 1.0 * 0.001 / 2, 1e-9);
+}
+
+// Speeds up one diagonal pair and slows the other keeping total thrust: pure yaw torque.
+void YawCommand(World* world, bool speed_up_cw) {
+  const double w = HoverSpeed(world->airframe(0));
+  const double fast = w * std::sqrt(1.1);
+  const double slow = w * std::sqrt(0.9);
+  // Rotors 1, 2 spin CCW; 3, 4 CW (ArduPilot quad-X).
+  if (speed_up_cw) {
+    world->SetRotorSpeeds(0, {slow, slow, fast, fast});
+  } else {
+    world->SetRotorSpeeds(0, {fast, fast, slow, slow});
+  }
+}
+
+TEST(WorldTest, FasterClockwiseRotorsYawTheBodyCounterClockwise) {
+  const Scenario scenario = MakeScenario("robot { name: \"a\" position_m { z: 5 } }");
+  for (bool cw : {true, false}) {
+    World world(scenario);
+    YawCommand(&world, cw);
+    world.Advance(500);
+    const RobotPose pose = world.Pose(0);
+    // Reaction torque of faster CW rotors is counter-clockwise seen from above: +z (ENU).
+    const double expected_sign = cw ? 1.0 : -1.0;
+    EXPECT_GT(expected_sign * pose.angular_velocity_rad_s.z, 0.1);
+    EXPECT_GT(expected_sign * YawRad(pose.orientation), 0.01);
+    EXPECT_NEAR(pose.position_m.z, 5, 0.01);  // thrust unchanged
+  }
+}
+
+TEST(WorldTest, QuadFlownIntoABoxStopsAgainstIt) {
+  // Box faces at x = 2.5; the quad's collision box reaches 0.14 m ahead of its centre.
+  const Scenario scenario = MakeScenario(
+      "robot { name: \"a\" position_m { z: 2 } }\n"
+      "obstacle { name: \"wall\" center_m { x: 3 z: 2 } size_m { x: 1 y: 6 z: 4 } }");
+  World world(scenario);
+  SetHover(&world, 0);
+  world.SetVelocity(0, {2, 0, 0});
+  double max_x = 0;
+  for (int ms = 0; ms < 3000; ms += 10) {
+    world.Advance(10);
+    max_x = std::max(max_x, world.Pose(0).position_m.x);
+  }
+  const double contact_x = 2.5 - 0.14;
+  EXPECT_GT(max_x, contact_x - 0.01);  // it got there
+  // and did not go through: MuJoCo's soft contact lets it in by about speed x 4 ms.
+  EXPECT_LT(max_x, contact_x + 0.02);
+  EXPECT_LT(world.Pose(0).position_m.x, contact_x + 0.02);
+  // Stopped: under 2.5 % of the 2 m/s it hit with remains (a small rebound).
+  EXPECT_LT(std::abs(world.Pose(0).velocity_m_s.x), 0.05);
+}
+
+TEST(WorldTest, LidarRayReturnsTheDistanceToABox) {
+  // Box face at x = 4 (centre 5, size 2); 4 rays over 360 deg: -180, -90, 0 (nose), 90.
+  const Scenario scenario = MakeScenario(
+      "robot { name: \"a\" position_m { z: 2 } lidar { rays: 4 max_range_m: 20 } }\n"
+      "robot { name: \"b\" position_m { x: 5 y: -3 z: 2 } yaw_deg: 90 lidar { rays: 4 } }\n"
+      "obstacle { center_m { x: 5 z: 2 } size_m { x: 2 y: 2 z: 4 } }");
+  World world(scenario);
+  std::vector<float> ranges;
+  world.Lidar(0, &ranges);
+  ASSERT_EQ(ranges.size(), 4u);
+  EXPECT_NEAR(ranges[2], 4.0, 1e-5);
+  EXPECT_EQ(ranges[0], 20.0f);
+  EXPECT_EQ(ranges[1], 20.0f);
+  EXPECT_EQ(ranges[3], 20.0f);
+  // Robot b faces north (yaw 90) from 3 m south of the box centre: face at 2 m.
+  world.Lidar(1, &ranges);
+  EXPECT_NEAR(ranges[2], 2.0, 1e-5);
+  // Its ray at -90 deg (to its right, east) hits nothing.
+  EXPECT_EQ(ranges[1], 20.0f);
+}
+
+TEST(WorldTest, ImuAtHoverReadsPlusGOnBodyZ) {
+  const Scenario scenario = MakeScenario("robot { name: \"a\" position_m { z: 5 } }");
+  World world(scenario);
+  SetHover(&world, 0);
+  world.Advance(100);
+  const ImuSample imu = world.Imu(0);
+  EXPECT_NEAR(imu.accel_m_s2.z, kG, 1e-6);
+  EXPECT_NEAR(imu.accel_m_s2.x, 0, 1e-9);
+  EXPECT_NEAR(imu.gyro_rad_s.z, 0, 1e-9);
+}
+
+TEST(WorldTest, ImuNoiseIsSeededAndDiffersPerRobot) {
+  const std::string robots =
+      "robot { name: \"a\" position_m { z: 5 } imu { gyro_noise_rad_s: 0.01 "
+      "accel_bias_m_s2: 0.1 } }\n"
+      "robot { name: \"b\" position_m { z: 5 } imu { gyro_noise_rad_s: 0.01 "
+      "accel_bias_m_s2: 0.1 } }\n";
+  const Scenario scenario = MakeScenario(robots);
+  World first(scenario);
+  World second(scenario);
+  const ImuSample a1 = first.Imu(0), a2 = second.Imu(0), b1 = first.Imu(1);
+  EXPECT_EQ(a1.gyro_rad_s.x, a2.gyro_rad_s.x);
+  EXPECT_EQ(a1.accel_m_s2.z, a2.accel_m_s2.z);
+  EXPECT_NE(a1.gyro_rad_s.x, 0);
+  EXPECT_NE(a1.gyro_rad_s.x, b1.gyro_rad_s.x);
+}
+
+TEST(WorldTest, ThreadCountDoesNotChangeResults) {
+  std::string robots;
+  for (int i = 0; i < 7; ++i) {
+    robots += "robot { name: \"r" + std::to_string(i) + "\" position_m { x: " + std::to_string(i) +
+              " z: 3 } }\n";
+  }
+  const Scenario scenario = MakeScenario(robots);
+  World one(scenario, WorldOptions{Integrator::kRk4, 1});
+  World two(scenario, WorldOptions{Integrator::kRk4, 2});
+  for (World* world : {&one, &two}) {
+    for (int i = 0; i < 7; ++i) world->SetRotorSpeeds(i, {900.0 + i, 1000, 1010, 995});
+    world->Advance(300);
+  }
+  for (int i = 0; i < 7; ++i) {
+    EXPECT_EQ(one.Pose(i).position_m.x, two.Pose(i).position_m.x);
+    EXPECT_EQ(one.Pose(i).orientation.z, two.Pose(i).orientation.z);
+  }
+}
+
+}  // namespace
+}  // namespace sitlnet::physics

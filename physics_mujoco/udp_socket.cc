@@ -1,0 +1,65 @@
+#include "physics_mujoco/udp_socket.h"
+
+#include <arpa/inet.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <utility>
+
+namespace sitlnet::physics {
+
+sockaddr_in MakeSockaddr(Ipv4 address, uint16_t port) {
+  sockaddr_in sa{};
+  sa.sin_family = AF_INET;
+  sa.sin_port = htons(port);
+  sa.sin_addr.s_addr = htonl(address.host_order);
+  return sa;
+}
+
+Ipv4 SockaddrIpv4(const sockaddr_in& address) { return Ipv4{ntohl(address.sin_addr.s_addr)}; }
+
+UdpSocket UdpSocket::Bind(Ipv4 address, uint16_t port, bool freebind, const std::string& what) {
+  const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd < 0) throw Error(SystemErrorMessage(what + ": create UDP socket", errno));
+  UdpSocket sock(fd);
+  const int one = 1;
+  if (freebind && setsockopt(fd, IPPROTO_IP, IP_FREEBIND, &one, sizeof one) != 0) {
+    throw Error(SystemErrorMessage(what + ": set IP_FREEBIND", errno));
+  }
+  const sockaddr_in sa = MakeSockaddr(address, port);
+  if (bind(fd, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0) {
+    throw Error(SystemErrorMessage(
+        what + ": bind UDP " + FormatIpv4(address) + ":" + std::to_string(port), errno));
+  }
+  return sock;
+}
+
+UdpSocket::~UdpSocket() {
+  if (fd_ >= 0) close(fd_);
+}
+
+UdpSocket::UdpSocket(UdpSocket&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+
+UdpSocket& UdpSocket::operator=(UdpSocket&& other) noexcept {
+  if (this != &other) {
+    if (fd_ >= 0) close(fd_);
+    fd_ = std::exchange(other.fd_, -1);
+  }
+  return *this;
+}
+
+ssize_t UdpSocket::Receive(void* buffer, size_t capacity, sockaddr_in* from) const {
+  socklen_t length = sizeof *from;
+  // MSG_TRUNC: the return value is the datagram's real length, so oversize is detectable.
+  const ssize_t n =
+      recvfrom(fd_, buffer, capacity, MSG_TRUNC, reinterpret_cast<sockaddr*>(from), &length);
+  return n < 0 ? -1 : n;
+}
+
+bool UdpSocket::SendTo(const void* data, size_t size, const sockaddr_in& to) const {
+  return sendto(fd_, data, size, 0, reinterpret_cast<const sockaddr*>(&to), sizeof to) ==
+         static_cast<ssize_t>(size);
+}
+
+}  // namespace sitlnet::physics
