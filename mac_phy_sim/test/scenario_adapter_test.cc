@@ -1,1 +1,33 @@
+#include "mac_phy_sim/scenario_adapter.h"
+
 #include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace sitlnet::mac {
+namespace {
+
+TEST(ScenarioAdapterTest, BuildsStationsObstaclesAndRadio) {
+  const Scenario scenario = LoadScenarioText(R"(
+    name: "adapt"
+    robot { name: "a" position_m { x: 0 y: 0 z: 2 } }
+    robot { name: "b" position_m { x: 30 y: 0 z: 2 } }
+    obstacle { name: "w" center_m { x: 15 y: 0 z: 5 } size_m { x: 2 y: 20 z: 10 } }
+    radio { standard: STANDARD_80211G rate_mbps: 24 rts_threshold_bytes: 400 }
+    timing { seed: 9 }
+  )",
+                                             "adapt.textproto");
+  const MediumConfig config = MediumConfigFromScenario(scenario);
+  EXPECT_EQ(config.standard, Standard::k80211g);
+  EXPECT_EQ(config.rate_mbps, 24);
+  EXPECT_EQ(config.rts_threshold_bytes, 400u);
+  EXPECT_EQ(config.seed, 9u);
+  EXPECT_FALSE(config.reference_loss_db.has_value());
+  Medium medium = MakeMediumFromScenario(scenario);
+  ASSERT_EQ(medium.station_count(), 2);
+  // Friis at 2.4 GHz + 30 log10(30) + one 2 m box: 2 walls + 0.8 dB.
+  EXPECT_NEAR(medium.LossDb(0, 1), 40.046 + 30 * std::log10(30.0) + 18.8, 1e-3);
+}
+
+}  // namespace
+}  // namespace sitlnet::mac
