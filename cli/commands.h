@@ -23,6 +23,7 @@ int RunExecCommand(int argc, char** argv);
 int RunStatusCommand(int argc, char** argv);
 int RunMediumCommand(int argc, char** argv);   // cli/medium_command.cc (tapbridge)
 int RunCaptureCommand(int argc, char** argv);  // cli/capture_command.cc (tapbridge)
+int RunPhysicsCommand(int argc, char** argv);  // cli/physics_command.cc (physics_mujoco)
 
 // True if any argument before "--" is -h or --help.
 bool WantsHelp(int argc, char** argv);

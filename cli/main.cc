@@ -21,6 +21,7 @@ constexpr Command kCommands[] = {
     {"down", sitlnet::cli::RunDownCommand, "remove everything a scenario created"},
     {"medium", sitlnet::cli::RunMediumCommand, "run the simulated 802.11 medium of a scenario"},
     {"capture", sitlnet::cli::RunCaptureCommand, "stream the medium's 802.11 view as pcap"},
+    {"physics", sitlnet::cli::RunPhysicsCommand, "run a scenario's MuJoCo physics in real time"},
 };
 
 void PrintUsage(FILE* out) {

@@ -1,0 +1,116 @@
+// `sitlnet physics SCENARIO`: the MuJoCo physics server of a scenario in standalone realtime
+// mode (docs/physics.md): robots fly by sending MotorCommand over their ctl0.
+#include <sys/stat.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <string>
+
+#include "cli/commands.h"
+#include "nns/nns.h"
+#include "physics_mujoco/physics_mujoco.h"
+#include "scenario/scenario.h"
+
+namespace sitlnet::cli {
+namespace {
+
+constexpr const char* kPhysicsHelp =
+    "usage: sitlnet physics SCENARIO [--duration-s S] [--threads N] [--euler]\n"
+    "\n"
+    "Runs the MuJoCo physics of SCENARIO (a scenario file, or the name of a scenario\n"
+    "that is up) in real time (the scenario's realtime_factor), one physics step at a\n"
+    "time, until SIGINT/SIGTERM or S seconds of virtual time. Each robot's server\n"
+    "listens on <root side of its ctl0>:<physics_port> (SITLNET_PHYSICS_ADDR inside\n"
+    "the robot; protocol in docs/protocols.md) and, if the robot sets\n"
+    "ardupilot_json_port, speaks ArduPilot's JSON SITL protocol there. The sockets\n"
+    "use IP_FREEBIND: the server may start before `sitlnet up`.\n"
+    "\n"
+    "  --duration-s S  stop after S seconds of virtual time (default: never)\n"
+    "  --threads N     threads stepping robots (default 2)\n"
+    "  --euler         semi-implicit Euler instead of RK4 (docs/physics.md)\n"
+    "\n"
+    "Prints per-robot counters at exit. exit codes: 0 ok, 1 failed, 2 usage or bad\n"
+    "scenario file.\n";
+
+std::atomic<bool> g_stop{false};
+
+void OnSignal(int) { g_stop.store(true); }
+
+Scenario LoadByFileOrName(const std::string& what) {
+  struct stat st {};
+  if (stat(what.c_str(), &st) == 0) return LoadScenarioFile(what);
+  const std::optional<nns::ScenarioState> state = nns::ReadScenarioState(what);
+  if (!state) throw Error("no scenario file and no scenario up named \"" + what + "\"");
+  return LoadScenarioFile(state->source_path);
+}
+
+void PrintCounters(const Scenario& scenario, const physics::PhysicsServer& server) {
+  std::printf("%-12s %9s %9s %9s %9s %9s %9s %7s %9s\n", "robot", "commands", "states", "malformed",
+              "invalid", "wrong_id", "foreign", "cuts", "json");
+  for (const RobotPlan& robot : scenario.robots) {
+    const physics::RobotCounters& c = server.counters(robot.index);
+    std::printf("%-12s %9lu %9lu %9lu %9lu %9lu %9lu %7lu %9lu\n", robot.name.c_str(),
+                c.commands_accepted, c.states_sent, c.dropped_malformed, c.dropped_invalid,
+                c.dropped_wrong_robot, c.dropped_foreign_source, c.failsafe_cuts, c.json_frames);
+  }
+}
+
+}  // namespace
+
+int RunPhysicsCommand(int argc, char** argv) {
+  if (WantsHelp(argc, argv)) {
+    std::fputs(kPhysicsHelp, stdout);
+    return kExitOk;
+  }
+  std::string scenario_arg;
+  double duration_s = 0;
+  physics::ServerOptions options;
+  try {
+    for (int i = 1; i < argc; ++i) {
+      const std::string arg = argv[i];
+      if (arg == "--duration-s" && i + 1 < argc) {
+        duration_s = std::stod(argv[++i]);
+      } else if (arg == "--threads" && i + 1 < argc) {
+        options.world.threads = std::stoi(argv[++i]);
+      } else if (arg == "--euler") {
+        options.world.integrator = physics::Integrator::kEuler;
+      } else if (scenario_arg.empty() && !arg.starts_with("-")) {
+        scenario_arg = arg;
+      } else {
+        throw std::invalid_argument(arg);
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sitlnet physics: bad argument \"%s\"\n%s", e.what(), kPhysicsHelp);
+    return kExitUsage;
+  }
+  if (scenario_arg.empty() || options.world.threads < 1 || duration_s < 0) {
+    std::fputs(kPhysicsHelp, stderr);
+    return kExitUsage;
+  }
+  Scenario scenario;
+  const int load_status = ReportErrors("physics", kExitUsage, [&] {
+    scenario = LoadByFileOrName(scenario_arg);
+    return kExitOk;
+  });
+  if (load_status != kExitOk) return load_status;
+  return ReportErrors("physics", kExitFailure, [&] {
+    physics::PhysicsServer server(scenario, options);
+    std::signal(SIGINT, OnSignal);
+    std::signal(SIGTERM, OnSignal);
+    std::fprintf(stderr, "sitlnet physics: %zu robots, step %ld us, serving on port %u\n",
+                 scenario.robots.size(), static_cast<long>(scenario.physics_step_ns / kNsPerUs),
+                 scenario.spec.addresses().physics_port());
+    const TimeNs max_lag_ns =
+        physics::RunRealtime(&server, scenario.spec.timing().realtime_factor(),
+                             static_cast<TimeNs>(duration_s * kNsPerS), g_stop);
+    std::fprintf(stderr, "sitlnet physics: stopped at %.3f s virtual time, max lag %.3f ms\n",
+                 static_cast<double>(server.world().time_ns(0)) / kNsPerS,
+                 static_cast<double>(max_lag_ns) / kNsPerMs);
+    PrintCounters(scenario, server);
+    return kExitOk;
+  });
+}
+
+}  // namespace sitlnet::cli
