@@ -40,27 +40,37 @@ int Scenario::RobotIndex(std::string_view robot_name) const {
   return -1;
 }
 
+void ParseTextProtoOrThrow(std::string_view text, const std::string& source_name,
+                           google::protobuf::Message* message,
+                           google::protobuf::TextFormat::ParseInfoTree* locations) {
+  FirstErrorCollector errors(source_name);
+  google::protobuf::TextFormat::Parser parser;
+  parser.RecordErrorsTo(&errors);
+  if (locations != nullptr) parser.WriteLocationsTo(locations);
+  if (!parser.ParseFromString(std::string(text), message)) {
+    throw Error(errors.first().empty() ? source_name + ": cannot parse" : errors.first());
+  }
+}
+
+std::string ReadFileOrThrow(const std::string& path, const std::string& what) {
+  std::ifstream file(path);
+  if (!file) throw Error(SystemErrorMessage("open " + what + " \"" + path + "\"", errno));
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
 Scenario LoadScenarioText(std::string_view text, const std::string& source_name) {
   Scenario scenario;
   scenario.source_path = source_name;
   SourceLocator locator(source_name, proto::Scenario::descriptor());
-  FirstErrorCollector errors(source_name);
-  google::protobuf::TextFormat::Parser parser;
-  parser.RecordErrorsTo(&errors);
-  parser.WriteLocationsTo(locator.tree());
-  if (!parser.ParseFromString(std::string(text), &scenario.spec)) {
-    throw Error(errors.first().empty() ? source_name + ": cannot parse scenario" : errors.first());
-  }
+  ParseTextProtoOrThrow(text, source_name, &scenario.spec, locator.tree());
   scenario_internal::ValidateAndDerive(locator, &scenario);
   return scenario;
 }
 
 Scenario LoadScenarioFile(const std::string& path) {
-  std::ifstream file(path);
-  if (!file) throw Error(SystemErrorMessage("open scenario \"" + path + "\"", errno));
-  std::ostringstream text;
-  text << file.rdbuf();
-  return LoadScenarioText(text.str(), path);
+  return LoadScenarioText(ReadFileOrThrow(path, "scenario"), path);
 }
 
 void CheckAddressPlanAgainstRoutes(const Scenario& scenario,

@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include <google/protobuf/text_format.h>
+
 #include "common/common.h"
 #include "sitlnet/scenario.pb.h"
 
@@ -62,6 +64,16 @@ Scenario LoadScenarioText(std::string_view text, const std::string& source_name)
 inline constexpr int kMaxScenarioNameLength = 10;
 inline constexpr int kMaxRobots = 1000;
 inline constexpr int kMaxRobotNameLength = 32;
+
+// Parses protobuf text format into `message` (also used for image manifests).
+// Throws Error "source:line:col: <protobuf's message>" on the first error.
+// `locations` (may be null) receives field locations for later messages.
+void ParseTextProtoOrThrow(std::string_view text, const std::string& source_name,
+                           google::protobuf::Message* message,
+                           google::protobuf::TextFormat::ParseInfoTree* locations = nullptr);
+
+// Reads a whole file; throws Error "open <what> "path": <reason>".
+std::string ReadFileOrThrow(const std::string& path, const std::string& what);
 
 //------------------------- Checks against the host --------------------------
 

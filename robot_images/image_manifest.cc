@@ -1,0 +1,104 @@
+// Image manifests: loading, validation and placeholder expansion.
+#include <sys/stat.h>
+
+#include "robot_images/robot_images.h"
+#include "scenario/scenario.h"
+
+namespace sitlnet::images {
+namespace {
+
+bool IsFile(const std::string& path) {
+  struct stat info {};
+  return stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
+}
+
+// Expands every ${NAME} of `text`; throws for an unknown NAME.
+std::string Expand(const std::string& text, const Image& image, const LaunchContext& context) {
+  std::string out;
+  size_t i = 0;
+  while (i < text.size()) {
+    const size_t open = text.find("${", i);
+    if (open == std::string::npos) {
+      out += text.substr(i);
+      break;
+    }
+    out += text.substr(i, open - i);
+    const size_t close = text.find('}', open);
+    if (close == std::string::npos) {
+      throw Error(image.manifest_path + ": unterminated placeholder in \"" + text + "\"");
+    }
+    const std::string name = text.substr(open + 2, close - open - 2);
+    if (name == "IMAGE_DIR") {
+      out += image.dir;
+    } else if (name == "SITLNET_BIN") {
+      out += context.sitlnet_bin_dir;
+    } else if (name == "ROBOT") {
+      out += context.robot;
+    } else if (name == "ROBOT_INDEX") {
+      out += std::to_string(context.robot_index);
+    } else if (name == "SCENARIO") {
+      out += context.scenario;
+    } else {
+      throw Error(image.manifest_path + ": unknown placeholder ${" + name + "} in \"" + text +
+                  "\" (known: IMAGE_DIR SITLNET_BIN ROBOT ROBOT_INDEX SCENARIO, and ${ARGS} "
+                  "as a whole command element)");
+    }
+    i = close + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+Image LoadImage(const std::string& images_root, const std::string& name) {
+  Image image;
+  image.manifest_path = IsFile(name) ? name : images_root + "/" + name + "/image.textproto";
+  if (!IsFile(image.manifest_path)) {
+    throw Error("image \"" + name + "\": no manifest at " + image.manifest_path);
+  }
+  const size_t slash = image.manifest_path.rfind('/');
+  image.dir = slash == std::string::npos ? "." : image.manifest_path.substr(0, slash);
+  ParseTextProtoOrThrow(ReadFileOrThrow(image.manifest_path, "image manifest"),
+                        image.manifest_path, &image.manifest);
+  if (image.manifest.command_size() == 0) {
+    throw Error(image.manifest_path + ": image \"" + name + "\" has no command");
+  }
+  for (const auto& env : image.manifest.env()) {
+    if (env.name().empty() || env.name().find('=') != std::string::npos) {
+      throw Error(image.manifest_path + ": env name \"" + env.name() + "\" is not valid");
+    }
+  }
+  return image;
+}
+
+std::vector<std::string> ExpandCommand(const Image& image, const LaunchContext& context) {
+  std::vector<std::string> argv;
+  for (const std::string& element : image.manifest.command()) {
+    if (element == "${ARGS}") {
+      argv.insert(argv.end(), context.robot_args.begin(), context.robot_args.end());
+    } else {
+      argv.push_back(Expand(element, image, context));
+    }
+  }
+  return argv;
+}
+
+std::vector<std::string> ExpandEnv(const Image& image, const LaunchContext& context) {
+  std::vector<std::string> env;
+  for (const auto& variable : image.manifest.env()) {
+    env.push_back(variable.name() + "=" + Expand(variable.value(), image, context));
+  }
+  return env;
+}
+
+void CheckFiles(const Image& image, const LaunchContext& context) {
+  for (const std::string& file : image.manifest.files()) {
+    const std::string path = Expand(file, image, context);
+    if (!IsFile(path)) {
+      throw Error("robot \"" + context.robot + "\": image \"" + image.manifest.name() +
+                  "\" needs " + path + ", which does not exist");
+    }
+  }
+}
+
+}  // namespace sitlnet::images

@@ -1,0 +1,88 @@
+// sitlnet robot_images: image manifests (what onboard software to run in a
+// robot and how) and the supervision of the processes that run them. An image
+// runs exactly as `sitlnet exec` runs a program. docs/robot-images.md.
+#ifndef SITLNET_ROBOT_IMAGES_ROBOT_IMAGES_H_
+#define SITLNET_ROBOT_IMAGES_ROBOT_IMAGES_H_
+
+#include <sys/types.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/common.h"
+#include "sitlnet/image.pb.h"
+
+namespace sitlnet::images {
+
+//-------------------------------- Manifests ---------------------------------
+
+struct Image {
+  proto::ImageManifest manifest;
+  std::string manifest_path;
+  std::string dir;  // Folder of the manifest (${IMAGE_DIR}).
+};
+
+// Loads `<images_root>/<name>/image.textproto`, or `name` itself when it is a
+// path to a manifest file. Throws Error "path:line:col: rule" on bad input.
+Image LoadImage(const std::string& images_root, const std::string& name);
+
+// What placeholders expand to for one robot.
+struct LaunchContext {
+  std::string sitlnet_bin_dir;  // ${SITLNET_BIN}
+  std::string scenario;         // ${SCENARIO}
+  std::string robot;            // ${ROBOT}
+  int robot_index = 0;          // ${ROBOT_INDEX}
+  std::vector<std::string> robot_args;  // "${ARGS}"
+};
+
+// The image's argv with placeholders expanded; throws Error naming the
+// manifest and the unknown placeholder.
+std::vector<std::string> ExpandCommand(const Image& image, const LaunchContext& context);
+// "NAME=value" pairs of the manifest's env, expanded.
+std::vector<std::string> ExpandEnv(const Image& image, const LaunchContext& context);
+// Throws Error "robot "r": image "x" needs file F, which does not exist".
+void CheckFiles(const Image& image, const LaunchContext& context);
+
+//------------------------------- Processes ----------------------------------
+
+// One robot's running image: `sitlnet exec --scenario S ROBOT -- argv...`
+// with stdout and stderr appended to `log_path`. Not copyable.
+class RobotProcess {
+ public:
+  // Starts the process; throws Error naming the robot on failure to fork.
+  RobotProcess(const Image& image, const LaunchContext& context, const std::string& sitlnet_exe,
+               const std::string& log_path);
+  ~RobotProcess();  // Stops the process if still running.
+  RobotProcess(const RobotProcess&) = delete;
+  RobotProcess& operator=(const RobotProcess&) = delete;
+
+  pid_t pid() const { return pid_; }
+  const std::string& robot() const { return robot_; }
+  const std::string& log_path() const { return log_path_; }
+
+  // Non-blocking: the exit status (as a shell shows it: 128+N for signal N)
+  // if the process has ended, else nullopt.
+  std::optional<int> PollExit();
+
+  // Waits up to `timeout_ns` for the process to end; its status, or nullopt.
+  std::optional<int> WaitExit(TimeNs timeout_ns);
+
+  // True once the manifest's ready_log_line is in the log (or there is none).
+  bool IsReady() const;
+
+  // SIGTERM, then SIGKILL after `grace_ns`; waits for the exit. Idempotent.
+  void Stop(TimeNs grace_ns = 2 * kNsPerS);
+
+ private:
+  std::string robot_;
+  std::string log_path_;
+  std::string ready_line_;
+  pid_t pid_ = -1;
+  int pidfd_ = -1;
+  std::optional<int> exit_status_;
+};
+
+}  // namespace sitlnet::images
+
+#endif  // SITLNET_ROBOT_IMAGES_ROBOT_IMAGES_H_
