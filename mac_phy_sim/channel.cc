@@ -66,7 +66,9 @@ int Channel::AddStation(const Vec3& position_m) {
       std::copy_n(&loss_db_[i * stride_], stride_, &grown[i * new_stride]);
     }
     loss_db_ = std::move(grown);
+    gain_.assign(new_stride * new_stride, 0.0);
     stride_ = new_stride;
+    std::fill(dirty_.begin(), dirty_.end(), 1);  // Gains are rebuilt with the losses.
   }
   return index;
 }
@@ -98,8 +100,11 @@ void Channel::Refresh() {
     for (int j = 0; j < n; ++j) {
       if (j == i || (dirty_[j] && j < i)) continue;  // Pair done when j was refreshed.
       const double loss = ComputeLoss(i, j);
+      const double gain = std::pow(10.0, -loss / 10);
       loss_db_[static_cast<size_t>(i) * stride_ + j] = loss;
       loss_db_[static_cast<size_t>(j) * stride_ + i] = loss;
+      gain_[static_cast<size_t>(i) * stride_ + j] = gain;
+      gain_[static_cast<size_t>(j) * stride_ + i] = gain;
     }
   }
   std::fill(dirty_.begin(), dirty_.end(), 0);

@@ -38,6 +38,11 @@ class Channel {
     if (any_dirty_) Refresh();
     return loss_db_[static_cast<size_t>(a) * stride_ + b];
   }
+  // 10^(-LossDb/10): received power = transmitted power * gain (cached too).
+  double GainLinear(int a, int b) {
+    if (any_dirty_) Refresh();
+    return gain_[static_cast<size_t>(a) * stride_ + b];
+  }
   // Uncached: log-distance loss for `distance_m` (the reference loss below 1 m, as ns-3).
   double PathLossDb(double distance_m) const;
   // Uncached: shadowing loss of the segment a -> b.
@@ -56,6 +61,7 @@ class Channel {
   bool any_dirty_ = false;
   size_t stride_ = 0;
   std::vector<double> loss_db_;  // stride_ x stride_, row-major.
+  std::vector<double> gain_;     // Same layout, linear.
 
   // Obstacles and their grid.
   std::vector<Box> boxes_;

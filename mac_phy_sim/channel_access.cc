@@ -17,9 +17,7 @@ void ScheduleAccess(State& s, int station) {
   StationState& st = s.stations[station];
   const TimeNs ifs = st.use_eifs ? s.phy.eifs_ns : s.phy.difs_ns;
   st.count_origin_ns = std::max(st.idle_since_ns + ifs, st.backoff_start_ns);
-  st.access_at_ns = st.count_origin_ns + st.backoff_slots * s.phy.slot_ns;
-  ++st.access_generation;
-  s.scheduler.Push(st.access_at_ns, EventType::kAccess, station, st.access_generation);
+  s.SetAccessAt(station, st.count_origin_ns + st.backoff_slots * s.phy.slot_ns);
 }
 
 void OnBusy(State& s, int station) {
@@ -33,8 +31,7 @@ void OnBusy(State& s, int station) {
   // An immediate access (no backoff, 10.3.4.2) that the medium interrupted
   // turns into a random backoff.
   if (st.backoff_slots == 0) st.backoff_slots = DrawUniform(st, st.cw);
-  st.access_at_ns = -1;
-  ++st.access_generation;
+  s.SetAccessAt(station, -1);
   st.backoff_start_ns = s.now_ns;
 }
 
@@ -49,9 +46,17 @@ int DrawUniform(StationState& st, int max_inclusive) {
 
 void UpdateCca(State& s, int station) {
   StationState& st = s.stations[station];
-  const bool busy = st.transmitting_tx >= 0 || st.rx.tx >= 0 ||
-                    (st.active_signals > 0 && st.energy_mw >= s.cca_mw) ||
-                    st.nav_until_ns > s.now_ns;
+  const bool physically_busy = st.transmitting_tx >= 0 || st.rx.tx >= 0 ||
+                               (st.active_signals > 0 && st.energy_mw >= s.cca_mw);
+  const bool nav_busy = st.nav_until_ns > s.now_ns;
+  // The NAV needs its own expiry event only while it alone holds the medium
+  // busy: physical changes call UpdateCca anyway (for a DATA frame the NAV
+  // ends exactly when its ACK does).
+  if (nav_busy && !physically_busy && st.nav_event_ns != st.nav_until_ns) {
+    st.nav_event_ns = st.nav_until_ns;
+    s.scheduler.Push(st.nav_until_ns, EventType::kNavEnd, station, 0);
+  }
+  const bool busy = physically_busy || nav_busy;
   if (busy == st.busy) return;
   st.busy = busy;
   if (busy) {
@@ -65,8 +70,7 @@ void UpdateCca(State& s, int station) {
 void SetNav(State& s, int station, TimeNs until_ns) {
   StationState& st = s.stations[station];
   if (until_ns <= st.nav_until_ns) return;
-  st.nav_until_ns = until_ns;
-  s.scheduler.Push(until_ns, EventType::kNavEnd, station, 0);
+  st.nav_until_ns = until_ns;  // UpdateCca schedules the expiry check if needed.
 }
 
 void StartBackoff(State& s, int station) {
@@ -74,8 +78,7 @@ void StartBackoff(State& s, int station) {
   st.backoff_slots = DrawUniform(st, st.cw);
   st.backoff_start_ns = s.now_ns;
   st.backoff_pending = true;
-  st.access_at_ns = -1;
-  ++st.access_generation;
+  s.SetAccessAt(station, -1);
   if (!st.busy) ScheduleAccess(s, station);
 }
 
@@ -94,10 +97,9 @@ void RequestAccess(State& s, int station) {
   ScheduleAccess(s, station);
 }
 
-void OnAccess(State& s, int station, uint64_t generation) {
+void OnAccess(State& s, int station) {
   StationState& st = s.stations[station];
-  if (generation != st.access_generation || st.access_at_ns != s.now_ns) return;  // Stale.
-  st.access_at_ns = -1;
+  s.SetAccessAt(station, -1);
   st.backoff_pending = false;
   st.backoff_slots = 0;
   if (!st.has_current || st.exchange != Exchange::kIdle) return;  // Post-backoff done.
@@ -106,6 +108,40 @@ void OnAccess(State& s, int station, uint64_t generation) {
   } else {
     StartBackoff(s, station);  // Busy sending a response at this very instant.
   }
+}
+
+}  // namespace sitlnet::mac
+
+namespace sitlnet::mac {
+
+void Medium::State::SetAccessAt(int station, TimeNs at_ns) {
+  StationState& st = stations[station];
+  st.access_at_ns = at_ns;
+  if (!earliest_access_valid) return;
+  if (station == earliest_access_station) {
+    earliest_access_valid = false;  // The minimum moved: rescan when asked.
+  } else if (at_ns >= 0 && (earliest_access_station < 0 || at_ns < earliest_access_ns ||
+                            (at_ns == earliest_access_ns && station < earliest_access_station))) {
+    earliest_access_ns = at_ns;
+    earliest_access_station = station;
+  }
+}
+
+void Medium::State::EarliestAccess(TimeNs* at_ns, int* station) {
+  if (!earliest_access_valid) {
+    earliest_access_station = -1;
+    earliest_access_ns = -1;
+    for (int i = 0; i < static_cast<int>(stations.size()); ++i) {
+      const TimeNs t = stations[i].access_at_ns;
+      if (t >= 0 && (earliest_access_station < 0 || t < earliest_access_ns)) {
+        earliest_access_ns = t;
+        earliest_access_station = i;
+      }
+    }
+    earliest_access_valid = true;
+  }
+  *at_ns = earliest_access_ns;
+  *station = earliest_access_station;
 }
 
 }  // namespace sitlnet::mac

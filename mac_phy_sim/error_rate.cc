@@ -30,8 +30,10 @@ double DecodedBitError(double p, int code_rate_b) {
   const double d = std::sqrt(4.0 * p * (1.0 - p));
   auto series = [d](int first_distance, int step, std::initializer_list<double> weights) {
     double sum = 0;
-    double power = std::pow(d, first_distance);
-    const double multiplier = std::pow(d, step);
+    // Integer powers by multiplication: std::pow is the hot spot otherwise.
+    double power = 1;
+    for (int i = 0; i < first_distance; ++i) power *= d;
+    const double multiplier = step == 1 ? d : d * d;
     for (double weight : weights) {
       sum += weight * power;
       power *= multiplier;

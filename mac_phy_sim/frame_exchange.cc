@@ -3,6 +3,7 @@
 // slot + PHY preamble/header), retries with short/long retry counters and
 // binary exponential backoff, duplicate filtering by (TA, sequence number).
 #include <algorithm>
+#include <cmath>
 
 #include "mac_phy_sim/medium_state.h"
 
@@ -174,8 +175,8 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
       }
       ++st.counters.rx_delivered;
       if (s.deliveries != nullptr) {
-        s.deliveries->push_back(
-            Delivery{station, tx.source, *tx.ethernet, s.now_ns, entry.power_dbm, entry.sinr_db});
+        s.deliveries->push_back(Delivery{station, tx.source, *tx.ethernet, s.now_ns,
+                                         entry.power_dbm, 10 * std::log10(entry.sinr)});
       }
       return;
     }

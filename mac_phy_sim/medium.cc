@@ -21,8 +21,6 @@ uint64_t SplitMix64(uint64_t x) {
 
 bool IsStale(const State& s, const Event& e) {
   switch (e.type) {
-    case EventType::kAccess:
-      return e.aux != s.stations[e.station].access_generation;
     case EventType::kTimeout:
       return e.aux != s.stations[e.station].timeout_generation;
     default:
@@ -43,9 +41,6 @@ void Dispatch(State& s, const Event& e) {
       s.channel.SetPosition(e.station, s.pending_moves[e.aux].position_m);
       s.free_pending_moves.push_back(static_cast<int>(e.aux));
       return;
-    case EventType::kAccess:
-      OnAccess(s, e.station, e.aux);
-      return;
     case EventType::kTxEnd:
       OnTxEnd(s, static_cast<int>(e.aux));
       return;
@@ -56,6 +51,7 @@ void Dispatch(State& s, const Event& e) {
       OnRespond(s, e.station);
       return;
     case EventType::kNavEnd:
+      s.stations[e.station].nav_event_ns = -1;
       UpdateCca(s, e.station);
       return;
   }
@@ -73,6 +69,8 @@ Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
               config_in.shadowing_db_per_wall, config_in.shadowing_db_per_m) {
   noise_mw = DbmToMw(phy.noise_floor_dbm);
   cca_mw = DbmToMw(config.cca_energy_detect_dbm);
+  tx_power_mw = DbmToMw(config.tx_power_dbm);
+  preamble_snr_linear = std::pow(10.0, config.preamble_detect_snr_db / 10);
   preamble_ns = PreambleAndHeaderNs(config.standard);
   signal_extension_ns = SignalExtensionNs(config.standard);
   ack_ns = PpduDurationNs(config.standard, phy.ack_rate_mbps, kAckBytes);
@@ -150,11 +148,23 @@ bool Medium::SubmitFrame(StationId source, std::span<const uint8_t> ethernet_fra
 void Medium::AdvanceTo(TimeNs until_ns, std::vector<Delivery>* deliveries) {
   State& s = *state_;
   s.deliveries = deliveries;
-  while (!s.scheduler.empty() && s.scheduler.top().time_ns <= until_ns) {
-    const Event event = s.scheduler.Pop();
-    if (IsStale(s, event)) continue;
-    s.now_ns = event.time_ns;
-    Dispatch(s, event);
+  while (true) {
+    while (!s.scheduler.empty() && IsStale(s, s.scheduler.top())) s.scheduler.Pop();
+    TimeNs access_ns;
+    int access_station;
+    s.EarliestAccess(&access_ns, &access_station);
+    const bool have_event = !s.scheduler.empty() && s.scheduler.top().time_ns <= until_ns;
+    const bool have_access = access_station >= 0 && access_ns <= until_ns;
+    if (!have_event && !have_access) break;
+    // Queued events first at equal times, then backoff expiries by station id.
+    if (have_event && (!have_access || s.scheduler.top().time_ns <= access_ns)) {
+      const Event event = s.scheduler.Pop();
+      s.now_ns = event.time_ns;
+      Dispatch(s, event);
+    } else {
+      s.now_ns = access_ns;
+      OnAccess(s, access_station);
+    }
   }
   if (until_ns > s.now_ns) s.now_ns = until_ns;
   s.deliveries = nullptr;
@@ -163,8 +173,15 @@ void Medium::AdvanceTo(TimeNs until_ns, std::vector<Delivery>* deliveries) {
 std::optional<TimeNs> Medium::NextEventNs() {
   State& s = *state_;
   while (!s.scheduler.empty() && IsStale(s, s.scheduler.top())) s.scheduler.Pop();
-  if (s.scheduler.empty()) return std::nullopt;
-  return s.scheduler.top().time_ns;
+  TimeNs access_ns;
+  int access_station;
+  s.EarliestAccess(&access_ns, &access_station);
+  if (s.scheduler.empty()) {
+    if (access_station < 0) return std::nullopt;
+    return access_ns;
+  }
+  const TimeNs event_ns = s.scheduler.top().time_ns;
+  return access_station >= 0 ? std::min(event_ns, access_ns) : event_ns;
 }
 
 void Medium::EnableTrace(bool enabled) { state_->trace_enabled = enabled; }

@@ -47,7 +47,7 @@ struct RxEntry {
   double power_mw = 0;
   double power_dbm = 0;
   RxOutcome outcome = RxOutcome::kBelowSensitivity;
-  double sinr_db = 0;
+  double sinr = 0;  // Linear: lowest SINR of a locked frame, else SNR (dB only on output).
 };
 
 // A PPDU on the air.
@@ -98,8 +98,8 @@ struct StationState {
   int backoff_slots = 0;
   TimeNs backoff_start_ns = 0;
   TimeNs count_origin_ns = 0;  // Where slot counting starts for the scheduled access.
-  TimeNs access_at_ns = -1;    // Scheduled access, -1 if none.
-  uint64_t access_generation = 0;
+  TimeNs access_at_ns = -1;    // Scheduled access, -1 if none (SetAccessAt).
+  TimeNs nav_event_ns = -1;    // Pending kNavEnd event time, -1 if none.
   TimeNs nav_until_ns = 0;
   // PHY.
   int transmitting_tx = -1;
@@ -133,7 +133,7 @@ struct Medium::State {
   MediumConfig config;
   PhyInfo phy;
   ModeEntry data_mode, control_mode, header_mode;
-  double noise_mw = 0, cca_mw = 0;
+  double noise_mw = 0, cca_mw = 0, tx_power_mw = 0, preamble_snr_linear = 0;
   TimeNs preamble_ns = 0, signal_extension_ns = 0, ack_ns = 0, cts_ns = 0, timeout_ns = 0;
 
   Channel channel;
@@ -147,6 +147,14 @@ struct Medium::State {
   std::vector<PendingMove> pending_moves;
   std::vector<int> free_pending_moves;
 
+  // Earliest scheduled access over all stations (ties: lowest station id);
+  // recomputed by a scan only when the cached one is moved or removed.
+  bool earliest_access_valid = true;
+  TimeNs earliest_access_ns = -1;
+  int earliest_access_station = -1;
+  void SetAccessAt(int station, TimeNs at_ns);
+  void EarliestAccess(TimeNs* at_ns, int* station);
+
   bool trace_enabled = false;
   std::vector<TraceEvent> trace;
   std::vector<Delivery>* deliveries = nullptr;  // Set during AdvanceTo.
@@ -158,7 +166,7 @@ using State = Medium::State;
 void UpdateCca(State& s, int station);
 void RequestAccess(State& s, int station);  // A frame became current.
 void StartBackoff(State& s, int station);   // Draw from CW and count down.
-void OnAccess(State& s, int station, uint64_t generation);
+void OnAccess(State& s, int station);       // Its access time is now.
 void SetNav(State& s, int station, TimeNs until_ns);
 int DrawUniform(StationState& st, int max_inclusive);
 

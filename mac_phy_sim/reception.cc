@@ -41,8 +41,10 @@ void CloseChunk(State& s, StationState& st) {
   if (s.now_ns <= rx.chunk_start_ns) return;
   const double sinr = rx.power_mw / (s.noise_mw + rx.interference_mw);
   rx.min_sinr = std::min(rx.min_sinr, sinr);
-  rx.success_probability *=
-      ChunkSuccess(s, s.transmissions[rx.tx], rx.chunk_start_ns, s.now_ns, sinr);
+  if (rx.success_probability > 0) {  // Already lost: later chunks cannot help.
+    rx.success_probability *=
+        ChunkSuccess(s, s.transmissions[rx.tx], rx.chunk_start_ns, s.now_ns, sinr);
+  }
   rx.chunk_start_ns = s.now_ns;
 }
 
@@ -66,7 +68,7 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
   const double energy_before = st.active_signals > 0 ? st.energy_mw : 0.0;
   st.energy_mw = energy_before + entry.power_mw;
   ++st.active_signals;
-  entry.sinr_db = ToDb(entry.power_mw / s.noise_mw);
+  entry.sinr = entry.power_mw / s.noise_mw;
   if (st.transmitting_tx >= 0) {
     entry.outcome = RxOutcome::kTransmitting;  // Half duplex.
     return;
@@ -74,9 +76,8 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
   if (st.rx.tx >= 0) {
     CloseChunk(s, st);
     const auto& capture = s.config.capture_margin_db;
-    const double locked_dbm = ToDb(st.rx.power_mw);
-    if (capture && entry.power_dbm >= locked_dbm + *capture &&
-        s.now_ns < st.rx.start_ns + s.preamble_ns) {
+    if (capture && s.now_ns < st.rx.start_ns + s.preamble_ns &&
+        entry.power_dbm >= ToDb(st.rx.power_mw) + *capture) {
       // Frame capture (ns-3 SimpleFrameCaptureModel): drop the weaker frame.
       Transmission& old_tx = s.transmissions[st.rx.tx];
       old_tx.rx[st.rx.entry].outcome = RxOutcome::kCollided;
@@ -89,13 +90,12 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
     return;
   }
   // Preamble detection (ns-3 ThresholdPreambleDetectionModel): RSSI and SINR thresholds.
-  const double sinr_db = ToDb(entry.power_mw / (s.noise_mw + energy_before));
   const bool strong_enough = entry.power_dbm >= s.config.preamble_detect_min_rssi_dbm;
-  if (strong_enough && sinr_db >= s.config.preamble_detect_snr_db) {
+  if (strong_enough && entry.power_mw >= s.preamble_snr_linear * (s.noise_mw + energy_before)) {
     Lock(s, st, tx, entry_index, energy_before);
     return;
   }
-  const bool detectable_alone = strong_enough && entry.sinr_db >= s.config.preamble_detect_snr_db;
+  const bool detectable_alone = strong_enough && entry.sinr >= s.preamble_snr_linear;
   entry.outcome = detectable_alone ? RxOutcome::kCollided : RxOutcome::kBelowSensitivity;
 }
 
@@ -107,7 +107,7 @@ bool SignalEnds(State& s, int station, Transmission& tx, int entry_index) {
     CloseChunk(s, st);
     const double p = st.rx.success_probability;
     decoded = p >= 1.0 || (p > 0.0 && std::generate_canonical<double, 53>(st.rng) < p);
-    entry.sinr_db = ToDb(st.rx.min_sinr);
+    entry.sinr = st.rx.min_sinr;
     entry.outcome = decoded ? RxOutcome::kReceived
                             : (st.rx.interfered ? RxOutcome::kCollided : RxOutcome::kError);
     st.use_eifs = !decoded;

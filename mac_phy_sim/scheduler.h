@@ -2,6 +2,9 @@
 // into the medium (no global clock). Equal times run in insertion order,
 // which makes every run with the same inputs identical. Cancellation is lazy:
 // events carry a generation number the handler compares with the owner's.
+// Backoff expiries are not in this queue: they change on every busy/idle
+// edge of every station, so the medium keeps them per station and takes the
+// earliest by a scan (see Medium::State::EarliestAccess).
 #ifndef SITLNET_MAC_PHY_SIM_SCHEDULER_H_
 #define SITLNET_MAC_PHY_SIM_SCHEDULER_H_
 
@@ -16,7 +19,6 @@ namespace sitlnet::mac {
 enum class EventType : uint8_t {
   kEnqueue,  // A submitted frame reaches its station's queue (aux: pending frame slot).
   kMove,     // A position update takes effect (aux: pending move slot).
-  kAccess,   // Backoff of `station` reaches zero (aux: access generation).
   kTxEnd,    // A transmission leaves the air (aux: transmission id).
   kTimeout,  // ACK/CTS timeout of `station` (aux: timeout generation).
   kRespond,  // `station` sends its pending SIFS response (ACK, CTS, DATA after CTS).

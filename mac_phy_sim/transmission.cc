@@ -33,7 +33,7 @@ void TraceTransmission(State& s, const Transmission& tx) {
     if (r == tx.source) continue;
     if (next_entry < tx.rx.size() && tx.rx[next_entry].station == r) {
       const RxEntry& e = tx.rx[next_entry++];
-      record.receptions.push_back({r, e.outcome, e.power_dbm, e.sinr_db});
+      record.receptions.push_back({r, e.outcome, e.power_dbm, 10 * std::log10(e.sinr)});
     } else {
       const double dbm = s.config.tx_power_dbm - s.channel.LossDb(tx.source, r);
       record.receptions.push_back(
@@ -100,7 +100,8 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
     if (r == source) continue;
     const double dbm = s.config.tx_power_dbm - s.channel.LossDb(source, r);
     if (dbm < s.config.rx_sensitivity_dbm) continue;
-    tx.rx.push_back({r, std::pow(10.0, dbm / 10), dbm, RxOutcome::kBelowSensitivity, 0});
+    tx.rx.push_back(
+        {r, s.tx_power_mw * s.channel.GainLinear(source, r), dbm, RxOutcome::kBelowSensitivity, 0});
   }
   for (int i = 0; i < static_cast<int>(tx.rx.size()); ++i) {
     SignalArrives(s, tx.rx[i].station, tx, i);
