@@ -19,9 +19,10 @@ std::string Triple(double x, double y, double z) { return Num(x) + " " + Num(y) 
 void AppendHeader(const Scenario& scenario, Integrator integrator, int robots, std::string* xml) {
   const double timestep_s = static_cast<double>(scenario.physics_step_ns) / kNsPerS;
   // Contacts: a quad touches the ground and a few boxes at once; sizes are explicit because
-  // MuJoCo 2.2.2's defaults overflow with many bodies and large njmax costs memory.
-  const int nconmax = 40 * robots;
-  const int njmax = 160 * robots;
+  // MuJoCo 2.2.2's defaults overflow with many bodies, and mjData holds njmax x njmax matrices
+  // (njmax 20480 for 128 robots did not fit in memory): keep the shared model's small.
+  const int nconmax = robots == 1 ? 40 : 10 * robots;
+  const int njmax = robots == 1 ? 160 : 20 * robots;
   *xml += "<mujoco model=\"sitlnet\">\n";
   *xml += "  <compiler angle=\"degree\" inertiafromgeom=\"false\"/>\n";
   *xml += "  <option timestep=\"" + Num(timestep_s) + "\" gravity=\"0 0 -9.81\" integrator=\"" +
