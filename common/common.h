@@ -45,6 +45,29 @@ inline constexpr TimeNs kNsPerS = 1000 * kNsPerMs;
 // CLOCK_MONOTONIC in nanoseconds.
 TimeNs MonotonicNowNs();
 
+//--------------------------------- Files ------------------------------------
+
+// A text file (CSV, logs) appended as whole lines: buffered, written with one
+// write(2) per flush (every `lines_per_flush` lines and at destruction), so an
+// interrupted run leaves only complete lines. Not thread-safe.
+class LineFile {
+ public:
+  // Creates/truncates `path` and writes `header` (a line, without newline;
+  // empty: none). Throws Error naming the path.
+  LineFile(const std::string& path, const std::string& header, int lines_per_flush = 256);
+  ~LineFile();
+  LineFile(const LineFile&) = delete;
+  LineFile& operator=(const LineFile&) = delete;
+  void Append(std::string_view line);  // Without the newline.
+  void Flush();
+
+ private:
+  int fd_ = -1;
+  int lines_per_flush_;
+  int pending_ = 0;
+  std::string buffer_;
+};
+
 //---------------------------- Network value types ---------------------------
 
 // An IPv4 address in host byte order.

@@ -42,3 +42,34 @@ TEST(MacTest, RobotMacEncodesIndex) {
 
 }  // namespace
 }  // namespace sitlnet
+
+#include <fstream>
+#include <sstream>
+
+namespace sitlnet {
+namespace {
+
+TEST(LineFileTest, WritesHeaderAndWholeLinesOnFlush) {
+  const std::string path = ::testing::TempDir() + "/line_file_test.csv";
+  std::string text;
+  auto read = [&] {
+    std::ifstream file(path);
+    std::ostringstream all;
+    all << file.rdbuf();
+    return all.str();
+  };
+  {
+    LineFile file(path, "a,b", 2);
+    EXPECT_EQ(read(), "a,b\n");
+    file.Append("1,2");
+    EXPECT_EQ(read(), "a,b\n");  // buffered until 2 lines
+    file.Append("3,4");
+    EXPECT_EQ(read(), "a,b\n1,2\n3,4\n");
+    file.Append("5,6");
+  }
+  EXPECT_EQ(read(), "a,b\n1,2\n3,4\n5,6\n");
+  EXPECT_THROW(LineFile("/nonexistent/dir/x.csv", ""), Error);
+}
+
+}  // namespace
+}  // namespace sitlnet

@@ -1,0 +1,43 @@
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+
+#include "common/common.h"
+
+namespace sitlnet {
+
+LineFile::LineFile(const std::string& path, const std::string& header, int lines_per_flush)
+    : lines_per_flush_(lines_per_flush) {
+  fd_ = open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw Error(SystemErrorMessage("create \"" + path + "\"", errno));
+  if (!header.empty()) {
+    buffer_ = header + "\n";
+    Flush();
+  }
+}
+
+LineFile::~LineFile() {
+  Flush();
+  if (fd_ >= 0) close(fd_);
+}
+
+void LineFile::Append(std::string_view line) {
+  buffer_.append(line);
+  buffer_ += '\n';
+  if (++pending_ >= lines_per_flush_) Flush();
+}
+
+void LineFile::Flush() {
+  size_t done = 0;
+  while (done < buffer_.size()) {
+    const ssize_t n = write(fd_, buffer_.data() + done, buffer_.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // Disk full: what was written so far is whole lines.
+    done += static_cast<size_t>(n);
+  }
+  buffer_.clear();
+  pending_ = 0;
+}
+
+}  // namespace sitlnet

@@ -1,0 +1,134 @@
+#include "runner/outputs.h"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace sitlnet::runner {
+
+std::string FormatPoseRow(const PoseRow& r) {
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "%.3f,%d,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f",
+                static_cast<double>(r.time_ns) / kNsPerS, r.robot, r.x_m, r.y_m, r.z_m, r.qw, r.qx,
+                r.qy, r.qz, r.vx_m_s, r.vy_m_s, r.vz_m_s);
+  return line;
+}
+
+void WriteConnectivityCsv(const std::string& path, const std::vector<ConnectivitySample>& samples,
+                          int robots) {
+  std::string header = "time_s,components";
+  for (int i = 0; i < robots; ++i) header += ",robot_" + std::to_string(i);
+  LineFile csv(path, header);
+  for (const ConnectivitySample& sample : samples) {
+    std::string row = std::to_string(static_cast<double>(sample.time_ns) / kNsPerS) + "," +
+                      std::to_string(sample.components);
+    for (int component : sample.component_of) row += "," + std::to_string(component);
+    csv.Append(row);
+  }
+}
+
+std::vector<LinkEvent> ReadDeliveryLog(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) throw Error(SystemErrorMessage("open " + path, errno));
+  std::vector<LinkEvent> events;
+  std::string line;
+  std::getline(file, line);  // header
+  while (std::getline(file, line)) {
+    LinkEvent event;
+    long long time_ns = 0;
+    if (std::sscanf(line.c_str(), "%lld,%d,%d", &time_ns, &event.from, &event.to) == 3) {
+      event.time_ns = time_ns;
+      events.push_back(event);
+    }
+  }
+  return events;
+}
+
+namespace {
+
+// Corners of an obstacle's footprint, for gnuplot's polygon objects.
+std::string ObstaclePolygon(const proto::Obstacle& box, int id) {
+  const double yaw = box.yaw_deg() * M_PI / 180;
+  const double hx = box.size_m().x() / 2, hy = box.size_m().y() / 2;
+  const double corners[4][2] = {{-hx, -hy}, {hx, -hy}, {hx, hy}, {-hx, hy}};
+  std::ostringstream text;
+  text << "set object " << id << " polygon";
+  for (int i = 0; i <= 4; ++i) {
+    const double* c = corners[i % 4];
+    const double x = box.center_m().x() + c[0] * std::cos(yaw) - c[1] * std::sin(yaw);
+    const double y = box.center_m().y() + c[0] * std::sin(yaw) + c[1] * std::cos(yaw);
+    text << (i == 0 ? " from " : " to ") << x << "," << y;
+  }
+  text << " fillstyle solid 0.35 fillcolor rgb 'gray40' behind\n";
+  return text.str();
+}
+
+// Runs gnuplot on `script`; empty string on success, else the reason.
+std::string RunGnuplot(const std::string& script_path) {
+  const pid_t pid = fork();
+  if (pid < 0) return SystemErrorMessage("fork gnuplot", errno);
+  if (pid == 0) {
+    const int null_fd = open("/dev/null", O_RDWR);
+    dup2(null_fd, STDIN_FILENO);
+    execlp("gnuplot", "gnuplot", script_path.c_str(), nullptr);
+    _exit(127);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+    return "gnuplot not found (apt-get install gnuplot-nox; scripts/setup does)";
+  }
+  return "gnuplot failed on " + script_path;
+}
+
+}  // namespace
+
+std::vector<std::string> DrawPlots(const std::string& run_dir, const Scenario& scenario,
+                                   const std::string& title, std::vector<std::string>* warnings) {
+  const int robots = static_cast<int>(scenario.robots.size());
+  std::ostringstream script;
+  script << "set datafile separator ','\n"
+         << "set terminal pngcairo size 900,700 font 'sans,10'\n"
+         << "cd '" << run_dir << "'\n";
+  // Top view.
+  script << "set output 'trajectories.png'\nset title '" << title
+         << ": trajectories (top view)'\nset xlabel 'x (m, east)'\nset ylabel 'y (m, north)'\n"
+         << "set size ratio -1\nset key outside right\n";
+  for (int i = 0; i < scenario.spec.obstacle_size(); ++i) {
+    script << ObstaclePolygon(scenario.spec.obstacle(i), i + 1);
+  }
+  script << "plot for [i=0:" << robots - 1
+         << "] 'trajectories.csv' every ::1 using ($2==i ? $3 : 1/0):4 with lines lw 2 "
+            "title sprintf('robot %d', i)\n"
+         << "unset object\nset size noratio\n";
+  // Connectivity.
+  script << "set output 'connectivity.png'\nset title '" << title
+         << ": connected components of the communication graph'\n"
+         << "set xlabel 'simulated time (s)'\nset ylabel 'components'\nset yrange [0:"
+         << robots + 1 << "]\nset ytics 1\nunset key\n"
+         << "plot 'connectivity.csv' every ::1 using 1:2 with steps lw 2\n"
+         << "set yrange [*:*]\nset ytics autofreq\n";
+  // STF.
+  script << "set output 'stf.png'\nset title '" << title
+         << ": simulation-time factor per iteration (< 1: faster than real time)'\n"
+         << "set xlabel 'simulated time (s)'\nset ylabel 'STF'\nset key\n"
+         << "plot 'metrics.csv' every ::1 using ($2/1e9):7 with lines title 'STF', 1 with lines "
+            "dt 2 title 'real time'\n";
+  const std::string script_path = run_dir + "/plots.gnuplot";
+  std::ofstream(script_path) << script.str();
+  const std::string failure = RunGnuplot(script_path);
+  if (!failure.empty()) {
+    warnings->push_back(failure);
+    return {};
+  }
+  return {run_dir + "/trajectories.png", run_dir + "/connectivity.png", run_dir + "/stf.png"};
+}
+
+}  // namespace sitlnet::runner

@@ -1,0 +1,77 @@
+#include "runner/outputs.h"
+
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <fstream>
+
+namespace sitlnet::runner {
+namespace {
+
+bool IsPng(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  char magic[8] = {};
+  file.read(magic, 8);
+  return file && std::string(magic, 8) == std::string("\x89PNG\r\n\x1a\n", 8);
+}
+
+TEST(OutputsTest, PoseRowsAreOneCsvLineEach) {
+  PoseRow row;
+  row.time_ns = 1'500'000'000;
+  row.robot = 3;
+  row.x_m = 1.25;
+  const std::string line = FormatPoseRow(row);
+  EXPECT_EQ(line.rfind("1.500,3,1.2500,", 0), 0u) << line;
+  EXPECT_EQ(std::count(line.begin(), line.end(), ','),
+            std::count(kTrajectoryHeader, kTrajectoryHeader + sizeof kTrajectoryHeader, ','));
+}
+
+TEST(OutputsTest, DeliveryLogRoundTripsIntoConnectivity) {
+  const std::string dir = ::testing::TempDir() + "/outputs_test_run";
+  mkdir(dir.c_str(), 0755);
+  {
+    LineFile log(dir + "/deliveries.csv", kDeliveryHeader);
+    log.Append("100000000,0,1,-60.0,30.0");
+    log.Append("200000000,1,2,-61.0,29.0");
+  }
+  const auto events = ReadDeliveryLog(dir + "/deliveries.csv");
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[1].time_ns, 200'000'000);
+  EXPECT_EQ(events[1].from, 1);
+  EXPECT_EQ(events[1].to, 2);
+}
+
+TEST(OutputsTest, GnuplotDrawsThreePngs) {
+  const std::string dir = ::testing::TempDir() + "/outputs_test_plots";
+  mkdir(dir.c_str(), 0755);
+  const Scenario scenario = LoadScenarioText(
+      "name: \"p\"\nrobot { name: \"a\" }\nrobot { name: \"b\" }\n"
+      "obstacle { center_m { x: 5 y: 0 } size_m { x: 2 y: 4 z: 10 } yaw_deg: 30 }\n",
+      "p.textproto");
+  {
+    LineFile trajectories(dir + "/trajectories.csv", kTrajectoryHeader);
+    for (int k = 0; k < 10; ++k) {
+      for (int robot = 0; robot < 2; ++robot) {
+        PoseRow row;
+        row.time_ns = k * kNsPerS;
+        row.robot = robot;
+        row.x_m = k;
+        row.y_m = robot * 3;
+        trajectories.Append(FormatPoseRow(row));
+      }
+    }
+    LineFile metrics(dir + "/metrics.csv",
+                     "iteration,start_ns,t_phy_ns,t_net_ns,t_total_ns,t_overhead_ns,stf,lag_ns");
+    metrics.Append("0,0,1,1,2,1,0.2,0");
+    metrics.Append("1,10000000,1,1,2,1,0.3,0");
+  }
+  WriteConnectivityCsv(dir + "/connectivity.csv", ConnectivityOverTime(2, {}, kNsPerS, kNsPerS, 3 * kNsPerS), 2);
+  std::vector<std::string> warnings;
+  const auto pngs = DrawPlots(dir, scenario, "test", &warnings);
+  ASSERT_TRUE(warnings.empty()) << warnings[0];
+  ASSERT_EQ(pngs.size(), 3u);
+  for (const std::string& png : pngs) EXPECT_TRUE(IsPng(png)) << png;
+}
+
+}  // namespace
+}  // namespace sitlnet::runner
