@@ -21,9 +21,24 @@ bool Slab(double p, double d, double lo, double hi, double* t_in, double* t_out)
 
 }  // namespace
 
-BoxCrossing CrossBox(const Box& box, const Vec3& a, const Vec3& b) {
+PreparedBox PrepareBox(const Box& box) {
+  PreparedBox p;
+  p.center_m = box.center_m;
+  p.half_m = Vec3{box.size_m.x / 2, box.size_m.y / 2, box.size_m.z / 2};
+  p.cos_yaw = std::cos(box.yaw_deg * kDegToRad);
+  p.sin_yaw = std::sin(box.yaw_deg * kDegToRad);
+  const double c = std::fabs(p.cos_yaw), s = std::fabs(p.sin_yaw);
+  const double hx = c * p.half_m.x + s * p.half_m.y, hy = s * p.half_m.x + c * p.half_m.y;
+  p.min_x = box.center_m.x - hx;
+  p.max_x = box.center_m.x + hx;
+  p.min_y = box.center_m.y - hy;
+  p.max_y = box.center_m.y + hy;
+  return p;
+}
+
+BoxCrossing CrossPreparedBox(const PreparedBox& box, const Vec3& a, const Vec3& b) {
   // Into the box frame: translate, then rotate by -yaw about z.
-  const double c = std::cos(-box.yaw_deg * kDegToRad), s = std::sin(-box.yaw_deg * kDegToRad);
+  const double c = box.cos_yaw, s = -box.sin_yaw;
   auto local = [&](const Vec3& p) {
     const double x = p.x - box.center_m.x, y = p.y - box.center_m.y;
     return Vec3{c * x - s * y, s * x + c * y, p.z - box.center_m.z};
@@ -32,7 +47,7 @@ BoxCrossing CrossBox(const Box& box, const Vec3& a, const Vec3& b) {
   const Vec3 d{lb.x - la.x, lb.y - la.y, lb.z - la.z};
   double t_in = -std::numeric_limits<double>::infinity();
   double t_out = std::numeric_limits<double>::infinity();
-  const Vec3 h{box.size_m.x / 2, box.size_m.y / 2, box.size_m.z / 2};
+  const Vec3& h = box.half_m;
   if (!Slab(la.x, d.x, -h.x, h.x, &t_in, &t_out) || !Slab(la.y, d.y, -h.y, h.y, &t_in, &t_out) ||
       !Slab(la.z, d.z, -h.z, h.z, &t_in, &t_out)) {
     return {};
@@ -43,6 +58,10 @@ BoxCrossing CrossBox(const Box& box, const Vec3& a, const Vec3& b) {
   crossing.walls = (t_in > 0 ? 1 : 0) + (t_out < 1 ? 1 : 0);
   crossing.inside_m = (leave - enter) * std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
   return crossing;
+}
+
+BoxCrossing CrossBox(const Box& box, const Vec3& a, const Vec3& b) {
+  return CrossPreparedBox(PrepareBox(box), a, b);
 }
 
 Channel::Channel(double reference_loss_db, double exponent, bool shadowing, double db_per_wall,
@@ -56,35 +75,29 @@ Channel::Channel(double reference_loss_db, double exponent, bool shadowing, doub
 int Channel::AddStation(const Vec3& position_m) {
   const int index = static_cast<int>(positions_.size());
   positions_.push_back(position_m);
-  dirty_.push_back(1);
-  any_dirty_ = true;
+  moved_epoch_.push_back(++epoch_);
   if (positions_.size() > stride_) {
-    // Grow the matrix by doubling; copy the computed rows.
-    const size_t new_stride = std::max<size_t>(8, stride_ * 2);
-    std::vector<double> grown(new_stride * new_stride, 0.0);
-    for (size_t i = 0; i < stride_; ++i) {
-      std::copy_n(&loss_db_[i * stride_], stride_, &grown[i * new_stride]);
-    }
-    loss_db_ = std::move(grown);
-    gain_.assign(new_stride * new_stride, 0.0);
-    stride_ = new_stride;
-    std::fill(dirty_.begin(), dirty_.end(), 1);  // Gains are rebuilt with the losses.
+    // Grow the matrices by doubling; everything is recomputed on demand.
+    stride_ = std::max<size_t>(8, stride_ * 2);
+    loss_db_.assign(stride_ * stride_, 0.0);
+    gain_.assign(stride_ * stride_, 0.0);
+    computed_epoch_.assign(stride_ * stride_, 0);
   }
   return index;
 }
 
 void Channel::SetPosition(int station, const Vec3& position_m) {
+  const Vec3& old = positions_[station];
+  if (old.x == position_m.x && old.y == position_m.y && old.z == position_m.z) return;
   positions_[station] = position_m;
-  dirty_[station] = 1;
-  any_dirty_ = true;
+  moved_epoch_[station] = ++epoch_;
 }
 
 void Channel::AddObstacle(const Box& box) {
-  boxes_.push_back(box);
+  boxes_.push_back(PrepareBox(box));
   visit_stamp_.push_back(0);
   grid_stale_ = true;
-  std::fill(dirty_.begin(), dirty_.end(), 1);
-  any_dirty_ = !dirty_.empty();
+  obstacles_epoch_ = ++epoch_;
 }
 
 double Channel::PathLossDb(double distance_m) const {
@@ -93,22 +106,15 @@ double Channel::PathLossDb(double distance_m) const {
   return reference_loss_db_ + 10 * exponent_ * std::log10(distance_m);
 }
 
-void Channel::Refresh() {
-  const int n = static_cast<int>(positions_.size());
-  for (int i = 0; i < n; ++i) {
-    if (!dirty_[i]) continue;
-    for (int j = 0; j < n; ++j) {
-      if (j == i || (dirty_[j] && j < i)) continue;  // Pair done when j was refreshed.
-      const double loss = ComputeLoss(i, j);
-      const double gain = std::pow(10.0, -loss / 10);
-      loss_db_[static_cast<size_t>(i) * stride_ + j] = loss;
-      loss_db_[static_cast<size_t>(j) * stride_ + i] = loss;
-      gain_[static_cast<size_t>(i) * stride_ + j] = gain;
-      gain_[static_cast<size_t>(j) * stride_ + i] = gain;
-    }
+void Channel::Recompute(int a, int b) {
+  const double loss = a == b ? 0.0 : ComputeLoss(a, b);
+  const double gain = std::pow(10.0, -loss / 10);
+  for (const size_t index :
+       {static_cast<size_t>(a) * stride_ + b, static_cast<size_t>(b) * stride_ + a}) {
+    loss_db_[index] = loss;
+    gain_[index] = gain;
+    computed_epoch_[index] = epoch_;
   }
-  std::fill(dirty_.begin(), dirty_.end(), 0);
-  any_dirty_ = false;
 }
 
 double Channel::ComputeLoss(int a, int b) {
@@ -116,7 +122,10 @@ double Channel::ComputeLoss(int a, int b) {
   const Vec3& pb = positions_[b];
   const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
   double loss = PathLossDb(std::sqrt(dx * dx + dy * dy + dz * dz));
-  if (shadowing_ && !boxes_.empty()) loss += ShadowingDb(pa, pb);
+  // Shadowing only adds loss: a link already dead in free space stays dead.
+  if (shadowing_ && !boxes_.empty() && loss < dead_link_loss_db_) {
+    loss += ShadowingDb(pa, pb, dead_link_loss_db_ - loss);
+  }
   return loss;
 }
 
@@ -124,15 +133,11 @@ void Channel::RebuildGrid() {
   grid_stale_ = false;
   double x0 = std::numeric_limits<double>::infinity(), y0 = x0;
   double x1 = -x0, y1 = -x0;
-  for (const Box& box : boxes_) {
-    const double c = std::fabs(std::cos(box.yaw_deg * kDegToRad));
-    const double s = std::fabs(std::sin(box.yaw_deg * kDegToRad));
-    const double hx = (c * box.size_m.x + s * box.size_m.y) / 2;
-    const double hy = (s * box.size_m.x + c * box.size_m.y) / 2;
-    x0 = std::min(x0, box.center_m.x - hx);
-    x1 = std::max(x1, box.center_m.x + hx);
-    y0 = std::min(y0, box.center_m.y - hy);
-    y1 = std::max(y1, box.center_m.y + hy);
+  for (const PreparedBox& box : boxes_) {
+    x0 = std::min(x0, box.min_x);
+    x1 = std::max(x1, box.max_x);
+    y0 = std::min(y0, box.min_y);
+    y1 = std::max(y1, box.max_y);
   }
   // About four cells per box over the covered area, at most 256 per axis.
   const double area = std::max((x1 - x0) * (y1 - y0), 1e-6);
@@ -143,26 +148,21 @@ void Channel::RebuildGrid() {
   grid_nx_ = std::max(1, static_cast<int>(std::ceil((x1 - x0) / cell_m_)));
   grid_ny_ = std::max(1, static_cast<int>(std::ceil((y1 - y0) / cell_m_)));
   cells_.assign(static_cast<size_t>(grid_nx_) * grid_ny_, {});
+  auto cell_of = [&](double v, double origin, int count) {
+    return std::clamp(static_cast<int>(std::floor((v - origin) / cell_m_)), 0, count - 1);
+  };
   for (int k = 0; k < static_cast<int>(boxes_.size()); ++k) {
-    const Box& box = boxes_[k];
-    const double c = std::fabs(std::cos(box.yaw_deg * kDegToRad));
-    const double s = std::fabs(std::sin(box.yaw_deg * kDegToRad));
-    const double hx = (c * box.size_m.x + s * box.size_m.y) / 2;
-    const double hy = (s * box.size_m.x + c * box.size_m.y) / 2;
-    auto cell_of = [&](double v, double origin, int count) {
-      return std::clamp(static_cast<int>(std::floor((v - origin) / cell_m_)), 0, count - 1);
-    };
-    for (int ix = cell_of(box.center_m.x - hx, x0, grid_nx_);
-         ix <= cell_of(box.center_m.x + hx, x0, grid_nx_); ++ix) {
-      for (int iy = cell_of(box.center_m.y - hy, y0, grid_ny_);
-           iy <= cell_of(box.center_m.y + hy, y0, grid_ny_); ++iy) {
+    const PreparedBox& box = boxes_[k];
+    for (int ix = cell_of(box.min_x, x0, grid_nx_); ix <= cell_of(box.max_x, x0, grid_nx_); ++ix) {
+      for (int iy = cell_of(box.min_y, y0, grid_ny_); iy <= cell_of(box.max_y, y0, grid_ny_);
+           ++iy) {
         cells_[static_cast<size_t>(iy) * grid_nx_ + ix].push_back(k);
       }
     }
   }
 }
 
-double Channel::ShadowingDb(const Vec3& a, const Vec3& b) {
+double Channel::ShadowingDb(const Vec3& a, const Vec3& b, double stop_at_db) {
   if (boxes_.empty()) return 0;
   if (grid_stale_) RebuildGrid();
   if (++stamp_ == 0) {  // Wrapped: reset stamps so none looks visited.
@@ -178,11 +178,18 @@ double Channel::ShadowingDb(const Vec3& a, const Vec3& b) {
     return 0;
   }
   double loss_db = 0;
+  const double seg_min_x = std::min(a.x, b.x), seg_max_x = std::max(a.x, b.x);
+  const double seg_min_y = std::min(a.y, b.y), seg_max_y = std::max(a.y, b.y);
   auto visit = [&](int ix, int iy) {
     for (int k : cells_[static_cast<size_t>(iy) * grid_nx_ + ix]) {
       if (visit_stamp_[k] == stamp_) continue;
       visit_stamp_[k] = stamp_;
-      const BoxCrossing crossing = CrossBox(boxes_[k], a, b);
+      const PreparedBox& box = boxes_[k];
+      if (box.max_x < seg_min_x || box.min_x > seg_max_x || box.max_y < seg_min_y ||
+          box.min_y > seg_max_y) {
+        continue;  // Bounding rectangles apart: no crossing.
+      }
+      const BoxCrossing crossing = CrossPreparedBox(box, a, b);
       loss_db += db_per_wall_ * crossing.walls + db_per_m_ * crossing.inside_m;
     }
   };
@@ -205,6 +212,7 @@ double Channel::ShadowingDb(const Vec3& a, const Vec3& b) {
   }
   while (true) {
     visit(ix, iy);
+    if (loss_db >= stop_at_db) break;
     if (next_x <= next_y) {
       if (next_x > t_out) break;
       ix += step_x;

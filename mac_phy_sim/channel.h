@@ -2,12 +2,17 @@
 // "A Computationally Inexpensive Empirical Model of IEEE 802.11p Radio
 // Shadowing in Urban Environments", WONS 2011: L_obs = beta * walls crossed +
 // gamma * metres inside, per box. Loss per station pair is cached and
-// recomputed only for stations that moved (or all, after an obstacle is added).
+// recomputed only for stations that moved (or all, after an obstacle is added),
+// lazily, when a transmission needs it: the cost follows transmissions x
+// stations, not position updates x stations^2.
 // A uniform xy grid over the obstacles limits each segment to the boxes in
 // the cells it crosses (Amanatides & Woo traversal).
 #ifndef SITLNET_MAC_PHY_SIM_CHANNEL_H_
 #define SITLNET_MAC_PHY_SIM_CHANNEL_H_
 
+#include <algorithm>
+#include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "mac_phy_sim/mac_phy_sim.h"
@@ -22,6 +27,15 @@ struct BoxCrossing {
 };
 BoxCrossing CrossBox(const Box& box, const Vec3& a, const Vec3& b);
 
+// A box with its rotation and xy bounding rectangle precomputed.
+struct PreparedBox {
+  Vec3 center_m, half_m;
+  double cos_yaw = 1, sin_yaw = 0;
+  double min_x = 0, max_x = 0, min_y = 0, max_y = 0;
+};
+PreparedBox PrepareBox(const Box& box);
+BoxCrossing CrossPreparedBox(const PreparedBox& box, const Vec3& a, const Vec3& b);
+
 class Channel {
  public:
   Channel(double reference_loss_db, double exponent, bool shadowing, double db_per_wall,
@@ -33,23 +47,30 @@ class Channel {
   void AddObstacle(const Box& box);
   int obstacle_count() const { return static_cast<int>(boxes_.size()); }
 
-  // Total loss a <-> b in dB (symmetric), recomputing stale pairs first.
-  double LossDb(int a, int b) {
-    if (any_dirty_) Refresh();
-    return loss_db_[static_cast<size_t>(a) * stride_ + b];
-  }
+  // Total loss a <-> b in dB (symmetric), recomputed first if stale.
+  double LossDb(int a, int b) { return loss_db_[Fresh(a, b)]; }
   // 10^(-LossDb/10): received power = transmitted power * gain (cached too).
-  double GainLinear(int a, int b) {
-    if (any_dirty_) Refresh();
-    return gain_[static_cast<size_t>(a) * stride_ + b];
-  }
+  double GainLinear(int a, int b) { return gain_[Fresh(a, b)]; }
   // Uncached: log-distance loss for `distance_m` (the reference loss below 1 m, as ns-3).
   double PathLossDb(double distance_m) const;
-  // Uncached: shadowing loss of the segment a -> b.
-  double ShadowingDb(const Vec3& a, const Vec3& b);
+  // Uncached: shadowing loss of the segment a -> b; stops adding boxes once
+  // the total reaches `stop_at_db` (the link is dead then anyway).
+  double ShadowingDb(const Vec3& a, const Vec3& b,
+                     double stop_at_db = std::numeric_limits<double>::infinity());
+  // Losses at or above this are "no link": their exact value is not needed,
+  // so shadowing stops accumulating there (see docs/mac_phy_sim.md).
+  void set_dead_link_loss_db(double loss_db) { dead_link_loss_db_ = loss_db; }
 
  private:
-  void Refresh();
+  // Index of the pair in the matrices after making it current: a pair is
+  // current if computed after both stations last moved and the last obstacle.
+  size_t Fresh(int a, int b) {
+    const size_t index = static_cast<size_t>(a) * stride_ + b;
+    const uint64_t need = std::max({moved_epoch_[a], moved_epoch_[b], obstacles_epoch_});
+    if (computed_epoch_[index] < need) Recompute(a, b);
+    return index;
+  }
+  void Recompute(int a, int b);
   void RebuildGrid();
   double ComputeLoss(int a, int b);
 
@@ -57,14 +78,17 @@ class Channel {
   bool shadowing_;
   double db_per_wall_, db_per_m_;
   std::vector<Vec3> positions_;
-  std::vector<char> dirty_;
-  bool any_dirty_ = false;
+  uint64_t epoch_ = 1;                 // Counts changes (moves, obstacles).
+  std::vector<uint64_t> moved_epoch_;  // Per station: epoch of its last move.
+  uint64_t obstacles_epoch_ = 0;       // Epoch of the last obstacle added.
+  double dead_link_loss_db_ = std::numeric_limits<double>::infinity();
   size_t stride_ = 0;
-  std::vector<double> loss_db_;  // stride_ x stride_, row-major.
-  std::vector<double> gain_;     // Same layout, linear.
+  std::vector<double> loss_db_;           // stride_ x stride_, row-major.
+  std::vector<double> gain_;              // Same layout, linear.
+  std::vector<uint64_t> computed_epoch_;  // Same layout: epoch when computed (0: never).
 
   // Obstacles and their grid.
-  std::vector<Box> boxes_;
+  std::vector<PreparedBox> boxes_;
   bool grid_stale_ = true;
   double grid_x0_ = 0, grid_y0_ = 0, cell_m_ = 1;
   int grid_nx_ = 0, grid_ny_ = 0;

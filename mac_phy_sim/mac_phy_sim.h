@@ -225,7 +225,9 @@ class Medium {
   size_t queued_frames(StationId station) const;  // Waiting, excluding the one in service.
 
   // Channel loss between two stations at their current positions (dB,
-  // path loss + shadowing), from the cache.
+  // path loss + shadowing), from the cache. For links too weak to reach the
+  // RX sensitivity, shadowing is summed only until that is certain, so the
+  // value is then a lower bound >= tx_power_dbm - rx_sensitivity_dbm.
   double LossDb(StationId a, StationId b);
 
   struct State;  // Opaque: defined in medium_state.h, internal to the library.

@@ -67,6 +67,8 @@ Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
       header_mode(MakeMode(HeaderModeFor(config_in.standard))),
       channel(phy_in.reference_loss_db, config_in.path_loss_exponent, config_in.shadowing,
               config_in.shadowing_db_per_wall, config_in.shadowing_db_per_m) {
+  // Below the sensitivity a signal is not even tracked as interference.
+  channel.set_dead_link_loss_db(config.tx_power_dbm - config.rx_sensitivity_dbm);
   noise_mw = DbmToMw(phy.noise_floor_dbm);
   cca_mw = DbmToMw(config.cca_energy_detect_dbm);
   tx_power_mw = DbmToMw(config.tx_power_dbm);

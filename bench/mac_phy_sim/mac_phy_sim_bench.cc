@@ -1,0 +1,155 @@
+// mac_phy_sim benchmark: simulated seconds per wall second.
+//   saturation, n = 1, 5, 10, 20, 50: 802.11a 54 Mb/s, 1500-byte payloads, ring;
+//   broadcast64: 64 moving stations, each broadcasting 200 B at 10 Hz, among
+//   100 or 1000 obstacles (positions updated every 10 ms, as the coordinator does).
+// Medians of --runs runs (different seeds). Prints a Markdown table and, with
+// --csv FILE, "scenario,n,sim_s_per_wall_s,us_per_tx,us_per_tx_per_station".
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "mac_phy_sim/mac_phy_sim.h"
+#include "mac_phy_sim/test/saturation_harness.h"
+
+namespace sitlnet::mac {
+namespace {
+
+struct Sample {
+  double sim_per_wall = 0;  // Simulated seconds per wall second.
+  double us_per_tx = 0;     // Wall microseconds per transmission (DATA + ACK + RTS + CTS).
+};
+
+double WallSeconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+uint64_t Transmissions(const Medium& medium) {
+  uint64_t total = 0;
+  for (int i = 0; i < medium.station_count(); ++i) {
+    const StationCounters& c = medium.counters(i);
+    total += c.data_tx + c.ack_tx + c.rts_tx + c.cts_tx;
+  }
+  return total;
+}
+
+Sample Saturation(int n, double seconds, uint64_t seed) {
+  // The same driver as the validation tests, timed end to end.
+  testing::SaturationSetup setup;
+  setup.stations = n;
+  setup.rate_mbps = 54;
+  setup.topology = n == 1 ? testing::Topology::kSink : testing::Topology::kRing;
+  setup.warmup_ns = 0;
+  setup.measure_ns = static_cast<TimeNs>(seconds * 1e9);
+  setup.seed = seed;
+  const auto start = std::chrono::steady_clock::now();
+  const testing::SaturationResult result = testing::RunSaturation(setup);
+  const double wall = WallSeconds(start);
+  // Each delivered frame took one DATA + one ACK; failed attempts add DATA
+  // transmissions: attempts = delivered / (1 - p).
+  const double data_tx = result.frames_delivered / std::max(1e-9, 1 - result.collision_probability);
+  return {seconds / wall, wall * 1e6 / (data_tx + result.frames_delivered)};
+}
+
+Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, double max_box_m) {
+  MediumConfig config;
+  config.seed = seed;
+  Medium medium(config);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> pos(0, area_m), size(max_box_m / 6, max_box_m), yaw(0, 90),
+      step(-0.1, 0.1);
+  for (int k = 0; k < obstacles; ++k) {
+    medium.AddObstacle(Box{{pos(rng), pos(rng), 10}, {size(rng), size(rng), 20}, yaw(rng)});
+  }
+  const int n = 64;
+  std::vector<Vec3> where(n);
+  std::vector<std::vector<uint8_t>> frames;
+  std::vector<TimeNs> phase(n);
+  const MacAddress broadcast{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
+  for (int i = 0; i < n; ++i) {
+    where[i] = Vec3{pos(rng), pos(rng), 5};
+    medium.AddStation(RobotMac(i), where[i]);
+    frames.push_back(testing::MakeEthernetFrame(broadcast, RobotMac(i), 200 - 14));
+    phase[i] = static_cast<TimeNs>(rng() % (100 * kNsPerMs));
+  }
+  const TimeNs step_ns = 10 * kNsPerMs;  // Network step of the default scenario.
+  const TimeNs end_ns = static_cast<TimeNs>(seconds * 1e9);
+  std::vector<Delivery> deliveries;
+  const auto start = std::chrono::steady_clock::now();
+  for (TimeNs t = 0; t < end_ns; t += step_ns) {
+    for (int i = 0; i < n; ++i) {
+      // 10 m/s random walk: every position changes every step.
+      where[i].x += 100 * step(rng) * step_ns / 1e9 * 10;
+      where[i].y += 100 * step(rng) * step_ns / 1e9 * 10;
+      medium.SetStationPosition(i, where[i], t);
+      // 10 Hz: one frame per 100 ms at the station's phase.
+      const TimeNs next =
+          t + ((phase[i] - t) % (100 * kNsPerMs) + 100 * kNsPerMs) % (100 * kNsPerMs);
+      if (next < t + step_ns) medium.SubmitFrame(i, frames[i], next);
+    }
+    deliveries.clear();
+    medium.AdvanceTo(t + step_ns, &deliveries);
+  }
+  const double wall = WallSeconds(start);
+  return {seconds / wall, wall * 1e6 / std::max<uint64_t>(1, Transmissions(medium))};
+}
+
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+}  // namespace
+}  // namespace sitlnet::mac
+
+int main(int argc, char** argv) {
+  using namespace sitlnet::mac;
+  int runs = 5;
+  double seconds = 10;
+  const char* csv_path = nullptr;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--runs") && i + 1 < argc)
+      runs = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--seconds") && i + 1 < argc)
+      seconds = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc)
+      csv_path = argv[++i];
+    else {
+      std::fprintf(stderr, "usage: %s [--runs N] [--seconds S] [--csv FILE]\n", argv[0]);
+      return 2;
+    }
+  }
+  FILE* csv = csv_path ? std::fopen(csv_path, "w") : nullptr;
+  std::printf(
+      "| scenario | n | simulated s per wall s (median of %d) | wall us per transmission |"
+      " us per transmission per station |\n| --- | --- | --- | --- | --- |\n",
+      runs);
+  auto report = [&](const char* name, int n, const std::vector<Sample>& samples) {
+    std::vector<double> rate, cost;
+    for (const Sample& s : samples) {
+      rate.push_back(s.sim_per_wall);
+      cost.push_back(s.us_per_tx);
+    }
+    const double r = Median(rate), c = Median(cost);
+    std::printf("| %s | %d | %.1f | %.3f | %.4f |\n", name, n, r, c, c / n);
+    if (csv) std::fprintf(csv, "%s,%d,%.3f,%.4f,%.5f\n", name, n, r, c, c / n);
+    std::fflush(stdout);
+  };
+  for (int n : {1, 5, 10, 20, 50}) {
+    std::vector<Sample> samples;
+    for (int k = 0; k < runs; ++k) samples.push_back(Saturation(n, seconds, 1 + k));
+    report("saturation 11a 54 Mb/s 1500 B", n, samples);
+  }
+  std::vector<Sample> samples;
+  for (int k = 0; k < runs; ++k) samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30));
+  report("broadcast 200 B @ 10 Hz, 100 obstacles (300 m square), all moving", 64, samples);
+  samples.clear();
+  for (int k = 0; k < runs; ++k) samples.push_back(Broadcast64(6 * seconds, 1 + k, 1000, 500, 10));
+  report("broadcast 200 B @ 10 Hz, 1000 obstacles (500 m square), all moving", 64, samples);
+  if (csv) std::fclose(csv);
+  return 0;
+}
