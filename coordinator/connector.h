@@ -90,6 +90,9 @@ class Connector {
   virtual bool AwaitCommandsCollected(uint64_t iteration, const WaitLimits& limits) = 0;
   // Waits for END of `iteration` into `end`; false if interrupted.
   virtual bool Finish(uint64_t iteration, proto::coord::End* end, const WaitLimits& limits) = 0;
+  // True if Finish() does the work on the caller's thread: the coordinator
+  // then calls it before waiting for the others, so they overlap.
+  virtual bool runs_on_caller_thread() const { return false; }
   // Tells the connector the run is over (best effort, never throws).
   virtual void Stop(const std::string& reason) = 0;
 
@@ -101,9 +104,12 @@ class Connector {
 // Calls a Simulator in this process. kOwnThread runs it on a worker thread so
 // physics and network overlap; kCallerThread runs it inside Finish() on the
 // caller's thread (no hand-off; cannot be used for lockstep-robots physics).
+// Run the slower simulator on the caller's thread: the coordinator then never
+// sleeps waiting for it. `spin_ns` (kOwnThread): how long the worker and the
+// waiting coordinator spin before sleeping (0: sleep at once).
 enum class Threading { kOwnThread, kCallerThread };
 std::unique_ptr<Connector> MakeInProcessConnector(std::string name, Role role, Simulator* simulator,
-                                                  Threading threading);
+                                                  Threading threading, TimeNs spin_ns = 0);
 
 // What the coordinator demands of a connecting connector.
 struct HandshakeExpectation {
@@ -120,8 +126,10 @@ struct AcceptedConnectors {
   std::unique_ptr<Connector> physics;
   std::unique_ptr<Connector> network;
 };
+// `spin_ns`: see Channel::set_spin_ns.
 AcceptedConnectors AcceptConnectors(Listener& listener, const HandshakeExpectation& expect,
-                                    const WaitLimits& limits, FrameCodecOptions codec = {});
+                                    const WaitLimits& limits, FrameCodecOptions codec = {},
+                                    TimeNs spin_ns = 0);
 
 // Handshake on an already-accepted channel (AcceptConnectors uses it).
 std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpectation& expect,

@@ -125,8 +125,15 @@ RunResult RunCoordinator(Connector& physics, Connector& network,
     if (options.lockstep_robots) answered = physics.AwaitCommandsCollected(iteration, limits);
     if (answered) {
       network.Begin(net_start, limits);
-      answered = physics.Finish(iteration, &phy_end, limits) &&
-                 network.Finish(iteration, &net_end, limits);
+      // A connector working on this thread goes first, or the other's
+      // iteration would not overlap with it.
+      if (network.runs_on_caller_thread() && !physics.runs_on_caller_thread()) {
+        answered = network.Finish(iteration, &net_end, limits) &&
+                   physics.Finish(iteration, &phy_end, limits);
+      } else {
+        answered = physics.Finish(iteration, &phy_end, limits) &&
+                   network.Finish(iteration, &net_end, limits);
+      }
     }
     if (!answered) {
       result.interrupted = true;

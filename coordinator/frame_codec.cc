@@ -26,6 +26,49 @@ std::string TooLong(std::string_view what, size_t bytes, size_t limit) {
 
 }  // namespace
 
+// deflate/inflate streams initialized on first use and reset per frame.
+struct ZlibStreams {
+  z_stream stream{};
+  bool deflating = false;
+  bool inflating = false;
+  ~ZlibStreams() {
+    if (deflating) deflateEnd(&stream);
+    if (inflating) inflateEnd(&stream);
+  }
+};
+
+FrameEncoder::FrameEncoder(FrameCodecOptions options) : options_(options) {}
+FrameEncoder::~FrameEncoder() = default;
+FrameEncoder::FrameEncoder(FrameEncoder&&) noexcept = default;
+FrameEncoder& FrameEncoder::operator=(FrameEncoder&&) noexcept = default;
+FrameScratch::FrameScratch() = default;
+FrameScratch::~FrameScratch() = default;
+FrameScratch::FrameScratch(FrameScratch&&) noexcept = default;
+FrameScratch& FrameScratch::operator=(FrameScratch&&) noexcept = default;
+
+namespace {
+
+// One-shot deflate of `in` into `out` (capacity *out_bytes) with a reused
+// stream. Returns false if it did not fit or zlib failed.
+bool Deflate(ZlibStreams* z, int level, const uint8_t* in, size_t in_bytes, uint8_t* out,
+             size_t* out_bytes) {
+  if (!z->deflating) {
+    if (deflateInit(&z->stream, level) != Z_OK) return false;
+    z->deflating = true;
+  } else if (deflateReset(&z->stream) != Z_OK) {
+    return false;
+  }
+  z->stream.next_in = const_cast<uint8_t*>(in);
+  z->stream.avail_in = static_cast<uInt>(in_bytes);
+  z->stream.next_out = out;
+  z->stream.avail_out = static_cast<uInt>(*out_bytes);
+  if (deflate(&z->stream, Z_FINISH) != Z_STREAM_END) return false;
+  *out_bytes = z->stream.total_out;
+  return true;
+}
+
+}  // namespace
+
 std::string_view FrameEncoder::Encode(const proto::coord::CoordinatorMessage& message) {
   const size_t raw_bytes = message.ByteSizeLong();
   if (raw_bytes > options_.max_frame_bytes) {
@@ -35,14 +78,16 @@ std::string_view FrameEncoder::Encode(const proto::coord::CoordinatorMessage& me
   if (raw_bytes > options_.compress_above_bytes) {
     raw_.resize(raw_bytes);
     message.SerializeWithCachedSizesToArray(reinterpret_cast<uint8_t*>(raw_.data()));
-    uLongf bound = compressBound(raw_bytes);
+    if (!zlib_) zlib_ = std::make_unique<ZlibStreams>();
+    // Only a result smaller than the raw body is worth sending: stop there.
+    size_t bound = raw_bytes;
     frame_.resize(kFrameHeaderBytes + 4 + bound);
     auto* out = reinterpret_cast<uint8_t*>(frame_.data());
-    const int rc =
-        compress2(out + kFrameHeaderBytes + 4, &bound, reinterpret_cast<const Bytef*>(raw_.data()),
-                  raw_bytes, options_.zlib_level);
-    // Incompressible bodies (rare: packed doubles of noise) go out raw.
-    if (rc == Z_OK && bound + 4 < raw_bytes) {
+    const bool ok =
+        Deflate(zlib_.get(), options_.zlib_level, reinterpret_cast<const uint8_t*>(raw_.data()),
+                raw_bytes, out + kFrameHeaderBytes + 4, &bound);
+    // Incompressible bodies (packed doubles of noise) go out raw.
+    if (ok && bound + 4 < raw_bytes) {
       const size_t body = 4 + bound;
       PutLe32(out, static_cast<uint32_t>(body));
       out[4] = static_cast<uint8_t>(FrameEncoding::kZlib);
@@ -76,7 +121,7 @@ size_t ParseFrameHeader(const uint8_t* header, size_t max_frame_bytes, FrameEnco
 }
 
 void DecodeFrameBody(FrameEncoding encoding, std::string_view body, size_t max_frame_bytes,
-                     std::string* scratch, proto::coord::CoordinatorMessage* message) {
+                     FrameScratch* scratch, proto::coord::CoordinatorMessage* message) {
   std::string_view raw = body;
   if (encoding == FrameEncoding::kZlib) {
     if (body.size() < 4) throw Error("bad frame: zlib body shorter than its length field");
@@ -84,12 +129,29 @@ void DecodeFrameBody(FrameEncoding encoding, std::string_view body, size_t max_f
     if (declared > max_frame_bytes) {
       throw Error(TooLong("decompressed body", declared, max_frame_bytes));
     }
-    scratch->resize(declared);
-    uLongf inflated = declared;
-    const int rc = uncompress(reinterpret_cast<Bytef*>(scratch->data()), &inflated,
-                              reinterpret_cast<const Bytef*>(body.data() + 4), body.size() - 4);
-    if (rc != Z_OK) {
-      throw Error(std::string("bad frame: zlib: ") + (rc == Z_BUF_ERROR    ? "longer than declared"
+    std::string& inflated_body = scratch->inflated_;
+    inflated_body.resize(declared);
+    if (!scratch->zlib_) scratch->zlib_ = std::make_unique<ZlibStreams>();
+    ZlibStreams& z = *scratch->zlib_;
+    int rc = Z_OK;
+    if (!z.inflating) {
+      rc = inflateInit(&z.stream);
+      z.inflating = rc == Z_OK;
+    } else {
+      rc = inflateReset(&z.stream);
+    }
+    if (rc != Z_OK) throw Error(std::string("zlib inflate set-up: ") + zError(rc));
+    z.stream.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(body.data() + 4));
+    z.stream.avail_in = static_cast<uInt>(body.size() - 4);
+    z.stream.next_out = reinterpret_cast<Bytef*>(inflated_body.data());
+    z.stream.avail_out = static_cast<uInt>(declared);
+    rc = inflate(&z.stream, Z_FINISH);
+    const size_t inflated = z.stream.total_out;
+    if (rc != Z_STREAM_END) {
+      // Z_BUF_ERROR with the output full: the stream holds more than declared.
+      throw Error(std::string("bad frame: zlib: ") + (rc == Z_BUF_ERROR && inflated == declared
+                                                          ? "longer than declared"
+                                                      : rc == Z_BUF_ERROR  ? "truncated stream"
                                                       : rc == Z_DATA_ERROR ? "corrupt stream"
                                                                            : zError(rc)));
     }
@@ -97,7 +159,7 @@ void DecodeFrameBody(FrameEncoding encoding, std::string_view body, size_t max_f
       throw Error("bad frame: zlib body inflated to " + std::to_string(inflated) +
                   " bytes, header declared " + std::to_string(declared));
     }
-    raw = *scratch;
+    raw = inflated_body;
   }
   if (!message->ParseFromArray(raw.data(), static_cast<int>(raw.size()))) {
     throw Error("bad frame: " + std::to_string(raw.size()) +

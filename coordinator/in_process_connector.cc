@@ -1,5 +1,6 @@
 // In-process connectors: the simulator is called directly, on a worker
 // thread (so physics and network overlap) or on the coordinator's thread.
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -36,6 +37,7 @@ class CallerThreadConnector final : public Connector, private IterationContext {
         poses_(simulator->InitialPoses()) {}
   const proto::coord::Poses& initial_poses() const override { return poses_; }
   void Begin(const proto::coord::Start& start, const WaitLimits&) override { start_ = start; }
+  bool runs_on_caller_thread() const override { return true; }
   bool AwaitCommandsCollected(uint64_t, const WaitLimits&) override {
     throw Error(Describe() +
                 " runs on the coordinator's thread and cannot report "
@@ -60,9 +62,10 @@ class CallerThreadConnector final : public Connector, private IterationContext {
 
 class OwnThreadConnector final : public Connector, private IterationContext {
  public:
-  OwnThreadConnector(std::string name, Role role, Simulator* simulator)
+  OwnThreadConnector(std::string name, Role role, Simulator* simulator, TimeNs spin_ns)
       : Connector(std::move(name), role),
         simulator_(*simulator),
+        spin_ns_(spin_ns),
         poses_(simulator->InitialPoses()),
         worker_([this] { Work(); }) {}
 
@@ -70,6 +73,7 @@ class OwnThreadConnector final : public Connector, private IterationContext {
     {
       std::lock_guard lock(mutex_);
       quit_ = true;
+      version_.fetch_add(1, std::memory_order_release);
     }
     changed_.notify_all();
     worker_.join();
@@ -84,6 +88,7 @@ class OwnThreadConnector final : public Connector, private IterationContext {
       has_job_ = true;
       done_ = false;
       commands_collected_ = false;
+      version_.fetch_add(1, std::memory_order_release);
     }
     changed_.notify_all();
   }
@@ -108,6 +113,7 @@ class OwnThreadConnector final : public Connector, private IterationContext {
  private:
   template <typename Ready>
   bool WaitFor(uint64_t iteration, const char* what, const WaitLimits& limits, Ready ready) {
+    SpinWhileUnchanged(version_.load(std::memory_order_acquire), ready);
     std::unique_lock lock(mutex_);
     // The interrupt fd is not polled here: an in-process iteration ends by
     // itself, and the deadline bounds the wait.
@@ -125,13 +131,39 @@ class OwnThreadConnector final : public Connector, private IterationContext {
     {
       std::lock_guard lock(mutex_);
       commands_collected_ = true;
+      version_.fetch_add(1, std::memory_order_release);
     }
     changed_.notify_all();
+  }
+
+  // Spins (without the lock) until the state changed and `ready` holds, or
+  // spin_ns_ passed: a sleeping thread takes tens of µs to wake on this
+  // machine class, a spinning one about one (docs/performance.md).
+  template <typename Ready>
+  void SpinWhileUnchanged(uint32_t seen, Ready ready) {
+    if (spin_ns_ <= 0) return;
+    const TimeNs until = MonotonicNowNs() + spin_ns_;
+    for (;;) {
+      const uint32_t now_version = version_.load(std::memory_order_acquire);
+      if (now_version != seen) {
+        std::lock_guard lock(mutex_);
+        if (ready()) return;
+        seen = now_version;
+      }
+      if (MonotonicNowNs() >= until) return;
+      __builtin_ia32_pause();
+    }
   }
 
   void Work() {
     std::unique_lock lock(mutex_);
     for (;;) {
+      if (!quit_ && !has_job_) {
+        const uint32_t seen = version_.load(std::memory_order_acquire);
+        lock.unlock();
+        SpinWhileUnchanged(seen, [this] { return quit_ || has_job_; });
+        lock.lock();
+      }
       changed_.wait(lock, [this] { return quit_ || has_job_; });
       if (quit_) return;
       has_job_ = false;
@@ -144,12 +176,15 @@ class OwnThreadConnector final : public Connector, private IterationContext {
       end_.Swap(&end);
       error_ = std::move(error);
       done_ = true;
+      version_.fetch_add(1, std::memory_order_release);
       changed_.notify_all();
     }
   }
 
   Simulator& simulator_;
+  TimeNs spin_ns_;
   proto::coord::Poses poses_;
+  std::atomic<uint32_t> version_{0};  // Bumped (under mutex_) on every state change.
   std::mutex mutex_;
   std::condition_variable changed_;
   bool quit_ = false;
@@ -169,11 +204,11 @@ std::string RoleName(Role role) { return role == Role::kPhysics ? "physics" : "n
 std::string Connector::Describe() const { return RoleName(role_) + " connector '" + name_ + "'"; }
 
 std::unique_ptr<Connector> MakeInProcessConnector(std::string name, Role role, Simulator* simulator,
-                                                  Threading threading) {
+                                                  Threading threading, TimeNs spin_ns) {
   if (threading == Threading::kCallerThread) {
     return std::make_unique<CallerThreadConnector>(std::move(name), role, simulator);
   }
-  return std::make_unique<OwnThreadConnector>(std::move(name), role, simulator);
+  return std::make_unique<OwnThreadConnector>(std::move(name), role, simulator, spin_ns);
 }
 
 }  // namespace sitlnet::coordinator

@@ -47,6 +47,8 @@ class RemoteConnector final : public Connector {
 
   void Begin(const proto::coord::Start& start, const WaitLimits& limits) override {
     *out_.mutable_start() = start;
+    outstanding_ = true;
+    outstanding_iteration_ = start.iteration();
     try {
       channel_.Send(out_, limits.deadline_ns);
     } catch (const TransportError& e) {
@@ -70,10 +72,24 @@ class RemoteConnector final : public Connector {
       throw Unexpected(iteration, "END");
     }
     end->Swap(in_.mutable_end());
+    outstanding_ = false;
     return true;
   }
 
   void Stop(const std::string& reason) override {
+    // An iteration still running (the run was interrupted): let it finish
+    // and drop its END, so the connector sees an orderly Stop rather than a
+    // closed socket when it answers.
+    const TimeNs deadline = MonotonicNowNs() + kDrainTimeoutNs;
+    try {
+      while (outstanding_ && channel_.Receive(&in_, deadline)) {
+        if (in_.has_error() || (in_.has_end() && in_.end().iteration() == outstanding_iteration_)) {
+          outstanding_ = false;
+        }
+      }
+    } catch (const Error&) {
+      // Gone or stuck: Stop below is best effort either way.
+    }
     CoordinatorMessage stop;
     stop.mutable_stop()->set_reason(reason);
     try {
@@ -97,6 +113,7 @@ class RemoteConnector final : public Connector {
     try {
       if (!channel_.Receive(&in_, limits.deadline_ns, limits.interrupt_fd)) return false;
     } catch (const TransportError& e) {
+      outstanding_ = false;  // Failed or stuck: Stop() must not wait for it.
       const std::string k = std::to_string(iteration);
       if (e.kind() == TransportError::Kind::kTimeout) {
         throw Error(Describe() + " did not answer START of iteration " + k + " with " + what +
@@ -105,6 +122,7 @@ class RemoteConnector final : public Connector {
       throw Error(Describe() + " failed during iteration " + k + ": " + Explain(e, limits));
     }
     if (in_.kind_case() == CoordinatorMessage::kError) {
+      outstanding_ = false;
       throw Error(Describe() + " reported an error in iteration " + std::to_string(iteration) +
                   ": " + in_.error().message());
     }
@@ -121,8 +139,13 @@ class RemoteConnector final : public Connector {
                  std::to_string(iteration) + ", got " + got);
   }
 
+  // Longest wait for the END of an interrupted iteration at Stop.
+  static constexpr TimeNs kDrainTimeoutNs = 2 * kNsPerS;
+
   Channel channel_;
   proto::coord::Poses poses_;
+  bool outstanding_ = false;  // START sent, END not yet received.
+  uint64_t outstanding_iteration_ = 0;
   CoordinatorMessage out_;
   CoordinatorMessage in_;
 };
@@ -184,7 +207,8 @@ std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpec
 }
 
 AcceptedConnectors AcceptConnectors(Listener& listener, const HandshakeExpectation& expect,
-                                    const WaitLimits& limits, FrameCodecOptions codec) {
+                                    const WaitLimits& limits, FrameCodecOptions codec,
+                                    TimeNs spin_ns) {
   AcceptedConnectors accepted;
   while (!accepted.physics || !accepted.network) {
     Fd fd;
@@ -201,8 +225,9 @@ AcceptedConnectors AcceptConnectors(Listener& listener, const HandshakeExpectati
       throw;
     }
     if (!fd.valid()) return accepted;  // Interrupted.
-    std::unique_ptr<Connector> connector =
-        AcceptConnector(Channel(std::move(fd), codec), expect, limits);
+    Channel channel(std::move(fd), codec);
+    channel.set_spin_ns(spin_ns);
+    std::unique_ptr<Connector> connector = AcceptConnector(std::move(channel), expect, limits);
     if (!connector) return accepted;
     auto& slot = connector->role() == Role::kPhysics ? accepted.physics : accepted.network;
     if (slot) {

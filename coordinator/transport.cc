@@ -180,6 +180,7 @@ void Channel::Send(const proto::coord::CoordinatorMessage& message, TimeNs deadl
 }
 
 bool Channel::FillAtLeast(size_t bytes, TimeNs deadline_ns, int interrupt_fd) {
+  TimeNs spin_until_ns = -1;  // Set at the first empty read of this call.
   while (inbox_end_ - inbox_begin_ < bytes) {
     if (inbox_begin_ > 0) {  // Compact so the buffer does not grow without bound.
       std::memmove(inbox_.data(), inbox_.data() + inbox_begin_, inbox_end_ - inbox_begin_);
@@ -202,6 +203,18 @@ bool Channel::FillAtLeast(size_t bytes, TimeNs deadline_ns, int interrupt_fd) {
                                            : "peer closed the connection in the middle of a frame");
     }
     if (errno == EAGAIN || errno == EWOULDBLOCK) {
+      // Poll the socket for a while before sleeping in poll(): in lock-step
+      // the answer often comes within microseconds, and waking a sleeping
+      // thread costs tens of microseconds on this machine class (measured,
+      // docs/performance.md).
+      if (spin_ns_ > 0) {
+        const TimeNs now = MonotonicNowNs();
+        if (spin_until_ns < 0) spin_until_ns = now + spin_ns_;
+        if (now < spin_until_ns && now < deadline_ns) {
+          __builtin_ia32_pause();
+          continue;
+        }
+      }
       if (!Wait(POLLIN, deadline_ns, interrupt_fd, "waiting for a frame")) return false;
       continue;
     }

@@ -76,6 +76,9 @@ class Channel {
                int interrupt_fd = -1);
 
   int fd() const { return socket_.get(); }
+  // Receive() polls the socket without sleeping for up to this long before
+  // it blocks (0: block at once). Trades CPU for wake-up latency.
+  void set_spin_ns(TimeNs spin_ns) { spin_ns_ = spin_ns; }
   // Frames sent compressed so far (for benchmarks and tests).
   uint64_t compressed_frames_sent() const { return compressed_frames_sent_; }
   uint64_t bytes_sent() const { return bytes_sent_; }
@@ -91,7 +94,8 @@ class Channel {
   std::string inbox_;  // Received, unconsumed bytes are [inbox_begin_, inbox_end_).
   size_t inbox_begin_ = 0;
   size_t inbox_end_ = 0;
-  std::string scratch_;
+  FrameScratch scratch_;
+  TimeNs spin_ns_ = 0;
   uint64_t compressed_frames_sent_ = 0;
   uint64_t bytes_sent_ = 0;
 };

@@ -31,7 +31,7 @@ CoordinatorMessage RoundTrip(std::string_view frame, size_t max = kDefaultMaxFra
   const size_t body =
       ParseFrameHeader(reinterpret_cast<const uint8_t*>(frame.data()), max, &encoding);
   EXPECT_EQ(body + kFrameHeaderBytes, frame.size());
-  std::string scratch;
+  FrameScratch scratch;
   CoordinatorMessage decoded;
   DecodeFrameBody(encoding, frame.substr(kFrameHeaderBytes), max, &scratch, &decoded);
   return decoded;
@@ -105,7 +105,7 @@ TEST(FrameCodec, RejectsCorruptZlibAndWrongDeclaredLength) {
   FrameEncoder encoder(options);
   std::string frame(encoder.Encode(message));
   ASSERT_EQ(encoder.last_encoding(), FrameEncoding::kZlib);
-  std::string scratch;
+  FrameScratch scratch;
   CoordinatorMessage decoded;
 
   std::string corrupt = frame.substr(kFrameHeaderBytes);
@@ -130,7 +130,7 @@ TEST(FrameCodec, RejectsCorruptZlibAndWrongDeclaredLength) {
 }
 
 TEST(FrameCodec, RejectsBytesThatAreNotAMessage) {
-  std::string scratch;
+  FrameScratch scratch;
   CoordinatorMessage decoded;
   // Field 1 (hello), wire type 2, length 100, but only 2 bytes follow.
   const std::string garbage("\x0a\x64\x01\x02", 4);
