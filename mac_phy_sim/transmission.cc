@@ -94,6 +94,10 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   StationState& src = s.stations[source];
   AbortReception(s, source);
   src.transmitting_tx = id;
+  // EIFS protects a frame this station could not decode; after its own
+  // transmission DIFS applies again (ns-3 measures EIFS from the failed
+  // reception, so the later transmission end dominates).
+  src.use_eifs = false;
   UpdateCca(s, source);
   const int n = static_cast<int>(s.stations.size());
   for (int r = 0; r < n; ++r) {
