@@ -272,5 +272,72 @@ TEST(MediumTest, FarStationsTransmitConcurrently) {
   EXPECT_LT(out.back().delivery_ns, 45 * kNsPerMs);
 }
 
+TEST(MediumTest, FrameCaptureLetsAStrongerLateFrameWin) {
+  // B at 0, A at -10 m, C at 45 m (6 Mb/s). A and C are 55 m apart: -82.9 dBm,
+  // under preamble detection, so they cannot hear each other. At B, C arrives
+  // at -80.3 dBm and A at -60.7 dBm. C starts at 34 us (DIFS after t = 0),
+  // A at 40 us, inside C's 20 us preamble. Without capture both frames are
+  // lost at B; with ns-3's SimpleFrameCaptureModel (5 dB margin) B switches
+  // to A's frame and decodes it.
+  for (const bool capture : {false, true}) {
+    MediumConfig config;
+    config.rate_mbps = 6;
+    if (capture) config.capture_margin_db = 5;
+    Medium medium(config);
+    const StationId b = medium.AddStation(RobotMac(0), {0, 0, 0});
+    const StationId a = medium.AddStation(RobotMac(1), {-10, 0, 0});
+    const StationId c = medium.AddStation(RobotMac(2), {45, 0, 0});
+    medium.SubmitFrame(c, MakeEthernetFrame(RobotMac(0), RobotMac(2), 500), 0);
+    medium.SubmitFrame(a, MakeEthernetFrame(RobotMac(0), RobotMac(1), 500), 40 * kNsPerUs);
+    std::vector<Delivery> out;
+    medium.AdvanceTo(2 * kNsPerMs, &out);
+    ASSERT_FALSE(out.empty()) << capture;
+    EXPECT_EQ(out[0].station, b);
+    if (capture) {
+      EXPECT_EQ(out[0].source, a);
+      EXPECT_EQ(out[0].delivery_ns,
+                40 * kNsPerUs + PpduDurationNs(Standard::k80211a, 6, MpduBytesForEthernet(514)));
+      EXPECT_EQ(medium.counters(a).tx_failures, 0u);
+    } else {
+      EXPECT_GE(medium.counters(a).tx_failures, 1u);
+      EXPECT_GE(medium.counters(c).tx_failures, 1u);
+    }
+  }
+}
+
+TEST(MediumTest, RtsCtsExchangeAndNav) {
+  MediumConfig config;
+  config.rts_threshold_bytes = 500;
+  Medium medium(config);
+  medium.AddStation(RobotMac(0), {0, 0, 0});
+  medium.AddStation(RobotMac(1), {10, 0, 0});
+  medium.AddStation(RobotMac(2), {5, 5, 0});
+  medium.EnableTrace(true);
+  medium.SubmitFrame(0, MakeEthernetFrame(RobotMac(1), RobotMac(0), 1000), 0);
+  medium.SubmitFrame(0, MakeEthernetFrame(RobotMac(1), RobotMac(0), 100), 0);  // Short: no RTS.
+  medium.AdvanceTo(10 * kNsPerMs, nullptr);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  std::vector<FrameKind> kinds;
+  for (const TraceEvent& e : trace) kinds.push_back(e.tx->kind);
+  const std::vector<FrameKind> expected = {FrameKind::kRts, FrameKind::kCts,  FrameKind::kData,
+                                           FrameKind::kAck, FrameKind::kData, FrameKind::kAck};
+  EXPECT_EQ(kinds, expected);
+  const TxRecord& rts = *trace[0].tx;
+  const TxRecord& cts = *trace[1].tx;
+  const TxRecord& data = *trace[2].tx;
+  const TxRecord& ack = *trace[3].tx;
+  // RTS Duration covers CTS + DATA + ACK + 3 SIFS and ends with the ACK.
+  EXPECT_EQ(rts.end_ns + rts.duration_us * kNsPerUs, ack.end_ns);
+  EXPECT_EQ(cts.end_ns + cts.duration_us * kNsPerUs, ack.end_ns);
+  EXPECT_EQ(cts.start_ns, rts.end_ns + 16 * kNsPerUs);
+  EXPECT_EQ(data.start_ns, cts.end_ns + 16 * kNsPerUs);
+  EXPECT_EQ(rts.mpdu.size(), 20u);
+  EXPECT_EQ(rts.rate_mbps, 24);
+  EXPECT_EQ(medium.counters(0).rts_tx, 1u);
+  EXPECT_EQ(medium.counters(1).cts_tx, 1u);
+  EXPECT_EQ(medium.counters(1).rx_delivered, 2u);
+}
+
 }  // namespace
 }  // namespace sitlnet::mac
