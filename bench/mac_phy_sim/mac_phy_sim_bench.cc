@@ -4,8 +4,10 @@
 //   100 or 1000 obstacles (positions updated every 10 ms, as the coordinator does).
 // Medians of --runs runs (different seeds). Prints a Markdown table and, with
 // --csv FILE, "scenario,n,sim_s_per_wall_s,us_per_tx,us_per_tx_per_station".
+// --validation prints the whole ns-3 Bianchi table instead (docs/validation.md).
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -98,6 +100,50 @@ Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, 
   return {seconds / wall, wall * 1e6 / std::max<uint64_t>(1, Transmissions(medium))};
 }
 
+// The full ns-3 Bianchi table (reference.md), both topologies, ~25,000 frames
+// per point as in the tests: measured throughput, error vs each table, and
+// ns-3's pass rule.
+void PrintValidation() {
+  struct Row {
+    double rate;
+    double difs[6], eifs[6];
+  };
+  const int ns[6] = {5, 10, 15, 20, 30, 50};
+  const Row rows[] = {
+      {6,
+       {4.7087, 4.3453, 4.1397, 3.9899, 3.7824, 3.5071},
+       {4.6899, 4.3197, 4.1107, 3.9589, 3.7490, 3.4711}},
+      {24,
+       {16.2470, 15.1426, 14.4904, 14.0072, 13.3288, 12.4144},
+       {16.0836, 14.9153, 14.2327, 13.7300, 13.0281, 12.0889}},
+      {54,
+       {29.8324, 28.1519, 27.0948, 26.2925, 25.1434, 23.5618},
+       {29.2861, 27.3763, 26.2078, 25.3325, 24.0944, 22.4162}},
+  };
+  std::printf(
+      "| rate Mb/s | n | topology | measured Mb/s | vs DIFS table | vs EIFS table | "
+      "collision p | pass (<= 1.5 %%) |\n| --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  for (const Row& row : rows) {
+    for (int k = 0; k < 6; ++k) {
+      for (const auto topology : {testing::Topology::kRing, testing::Topology::kSink}) {
+        testing::SaturationSetup setup;
+        setup.stations = ns[k];
+        setup.rate_mbps = row.rate;
+        setup.topology = topology;
+        setup.measure_ns = static_cast<TimeNs>(25000 * 12000.0 / (row.eifs[k] * 1e6) * 1e9);
+        const testing::SaturationResult r = testing::RunSaturation(setup);
+        const double e_difs = 100 * (r.throughput_mbps / row.difs[k] - 1);
+        const double e_eifs = 100 * (r.throughput_mbps / row.eifs[k] - 1);
+        const bool pass = std::min(std::fabs(e_difs), std::fabs(e_eifs)) <= 1.5;
+        std::printf("| %g | %d | %s | %.4f | %+.2f %% | %+.2f %% | %.4f | %s |\n", row.rate, ns[k],
+                    topology == testing::Topology::kRing ? "ring" : "sink", r.throughput_mbps,
+                    e_difs, e_eifs, r.collision_probability, pass ? "yes" : "no");
+        std::fflush(stdout);
+      }
+    }
+  }
+}
+
 double Median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   return values[values.size() / 2];
@@ -112,14 +158,20 @@ int main(int argc, char** argv) {
   double seconds = 10;
   const char* csv_path = nullptr;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--runs") && i + 1 < argc)
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--runs" && has_value) {
       runs = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--seconds") && i + 1 < argc)
+    } else if (arg == "--seconds" && has_value) {
       seconds = std::atof(argv[++i]);
-    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc)
+    } else if (arg == "--csv" && has_value) {
       csv_path = argv[++i];
-    else {
-      std::fprintf(stderr, "usage: %s [--runs N] [--seconds S] [--csv FILE]\n", argv[0]);
+    } else if (arg == "--validation") {
+      PrintValidation();
+      return 0;
+    } else {
+      std::fprintf(stderr, "usage: %s [--runs N] [--seconds S] [--csv FILE] | --validation\n",
+                   argv[0]);
       return 2;
     }
   }
