@@ -31,13 +31,13 @@ void PrintScenario(const nns::ScenarioState& state) {
                 robot.root_veth_present ? "present" : "MISSING");
     for (const nns::LinkInfo& link : robot.links) {
       std::string addresses;
-      for (const std::string& address : link.ipv4) addresses += " " + address;
+      for (const std::string& address : link.ipv4) addresses.append(" ").append(address);
       std::printf("    %-6s %-8s %-4s %s txqueuelen %d%s\n", link.name.c_str(), link.kind.c_str(),
                   link.up ? "up" : "down", link.mac.c_str(), link.txqueuelen, addresses.c_str());
     }
     std::string processes;
     for (const nns::ProcessInfo& process : robot.processes) {
-      processes += " " + std::to_string(process.pid) + ":" + process.command;
+      processes.append(" ").append(std::to_string(process.pid)).append(":").append(process.command);
     }
     std::printf("    processes:%s\n", processes.empty() ? " none" : processes.c_str());
   }

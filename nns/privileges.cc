@@ -25,7 +25,7 @@ bool HasEffectiveCapability(int cap) {
 std::optional<std::string> MissingPrivileges() {
   std::string missing;
   auto add = [&missing](const std::string& item) {
-    missing += (missing.empty() ? "" : ", ") + item;
+    missing.append(missing.empty() ? "" : ", ").append(item);
   };
   // TAP/veth creation and addresses need CAP_NET_ADMIN; unshare, setns and
   // the /run/netns mounts need CAP_SYS_ADMIN (reference.md).

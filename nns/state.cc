@@ -185,7 +185,7 @@ RobotRef ResolveRobot(const std::vector<ScenarioState>& scenarios, const std::st
   }
   std::string candidates;
   for (const RobotRef& match : matches) {
-    candidates += (candidates.empty() ? "" : ", ") + match.robot.netns;
+    candidates.append(candidates.empty() ? "" : ", ").append(match.robot.netns);
   }
   throw Error("robot \"" + robot + "\" is ambiguous: " + candidates +
               "; name it as <scenario>-<robot> or use --scenario");

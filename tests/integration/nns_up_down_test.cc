@@ -1,0 +1,269 @@
+// `up` creates exactly the devices docs/nns.md specifies, isolated as
+// specified, and `down` leaves nothing. Observed with `ip`, ping and tcpdump,
+// independent of the library's own netlink code.
+#include <poll.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <fstream>
+
+#include "tests/integration/nns_test_util.h"
+
+namespace sitlnet::nns::testing {
+namespace {
+
+bool Contains(const std::string& text, const std::string& needle) {
+  return text.find(needle) != std::string::npos;
+}
+
+// `ip -n NETNS -o ARGS...` (one line per object).
+CommandResult IpIn(const std::string& netns, std::vector<std::string> args) {
+  std::vector<std::string> argv = {"ip", "-n", netns, "-o"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return RunCommand(argv);
+}
+
+std::string ReadFileText(const std::string& path) {
+  std::ifstream file(path);
+  std::string text;
+  std::getline(file, text);
+  return text;
+}
+
+TEST(NnsUpTest, ThreeRobotsHaveTheSpecifiedDevicesAddressesAndRoutes) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const TestScenario test = MakeScenario("dev", 0, 3);
+  const Scenario& s = test.scenario;
+  DownGuard guard(s.name);
+  Up(s);
+  for (const RobotPlan& robot : s.robots) {
+    SCOPED_TRACE(robot.netns);
+    // Named namespace, usable by iproute2.
+    EXPECT_TRUE(Contains(RunCommand({"ip", "netns", "list"}).out, robot.netns));
+
+    const std::string lo = IpIn(robot.netns, {"link", "show", "dev", "lo"}).out;
+    EXPECT_TRUE(Contains(lo, ",UP")) << lo;
+
+    // wlan0: persistent TAP without packet info, robot MAC, txqueuelen,
+    // addrgenmode none (silent IPv6 is the default), administratively up.
+    const std::string wlan = IpIn(robot.netns, {"-d", "link", "show", "dev", "wlan0"}).out;
+    EXPECT_TRUE(Contains(wlan, "tun type tap pi off vnet_hdr off persist on")) << wlan;
+    EXPECT_TRUE(Contains(wlan, "link/ether " + FormatMac(RobotMac(robot.index)))) << wlan;
+    EXPECT_TRUE(Contains(wlan, "qlen " + std::to_string(s.spec.addresses().txqueuelen()))) << wlan;
+    EXPECT_TRUE(Contains(wlan, "addrgenmode none")) << wlan;
+    EXPECT_TRUE(Contains(wlan, ",UP")) << wlan;
+    const std::string wlan_addr = IpIn(robot.netns, {"-4", "addr", "show", "dev", "wlan0"}).out;
+    EXPECT_TRUE(Contains(wlan_addr, "inet " + FormatIpv4(robot.wlan_address) + "/" +
+                                        std::to_string(s.wlan_subnet.length)))
+        << wlan_addr;
+
+    // ctl0: veth, /30 robot side, no multicast, silent IPv6, up.
+    const std::string ctl = IpIn(robot.netns, {"-d", "link", "show", "dev", "ctl0"}).out;
+    EXPECT_TRUE(Contains(ctl, " veth ")) << ctl;
+    EXPECT_FALSE(Contains(ctl, "MULTICAST")) << ctl;
+    EXPECT_TRUE(Contains(ctl, "addrgenmode none")) << ctl;
+    EXPECT_TRUE(Contains(ctl, ",UP")) << ctl;
+    const std::string ctl_addr = IpIn(robot.netns, {"-4", "addr", "show", "dev", "ctl0"}).out;
+    EXPECT_TRUE(Contains(ctl_addr, "inet " + FormatIpv4(robot.ctl_robot_address) + "/30"))
+        << ctl_addr;
+    // No IPv6 address at all on wlan0 and ctl0 (no link-local: no chatter).
+    EXPECT_EQ(IpIn(robot.netns, {"-6", "addr", "show", "dev", "wlan0"}).out, "");
+    EXPECT_EQ(IpIn(robot.netns, {"-6", "addr", "show", "dev", "ctl0"}).out, "");
+    // Exactly three devices.
+    const std::string links = IpIn(robot.netns, {"link", "show"}).out;
+    EXPECT_EQ(std::count(links.begin(), links.end(), '\n'), 3) << links;
+
+    // Routes: the two connected prefixes, and no default route.
+    const std::string routes = RunCommand({"ip", "-n", robot.netns, "-4", "route", "show"}).out;
+    EXPECT_FALSE(Contains(routes, "default")) << routes;
+    EXPECT_EQ(std::count(routes.begin(), routes.end(), '\n'), 2) << routes;
+    EXPECT_TRUE(Contains(routes, FormatIpv4Prefix(s.wlan_subnet) + " dev wlan0")) << routes;
+
+    // Root side: the veth by its planned name, its /30 address, forwarding
+    // and proxy_arp off on that interface.
+    const std::string root =
+        RunCommand({"ip", "-o", "-4", "addr", "show", "dev", robot.root_veth}).out;
+    EXPECT_TRUE(Contains(root, "inet " + FormatIpv4(robot.ctl_root_address) + "/30")) << root;
+    const std::string conf = "/proc/sys/net/ipv4/conf/" + robot.root_veth + "/";
+    EXPECT_EQ(ReadFileText(conf + "forwarding"), "0");
+    EXPECT_EQ(ReadFileText(conf + "proxy_arp"), "0");
+  }
+}
+
+TEST(NnsUpTest, LinkLocalPolicyKeepsKernelIpv6Addresses) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const TestScenario test = MakeScenario("ll", 1, 1, "ipv6: IPV6_LINK_LOCAL");
+  DownGuard guard(test.scenario.name);
+  Up(test.scenario);
+  const std::string netns = test.scenario.robots[0].netns;
+  const std::string ctl = IpIn(netns, {"-d", "link", "show", "dev", "ctl0"}).out;
+  EXPECT_FALSE(Contains(ctl, "addrgenmode none")) << ctl;
+  // The veth has carrier, so the kernel gives it a link-local address at once.
+  const std::string ctl6 = IpIn(netns, {"-6", "addr", "show", "dev", "ctl0"}).out;
+  EXPECT_TRUE(Contains(ctl6, "inet6 fe80::")) << ctl6;
+}
+
+TEST(NnsUpTest, RootNamespacePingsEveryRobotOverCtl0) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const TestScenario test = MakeScenario("png", 2, 3);
+  DownGuard guard(test.scenario.name);
+  Up(test.scenario);
+  for (const RobotPlan& robot : test.scenario.robots) {
+    const CommandResult ping =
+        RunCommand({"ping", "-n", "-c", "1", "-W", "5", FormatIpv4(robot.ctl_robot_address)});
+    EXPECT_EQ(ping.exit_code, 0) << robot.name << ": " << ping.out << ping.err;
+  }
+}
+
+TEST(NnsUpTest, OutsideAddressIsUnreachableInsideARobot) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const TestScenario test = MakeScenario("rte", 3, 1);
+  DownGuard guard(test.scenario.name);
+  Up(test.scenario);
+  // No default route: the lookup itself fails, so no packet can leave.
+  const CommandResult get =
+      RunCommand({"ip", "-n", test.scenario.robots[0].netns, "route", "get", "192.0.2.1"});
+  EXPECT_NE(get.exit_code, 0) << get.out;
+  EXPECT_TRUE(Contains(get.err, "Network is unreachable")) << get.err;
+  // Another robot's ctl /30 is not reachable either (only its own /30 is).
+  const TestScenario two = MakeScenario("rtf", 4, 2);
+  DownGuard guard2(two.scenario.name);
+  Up(two.scenario);
+  const CommandResult peer = RunCommand({"ip", "-n", two.scenario.robots[0].netns, "route", "get",
+                                         FormatIpv4(two.scenario.robots[1].ctl_robot_address)});
+  EXPECT_NE(peer.exit_code, 0) << peer.out;
+}
+
+// Ethernet + ARP request layout (RFC 826): ethertype at 12, sender hardware
+// address at 22, target protocol address at 38.
+bool IsArpRequestFor(const uint8_t* frame, size_t length, const MacAddress& sender, Ipv4 target) {
+  if (length < 42 || frame[12] != 0x08 || frame[13] != 0x06) return false;
+  if (std::memcmp(frame + 6, sender.bytes.data(), 6) != 0) return false;
+  if (std::memcmp(frame + 22, sender.bytes.data(), 6) != 0) return false;
+  const uint8_t want[4] = {
+      static_cast<uint8_t>(target.host_order >> 24), static_cast<uint8_t>(target.host_order >> 16),
+      static_cast<uint8_t>(target.host_order >> 8), static_cast<uint8_t>(target.host_order)};
+  return std::memcmp(frame + 38, want, 4) == 0;
+}
+
+TEST(NnsUpTest, PingInsideARobotReachesItsTapAndTcpdump) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const TestScenario test = MakeScenario("tap", 5, 3);
+  DownGuard guard(test.scenario.name);
+  Up(test.scenario);
+  const RobotPlan& r1 = test.scenario.robots[0];
+  const RobotPlan& r2 = test.scenario.robots[1];
+
+  // Attaching gives the TAP carrier; frames are dropped before that.
+  UniqueFd tap = AttachTap(r1.netns, "wlan0");
+  Child tcpdump(
+      {"ip", "netns", "exec", r1.netns, "tcpdump", "-n", "-l", "-i", "wlan0", "-c", "1", "arp"});
+  ASSERT_TRUE(tcpdump.WaitForOutput(/*from_stderr=*/true, "listening on", 10 * kNsPerS))
+      << tcpdump.err();
+
+  // r2 is on the wlan subnet, so r1 ARPs for it on wlan0. Nobody answers
+  // (no medium here): ping fails, but its frames must have gone out.
+  Child ping({"ip", "netns", "exec", r1.netns, "ping", "-n", "-c", "1", "-W", "3",
+              FormatIpv4(r2.wlan_address)});
+  bool seen = false;
+  const TimeNs deadline = MonotonicNowNs() + 5 * kNsPerS;
+  while (!seen && MonotonicNowNs() < deadline) {
+    pollfd fd{tap.get(), POLLIN, 0};
+    if (poll(&fd, 1, static_cast<int>((deadline - MonotonicNowNs()) / kNsPerMs) + 1) <= 0) break;
+    uint8_t frame[2048];
+    const ssize_t n = read(tap.get(), frame, sizeof frame);
+    if (n > 0) seen = IsArpRequestFor(frame, n, r1.wlan_mac, r2.wlan_address);
+  }
+  EXPECT_TRUE(seen) << "no ARP request for " << FormatIpv4(r2.wlan_address) << " on the TAP";
+  EXPECT_EQ(tcpdump.Wait(10 * kNsPerS), 0) << tcpdump.err();
+  EXPECT_TRUE(Contains(tcpdump.out(), "Request who-has " + FormatIpv4(r2.wlan_address) + " tell " +
+                                          FormatIpv4(r1.wlan_address)))
+      << tcpdump.out();
+}
+
+TEST(NnsDownTest, DownLeavesNoNamespaceLinkProcessOrState) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const TestScenario test = MakeScenario("dwn", 6, 3);
+  const Scenario& s = test.scenario;
+  DownGuard guard(s.name);
+  Up(s);
+  // One process that exits on SIGTERM, one that ignores it (SIG_IGN survives
+  // exec): down must escalate to SIGKILL. "ready" is printed inside.
+  Child polite({SitlnetBinary(), "exec", s.robots[0].netns, "--", "sh", "-c",
+                "echo ready; exec sleep 1000"});
+  Child stubborn({SitlnetBinary(), "exec", s.robots[2].netns, "--", "sh", "-c",
+                  "trap '' TERM; echo ready; exec sleep 1000"});
+  ASSERT_TRUE(polite.WaitForOutput(false, "ready", 10 * kNsPerS)) << polite.err();
+  ASSERT_TRUE(stubborn.WaitForOutput(false, "ready", 10 * kNsPerS)) << stubborn.err();
+
+  const DownReport report = Down(s.name);
+  EXPECT_EQ(report.namespaces_removed, 3);
+  EXPECT_EQ(report.links_removed, 3);
+  EXPECT_EQ(report.processes_terminated, 1);
+  EXPECT_EQ(report.processes_killed, 1);
+  EXPECT_EQ(polite.Wait(5 * kNsPerS), 128 + SIGTERM);
+  EXPECT_EQ(stubborn.Wait(5 * kNsPerS), 128 + SIGKILL);
+  for (const RobotPlan& robot : s.robots) {
+    EXPECT_FALSE(NetnsExists(robot.netns)) << robot.netns;
+    EXPECT_FALSE(LinkExistsInRoot(robot.root_veth)) << robot.root_veth;
+  }
+  EXPECT_FALSE(Contains(RunCommand({"ip", "netns", "list"}).out, s.name + "-"));
+  EXPECT_FALSE(StateExists(s.name));
+  // Idempotent.
+  const DownReport again = Down(s.name);
+  EXPECT_EQ(again.namespaces_removed + again.links_removed, 0);
+}
+
+TEST(NnsDownTest, FailureHalfWayRollsBackEverything) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const TestScenario test = MakeScenario("rbk", 7, 5);
+  const Scenario& s = test.scenario;
+  DownGuard guard(s.name);
+  UpOptions options;
+  options.on_robot_done = [](int robots_done) {
+    if (robots_done == 2) throw Error("injected failure after robot 2");
+  };
+  EXPECT_THROW(Up(s, options), Error);
+  for (const RobotPlan& robot : s.robots) {
+    EXPECT_FALSE(NetnsExists(robot.netns)) << robot.netns;
+    EXPECT_FALSE(LinkExistsInRoot(robot.root_veth)) << robot.root_veth;
+  }
+  EXPECT_FALSE(StateExists(s.name));
+}
+
+TEST(NnsDownTest, TwoScenariosCoexistAndGoDownSeparately) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const TestScenario a = MakeScenario("coa", 8, 2);
+  const TestScenario b = MakeScenario("cob", 9, 2);
+  DownGuard guard_a(a.scenario.name);
+  DownGuard guard_b(b.scenario.name);
+  Up(a.scenario);
+  Up(b.scenario);
+  const std::vector<std::string> names = ListScenarios();
+  EXPECT_NE(std::find(names.begin(), names.end(), a.scenario.name), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), b.scenario.name), names.end());
+  Down(a.scenario.name);
+  for (const RobotPlan& robot : a.scenario.robots) EXPECT_FALSE(NetnsExists(robot.netns));
+  for (const RobotPlan& robot : b.scenario.robots) {
+    EXPECT_TRUE(NetnsExists(robot.netns));
+    EXPECT_TRUE(LinkExistsInRoot(robot.root_veth));
+    const CommandResult ping =
+        RunCommand({"ping", "-n", "-c", "1", "-W", "5", FormatIpv4(robot.ctl_robot_address)});
+    EXPECT_EQ(ping.exit_code, 0) << ping.out;
+  }
+}
+
+TEST(NnsDownTest, UpAgainReplacesOwnLeftovers) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const TestScenario test = MakeScenario("again", 0, 2);
+  DownGuard guard(test.scenario.name);
+  Up(test.scenario);
+  Up(test.scenario);  // Leftovers are ours (state file): removed, recreated.
+  for (const RobotPlan& robot : test.scenario.robots) {
+    EXPECT_TRUE(NetnsExists(robot.netns));
+    EXPECT_TRUE(LinkExistsInRoot(robot.root_veth));
+  }
+}
+
+}  // namespace
+}  // namespace sitlnet::nns::testing
