@@ -1,0 +1,55 @@
+#include "coordinator/physics_connector.h"
+
+namespace sitlnet::coordinator {
+
+void PosesFromWorld(const physics::World& world, proto::coord::Poses* poses) {
+  for (int i = 0; i < world.robot_count(); ++i) {
+    const physics::RobotPose pose = world.Pose(i);
+    poses->add_position_m(pose.position_m.x);
+    poses->add_position_m(pose.position_m.y);
+    poses->add_position_m(pose.position_m.z);
+    poses->add_orientation_wxyz(pose.orientation.w);
+    poses->add_orientation_wxyz(pose.orientation.x);
+    poses->add_orientation_wxyz(pose.orientation.y);
+    poses->add_orientation_wxyz(pose.orientation.z);
+  }
+}
+
+namespace {
+// START must cover exactly the steps this connector takes.
+void CheckSpan(const proto::coord::Start& start, const physics::World& world, int steps) {
+  if (start.end_ns() - start.start_ns() != steps * world.step_ns()) {
+    throw Error("physics connector: START of iteration " + std::to_string(start.iteration()) +
+                " spans " + std::to_string(start.end_ns() - start.start_ns()) + " ns, expected " +
+                std::to_string(steps) + " steps of " + std::to_string(world.step_ns()) + " ns");
+  }
+}
+}  // namespace
+
+proto::coord::Poses WorldSimulator::InitialPoses() {
+  proto::coord::Poses poses;
+  PosesFromWorld(world_, &poses);
+  return poses;
+}
+
+void WorldSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End* end,
+                                  IterationContext&) {
+  CheckSpan(start, world_, steps_);
+  world_.Advance(steps_);
+  PosesFromWorld(world_, end->mutable_poses());
+}
+
+proto::coord::Poses PhysicsServerSimulator::InitialPoses() {
+  proto::coord::Poses poses;
+  PosesFromWorld(server_.world(), &poses);
+  return poses;
+}
+
+void PhysicsServerSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End* end,
+                                          IterationContext&) {
+  CheckSpan(start, server_.world(), steps_);
+  server_.Advance(steps_);
+  PosesFromWorld(server_.world(), end->mutable_poses());
+}
+
+}  // namespace sitlnet::coordinator
