@@ -76,6 +76,7 @@ struct BridgeCore::Impl {
   std::vector<PortCounters> counters;
   std::vector<bool> warned_unknown_source;
   std::vector<AirFrameObserver> observers;
+  std::vector<std::function<void(const Delivery&)>> delivery_observers;
   bool capture_air = true;
   std::vector<uint8_t> buffer = std::vector<uint8_t>(kReadBufferBytes);
   std::vector<Delivery> deliveries;
@@ -119,6 +120,7 @@ struct BridgeCore::Impl {
       for (const AirFrameObserver& observer : observers) observer(frame);
     }
     for (const Delivery& d : deliveries) {
+      for (const auto& observer : delivery_observers) observer(d);
       TapPort* port = ports[d.station].get();
       if (!port) continue;
       PortCounters& c = counters[d.station];
@@ -286,6 +288,10 @@ bool BridgeCore::Reattach(int robot) {
   impl_->Log("robot " + impl_->scenario.robots[robot].name + ": re-attached to wlan0 in netns " +
              impl_->scenario.robots[robot].netns);
   return true;
+}
+
+void BridgeCore::AddDeliveryObserver(std::function<void(const Delivery&)> observer) {
+  impl_->delivery_observers.push_back(std::move(observer));
 }
 
 void BridgeCore::AddAirFrameObserver(AirFrameObserver observer) {

@@ -150,6 +150,9 @@ class BridgeCore {
   void AttachAll();
 
   void AddAirFrameObserver(AirFrameObserver observer);
+  // Receives every delivery as the medium decided it, before it is written
+  // to the destination TAP (the run's delivery log, connectivity).
+  void AddDeliveryObserver(std::function<void(const Delivery&)> observer);
   // On-air frames are produced (and observers called) only while enabled,
   // so an unobserved medium does not pay for its trace. Default: enabled.
   void SetAirFrameCapture(bool enabled);
@@ -231,6 +234,10 @@ struct DaemonOptions {
   std::string control_socket;              // Empty: ControlSocketPath(scenario name).
   TimeNs stats_interval_ns = 5 * kNsPerS;  // Lag/counter log period.
   bool use_relay_medium = false;           // Benchmarks: no 802.11 model.
+  // SCHED_FIFO priority of the daemon (0: normal scheduling). Deliveries are
+  // due to the microsecond; on a loaded host a normal thread waits for a core
+  // for milliseconds (docs/performance.md). Refused (no CAP_SYS_NICE): logged.
+  int realtime_priority = 10;
   std::function<void(const std::string&)> log;
 };
 
