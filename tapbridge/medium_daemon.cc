@@ -1,6 +1,7 @@
 // The medium daemon (`sitlnet medium SCENARIO`): main() reads like a script.
 // Parse options, build the medium, attach the TAPs, open the outputs, serve
 // the control socket, run the realtime loop until SIGINT/SIGTERM.
+#include <sched.h>
 #include <signal.h>
 #include <sys/epoll.h>
 #include <sys/inotify.h>
@@ -85,6 +86,16 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
   sigprocmask(SIG_BLOCK, &signals, nullptr);
   const int signal_fd = signalfd(-1, &signals, SFD_NONBLOCK | SFD_CLOEXEC);
   if (signal_fd < 0) throw Error(SystemErrorMessage("signalfd", errno));
+
+  if (options.realtime_priority > 0) {
+    sched_param param{};
+    param.sched_priority = options.realtime_priority;
+    if (sched_setscheduler(0, SCHED_FIFO, &param) != 0) {
+      log(SystemErrorMessage("SCHED_FIFO priority " + std::to_string(options.realtime_priority) +
+                                 " refused, running with normal priority",
+                             errno));
+    }
+  }
 
   EventLoop loop;
   const TimeNs wall_origin_ns = MonotonicNowNs();

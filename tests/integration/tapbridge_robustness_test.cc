@@ -1,0 +1,157 @@
+// Captures and bad input: pcap read by tshark, live capture, oversize frames,
+// a changed source MAC, TAP overflow, a namespace deleted under the daemon,
+// daemon restart.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <sstream>
+
+#include "tests/integration/tapbridge_test_util.h"
+
+namespace sitlnet::tapbridge::testing {
+namespace {
+
+const char* kTwo =
+    "robot { name: \"a\" position_m { x: 0 y: 0 z: 1 } }\n"
+    "robot { name: \"b\" position_m { x: 10 y: 0 z: 1 } }\n";
+
+bool Pings(MediumScenario& s, const std::string& from, int to, int count = 2) {
+  return s.Exec(from, {"ping", "-c", std::to_string(count), "-W", "1", "-i", "0.2", s.Address(to)})
+             .code == 0;
+}
+
+int Lines(const std::string& text) {
+  int n = 0;
+  for (char c : text) n += c == '\n';
+  return n;
+}
+
+TEST(TapbridgeCapture, PcapFileDecodesCleanlyWithSignal) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("pcp", 0, kTwo);
+  const std::string pcap = scenario.dir() + "/air.pcap";
+  scenario.StartDaemon({"--pcap", pcap});
+  ASSERT_TRUE(Pings(scenario, "a", 1, 5));
+  scenario.StopDaemon();
+  const Result fields =
+      RunProgram({"tshark", "-r", pcap, "-T", "fields", "-e", "radiotap.dbm_antsignal", "-e",
+                  "radiotap.dbm_antnoise", "-e", "wlan.fc.type_subtype"});
+  ASSERT_EQ(fields.code, 0) << fields.err;
+  std::istringstream lines(fields.out);
+  std::string line;
+  int frames = 0, acks = 0, data = 0;
+  while (std::getline(lines, line)) {
+    ++frames;
+    std::istringstream f(line);
+    std::string signal, noise, subtype;
+    f >> signal >> noise >> subtype;
+    EXPECT_FALSE(signal.empty() || noise.empty()) << "frame " << frames << ": " << line;
+    if (subtype == "0x001d" || subtype == "29") ++acks;
+    if (subtype == "0x0020" || subtype == "32") ++data;
+  }
+  EXPECT_GE(data, 10) << fields.out;  // 5 requests + 5 replies (+ ARP)
+  EXPECT_GE(acks, 10) << fields.out;
+  const Result malformed = RunProgram({"tshark", "-r", pcap, "-Y", "_ws.malformed"});
+  EXPECT_EQ(malformed.code, 0);
+  EXPECT_EQ(Lines(malformed.out), 0) << malformed.out;
+  const Result tcpdump = RunProgram({"tcpdump", "-r", pcap, "-n"});
+  EXPECT_EQ(tcpdump.code, 0) << tcpdump.err;
+  EXPECT_GE(Lines(tcpdump.out), frames);
+}
+
+// `sitlnet capture --medium NAME | tshark -i -` while traffic flows.
+TEST(TapbridgeCapture, LiveCaptureStreamsToTshark) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("liv", 1, kTwo);
+  scenario.StartDaemon();
+  Child capture({"sh", "-c",
+                 SitlnetBinary() + " capture --medium " + scenario.name() +
+                     " | tshark -l -i - -c 6 -T fields -e radiotap.dbm_antsignal"
+                     " -e wlan.fc.type_subtype"});
+  // Traffic until tshark has its 6 frames (bounded).
+  for (int i = 0; i < 50 && capture.Wait(0) < 0; ++i) Pings(scenario, "a", 1, 1);
+  ASSERT_EQ(capture.Wait(10 * kNsPerS), 0) << capture.err();
+  EXPECT_EQ(Lines(capture.out()), 6) << capture.out();
+  EXPECT_EQ(capture.out().find("\t\n"), std::string::npos);
+}
+
+TEST(TapbridgeBadInput, FramesAbove80211MtuDroppedAndCounted) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("mtu", 2, kTwo);
+  scenario.StartDaemon();
+  ASSERT_EQ(scenario.Exec("a", {"ip", "link", "set", "wlan0", "mtu", "4000"}).code, 0);
+  // 3000-byte ICMP payload: a 3042-byte Ethernet frame, above the 2310 an
+  // 802.11 MSDU of 2304 bytes can carry.
+  EXPECT_FALSE(
+      scenario
+          .Exec("a", {"ping", "-c", "1", "-W", "1", "-s", "3000", "-M", "do", scenario.Address(1)})
+          .code == 0);
+  const proto::MediumStatus status = scenario.Counters();
+  EXPECT_GE(status.station(0).oversize_dropped(), 1u);
+  EXPECT_TRUE(Pings(scenario, "a", 1)) << "normal frames still pass";
+}
+
+// Documented behaviour (docs/tapbridge.md): frames whose source MAC is not
+// the robot's plan MAC are dropped, counted, and logged once per robot.
+TEST(TapbridgeBadInput, UnknownSourceMacDroppedCountedAndLogged) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("mac", 3, kTwo);
+  scenario.StartDaemon();
+  ASSERT_EQ(scenario.Exec("a", {"ip", "link", "set", "wlan0", "address", "02:00:00:aa:bb:01"}).code,
+            0);
+  EXPECT_FALSE(Pings(scenario, "a", 1));
+  EXPECT_GE(scenario.Counters().station(0).unknown_source_dropped(), 1u);
+  EXPECT_TRUE(scenario.daemon()->WaitFor("is not the robot's", true, 2 * kNsPerS));
+  EXPECT_FALSE(Pings(scenario, "b", 0)) << "a's answers carry the changed MAC: dropped";
+}
+
+// The daemon is stopped (SIGSTOP) while a robot floods broadcast frames: the
+// kernel's TAP queue overflows. Counted, not fatal: after SIGCONT traffic flows.
+TEST(TapbridgeBadInput, TapOverflowCountedNotFatal) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("ovf", 4, kTwo);
+  scenario.StartDaemon();
+  ASSERT_TRUE(Pings(scenario, "a", 1));
+  ASSERT_EQ(kill(scenario.daemon()->pid(), SIGSTOP), 0);
+  // 40 MB in 8 KiB datagrams = ~4900 datagrams of 6 fragments each: ~29000
+  // frames against a TAP queue of txqueuelen 10000.
+  const std::string broadcast = scenario.Address(254);
+  const Result flood = scenario.Exec(
+      "a", {"sh", "-c",
+            "head -c 40000000 /dev/zero | socat -u - UDP4-DATAGRAM:" + broadcast + ":9,broadcast"});
+  kill(scenario.daemon()->pid(), SIGCONT);
+  EXPECT_EQ(flood.code, 0) << flood.err;
+  EXPECT_TRUE(Pings(scenario, "a", 1, 3));
+  const proto::MediumStatus status = scenario.Counters();
+  EXPECT_GT(status.station(0).kernel_tx_dropped(), 0u);
+  EXPECT_GT(status.station(0).queue_drops(), 0u);
+}
+
+TEST(TapbridgeBadInput, DeletedNamespaceReportedOthersKeepRunning) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario(
+      "del", 0, std::string(kTwo) + "robot { name: \"c\" position_m { x: 5 y: 5 z: 1 } }\n");
+  scenario.StartDaemon();
+  ASSERT_TRUE(Pings(scenario, "a", 2));
+  ASSERT_EQ(RunProgram({"ip", "netns", "delete", scenario.Netns("c")}).code, 0);
+  EXPECT_TRUE(scenario.daemon()->WaitFor("detached", true, 5 * kNsPerS))
+      << scenario.daemon()->err();
+  EXPECT_TRUE(Pings(scenario, "a", 1));
+  EXPECT_FALSE(scenario.Counters().station(2).attached());
+}
+
+// TAPs are persistent: a new daemon attaches to them again.
+TEST(TapbridgeBadInput, DaemonRestartReattaches) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("rst", 1, kTwo);
+  scenario.StartDaemon();
+  ASSERT_TRUE(Pings(scenario, "a", 1));
+  const std::string log = scenario.StopDaemon();
+  EXPECT_NE(log.find("stopping on SIGTERM"), std::string::npos) << log;
+  EXPECT_FALSE(Pings(scenario, "a", 1, 1)) << "no daemon, no medium";
+  scenario.StartDaemon();
+  EXPECT_TRUE(Pings(scenario, "a", 1));
+}
+
+}  // namespace
+}  // namespace sitlnet::tapbridge::testing

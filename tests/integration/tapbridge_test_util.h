@@ -1,0 +1,120 @@
+// Helpers for the tapbridge integration tests: a scenario brought up with the
+// CLI under a unique name, the medium daemon as a child process, programs run
+// inside robots, 802.11 timing computed from the standard (the oracles).
+#ifndef SITLNET_TESTS_INTEGRATION_TAPBRIDGE_TEST_UTIL_H_
+#define SITLNET_TESTS_INTEGRATION_TAPBRIDGE_TEST_UTIL_H_
+
+#include <gtest/gtest.h>
+#include <sys/types.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/common.h"
+#include "sitlnet/medium.pb.h"
+
+namespace sitlnet::tapbridge::testing {
+
+bool IsCi();
+// Why the tests cannot run here (not root), or empty.
+std::string MissingRoot();
+
+#define SITLNET_REQUIRE_ROOT()                                                \
+  do {                                                                        \
+    const std::string missing = ::sitlnet::tapbridge::testing::MissingRoot(); \
+    if (!missing.empty()) {                                                   \
+      if (::sitlnet::tapbridge::testing::IsCi()) FAIL() << missing;           \
+      GTEST_SKIP() << missing;                                                \
+    }                                                                         \
+  } while (0)
+
+// A child process with stdout and stderr captured through pipes. Killed
+// (SIGKILL, by pid) and reaped on destruction if still running.
+class Child {
+ public:
+  explicit Child(const std::vector<std::string>& argv);
+  ~Child();
+  Child(const Child&) = delete;
+  Child& operator=(const Child&) = delete;
+  pid_t pid() const { return pid_; }
+  // Reads output until `needle` appears in stdout (or stderr) or the timeout.
+  bool WaitFor(const std::string& needle, bool in_stderr, TimeNs timeout_ns);
+  // Waits for exit; returns the exit code (128+signal), -1 on timeout.
+  int Wait(TimeNs timeout_ns);
+  const std::string& out() const { return out_; }
+  const std::string& err() const { return err_; }
+
+ private:
+  void Pump(TimeNs timeout_ns);
+  pid_t pid_ = -1;
+  int out_fd_ = -1, err_fd_ = -1;
+  int status_ = -1;
+  std::string out_, err_;
+};
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+// Runs argv to completion (SIGKILL after the timeout).
+Result RunProgram(const std::vector<std::string>& argv, TimeNs timeout_ns = 60 * kNsPerS);
+
+std::string SitlnetBinary();
+std::string SourceDir();
+
+// A scenario `sitlnet up` under a unique name (tag, pid, slot) with unique
+// subnets; `body` holds robot/radio/obstacle lines (no name, no addresses).
+// The destructor stops the daemon (SIGTERM, then SIGKILL) and runs
+// `sitlnet down NAME`.
+class MediumScenario {
+ public:
+  MediumScenario(const std::string& tag, int slot, const std::string& body);
+  ~MediumScenario();
+  const std::string& name() const { return name_; }
+  const std::string& path() const { return path_; }
+  const std::string& dir() const { return dir_; }
+  // wlan0 address of robot `index` (host index+1 of the wlan subnet).
+  std::string Address(int index) const;
+  std::string Netns(const std::string& robot) const { return name_ + "-" + robot; }
+
+  // Starts `sitlnet medium` with `args`; waits for its "attached" line.
+  void StartDaemon(const std::vector<std::string>& args = {});
+  // SIGTERM and wait; returns the daemon's stderr.
+  std::string StopDaemon();
+  Child* daemon() { return daemon_.get(); }
+
+  // Runs argv inside robot `robot` (by name) with `sitlnet exec`.
+  Result Exec(const std::string& robot, const std::vector<std::string>& argv,
+              TimeNs timeout_ns = 60 * kNsPerS);
+  std::unique_ptr<Child> Spawn(const std::string& robot, const std::vector<std::string>& argv);
+
+  proto::MediumStatus Counters();
+  void SetPosition(const std::string& robot, double x, double y, double z);
+
+ private:
+  std::string name_, path_, dir_, subnet_prefix_;
+  bool up_ = false;
+  std::unique_ptr<Child> daemon_;
+};
+
+//------------------------- 802.11 timing (the oracle) ------------------------
+// IEEE 802.11-2016 clause 17 (OFDM): TXTIME = 20 µs preamble+SIGNAL +
+// 4 µs x ceil((16 service + 8 L + 6 tail) / N_DBPS), N_DBPS = 4 x rate.
+TimeNs OfdmAirtimeNs(int psdu_bytes, double rate_mbps);
+// Control response rate: highest 11a basic rate (6, 12, 24) <= data rate.
+double OfdmAckRateMbps(double rate_mbps);
+inline constexpr TimeNs kOfdmSlotNs = 9000, kOfdmSifsNs = 16000, kOfdmDifsNs = 34000;
+inline constexpr int kOfdmCwMin = 15;
+// An Ethernet frame of E bytes is E + 22 on air: 24 MAC header + 8 LLC/SNAP +
+// 4 FCS - 14 Ethernet header.
+inline constexpr int kEthernetToPsduBytes = 22;
+inline constexpr int kAckBytes = 14;
+
+// Bianchi-style one-station saturation goodput (no collisions): payload bits
+// per DIFS + mean backoff (CWmin/2 slots) + DATA + SIFS + ACK.
+double OneStationGoodputMbps(int udp_payload_bytes, double rate_mbps);
+
+}  // namespace sitlnet::tapbridge::testing
+
+#endif  // SITLNET_TESTS_INTEGRATION_TAPBRIDGE_TEST_UTIL_H_

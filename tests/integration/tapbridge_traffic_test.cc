@@ -1,0 +1,168 @@
+// Real, unmodified programs (ping, iperf3, socat) between robots through the
+// medium daemon; every bound is computed from 802.11 timing in the test.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <regex>
+#include <sstream>
+
+#include "tests/integration/tapbridge_test_util.h"
+
+namespace sitlnet::tapbridge::testing {
+namespace {
+
+std::string TwoRobots(double rate_mbps) {
+  std::ostringstream body;
+  body << "robot { name: \"a\" position_m { x: 0 y: 0 z: 1 } }\n"
+       << "robot { name: \"b\" position_m { x: 10 y: 0 z: 1 } }\n"
+       << "radio { standard: STANDARD_80211A rate_mbps: " << rate_mbps << " }\n";
+  return body.str();
+}
+
+// "rtt min/avg/max/mdev = 0.256/0.557/2.525/0.682 ms" -> {min, avg} in ns.
+std::pair<TimeNs, TimeNs> PingRtt(const std::string& out) {
+  std::smatch m;
+  if (!std::regex_search(out, m, std::regex(R"(= ([0-9.]+)/([0-9.]+)/)"))) return {-1, -1};
+  return {static_cast<TimeNs>(std::stod(m[1]) * kNsPerMs),
+          static_cast<TimeNs>(std::stod(m[2]) * kNsPerMs)};
+}
+
+// Bound: an 84-byte ICMP packet is a 98-byte Ethernet frame, a 120-byte PSDU.
+// Each direction costs at least its airtime (delivery at the end of the PPDU,
+// idle medium, immediate access) and at most DIFS + CWmin slots of backoff +
+// airtime. On top, each of the two deliveries may be written up to 200 µs late
+// (the bridge's p99 target) and the kernels turn the echo around. ns-3's
+// TapBridge shows 0.673 ms here (reference.md); we must beat it.
+TEST(TapbridgeTraffic, PingRttMatchesAirtimeAndDcf) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("png", 0, TwoRobots(54));
+  scenario.StartDaemon();
+  ASSERT_EQ(scenario.Exec("a", {"ping", "-c", "1", "-W", "2", scenario.Address(1)}).code, 0);
+  const Result ping =
+      scenario.Exec("a", {"ping", "-q", "-c", "50", "-i", "0.02", scenario.Address(1)});
+  ASSERT_EQ(ping.code, 0) << ping.out << ping.err;
+  const auto [min_ns, avg_ns] = PingRtt(ping.out);
+  const TimeNs airtime_ns = OfdmAirtimeNs(98 + kEthernetToPsduBytes, 54);
+  const TimeNs worst_medium_ns = kOfdmDifsNs + kOfdmCwMin * kOfdmSlotNs + airtime_ns;
+  const TimeNs bridge_allowance_ns = 200 * kNsPerUs;
+  std::printf("ping RTT min %.3f ms avg %.3f ms; airtime %ld ns per direction\n", min_ns / 1e6,
+              avg_ns / 1e6, static_cast<long>(airtime_ns));
+  EXPECT_GE(min_ns, 2 * airtime_ns) << "faster than the air allows: frames bypass the medium";
+  EXPECT_LE(avg_ns, 2 * (worst_medium_ns + bridge_allowance_ns));
+  EXPECT_LT(avg_ns, 673 * kNsPerUs) << "not better than ns-3 TapBridge (reference.md)";
+}
+
+// Receiver-side interval goodputs (Kbits/sec) from iperf3's text output,
+// without the first and the last interval (start-up and the partial end).
+std::vector<double> SteadyIntervalsMbps(const std::string& server_text) {
+  std::vector<double> values;
+  std::regex line(R"(sec\s+[0-9.]+ \w?Bytes\s+([0-9.]+) Kbits/sec)");
+  std::istringstream lines(server_text);
+  std::string text;
+  while (std::getline(lines, text)) {
+    std::smatch m;
+    if (text.find("receiver") != std::string::npos || text.find("sender") != std::string::npos) {
+      continue;
+    }
+    if (std::regex_search(text, m, line)) values.push_back(std::stod(m[1]) / 1000);
+  }
+  if (values.size() >= 3) values = std::vector<double>(values.begin() + 1, values.end() - 1);
+  return values;
+}
+
+class TapbridgeUdpSaturation : public ::testing::TestWithParam<double> {};
+
+// One saturated sender: the receiver's goodput must be within 5 % of
+// payload / (DIFS + CWmin/2 slots + DATA + SIFS + ACK) (Bianchi, one station;
+// reference.md: ns-3 shows 29.875 / 5.262 Mb/s for 1470 B at 54 / 6 Mb/s).
+TEST_P(TapbridgeUdpSaturation, GoodputWithinFivePercentOfAnalytic) {
+  SITLNET_REQUIRE_ROOT();
+  const double rate_mbps = GetParam();
+  MediumScenario scenario(rate_mbps > 10 ? "u54" : "u6", 1, TwoRobots(rate_mbps));
+  scenario.StartDaemon();
+  auto server = scenario.Spawn(
+      "b", {"iperf3", "-s", "-1", "--forceflush", "-f", "k", "-B", scenario.Address(1)});
+  ASSERT_TRUE(server->WaitFor("Server listening", false, 10 * kNsPerS)) << server->err();
+  const double analytic_mbps = OneStationGoodputMbps(1470, rate_mbps);
+  const std::string offered = std::to_string(static_cast<int>(2 * analytic_mbps)) + "M";
+  const Result client = scenario.Exec(
+      "a", {"iperf3", "-c", scenario.Address(1), "-u", "-b", offered, "-l", "1470", "-t", "6"});
+  ASSERT_EQ(client.code, 0) << client.out << client.err;
+  ASSERT_EQ(server->Wait(10 * kNsPerS), 0);
+  const std::vector<double> intervals = SteadyIntervalsMbps(server->out());
+  ASSERT_GE(intervals.size(), 3u) << server->out();
+  double sum = 0;
+  for (double v : intervals) sum += v;
+  const double measured_mbps = sum / intervals.size();
+  std::printf("802.11a %.0f Mb/s: UDP goodput %.3f Mb/s, analytic %.3f Mb/s\n", rate_mbps,
+              measured_mbps, analytic_mbps);
+  EXPECT_NEAR(measured_mbps, analytic_mbps, 0.05 * analytic_mbps);
+  const proto::MediumStatus status = scenario.Counters();
+  EXPECT_GT(status.station(0).queue_drops(), 0u) << "offered 2x capacity: the queue must overflow";
+}
+
+INSTANTIATE_TEST_SUITE_P(Rates, TapbridgeUdpSaturation, ::testing::Values(54.0, 6.0));
+
+// TCP: expect the DATA/ACK pattern of delayed ACKs (one 66-byte TCP ACK per
+// two 1514-byte segments) in one DCF cycle each, i.e. about 24 Mb/s at 54
+// (ns-3 measured 24.07, reference.md). Plausible: between 75 % of that and
+// the one-station UDP bound (collisions between the two senders and TCP's
+// own dynamics only lower it).
+TEST(TapbridgeTraffic, TcpCompletesWithPlausibleGoodput) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("tcp", 2, TwoRobots(54));
+  scenario.StartDaemon();
+  auto server =
+      scenario.Spawn("b", {"iperf3", "-s", "-1", "--forceflush", "-B", scenario.Address(1)});
+  ASSERT_TRUE(server->WaitFor("Server listening", false, 10 * kNsPerS)) << server->err();
+  const Result client =
+      scenario.Exec("a", {"iperf3", "-c", scenario.Address(1), "-t", "5", "--json"});
+  ASSERT_EQ(client.code, 0) << client.out << client.err;
+  std::smatch m;
+  const std::string& json = client.out;
+  const size_t at = json.find("\"sum_received\"");
+  ASSERT_NE(at, std::string::npos) << json;
+  const std::string tail = json.substr(at);
+  ASSERT_TRUE(std::regex_search(tail, m, std::regex(R"("bits_per_second":\s*([0-9.e+]+))")));
+  const double measured_mbps = std::stod(m[1]) / 1e6;
+  const auto cycle_ns = [](int ethernet_bytes) {
+    return kOfdmDifsNs + kOfdmCwMin / 2.0 * kOfdmSlotNs +
+           OfdmAirtimeNs(ethernet_bytes + kEthernetToPsduBytes, 54) + kOfdmSifsNs +
+           OfdmAirtimeNs(kAckBytes, OfdmAckRateMbps(54));
+  };
+  const double expected_mbps = 2 * 1448 * 8.0 / (2 * cycle_ns(1514) + cycle_ns(66)) * 1e3;
+  std::printf("TCP goodput %.3f Mb/s, expected about %.3f Mb/s\n", measured_mbps, expected_mbps);
+  EXPECT_GT(measured_mbps, 0.75 * expected_mbps);
+  EXPECT_LT(measured_mbps, OneStationGoodputMbps(1448, 54) * 1.02);
+  server->Wait(10 * kNsPerS);
+}
+
+// One IPv4 multicast datagram from robot a reaches both b and c.
+TEST(TapbridgeTraffic, SocatMulticastFromOneRobotToTwo) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("mc", 3,
+                          "robot { name: \"a\" position_m { x: 0 y: 0 z: 1 } }\n"
+                          "robot { name: \"b\" position_m { x: 10 y: 0 z: 1 } }\n"
+                          "robot { name: \"c\" position_m { x: 0 y: 10 z: 1 } }\n");
+  scenario.StartDaemon();
+  std::vector<std::unique_ptr<Child>> receivers;
+  for (int i : {1, 2}) {
+    receivers.push_back(scenario.Spawn(
+        i == 1 ? "b" : "c",
+        {"socat", "-d", "-d", "-u",
+         "UDP4-RECV:5007,reuseaddr,ip-add-membership=239.7.7.7:" + scenario.Address(i), "STDOUT"}));
+    ASSERT_TRUE(receivers.back()->WaitFor("starting data transfer loop", true, 10 * kNsPerS))
+        << receivers.back()->err();
+  }
+  const Result sent =
+      scenario.Exec("a", {"socat", "-u", "SYSTEM:echo hello-multicast",
+                          "UDP4-DATAGRAM:239.7.7.7:5007,ip-multicast-if=" + scenario.Address(0) +
+                              ",ip-multicast-ttl=1"});
+  ASSERT_EQ(sent.code, 0) << sent.err;
+  for (auto& receiver : receivers) {
+    EXPECT_TRUE(receiver->WaitFor("hello-multicast", false, 5 * kNsPerS)) << receiver->err();
+  }
+}
+
+}  // namespace
+}  // namespace sitlnet::tapbridge::testing
