@@ -10,19 +10,23 @@
 //
 // Network side: the real medium (mac_phy_sim), every robot broadcasting 200 B
 // at 10 Hz (reference.md's broadcast scale workload), all robots in range.
-// Physics side: SYNTHETIC, a measured busy loop of kPhysicsWorkNsPerRobotStep
-// per robot per physics step (MuJoCo's cost from reference.md), because
-// physics_mujoco is not wired in yet. Every table says so.
+// Physics side: the real MuJoCo world (physics_mujoco's World, 2 threads,
+// δ_phy = 1 ms, every robot hovering), or with SITLNET_BENCH_PHYSICS=synthetic
+// a measured busy loop of kPhysicsWorkNsPerRobotStep per robot per step
+// (MuJoCo's cost from reference.md); tables say which.
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "coordinator/coordinator.h"
 #include "coordinator/medium_connector.h"
+#include "coordinator/physics_connector.h"
 #include "coordinator/synthetic.h"
 
 namespace sitlnet::coordinator {
@@ -65,6 +69,37 @@ SyntheticOptions PhysicsWork(const Scenario& s) {
   return options;
 }
 
+bool SyntheticPhysicsChosen() {
+  const char* text = std::getenv("SITLNET_BENCH_PHYSICS");
+  return text && std::string(text) == "synthetic";
+}
+
+// Hover: thrust of four rotors equals weight.
+void Hover(physics::World* world) {
+  for (int i = 0; i < world->robot_count(); ++i) {
+    const proto::Airframe& a = world->airframe(i);
+    const double w = std::sqrt(a.mass_kg() * 9.81 / (4 * a.thrust_coefficient()));
+    world->SetRotorSpeeds(i, {w, w, w, w});
+  }
+}
+
+// The physics simulator of the bench: MuJoCo or synthetic.
+struct BenchPhysics {
+  explicit BenchPhysics(const Scenario& scenario) {
+    if (SyntheticPhysicsChosen()) {
+      synthetic = std::make_unique<SyntheticPhysics>(PhysicsWork(scenario));
+    } else {
+      world = std::make_unique<physics::World>(scenario);
+      Hover(world.get());
+      mujoco = std::make_unique<WorldSimulator>(scenario, world.get());
+    }
+  }
+  Simulator* get() { return synthetic ? static_cast<Simulator*>(synthetic.get()) : mujoco.get(); }
+  std::unique_ptr<SyntheticPhysics> synthetic;
+  std::unique_ptr<physics::World> world;
+  std::unique_ptr<WorldSimulator> mujoco;
+};
+
 int Serve(const std::string& role, const std::string& endpoint, int robots, int net_step_us) {
   const Scenario scenario = BenchScenario(robots, net_step_us);
   const ConnectorIdentity identity{role, role == "physics" ? Role::kPhysics : Role::kNetwork,
@@ -72,8 +107,8 @@ int Serve(const std::string& role, const std::string& endpoint, int robots, int 
   Channel channel(Connect(ParseEndpoint(endpoint), MonotonicNowNs() + 10 * kNsPerS));
   channel.set_spin_ns(SpinNs());
   if (identity.role == Role::kPhysics) {
-    SyntheticPhysics physics(PhysicsWork(scenario));
-    ServeCoordinator(channel, physics, identity, 10 * kNsPerS);
+    BenchPhysics physics(scenario);
+    ServeCoordinator(channel, *physics.get(), identity, 10 * kNsPerS);
   } else {
     PeriodicBroadcast traffic(robots, kBroadcastPeriodNs, kBroadcastBytes);
     MediumSimulator medium(scenario, &traffic);
@@ -96,7 +131,7 @@ Row RunOne(const std::string& transport, int robots, int net_step_us, int64_t it
   MetricsCollector metrics;
   options.metrics = &metrics;
   if (transport == "inproc") {
-    SyntheticPhysics physics_sim(PhysicsWork(scenario));
+    BenchPhysics physics_sim(scenario);
     PeriodicBroadcast traffic(robots, kBroadcastPeriodNs, kBroadcastBytes);
     MediumSimulator medium(scenario, &traffic);
     // The slower side (physics here, as the T_phy and T_net columns show)
@@ -104,7 +139,7 @@ Row RunOne(const std::string& transport, int robots, int net_step_us, int64_t it
     // waiting for it, and the faster side has finished when it looks.
     const bool physics_slower = true;
     auto physics =
-        MakeInProcessConnector("physics", Role::kPhysics, &physics_sim,
+        MakeInProcessConnector("physics", Role::kPhysics, physics_sim.get(),
                                physics_slower ? Threading::kCallerThread : Threading::kOwnThread);
     auto network = MakeInProcessConnector(
         "network", Role::kNetwork, &medium,
@@ -142,8 +177,9 @@ Row RunOne(const std::string& transport, int robots, int net_step_us, int64_t it
 
 void PrintHeader() {
   std::printf(
-      "| transport | robots | Δ / δ_net | T_phy µs (synthetic) | T_net µs (medium) | "
-      "T_total µs | T_overhead µs mean | p99 | overhead share | STF |\n");
+      "| transport | robots | Δ / δ_net | T_phy µs (%s) | T_net µs (medium) | "
+      "T_total µs | T_overhead µs mean | p99 | overhead share | STF |\n",
+      SyntheticPhysicsChosen() ? "synthetic" : "MuJoCo");
   std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
 }
 
