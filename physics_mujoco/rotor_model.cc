@@ -50,4 +50,17 @@ void RotorModel::BodyWrench(const RotorSpeeds& speeds_rad_s, double force_n[3],
   }
 }
 
+void ApplyRotorWrench(const RotorModel& rotors, const RotorSpeeds& speeds,
+                      double linear_drag_n_s_per_m, int body, mjData* d) {
+  double force_body[3], torque_body[3], rotation[9];
+  rotors.BodyWrench(speeds, force_body, torque_body);
+  mju_quat2Mat(rotation, d->qpos + 3);
+  double* applied = d->xfrc_applied + 6 * body;
+  mju_mulMatVec(applied, rotation, force_body, 3, 3);
+  mju_mulMatVec(applied + 3, rotation, torque_body, 3, 3);
+  if (linear_drag_n_s_per_m != 0) {
+    for (int i = 0; i < 3; ++i) applied[i] -= linear_drag_n_s_per_m * d->qvel[i];
+  }
+}
+
 }  // namespace sitlnet::physics

@@ -3,6 +3,8 @@
 #ifndef SITLNET_PHYSICS_MUJOCO_ROTOR_MODEL_H_
 #define SITLNET_PHYSICS_MUJOCO_ROTOR_MODEL_H_
 
+#include <mujoco/mujoco.h>
+
 #include "physics_mujoco/physics_mujoco.h"
 
 namespace sitlnet::physics {
@@ -39,6 +41,12 @@ class RotorModel {
   double alpha_up_;    // 1 - exp(-dt / tau_up)
   double alpha_down_;  // 1 - exp(-dt / tau_down)
 };
+
+// Writes the rotors' wrench at `speeds` plus linear drag -c*v into xfrc_applied of `body`
+// (world frame, force then torque, at the centre of mass), using the attitude in d->qpos[3..6]
+// (a free joint's quaternion: current, unlike xquat after mj_step).
+void ApplyRotorWrench(const RotorModel& rotors, const RotorSpeeds& speeds,
+                      double linear_drag_n_s_per_m, int body, mjData* d);
 
 }  // namespace sitlnet::physics
 

@@ -33,23 +33,12 @@ struct RobotSlot {
   ImuNoise imu_noise;
 };
 
-// One physics step of one robot: motor lag, rotor wrench from the current attitude (qpos,
-// always current, unlike xquat after mj_step), then mj_step.
+// One physics step of one robot: motor lag, rotor wrench from the current attitude, mj_step.
 void StepRobot(RobotSlot* slot) {
   const AirframeModel& am = *slot->airframe_model;
-  const mjModel* m = am.model.get();
-  mjData* d = slot->data.get();
   am.rotors.StepMotors(slot->target, &slot->speeds);
-  double force_body[3], torque_body[3], rotation[9];
-  am.rotors.BodyWrench(slot->speeds, force_body, torque_body);
-  mju_quat2Mat(rotation, d->qpos + 3);
-  double* applied = d->xfrc_applied + 6 * am.body;  // force (3), then torque (3), at the COM
-  mju_mulMatVec(applied, rotation, force_body, 3, 3);
-  mju_mulMatVec(applied + 3, rotation, torque_body, 3, 3);
-  if (slot->linear_drag_n_s_per_m != 0) {
-    for (int i = 0; i < 3; ++i) applied[i] -= slot->linear_drag_n_s_per_m * d->qvel[i];
-  }
-  mj_step(m, d);
+  ApplyRotorWrench(am.rotors, slot->speeds, slot->linear_drag_n_s_per_m, am.body, slot->data.get());
+  mj_step(am.model.get(), slot->data.get());
   ++slot->steps;
 }
 

@@ -3,7 +3,7 @@
 //   raw mj_step of ONE model holding every robot (the alternative layout);
 //   World::Advance (rotor/motor model, wrench, bookkeeping) with 1 and 2 threads;
 //   PhysicsServer::Advance (plus polling, failsafe and state timing, no subscribers).
-// Every figure is the median of 5 interleaved runs, all in the same process. Usage:
+// Every figure is the median of 9 interleaved runs, all in the same process. Usage:
 //   physics_bench [--quick]      (--quick: 1 run each, for smoke tests)
 // The command -> state round trip over a real ctl0 is physics_rtt_bench (needs root).
 #include <algorithm>
@@ -16,13 +16,14 @@
 
 #include "physics_mujoco/mujoco_model.h"
 #include "physics_mujoco/physics_mujoco.h"
+#include "physics_mujoco/rotor_model.h"
 #include "physics_mujoco/step_pool.h"
 #include "physics_mujoco/world_builder.h"
 
 namespace sitlnet::physics {
 namespace {
 
-int g_runs = 5;
+int g_runs = 9;
 
 // N robots on a 2 m grid at 2 m altitude, 4 obstacle boxes around them.
 Scenario GridScenario(int robots, int ctl_octet = 78) {
@@ -165,6 +166,33 @@ Row Measure(int robots, Integrator integrator) {
   return row;
 }
 
+// Thread CPU ns per robot-step of the work World adds around mj_step (motor lag + wrench),
+// measured alone: the overhead without mj_step's run-to-run noise.
+double OwnWorkNsPerRobotStep() {
+  const Scenario scenario = GridScenario(64);
+  const proto::Airframe& airframe = scenario.robots[0].airframe;
+  ModelPtr model =
+      LoadModelFromXml(SingleRobotWorldXml(scenario, airframe, Integrator::kRk4), "bench own");
+  const RotorModel rotors(airframe, scenario.physics_step_ns);
+  std::vector<DataPtr> datas;
+  std::vector<RotorSpeeds> speeds(64);
+  for (int i = 0; i < 64; ++i) datas.emplace_back(mj_makeData(model.get()));
+  const RotorSpeeds target{1000, 1010, 990, 1005};
+  std::vector<double> samples;
+  const int steps = 2000;
+  for (int r = 0; r < g_runs; ++r) {
+    const TimeNs start = ThreadCpuNowNs();
+    for (int i = 0; i < 64; ++i) {
+      for (int s = 0; s < steps; ++s) {
+        rotors.StepMotors(target, &speeds[i]);
+        ApplyRotorWrench(rotors, speeds[i], 0.1, 1, datas[i].get());
+      }
+    }
+    samples.push_back(static_cast<double>(ThreadCpuNowNs() - start) / (64.0 * steps));
+  }
+  return Median(samples);
+}
+
 }  // namespace
 }  // namespace sitlnet::physics
 
@@ -189,5 +217,7 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
   }
+  std::printf("own work per robot-step (motor lag + wrench), thread CPU: %.0f ns\n",
+              OwnWorkNsPerRobotStep());
   return 0;
 }
