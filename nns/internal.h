@@ -107,6 +107,21 @@ void TerminateProcesses(const std::vector<ProcessInfo>& processes, DownReport* r
 //--------------------------------- State ------------------------------------
 
 std::string StatePath(const std::string& scenario);
+
+// Exclusive lock on /run/sitlnet/.lock for the lifetime of the object: `up`
+// and `down` of any scenario run one at a time, so that the checks (names,
+// routes) and the creation they guard cannot interleave. flock: released by
+// the kernel when the process dies, kill -9 included.
+class StateLock {
+ public:
+  StateLock();
+
+ private:
+  UniqueFd fd_;
+};
+
+// Down without taking the lock (the caller holds it).
+DownReport DownLocked(const std::string& name);
 // Link group of the scenario's root-side veths, derived from its name.
 uint32_t LinkGroupForScenario(const std::string& scenario);
 void WriteState(const ScenarioState& state);  // Atomic (write + rename).

@@ -2,6 +2,7 @@
 // `exec`. One line per fact, space separated, so that a human can read it.
 #include <dirent.h>
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -104,13 +105,29 @@ std::string StatePath(const std::string& scenario) {
   return std::string(kStateDir) + "/" + scenario + "/state";
 }
 
-void WriteState(const ScenarioState& state) {
-  const std::string dir = std::string(kStateDir) + "/" + state.name;
-  for (const std::string& d : {std::string(kStateDir), dir}) {
-    if (mkdir(d.c_str(), 0755) != 0 && errno != EEXIST) {
-      throw Error(SystemErrorMessage("create state directory \"" + d + "\"", errno));
-    }
+namespace {
+
+void MakeDirectory(const std::string& dir) {
+  if (mkdir(dir.c_str(), 0755) != 0 && errno != EEXIST) {
+    throw Error(SystemErrorMessage("create state directory \"" + dir + "\"", errno));
   }
+}
+
+}  // namespace
+
+StateLock::StateLock() {
+  MakeDirectory(kStateDir);
+  const std::string path = std::string(kStateDir) + "/.lock";
+  fd_.Reset(open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644));
+  if (!fd_.valid()) throw Error(SystemErrorMessage("open \"" + path + "\"", errno));
+  while (flock(fd_.get(), LOCK_EX) != 0) {
+    if (errno != EINTR) throw Error(SystemErrorMessage("lock \"" + path + "\"", errno));
+  }
+}
+
+void WriteState(const ScenarioState& state) {
+  MakeDirectory(kStateDir);
+  MakeDirectory(std::string(kStateDir) + "/" + state.name);
   const std::string path = StatePath(state.name);
   const std::string temporary = path + ".tmp";
   const std::string text = FormatState(state);

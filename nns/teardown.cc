@@ -115,6 +115,11 @@ std::vector<ProcessInfo> ProcessesInNetns(const std::string& netns) {
 }
 
 DownReport Down(const std::string& name) {
+  internal::StateLock lock;
+  return internal::DownLocked(name);
+}
+
+DownReport internal::DownLocked(const std::string& name) {
   DownReport report;
   const std::optional<ScenarioState> state = ReadScenarioState(name);
   if (!state) return report;
@@ -156,9 +161,10 @@ DownReport Down(const std::string& name) {
 }
 
 DownReport DownAll() {
+  internal::StateLock lock;
   DownReport total;
   for (const std::string& name : ListScenarios()) {
-    const DownReport one = Down(name);
+    const DownReport one = internal::DownLocked(name);
     total.namespaces_removed += one.namespaces_removed;
     total.links_removed += one.links_removed;
     total.processes_terminated += one.processes_terminated;

@@ -132,7 +132,8 @@ void UpAllRobots(const Scenario& scenario, const UpOptions& options) {
 
 void Up(const Scenario& scenario, const UpOptions& options) {
   RequirePrivileges();
-  Down(scenario.name);  // Our own leftovers (a crash, a previous up).
+  internal::StateLock lock;
+  internal::DownLocked(scenario.name);  // Our own leftovers (a crash, a previous up).
   {
     RouteSocket root;
     RefuseForeignObjects(scenario, root);
@@ -144,7 +145,7 @@ void Up(const Scenario& scenario, const UpOptions& options) {
     UpAllRobots(scenario, options);
   } catch (...) {
     try {
-      Down(scenario.name);
+      internal::DownLocked(scenario.name);
     } catch (...) {
       // Keep the original error; `sitlnet down` can finish the job.
     }
