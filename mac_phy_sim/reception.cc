@@ -15,6 +15,10 @@ namespace {
 
 double ToDb(double linear) { return 10 * std::log10(linear); }
 
+// ns-3's PreambleDetectionDuration: the preamble detection model decides 4 us
+// after the start of a frame.
+constexpr TimeNs kPreambleDetectionNs = 4 * kNsPerUs;
+
 // Success probability of [a, b) of the locked frame at constant `sinr`.
 double ChunkSuccess(const State& s, const Transmission& tx, TimeNs a, TimeNs b, double sinr) {
   double success = 1;
@@ -75,6 +79,27 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
   }
   if (st.rx.tx >= 0) {
     CloseChunk(s, st);
+    if (s.now_ns < st.rx.start_ns + kPreambleDetectionNs) {
+      // Still inside the preamble detection window (ns-3 PhyEntity): a
+      // stronger frame takes over; either way the frame being detected must
+      // keep its SINR threshold, else its preamble is missed. Two frames that
+      // start together at equal power are thus both missed, as in ns-3: no
+      // reception error, so no EIFS.
+      Transmission& old_tx = s.transmissions[st.rx.tx];
+      if (entry.power_mw > st.rx.power_mw) {
+        old_tx.rx[st.rx.entry].outcome = RxOutcome::kCollided;
+        Lock(s, st, tx, entry_index, energy_before);
+      } else {
+        st.rx.interference_mw += entry.power_mw;
+        st.rx.interfered = true;
+        entry.outcome = RxOutcome::kCollided;
+      }
+      if (st.rx.power_mw < s.preamble_snr_linear * (s.noise_mw + st.rx.interference_mw)) {
+        s.transmissions[st.rx.tx].rx[st.rx.entry].outcome = RxOutcome::kCollided;
+        st.rx.tx = -1;
+      }
+      return;
+    }
     const auto& capture = s.config.capture_margin_db;
     if (capture && s.now_ns < st.rx.start_ns + s.preamble_ns &&
         entry.power_dbm >= ToDb(st.rx.power_mw) + *capture) {
