@@ -152,6 +152,15 @@ class PhysicsServer {
   // its RobotState at its state rate and cutting motors of robots silent past their timeout.
   void Advance(int steps);
 
+  // Lock-step (docs/design.md, "lockstep"): sends every subscribed, world-clocked robot its
+  // RobotState now (on top of the periodic ones).
+  void SendStates();
+  // Lock-step: handles packets until every subscribed, world-clocked robot has sent a command
+  // whose `step` equals its current physics step count (the `step` of the state it just got),
+  // or `timeout_ns` of wall time passed. Returns the robots still missing (empty: all in).
+  // Robot software joins the lock-step with its first command; others are not waited for.
+  std::vector<int> CollectCommands(TimeNs timeout_ns);
+
   // An fd that becomes readable when Poll() has packets to handle (epoll).
   int wait_fd() const;
   World& world();

@@ -190,13 +190,41 @@ struct PhysicsServer::Impl {
     }
     if (now < ep.next_state_ns) return;
     while (ep.next_state_ns <= now) ep.next_state_ns += ep.state_period_ns;
-    if (!ep.subscribed) return;
+    if (ep.subscribed) SendState(ep);
+  }
+
+  void SendState(Endpoint& ep) {
     world.Lidar(ep.robot, &lidar);
-    FillRobotState(ep.robot, world.steps(ep.robot), now, world.Pose(ep.robot), world.Imu(ep.robot),
-                   lidar, world.rotor_speeds(ep.robot), ep.command_step, ep.motors_cut, &state);
+    FillRobotState(ep.robot, world.steps(ep.robot), world.time_ns(ep.robot), world.Pose(ep.robot),
+                   world.Imu(ep.robot), lidar, world.rotor_speeds(ep.robot), ep.command_step,
+                   ep.motors_cut, &state);
     state.SerializeToString(&wire);
     Send(ep, ep.native, wire, ep.reply);
     ++ep.counters.states_sent;
+  }
+
+  bool InLockStep(const Endpoint& ep) const {
+    return ep.subscribed && !world.frame_driven(ep.robot);
+  }
+
+  std::vector<int> CollectCommands(TimeNs timeout_ns) {
+    const TimeNs deadline_ns = MonotonicNowNs() + timeout_ns;
+    std::vector<int> missing;
+    for (;;) {
+      Poll();
+      missing.clear();
+      for (const Endpoint& ep : endpoints) {
+        if (InLockStep(ep) && ep.command_step != static_cast<uint64_t>(world.steps(ep.robot))) {
+          missing.push_back(ep.robot);
+        }
+      }
+      const TimeNs left_ns = deadline_ns - MonotonicNowNs();
+      if (missing.empty() || left_ns <= 0) return missing;
+      pollfd fd{epoll_fd, POLLIN, 0};
+      const timespec wait{static_cast<time_t>(left_ns / kNsPerS),
+                          static_cast<long>(left_ns % kNsPerS)};
+      ppoll(&fd, 1, &wait, nullptr);
+    }
   }
 
   void Advance(int steps) {
@@ -254,6 +282,14 @@ PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& opti
 PhysicsServer::~PhysicsServer() = default;
 
 void PhysicsServer::Poll() { impl_->Poll(); }
+void PhysicsServer::SendStates() {
+  for (Endpoint& ep : impl_->endpoints) {
+    if (impl_->InLockStep(ep)) impl_->SendState(ep);
+  }
+}
+std::vector<int> PhysicsServer::CollectCommands(TimeNs timeout_ns) {
+  return impl_->CollectCommands(timeout_ns);
+}
 void PhysicsServer::Advance(int steps) { impl_->Advance(steps); }
 int PhysicsServer::wait_fd() const { return impl_->epoll_fd; }
 World& PhysicsServer::world() { return impl_->world; }

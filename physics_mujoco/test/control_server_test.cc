@@ -167,6 +167,27 @@ TEST_F(ControlServerTest, BadPacketsAreDroppedAndCountedAndTheServerKeepsRunning
   EXPECT_EQ(Dropped(server_.counters(0)), 11u);
 }
 
+TEST_F(ControlServerTest, LockStepSendsStatesAndCollectsTheCommandsForThem) {
+  PhysicsClient a(ServerOf(0), RobotSideOf(0));
+  PhysicsClient b(ServerOf(1), RobotSideOf(1));
+  ASSERT_TRUE(a.SendRotorSpeeds({100, 100, 100, 100}));
+  ASSERT_TRUE(b.SendRotorSpeeds({100, 100, 100, 100}));
+  PollUntil(&server_, [&] { return server_.counters(1).commands_accepted == 1; });
+  server_.Advance(3);  // not a state period: no periodic state
+  server_.SendStates();
+  proto::RobotState state;
+  ASSERT_TRUE(a.Receive(&state, 2000));
+  EXPECT_EQ(state.step(), 3u);
+  ASSERT_TRUE(a.SendRotorSpeeds({200, 200, 200, 200}, state.step()));
+  // Robot b got its state too but does not answer: it is reported missing after the timeout.
+  ASSERT_TRUE(b.Receive(&state, 2000));
+  EXPECT_EQ(server_.CollectCommands(50 * kNsPerMs), std::vector<int>{1});
+  EXPECT_EQ(server_.world().rotor_target(0)[0], 200);
+  ASSERT_TRUE(b.SendRotorSpeeds({300, 300, 300, 300}, state.step()));
+  EXPECT_TRUE(server_.CollectCommands(5 * kNsPerS).empty());
+  EXPECT_EQ(server_.world().rotor_target(1)[0], 300);
+}
+
 TEST(ControlServerConfigTest, BadStateRateIsAOneLineErrorNamingTheRobot) {
   const Scenario scenario = MakeScenario("robot { name: \"a\" state_rate_hz: 0 }");
   try {
