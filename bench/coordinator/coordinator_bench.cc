@@ -146,13 +146,18 @@ Row RunOne(const std::string& transport, int robots, int net_step_us, int64_t it
         physics_slower ? Threading::kOwnThread : Threading::kCallerThread, SpinNs());
     RunCoordinator(*physics, *network, options);
   } else {
-    const std::string where = transport == "uds"
+    // "uds"/"tcp": both connectors in their own processes. "uds-net"/"tcp-net":
+    // physics (the slower side) in the coordinator's process on its thread,
+    // only the network connector remote -- the layout for a remote medium.
+    const bool hybrid = transport.ends_with("-net");
+    const std::string where = transport.starts_with("uds")
                                   ? "unix:/tmp/sitlnet-bench-" + std::to_string(getpid()) + ".sock"
                                   : "127.0.0.1:0";
     Listener listener(ParseEndpoint(where));
     const std::string endpoint = listener.endpoint().ToString();
     std::vector<pid_t> children;
     for (const char* role : {"physics", "network"}) {
+      if (hybrid && std::string(role) == "physics") continue;
       const pid_t pid = fork();
       if (pid == 0) {
         const std::string r = std::to_string(robots), s = std::to_string(net_step_us);
@@ -166,13 +171,30 @@ Row RunOne(const std::string& transport, int robots, int net_step_us, int64_t it
     limits.timeout_ns = 10 * kNsPerS;
     limits.deadline_ns = MonotonicNowNs() + limits.timeout_ns;
     HandshakeExpectation expect{ScenarioHash(scenario), scenario.iteration_ns, false};
-    {
+    if (hybrid) {
+      BenchPhysics physics_sim(scenario);
+      auto physics = MakeInProcessConnector("physics", Role::kPhysics, physics_sim.get(),
+                                            Threading::kCallerThread);
+      Channel channel(listener.Accept(limits.deadline_ns));
+      channel.set_spin_ns(SpinNs());
+      auto network = AcceptConnector(std::move(channel), expect, limits);
+      RunCoordinator(*physics, *network, options);
+    } else {
       AcceptedConnectors c = AcceptConnectors(listener, expect, limits, {}, SpinNs());
       RunCoordinator(*c.physics, *c.network, options);
     }
     for (pid_t pid : children) waitpid(pid, nullptr, 0);
   }
   return {transport, robots, net_step_us, metrics.Summarize()};
+}
+
+std::string TransportLabel(const std::string& t) {
+  if (t == "inproc") return "in-process";
+  if (t == "uds") return "Unix socket";
+  if (t == "tcp") return "TCP loopback";
+  if (t == "uds-net") return "physics in-process, network over Unix socket";
+  if (t == "tcp-net") return "physics in-process, network over TCP loopback";
+  return t;
 }
 
 void PrintHeader() {
@@ -186,12 +208,10 @@ void PrintHeader() {
 void PrintRow(const Row& r) {
   const MetricsSummary& s = r.summary;
   std::printf("| %s | %d | 10 / %g ms | %.1f | %.1f | %.1f | %.1f | %.1f | %.2f %% | %.4f |\n",
-              r.transport == "inproc" ? "in-process"
-              : r.transport == "uds"  ? "Unix socket"
-                                      : "TCP loopback",
-              r.robots, r.net_step_us / 1000.0, 1e3 * s.t_phy_ms.mean, 1e3 * s.t_net_ms.mean,
-              1e3 * s.t_total_ms.mean, 1e3 * s.t_overhead_ms.mean, 1e3 * s.t_overhead_ms.p99,
-              100 * s.overhead_share, s.stf.mean);
+              TransportLabel(r.transport).c_str(), r.robots, r.net_step_us / 1000.0,
+              1e3 * s.t_phy_ms.mean, 1e3 * s.t_net_ms.mean, 1e3 * s.t_total_ms.mean,
+              1e3 * s.t_overhead_ms.mean, 1e3 * s.t_overhead_ms.p99, 100 * s.overhead_share,
+              s.stf.mean);
   std::fflush(stdout);
 }
 
@@ -211,7 +231,7 @@ int Main(int argc, char** argv) {
     PrintHeader();
     for (int net_step_us : {10000, 1000}) {
       for (int robots : {1, 8, 32, 64}) {
-        for (const char* transport : {"inproc", "uds", "tcp"}) {
+        for (const char* transport : {"inproc", "uds", "tcp", "uds-net", "tcp-net"}) {
           PrintRow(RunOne(transport, robots, net_step_us, iterations));
         }
       }
@@ -220,7 +240,7 @@ int Main(int argc, char** argv) {
   }
   std::fprintf(stderr,
                "usage: coordinator_bench compression | matrix [iterations] | run "
-               "inproc|uds|tcp ROBOTS NET_STEP_US ITERATIONS\n");
+               "inproc|uds|tcp|uds-net|tcp-net ROBOTS NET_STEP_US ITERATIONS\n");
   return 2;
 }
 
