@@ -24,6 +24,7 @@ int RunStatusCommand(int argc, char** argv);
 int RunMediumCommand(int argc, char** argv);   // cli/medium_command.cc (tapbridge)
 int RunCaptureCommand(int argc, char** argv);  // cli/capture_command.cc (tapbridge)
 int RunPhysicsCommand(int argc, char** argv);  // cli/physics_command.cc (physics_mujoco)
+int RunRunCommand(int argc, char** argv);      // cli/run_command.cc (runner)
 
 // True if any argument before "--" is -h or --help.
 bool WantsHelp(int argc, char** argv);

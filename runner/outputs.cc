@@ -105,7 +105,7 @@ std::vector<std::string> DrawPlots(const std::string& run_dir, const Scenario& s
     script << ObstaclePolygon(scenario.spec.obstacle(i), i + 1);
   }
   script << "plot for [i=0:" << robots - 1
-         << "] 'trajectories.csv' every ::1 using ($2==i ? $3 : 1/0):4 with lines lw 2 "
+         << "] 'trajectories.csv' every ::1 using ($2==i ? $3 : 1/0):4 with points pt 7 ps 0.35 "
             "title sprintf('robot %d', i)\n"
          << "unset object\nset size noratio\n";
   // Connectivity.

@@ -1,0 +1,113 @@
+// `sitlnet run SCENARIO ...`: the whole pipeline (runner/runner.h).
+#include <unistd.h>
+
+#include <climits>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "cli/commands.h"
+#include "runner/runner.h"
+
+namespace sitlnet::cli {
+namespace {
+
+constexpr const char* kRunHelp =
+    "usage: sitlnet run SCENARIO [--out DIR] [--duration S] [--pacing realtime|lockstep]\n"
+    "                   [--seed N] [--no-shadowing] [--no-progress]\n"
+    "\n"
+    "Brings SCENARIO up, starts the simulated 802.11 medium, the MuJoCo physics,\n"
+    "every robot's image and the coordinator, runs for the scenario's duration\n"
+    "(or --duration seconds of simulated time), writes the run folder (default\n"
+    "runs/<scenario>-<UTC time>: scenario, trajectories.csv, metrics.csv,\n"
+    "medium.pcap, deliveries.csv, connectivity.csv, robots/<name>.log,\n"
+    "summary.json, PNG plots) and tears everything down. Ctrl-C stops in order.\n"
+    "Images are looked up in $SITLNET_IMAGES, else the source tree's robot_images/.\n"
+    "\n"
+    "exit codes: 0 ok, 1 failure (a robot failed with on_robot_failure STOP, a\n"
+    "component failed), 2 usage or bad scenario, 3 missing privileges,\n"
+    "130 interrupted (outputs written so far are complete).\n";
+
+std::string SelfExe() {
+  char path[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", path, sizeof path - 1);
+  if (n <= 0) return "sitlnet";
+  path[n] = '\0';
+  return path;
+}
+
+}  // namespace
+
+int RunRunCommand(int argc, char** argv) {
+  if (WantsHelp(argc, argv)) {
+    std::fputs(kRunHelp, stdout);
+    return kExitOk;
+  }
+  runner::RunOptions options;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "sitlnet run: %s needs a value\n", arg.c_str());
+        std::exit(kExitUsage);
+      }
+      return argv[++i];
+    };
+    if (arg == "--out") {
+      options.out_dir = value();
+    } else if (arg == "--duration") {
+      const std::string text = value();
+      char* end = nullptr;
+      options.duration_s = std::strtod(text.c_str(), &end);
+      if (end == text.c_str() || *end != '\0' || !(*options.duration_s > 0)) {
+        std::fprintf(stderr, "sitlnet run: --duration \"%s\" is not a positive number of seconds\n",
+                     text.c_str());
+        return kExitUsage;
+      }
+    } else if (arg == "--pacing") {
+      const std::string pacing = value();
+      if (pacing != "realtime" && pacing != "lockstep") {
+        std::fprintf(stderr, "sitlnet run: --pacing must be realtime or lockstep, not \"%s\"\n",
+                     pacing.c_str());
+        return kExitUsage;
+      }
+      options.lockstep = pacing == "lockstep";
+    } else if (arg == "--seed") {
+      const std::string text = value();
+      char* end = nullptr;
+      options.seed = std::strtoull(text.c_str(), &end, 10);
+      if (end == text.c_str() || *end != '\0') {
+        std::fprintf(stderr, "sitlnet run: --seed \"%s\" is not a number\n", text.c_str());
+        return kExitUsage;
+      }
+    } else if (arg == "--no-shadowing") {
+      options.no_shadowing = true;
+    } else if (arg == "--no-progress") {
+      options.progress = false;
+    } else if (!arg.empty() && arg[0] == '-') {
+      std::fprintf(stderr, "sitlnet run: unknown option %s\n%s", arg.c_str(), kRunHelp);
+      return kExitUsage;
+    } else if (options.scenario_path.empty()) {
+      options.scenario_path = arg;
+    } else {
+      std::fprintf(stderr, "sitlnet run: one scenario only (got %s)\n", arg.c_str());
+      return kExitUsage;
+    }
+  }
+  if (options.scenario_path.empty()) {
+    std::fputs(kRunHelp, stderr);
+    return kExitUsage;
+  }
+  options.sitlnet_exe = SelfExe();
+  const char* images = std::getenv("SITLNET_IMAGES");
+  options.images_root = images ? images : SITLNET_DEFAULT_IMAGES_DIR;
+  int code = kExitOk;
+  const int status = ReportErrors("run", kExitUsage, [&] {
+    code = runner::RunScenario(options).exit_code;
+    return kExitOk;
+  });
+  return status != kExitOk ? status : code;
+}
+
+}  // namespace sitlnet::cli

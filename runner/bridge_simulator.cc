@@ -1,0 +1,49 @@
+#include "runner/bridge_simulator.h"
+
+#include <algorithm>
+
+namespace sitlnet::runner {
+
+BridgeSimulator::BridgeSimulator(const Scenario& scenario, tapbridge::BridgeCore* bridge,
+                                 coordinator::Pacing pacing, double realtime_factor)
+    : bridge_(*bridge),
+      pacing_(pacing),
+      realtime_factor_(realtime_factor),
+      network_step_ns_(scenario.network_step_ns) {}
+
+void BridgeSimulator::MoveStations(const proto::coord::Poses& poses) {
+  const int robots = std::min(bridge_.robot_count(), poses.position_m_size() / 3);
+  for (int i = 0; i < robots; ++i) {
+    bridge_.SetPosition(i, poses.position_m(3 * i), poses.position_m(3 * i + 1),
+                        poses.position_m(3 * i + 2));
+  }
+}
+
+void BridgeSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End*,
+                                   coordinator::IterationContext&) {
+  MoveStations(start.poses());
+  if (pacing_ == coordinator::Pacing::kLockstep) {
+    for (TimeNs until = start.start_ns() + network_step_ns_; until <= start.end_ns();
+         until += network_step_ns_) {
+      bridge_.StepLockstep(until);
+    }
+    return;
+  }
+  const auto wall_of = [&](TimeNs virtual_ns) {
+    return wall_origin_ns_ + static_cast<TimeNs>(virtual_ns / realtime_factor_);
+  };
+  if (!started_) {
+    // Virtual start_ns is now: the coordinator just began this iteration.
+    wall_origin_ns_ = MonotonicNowNs() - static_cast<TimeNs>(start.start_ns() / realtime_factor_);
+    bridge_.StartRealtime(&loop_, wall_origin_ns_);
+    started_ = true;
+  }
+  const TimeNs wall_end = wall_of(start.end_ns());
+  for (TimeNs now = MonotonicNowNs(); now < wall_end; now = MonotonicNowNs()) {
+    // epoll's millisecond timeout, rounded up; the bridge's own timerfd
+    // writes deliveries at their exact instants meanwhile.
+    loop_.RunOnce(static_cast<int>((wall_end - now + kNsPerMs - 1) / kNsPerMs));
+  }
+}
+
+}  // namespace sitlnet::runner

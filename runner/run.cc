@@ -1,0 +1,201 @@
+// `sitlnet run`: the whole pipeline for one scenario, as a script.
+#include <google/protobuf/text_format.h>
+#include <sys/stat.h>
+
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+
+#include "coordinator/coordinator.h"
+#include "coordinator/physics_connector.h"
+#include "nns/nns.h"
+#include "runner/bridge_simulator.h"
+#include "runner/outputs.h"
+#include "runner/run_monitor.h"
+#include "runner/runner.h"
+#include "runner/summary.h"
+
+namespace sitlnet::runner {
+namespace {
+
+// The scenario with the command line's overrides applied, revalidated.
+Scenario LoadWithOverrides(const RunOptions& options) {
+  Scenario scenario = LoadScenarioFile(options.scenario_path);
+  proto::Scenario spec = scenario.spec;
+  if (options.duration_s) {
+    if (!(*options.duration_s > 0)) throw Error("--duration must be > 0 seconds");
+    spec.mutable_timing()->set_duration_ms(static_cast<int64_t>(*options.duration_s * 1000));
+  }
+  if (options.lockstep) {
+    spec.mutable_timing()->set_pacing(*options.lockstep ? proto::Timing::PACING_LOCKSTEP
+                                                        : proto::Timing::PACING_REALTIME);
+  }
+  if (options.seed) spec.mutable_timing()->set_seed(*options.seed);
+  if (options.no_shadowing) spec.mutable_radio()->set_shadowing(false);
+  std::string text;
+  google::protobuf::TextFormat::PrintToString(spec, &text);
+  Scenario effective = LoadScenarioText(text, options.scenario_path + " (with overrides)");
+  effective.source_path = options.scenario_path;
+  return effective;
+}
+
+std::string DefaultRunDir(const std::string& scenario_name) {
+  char stamp[32];
+  const std::time_t now = std::time(nullptr);
+  std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::gmtime(&now));
+  return "runs/" + scenario_name + "-" + stamp;
+}
+
+void MakeDirs(const std::string& path) {
+  for (size_t slash = path.find('/', 1); ; slash = path.find('/', slash + 1)) {
+    const std::string prefix = path.substr(0, slash);
+    if (mkdir(prefix.c_str(), 0755) != 0 && errno != EEXIST) {
+      throw Error(SystemErrorMessage("create run folder \"" + prefix + "\"", errno));
+    }
+    if (slash == std::string::npos) break;
+  }
+}
+
+// Tears the scenario down however the run ends.
+class DownOnExit {
+ public:
+  explicit DownOnExit(std::string name) : name_(std::move(name)) {}
+  ~DownOnExit() {
+    try {
+      nns::Down(name_);
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "sitlnet run: down %s: %s\n", name_.c_str(), error.what());
+    }
+  }
+
+ private:
+  std::string name_;
+};
+
+// Starts every robot's image; throws Error naming the robot and its log if
+// one cannot start or exits at once.
+std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& options,
+                                   const std::string& run_dir) {
+  std::vector<RobotSlot> robots(scenario.robots.size());
+  const std::string bin_dir = options.sitlnet_exe.substr(0, options.sitlnet_exe.rfind('/'));
+  for (const RobotPlan& plan : scenario.robots) {
+    RobotSlot& slot = robots[plan.index];
+    slot.name = plan.name;
+    if (plan.spec.image().empty()) continue;
+    const images::Image image = images::LoadImage(options.images_root, plan.spec.image());
+    images::LaunchContext context;
+    context.sitlnet_bin_dir = bin_dir;
+    context.scenario = scenario.name;
+    context.robot = plan.name;
+    context.robot_index = plan.index;
+    context.robot_args.assign(plan.spec.args().begin(), plan.spec.args().end());
+    images::CheckFiles(image, context);
+    slot.process = std::make_unique<images::RobotProcess>(
+        image, context, options.sitlnet_exe, run_dir + "/robots/" + plan.name + ".log");
+  }
+  // A program that is missing or dies at once shows within a moment; this
+  // bounded wait is the start-up check, not a synchronization.
+  for (RobotSlot& slot : robots) {
+    if (!slot.process) continue;
+    if (const auto status = slot.process->WaitExit(300 * kNsPerMs); status && *status != 0) {
+      throw Error("robot \"" + slot.name + "\": its image exited at once with status " +
+                  std::to_string(*status) + "; see " + slot.process->log_path());
+    }
+  }
+  return robots;
+}
+
+}  // namespace
+
+RunReport RunScenario(const RunOptions& options) {
+  const Scenario scenario = LoadWithOverrides(options);
+  RunReport report;
+  report.run_dir = options.out_dir.empty() ? DefaultRunDir(scenario.name) : options.out_dir;
+  nns::RequirePrivileges();
+  coordinator::StopSignal stop;  // Ctrl-C from here on stops in order.
+  MakeDirs(report.run_dir + "/robots");
+  {
+    std::string text;
+    google::protobuf::TextFormat::PrintToString(scenario.spec, &text);
+    std::ofstream(report.run_dir + "/scenario.textproto")
+        << "# Effective scenario of this run (from " << scenario.source_path << ")\n" << text;
+  }
+
+  nns::Up(scenario);
+  DownOnExit down(scenario.name);
+  const bool lockstep = scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP;
+
+  physics::PhysicsServer physics_server(scenario);
+  tapbridge::BridgeOptions bridge_options;
+  bridge_options.realtime_factor = scenario.spec.timing().realtime_factor();
+  bridge_options.seed = scenario.spec.timing().seed();
+  tapbridge::BridgeCore bridge(scenario, tapbridge::MakeMacPhySimMedium(scenario), bridge_options);
+  bridge.AttachAll();
+
+  // The medium's view: pcap (virtual timestamps in lockstep, so that runs
+  // are byte-identical; wall-clock dates in realtime) and the delivery log.
+  std::ofstream pcap(report.run_dir + "/medium.pcap", std::ios::binary);
+  pcap << tapbridge::PcapFileHeader();
+  const TimeNs epoch_offset_ns =
+      lockstep ? 0 : static_cast<TimeNs>(std::time(nullptr)) * kNsPerS;
+  bridge.AddAirFrameObserver([&](const tapbridge::AirFrame& frame) {
+    pcap << tapbridge::EncodePcapRecord(frame, epoch_offset_ns);
+  });
+  LineFile deliveries(report.run_dir + "/deliveries.csv", kDeliveryHeader);
+  bridge.AddDeliveryObserver([&](const tapbridge::Delivery& d) {
+    if (d.frame.size() < 12) return;
+    const int from = (d.frame[10] << 8) | d.frame[11];  // RobotMac(index) in the source MAC
+    char line[128];
+    std::snprintf(line, sizeof line, "%lld,%d,%d,%.2f,%.2f", static_cast<long long>(d.time_ns),
+                  from, d.station, d.rx_power_dbm, d.sinr_db);
+    deliveries.Append(line);
+  });
+
+  std::vector<RobotSlot> robots = StartImages(scenario, options, report.run_dir);
+
+  coordinator::PhysicsServerSimulator physics_sim(scenario, &physics_server);
+  RecordingPhysics recording(&physics_sim, &physics_server.world(),
+                             report.run_dir + "/trajectories.csv", options.trajectory_period_ns);
+  BridgeSimulator bridge_sim(scenario, &bridge,
+                             lockstep ? coordinator::Pacing::kLockstep
+                                      : coordinator::Pacing::kRealtime,
+                             scenario.spec.timing().realtime_factor());
+  MonitoringNetwork monitoring(&bridge_sim, &bridge, &robots,
+                               scenario.spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP,
+                               options.progress, scenario.duration_ns);
+  auto physics = coordinator::MakeInProcessConnector("physics", coordinator::Role::kPhysics,
+                                                     &recording, coordinator::Threading::kOwnThread);
+  // The bridge is single-threaded: always the coordinator's own thread.
+  auto network = coordinator::MakeInProcessConnector(
+      "network", coordinator::Role::kNetwork, &monitoring, coordinator::Threading::kCallerThread);
+
+  coordinator::CoordinatorOptions run_options = coordinator::OptionsFromScenario(scenario);
+  coordinator::MetricsCsvWriter metrics_csv(report.run_dir + "/metrics.csv");
+  coordinator::MetricsCollector metrics;
+  run_options.metrics_csv = &metrics_csv;
+  run_options.metrics = &metrics;
+  run_options.interrupt_fd = stop.fd();
+  std::string failure;
+  coordinator::RunResult result;
+  try {
+    result = coordinator::RunCoordinator(*physics, *network, run_options);
+  } catch (const Error& error) {
+    failure = error.what();
+  }
+  monitoring.FinishProgress();
+  metrics_csv.Flush();
+  for (RobotSlot& robot : robots) {
+    if (robot.process && !robot.exit_status) robot.process->Stop();
+  }
+  deliveries.Flush();
+  pcap.flush();
+
+  report.interrupted = result.interrupted;
+  report.exit_code = !failure.empty() ? 1 : result.interrupted ? 130 : 0;
+  if (!failure.empty()) std::fprintf(stderr, "sitlnet run: %s\n", failure.c_str());
+  WriteSummaryAndPlots(scenario, report, metrics.Summarize(), result.iterations_done, robots,
+                       bridge, physics_server, failure);
+  return report;
+}
+
+}  // namespace sitlnet::runner

@@ -1,0 +1,43 @@
+// sitlnet runner: `sitlnet run`, the main job. Brings a scenario up, starts
+// the medium (tapbridge + mac_phy_sim), the physics server, every robot's
+// image, and the coordinator; writes the run folder (docs/run.md); tears
+// everything down at exit, also on Ctrl-C or error.
+#ifndef SITLNET_RUNNER_RUNNER_H_
+#define SITLNET_RUNNER_RUNNER_H_
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "common/common.h"
+
+namespace sitlnet::runner {
+
+struct RunOptions {
+  std::string scenario_path;
+  std::string out_dir;                     // Empty: runs/<scenario>-<UTC date-time>.
+  std::optional<double> duration_s;        // Overrides timing.duration_ms.
+  std::optional<bool> lockstep;            // Overrides timing.pacing.
+  std::optional<uint64_t> seed;            // Overrides timing.seed.
+  bool no_shadowing = false;               // radio.shadowing = false.
+  std::string sitlnet_exe;                 // For `sitlnet exec` of the images.
+  std::string images_root;                 // Folder of the image manifests.
+  TimeNs trajectory_period_ns = 100 * kNsPerMs;  // Sampling of trajectories.csv.
+  bool progress = true;                    // Live progress line on stderr.
+};
+
+struct RunReport {
+  std::string run_dir;
+  int exit_code = 0;       // 0 ok, 1 failure (robot failure by policy, error), 130 interrupted.
+  bool interrupted = false;
+};
+
+// Runs the scenario to the end of its duration (or until SIGINT/SIGTERM).
+// Throws Error for bad input found before anything was created; later
+// failures are reported in the run folder and on stderr, with everything
+// torn down.
+RunReport RunScenario(const RunOptions& options);
+
+}  // namespace sitlnet::runner
+
+#endif  // SITLNET_RUNNER_RUNNER_H_

@@ -1,0 +1,126 @@
+#include "runner/summary.h"
+
+#include <cstdio>
+#include <fstream>
+
+#include "runner/connectivity.h"
+#include "runner/outputs.h"
+
+namespace sitlnet::runner {
+namespace {
+
+std::string Quote(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
+      out += escaped;
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string Seconds(TimeNs ns) { return std::to_string(static_cast<double>(ns) / kNsPerS); }
+
+// Split statistics of the communication graph.
+std::string ConnectivityJson(const std::vector<ConnectivitySample>& samples) {
+  int max_components = samples.empty() ? 0 : 1;
+  TimeNs split_ns = 0, first_split = -1, last_merge = -1;
+  int previous = 1;
+  for (const ConnectivitySample& s : samples) {
+    max_components = std::max(max_components, s.components);
+    if (s.components > 1) {
+      split_ns += kConnectivitySampleNs;
+      if (first_split < 0) first_split = s.time_ns;
+    } else if (previous > 1) {
+      last_merge = s.time_ns;
+    }
+    previous = s.components;
+  }
+  return "{\"window_s\":" + Seconds(kConnectivityWindowNs) +
+         ",\"max_components\":" + std::to_string(max_components) +
+         ",\"time_split_s\":" + Seconds(split_ns) +
+         ",\"first_split_s\":" + (first_split < 0 ? "null" : Seconds(first_split)) +
+         ",\"last_merge_s\":" + (last_merge < 0 ? "null" : Seconds(last_merge)) +
+         ",\"final_components\":" + std::to_string(samples.empty() ? 0 : samples.back().components) +
+         "}";
+}
+
+std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& bridge,
+                      const physics::PhysicsServer& physics) {
+  const tapbridge::MediumCounters medium = bridge.medium_counters(index);
+  const tapbridge::PortCounters& port = bridge.port_counters(index);
+  const physics::RobotCounters& phys = physics.counters(index);
+  std::string lost = "{";
+  for (const auto& [reason, count] : medium.lost) {
+    lost += (lost.size() > 1 ? "," : "") + Quote(reason) + ":" + std::to_string(count);
+  }
+  lost += "}";
+  std::string json = "{\"name\":" + Quote(robot.name);
+  json += ",\"exit_status\":" +
+          (robot.exit_status ? std::to_string(*robot.exit_status) : std::string("null"));
+  json += ",\"log\":" + (robot.process ? Quote(robot.process->log_path()) : "null");
+  json += ",\"medium\":{\"sent\":" + std::to_string(medium.sent) +
+          ",\"delivered\":" + std::to_string(medium.delivered) +
+          ",\"queue_drops\":" + std::to_string(medium.queue_drops) + ",\"lost\":" + lost +
+          ",\"oversize_dropped\":" + std::to_string(port.oversize_dropped) +
+          ",\"unknown_source_dropped\":" + std::to_string(port.unknown_source_dropped) + "}";
+  json += ",\"physics\":{\"commands_accepted\":" + std::to_string(phys.commands_accepted) +
+          ",\"states_sent\":" + std::to_string(phys.states_sent) +
+          ",\"dropped\":" +
+          std::to_string(phys.dropped_malformed + phys.dropped_invalid + phys.dropped_wrong_robot +
+                         phys.dropped_foreign_source) +
+          ",\"failsafe_cuts\":" + std::to_string(phys.failsafe_cuts) + "}}";
+  return json;
+}
+
+}  // namespace
+
+void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
+                          const coordinator::MetricsSummary& metrics, int64_t iterations_done,
+                          const std::vector<RobotSlot>& robots, tapbridge::BridgeCore& bridge,
+                          const physics::PhysicsServer& physics, const std::string& failure) {
+  const std::string& dir = report.run_dir;
+  const int robot_count = static_cast<int>(scenario.robots.size());
+  const TimeNs simulated_ns = iterations_done * scenario.iteration_ns;
+  const auto samples =
+      ConnectivityOverTime(robot_count, ReadDeliveryLog(dir + "/deliveries.csv"),
+                           kConnectivityWindowNs, kConnectivitySampleNs, simulated_ns);
+  WriteConnectivityCsv(dir + "/connectivity.csv", samples, robot_count);
+
+  std::vector<std::string> warnings;
+  const std::vector<std::string> plots = DrawPlots(dir, scenario, scenario.name, &warnings);
+  for (const std::string& warning : warnings) {
+    std::fprintf(stderr, "sitlnet run: warning: %s\n", warning.c_str());
+  }
+
+  std::string json = "{\"scenario\":" + Quote(scenario.name);
+  json += ",\"source\":" + Quote(scenario.source_path);
+  json += ",\"pacing\":" + Quote(proto::Timing::Pacing_Name(scenario.spec.timing().pacing()));
+  json += ",\"seed\":" + std::to_string(scenario.spec.timing().seed());
+  json += ",\"shadowing\":" + std::string(scenario.spec.radio().shadowing() ? "true" : "false");
+  json += ",\"duration_s\":" + Seconds(scenario.duration_ns);
+  json += ",\"simulated_s\":" + Seconds(simulated_ns);
+  json += ",\"interrupted\":" + std::string(report.interrupted ? "true" : "false");
+  json += ",\"failure\":" + (failure.empty() ? std::string("null") : Quote(failure));
+  json += ",\"metrics\":" + metrics.ToJson();
+  json += ",\"connectivity\":" + ConnectivityJson(samples);
+  json += ",\"robots\":[";
+  for (int i = 0; i < robot_count; ++i) {
+    json += (i ? "," : "") + RobotJson(robots[i], i, bridge, physics);
+  }
+  json += "],\"plots\":[";
+  for (size_t i = 0; i < plots.size(); ++i) json += (i ? "," : "") + Quote(plots[i]);
+  json += "]}\n";
+  std::ofstream(dir + "/summary.json") << json;
+
+  std::fprintf(stderr, "sitlnet run: %s (%.1f s simulated, %s)\n", dir.c_str(),
+               static_cast<double>(simulated_ns) / kNsPerS, metrics.ToText().c_str());
+  for (const std::string& plot : plots) std::fprintf(stderr, "  %s\n", plot.c_str());
+}
+
+}  // namespace sitlnet::runner
