@@ -1,9 +1,14 @@
 #include "tests/integration/nns_test_util.h"
 
+#include <arpa/inet.h>
 #include <fcntl.h>
+#include <linux/capability.h>
 #include <net/if.h>
+#include <netinet/in.h>
 #include <poll.h>
+#include <sched.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
@@ -12,6 +17,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <thread>
 
 namespace sitlnet::nns::testing {
 namespace {
@@ -172,6 +178,79 @@ int Child::Wait(TimeNs timeout_ns) {
   waitpid(pid_, &status, 0);
   status_ = status;
   return -1;
+}
+
+bool HasCapability(int cap) {
+  __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct data[_LINUX_CAPABILITY_U32S_3]{};
+  if (syscall(SYS_capget, &header, data) != 0) return false;
+  return (data[cap / 32].effective & (1u << (cap % 32))) != 0;
+}
+
+namespace {
+
+sockaddr_in SocketAddress(Ipv4 address, uint16_t port) {
+  sockaddr_in sa{};
+  sa.sin_family = AF_INET;
+  sa.sin_addr.s_addr = htonl(address.host_order);
+  sa.sin_port = htons(port);
+  return sa;
+}
+
+bool PollIn(int fd, TimeNs timeout_ns) {
+  pollfd p{fd, POLLIN, 0};
+  return poll(&p, 1, static_cast<int>(timeout_ns / kNsPerMs)) == 1;
+}
+
+}  // namespace
+
+std::string UdpRoundTrip(const std::string& netns, Ipv4 robot_address) {
+  constexpr uint16_t kPort = 47999;
+  const TimeNs timeout_ns = 5 * kNsPerS;
+  // The echo socket is created by a thread inside the robot: setns moves only
+  // that thread, and the socket stays in the robot's namespace.
+  int echo_fd = -1;
+  std::string error;
+  std::thread inside([&] {
+    const int ns = open(NetnsPath(netns).c_str(), O_RDONLY | O_CLOEXEC);
+    if (ns < 0 || setns(ns, CLONE_NEWNET) != 0) {
+      error = "enter " + netns + ": " + std::strerror(errno);
+      if (ns >= 0) close(ns);
+      return;
+    }
+    close(ns);
+    echo_fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    const sockaddr_in local = SocketAddress(robot_address, kPort);
+    if (bind(echo_fd, reinterpret_cast<const sockaddr*>(&local), sizeof local) != 0) {
+      error = "bind inside " + netns + ": " + std::strerror(errno);
+    }
+  });
+  inside.join();  // The thread ends; its socket lives on.
+  if (!error.empty()) return error;
+  const int root_fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  const sockaddr_in to = SocketAddress(robot_address, kPort);
+  const char ping[] = "sitlnet-udp-ping";
+  if (sendto(root_fd, ping, sizeof ping, 0, reinterpret_cast<const sockaddr*>(&to), sizeof to) !=
+      static_cast<ssize_t>(sizeof ping)) {
+    error = std::string("send to robot: ") + std::strerror(errno);
+  } else if (!PollIn(echo_fd, timeout_ns)) {
+    error = "nothing arrived inside the robot";
+  } else {
+    char buffer[64];
+    sockaddr_in from{};
+    socklen_t from_length = sizeof from;
+    const ssize_t n = recvfrom(echo_fd, buffer, sizeof buffer, 0,
+                               reinterpret_cast<sockaddr*>(&from), &from_length);
+    sendto(echo_fd, buffer, n, 0, reinterpret_cast<const sockaddr*>(&from), from_length);
+    if (!PollIn(root_fd, timeout_ns)) {
+      error = "no echo back in the root namespace";
+    } else if (recv(root_fd, buffer, sizeof buffer, 0) != static_cast<ssize_t>(sizeof ping)) {
+      error = "echo has the wrong size";
+    }
+  }
+  close(root_fd);
+  close(echo_fd);
+  return error;
 }
 
 std::string SitlnetBinary() {
