@@ -39,6 +39,13 @@ void WorldSimulator::RunIteration(const proto::coord::Start& start, proto::coord
   PosesFromWorld(world_, end->mutable_poses());
 }
 
+PhysicsServerSimulator::PhysicsServerSimulator(const Scenario& scenario,
+                                               physics::PhysicsServer* server,
+                                               RobotLockstepOptions lockstep)
+    : server_(*server), steps_(scenario.physics_steps_per_iteration), lockstep_(lockstep) {
+  for (const RobotPlan& robot : scenario.robots) robot_names_.push_back(robot.name);
+}
+
 proto::coord::Poses PhysicsServerSimulator::InitialPoses() {
   proto::coord::Poses poses;
   PosesFromWorld(server_.world(), &poses);
@@ -46,8 +53,24 @@ proto::coord::Poses PhysicsServerSimulator::InitialPoses() {
 }
 
 void PhysicsServerSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End* end,
-                                          IterationContext&) {
+                                          IterationContext& context) {
   CheckSpan(start, server_.world(), steps_);
+  if (lockstep_.enabled) {
+    server_.SendStates();
+    const std::vector<int> missing = server_.CollectCommands(lockstep_.command_timeout_ns);
+    if (!missing.empty()) {
+      std::string names;
+      for (int robot : missing) {
+        names += (names.empty() ? "'" : ", '") + robot_names_.at(robot) + "'";
+      }
+      throw Error(std::string(missing.size() == 1 ? "robot " : "robots ") + names +
+                  " did not answer the state of iteration " + std::to_string(start.iteration()) +
+                  " (virtual " + std::to_string(start.start_ns() / kNsPerMs) +
+                  " ms) with a command within " +
+                  std::to_string(lockstep_.command_timeout_ns / kNsPerMs) + " ms");
+    }
+    context.CommandsCollected();
+  }
   server_.Advance(steps_);
   PosesFromWorld(server_.world(), end->mutable_poses());
 }

@@ -5,6 +5,9 @@
 #ifndef SITLNET_COORDINATOR_PHYSICS_CONNECTOR_H_
 #define SITLNET_COORDINATOR_PHYSICS_CONNECTOR_H_
 
+#include <string>
+#include <vector>
+
 #include "coordinator/connector.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "scenario/scenario.h"
@@ -28,16 +31,23 @@ class WorldSimulator final : public Simulator {
   int steps_;
 };
 
-// Steps a PhysicsServer (not owned): robots get their state and their
-// commands are applied as the server's Advance() does in standalone mode.
-// The robot-facing lock-step handshake (state k to every robot, wait for
-// every command k, then CommandsCollected) needs a blocking "collect
-// commands" call in PhysicsServer, which it does not have yet: until then
-// this connector never reports CommandsCollected (docs/coordinator.md).
+// The robot-facing lock-step (docs/coordinator.md, "lockstep"): each
+// iteration sends every robot its state, waits for every robot's command for
+// that state, reports CommandsCollected, then steps.
+struct RobotLockstepOptions {
+  bool enabled = false;
+  // Wall time a robot may take to answer a state. Past it the run stops with
+  // the robot's name (robots that never sent a command are not waited for).
+  TimeNs command_timeout_ns = 1 * kNsPerS;
+};
+
+// Steps a PhysicsServer (not owned): robots get their RobotState and their
+// commands are applied as in the server's own Advance(); with lock-step
+// robots, as described above.
 class PhysicsServerSimulator final : public Simulator {
  public:
-  PhysicsServerSimulator(const Scenario& scenario, physics::PhysicsServer* server)
-      : server_(*server), steps_(scenario.physics_steps_per_iteration) {}
+  PhysicsServerSimulator(const Scenario& scenario, physics::PhysicsServer* server,
+                         RobotLockstepOptions lockstep = {});
   proto::coord::Poses InitialPoses() override;
   void RunIteration(const proto::coord::Start& start, proto::coord::End* end,
                     IterationContext& context) override;
@@ -45,6 +55,8 @@ class PhysicsServerSimulator final : public Simulator {
  private:
   physics::PhysicsServer& server_;
   int steps_;
+  RobotLockstepOptions lockstep_;
+  std::vector<std::string> robot_names_;
 };
 
 }  // namespace sitlnet::coordinator
