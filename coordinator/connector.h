@@ -106,7 +106,10 @@ class Connector {
 // caller's thread (no hand-off; cannot be used for lockstep-robots physics).
 // Run the slower simulator on the caller's thread: the coordinator then never
 // sleeps waiting for it. `spin_ns` (kOwnThread): how long the worker and the
-// waiting coordinator spin before sleeping (0: sleep at once).
+// waiting coordinator spin before sleeping (0: sleep at once; spinning was
+// measured to hurt on 2 shared cores, docs/performance.md). A simulator stuck
+// past the timeout is reported like a remote one, but destroying its
+// connector waits for it to return (its thread cannot be abandoned safely).
 enum class Threading { kOwnThread, kCallerThread };
 std::unique_ptr<Connector> MakeInProcessConnector(std::string name, Role role, Simulator* simulator,
                                                   Threading threading, TimeNs spin_ns = 0);
