@@ -121,7 +121,8 @@ std::string SourceDir() {
   return dir ? dir : ".";
 }
 
-MediumScenario::MediumScenario(const std::string& tag, int slot, const std::string& body) {
+MediumScenario::MediumScenario(const std::string& tag, int slot, const std::string& body,
+                               const std::string& address_extra) {
   const unsigned pid = static_cast<unsigned>(getpid());
   std::string base36;
   for (unsigned v = pid; v != 0 || base36.empty(); v /= 36) {
@@ -137,7 +138,8 @@ MediumScenario::MediumScenario(const std::string& tag, int slot, const std::stri
   path_ = dir_ + "/" + name_ + ".textproto";
   std::ofstream(path_) << "name: \"" << name_ << "\"\n"
                        << body << "\naddresses { wlan_subnet: \"" << subnet_prefix_
-                       << "0/24\" ctl_subnet: \"10." << 250 + slot << "." << third << ".0/24\" }\n";
+                       << "0/24\" ctl_subnet: \"10." << 250 + slot << "." << third << ".0/24\" "
+                       << address_extra << " }\n";
   const Result up = RunProgram({SitlnetBinary(), "up", path_});
   up_ = true;  // Down also after a partial failure.
   if (up.code != 0) ADD_FAILURE() << "sitlnet up " << path_ << ": " << up.err;

@@ -69,7 +69,9 @@ std::string SourceDir();
 // `sitlnet down NAME`.
 class MediumScenario {
  public:
-  MediumScenario(const std::string& tag, int slot, const std::string& body);
+  // `address_extra` goes inside the `addresses { }` block (e.g. "ipv6: IPV6_LINK_LOCAL").
+  MediumScenario(const std::string& tag, int slot, const std::string& body,
+                 const std::string& address_extra = "");
   ~MediumScenario();
   const std::string& name() const { return name_; }
   const std::string& path() const { return path_; }
