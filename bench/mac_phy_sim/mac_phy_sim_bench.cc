@@ -3,7 +3,7 @@
 //   broadcast64: 64 moving stations, each broadcasting 200 B at 10 Hz, among
 //   100 or 1000 obstacles (positions updated every 10 ms, as the coordinator does).
 // Medians of --runs runs (different seeds). Prints a Markdown table and, with
-// --csv FILE, "scenario,n,sim_s_per_wall_s,us_per_tx,us_per_tx_per_station".
+// --csv FILE, "scenario,n,sim_s_per_wall_s,sim_s_per_cpu_s,us_per_tx,us_per_tx_per_station".
 // --validation prints the whole ns-3 Bianchi table instead (docs/validation.md).
 #include <algorithm>
 #include <chrono>
@@ -21,10 +21,16 @@
 namespace sitlnet::mac {
 namespace {
 
+// Wall time is what the issue asks for; CPU time of this process is also
+// reported because the 2-core host is shared and wall time includes the time
+// other processes held the cores.
 struct Sample {
   double sim_per_wall = 0;  // Simulated seconds per wall second.
-  double us_per_tx = 0;     // Wall microseconds per transmission (DATA + ACK + RTS + CTS).
+  double sim_per_cpu = 0;   // Simulated seconds per CPU second of this process.
+  double us_per_tx = 0;     // CPU microseconds per transmission (DATA + ACK + RTS + CTS).
 };
+
+double CpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 double WallSeconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
@@ -49,12 +55,14 @@ Sample Saturation(int n, double seconds, uint64_t seed) {
   setup.measure_ns = static_cast<TimeNs>(seconds * 1e9);
   setup.seed = seed;
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = CpuSeconds();
   const testing::SaturationResult result = testing::RunSaturation(setup);
   const double wall = WallSeconds(start);
+  const double cpu = CpuSeconds() - cpu_start;
   // Each delivered frame took one DATA + one ACK; failed attempts add DATA
   // transmissions: attempts = delivered / (1 - p).
   const double data_tx = result.frames_delivered / std::max(1e-9, 1 - result.collision_probability);
-  return {seconds / wall, wall * 1e6 / (data_tx + result.frames_delivered)};
+  return {seconds / wall, seconds / cpu, cpu * 1e6 / (data_tx + result.frames_delivered)};
 }
 
 Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, double max_box_m) {
@@ -82,6 +90,7 @@ Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, 
   const TimeNs end_ns = static_cast<TimeNs>(seconds * 1e9);
   std::vector<Delivery> deliveries;
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = CpuSeconds();
   for (TimeNs t = 0; t < end_ns; t += step_ns) {
     for (int i = 0; i < n; ++i) {
       // 10 m/s random walk: every position changes every step.
@@ -97,7 +106,8 @@ Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, 
     medium.AdvanceTo(t + step_ns, &deliveries);
   }
   const double wall = WallSeconds(start);
-  return {seconds / wall, wall * 1e6 / std::max<uint64_t>(1, Transmissions(medium))};
+  const double cpu = CpuSeconds() - cpu_start;
+  return {seconds / wall, seconds / cpu, cpu * 1e6 / std::max<uint64_t>(1, Transmissions(medium))};
 }
 
 // The full ns-3 Bianchi table (reference.md), both topologies, ~25,000 frames
@@ -177,18 +187,18 @@ int main(int argc, char** argv) {
   }
   FILE* csv = csv_path ? std::fopen(csv_path, "w") : nullptr;
   std::printf(
-      "| scenario | n | simulated s per wall s (median of %d) | wall us per transmission |"
-      " us per transmission per station |\n| --- | --- | --- | --- | --- |\n",
-      runs);
+      "| scenario | n | simulated s per wall s | simulated s per CPU s | CPU us per transmission |"
+      " CPU us per transmission per station |\n| --- | --- | --- | --- | --- | --- |\n");
   auto report = [&](const char* name, int n, const std::vector<Sample>& samples) {
-    std::vector<double> rate, cost;
+    std::vector<double> wall_rate, cpu_rate, cost;
     for (const Sample& s : samples) {
-      rate.push_back(s.sim_per_wall);
+      wall_rate.push_back(s.sim_per_wall);
+      cpu_rate.push_back(s.sim_per_cpu);
       cost.push_back(s.us_per_tx);
     }
-    const double r = Median(rate), c = Median(cost);
-    std::printf("| %s | %d | %.1f | %.3f | %.4f |\n", name, n, r, c, c / n);
-    if (csv) std::fprintf(csv, "%s,%d,%.3f,%.4f,%.5f\n", name, n, r, c, c / n);
+    const double w = Median(wall_rate), r = Median(cpu_rate), c = Median(cost);
+    std::printf("| %s | %d | %.1f | %.1f | %.3f | %.4f |\n", name, n, w, r, c, c / n);
+    if (csv) std::fprintf(csv, "%s,%d,%.3f,%.3f,%.4f,%.5f\n", name, n, w, r, c, c / n);
     std::fflush(stdout);
   };
   for (int n : {1, 5, 10, 20, 50}) {

@@ -23,14 +23,14 @@ set output "$repo/docs/mac_phy_sim_cost.svg"
 set datafile separator ","
 set title "mac_phy_sim saturation (802.11a 54 Mb/s, 1500 B): cost vs stations"
 set xlabel "stations n"
-set ylabel "wall us per transmission"
-set y2label "wall us per transmission per station"
+set ylabel "CPU us per transmission"
+set y2label "CPU us per transmission per station"
 set y2tics
 set ytics nomirror
 set key left top
 set grid
-plot "$csv.sat" using 1:3 with linespoints title "us per transmission" axes x1y1, \
-     "$csv.sat" using 1:4 with linespoints title "us per transmission per station" axes x1y2
+plot "$csv.sat" using 1:4 with linespoints title "CPU us per transmission" axes x1y1, \
+     "$csv.sat" using 1:5 with linespoints title "CPU us per transmission per station" axes x1y2
 GNUPLOT
   rm -f "$csv.sat"
   echo "wrote docs/mac_phy_sim_cost.svg"
