@@ -159,11 +159,14 @@ RunResult RunCoordinator(Connector& physics, Connector& network,
       Warn(options, LagWarning(m, options.iteration_ns, options.realtime_factor));
     }
     result.iterations_done = k + 1;
-    if (decision.sleep_until_ns > t1) clock.SleepUntilNs(decision.sleep_until_ns);
+    bool slept = true;
+    if (decision.sleep_until_ns > t1) {
+      slept = clock.SleepUntilOrInterruptedNs(decision.sleep_until_ns, options.interrupt_fd);
+    }
     // A signal during the sleep or the last iteration ends the run here.
     if (options.interrupt_fd >= 0 && k + 1 < options.iterations) {
       pollfd p{options.interrupt_fd, POLLIN, 0};
-      if (poll(&p, 1, 0) == 1) {
+      if (!slept || poll(&p, 1, 0) == 1) {
         result.interrupted = true;
         guard.set_reason("interrupted after iteration " + std::to_string(k));
         return result;

@@ -1,5 +1,7 @@
 #include "coordinator/pacing.h"
 
+#include <poll.h>
+
 #include <cerrno>
 #include <cmath>
 #include <ctime>
@@ -11,6 +13,21 @@ TimeNs SystemClock::NowNs() { return MonotonicNowNs(); }
 void SystemClock::SleepUntilNs(TimeNs wall_ns) {
   timespec until{static_cast<time_t>(wall_ns / kNsPerS), static_cast<long>(wall_ns % kNsPerS)};
   while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &until, nullptr) == EINTR) {
+  }
+}
+
+bool SystemClock::SleepUntilOrInterruptedNs(TimeNs wall_ns, int interrupt_fd) {
+  if (interrupt_fd < 0) {
+    SleepUntilNs(wall_ns);
+    return true;
+  }
+  for (;;) {
+    const TimeNs left_ns = wall_ns - NowNs();
+    if (left_ns <= 0) return true;
+    pollfd p{interrupt_fd, POLLIN, 0};
+    const timespec timeout{static_cast<time_t>(left_ns / kNsPerS),
+                           static_cast<long>(left_ns % kNsPerS)};
+    if (ppoll(&p, 1, &timeout, nullptr) > 0 && (p.revents & POLLIN)) return false;
   }
 }
 

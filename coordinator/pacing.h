@@ -17,6 +17,12 @@ class Clock {
   virtual TimeNs NowNs() = 0;
   // Returns once NowNs() >= wall_ns (at once if already past).
   virtual void SleepUntilNs(TimeNs wall_ns) = 0;
+  // Same, but returns false early if `interrupt_fd` (>= 0) becomes readable.
+  // Default: not interruptible.
+  virtual bool SleepUntilOrInterruptedNs(TimeNs wall_ns, int interrupt_fd) {
+    SleepUntilNs(wall_ns);
+    return true;
+  }
 };
 
 // CLOCK_MONOTONIC; sleeps with clock_nanosleep(TIMER_ABSTIME) so deadlines
@@ -25,6 +31,8 @@ class SystemClock final : public Clock {
  public:
   TimeNs NowNs() override;
   void SleepUntilNs(TimeNs wall_ns) override;
+  // ppoll() on the fd with the time left, re-armed until the deadline.
+  bool SleepUntilOrInterruptedNs(TimeNs wall_ns, int interrupt_fd) override;
 };
 
 // Process-wide instance of SystemClock.

@@ -53,5 +53,40 @@ TEST(RealtimeClock, NoIterationStartsBeforeItsWallDeadline) {
   for (const IterationMetrics& m : metrics.rows()) EXPECT_GE(m.lag_ns, 0);
 }
 
+// Requests a stop from inside iteration 0, as a SIGINT would.
+class StopInFirstIteration final : public Simulator {
+ public:
+  explicit StopInFirstIteration(StopSignal* stop) : stop_(*stop) {}
+  void RunIteration(const proto::coord::Start& start, proto::coord::End*,
+                    IterationContext&) override {
+    if (start.iteration() == 0) stop_.Request();
+  }
+
+ private:
+  StopSignal& stop_;
+};
+
+TEST(RealtimeClock, ASignalEndsTheWaitForTheNextDeadline) {
+  StopSignal stop;
+  StopInFirstIteration physics_sim(&stop);
+  WallRecorder network_sim;
+  auto physics =
+      MakeInProcessConnector("phys", Role::kPhysics, &physics_sim, Threading::kCallerThread);
+  auto network =
+      MakeInProcessConnector("net", Role::kNetwork, &network_sim, Threading::kCallerThread);
+  CoordinatorOptions options;
+  options.iteration_ns = 10 * kNsPerMs;
+  options.iterations = 3;
+  options.pacing = Pacing::kRealtime;
+  options.realtime_factor = 0.001;  // Slow motion: 10 s of wall per iteration.
+  options.interrupt_fd = stop.fd();
+  const TimeNs before = MonotonicNowNs();
+  const RunResult result = RunCoordinator(*physics, *network, options);
+  EXPECT_TRUE(result.interrupted);
+  EXPECT_EQ(result.iterations_done, 1);
+  // Not the 10 s deadline: the stop request ended the sleep.
+  EXPECT_LT(MonotonicNowNs() - before, 5 * kNsPerS);
+}
+
 }  // namespace
 }  // namespace sitlnet::coordinator
