@@ -1,5 +1,5 @@
 // The robot-facing lock-step over real UDP: robots (threads with the physics
-// client library, on 127.77.x addresses as physics_mujoco's own tests do)
+// client library, on 127.79.x addresses, apart from physics_mujoco's 127.77.x)
 // answer each state with a command; the network iteration starts only after
 // every command of that iteration arrived; a robot that stops answering
 // stops the run with its name.
@@ -23,7 +23,7 @@ Scenario TwoRobots() {
       "name: \"lsr\"\n"
       "robot { name: \"a\" position_m { z: 5 } state_rate_hz: 1 }\n"
       "robot { name: \"b\" position_m { x: 3 z: 5 } state_rate_hz: 1 }\n"
-      "addresses { ctl_subnet: \"127.77.0.0/16\" physics_port: " +
+      "addresses { ctl_subnet: \"127.79.0.0/16\" physics_port: " +
       std::to_string(TestPort()) +
       " }\n"
       "timing { iteration_us: 10000 physics_step_us: 1000 network_step_us: 10000 "
@@ -35,8 +35,8 @@ Scenario TwoRobots() {
 // command for that state's step, until `stop` or after `answers` answers.
 void Robot(int index, int answers, const std::atomic<bool>* stop) {
   physics_client::PhysicsClient client(
-      "127.77.0." + std::to_string(4 * index + 1) + ":" + std::to_string(TestPort()),
-      "127.77.0." + std::to_string(4 * index + 2));
+      "127.79.0." + std::to_string(4 * index + 1) + ":" + std::to_string(TestPort()),
+      "127.79.0." + std::to_string(4 * index + 2));
   client.SendRotorSpeeds({100, 100, 100, 100});
   proto::RobotState state;
   for (int n = 0; n < answers && !stop->load();) {
