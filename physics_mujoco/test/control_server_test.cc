@@ -4,6 +4,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -186,6 +187,20 @@ TEST_F(ControlServerTest, LockStepSendsStatesAndCollectsTheCommandsForThem) {
   ASSERT_TRUE(b.SendRotorSpeeds({300, 300, 300, 300}, state.step()));
   EXPECT_TRUE(server_.CollectCommands(5 * kNsPerS).empty());
   EXPECT_EQ(server_.world().rotor_target(1)[0], 300);
+}
+
+TEST_F(ControlServerTest, RealtimeModeRunsForItsDurationAndServesCommands) {
+  PhysicsClient client(ServerOf(0), RobotSideOf(0));
+  ASSERT_TRUE(client.SendRotorSpeeds({700, 700, 700, 700}));
+  std::atomic<bool> stop{false};
+  // 200 ms of virtual time at 20 x real time.
+  RunRealtime(&server_, 20.0, 200 * kNsPerMs, stop);
+  EXPECT_EQ(server_.world().time_ns(0), 200 * kNsPerMs);
+  EXPECT_EQ(server_.counters(0).commands_accepted, 1u);
+  EXPECT_EQ(server_.counters(0).states_sent, 20u);  // 100 Hz
+  proto::RobotState state;
+  ASSERT_TRUE(client.ReceiveLatest(&state, 2000));
+  EXPECT_EQ(state.sim_time_ns(), 200 * kNsPerMs);
 }
 
 TEST(ControlServerConfigTest, BadStateRateIsAOneLineErrorNamingTheRobot) {
