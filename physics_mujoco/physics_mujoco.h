@@ -140,7 +140,9 @@ struct ServerOptions {
 // may start before the scenario's ctl0 veths exist.
 class PhysicsServer {
  public:
-  // Throws Error naming the robot and address if a socket cannot be bound.
+  // Throws Error naming the robot and address if a socket cannot be bound, or a robot's
+  // state_rate_hz / command_timeout_ms / ardupilot_json_port is invalid. `scenario` must
+  // outlive the server.
   explicit PhysicsServer(const Scenario& scenario, const ServerOptions& options = {});
   ~PhysicsServer();
   PhysicsServer(const PhysicsServer&) = delete;
