@@ -134,6 +134,15 @@ AcceptedConnectors AcceptConnectors(Listener& listener, const HandshakeExpectati
                                     const WaitLimits& limits, FrameCodecOptions codec = {},
                                     TimeNs spin_ns = 0);
 
+// A connection that is not a connector: closed, silent for 2 s, or sending
+// anything but a Hello (a port scanner, a stray client). AcceptConnectors
+// logs it and keeps waiting; a real connector with another scenario or
+// protocol version is an Error instead (a misconfiguration to fix).
+class StrayConnectionError : public Error {
+ public:
+  using Error::Error;
+};
+
 // Handshake on an already-accepted channel (AcceptConnectors uses it).
 std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpectation& expect,
                                            const WaitLimits& limits);

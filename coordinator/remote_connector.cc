@@ -1,5 +1,6 @@
 // Socket side of connectors: the coordinator's RemoteConnector, its
 // handshake, and ServeCoordinator() that runs inside a connector process.
+#include <algorithm>
 #include <cstdio>
 
 #include "coordinator/connector.h"
@@ -8,6 +9,9 @@ namespace sitlnet::coordinator {
 namespace {
 
 using proto::coord::CoordinatorMessage;
+
+// Longest wait for a new connection's Hello.
+constexpr TimeNs kHelloTimeoutNs = 2 * kNsPerS;
 
 std::string Ms(TimeNs ns) { return std::to_string(ns / kNsPerMs) + " ms"; }
 
@@ -164,16 +168,19 @@ void SendErrorQuietly(Channel& channel, const std::string& message) {
 std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpectation& expect,
                                            const WaitLimits& limits) {
   CoordinatorMessage hello;
+  // A connector sends Hello right after connecting; waiting long for one
+  // would let a silent stray connection hold the real connectors back.
+  const TimeNs hello_deadline_ns = std::min(limits.deadline_ns, MonotonicNowNs() + kHelloTimeoutNs);
   try {
-    if (!channel.Receive(&hello, limits.deadline_ns, limits.interrupt_fd)) return nullptr;
+    if (!channel.Receive(&hello, hello_deadline_ns, limits.interrupt_fd)) return nullptr;
   } catch (const TransportError& e) {
-    throw Error(std::string("connector handshake: ") + e.what());
+    throw StrayConnectionError(std::string("connector handshake: ") + e.what());
   }
   if (!hello.has_hello()) {
     const std::string what =
         std::string("connector handshake: expected Hello, got ") + KindName(hello.kind_case());
     SendErrorQuietly(channel, what);
-    throw Error(what);
+    throw StrayConnectionError(what);
   }
   const proto::coord::Hello& h = hello.hello();
   const Role role = h.role() == proto::coord::ROLE_NETWORK ? Role::kNetwork : Role::kPhysics;
@@ -227,7 +234,14 @@ AcceptedConnectors AcceptConnectors(Listener& listener, const HandshakeExpectati
     if (!fd.valid()) return accepted;  // Interrupted.
     Channel channel(std::move(fd), codec);
     channel.set_spin_ns(spin_ns);
-    std::unique_ptr<Connector> connector = AcceptConnector(std::move(channel), expect, limits);
+    std::unique_ptr<Connector> connector;
+    try {
+      connector = AcceptConnector(std::move(channel), expect, limits);
+    } catch (const StrayConnectionError& e) {
+      std::fprintf(stderr, "sitlnet: warning: ignored a connection on %s: %s\n",
+                   listener.endpoint().ToString().c_str(), e.what());
+      continue;
+    }
     if (!connector) return accepted;
     auto& slot = connector->role() == Role::kPhysics ? accepted.physics : accepted.network;
     if (slot) {

@@ -148,6 +148,22 @@ TEST(Coordinator, HandshakeRefusesAnotherScenarioAndSaysSoToBothSides) {
   EXPECT_EQ(phys.error(), "the coordinator refused: " + expected);
 }
 
+TEST(Coordinator, StrayConnectionsAreIgnoredAndTheConnectorsStillAccepted) {
+  Listener listener(ParseEndpoint("127.0.0.1:0"));
+  // Garbage first (a bad frame), then a client that closes at once.
+  Fd garbage = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
+  ASSERT_EQ(write(garbage.get(), "GET / HTTP/1.0\r\n\r\n", 18), 18);
+  Fd closer = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
+  closer.Reset();
+  SyntheticPhysics physics_sim(Robots(1));
+  SyntheticNetwork network_sim(Robots(1));
+  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash});
+  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash});
+  AcceptedConnectors c = AcceptConnectors(listener, Expect(), Within(5 * kNsPerS));
+  ASSERT_TRUE(c.physics && c.network);
+  EXPECT_EQ(RunCoordinator(*c.physics, *c.network, Lockstep(5)).iterations_done, 5);
+}
+
 TEST(Coordinator, MissingConnectorTimesOutNamingTheRole) {
   Listener listener(ParseEndpoint("127.0.0.1:0"));
   SyntheticNetwork network_sim(Robots(1));
