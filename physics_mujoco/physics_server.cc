@@ -17,6 +17,8 @@ namespace {
 
 // Larger than any valid MotorCommand or servo packet; a bigger datagram is malformed.
 constexpr size_t kReceiveBufferBytes = 2048;
+// Datagrams handled per socket per Poll.
+constexpr int kDrainBudget = 256;
 
 struct Endpoint {
   int robot = 0;
@@ -149,7 +151,10 @@ struct PhysicsServer::Impl {
     uint8_t buffer[kReceiveBufferBytes];
     sockaddr_in from{};
     const UdpSocket& sock = json ? ep.json : ep.native;
-    for (ssize_t n; (n = sock.Receive(buffer, sizeof buffer, &from)) >= 0;) {
+    // Bounded: a robot flooding its socket cannot stall the others or the stepping; what is
+    // left stays readable (level-triggered epoll) for the next Poll.
+    int budget = kDrainBudget;
+    for (ssize_t n; budget-- > 0 && (n = sock.Receive(buffer, sizeof buffer, &from)) >= 0;) {
       if (json) {
         HandleJson(ep, buffer, n, from);
       } else {
@@ -160,7 +165,10 @@ struct PhysicsServer::Impl {
 
   void Poll() {
     epoll_event events[64];
-    for (;;) {
+    // Enough rounds to see every socket once (epoll rotates its ready list), no more: a
+    // sustained flood cannot keep Poll from returning.
+    const size_t rounds = 1 + 2 * endpoints.size() / 64;
+    for (size_t round = 0; round < rounds; ++round) {
       const int n = epoll_wait(epoll_fd, events, 64, 0);
       if (n <= 0) return;
       for (int i = 0; i < n; ++i) {
