@@ -117,10 +117,10 @@ TEST(NnsRefusalTest, ForeignDeviceWithOurNameIsRefusedAndLeftAlone) {
 }
 
 TEST(NnsRefusalTest, BadScenarioFileIsUsageError) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();  // up checks privileges before it reads the file.
   const std::string path = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") +
                            "/nns_bad_" + std::to_string(getpid()) + ".textproto";
   std::ofstream(path) << "name: \"bad\"\nrobot { nme: \"x\" }\n";
-  if (MissingPrivileges()) GTEST_SKIP() << "up checks privileges before the file";
   const CommandResult up = RunCommand({SitlnetBinary(), "up", path});
   EXPECT_EQ(up.exit_code, 2);
   EXPECT_TRUE(Contains(up.err, path + ":2:")) << up.err;
