@@ -42,6 +42,29 @@ void RefuseForeignObjects(const Scenario& scenario, const RouteSocket& root) {
   }
 }
 
+// The common case of a route clash: another scenario that is up uses the
+// same ctl_subnet. Same rule as CheckAddressPlanAgainstRoutes, clearer words.
+void RefuseClashWithOtherScenarios(const Scenario& scenario, const std::vector<HostRoute>& routes) {
+  for (const std::string& other : ListScenarios()) {
+    const std::optional<ScenarioState> state = ReadScenarioState(other);
+    if (!state) continue;
+    for (const RobotState& robot : state->robots) {
+      for (const HostRoute& route : routes) {
+        if (route.device != robot.root_veth) continue;
+        for (const auto& [field, prefix] : {std::pair{"wlan_subnet", scenario.wlan_subnet},
+                                            std::pair{"ctl_subnet", scenario.ctl_subnet}}) {
+          if (!prefix.Overlaps(route.destination)) continue;
+          throw Error(scenario.source_path + ": addresses." + field + " " +
+                      FormatIpv4Prefix(prefix) + " overlaps " +
+                      FormatIpv4Prefix(route.destination) + " on " + route.device +
+                      ", the ctl0 link of robot \"" + robot.name + "\" of scenario \"" + other +
+                      "\" that is up: give each scenario its own ctl_subnet");
+        }
+      }
+    }
+  }
+}
+
 // One robot, see docs/nns.md. `root` is a socket of the root namespace.
 void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket& root) {
   const auto& plan = scenario.spec.addresses();
@@ -138,7 +161,9 @@ void Up(const Scenario& scenario, const UpOptions& options) {
     RouteSocket root;
     RefuseForeignObjects(scenario, root);
   }
-  CheckAddressPlanAgainstRoutes(scenario, ReadHostRoutes());
+  const std::vector<HostRoute> routes = ReadHostRoutes();
+  RefuseClashWithOtherScenarios(scenario, routes);
+  CheckAddressPlanAgainstRoutes(scenario, routes);
   // Ownership first: from here on, whatever exists under our names is ours.
   internal::WriteState(StateFromScenario(scenario));
   try {

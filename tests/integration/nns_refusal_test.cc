@@ -76,6 +76,21 @@ TEST(NnsRefusalTest, AddressClashWithAHostRouteIsRefusedAndNothingTouched) {
   ExpectNothingCreated(test.scenario);
 }
 
+TEST(NnsRefusalTest, SecondScenarioOnTheSameCtlSubnetIsRefusedNamingTheFirst) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const TestScenario first = MakeScenario("sba", 4, 2);
+  const TestScenario second = MakeScenario("sbb", 4, 2);  // Same slot: same subnets.
+  DownGuard guard_first(first.scenario.name);
+  DownGuard guard_second(second.scenario.name);
+  Up(first.scenario);
+  const CommandResult up = RunCommand({SitlnetBinary(), "up", second.path});
+  EXPECT_EQ(up.exit_code, 1);
+  EXPECT_EQ(Lines(up.err), 1) << up.err;
+  EXPECT_TRUE(Contains(up.err, "of scenario \"" + first.scenario.name + "\" that is up")) << up.err;
+  ExpectNothingCreated(second.scenario);
+  for (const RobotPlan& robot : first.scenario.robots) EXPECT_TRUE(NetnsExists(robot.netns));
+}
+
 TEST(NnsRefusalTest, ForeignNamespaceWithOurNameIsRefusedAndLeftAlone) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const TestScenario test = MakeScenario("fns", 2, 3);
