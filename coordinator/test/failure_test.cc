@@ -110,15 +110,17 @@ TEST(Coordinator, SimulatorErrorIsForwardedWithTheConnectorName) {
 // Requests a stop (as SIGINT would) from inside iteration `at`.
 class InterruptingPhysics final : public Simulator {
  public:
-  InterruptingPhysics(int at, StopSignal* stop) : at_(at), stop_(stop) {}
+  InterruptingPhysics(int at, StopSignal* stop, int signal_number = SIGINT)
+      : at_(at), stop_(stop), signal_number_(signal_number) {}
   void RunIteration(const proto::coord::Start& start, proto::coord::End*,
                     IterationContext&) override {
-    if (start.iteration() == static_cast<uint64_t>(at_)) raise(SIGINT);
+    if (start.iteration() == static_cast<uint64_t>(at_)) raise(signal_number_);
   }
 
  private:
   int at_;
   StopSignal* stop_;
+  int signal_number_;
 };
 
 TEST(Coordinator, SigintStopsInOrderAndFlushesWholeRows) {
@@ -156,6 +158,22 @@ TEST(Coordinator, SigintStopsInOrderAndFlushesWholeRows) {
   EXPECT_EQ(phys.error(), "");
   EXPECT_NE(phys.stop_reason().find("interrupted"), std::string::npos) << phys.stop_reason();
   unlink(csv.c_str());
+}
+
+TEST(Coordinator, SigtermStopsInOrderToo) {
+  StopSignal stop;
+  InterruptingPhysics physics_sim(3, &stop, SIGTERM);
+  SyntheticNetwork network_sim(Robots(0));
+  auto physics =
+      MakeInProcessConnector("phys0", Role::kPhysics, &physics_sim, Threading::kOwnThread);
+  auto network =
+      MakeInProcessConnector("net0", Role::kNetwork, &network_sim, Threading::kCallerThread);
+  CoordinatorOptions options = Lockstep(1000);
+  options.interrupt_fd = stop.fd();
+  const RunResult result = RunCoordinator(*physics, *network, options);
+  EXPECT_TRUE(result.interrupted);
+  EXPECT_EQ(stop.signal_number(), SIGTERM);
+  EXPECT_EQ(result.iterations_done, 4);  // In-process: iteration 3 runs to its end first.
 }
 
 }  // namespace
