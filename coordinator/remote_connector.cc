@@ -63,6 +63,12 @@ class RemoteConnector final : public Connector {
 
   bool AwaitCommandsCollected(uint64_t iteration, const WaitLimits& limits) override {
     if (!ReceiveExpected(iteration, "CommandsCollected", limits)) return false;
+    // A physics connector without robots in lock-step may finish without
+    // reporting CommandsCollected: its END then opens the gate too.
+    if (in_.kind_case() == CoordinatorMessage::kEnd && in_.end().iteration() == iteration) {
+      early_end_ = true;
+      return true;
+    }
     if (in_.kind_case() != CoordinatorMessage::kCommandsCollected ||
         in_.commands_collected().iteration() != iteration) {
       throw Unexpected(iteration, "CommandsCollected");
@@ -71,7 +77,11 @@ class RemoteConnector final : public Connector {
   }
 
   bool Finish(uint64_t iteration, proto::coord::End* end, const WaitLimits& limits) override {
-    if (!ReceiveExpected(iteration, "END", limits)) return false;
+    if (early_end_) {
+      early_end_ = false;  // Received by AwaitCommandsCollected; still in in_.
+    } else if (!ReceiveExpected(iteration, "END", limits)) {
+      return false;
+    }
     if (in_.kind_case() != CoordinatorMessage::kEnd || in_.end().iteration() != iteration) {
       throw Unexpected(iteration, "END");
     }
@@ -149,6 +159,7 @@ class RemoteConnector final : public Connector {
   Channel channel_;
   proto::coord::Poses poses_;
   bool outstanding_ = false;  // START sent, END not yet received.
+  bool early_end_ = false;    // END arrived instead of CommandsCollected; it is in in_.
   uint64_t outstanding_iteration_ = 0;
   CoordinatorMessage out_;
   CoordinatorMessage in_;

@@ -49,7 +49,7 @@ TEST(Coordinator, InProcessPassesPhysicsPosesToTheNextNetworkStart) {
 }
 
 // Runs a simulator as a connector over `endpoint` on its own thread.
-void RunOverSockets(const std::string& where) {
+void RunOverSockets(const std::string& where, bool lockstep_robots = false) {
   Listener listener(ParseEndpoint(where));
   SyntheticPhysics physics_sim(Robots(3));
   SyntheticNetwork network_sim(Robots(3));
@@ -58,7 +58,9 @@ void RunOverSockets(const std::string& where) {
   AcceptedConnectors connectors = AcceptConnectors(listener, Expect(), Within(5 * kNsPerS));
   ASSERT_TRUE(connectors.physics && connectors.network);
   EXPECT_EQ(connectors.physics->Describe(), "physics connector 'phys0'");
-  const RunResult result = RunCoordinator(*connectors.physics, *connectors.network, Lockstep(40));
+  CoordinatorOptions options = Lockstep(40);
+  options.lockstep_robots = lockstep_robots;
+  const RunResult result = RunCoordinator(*connectors.physics, *connectors.network, options);
   EXPECT_EQ(result.iterations_done, 40);
   connectors = {};  // Closes the sockets after Stop.
   phys.Join();
@@ -66,6 +68,13 @@ void RunOverSockets(const std::string& where) {
   EXPECT_EQ(phys.error(), "");
   EXPECT_EQ(phys.stop_reason(), "run complete");
   ExpectPosesDelayedByOneIteration(network_sim, 40);
+}
+
+// A physics connector that never reports CommandsCollected (no robots in
+// lock-step): its END opens the gate, the run goes on (network after physics).
+TEST(Coordinator, LockstepRobotsGateOpensOnEndWithoutCommandsCollected) {
+  RunOverSockets("unix:/tmp/sitlnet-coord-gate-" + std::to_string(getpid()) + ".sock",
+                 /*lockstep_robots=*/true);
 }
 
 TEST(Coordinator, RemoteOverUnixSocket) {
