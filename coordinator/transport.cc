@@ -71,6 +71,14 @@ void ConfigureTcp(int fd) {
   // back until the previous frame is acknowledged.
   const int one = 1;
   setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+  // A host that vanishes without closing (power loss, cable) must not leave
+  // a connector waiting forever for its next START: keepalive probes after
+  // 5 s of silence, every 1 s, 3 unanswered -> the read fails (ETIMEDOUT).
+  const int idle_s = 5, interval_s = 1, count = 3;
+  setsockopt(fd, SOL_SOCKET, SO_KEEPALIVE, &one, sizeof one);
+  setsockopt(fd, IPPROTO_TCP, TCP_KEEPIDLE, &idle_s, sizeof idle_s);
+  setsockopt(fd, IPPROTO_TCP, TCP_KEEPINTVL, &interval_s, sizeof interval_s);
+  setsockopt(fd, IPPROTO_TCP, TCP_KEEPCNT, &count, sizeof count);
 }
 
 }  // namespace
@@ -221,6 +229,10 @@ bool Channel::FillAtLeast(size_t bytes, TimeNs deadline_ns, int interrupt_fd) {
     if (errno == EINTR) continue;
     if (errno == ECONNRESET) {
       throw TransportError(TransportError::Kind::kClosed, "peer reset the connection");
+    }
+    if (errno == ETIMEDOUT) {
+      throw TransportError(TransportError::Kind::kClosed,
+                           "peer stopped answering TCP keepalive probes (host gone?)");
     }
     throw SystemError("recv frame", errno);
   }
