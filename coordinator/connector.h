@@ -34,7 +34,8 @@ class IterationContext {
 };
 
 // A simulator the coordinator can step. Implementations: the physics and
-// medium connectors, and SyntheticSimulator (benchmarks, tests).
+// medium connectors (physics_connector.h, medium_connector.h) and the
+// synthetic ones (synthetic.h: benchmarks, tests).
 class Simulator {
  public:
   virtual ~Simulator() = default;
@@ -73,7 +74,7 @@ struct WaitLimits {
 
 // The coordinator's handle on one connector. Errors are thrown as Error whose
 // message names the connector and the iteration, e.g. "physics connector
-// 'phys0' did not answer START of iteration 42 within 5000 ms".
+// 'phys0' did not answer START of iteration 42 with END within 5000 ms".
 class Connector {
  public:
   Connector(std::string name, Role role) : name_(std::move(name)), role_(role) {}
