@@ -66,6 +66,11 @@ std::vector<std::string> LinksInGroup(const RouteSocket& sock, uint32_t group);
 // kernel: one RCU grace period instead of one per link).
 void DeleteLinkGroup(const RouteSocket& sock, uint32_t group);
 
+// Adds (or replaces) a PERMANENT neighbour entry `address` -> `mac` on
+// `ifindex`: sends to that address never wait for ARP.
+void AddPermanentNeighbour(const RouteSocket& sock, int ifindex, Ipv4 address,
+                           const MacAddress& mac, const std::string& what);
+
 // Deletes link `name` if present; returns whether it was there.
 bool DeleteLinkIfPresent(const RouteSocket& sock, const std::string& name);
 

@@ -98,6 +98,16 @@ void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket
   internal::AddIpv4Address(*inside, wlan, robot.wlan_address, scenario.wlan_subnet.length,
                            who + ": wlan0");
   internal::SetLinkUp(*inside, wlan, who + ": wlan0");
+  if (scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP) {
+    // Lockstep needs every frame to leave in the step that produced it; an
+    // ARP exchange would delay the first send to a peer by the kernel's own
+    // timers (design.md). MACs are known in advance: RobotMac(index).
+    for (const RobotPlan& peer : scenario.robots) {
+      if (peer.index == robot.index) continue;
+      internal::AddPermanentNeighbour(*inside, wlan, peer.wlan_address, peer.wlan_mac,
+                                      who + ": wlan0");
+    }
+  }
 
   internal::CreateVeth(root, robot.root_veth, internal::LinkGroupForScenario(scenario.name), "ctl0",
                        robot_netns.get(),

@@ -25,7 +25,7 @@ Scenario BenchScenario(int robots) {
   // else has up does not clash.
   std::string text = "name: \"nbench" + std::to_string(robots) + "\"\n";
   for (int i = 0; i < robots; ++i) text += "robot { name: \"r" + std::to_string(i) + "\" }\n";
-  text += "addresses { wlan_subnet: \"10.251.0.0/24\" ctl_subnet: \"10.250.0.0/16\" }\n";
+  text += "addresses { wlan_subnet: \"10.254.0.0/24\" ctl_subnet: \"10.253.0.0/16\" }\n";
   return LoadScenarioText(text, "nns_bench");
 }
 

@@ -52,7 +52,7 @@ bool IsCi() {
 }
 
 TestScenario MakeScenario(const std::string& tag, int slot, int robots,
-                          const std::string& addresses_text) {
+                          const std::string& addresses_text, const std::string& extra_text) {
   // name <= 10 chars: 'n' + tag (<= 3) + pid in base 36 (<= 5) + slot.
   const unsigned pid = static_cast<unsigned>(getpid());
   std::string name = "n";
@@ -64,7 +64,7 @@ TestScenario MakeScenario(const std::string& tag, int slot, int robots,
   for (int i = 0; i < robots; ++i) text += "robot { name: \"r" + std::to_string(i + 1) + "\" }\n";
   text += "addresses { wlan_subnet: \"10." + std::to_string(230 + slot) + "." + third +
           ".0/24\" ctl_subnet: \"10." + std::to_string(210 + slot) + "." + third + ".0/24\" " +
-          addresses_text + " }\n";
+          addresses_text + " }\n" + extra_text;
   const char* tmp = std::getenv("TMPDIR");
   const std::string path = std::string(tmp ? tmp : "/tmp") + "/" + name + ".textproto";
   std::ofstream(path) << text;

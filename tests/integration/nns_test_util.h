@@ -28,14 +28,15 @@ bool IsCi();
 
 // A scenario whose name and subnets are unique to this process and `slot`
 // (0..9), so that parallel test runs and other users' scenarios do not clash.
-// `addresses_text` goes inside the addresses block. Written to a file under
-// $TMPDIR (or /tmp).
+// `addresses_text` goes inside the addresses block, `extra_text` at the end. Written to a file
+// under $TMPDIR (or /tmp).
 struct TestScenario {
   std::string path;
   Scenario scenario;
 };
 TestScenario MakeScenario(const std::string& tag, int slot, int robots,
-                          const std::string& addresses_text = "");
+                          const std::string& addresses_text = "",
+                          const std::string& extra_text = "");
 
 // Runs Down(name) on destruction, whatever happened.
 class DownGuard {

@@ -75,6 +75,9 @@ TEST(NnsUpTest, ThreeRobotsHaveTheSpecifiedDevicesAddressesAndRoutes) {
     const std::string links = IpIn(robot.netns, {"link", "show"}).out;
     EXPECT_EQ(std::count(links.begin(), links.end(), '\n'), 3) << links;
 
+    // Realtime pacing (the default): ARP as usual, no static entries.
+    EXPECT_EQ(RunCommand({"ip", "-n", robot.netns, "neigh", "show", "nud", "permanent"}).out, "");
+
     // Routes: the two connected prefixes, and no default route.
     const std::string routes = RunCommand({"ip", "-n", robot.netns, "-4", "route", "show"}).out;
     EXPECT_FALSE(Contains(routes, "default")) << routes;
@@ -198,6 +201,37 @@ TEST(NnsUpTest, PingInsideARobotReachesItsTapAndTcpdump) {
   EXPECT_TRUE(Contains(tcpdump->out(),
                        "Request who-has " + target + " tell " + FormatIpv4(r1.wlan_address)))
       << tcpdump->out();
+}
+
+TEST(NnsUpTest, LockstepScenarioHasPermanentNeighboursSoNoArpIsSent) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const TestScenario test = MakeScenario("lck", 6, 3, "", "timing { pacing: PACING_LOCKSTEP }\n");
+  DownGuard guard(test.scenario.name);
+  Up(test.scenario);
+  const RobotPlan& r1 = test.scenario.robots[0];
+  const RobotPlan& r3 = test.scenario.robots[2];
+  const std::string neighbours =
+      RunCommand({"ip", "-n", r1.netns, "-4", "neigh", "show", "dev", "wlan0"}).out;
+  EXPECT_EQ(std::count(neighbours.begin(), neighbours.end(), '\n'), 2) << neighbours;
+  for (const RobotPlan& peer : test.scenario.robots) {
+    if (peer.index == r1.index) continue;
+    EXPECT_TRUE(Contains(neighbours, FormatIpv4(peer.wlan_address) + " lladdr " +
+                                         FormatMac(peer.wlan_mac) + " PERMANENT"))
+        << neighbours;
+  }
+  // The first frame r1 sends to r3 is the datagram itself, to r3's MAC: no ARP.
+  UniqueFd tap = AttachTap(r1.netns, "wlan0");
+  Child sender({SitlnetBinary(), "exec", r1.netns, "--", "bash", "-c",
+                "echo x > /dev/udp/" + FormatIpv4(r3.wlan_address) + "/9"});
+  pollfd fd{tap.get(), POLLIN, 0};
+  ASSERT_EQ(poll(&fd, 1, 5000), 1) << "nothing on the TAP";
+  uint8_t frame[2048];
+  const ssize_t n = read(tap.get(), frame, sizeof frame);
+  ASSERT_GE(n, 34);
+  EXPECT_EQ(std::memcmp(frame, r3.wlan_mac.bytes.data(), 6), 0) << "not addressed to r3's MAC";
+  EXPECT_EQ(frame[12], 0x08);  // IPv4, not ARP (0x0806).
+  EXPECT_EQ(frame[13], 0x00);
+  EXPECT_EQ(sender.Wait(5 * kNsPerS), 0);
 }
 
 TEST(NnsDownTest, DownLeavesNoNamespaceLinkProcessOrState) {
