@@ -60,7 +60,10 @@ void PrepareNetnsDir() {
       failure = SystemErrorMessage(std::string("make ") + kNetnsDir + " a shared mount", errno);
     }
   });
-  if (!failure.empty()) throw Error(failure);
+  // Docker's default AppArmor profile denies mount even with CAP_SYS_ADMIN.
+  if (!failure.empty()) {
+    throw Error(failure + " (in a container: --security-opt apparmor=unconfined)");
+  }
 }
 
 void CreateNetnsAndEnter(const std::string& name) {
