@@ -68,6 +68,14 @@ TestScenario MakeScenario(const std::string& tag, int slot, int robots,
   const char* tmp = std::getenv("TMPDIR");
   const std::string path = std::string(tmp ? tmp : "/tmp") + "/" + name + ".textproto";
   std::ofstream(path) << text;
+  // Removed when the test process exits.
+  static struct Files {
+    std::vector<std::string> paths;
+    ~Files() {
+      for (const std::string& p : paths) unlink(p.c_str());
+    }
+  } files;
+  files.paths.push_back(path);
   return TestScenario{path, LoadScenarioFile(path)};
 }
 
