@@ -5,9 +5,11 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <stdexcept>
 #include <utility>
 
@@ -112,9 +114,19 @@ bool PhysicsClient::SendThrottles(const std::array<double, 4>& throttles, uint64
 
 bool PhysicsClient::Receive(proto::RobotState* state, int timeout_ms) {
   char buffer[4096];
+  // Deadline, so that datagrams that do not parse cannot extend the wait.
+  timespec now{};
+  clock_gettime(CLOCK_MONOTONIC, &now);
+  const int64_t deadline_ms = now.tv_sec * 1000 + now.tv_nsec / 1000000 + timeout_ms;
   for (;;) {
+    int wait_ms = timeout_ms;
+    if (timeout_ms > 0) {
+      clock_gettime(CLOCK_MONOTONIC, &now);
+      wait_ms = static_cast<int>(
+          std::max<int64_t>(0, deadline_ms - (now.tv_sec * 1000 + now.tv_nsec / 1000000)));
+    }
     pollfd fd{fd_, POLLIN, 0};
-    const int ready = poll(&fd, 1, timeout_ms);
+    const int ready = poll(&fd, 1, wait_ms);
     if (ready < 0 && errno == EINTR) continue;
     if (ready <= 0) return false;
     const ssize_t n = recv(fd_, buffer, sizeof buffer, MSG_DONTWAIT);
