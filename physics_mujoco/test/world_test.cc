@@ -103,6 +103,20 @@ TEST(WorldTest, FasterClockwiseRotorsYawTheBodyCounterClockwise) {
   }
 }
 
+TEST(WorldTest, LinearDragDecaysVelocityExponentially) {
+  // m dv/dt = -c v: v(t) = v0 exp(-c t / m) (the drag force is held over each 1 ms step:
+  // relative error ~ (c dt / m) t c / (2 m) = 7e-5 here).
+  const Scenario scenario = MakeScenario(
+      "airframe { name: \"draggy\" linear_drag_n_s_per_m: 0.5 }\n"
+      "robot { name: \"a\" airframe: \"draggy\" position_m { z: 5 } }");
+  World world(scenario);
+  SetHover(&world, 0);
+  world.SetVelocity(0, {2, 0, 0});
+  world.Advance(1000);
+  const double expected = 2 * std::exp(-0.5 * 1.0 / world.airframe(0).mass_kg());
+  EXPECT_NEAR(world.Pose(0).velocity_m_s.x, expected, 1e-3 * expected);
+}
+
 TEST(WorldTest, QuadFlownIntoABoxStopsAgainstIt) {
   // Box faces at x = 2.5; the quad's collision box reaches 0.14 m ahead of its centre.
   const Scenario scenario = MakeScenario(
