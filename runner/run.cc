@@ -1,5 +1,6 @@
 // `sitlnet run`: the whole pipeline for one scenario, as a script.
 #include <google/protobuf/text_format.h>
+#include <poll.h>
 #include <sys/stat.h>
 
 #include <cstdio>
@@ -105,6 +106,32 @@ std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& o
   return robots;
 }
 
+// Lockstep: every robot with an image must have announced itself (a first
+// MotorCommand) before iteration 0, so that all of them take part from the
+// first step and two runs start alike. Waits on the server's socket, at most
+// 10 s of wall time.
+void WaitForRobotsToSpeak(const Scenario& scenario, const std::vector<RobotSlot>& robots,
+                          physics::PhysicsServer* server) {
+  const TimeNs deadline = MonotonicNowNs() + 10 * kNsPerS;
+  for (;;) {
+    server->Poll();
+    std::string silent;
+    for (const RobotPlan& plan : scenario.robots) {
+      if (robots[plan.index].process && server->counters(plan.index).commands_accepted == 0) {
+        silent += (silent.empty() ? "" : ", ") + plan.name;
+      }
+    }
+    if (silent.empty()) return;
+    const TimeNs now = MonotonicNowNs();
+    if (now >= deadline) {
+      throw Error("lockstep: robots " + silent +
+                  " sent no MotorCommand within 10 s of starting (see their logs in robots/)");
+    }
+    pollfd wait{server->wait_fd(), POLLIN, 0};
+    poll(&wait, 1, static_cast<int>((deadline - now) / kNsPerMs) + 1);
+  }
+}
+
 }  // namespace
 
 RunReport RunScenario(const RunOptions& options) {
@@ -153,7 +180,10 @@ RunReport RunScenario(const RunOptions& options) {
 
   std::vector<RobotSlot> robots = StartImages(scenario, options, report.run_dir);
 
-  coordinator::PhysicsServerSimulator physics_sim(scenario, &physics_server);
+  coordinator::RobotLockstepOptions robot_lockstep;
+  robot_lockstep.enabled = lockstep;
+  if (lockstep) WaitForRobotsToSpeak(scenario, robots, &physics_server);
+  coordinator::PhysicsServerSimulator physics_sim(scenario, &physics_server, robot_lockstep);
   RecordingPhysics recording(&physics_sim, &physics_server.world(),
                              report.run_dir + "/trajectories.csv", options.trajectory_period_ns);
   BridgeSimulator bridge_sim(scenario, &bridge,
@@ -175,6 +205,7 @@ RunReport RunScenario(const RunOptions& options) {
   run_options.metrics_csv = &metrics_csv;
   run_options.metrics = &metrics;
   run_options.interrupt_fd = stop.fd();
+  run_options.lockstep_robots = lockstep;
   std::string failure;
   coordinator::RunResult result;
   try {
