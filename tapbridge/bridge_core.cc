@@ -87,6 +87,7 @@ struct BridgeCore::Impl {
   int timer_fd = -1;
   TimeNs wall_origin_ns = 0;
   TimeNs armed_wall_ns = -1;
+  TimeNs stopped_at_ns = -1;  // Virtual time when StopRealtime ran.
   LatenessHistogram interval_lateness;
   LatenessHistogram total_lateness;
 
@@ -248,17 +249,7 @@ BridgeCore::BridgeCore(const Scenario& scenario, std::unique_ptr<MediumModel> me
   }
 }
 
-BridgeCore::~BridgeCore() {
-  if (impl_->timer_fd >= 0) {
-    if (impl_->loop) impl_->loop->Remove(impl_->timer_fd);
-    close(impl_->timer_fd);
-  }
-  if (impl_->loop) {
-    for (auto& port : impl_->ports) {
-      if (port) impl_->loop->Remove(port->fd());
-    }
-  }
-}
+BridgeCore::~BridgeCore() { StopRealtime(); }
 
 void BridgeCore::AttachAll() {
   const size_t n = impl_->scenario.robots.size();
@@ -321,7 +312,22 @@ void BridgeCore::StartRealtime(EventLoop* loop, TimeNs wall_origin_ns) {
   impl_->AfterBatch();
 }
 
+void BridgeCore::StopRealtime() {
+  Impl& impl = *impl_;
+  if (impl.loop == nullptr) return;
+  impl.stopped_at_ns = impl.VirtualOf(MonotonicNowNs());
+  for (auto& port : impl.ports) {
+    if (port) impl.loop->Remove(port->fd());
+  }
+  impl.loop->Remove(impl.timer_fd);
+  impl.loop->SetAfterBatch(nullptr);
+  close(impl.timer_fd);
+  impl.timer_fd = -1;
+  impl.loop = nullptr;
+}
+
 TimeNs BridgeCore::VirtualNowNs() const {
+  if (impl_->stopped_at_ns >= 0) return impl_->stopped_at_ns;
   if (!impl_->loop) return impl_->lockstep_until_ns;
   return impl_->VirtualOf(MonotonicNowNs());
 }

@@ -172,6 +172,7 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
       (options.pcap_path.empty() ? "" : ", pcap " + options.pcap_path));
   core.StartRealtime(&loop, wall_origin_ns);
   loop.Run();
+  core.StopRealtime();  // Before `loop` goes out of scope (it was declared after `core`).
 
   core.RefreshKernelCounters();
   const LatenessStats total = core.TotalLateness();

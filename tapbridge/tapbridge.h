@@ -161,6 +161,9 @@ class BridgeCore {
   //---- 0 is the wall instant `wall_origin_ns` (CLOCK_MONOTONIC).
   void StartRealtime(EventLoop* loop, TimeNs wall_origin_ns);
   TimeNs VirtualNowNs() const;
+  // Unregisters from the loop (also done by the destructor); the loop may be
+  // destroyed afterwards. Virtual time stays where it stopped.
+  void StopRealtime();
 
   //---- Lockstep driver: drains every TAP, enters the frames during
   //---- (previous until, until_ns] at seeded instants in robot order, runs the
