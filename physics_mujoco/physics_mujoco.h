@@ -162,6 +162,10 @@ class PhysicsServer {
   // or `timeout_ns` of wall time passed. Returns the robots still missing (empty: all in).
   // Robot software joins the lock-step with its first command; others are not waited for.
   std::vector<int> CollectCommands(TimeNs timeout_ns);
+  // Periodic states at each robot's state rate during Advance() (default on). Lock-step
+  // runs turn them off so a robot gets exactly one state (SendStates) per iteration and
+  // nothing it answers can race the coordinator.
+  void SetPeriodicStates(bool enabled);
 
   // An fd that becomes readable when Poll() has packets to handle (epoll).
   int wait_fd() const;

@@ -33,6 +33,9 @@ struct Endpoint {
   bool motors_cut = false;
   TimeNs last_command_ns = 0;
   uint64_t command_step = 0;
+  // Lock-step: a command arrived since the last SendStates(). An announce sent
+  // before the state (with the same step number) must not count as its answer.
+  bool answered_state = false;
   TimeNs state_period_ns = 0;
   TimeNs next_state_ns = 0;
   TimeNs timeout_ns = 0;  // 0: failsafe off
@@ -99,6 +102,7 @@ struct PhysicsServer::Impl {
     ep.motors_cut = false;
     ep.last_command_ns = world.time_ns(ep.robot);
     ep.command_step = command.step;
+    ep.answered_state = true;
     ep.reply = from;
     ep.subscribed = true;
   }
@@ -198,7 +202,7 @@ struct PhysicsServer::Impl {
     }
     if (now < ep.next_state_ns) return;
     while (ep.next_state_ns <= now) ep.next_state_ns += ep.state_period_ns;
-    if (ep.subscribed) SendState(ep);
+    if (ep.subscribed && periodic_states) SendState(ep);
   }
 
   void SendState(Endpoint& ep) {
@@ -211,6 +215,8 @@ struct PhysicsServer::Impl {
     ++ep.counters.states_sent;
   }
 
+  bool periodic_states = true;
+
   bool InLockStep(const Endpoint& ep) const {
     return ep.subscribed && !world.frame_driven(ep.robot);
   }
@@ -222,7 +228,8 @@ struct PhysicsServer::Impl {
       Poll();
       missing.clear();
       for (const Endpoint& ep : endpoints) {
-        if (InLockStep(ep) && ep.command_step != static_cast<uint64_t>(world.steps(ep.robot))) {
+        if (InLockStep(ep) && (!ep.answered_state ||
+                               ep.command_step != static_cast<uint64_t>(world.steps(ep.robot)))) {
           missing.push_back(ep.robot);
         }
       }
@@ -290,9 +297,13 @@ PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& opti
 PhysicsServer::~PhysicsServer() = default;
 
 void PhysicsServer::Poll() { impl_->Poll(); }
+void PhysicsServer::SetPeriodicStates(bool enabled) { impl_->periodic_states = enabled; }
 void PhysicsServer::SendStates() {
   for (Endpoint& ep : impl_->endpoints) {
-    if (impl_->InLockStep(ep)) impl_->SendState(ep);
+    if (impl_->InLockStep(ep)) {
+      ep.answered_state = false;
+      impl_->SendState(ep);
+    }
   }
 }
 std::vector<int> PhysicsServer::CollectCommands(TimeNs timeout_ns) {

@@ -182,7 +182,10 @@ RunReport RunScenario(const RunOptions& options) {
 
   coordinator::RobotLockstepOptions robot_lockstep;
   robot_lockstep.enabled = lockstep;
-  if (lockstep) WaitForRobotsToSpeak(scenario, robots, &physics_server);
+  if (lockstep) {
+    physics_server.SetPeriodicStates(false);  // one state per iteration, from the gate
+    WaitForRobotsToSpeak(scenario, robots, &physics_server);
+  }
   coordinator::PhysicsServerSimulator physics_sim(scenario, &physics_server, robot_lockstep);
   RecordingPhysics recording(&physics_sim, &physics_server.world(),
                              report.run_dir + "/trajectories.csv", options.trajectory_period_ns);

@@ -1,6 +1,7 @@
 #include "robot_images/flocker/beacon_link.h"
 
 #include <arpa/inet.h>
+#include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -14,12 +15,17 @@ BeaconLink::BeaconLink(const std::string& device, uint16_t port) : port_(port) {
   fd_ = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
   if (fd_ < 0) throw std::runtime_error(std::string("beacon socket: ") + std::strerror(errno));
   const int one = 1;
+  // Path-MTU discovery "do": the kernel then sets DF and IP ID 0 on these
+  // unconnected datagrams instead of a randomly keyed ID, so that lockstep
+  // runs give byte-identical captures (beacons are far below any MTU).
+  const int pmtu_do = IP_PMTUDISC_DO;
   sockaddr_in local{};
   local.sin_family = AF_INET;
   local.sin_port = htons(port);
   if (setsockopt(fd_, SOL_SOCKET, SO_BINDTODEVICE, device.c_str(), device.size()) != 0 ||
       setsockopt(fd_, SOL_SOCKET, SO_BROADCAST, &one, sizeof one) != 0 ||
       setsockopt(fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) != 0 ||
+      setsockopt(fd_, IPPROTO_IP, IP_MTU_DISCOVER, &pmtu_do, sizeof pmtu_do) != 0 ||
       bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local) != 0) {
     const std::string message = "beacon socket on " + device + " port " + std::to_string(port) +
                                 ": " + std::strerror(errno);
