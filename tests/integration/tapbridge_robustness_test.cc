@@ -75,6 +75,21 @@ TEST(TapbridgeCapture, LiveCaptureStreamsToTshark) {
   EXPECT_EQ(capture.out().find("\t\n"), std::string::npos);
 }
 
+// The robot's own view: tcpdump inside its namespace sees what reached it.
+TEST(TapbridgeCapture, TcpdumpInsideRobotSeesItsTraffic) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("tcd", 2, kTwo);
+  scenario.StartDaemon();
+  auto tcpdump = scenario.Spawn("b", {"tcpdump", "-n", "-l", "-i", "wlan0", "-c", "2", "icmp"});
+  ASSERT_TRUE(tcpdump->WaitFor("listening on wlan0", true, 10 * kNsPerS)) << tcpdump->err();
+  ASSERT_TRUE(Pings(scenario, "a", 1, 1));
+  ASSERT_EQ(tcpdump->Wait(10 * kNsPerS), 0) << tcpdump->err();
+  EXPECT_NE(tcpdump->out().find(scenario.Address(0) + " > " + scenario.Address(1) +
+                                ": ICMP echo request"),
+            std::string::npos)
+      << tcpdump->out();
+}
+
 TEST(TapbridgeBadInput, FramesAbove80211MtuDroppedAndCounted) {
   SITLNET_REQUIRE_ROOT();
   MediumScenario scenario("mtu", 2, kTwo);

@@ -103,6 +103,30 @@ TEST_P(TapbridgeUdpSaturation, GoodputWithinFivePercentOfAnalytic) {
 
 INSTANTIATE_TEST_SUITE_P(Rates, TapbridgeUdpSaturation, ::testing::Values(54.0, 6.0));
 
+// Realtime factor 0.5: virtual time runs at half the wall clock, so the
+// medium carries half the analytic goodput per wall second.
+TEST(TapbridgeTraffic, RealtimeFactorScalesWallClockGoodput) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("rtf", 4, TwoRobots(6) + "timing { realtime_factor: 0.5 }\n");
+  scenario.StartDaemon();
+  auto server = scenario.Spawn(
+      "b", {"iperf3", "-s", "-1", "--forceflush", "-f", "k", "-B", scenario.Address(1)});
+  ASSERT_TRUE(server->WaitFor("Server listening", false, 10 * kNsPerS)) << server->err();
+  const double expected_mbps = 0.5 * OneStationGoodputMbps(1470, 6);
+  const Result client = scenario.Exec(
+      "a", {"iperf3", "-c", scenario.Address(1), "-u", "-b", "6M", "-l", "1470", "-t", "5"});
+  ASSERT_EQ(client.code, 0) << client.out << client.err;
+  ASSERT_EQ(server->Wait(10 * kNsPerS), 0);
+  const std::vector<double> intervals = SteadyIntervalsMbps(server->out());
+  ASSERT_GE(intervals.size(), 3u) << server->out();
+  double sum = 0;
+  for (double v : intervals) sum += v;
+  const double measured_mbps = sum / intervals.size();
+  std::printf("realtime factor 0.5, 6 Mb/s: %.3f Mb/s per wall second, expected %.3f\n",
+              measured_mbps, expected_mbps);
+  EXPECT_NEAR(measured_mbps, expected_mbps, 0.05 * expected_mbps);
+}
+
 // TCP: expect the DATA/ACK pattern of delayed ACKs (one 66-byte TCP ACK per
 // two 1514-byte segments) in one DCF cycle each, i.e. about 24 Mb/s at 54
 // (ns-3 measured 24.07, reference.md). Plausible: between 75 % of that and
