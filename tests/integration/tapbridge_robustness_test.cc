@@ -59,6 +59,38 @@ TEST(TapbridgeCapture, PcapFileDecodesCleanlyWithSignal) {
   EXPECT_GE(Lines(tcpdump.out), frames);
 }
 
+// Hidden terminals (line3: r1 and r3 cannot hear each other, both send to
+// r2): their frames overlap at r2, so the pcap must show frames with the
+// bad-FCS flag (collided at the addressed receiver) and retransmissions with
+// the Retry bit, and still decode without malformed packets.
+TEST(TapbridgeCapture, HiddenTerminalCollisionsShowBadFcsAndRetries) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("hid", 3,
+                          "robot { name: \"r1\" position_m { x: 0 y: 0 z: 2 } }\n"
+                          "robot { name: \"r2\" position_m { x: 45 y: 0 z: 2 } }\n"
+                          "robot { name: \"r3\" position_m { x: 90 y: 0 z: 2 } }\n"
+                          "radio { standard: STANDARD_80211A rate_mbps: 6 }\n");
+  const std::string pcap = scenario.dir() + "/air.pcap";
+  scenario.StartDaemon({"--pcap", pcap});
+  ASSERT_TRUE(Pings(scenario, "r1", 1, 1));  // ARP resolved before the floods.
+  ASSERT_TRUE(Pings(scenario, "r3", 1, 1));
+  auto flood1 =
+      scenario.Spawn("r1", {"ping", "-q", "-f", "-c", "500", "-s", "1000", scenario.Address(1)});
+  auto flood3 =
+      scenario.Spawn("r3", {"ping", "-q", "-f", "-c", "500", "-s", "1000", scenario.Address(1)});
+  flood1->Wait(60 * kNsPerS);
+  flood3->Wait(60 * kNsPerS);
+  scenario.StopDaemon();
+  const Result bad = RunProgram({"tshark", "-r", pcap, "-Y", "radiotap.flags.badfcs == 1"});
+  const Result retries = RunProgram({"tshark", "-r", pcap, "-Y", "wlan.fc.retry == 1"});
+  const Result malformed = RunProgram({"tshark", "-r", pcap, "-Y", "_ws.malformed"});
+  std::printf("hidden terminals: %d bad-FCS frames, %d retries in the pcap\n", Lines(bad.out),
+              Lines(retries.out));
+  EXPECT_GT(Lines(bad.out), 0);
+  EXPECT_GT(Lines(retries.out), 0);
+  EXPECT_EQ(Lines(malformed.out), 0) << malformed.out;
+}
+
 // `sitlnet capture --medium NAME | tshark -i -` while traffic flows.
 TEST(TapbridgeCapture, LiveCaptureStreamsToTshark) {
   SITLNET_REQUIRE_ROOT();
