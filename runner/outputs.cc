@@ -69,13 +69,17 @@ std::string ObstaclePolygon(const proto::Obstacle& box, int id) {
   return text.str();
 }
 
-// Runs gnuplot on `script`; empty string on success, else the reason.
-std::string RunGnuplot(const std::string& script_path) {
+// Runs gnuplot on `script` (its messages go to `log_path`); empty string on
+// success, else the reason.
+std::string RunGnuplot(const std::string& script_path, const std::string& log_path) {
   const pid_t pid = fork();
   if (pid < 0) return SystemErrorMessage("fork gnuplot", errno);
   if (pid == 0) {
     const int null_fd = open("/dev/null", O_RDWR);
+    const int log_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(null_fd, STDIN_FILENO);
+    dup2(log_fd >= 0 ? log_fd : null_fd, STDOUT_FILENO);
+    dup2(log_fd >= 0 ? log_fd : null_fd, STDERR_FILENO);
     execlp("gnuplot", "gnuplot", script_path.c_str(), nullptr);
     _exit(127);
   }
@@ -85,7 +89,7 @@ std::string RunGnuplot(const std::string& script_path) {
   if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
     return "gnuplot not found (apt-get install gnuplot-nox; scripts/setup does)";
   }
-  return "gnuplot failed on " + script_path;
+  return "gnuplot failed on " + script_path + " (see " + log_path + ")";
 }
 
 }  // namespace
@@ -123,7 +127,7 @@ std::vector<std::string> DrawPlots(const std::string& run_dir, const Scenario& s
             "dt 2 title 'real time'\n";
   const std::string script_path = run_dir + "/plots.gnuplot";
   std::ofstream(script_path) << script.str();
-  const std::string failure = RunGnuplot(script_path);
+  const std::string failure = RunGnuplot(script_path, run_dir + "/plots.log");
   if (!failure.empty()) {
     warnings->push_back(failure);
     return {};

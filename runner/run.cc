@@ -218,6 +218,7 @@ RunReport RunScenario(const RunOptions& options) {
   }
   monitoring.FinishProgress();
   metrics_csv.Flush();
+  recording.Flush();
   for (RobotSlot& robot : robots) {
     if (robot.process && !robot.exit_status) robot.process->Stop();
   }

@@ -24,6 +24,7 @@ class RecordingPhysics final : public coordinator::Simulator {
   proto::coord::Poses InitialPoses() override { return inner_.InitialPoses(); }
   void RunIteration(const proto::coord::Start& start, proto::coord::End* end,
                     coordinator::IterationContext& context) override;
+  void Flush() { csv_.Flush(); }
 
  private:
   void Record(TimeNs time_ns);

@@ -34,12 +34,14 @@ struct Options {
   std::string airframe_text;       // proto Airframe in text format; empty: defaults
   double lidar_fov_deg = 360;
   double log_period_s = 1;
+  FlockingParams flocking;
 };
 
 constexpr char kUsage[] =
     "usage: flocker [--target X,Y] [--altitude-m Z] [--broadcast-hz F] [--neighbour-timeout-s T]\n"
     "               [--beacon-port P] [--device DEV] [--airframe TEXTPROTO] [--lidar-fov-deg D]\n"
-    "               [--log-period-s S]\n"
+    "               [--log-period-s S] [--flock-speed-m-s V] [--attraction-gain G]\n"
+    "               [--attraction-range-m R] [--repulsion-range-m R]\n"
     "Runs inside a robot namespace; needs SITLNET_PHYSICS_ADDR and SITLNET_ROBOT_INDEX.\n";
 
 [[noreturn]] void Die(const std::string& message) {
@@ -85,6 +87,14 @@ Options ParseOptions(int argc, char** argv) {
       options.airframe_text = value;
     } else if (flag == "--lidar-fov-deg") {
       options.lidar_fov_deg = ParseNumber("--lidar-fov-deg", value);
+    } else if (flag == "--flock-speed-m-s") {
+      options.flocking.flock_speed_m_s = ParseNumber("--flock-speed-m-s", value);
+    } else if (flag == "--attraction-gain") {
+      options.flocking.attraction_gain = ParseNumber("--attraction-gain", value);
+    } else if (flag == "--attraction-range-m") {
+      options.flocking.attraction_range_m = ParseNumber("--attraction-range-m", value);
+    } else if (flag == "--repulsion-range-m") {
+      options.flocking.repulsion_range_m = ParseNumber("--repulsion-range-m", value);
     } else if (flag == "--log-period-s") {
       options.log_period_s = ParseNumber("--log-period-s", value);
     } else {
@@ -152,7 +162,7 @@ int Run(const Options& options) {
   auto client = physics_client::PhysicsClient::FromEnvironment();
   BeaconLink link(options.device, options.beacon_port);
   NeighbourTable table(static_cast<int64_t>(options.neighbour_timeout_s * 1e9));
-  const FlockingParams flocking;
+  const FlockingParams& flocking = options.flocking;
   const ControllerGains gains;
   const int64_t beacon_period_ns = static_cast<int64_t>(1e9 / options.broadcast_hz);
   const int64_t log_period_ns = static_cast<int64_t>(options.log_period_s * 1e9);

@@ -1,0 +1,164 @@
+// `sitlnet run` end to end with real namespaces, MuJoCo, the medium and the
+// flocker image: lockstep reproducibility, robot failures, Ctrl-C, teardown.
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+
+#include <algorithm>
+
+#include "tests/integration/nns_test_util.h"
+
+namespace sitlnet::nns::testing {
+namespace {
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+std::string TempDir() {
+  const char* tmp = std::getenv("TMPDIR");
+  return std::string(tmp ? tmp : "/tmp");
+}
+
+// A scenario named "ru<pid%10000><slot>" on subnets of its own; `robots` is
+// the robot blocks' text.
+struct RunScenario {
+  std::string name;
+  std::string path;
+};
+RunScenario WriteScenario(int slot, const std::string& robots, const std::string& extra = "") {
+  const unsigned pid = static_cast<unsigned>(getpid());
+  RunScenario s;
+  s.name = "ru" + std::to_string(pid % 10000) + std::to_string(slot);
+  const std::string third = std::to_string(pid % 250);
+  s.path = TempDir() + "/" + s.name + ".textproto";
+  std::ofstream(s.path) << "name: \"" << s.name << "\"\n"
+                        << robots << "addresses { wlan_subnet: \"10." << 240 + slot << "."
+                        << third << ".0/24\" ctl_subnet: \"10." << 220 + slot << "." << third
+                        << ".0/24\" }\n"
+                        << extra;
+  return s;
+}
+
+constexpr char kTwoFlockers[] =
+    "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } image: \"flocker\" "
+    "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n"
+    "robot { name: \"b\" position_m { x: 0 y: 6 z: 0.2 } image: \"flocker\" "
+    "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n";
+
+CommandResult SitlnetRun(const RunScenario& scenario, const std::string& out,
+                  std::vector<std::string> extra_args) {
+  std::vector<std::string> argv = {SitlnetBinary(), "run", scenario.path, "--out", out,
+                                   "--no-progress"};
+  argv.insert(argv.end(), extra_args.begin(), extra_args.end());
+  return RunCommand(argv, 300 * kNsPerS);
+}
+
+void ExpectNothingLeft(const std::string& name) {
+  EXPECT_FALSE(StateExists(name)) << name;
+  const std::vector<std::string> up = ListScenarios();
+  EXPECT_EQ(std::find(up.begin(), up.end(), name), up.end()) << name;
+  for (const char* robot : {"a", "b"}) {
+    EXPECT_FALSE(NetnsExists(name + "-" + robot)) << name << "-" << robot;
+  }
+  EXPECT_FALSE(LinkExistsInRoot(name + "-c0"));
+}
+
+TEST(RunTest, LockstepRunsAreByteIdenticalAndTheSeedMatters) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteScenario(0, kTwoFlockers, "timing { duration_ms: 5000 }\n");
+  DownGuard guard(scenario.name);
+  const std::string base = TempDir() + "/" + scenario.name + "-out";
+  const CommandResult first = SitlnetRun(scenario, base + "1", {"--pacing", "lockstep", "--seed", "5"});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const CommandResult second = SitlnetRun(scenario, base + "2", {"--pacing", "lockstep", "--seed", "5"});
+  ASSERT_EQ(second.exit_code, 0) << second.err;
+  const CommandResult other = SitlnetRun(scenario, base + "3", {"--pacing", "lockstep", "--seed", "6"});
+  ASSERT_EQ(other.exit_code, 0) << other.err;
+
+  for (const char* file : {"scenario.textproto", "trajectories.csv", "metrics.csv", "medium.pcap",
+                           "deliveries.csv", "connectivity.csv", "summary.json",
+                           "robots/a.log", "trajectories.png", "connectivity.png", "stf.png"}) {
+    struct stat info {};
+    EXPECT_EQ(stat((base + "1/" + file).c_str(), &info), 0) << file;
+  }
+  const std::string trajectories = ReadAll(base + "1/trajectories.csv");
+  const std::string pcap = ReadAll(base + "1/medium.pcap");
+  // 5 s at 10 Hz for 2 robots plus t=0 and the header; the robots flew.
+  EXPECT_GE(std::count(trajectories.begin(), trajectories.end(), '\n'), 100);
+  EXPECT_GT(pcap.size(), 24u + 20 * 100u);  // header + at least ~100 beacons
+  EXPECT_EQ(trajectories, ReadAll(base + "2/trajectories.csv"));
+  EXPECT_EQ(pcap, ReadAll(base + "2/medium.pcap"));
+  EXPECT_EQ(ReadAll(base + "1/deliveries.csv"), ReadAll(base + "2/deliveries.csv"));
+  // Another seed changes the medium's draws (backoff slots, intra-step offsets).
+  EXPECT_NE(pcap, ReadAll(base + "3/medium.pcap"));
+  ExpectNothingLeft(scenario.name);
+}
+
+TEST(RunTest, ImageThatCannotStartIsNamedWithItsLogAndNothingIsLeft) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const std::string manifest = TempDir() + "/run_test_missing_image.textproto";
+  std::ofstream(manifest) << "name: \"missing\"\ncommand: \"/nonexistent/autopilot\"\n";
+  const RunScenario scenario = WriteScenario(
+      1, "robot { name: \"a\" image: \"" + manifest + "\" }\nrobot { name: \"b\" }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const CommandResult result = SitlnetRun(scenario, out, {});
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.err.find("robot \"a\""), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find(out + "/robots/a.log"), std::string::npos) << result.err;
+  EXPECT_NE(ReadAll(out + "/robots/a.log").find("/nonexistent/autopilot"), std::string::npos);
+  ExpectNothingLeft(scenario.name);
+}
+
+TEST(RunTest, RobotFailureMidRunFollowsThePolicy) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const std::string robots =
+      "robot { name: \"a\" image: \"shell\" args: \"sleep 1; exit 3\" }\nrobot { name: \"b\" }\n";
+  const RunScenario stop =
+      WriteScenario(2, robots, "timing { duration_ms: 4000 }\non_robot_failure: ROBOT_FAILURE_STOP\n");
+  {
+    DownGuard guard(stop.name);
+    const CommandResult result = SitlnetRun(stop, TempDir() + "/" + stop.name + "-out", {});
+    EXPECT_EQ(result.exit_code, 1) << result.err;
+    EXPECT_NE(result.err.find("robot \"a\" exited with status 3"), std::string::npos)
+        << result.err;
+    ExpectNothingLeft(stop.name);
+  }
+  const RunScenario go = WriteScenario(3, robots, "timing { duration_ms: 3000 }\n");
+  DownGuard guard(go.name);
+  const std::string out = TempDir() + "/" + go.name + "-out";
+  const CommandResult result = SitlnetRun(go, out, {});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.err.find("robot \"a\" exited with status 3"), std::string::npos) << result.err;
+  EXPECT_NE(ReadAll(out + "/summary.json").find("\"name\":\"a\",\"exit_status\":3"),
+            std::string::npos);
+  // The run went on to its end: 3 s of metrics rows (10 ms iterations) + header.
+  const std::string metrics = ReadAll(out + "/metrics.csv");
+  EXPECT_EQ(std::count(metrics.begin(), metrics.end(), '\n'), 301);
+  ExpectNothingLeft(go.name);
+}
+
+TEST(RunTest, InterruptDuringStartUpLeavesNothing) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteScenario(4, kTwoFlockers, "timing { duration_ms: 60000 }\n");
+  DownGuard guard(scenario.name);
+  Child run({SitlnetBinary(), "run", scenario.path, "--out",
+             TempDir() + "/" + scenario.name + "-out", "--no-progress"});
+  // The state file is the first thing `up` writes: start-up is under way.
+  const TimeNs deadline = MonotonicNowNs() + 20 * kNsPerS;
+  while (!StateExists(scenario.name) && MonotonicNowNs() < deadline) run.Wait(kNsPerMs);
+  ASSERT_TRUE(StateExists(scenario.name)) << run.err();
+  kill(run.pid(), SIGINT);
+  EXPECT_EQ(run.Wait(60 * kNsPerS), 130) << run.err();
+  ExpectNothingLeft(scenario.name);
+}
+
+}  // namespace
+}  // namespace sitlnet::nns::testing
