@@ -84,6 +84,7 @@ struct BridgeCore::Impl {
 
   // Realtime driver.
   EventLoop* loop = nullptr;
+  std::weak_ptr<const void> loop_lifetime;  // Expired: the loop is gone, do not touch it.
   int timer_fd = -1;
   TimeNs wall_origin_ns = 0;
   TimeNs armed_wall_ns = -1;
@@ -297,6 +298,7 @@ void BridgeCore::StartRealtime(EventLoop* loop, TimeNs wall_origin_ns) {
   // the nanosecond, so ask for the minimum (prctl(2), PR_SET_TIMERSLACK).
   prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0);
   impl_->loop = loop;
+  impl_->loop_lifetime = loop->lifetime();
   impl_->wall_origin_ns = wall_origin_ns;
   impl_->timer_fd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
   if (impl_->timer_fd < 0) throw Error(SystemErrorMessage("timerfd_create", errno));
@@ -316,11 +318,15 @@ void BridgeCore::StopRealtime() {
   Impl& impl = *impl_;
   if (impl.loop == nullptr) return;
   impl.stopped_at_ns = impl.VirtualOf(MonotonicNowNs());
-  for (auto& port : impl.ports) {
-    if (port) impl.loop->Remove(port->fd());
+  // The loop may already be destroyed (a caller that declared it after the
+  // core); then there is nothing to unregister from.
+  if (!impl.loop_lifetime.expired()) {
+    for (auto& port : impl.ports) {
+      if (port) impl.loop->Remove(port->fd());
+    }
+    impl.loop->Remove(impl.timer_fd);
+    impl.loop->SetAfterBatch(nullptr);
   }
-  impl.loop->Remove(impl.timer_fd);
-  impl.loop->SetAfterBatch(nullptr);
   close(impl.timer_fd);
   impl.timer_fd = -1;
   impl.loop = nullptr;

@@ -16,6 +16,7 @@ struct EventLoop::Impl {
   // looks each fd up again rather than holding iterators.
   std::unordered_map<int, std::shared_ptr<std::function<void(uint32_t)>>> callbacks;
   std::function<void()> after_batch;
+  std::shared_ptr<const int> lifetime = std::make_shared<const int>(0);
 };
 
 EventLoop::EventLoop() : impl_(std::make_unique<Impl>()) {
@@ -72,5 +73,6 @@ void EventLoop::Run() {
 
 void EventLoop::Stop() { impl_->stopped = true; }
 bool EventLoop::stopped() const { return impl_->stopped; }
+std::weak_ptr<const void> EventLoop::lifetime() const { return impl_->lifetime; }
 
 }  // namespace sitlnet::tapbridge

@@ -215,6 +215,9 @@ class EventLoop {
   void Run();  // Until Stop().
   void Stop();
   bool stopped() const;
+  // Expires when the loop is destroyed: users that may outlive it (BridgeCore)
+  // check it before unregistering.
+  std::weak_ptr<const void> lifetime() const;
 
  private:
   struct Impl;

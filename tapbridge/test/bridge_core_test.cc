@@ -40,3 +40,32 @@ TEST(RelayMedium, UnicastToOwnerGroupToAllOthers) {
 
 }  // namespace
 }  // namespace sitlnet::tapbridge
+
+namespace sitlnet::tapbridge {
+namespace {
+
+// A caller may destroy its EventLoop before the BridgeCore registered on it
+// (declaration order); the core must not touch the dead loop.
+TEST(BridgeCore, LoopMayDieBeforeTheCore) {
+  const Scenario scenario = LoadScenarioText("name: \"u\" robot { name: \"a\" }", "<test>");
+  BridgeCore core(scenario, MakeRelayMedium({RobotMac(0)}), BridgeOptions{});
+  {
+    EventLoop loop;
+    core.StartRealtime(&loop, MonotonicNowNs());
+    loop.RunOnce(0);
+  }
+  EXPECT_GE(core.VirtualNowNs(), 0);
+}
+
+TEST(BridgeCore, StopRealtimeThenLoopRunsWithoutTheCore) {
+  const Scenario scenario = LoadScenarioText("name: \"u\" robot { name: \"a\" }", "<test>");
+  EventLoop loop;
+  {
+    BridgeCore core(scenario, MakeRelayMedium({RobotMac(0)}), BridgeOptions{});
+    core.StartRealtime(&loop, MonotonicNowNs());
+  }
+  loop.RunOnce(0);  // The after-batch hook was removed with the core.
+}
+
+}  // namespace
+}  // namespace sitlnet::tapbridge
