@@ -38,9 +38,11 @@ std::string Expand(const std::string& text, const Image& image, const LaunchCont
       out += std::to_string(context.robot_index);
     } else if (name == "SCENARIO") {
       out += context.scenario;
+    } else if (name == "AIRFRAME") {
+      out += context.airframe_text;
     } else {
       throw Error(image.manifest_path + ": unknown placeholder ${" + name + "} in \"" + text +
-                  "\" (known: IMAGE_DIR SITLNET_BIN ROBOT ROBOT_INDEX SCENARIO, and ${ARGS} "
+                  "\" (known: IMAGE_DIR SITLNET_BIN ROBOT ROBOT_INDEX SCENARIO AIRFRAME, and ${ARGS} "
                   "as a whole command element)");
     }
     i = close + 1;

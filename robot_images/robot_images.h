@@ -34,6 +34,7 @@ struct LaunchContext {
   std::string robot;            // ${ROBOT}
   int robot_index = 0;          // ${ROBOT_INDEX}
   std::vector<std::string> robot_args;  // "${ARGS}"
+  std::string airframe_text;            // ${AIRFRAME}: the robot's Airframe, text format
 };
 
 // The image's argv with placeholders expanded; throws Error naming the

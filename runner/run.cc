@@ -1,6 +1,7 @@
 // `sitlnet run`: the whole pipeline for one scenario, as a script.
 #include <google/protobuf/text_format.h>
 #include <poll.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 
 #include <cstdio>
@@ -90,6 +91,9 @@ std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& o
     context.robot = plan.name;
     context.robot_index = plan.index;
     context.robot_args.assign(plan.spec.args().begin(), plan.spec.args().end());
+    google::protobuf::TextFormat::Printer one_line;
+    one_line.SetSingleLineMode(true);
+    one_line.PrintToString(plan.airframe, &context.airframe_text);
     images::CheckFiles(image, context);
     slot.process = std::make_unique<images::RobotProcess>(
         image, context, options.sitlnet_exe, run_dir + "/robots/" + plan.name + ".log");
@@ -135,6 +139,7 @@ void WaitForRobotsToSpeak(const Scenario& scenario, const std::vector<RobotSlot>
 }  // namespace
 
 RunReport RunScenario(const RunOptions& options) {
+  const TimeNs begin_ns = MonotonicNowNs();
   const Scenario scenario = LoadWithOverrides(options);
   RunReport report;
   report.run_dir = options.out_dir.empty() ? DefaultRunDir(scenario.name) : options.out_dir;
@@ -211,17 +216,34 @@ RunReport RunScenario(const RunOptions& options) {
   run_options.lockstep_robots = lockstep;
   std::string failure;
   coordinator::RunResult result;
+  const TimeNs loop_begin_ns = MonotonicNowNs();
+  report.startup_ns = loop_begin_ns - begin_ns;
   try {
     result = coordinator::RunCoordinator(*physics, *network, run_options);
   } catch (const Error& error) {
     failure = error.what();
   }
+  const TimeNs loop_end_ns = MonotonicNowNs();
+  report.loop_ns = loop_end_ns - loop_begin_ns;
+  const auto cpu_s = [](const rusage& usage) {
+    return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+           static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
+  };
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  report.self_cpu_s = cpu_s(usage);
   monitoring.FinishProgress();
   metrics_csv.Flush();
   recording.Flush();
   for (RobotSlot& robot : robots) {
     if (robot.process && !robot.exit_status) robot.process->Stop();
   }
+  report.stop_ns = MonotonicNowNs() - loop_end_ns;
+  // Every image is reaped by now and nothing else was a child yet (gnuplot
+  // runs later), so the children's usage is the robots'.
+  getrusage(RUSAGE_CHILDREN, &usage);
+  report.robots_cpu_s = cpu_s(usage);
+  report.robot_max_rss_kib = usage.ru_maxrss;
   deliveries.Flush();
   pcap.flush();
 

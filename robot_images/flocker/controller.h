@@ -18,8 +18,8 @@ struct AirframeParams {
   double arm_y_m = 0.18;
   Eigen::Vector3d inertia_kg_m2{0.04, 0.0335, 0.06};
   double thrust_coefficient = 3.16e-6;  // N / (rad/s)^2
-  double drag_coefficient = 7.9e-8;     // N*m / (rad/s)^2
-  double max_rotor_speed_rad_s = 2100;
+  double drag_coefficient = 6.35e-8;    // N*m / (rad/s)^2
+  double max_rotor_speed_rad_s = 2028;
 };
 
 struct ControllerGains {

@@ -20,6 +20,7 @@ LaunchContext Context() {
   context.robot = "uav2";
   context.robot_index = 1;
   context.robot_args = {"--target", "120,0"};
+  context.airframe_text = "mass_kg: 2";
   return context;
 }
 
@@ -33,7 +34,8 @@ TEST(ImageTest, ShippedImagesLoad) {
 TEST(ImageTest, ExpandsPlaceholdersAndSplicesArgs) {
   const Image image = LoadImage(ImagesRoot(), "flocker");
   const std::vector<std::string> argv = ExpandCommand(image, Context());
-  EXPECT_EQ(argv, (std::vector<std::string>{"/opt/sitlnet/bin/flocker", "--target", "120,0"}));
+  EXPECT_EQ(argv, (std::vector<std::string>{"/opt/sitlnet/bin/flocker", "--airframe",
+                                             "mass_kg: 2", "--target", "120,0"}));
 }
 
 TEST(ImageTest, MissingFileNamesRobotAndPath) {
