@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets with clang (ASan + UBSan) in build-fuzz/ and runs each for
+# SECONDS (default 10) from its committed seed corpus fuzz/corpus/<target>/. New inputs go to
+# build-fuzz/corpus/<target>/ (not committed); crashes to build-fuzz/artifacts/<target>/.
+# Exit status 1 if any target found a crash, leak or timeout (its log is printed).
+# Usage: fuzz/run.sh [SECONDS] [TARGET...]     long run: fuzz/run.sh 3600 medium_frame_fuzz
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-10}"
+shift || true
+targets=("$@")
+((${#targets[@]})) || targets=(scenario_text_fuzz motor_command_fuzz servo_packet_fuzz
+  coordinator_frame_fuzz medium_frame_fuzz image_manifest_fuzz)
+
+build=build-fuzz
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSITLNET_FUZZ=ON \
+  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DSITLNET_MODULES="common;scenario;mac_phy_sim;tapbridge;physics_mujoco;coordinator;robot_images" \
+  >"/tmp/sitlnet-build-fuzz.configure.log" 2>&1 || { cat "/tmp/sitlnet-build-fuzz.configure.log" >&2; exit 1; }
+mkdir -p "$build"
+cmake --build "$build" -j2 --target "${targets[@]}" >"$build/build.log" 2>&1 ||
+  { tail -50 "$build/build.log" >&2; exit 1; }
+
+failed=()
+for target in "${targets[@]}"; do
+  mkdir -p "$build/corpus/$target" "$build/artifacts/$target" "$build/logs"
+  log="$build/logs/$target.log"
+  # -rss_limit_mb: the decoders bound their allocations far below this; -timeout: no input
+  # may take a second.
+  if "$build/fuzz/$target" -max_total_time="$seconds" -timeout=1 -rss_limit_mb=1024 \
+      -print_final_stats=1 -artifact_prefix="$build/artifacts/$target/" \
+      "$build/corpus/$target" "fuzz/corpus/$target" >"$log" 2>&1; then
+    runs=$(grep -oE 'stat::number_of_executed_units: *[0-9]+' "$log" | grep -oE '[0-9]+$' || echo '?')
+    echo "fuzz: $target ok, $runs inputs in ${seconds} s"
+  else
+    echo "fuzz: $target FAILED (log $log, inputs in $build/artifacts/$target/):" >&2
+    grep -E 'ERROR|SUMMARY|runtime error|Test unit written' "$log" | head -20 >&2
+    failed+=("$target")
+  fi
+done
+((${#failed[@]} == 0)) || { echo "fuzz: failures in ${failed[*]}" >&2; exit 1; }
