@@ -82,6 +82,7 @@ int RunMediumCommand(int argc, char** argv) {
   if (load_status != kExitOk) return load_status;
   return ReportErrors("medium", kExitFailure, [&] {
     nns::RequirePrivileges();
+    nns::DaemonRegistration registration(scenario.name, "medium");  // `down` stops us too
     return tapbridge::RunMediumDaemon(scenario, options);
   });
 }

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "cli/commands.h"
@@ -97,6 +98,10 @@ int RunPhysicsCommand(int argc, char** argv) {
   if (load_status != kExitOk) return load_status;
   return ReportErrors("physics", kExitFailure, [&] {
     physics::PhysicsServer server(scenario, options);
+    // When the scenario is up, `sitlnet down` stops this server too. It may
+    // also run before `up` (its sockets use IP_FREEBIND): then it is ours alone.
+    std::optional<nns::DaemonRegistration> registration;
+    if (nns::ReadScenarioState(scenario.name)) registration.emplace(scenario.name, "physics");
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
     std::fprintf(stderr, "sitlnet physics: %zu robots, step %ld us, serving on port %u\n",

@@ -154,6 +154,23 @@ struct RobotRef {
 RobotRef ResolveRobot(const std::vector<ScenarioState>& scenarios, const std::string& robot,
                       const std::string& scenario_name = "");
 
+//------------------------------ Scenario daemons -----------------------------
+
+// A root-namespace daemon of a scenario (role "medium" or "physics") records
+// "<pid> <start time>" in /run/sitlnet/<scenario>/<role>.pid for as long as
+// this object lives, so that Down() stops it too (also after the daemon's
+// parent crashed). Throws Error if the scenario is not up.
+class DaemonRegistration {
+ public:
+  DaemonRegistration(const std::string& scenario, const std::string& role);
+  ~DaemonRegistration();
+  DaemonRegistration(const DaemonRegistration&) = delete;
+  DaemonRegistration& operator=(const DaemonRegistration&) = delete;
+
+ private:
+  std::string path_;
+};
+
 //-------------------------------- Up / down ---------------------------------
 
 struct UpOptions {
@@ -177,8 +194,8 @@ struct DownReport {
   int processes_killed = 0;      // Needed SIGKILL.
 };
 
-// Tears scenario `name` down from its state file: SIGTERM then SIGKILL every
-// process in its namespaces (bounded wait on pidfds), unmount and remove the
+// Tears scenario `name` down from its state file: SIGTERM then SIGKILL its
+// registered daemons (DaemonRegistration) and every process in its namespaces (bounded wait on pidfds), unmount and remove the
 // namespaces, delete the root-side veths by exact name, remove the state.
 // Idempotent; a scenario without a state file is a no-op.
 DownReport Down(const std::string& name);
@@ -211,6 +228,9 @@ struct RobotStatus {
 
 // Reads devices and processes of every robot of `state`.
 std::vector<RobotStatus> Status(const ScenarioState& state);
+
+// Live daemons registered for `scenario` (pid and start time still match).
+std::vector<ProcessInfo> RegisteredDaemons(const std::string& scenario);
 
 // Processes whose network namespace is /run/netns/<netns> (inode match on
 // /proc/<pid>/ns/net). Empty if the namespace does not exist.

@@ -147,6 +147,10 @@ void RemoveState(const std::string& scenario) {
   const std::string dir = std::string(kStateDir) + "/" + scenario;
   unlink(StatePath(scenario).c_str());
   unlink((StatePath(scenario) + ".tmp").c_str());
+  // What daemons leave behind after a crash: their pid files and sockets.
+  for (const char* file : {"medium.pid", "physics.pid", "medium.sock"}) {
+    unlink((dir + "/" + file).c_str());
+  }
   if (rmdir(dir.c_str()) != 0 && errno != ENOENT) {
     throw Error(SystemErrorMessage("remove state directory \"" + dir + "\"", errno));
   }

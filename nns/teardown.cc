@@ -124,6 +124,11 @@ DownReport internal::DownLocked(const std::string& name) {
   const std::optional<ScenarioState> state = ReadScenarioState(name);
   if (!state) return report;
 
+  // 0. The scenario's daemons in the root namespace (medium, physics): they
+  // hold the TAPs and sockets of the scenario.
+  if (const auto daemons = RegisteredDaemons(name); !daemons.empty()) {
+    internal::TerminateProcesses(daemons, &report);
+  }
   // 1. Processes, all namespaces of the scenario in one /proc scan per round.
   std::vector<internal::NsId> namespaces;
   for (const RobotState& robot : state->robots) {

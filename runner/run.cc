@@ -155,6 +155,8 @@ RunReport RunScenario(const RunOptions& options) {
 
   nns::Up(scenario);
   DownOnExit down(scenario.name);
+  std::fprintf(stderr, "sitlnet run: %s: %zu robots up, starting medium, physics and images -> %s\n",
+               scenario.name.c_str(), scenario.robots.size(), report.run_dir.c_str());
   const bool lockstep = scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP;
 
   physics::PhysicsServer physics_server(scenario);

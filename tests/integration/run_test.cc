@@ -151,13 +151,37 @@ TEST(RunTest, InterruptDuringStartUpLeavesNothing) {
   DownGuard guard(scenario.name);
   Child run({SitlnetBinary(), "run", scenario.path, "--out",
              TempDir() + "/" + scenario.name + "-out", "--no-progress"});
-  // The state file is the first thing `up` writes: start-up is under way.
-  const TimeNs deadline = MonotonicNowNs() + 20 * kNsPerS;
-  while (!StateExists(scenario.name) && MonotonicNowNs() < deadline) run.Wait(kNsPerMs);
-  ASSERT_TRUE(StateExists(scenario.name)) << run.err();
+  // Printed once the robots are up, before the medium, physics and images start.
+  ASSERT_TRUE(run.WaitForOutput(true, "robots up", 30 * kNsPerS)) << run.err();
   kill(run.pid(), SIGINT);
   EXPECT_EQ(run.Wait(60 * kNsPerS), 130) << run.err();
   ExpectNothingLeft(scenario.name);
+}
+
+}  // namespace
+}  // namespace sitlnet::nns::testing
+
+namespace sitlnet::nns::testing {
+namespace {
+
+TEST(DaemonTest, DownStopsTheScenariosMediumAndPhysicsDaemons) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteScenario(5, "robot { name: \"a\" }\nrobot { name: \"b\" }\n");
+  DownGuard guard(scenario.name);
+  ASSERT_EQ(RunCommand({SitlnetBinary(), "up", scenario.path}).exit_code, 0);
+  Child medium({SitlnetBinary(), "medium", scenario.path});
+  Child physics({SitlnetBinary(), "physics", scenario.path});
+  ASSERT_TRUE(medium.WaitForOutput(true, "attached", 20 * kNsPerS)) << medium.err();
+  ASSERT_TRUE(physics.WaitForOutput(true, "serving", 20 * kNsPerS)) << physics.err();
+  EXPECT_EQ(RegisteredDaemons(scenario.name).size(), 2u);
+  const CommandResult down = RunCommand({SitlnetBinary(), "down", scenario.name});
+  EXPECT_EQ(down.exit_code, 0) << down.err;
+  // Both stopped on SIGTERM (exit 0: they stop cleanly on it), not killed.
+  EXPECT_EQ(medium.Wait(10 * kNsPerS), 0) << medium.err();
+  EXPECT_EQ(physics.Wait(10 * kNsPerS), 0) << physics.err();
+  ExpectNothingLeft(scenario.name);
+  struct stat info {};
+  EXPECT_NE(stat((std::string(kStateDir) + "/" + scenario.name).c_str(), &info), 0);
 }
 
 }  // namespace
