@@ -66,8 +66,13 @@ void MonitoringNetwork::RunIteration(const proto::coord::Start& start, proto::co
 }
 
 void MonitoringNetwork::CheckRobots(TimeNs now_ns) {
+  // Log files are read for readiness twice a second at most.
+  const bool check_ready = MonotonicNowNs() >= next_ready_check_wall_ns_;
+  if (check_ready) next_ready_check_wall_ns_ = MonotonicNowNs() + kNsPerS / 2;
   for (RobotSlot& robot : robots_) {
     if (!robot.process || robot.exit_status) continue;
+    if (check_ready && !robot.ready) CheckReadiness(robot, now_ns);
+    if (robot.exit_status) continue;
     robot.exit_status = robot.process->PollExit();
     if (!robot.exit_status) continue;
     robot.exited_at_ns = now_ns;
@@ -76,11 +81,47 @@ void MonitoringNetwork::CheckRobots(TimeNs now_ns) {
     std::fprintf(stderr, "sitlnet run: robot \"%s\" exited with status %d at t=%.2f s (log: %s)\n",
                  robot.name.c_str(), status, static_cast<double>(now_ns) / kNsPerS,
                  robot.process->log_path().c_str());
-    if (status != 0 && stop_on_failure_) {
-      throw Error("robot \"" + robot.name + "\" failed with status " + std::to_string(status) +
-                  " (on_robot_failure: ROBOT_FAILURE_STOP; log: " + robot.process->log_path() +
-                  ")");
-    }
+    if (status != 0) HandleFailure(robot, "failed with status " + std::to_string(status), now_ns);
+  }
+}
+
+void MonitoringNetwork::CheckReadiness(RobotSlot& robot, TimeNs now_ns) {
+  if (robot.process->IsReady()) {
+    robot.ready = true;
+    return;
+  }
+  const TimeNs timeout_ns = robot.image.manifest.ready_timeout_ms() * kNsPerMs;
+  if (MonotonicNowNs() - robot.started_wall_ns < timeout_ns) return;
+  FinishProgress();
+  const std::string what = "not ready within " +
+                           std::to_string(robot.image.manifest.ready_timeout_ms()) +
+                           " ms (no \"" + robot.image.manifest.ready_log_line() + "\" in its log)";
+  std::fprintf(stderr, "sitlnet run: robot \"%s\" %s (log: %s)\n", robot.name.c_str(),
+               what.c_str(), robot.process->log_path().c_str());
+  robot.process->Stop();
+  robot.exit_status = robot.process->PollExit();
+  HandleFailure(robot, what, now_ns);
+}
+
+void MonitoringNetwork::HandleFailure(RobotSlot& robot, const std::string& what, TimeNs now_ns) {
+  const auto& manifest = robot.image.manifest;
+  if (manifest.restart() == proto::ImageManifest::RESTART_ON_FAILURE &&
+      robot.restarts < manifest.max_restarts()) {
+    ++robot.restarts;
+    std::fprintf(stderr, "sitlnet run: restarting robot \"%s\" (%u of at most %u)\n",
+                 robot.name.c_str(), robot.restarts, manifest.max_restarts());
+    const std::string log_path = robot.process->log_path();
+    robot.process.reset();  // reaped already; stops it if not
+    robot.process = std::make_unique<images::RobotProcess>(robot.image, robot.context,
+                                                           robot.sitlnet_exe, log_path);
+    robot.exit_status.reset();
+    robot.started_wall_ns = MonotonicNowNs();
+    robot.ready = false;
+    return;
+  }
+  if (stop_on_failure_) {
+    throw Error("robot \"" + robot.name + "\" " + what +
+                " (on_robot_failure: ROBOT_FAILURE_STOP; log: " + robot.process->log_path() + ")");
   }
 }
 

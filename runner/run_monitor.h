@@ -41,6 +41,13 @@ struct RobotSlot {
   std::unique_ptr<images::RobotProcess> process;  // Null: no image.
   std::optional<int> exit_status;
   TimeNs exited_at_ns = 0;  // Virtual time the exit was noticed.
+  // What it takes to start the image again (restart policy).
+  images::Image image;
+  images::LaunchContext context;
+  std::string sitlnet_exe;
+  uint32_t restarts = 0;
+  TimeNs started_wall_ns = 0;  // For the readiness timeout.
+  bool ready = false;
 };
 
 // Network simulator + robot supervision + progress line.
@@ -56,6 +63,11 @@ class MonitoringNetwork final : public coordinator::Simulator {
 
  private:
   void CheckRobots(TimeNs now_ns);
+  // A robot's image failed: restart it by its manifest's policy, or report
+  // it (and stop the run if the scenario says so).
+  void HandleFailure(RobotSlot& robot, const std::string& what, TimeNs now_ns);
+  void CheckReadiness(RobotSlot& robot, TimeNs now_ns);
+  TimeNs next_ready_check_wall_ns_ = 0;
   void PrintProgress(TimeNs now_ns);
 
   coordinator::Simulator& inner_;

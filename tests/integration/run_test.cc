@@ -186,3 +186,58 @@ TEST(DaemonTest, DownStopsTheScenariosMediumAndPhysicsDaemons) {
 
 }  // namespace
 }  // namespace sitlnet::nns::testing
+
+namespace sitlnet::nns::testing {
+namespace {
+
+std::string WriteManifest(const std::string& name, const std::string& body) {
+  const std::string path = TempDir() + "/run_test_" + name + "_" + std::to_string(getpid()) +
+                           ".textproto";
+  std::ofstream(path) << "name: \"" << name << "\"\n" << body;
+  return path;
+}
+
+TEST(RunTest, RestartPolicyRestartsAFailingImageUpToItsLimit) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const std::string manifest = WriteManifest(
+      "flaky", "command: [\"/bin/sh\", \"-c\", \"echo started; sleep 0.5; exit 4\"]\n"
+               "restart: RESTART_ON_FAILURE\nmax_restarts: 2\n");
+  const RunScenario scenario = WriteScenario(
+      6, "robot { name: \"a\" image: \"" + manifest + "\" }\nrobot { name: \"b\" }\n",
+      "timing { duration_ms: 4000 }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const CommandResult result = SitlnetRun(scenario, out, {});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.err.find("restarting robot \"a\" (1 of at most 2)"), std::string::npos)
+      << result.err;
+  EXPECT_NE(result.err.find("restarting robot \"a\" (2 of at most 2)"), std::string::npos);
+  const std::string log = ReadAll(out + "/robots/a.log");
+  size_t starts = 0;
+  for (size_t at = log.find("started"); at != std::string::npos; at = log.find("started", at + 1)) {
+    ++starts;
+  }
+  EXPECT_EQ(starts, 3u) << log;  // the first run and two restarts
+  EXPECT_NE(ReadAll(out + "/summary.json").find("\"name\":\"a\",\"exit_status\":4"),
+            std::string::npos);
+  ExpectNothingLeft(scenario.name);
+}
+
+TEST(RunTest, ImageNotReadyInTimeIsAFailure) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const std::string manifest = WriteManifest(
+      "mute", "command: [\"/bin/sleep\", \"30\"]\nready_log_line: \"READY\"\nready_timeout_ms: 500\n");
+  const RunScenario scenario = WriteScenario(
+      7, "robot { name: \"a\" image: \"" + manifest + "\" }\nrobot { name: \"b\" }\n",
+      "timing { duration_ms: 5000 }\non_robot_failure: ROBOT_FAILURE_STOP\n");
+  DownGuard guard(scenario.name);
+  const CommandResult result = SitlnetRun(scenario, TempDir() + "/" + scenario.name + "-out", {});
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  EXPECT_NE(result.err.find("robot \"a\" not ready within 500 ms (no \"READY\" in its log)"),
+            std::string::npos)
+      << result.err;
+  ExpectNothingLeft(scenario.name);
+}
+
+}  // namespace
+}  // namespace sitlnet::nns::testing
