@@ -1,5 +1,7 @@
 #include "coordinator/physics_connector.h"
 
+#include <cstdio>
+
 namespace sitlnet::coordinator {
 
 void PosesFromWorld(const physics::World& world, proto::coord::Poses* poses) {
@@ -58,7 +60,17 @@ void PhysicsServerSimulator::RunIteration(const proto::coord::Start& start, prot
   if (lockstep_.enabled) {
     server_.SendStates();
     const std::vector<int> missing = server_.CollectCommands(lockstep_.command_timeout_ns);
-    if (!missing.empty()) {
+    if (!missing.empty() && lockstep_.drop_silent) {
+      for (int robot : missing) {
+        server_.DropFromLockstep(robot);
+        std::fprintf(stderr,
+                     "sitlnet: robot '%s' did not answer the state of iteration %llu within %lld "
+                     "ms: dropped from the run, motors cut\n",
+                     robot_names_.at(robot).c_str(),
+                     static_cast<unsigned long long>(start.iteration()),
+                     static_cast<long long>(lockstep_.command_timeout_ns / kNsPerMs));
+      }
+    } else if (!missing.empty()) {
       std::string names;
       for (int robot : missing) {
         names += (names.empty() ? "'" : ", '") + robot_names_.at(robot) + "'";

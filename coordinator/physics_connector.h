@@ -39,6 +39,9 @@ struct RobotLockstepOptions {
   // Wall time a robot may take to answer a state. Past it the run stops with
   // the robot's name (robots that never sent a command are not waited for).
   TimeNs command_timeout_ns = 1 * kNsPerS;
+  // A robot past the timeout is dropped (PhysicsServer::DropFromLockstep:
+  // motors cut, the run goes on) instead of stopping the run.
+  bool drop_silent = false;
 };
 
 // Steps a PhysicsServer (not owned): robots get their RobotState and their

@@ -122,6 +122,7 @@ struct RobotCounters {
   uint64_t dropped_wrong_robot = 0;     // MotorCommand.robot is another robot's index.
   uint64_t dropped_foreign_source = 0;  // Not from this robot's ctl0 address.
   uint64_t failsafe_cuts = 0;           // Times the silence timeout cut the motors.
+  uint64_t dropped_after_drop = 0;      // Commands of a robot dropped from the lock-step.
   uint64_t send_errors = 0;
   // ArduPilot JSON endpoint.
   uint64_t json_frames = 0;    // New frames (each advanced physics by 1/frame_rate).
@@ -166,6 +167,10 @@ class PhysicsServer {
   // runs turn them off so a robot gets exactly one state (SendStates) per iteration and
   // nothing it answers can race the coordinator.
   void SetPeriodicStates(bool enabled);
+  // Takes a robot out of the lock-step for the rest of the run (a silent robot, by the
+  // scenario's on_silent_robot policy): its motors are cut, it gets no more states, and its
+  // later commands are dropped and counted (dropped_after_drop).
+  void DropFromLockstep(int robot);
 
   // An fd that becomes readable when Poll() has packets to handle (epoll).
   int wait_fd() const;

@@ -36,6 +36,9 @@ struct Endpoint {
   // Lock-step: a command arrived since the last SendStates(). An announce sent
   // before the state (with the same step number) must not count as its answer.
   bool answered_state = false;
+  // Dropped from the lock-step (silent too long, scenario policy): motors cut,
+  // commands ignored, no more states.
+  bool dropped = false;
   TimeNs state_period_ns = 0;
   TimeNs next_state_ns = 0;
   TimeNs timeout_ns = 0;  // 0: failsafe off
@@ -95,6 +98,11 @@ struct PhysicsServer::Impl {
         return;
       case CommandVerdict::kAccepted:
         break;
+    }
+    if (ep.dropped) {
+      // Out of the lock-step for good: its motors stay cut (docs/physics.md).
+      ++ep.counters.dropped_after_drop;
+      return;
     }
     ++ep.counters.commands_accepted;
     world.SetRotorTarget(ep.robot, command.target_rad_s);
@@ -218,7 +226,7 @@ struct PhysicsServer::Impl {
   bool periodic_states = true;
 
   bool InLockStep(const Endpoint& ep) const {
-    return ep.subscribed && !world.frame_driven(ep.robot);
+    return ep.subscribed && !ep.dropped && !world.frame_driven(ep.robot);
   }
 
   std::vector<int> CollectCommands(TimeNs timeout_ns) {
@@ -298,6 +306,15 @@ PhysicsServer::~PhysicsServer() = default;
 
 void PhysicsServer::Poll() { impl_->Poll(); }
 void PhysicsServer::SetPeriodicStates(bool enabled) { impl_->periodic_states = enabled; }
+void PhysicsServer::DropFromLockstep(int robot) {
+  SITLNET_DEMAND(robot >= 0 && robot < static_cast<int>(impl_->endpoints.size()));
+  auto& ep = impl_->endpoints[robot];
+  if (ep.dropped) return;
+  ep.dropped = true;
+  ep.motors_cut = true;
+  impl_->world.SetRotorTarget(robot, RotorSpeeds{});  // as an ESC failsafe: spin down
+  ++ep.counters.failsafe_cuts;
+}
 void PhysicsServer::SendStates() {
   for (Endpoint& ep : impl_->endpoints) {
     if (impl_->InLockStep(ep)) {

@@ -199,6 +199,9 @@ RunReport RunScenario(const RunOptions& options) {
 
   coordinator::RobotLockstepOptions robot_lockstep;
   robot_lockstep.enabled = lockstep;
+  robot_lockstep.command_timeout_ns = scenario.spec.silent_robot_timeout_ms() * kNsPerMs;
+  robot_lockstep.drop_silent =
+      scenario.spec.on_silent_robot() == proto::Scenario::SILENT_ROBOT_DROP;
   if (lockstep) {
     physics_server.SetPeriodicStates(false);  // one state per iteration, from the gate
     WaitForRobotsToSpeak(scenario, robots, &physics_server);

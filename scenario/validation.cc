@@ -271,6 +271,9 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
 
 void ValidateAndDerive(const SourceLocator& locator, Scenario* scenario) {
   ValidateName(locator, scenario);
+  if (scenario->spec.silent_robot_timeout_ms() <= 0) {
+    locator.Fail({{"silent_robot_timeout_ms"}}, "silent_robot_timeout_ms must be > 0");
+  }
   ValidateAirframes(locator, scenario->spec);
   ValidateObstacles(locator, scenario->spec);
   ValidateRadio(locator, scenario->spec.radio());

@@ -155,5 +155,30 @@ TEST(RobotLockstep, ARobotThatStopsAnsweringStopsTheRunWithItsName) {
   b.join();
 }
 
+TEST(RobotLockstep, ASilentRobotCanBeDroppedWithItsMotorsCut) {
+  Fixture f;
+  std::thread a(Robot, 0, 1 << 30, &f.stop);
+  std::thread b(Robot, 1, 5, &f.stop);  // Answers the states of iterations 0..4 only.
+  WaitForJoin(&f.server);
+  RobotLockstepOptions lockstep{true, 200 * kNsPerMs};
+  lockstep.drop_silent = true;
+  PhysicsServerSimulator physics_sim(f.scenario, &f.server, lockstep);
+  GateChecker network_sim(&f.collected);
+  auto physics =
+      MakeInProcessConnector("physics", Role::kPhysics, &physics_sim, Threading::kOwnThread);
+  auto network =
+      MakeInProcessConnector("network", Role::kNetwork, &network_sim, Threading::kCallerThread);
+  CoordinatorOptions options = OptionsFromScenario(f.scenario);
+  options.lockstep_robots = true;
+  const RunResult result = RunCoordinator(*physics, *network, options);
+  f.stop = true;
+  a.join();
+  b.join();
+  EXPECT_EQ(result.iterations_done, 30);  // the run went on without b
+  EXPECT_EQ(f.server.world().rotor_target(1), (physics::RotorSpeeds{0, 0, 0, 0}));
+  EXPECT_EQ(f.server.counters(1).failsafe_cuts, 1u);
+  EXPECT_EQ(f.server.world().rotor_target(0), (physics::RotorSpeeds{100, 100, 100, 100}));
+}
+
 }  // namespace
 }  // namespace sitlnet::coordinator
