@@ -24,11 +24,11 @@ class Error : public std::runtime_error {
 // Always-on invariant check for bugs (not for bad input): prints the condition
 // and aborts, as Drake's DRAKE_DEMAND does.
 [[noreturn]] void DemandFailed(const char* condition, const char* file, int line);
-#define SITLNET_DEMAND(condition)                                   \
-  do {                                                              \
-    if (!(condition)) {                                             \
-      ::sitlnet::DemandFailed(#condition, __FILE__, __LINE__);      \
-    }                                                               \
+#define SITLNET_DEMAND(condition)                              \
+  do {                                                         \
+    if (!(condition)) {                                        \
+      ::sitlnet::DemandFailed(#condition, __FILE__, __LINE__); \
+    }                                                          \
   } while (0)
 
 // "<what>: <strerror(err)>", iproute2 style.
@@ -86,9 +86,7 @@ struct Ipv4Prefix {
   Ipv4 network;
   int length = 0;
   uint32_t Mask() const { return length == 0 ? 0 : ~uint32_t{0} << (32 - length); }
-  bool Contains(Ipv4 address) const {
-    return (address.host_order & Mask()) == network.host_order;
-  }
+  bool Contains(Ipv4 address) const { return (address.host_order & Mask()) == network.host_order; }
   bool Overlaps(const Ipv4Prefix& other) const;
   Ipv4 Broadcast() const { return Ipv4{network.host_order | ~Mask()}; }
   // Number of addresses in the prefix (2^(32-length)).

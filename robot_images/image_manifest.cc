@@ -41,9 +41,10 @@ std::string Expand(const std::string& text, const Image& image, const LaunchCont
     } else if (name == "AIRFRAME") {
       out += context.airframe_text;
     } else {
-      throw Error(image.manifest_path + ": unknown placeholder ${" + name + "} in \"" + text +
-                  "\" (known: IMAGE_DIR SITLNET_BIN ROBOT ROBOT_INDEX SCENARIO AIRFRAME, and ${ARGS} "
-                  "as a whole command element)");
+      throw Error(
+          image.manifest_path + ": unknown placeholder ${" + name + "} in \"" + text +
+          "\" (known: IMAGE_DIR SITLNET_BIN ROBOT ROBOT_INDEX SCENARIO AIRFRAME, and ${ARGS} "
+          "as a whole command element)");
     }
     i = close + 1;
   }
@@ -60,8 +61,8 @@ Image LoadImage(const std::string& images_root, const std::string& name) {
   }
   const size_t slash = image.manifest_path.rfind('/');
   image.dir = slash == std::string::npos ? "." : image.manifest_path.substr(0, slash);
-  ParseTextProtoOrThrow(ReadFileOrThrow(image.manifest_path, "image manifest"),
-                        image.manifest_path, &image.manifest);
+  ParseTextProtoOrThrow(ReadFileOrThrow(image.manifest_path, "image manifest"), image.manifest_path,
+                        &image.manifest);
   if (image.manifest.command_size() == 0) {
     throw Error(image.manifest_path + ": image \"" + name + "\" has no command");
   }

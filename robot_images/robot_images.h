@@ -29,10 +29,10 @@ Image LoadImage(const std::string& images_root, const std::string& name);
 
 // What placeholders expand to for one robot.
 struct LaunchContext {
-  std::string sitlnet_bin_dir;  // ${SITLNET_BIN}
-  std::string scenario;         // ${SCENARIO}
-  std::string robot;            // ${ROBOT}
-  int robot_index = 0;          // ${ROBOT_INDEX}
+  std::string sitlnet_bin_dir;          // ${SITLNET_BIN}
+  std::string scenario;                 // ${SCENARIO}
+  std::string robot;                    // ${ROBOT}
+  int robot_index = 0;                  // ${ROBOT_INDEX}
   std::vector<std::string> robot_args;  // "${ARGS}"
   std::string airframe_text;            // ${AIRFRAME}: the robot's Airframe, text format
 };

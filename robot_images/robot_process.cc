@@ -1,6 +1,7 @@
 // Robot processes: `sitlnet exec` of an image, logged, stopped by pid.
 #include <fcntl.h>
 #include <poll.h>
+#include <pwd.h>
 #include <signal.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
@@ -28,13 +29,20 @@ int ShellStatus(int wait_status) {
 RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
                            const std::string& sitlnet_exe, const std::string& log_path)
     : robot_(context.robot), log_path_(log_path), ready_line_(image.manifest.ready_log_line()) {
-  std::vector<std::string> args = {sitlnet_exe, "exec", "--scenario", context.scenario,
-                                   context.robot, "--"};
+  std::vector<std::string> args = {sitlnet_exe,      "exec",        "--scenario",
+                                   context.scenario, context.robot, "--"};
   if (!image.manifest.user().empty()) {
-    // util-linux's setpriv drops to the user inside the namespace, unmodified.
+    // util-linux's setpriv drops to the user inside the namespace, unmodified. The group is
+    // the user's primary group by number: Debian's "nobody" has group "nogroup", so
+    // --regid=<user name> fails there.
+    const passwd* user = getpwnam(image.manifest.user().c_str());
+    if (user == nullptr) {
+      throw Error("robot \"" + robot_ + "\": image user \"" + image.manifest.user() +
+                  "\" does not exist on this host (" + image.manifest_path + ")");
+    }
     for (const char* arg : {"setpriv", "--init-groups", "--reset-env"}) args.push_back(arg);
-    args.push_back("--reuid=" + image.manifest.user());
-    args.push_back("--regid=" + image.manifest.user());
+    args.push_back("--reuid=" + std::to_string(user->pw_uid));
+    args.push_back("--regid=" + std::to_string(user->pw_gid));
     args.push_back("--");
   }
   const std::vector<std::string> command = ExpandCommand(image, context);
@@ -42,7 +50,8 @@ RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
   const std::vector<std::string> env = ExpandEnv(image, context);
 
   const int log_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
-  if (log_fd < 0) throw Error(SystemErrorMessage("robot \"" + robot_ + "\": open log " + log_path, errno));
+  if (log_fd < 0)
+    throw Error(SystemErrorMessage("robot \"" + robot_ + "\": open log " + log_path, errno));
   std::vector<char*> argv;
   for (std::string& arg : args) argv.push_back(arg.data());
   argv.push_back(nullptr);

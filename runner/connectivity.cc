@@ -39,8 +39,8 @@ std::vector<ConnectivitySample> ConnectivityOverTime(int robots,
       for (int b = a + 1; b < robots; ++b) {
         const TimeNs heard = last_heard[size_t(a) * robots + b];
         if (heard >= 0 && t - heard < window_ns) {
-          parent[std::max(Find(parent, a), Find(parent, b))] = std::min(Find(parent, a),
-                                                                        Find(parent, b));
+          parent[std::max(Find(parent, a), Find(parent, b))] =
+              std::min(Find(parent, a), Find(parent, b));
         }
       }
     }

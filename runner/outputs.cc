@@ -13,8 +13,7 @@ namespace sitlnet::runner {
 
 std::string FormatPoseRow(const PoseRow& r) {
   char line[320];
-  std::snprintf(line, sizeof line,
-                "%.3f,%d,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f",
+  std::snprintf(line, sizeof line, "%.3f,%d,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f",
                 static_cast<double>(r.time_ns) / kNsPerS, r.robot, r.x_m, r.y_m, r.z_m, r.qw, r.qx,
                 r.qy, r.qz, r.vx_m_s, r.vy_m_s, r.vz_m_s);
   return line;
@@ -115,8 +114,8 @@ std::vector<std::string> DrawPlots(const std::string& run_dir, const Scenario& s
   // Connectivity.
   script << "set output 'connectivity.png'\nset title '" << title
          << ": connected components of the communication graph'\n"
-         << "set xlabel 'simulated time (s)'\nset ylabel 'components'\nset yrange [0:"
-         << robots + 1 << "]\nset ytics 1\nunset key\n"
+         << "set xlabel 'simulated time (s)'\nset ylabel 'components'\nset yrange [0:" << robots + 1
+         << "]\nset ytics 1\nunset key\n"
          << "plot 'connectivity.csv' every ::1 using 1:2 with steps lw 2\n"
          << "set yrange [*:*]\nset ytics autofreq\n";
   // STF.

@@ -51,7 +51,7 @@ std::string DefaultRunDir(const std::string& scenario_name) {
 }
 
 void MakeDirs(const std::string& path) {
-  for (size_t slash = path.find('/', 1); ; slash = path.find('/', slash + 1)) {
+  for (size_t slash = path.find('/', 1);; slash = path.find('/', slash + 1)) {
     const std::string prefix = path.substr(0, slash);
     if (mkdir(prefix.c_str(), 0755) != 0 && errno != EEXIST) {
       throw Error(SystemErrorMessage("create run folder \"" + prefix + "\"", errno));
@@ -160,12 +160,14 @@ RunReport RunScenario(const RunOptions& options) {
     std::string text;
     google::protobuf::TextFormat::PrintToString(scenario.spec, &text);
     std::ofstream(report.run_dir + "/scenario.textproto")
-        << "# Effective scenario of this run (from " << scenario.source_path << ")\n" << text;
+        << "# Effective scenario of this run (from " << scenario.source_path << ")\n"
+        << text;
   }
 
   nns::Up(scenario);
   DownOnExit down(scenario.name);
-  std::fprintf(stderr, "sitlnet run: %s: %zu robots up, starting medium, physics and images -> %s\n",
+  std::fprintf(stderr,
+               "sitlnet run: %s: %zu robots up, starting medium, physics and images -> %s\n",
                scenario.name.c_str(), scenario.robots.size(), report.run_dir.c_str());
   const bool lockstep = scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP;
 
@@ -180,8 +182,7 @@ RunReport RunScenario(const RunOptions& options) {
   // are byte-identical; wall-clock dates in realtime) and the delivery log.
   std::ofstream pcap(report.run_dir + "/medium.pcap", std::ios::binary);
   pcap << tapbridge::PcapFileHeader();
-  const TimeNs epoch_offset_ns =
-      lockstep ? 0 : static_cast<TimeNs>(std::time(nullptr)) * kNsPerS;
+  const TimeNs epoch_offset_ns = lockstep ? 0 : static_cast<TimeNs>(std::time(nullptr)) * kNsPerS;
   bridge.AddAirFrameObserver([&](const tapbridge::AirFrame& frame) {
     pcap << tapbridge::EncodePcapRecord(frame, epoch_offset_ns);
   });
@@ -209,15 +210,15 @@ RunReport RunScenario(const RunOptions& options) {
   coordinator::PhysicsServerSimulator physics_sim(scenario, &physics_server, robot_lockstep);
   RecordingPhysics recording(&physics_sim, &physics_server.world(),
                              report.run_dir + "/trajectories.csv", options.trajectory_period_ns);
-  BridgeSimulator bridge_sim(scenario, &bridge,
-                             lockstep ? coordinator::Pacing::kLockstep
-                                      : coordinator::Pacing::kRealtime,
-                             scenario.spec.timing().realtime_factor());
-  MonitoringNetwork monitoring(&bridge_sim, &bridge, &robots,
-                               scenario.spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP,
-                               options.progress, scenario.duration_ns);
-  auto physics = coordinator::MakeInProcessConnector("physics", coordinator::Role::kPhysics,
-                                                     &recording, coordinator::Threading::kOwnThread);
+  BridgeSimulator bridge_sim(
+      scenario, &bridge, lockstep ? coordinator::Pacing::kLockstep : coordinator::Pacing::kRealtime,
+      scenario.spec.timing().realtime_factor());
+  MonitoringNetwork monitoring(
+      &bridge_sim, &bridge, &robots,
+      scenario.spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP, options.progress,
+      scenario.duration_ns);
+  auto physics = coordinator::MakeInProcessConnector(
+      "physics", coordinator::Role::kPhysics, &recording, coordinator::Threading::kOwnThread);
   // The bridge is single-threaded: always the coordinator's own thread.
   auto network = coordinator::MakeInProcessConnector(
       "network", coordinator::Role::kNetwork, &monitoring, coordinator::Threading::kCallerThread);

@@ -94,10 +94,10 @@ void MonitoringNetwork::CheckReadiness(RobotSlot& robot, TimeNs now_ns) {
   if (MonotonicNowNs() - robot.started_wall_ns < timeout_ns) return;
   FinishProgress();
   const std::string what = "not ready within " +
-                           std::to_string(robot.image.manifest.ready_timeout_ms()) +
-                           " ms (no \"" + robot.image.manifest.ready_log_line() + "\" in its log)";
-  std::fprintf(stderr, "sitlnet run: robot \"%s\" %s (log: %s)\n", robot.name.c_str(),
-               what.c_str(), robot.process->log_path().c_str());
+                           std::to_string(robot.image.manifest.ready_timeout_ms()) + " ms (no \"" +
+                           robot.image.manifest.ready_log_line() + "\" in its log)";
+  std::fprintf(stderr, "sitlnet run: robot \"%s\" %s (log: %s)\n", robot.name.c_str(), what.c_str(),
+               robot.process->log_path().c_str());
   robot.process->Stop();
   robot.exit_status = robot.process->PollExit();
   HandleFailure(robot, what, now_ns);

@@ -15,28 +15,28 @@ namespace sitlnet::runner {
 
 struct RunOptions {
   std::string scenario_path;
-  std::string out_dir;                     // Empty: runs/<scenario>-<UTC date-time>.
-  std::optional<double> duration_s;        // Overrides timing.duration_ms.
-  std::optional<bool> lockstep;            // Overrides timing.pacing.
-  std::optional<uint64_t> seed;            // Overrides timing.seed.
-  bool no_shadowing = false;               // radio.shadowing = false.
-  std::string sitlnet_exe;                 // For `sitlnet exec` of the images.
-  std::string images_root;                 // Folder of the image manifests.
+  std::string out_dir;                           // Empty: runs/<scenario>-<UTC date-time>.
+  std::optional<double> duration_s;              // Overrides timing.duration_ms.
+  std::optional<bool> lockstep;                  // Overrides timing.pacing.
+  std::optional<uint64_t> seed;                  // Overrides timing.seed.
+  bool no_shadowing = false;                     // radio.shadowing = false.
+  std::string sitlnet_exe;                       // For `sitlnet exec` of the images.
+  std::string images_root;                       // Folder of the image manifests.
   TimeNs trajectory_period_ns = 100 * kNsPerMs;  // Sampling of trajectories.csv.
-  bool progress = true;                    // Live progress line on stderr.
+  bool progress = true;                          // Live progress line on stderr.
 };
 
 struct RunReport {
   std::string run_dir;
-  int exit_code = 0;       // 0 ok, 1 failure (robot failure by policy, error), 130 interrupted.
+  int exit_code = 0;  // 0 ok, 1 failure (robot failure by policy, error), 130 interrupted.
   bool interrupted = false;
   // Wall-clock phases and CPU, for bench/scale (summary.json "resources").
-  TimeNs startup_ns = 0;  // From RunScenario's start to the coordinator's first iteration.
-  TimeNs loop_ns = 0;     // The coordinator's iterations.
-  TimeNs stop_ns = 0;     // Stopping the robots' images.
-  double self_cpu_s = 0;  // user+sys of this process (all threads) at the end of the loop.
-  double robots_cpu_s = 0;         // user+sys of the reaped children: the robots' images.
-  int64_t robot_max_rss_kib = 0;   // Largest max RSS among the robots' images.
+  TimeNs startup_ns = 0;          // From RunScenario's start to the coordinator's first iteration.
+  TimeNs loop_ns = 0;             // The coordinator's iterations.
+  TimeNs stop_ns = 0;             // Stopping the robots' images.
+  double self_cpu_s = 0;          // user+sys of this process (all threads) at the end of the loop.
+  double robots_cpu_s = 0;        // user+sys of the reaped children: the robots' images.
+  int64_t robot_max_rss_kib = 0;  // Largest max RSS among the robots' images.
 };
 
 // Runs the scenario to the end of its duration (or until SIGINT/SIGTERM).

@@ -46,8 +46,8 @@ std::string ConnectivityJson(const std::vector<ConnectivitySample>& samples) {
          ",\"time_split_s\":" + Seconds(split_ns) +
          ",\"first_split_s\":" + (first_split < 0 ? "null" : Seconds(first_split)) +
          ",\"last_merge_s\":" + (last_merge < 0 ? "null" : Seconds(last_merge)) +
-         ",\"final_components\":" + std::to_string(samples.empty() ? 0 : samples.back().components) +
-         "}";
+         ",\"final_components\":" +
+         std::to_string(samples.empty() ? 0 : samples.back().components) + "}";
 }
 
 std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& bridge,
@@ -70,8 +70,7 @@ std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& 
           ",\"oversize_dropped\":" + std::to_string(port.oversize_dropped) +
           ",\"unknown_source_dropped\":" + std::to_string(port.unknown_source_dropped) + "}";
   json += ",\"physics\":{\"commands_accepted\":" + std::to_string(phys.commands_accepted) +
-          ",\"states_sent\":" + std::to_string(phys.states_sent) +
-          ",\"dropped\":" +
+          ",\"states_sent\":" + std::to_string(phys.states_sent) + ",\"dropped\":" +
           std::to_string(phys.dropped_malformed + phys.dropped_invalid + phys.dropped_wrong_robot +
                          phys.dropped_foreign_source) +
           ",\"failsafe_cuts\":" + std::to_string(phys.failsafe_cuts) + "}}";
@@ -110,7 +109,8 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
   json += ",\"metrics\":" + metrics.ToJson();
   json += ",\"connectivity\":" + ConnectivityJson(samples);
   json += ",\"resources\":{\"startup_s\":" + Seconds(report.startup_ns) +
-          ",\"loop_s\":" + Seconds(report.loop_ns) + ",\"stop_robots_s\":" + Seconds(report.stop_ns) +
+          ",\"loop_s\":" + Seconds(report.loop_ns) +
+          ",\"stop_robots_s\":" + Seconds(report.stop_ns) +
           ",\"sitlnet_cpu_s\":" + std::to_string(report.self_cpu_s) +
           ",\"robots_cpu_s\":" + std::to_string(report.robots_cpu_s) +
           ",\"robot_max_rss_kib\":" + std::to_string(report.robot_max_rss_kib) + "}";

@@ -81,10 +81,9 @@ void CheckAddressPlanAgainstRoutes(const Scenario& scenario,
     for (const HostRoute& route : host_routes) {
       if (route.destination.length == 0) continue;
       if (prefix.Overlaps(route.destination)) {
-        throw Error(scenario.source_path + ": addresses." + field + " " +
-                    FormatIpv4Prefix(prefix) + " overlaps host route " +
-                    FormatIpv4Prefix(route.destination) + " dev " + route.device +
-                    "; choose another subnet");
+        throw Error(scenario.source_path + ": addresses." + field + " " + FormatIpv4Prefix(prefix) +
+                    " overlaps host route " + FormatIpv4Prefix(route.destination) + " dev " +
+                    route.device + "; choose another subnet");
       }
     }
   }

@@ -4,11 +4,11 @@
 #ifndef SITLNET_SCENARIO_SCENARIO_H_
 #define SITLNET_SCENARIO_SCENARIO_H_
 
+#include <google/protobuf/text_format.h>
+
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <google/protobuf/text_format.h>
 
 #include "common/common.h"
 #include "sitlnet/scenario.pb.h"
@@ -19,22 +19,22 @@ namespace sitlnet {
 
 // Per-robot facts derived from the scenario at load time.
 struct RobotPlan {
-  int index = 0;                 // Position in the scenario's robot list, from 0.
-  std::string name;              // As written in the scenario.
-  std::string netns;             // "<scenario>-<robot>", an `ip netns` name.
-  std::string root_veth;         // Root-namespace end of ctl0: "<scenario>-c<index>".
-  MacAddress wlan_mac;           // RobotMac(index).
-  Ipv4 wlan_address;             // On wlan0, inside the wlan subnet.
-  Ipv4 ctl_root_address;         // Root side of the ctl0 point-to-point /30.
-  Ipv4 ctl_robot_address;        // Robot side of the ctl0 /30 (ctl0 inside the robot).
-  proto::Robot spec;             // The robot as written, defaults readable via accessors.
-  proto::Airframe airframe;      // Resolved airframe (the named one or the default).
+  int index = 0;             // Position in the scenario's robot list, from 0.
+  std::string name;          // As written in the scenario.
+  std::string netns;         // "<scenario>-<robot>", an `ip netns` name.
+  std::string root_veth;     // Root-namespace end of ctl0: "<scenario>-c<index>".
+  MacAddress wlan_mac;       // RobotMac(index).
+  Ipv4 wlan_address;         // On wlan0, inside the wlan subnet.
+  Ipv4 ctl_root_address;     // Root side of the ctl0 point-to-point /30.
+  Ipv4 ctl_robot_address;    // Robot side of the ctl0 /30 (ctl0 inside the robot).
+  proto::Robot spec;         // The robot as written, defaults readable via accessors.
+  proto::Airframe airframe;  // Resolved airframe (the named one or the default).
 };
 
 // A validated scenario. Immutable after LoadScenario* returns.
 struct Scenario {
-  std::string source_path;       // File it came from ("<string>" for in-memory text).
-  proto::Scenario spec;          // As parsed; proto2 accessors yield the defaults.
+  std::string source_path;  // File it came from ("<string>" for in-memory text).
+  proto::Scenario spec;     // As parsed; proto2 accessors yield the defaults.
   std::string name;
   std::vector<RobotPlan> robots;
   Ipv4Prefix wlan_subnet;

@@ -118,17 +118,18 @@ void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
             "radio: tx_power_dbm " + Num(radio.tx_power_dbm()) + " out of range [-10, 30]");
   }
   if (!InRange(radio.path_loss_exponent(), 1, 10)) {
-    at.Fail({{"radio"}, {"path_loss_exponent"}},
-            "radio: path_loss_exponent " + Num(radio.path_loss_exponent()) +
-                " out of range [1, 10]");
+    at.Fail(
+        {{"radio"}, {"path_loss_exponent"}},
+        "radio: path_loss_exponent " + Num(radio.path_loss_exponent()) + " out of range [1, 10]");
   }
   if (radio.has_reference_loss_db() && !InRange(radio.reference_loss_db(), 0, 200)) {
     at.Fail({{"radio"}, {"reference_loss_db"}}, "radio: reference_loss_db out of range [0, 200]");
   }
   if (!InRange(radio.shadowing_db_per_wall(), 0, 200) ||
       !InRange(radio.shadowing_db_per_m(), 0, 100)) {
-    at.Fail({{"radio"}}, "radio: shadowing_db_per_wall must be in [0, 200] and "
-                         "shadowing_db_per_m in [0, 100]");
+    at.Fail({{"radio"}},
+            "radio: shadowing_db_per_wall must be in [0, 200] and "
+            "shadowing_db_per_m in [0, 100]");
   }
   if (radio.queue_limit_frames() < 1) {
     at.Fail({{"radio"}, {"queue_limit_frames"}}, "radio: queue_limit_frames must be >= 1");
@@ -137,25 +138,23 @@ void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
 
 void ValidateTiming(const SourceLocator& at, Scenario* scenario) {
   const proto::Timing& timing = scenario->spec.timing();
-  const std::pair<const char*, int64_t> positive[] = {
-      {"iteration_us", timing.iteration_us()},
-      {"physics_step_us", timing.physics_step_us()},
-      {"network_step_us", timing.network_step_us()},
-      {"duration_ms", timing.duration_ms()}};
+  const std::pair<const char*, int64_t> positive[] = {{"iteration_us", timing.iteration_us()},
+                                                      {"physics_step_us", timing.physics_step_us()},
+                                                      {"network_step_us", timing.network_step_us()},
+                                                      {"duration_ms", timing.duration_ms()}};
   for (const auto& [field, value] : positive) {
     if (value <= 0) {
-      at.Fail({{"timing"}, {field}}, std::string("timing: ") + field + " " +
-                                         std::to_string(value) + " must be > 0");
+      at.Fail({{"timing"}, {field}},
+              std::string("timing: ") + field + " " + std::to_string(value) + " must be > 0");
     }
   }
   const std::pair<const char*, int64_t> steps[] = {{"physics_step_us", timing.physics_step_us()},
                                                    {"network_step_us", timing.network_step_us()}};
   for (const auto& [field, step] : steps) {
     if (timing.iteration_us() % step != 0) {
-      at.Fail({{"timing"}, {field}}, std::string("timing: iteration_us ") +
-                                         std::to_string(timing.iteration_us()) +
-                                         " is not a whole multiple of " + field + " " +
-                                         std::to_string(step));
+      at.Fail({{"timing"}, {field}},
+              std::string("timing: iteration_us ") + std::to_string(timing.iteration_us()) +
+                  " is not a whole multiple of " + field + " " + std::to_string(step));
     }
   }
   if (!(std::isfinite(timing.realtime_factor()) && timing.realtime_factor() > 0)) {
@@ -193,15 +192,15 @@ void ValidateAddresses(const SourceLocator& at, Scenario* scenario) {
   }
   const uint64_t robots = scenario->spec.robot_size();
   if (scenario->wlan_subnet.Size() - 2 < robots) {
-    at.Fail({{"addresses"}, {"wlan_subnet"}},
-            "addresses: wlan_subnet " + plan.wlan_subnet() + " has no room for " +
-                std::to_string(robots) + " robots");
+    at.Fail({{"addresses"}, {"wlan_subnet"}}, "addresses: wlan_subnet " + plan.wlan_subnet() +
+                                                  " has no room for " + std::to_string(robots) +
+                                                  " robots");
   }
   if (scenario->ctl_subnet.Size() / 4 < robots) {
-    at.Fail({{"addresses"}, {"ctl_subnet"}},
-            "addresses: ctl_subnet " + plan.ctl_subnet() + " has room for " +
-                std::to_string(scenario->ctl_subnet.Size() / 4) + " /30 pairs, not " +
-                std::to_string(robots));
+    at.Fail({{"addresses"}, {"ctl_subnet"}}, "addresses: ctl_subnet " + plan.ctl_subnet() +
+                                                 " has room for " +
+                                                 std::to_string(scenario->ctl_subnet.Size() / 4) +
+                                                 " /30 pairs, not " + std::to_string(robots));
   }
   if (plan.txqueuelen() < 1) at.Fail({{"addresses"}, {"txqueuelen"}}, "txqueuelen must be >= 1");
   if (plan.physics_port() < 1 || plan.physics_port() > 65535) {
@@ -221,9 +220,9 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
     const proto::Robot& robot = spec.robot(i);
     const std::string who = "robot \"" + robot.name() + "\": ";
     if (!IsValidName(robot.name(), kMaxRobotNameLength, true)) {
-      at.Fail({{"robot", i}, {"name"}},
-              who + "name must be 1.." + std::to_string(kMaxRobotNameLength) +
-                  " characters of A-Z, a-z, 0-9 and '_'");
+      at.Fail({{"robot", i}, {"name"}}, who + "name must be 1.." +
+                                            std::to_string(kMaxRobotNameLength) +
+                                            " characters of A-Z, a-z, 0-9 and '_'");
     }
     if (!names.insert(robot.name()).second) {
       at.Fail({{"robot", i}, {"name"}}, who + "duplicate robot name");
@@ -248,9 +247,9 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
       if (!address || !scenario->wlan_subnet.Contains(*address) ||
           *address == scenario->wlan_subnet.network ||
           *address == scenario->wlan_subnet.Broadcast()) {
-        at.Fail({{"robot", i}, {"wlan_address"}},
-                who + "wlan_address \"" + robot.wlan_address() + "\" is not a host address of " +
-                    FormatIpv4Prefix(scenario->wlan_subnet));
+        at.Fail({{"robot", i}, {"wlan_address"}}, who + "wlan_address \"" + robot.wlan_address() +
+                                                      "\" is not a host address of " +
+                                                      FormatIpv4Prefix(scenario->wlan_subnet));
       }
       plan.wlan_address = *address;
     }

@@ -16,9 +16,7 @@ struct Rotor {
 };
 constexpr Rotor kQuadX[4] = {{+1, -1, +1}, {-1, +1, +1}, {+1, +1, -1}, {-1, -1, -1}};
 
-Eigen::Vector3d Vee(const Eigen::Matrix3d& skew) {
-  return {skew(2, 1), skew(0, 2), skew(1, 0)};
-}
+Eigen::Vector3d Vee(const Eigen::Matrix3d& skew) { return {skew(2, 1), skew(0, 2), skew(1, 0)}; }
 
 }  // namespace
 
@@ -37,8 +35,8 @@ RotorSpeeds MixQuadX(const AirframeParams& airframe, double thrust_n,
   }
   const Eigen::Vector4d wrench(thrust_n, torque_n_m.x(), torque_n_m.y(), torque_n_m.z());
   Eigen::Vector4d forces = allocation.inverse() * wrench;
-  const double max_force = airframe.thrust_coefficient * airframe.max_rotor_speed_rad_s *
-                           airframe.max_rotor_speed_rad_s;
+  const double max_force =
+      airframe.thrust_coefficient * airframe.max_rotor_speed_rad_s * airframe.max_rotor_speed_rad_s;
   RotorSpeeds speeds{};
   for (int i = 0; i < 4; ++i) {
     const double force = std::clamp(forces[i], 0.0, max_force);

@@ -23,19 +23,19 @@ struct AirframeParams {
 };
 
 struct ControllerGains {
-  double velocity_gain_1_s = 2.0;      // acceleration per m/s of velocity error
-  double altitude_gain_1_s = 1.0;      // vertical speed per m of altitude error
+  double velocity_gain_1_s = 2.0;  // acceleration per m/s of velocity error
+  double altitude_gain_1_s = 1.0;  // vertical speed per m of altitude error
   double max_vertical_speed_m_s = 2.0;
   double max_tilt_rad = 0.5;
-  double attitude_gain_1_s = 8.0;      // body rate per rad of attitude error
-  double rate_gain_1_s = 20.0;         // angular acceleration per rad/s of rate error
+  double attitude_gain_1_s = 8.0;  // body rate per rad of attitude error
+  double rate_gain_1_s = 20.0;     // angular acceleration per rad/s of rate error
   double yaw_rate_limit_rad_s = 1.5;
 };
 
 struct VehicleState {
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero();
-  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // body -> world
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();   // body -> world
   Eigen::Vector3d angular_velocity_rad_s = Eigen::Vector3d::Zero();  // body
 };
 

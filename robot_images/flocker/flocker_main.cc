@@ -31,7 +31,7 @@ struct Options {
   double neighbour_timeout_s = 2;  // tau
   uint16_t beacon_port = 47000;
   std::string device = "wlan0";
-  std::string airframe_text;       // proto Airframe in text format; empty: defaults
+  std::string airframe_text;  // proto Airframe in text format; empty: defaults
   double lidar_fov_deg = 360;
   double log_period_s = 1;
   FlockingParams flocking;
@@ -120,8 +120,8 @@ VehicleState ToVehicleState(const proto::RobotState& s) {
   VehicleState v;
   v.position_m = {s.position_m().x(), s.position_m().y(), s.position_m().z()};
   v.velocity_m_s = {s.velocity_m_s().x(), s.velocity_m_s().y(), s.velocity_m_s().z()};
-  v.orientation = Eigen::Quaterniond(s.orientation().w(), s.orientation().x(),
-                                     s.orientation().y(), s.orientation().z());
+  v.orientation = Eigen::Quaterniond(s.orientation().w(), s.orientation().x(), s.orientation().y(),
+                                     s.orientation().z());
   v.angular_velocity_rad_s = {s.angular_velocity_rad_s().x(), s.angular_velocity_rad_s().y(),
                               s.angular_velocity_rad_s().z()};
   return v;
@@ -172,19 +172,28 @@ int Run(const Options& options) {
 
   client.SendRotorSpeeds({0, 0, 0, 0}, 0);  // tells the server where to send states
   proto::RobotState state;
+  int silent_ms = 0;
   while (!g_stop) {
-    if (!client.Receive(&state, 1000)) {
-      client.SendRotorSpeeds({0, 0, 0, 0}, 0);  // server not there yet: announce again
+    // Short waits so that SIGTERM is noticed within 100 ms (the client
+    // retries its poll on EINTR); the announcement still repeats once a
+    // second only, as before.
+    if (!client.Receive(&state, 100)) {
+      silent_ms += 100;
+      if (silent_ms >= 1000) {
+        client.SendRotorSpeeds({0, 0, 0, 0}, 0);  // server not there yet: announce again
+        silent_ms = 0;
+      }
       continue;
     }
+    silent_ms = 0;
     const int64_t now_ns = state.sim_time_ns();
     const VehicleState vehicle = ToVehicleState(state);
     if (std::isnan(yaw_rad)) yaw_rad = Yaw(vehicle.orientation);
 
     for (const proto::FlockerBeacon& beacon : link.Drain()) {
       if (beacon.robot() == me) continue;
-      table.Heard(beacon.robot(), {{beacon.x_m(), beacon.y_m()}, {beacon.vx_m_s(), beacon.vy_m_s()}},
-                  now_ns);
+      table.Heard(beacon.robot(),
+                  {{beacon.x_m(), beacon.y_m()}, {beacon.vx_m_s(), beacon.vy_m_s()}}, now_ns);
     }
     const std::vector<Neighbour> neighbours = table.Current(now_ns);
     const Vec2 position(vehicle.position_m.x(), vehicle.position_m.y());

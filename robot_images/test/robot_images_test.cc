@@ -34,8 +34,8 @@ TEST(ImageTest, ShippedImagesLoad) {
 TEST(ImageTest, ExpandsPlaceholdersAndSplicesArgs) {
   const Image image = LoadImage(ImagesRoot(), "flocker");
   const std::vector<std::string> argv = ExpandCommand(image, Context());
-  EXPECT_EQ(argv, (std::vector<std::string>{"/opt/sitlnet/bin/flocker", "--airframe",
-                                             "mass_kg: 2", "--target", "120,0"}));
+  EXPECT_EQ(argv, (std::vector<std::string>{"/opt/sitlnet/bin/flocker", "--airframe", "mass_kg: 2",
+                                            "--target", "120,0"}));
 }
 
 TEST(ImageTest, MissingFileNamesRobotAndPath) {
@@ -75,6 +75,20 @@ TEST(RobotProcessTest, ExitStatusIsReported) {
   const std::optional<int> status = process.WaitExit(10 * kNsPerS);
   ASSERT_TRUE(status);
   EXPECT_EQ(*status, 1);
+}
+
+TEST(RobotProcessTest, UnknownUserIsRejectedBeforeStarting) {
+  Image image = LoadImage(ImagesRoot(), "shell");
+  image.manifest.set_user("sitlnet-no-such-user");
+  const std::string log = ::testing::TempDir() + "/robot-user.log";
+  try {
+    RobotProcess process(image, Context(), "/bin/false", log);
+    FAIL() << "started with a user that does not exist";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("\"sitlnet-no-such-user\" does not exist"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace

@@ -74,8 +74,9 @@ TEST(ScenarioTest, RejectsDuplicateAndOverlongRobotNames) {
 TEST(ScenarioTest, RejectsNoRobots) { ExpectRejected("name: \"t\"\n", "t.textproto", "robot"); }
 
 TEST(ScenarioTest, RejectsIterationNotMultipleOfStep) {
-  ExpectRejected(std::string(kTwo) + "timing {\n  iteration_us: 10000\n  physics_step_us: 3000\n}\n",
-                 "t.textproto:6:3", "not a whole multiple of physics_step_us 3000");
+  ExpectRejected(
+      std::string(kTwo) + "timing {\n  iteration_us: 10000\n  physics_step_us: 3000\n}\n",
+      "t.textproto:6:3", "not a whole multiple of physics_step_us 3000");
   ExpectRejected(std::string(kTwo) + "timing { network_step_us: 0 }\n", "t.textproto:4:10",
                  "must be > 0");
 }
@@ -90,21 +91,24 @@ TEST(ScenarioTest, RejectsOutOfRangeRadio) {
 TEST(ScenarioTest, RejectsAddressesOutsideOrClashing) {
   ExpectRejected("name: \"t\"\nrobot { name: \"a\" wlan_address: \"10.9.0.1\" }\n",
                  "t.textproto:2:19", "not a host address of 10.77.0.0/24");
-  ExpectRejected("name: \"t\"\nrobot { name: \"a\" }\nrobot { name: \"b\" wlan_address: \"10.77.0.1\" }\n",
-                 "t.textproto:3:1", "already used");
+  ExpectRejected(
+      "name: \"t\"\nrobot { name: \"a\" }\nrobot { name: \"b\" wlan_address: \"10.77.0.1\" }\n",
+      "t.textproto:3:1", "already used");
   ExpectRejected(std::string(kTwo) + "addresses { wlan_subnet: \"10.78.0.0/24\" }\n",
                  "t.textproto:4:13", "overlaps wlan_subnet");
   ExpectRejected(std::string(kTwo) + "addresses { wlan_subnet: \"10.77.0.1/24\" }\n",
                  "t.textproto:4:13", "no host bits");
-  ExpectRejected(std::string(kTwo) + "addresses { wlan_subnet: \"10.77.0.0/30\" }\n"
-                 "robot { name: \"c\" }\n", "t.textproto:4:13", "no room for 3 robots");
+  ExpectRejected(std::string(kTwo) +
+                     "addresses { wlan_subnet: \"10.77.0.0/30\" }\n"
+                     "robot { name: \"c\" }\n",
+                 "t.textproto:4:13", "no room for 3 robots");
 }
 
 TEST(ScenarioTest, RejectsUnknownAirframeAndBadObstacle) {
   ExpectRejected("name: \"t\"\nrobot { name: \"a\" airframe: \"x9\" }\n", "t.textproto:2:19",
                  "unknown airframe \"x9\"");
-  ExpectRejected(std::string(kTwo) + "obstacle { size_m { x: 1 y: 0 z: 1 } }\n",
-                 "t.textproto:4:12", "size_m");
+  ExpectRejected(std::string(kTwo) + "obstacle { size_m { x: 1 y: 0 z: 1 } }\n", "t.textproto:4:12",
+                 "size_m");
 }
 
 TEST(ScenarioTest, HostRouteClashIsRefused) {
@@ -117,8 +121,9 @@ TEST(ScenarioTest, HostRouteClashIsRefused) {
     CheckAddressPlanAgainstRoutes(scenario, clash);
     FAIL();
   } catch (const Error& error) {
-    EXPECT_NE(std::string(error.what()).find("wlan_subnet 10.77.0.0/24 overlaps host route "
-                                             "10.0.0.0/8 dev vpn0"),
+    EXPECT_NE(std::string(error.what())
+                  .find("wlan_subnet 10.77.0.0/24 overlaps host route "
+                        "10.0.0.0/8 dev vpn0"),
               std::string::npos)
         << error.what();
   }

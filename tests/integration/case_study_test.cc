@@ -56,13 +56,18 @@ std::map<long, std::map<int, std::pair<double, double>>> ReadTrajectories(const 
 
 std::string RunCaseStudy(const std::string& tag, const std::vector<std::string>& extra) {
   const char* tmp = std::getenv("TMPDIR");
-  const std::string out = std::string(tmp ? tmp : "/tmp") + "/case_study_" +
-                          std::to_string(getpid()) + "_" + tag;
+  const std::string out =
+      std::string(tmp ? tmp : "/tmp") + "/case_study_" + std::to_string(getpid()) + "_" + tag;
   const char* source = std::getenv("SITLNET_SOURCE_DIR");
-  std::vector<std::string> argv = {SitlnetBinary(), "run",
-                                   std::string(source ? source : ".") +
-                                       "/scenarios/arrow_flocking.textproto",
-                                   "--out", out, "--pacing", "lockstep", "--no-progress"};
+  std::vector<std::string> argv = {
+      SitlnetBinary(),
+      "run",
+      std::string(source ? source : ".") + "/scenarios/arrow_flocking.textproto",
+      "--out",
+      out,
+      "--pacing",
+      "lockstep",
+      "--no-progress"};
   argv.insert(argv.end(), extra.begin(), extra.end());
   const CommandResult result = RunCommand(argv, 900 * kNsPerS);
   EXPECT_EQ(result.exit_code, 0) << result.err;

@@ -4,10 +4,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
-
-#include <algorithm>
 
 #include "tests/integration/nns_test_util.h"
 
@@ -39,8 +38,8 @@ RunScenario WriteScenario(int slot, const std::string& robots, const std::string
   const std::string third = std::to_string(pid % 250);
   s.path = TempDir() + "/" + s.name + ".textproto";
   std::ofstream(s.path) << "name: \"" << s.name << "\"\n"
-                        << robots << "addresses { wlan_subnet: \"10." << 240 + slot << "."
-                        << third << ".0/24\" ctl_subnet: \"10." << 220 + slot << "." << third
+                        << robots << "addresses { wlan_subnet: \"10." << 240 + slot << "." << third
+                        << ".0/24\" ctl_subnet: \"10." << 220 + slot << "." << third
                         << ".0/24\" }\n"
                         << extra;
   return s;
@@ -53,9 +52,9 @@ constexpr char kTwoFlockers[] =
     "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n";
 
 CommandResult SitlnetRun(const RunScenario& scenario, const std::string& out,
-                  std::vector<std::string> extra_args) {
-  std::vector<std::string> argv = {SitlnetBinary(), "run", scenario.path, "--out", out,
-                                   "--no-progress"};
+                         std::vector<std::string> extra_args) {
+  std::vector<std::string> argv = {SitlnetBinary(), "run", scenario.path,
+                                   "--out",         out,   "--no-progress"};
   argv.insert(argv.end(), extra_args.begin(), extra_args.end());
   return RunCommand(argv, 300 * kNsPerS);
 }
@@ -75,16 +74,19 @@ TEST(RunTest, LockstepRunsAreByteIdenticalAndTheSeedMatters) {
   const RunScenario scenario = WriteScenario(0, kTwoFlockers, "timing { duration_ms: 5000 }\n");
   DownGuard guard(scenario.name);
   const std::string base = TempDir() + "/" + scenario.name + "-out";
-  const CommandResult first = SitlnetRun(scenario, base + "1", {"--pacing", "lockstep", "--seed", "5"});
+  const CommandResult first =
+      SitlnetRun(scenario, base + "1", {"--pacing", "lockstep", "--seed", "5"});
   ASSERT_EQ(first.exit_code, 0) << first.err;
-  const CommandResult second = SitlnetRun(scenario, base + "2", {"--pacing", "lockstep", "--seed", "5"});
+  const CommandResult second =
+      SitlnetRun(scenario, base + "2", {"--pacing", "lockstep", "--seed", "5"});
   ASSERT_EQ(second.exit_code, 0) << second.err;
-  const CommandResult other = SitlnetRun(scenario, base + "3", {"--pacing", "lockstep", "--seed", "6"});
+  const CommandResult other =
+      SitlnetRun(scenario, base + "3", {"--pacing", "lockstep", "--seed", "6"});
   ASSERT_EQ(other.exit_code, 0) << other.err;
 
   for (const char* file : {"scenario.textproto", "trajectories.csv", "metrics.csv", "medium.pcap",
-                           "deliveries.csv", "connectivity.csv", "summary.json",
-                           "robots/a.log", "trajectories.png", "connectivity.png", "stf.png"}) {
+                           "deliveries.csv", "connectivity.csv", "summary.json", "robots/a.log",
+                           "trajectories.png", "connectivity.png", "stf.png"}) {
     struct stat info {};
     EXPECT_EQ(stat((base + "1/" + file).c_str(), &info), 0) << file;
   }
@@ -121,14 +123,13 @@ TEST(RunTest, RobotFailureMidRunFollowsThePolicy) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const std::string robots =
       "robot { name: \"a\" image: \"shell\" args: \"sleep 1; exit 3\" }\nrobot { name: \"b\" }\n";
-  const RunScenario stop =
-      WriteScenario(2, robots, "timing { duration_ms: 4000 }\non_robot_failure: ROBOT_FAILURE_STOP\n");
+  const RunScenario stop = WriteScenario(
+      2, robots, "timing { duration_ms: 4000 }\non_robot_failure: ROBOT_FAILURE_STOP\n");
   {
     DownGuard guard(stop.name);
     const CommandResult result = SitlnetRun(stop, TempDir() + "/" + stop.name + "-out", {});
     EXPECT_EQ(result.exit_code, 1) << result.err;
-    EXPECT_NE(result.err.find("robot \"a\" exited with status 3"), std::string::npos)
-        << result.err;
+    EXPECT_NE(result.err.find("robot \"a\" exited with status 3"), std::string::npos) << result.err;
     ExpectNothingLeft(stop.name);
   }
   const RunScenario go = WriteScenario(3, robots, "timing { duration_ms: 3000 }\n");
@@ -191,20 +192,21 @@ namespace sitlnet::nns::testing {
 namespace {
 
 std::string WriteManifest(const std::string& name, const std::string& body) {
-  const std::string path = TempDir() + "/run_test_" + name + "_" + std::to_string(getpid()) +
-                           ".textproto";
+  const std::string path =
+      TempDir() + "/run_test_" + name + "_" + std::to_string(getpid()) + ".textproto";
   std::ofstream(path) << "name: \"" << name << "\"\n" << body;
   return path;
 }
 
 TEST(RunTest, RestartPolicyRestartsAFailingImageUpToItsLimit) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  const std::string manifest = WriteManifest(
-      "flaky", "command: [\"/bin/sh\", \"-c\", \"echo started; sleep 0.5; exit 4\"]\n"
-               "restart: RESTART_ON_FAILURE\nmax_restarts: 2\n");
-  const RunScenario scenario = WriteScenario(
-      6, "robot { name: \"a\" image: \"" + manifest + "\" }\nrobot { name: \"b\" }\n",
-      "timing { duration_ms: 4000 }\n");
+  const std::string manifest =
+      WriteManifest("flaky",
+                    "command: [\"/bin/sh\", \"-c\", \"echo started; sleep 0.5; exit 4\"]\n"
+                    "restart: RESTART_ON_FAILURE\nmax_restarts: 2\n");
+  const RunScenario scenario =
+      WriteScenario(6, "robot { name: \"a\" image: \"" + manifest + "\" }\nrobot { name: \"b\" }\n",
+                    "timing { duration_ms: 4000 }\n");
   DownGuard guard(scenario.name);
   const std::string out = TempDir() + "/" + scenario.name + "-out";
   const CommandResult result = SitlnetRun(scenario, out, {});
@@ -226,10 +228,11 @@ TEST(RunTest, RestartPolicyRestartsAFailingImageUpToItsLimit) {
 TEST(RunTest, ImageNotReadyInTimeIsAFailure) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const std::string manifest = WriteManifest(
-      "mute", "command: [\"/bin/sleep\", \"30\"]\nready_log_line: \"READY\"\nready_timeout_ms: 500\n");
-  const RunScenario scenario = WriteScenario(
-      7, "robot { name: \"a\" image: \"" + manifest + "\" }\nrobot { name: \"b\" }\n",
-      "timing { duration_ms: 5000 }\non_robot_failure: ROBOT_FAILURE_STOP\n");
+      "mute",
+      "command: [\"/bin/sleep\", \"30\"]\nready_log_line: \"READY\"\nready_timeout_ms: 500\n");
+  const RunScenario scenario =
+      WriteScenario(7, "robot { name: \"a\" image: \"" + manifest + "\" }\nrobot { name: \"b\" }\n",
+                    "timing { duration_ms: 5000 }\non_robot_failure: ROBOT_FAILURE_STOP\n");
   DownGuard guard(scenario.name);
   const CommandResult result = SitlnetRun(scenario, TempDir() + "/" + scenario.name + "-out", {});
   EXPECT_EQ(result.exit_code, 1) << result.err;

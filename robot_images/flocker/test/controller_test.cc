@@ -12,9 +12,9 @@ constexpr double kG = 9.80665;
 // Independent forward model: force and torque of quad-X rotor speeds,
 // written from the rotor layout in proto/sitlnet/robot.proto's comment.
 void Wrench(const AirframeParams& a, const RotorSpeeds& w, double* thrust, Eigen::Vector3d* tau) {
-  const double x[4] = {a.arm_x_m, -a.arm_x_m, a.arm_x_m, -a.arm_x_m};   // F, R, F, R
-  const double y[4] = {-a.arm_y_m, a.arm_y_m, a.arm_y_m, -a.arm_y_m};   // R, L, L, R
-  const double spin[4] = {+1, +1, -1, -1};                              // CCW, CCW, CW, CW
+  const double x[4] = {a.arm_x_m, -a.arm_x_m, a.arm_x_m, -a.arm_x_m};  // F, R, F, R
+  const double y[4] = {-a.arm_y_m, a.arm_y_m, a.arm_y_m, -a.arm_y_m};  // R, L, L, R
+  const double spin[4] = {+1, +1, -1, -1};                             // CCW, CCW, CW, CW
   *thrust = 0;
   tau->setZero();
   for (int i = 0; i < 4; ++i) {

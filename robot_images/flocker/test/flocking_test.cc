@@ -68,7 +68,7 @@ TEST(NeighbourTableTest, ForgetsAfterTimeoutWithoutNews) {
   EXPECT_EQ(table.Current(2'000'000'000).size(), 2u);
   EXPECT_EQ(table.Current(2'000'000'001).size(), 1u);  // robot 1 silent for > 2 s
   EXPECT_EQ(table.Indices(), std::vector<uint32_t>{2});
-  table.Heard(1, {{1, 0}, {0, 0}}, 2'500'000'000);       // news again: back
+  table.Heard(1, {{1, 0}, {0, 0}}, 2'500'000'000);  // news again: back
   EXPECT_EQ(table.Current(3'000'000'000).size(), 2u);
 }
 
