@@ -2,6 +2,7 @@
 
 #include <sys/epoll.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
 
@@ -43,18 +44,21 @@ void AddCount(google::protobuf::RepeatedPtrField<proto::NamedCount>* out,
 
 }  // namespace
 
+bool ControlSocketAnswers(const std::string& path) {
+  const sockaddr_un address = SocketAddress(path);
+  const int probe = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  const bool live =
+      connect(probe, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
+  close(probe);
+  return live;
+}
+
 ControlServer::ControlServer(const std::string& path, EventLoop* loop, BridgeCore* core,
                              PcapFanout* fanout)
     : path_(path), loop_(loop), core_(core), fanout_(fanout) {
   const sockaddr_un address = SocketAddress(path);
   // A live daemon answers: refuse. A stale socket file (daemon killed): remove.
-  {
-    const int probe = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    const bool live =
-        connect(probe, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
-    close(probe);
-    if (live) throw Error("a medium daemon already serves " + path);
-  }
+  if (ControlSocketAnswers(path)) throw Error("a medium daemon already serves " + path);
   unlink(path.c_str());
   listen_fd_ = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
   if (listen_fd_ < 0) throw Error(SystemErrorMessage("socket for " + path, errno));
@@ -63,6 +67,13 @@ ControlServer::ControlServer(const std::string& path, EventLoop* loop, BridgeCor
     const int err = errno;
     close(listen_fd_);
     throw Error(SystemErrorMessage("listen on control socket " + path, err));
+  }
+  // Owner only, whatever the umask: robots share the host's filesystem, and connecting to a
+  // Unix socket needs write permission on it (docs/security.md).
+  if (chmod(path.c_str(), 0600) != 0) {
+    const int err = errno;
+    close(listen_fd_);
+    throw Error(SystemErrorMessage("chmod 0600 control socket " + path, err));
   }
   loop_->Add(listen_fd_, EPOLLIN, [this](uint32_t) { Accept(); });
 }

@@ -1,0 +1,296 @@
+// Isolation of robots (issue 9, docs/security.md): what a robot's namespace can and cannot
+// reach, with the project's own addresses only (no packet leaves for the outside world).
+// Needs root (namespaces): skips without it, fails under CI=true.
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "nns/nns.h"
+#include "physics_mujoco/physics_mujoco.h"
+#include "robot_images/robot_images.h"
+#include "sitlnet/robot.pb.h"
+#include "tests/integration/nns_test_util.h"
+
+namespace sitlnet {
+namespace {
+
+using nns::testing::Child;
+using nns::testing::DownGuard;
+using nns::testing::MakeScenario;
+using nns::testing::RunCommand;
+using nns::testing::SitlnetBinary;
+
+sockaddr_in Address(Ipv4 address, uint16_t port) {
+  sockaddr_in out{};
+  out.sin_family = AF_INET;
+  out.sin_port = htons(port);
+  out.sin_addr.s_addr = htonl(address.host_order);
+  return out;
+}
+
+// A TCP listener in the calling thread's namespace on address:ephemeral port.
+struct Listener {
+  explicit Listener(Ipv4 address) {
+    fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    sockaddr_in a = Address(address, 0);
+    EXPECT_EQ(bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0) << strerror(errno);
+    EXPECT_EQ(listen(fd, 4), 0);
+    socklen_t length = sizeof a;
+    getsockname(fd, reinterpret_cast<sockaddr*>(&a), &length);
+    port = ntohs(a.sin_port);
+  }
+  ~Listener() { close(fd); }
+  int fd = -1;
+  uint16_t port = 0;
+};
+
+// TCP connect from inside `netns`: 0 on success, else the errno (bounded by 3 s; a refused or
+// unroutable connect answers at once, only a silently dropped SYN would take that long).
+int ConnectFrom(const std::string& netns, Ipv4 address, uint16_t port) {
+  nns::ScopedNetns inside(netns);
+  const int fd = socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  const sockaddr_in a = Address(address, port);
+  int result = 0;
+  if (connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0) {
+    result = errno;
+    if (result == EINPROGRESS) {
+      pollfd p{fd, POLLOUT, 0};
+      if (poll(&p, 1, 3000) != 1) {
+        result = ETIMEDOUT;
+      } else {
+        socklen_t length = sizeof result;
+        getsockopt(fd, SOL_SOCKET, SO_ERROR, &result, &length);
+      }
+    }
+  }
+  close(fd);
+  return result;
+}
+
+std::vector<std::string> InNetns(const std::string& netns, std::vector<std::string> argv) {
+  argv.insert(argv.begin(), {"ip", "netns", "exec", netns});
+  return argv;
+}
+
+// Runs argv as user nobody (65534/65534, no supplementary groups, no capabilities).
+std::vector<std::string> AsNobody(std::vector<std::string> argv) {
+  argv.insert(argv.begin(), {"setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", "--"});
+  return argv;
+}
+
+#define SITLNET_REQUIRE_ROOT()                                                      \
+  do {                                                                              \
+    if (geteuid() != 0) {                                                           \
+      if (nns::testing::IsCi()) FAIL() << "needs root (setpriv to another user)";   \
+      GTEST_SKIP() << "needs root: setpriv to user nobody needs CAP_SETUID/SETGID"; \
+    }                                                                               \
+  } while (0)
+
+TEST(IsolationTest, RobotReachesNeitherTheHostsNetworksNorAnotherRobotsCtl0) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const auto t = MakeScenario("iso", 0, 2);
+  const Scenario& scenario = t.scenario;
+  DownGuard down(scenario.name);
+  nns::Up(scenario);
+  const RobotPlan& a = scenario.robots[0];
+  const RobotPlan& b = scenario.robots[1];
+
+  // No route out: TEST-NET-1 (RFC 5737) stands for "the outside world"; no packet is sent.
+  for (const std::string& target : {std::string("192.0.2.1"), FormatIpv4(b.ctl_root_address),
+                                    FormatIpv4(b.ctl_robot_address)}) {
+    const auto route = RunCommand(InNetns(a.netns, {"ip", "route", "get", target}));
+    EXPECT_NE(route.exit_code, 0) << target << ": " << route.out;
+    EXPECT_NE(route.err.find("unreachable"), std::string::npos) << target << ": " << route.err;
+  }
+
+  // A root-namespace service on 0.0.0.0 is not reachable at another robot's ctl0 address...
+  Listener wildcard(Ipv4{0});
+  EXPECT_EQ(ConnectFrom(a.netns, b.ctl_root_address, wildcard.port), ENETUNREACH);
+  // ...nor is the root namespace's loopback: 127.0.0.1 in a robot is the robot's own lo.
+  Listener loopback(Ipv4{0x7f000001});
+  const int loopback_error = ConnectFrom(a.netns, Ipv4{0x7f000001}, loopback.port);
+  EXPECT_TRUE(loopback_error == ECONNREFUSED || loopback_error == ENETUNREACH)
+      << strerror(loopback_error);
+  // Caveat (docs/security.md): the root side of the robot's OWN ctl0 is a local address of the
+  // root namespace, so a root service bound to the wildcard address answers there (Linux's
+  // weak host model). Services that must stay private bind to specific addresses.
+  EXPECT_EQ(ConnectFrom(a.netns, a.ctl_root_address, wildcard.port), 0);
+}
+
+TEST(IsolationTest, ForeignMotorCommandsAreDroppedAndCountedEvenWithARouteAdded) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE_ROOT();
+  const auto t = MakeScenario("iso", 1, 2);
+  const Scenario& scenario = t.scenario;
+  DownGuard down(scenario.name);
+  nns::Up(scenario);
+  physics::PhysicsServer server(scenario);
+  const RobotPlan& a = scenario.robots[0];
+  const RobotPlan& b = scenario.robots[1];
+  const uint16_t port = static_cast<uint16_t>(scenario.spec.addresses().physics_port());
+  proto::MotorCommand command;
+  command.set_robot(1);  // Even claiming to be robot b.
+  for (int i = 0; i < 4; ++i) command.add_throttle(1.0);
+  const std::string bytes = command.SerializeAsString();
+  const sockaddr_in b_server = Address(b.ctl_root_address, port);
+  auto send_from_a = [&] {
+    nns::ScopedNetns inside(a.netns);
+    const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    const ssize_t n = sendto(fd, bytes.data(), bytes.size(), 0,
+                             reinterpret_cast<const sockaddr*>(&b_server), sizeof b_server);
+    const int error = n < 0 ? errno : 0;
+    close(fd);
+    return error;
+  };
+
+  // No route: the datagram never leaves robot a.
+  EXPECT_EQ(send_from_a(), ENETUNREACH);
+
+  // Robot software running as an unprivileged user cannot add a route.
+  const std::string route_to_b = FormatIpv4(b.ctl_root_address) + "/32";
+  const auto as_nobody =
+      RunCommand(InNetns(a.netns, AsNobody({"ip", "route", "add", route_to_b, "dev", "ctl0"})));
+  EXPECT_NE(as_nobody.exit_code, 0);
+  EXPECT_NE(as_nobody.err.find("Operation not permitted"), std::string::npos) << as_nobody.err;
+
+  // Robot software running as root in its namespace can; the server still drops the command
+  // because its source is not b's ctl0 address, and counts it.
+  ASSERT_EQ(
+      RunCommand(InNetns(a.netns, {"ip", "route", "add", route_to_b, "dev", "ctl0"})).exit_code, 0);
+  EXPECT_EQ(send_from_a(), 0);
+  const TimeNs deadline = MonotonicNowNs() + 5 * kNsPerS;
+  while (server.counters(1).dropped_foreign_source == 0 && MonotonicNowNs() < deadline) {
+    pollfd fd{server.wait_fd(), POLLIN, 0};
+    if (poll(&fd, 1, 100) > 0) server.Poll();
+  }
+  EXPECT_EQ(server.counters(1).dropped_foreign_source, 1u);
+  EXPECT_EQ(server.counters(1).commands_accepted, 0u);
+  EXPECT_EQ(server.counters(0).commands_accepted, 0u);
+  for (double speed : server.world().rotor_target(1)) EXPECT_EQ(speed, 0);
+}
+
+// Local addresses of the listening sockets of `pid` in ss output ("ss -H -l -n -p ...").
+std::vector<std::string> ListeningAddressesOf(const std::string& ss_output, pid_t pid) {
+  std::vector<std::string> addresses;
+  std::istringstream lines(ss_output);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("pid=" + std::to_string(pid) + ",") == std::string::npos) continue;
+    std::istringstream fields(line);
+    std::vector<std::string> tokens;
+    for (std::string token; fields >> token;) tokens.push_back(token);
+    // "[Netid] State Recv-Q Send-Q Local ...": ss omits Netid when listing one protocol.
+    const size_t local = tokens[0] == "UNCONN" || tokens[0] == "LISTEN" ? 3 : 4;
+    if (tokens.size() > local) addresses.push_back(tokens[local]);
+  }
+  return addresses;
+}
+
+TEST(IsolationTest, DaemonsListenOnlyWhereTheyMustAndTheMediumSocketIsRootOnly) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE_ROOT();
+  const auto t = MakeScenario("iso", 2, 2);
+  const Scenario& scenario = t.scenario;
+  DownGuard down(scenario.name);
+  nns::Up(scenario);
+  const RobotPlan& a = scenario.robots[0];
+
+  Child physics({SitlnetBinary(), "physics", t.path});
+  ASSERT_TRUE(physics.WaitForOutput(true, "serving on port", 20 * kNsPerS)) << physics.err();
+  // umask 0: the control socket must still come out owner-only (the daemon chmods it).
+  Child medium({"/bin/sh", "-c", "umask 0; exec \"$0\" medium \"$1\"", SitlnetBinary(), t.path});
+  ASSERT_TRUE(medium.WaitForOutput(true, "control socket", 20 * kNsPerS)) << medium.err();
+
+  // Physics: one UDP socket per robot, on the root side of that robot's ctl0, nothing else.
+  const auto udp = RunCommand({"ss", "-H", "-l", "-u", "-n", "-p"});
+  std::vector<std::string> expected;
+  for (const RobotPlan& robot : scenario.robots) {
+    expected.push_back(FormatIpv4(robot.ctl_root_address) + ":" +
+                       std::to_string(scenario.spec.addresses().physics_port()));
+  }
+  auto physics_udp = ListeningAddressesOf(udp.out, physics.pid());
+  std::sort(physics_udp.begin(), physics_udp.end());
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(physics_udp, expected) << udp.out;
+  const auto tcp = RunCommand({"ss", "-H", "-l", "-t", "-n", "-p"});
+  EXPECT_TRUE(ListeningAddressesOf(tcp.out, physics.pid()).empty()) << tcp.out;
+
+  // Medium: no IP socket at all, one Unix socket (its control socket).
+  EXPECT_TRUE(ListeningAddressesOf(udp.out, medium.pid()).empty()) << udp.out;
+  EXPECT_TRUE(ListeningAddressesOf(tcp.out, medium.pid()).empty()) << tcp.out;
+  const std::string socket_path = "/run/sitlnet/" + scenario.name + "/medium.sock";
+  const auto unix_sockets = RunCommand({"ss", "-H", "-l", "-x", "-p"});
+  EXPECT_EQ(ListeningAddressesOf(unix_sockets.out, medium.pid()),
+            std::vector<std::string>{socket_path})
+      << unix_sockets.out;
+
+  // Inside a robot nothing listens before its software starts (the daemons are outside).
+  const auto inside = RunCommand(InNetns(a.netns, {"ss", "-H", "-l", "-t", "-u", "-n"}));
+  EXPECT_EQ(inside.exit_code, 0);
+  EXPECT_EQ(inside.out, "");
+
+  // The control socket is root's and not writable by others, and Unix-socket connect needs
+  // write permission: robot software running as another user cannot reach it. Robots share
+  // the host's filesystem (exec does not switch mount namespaces), so software running as
+  // root in a robot CAN (docs/security.md: run robots with `user`).
+  struct stat st {};
+  ASSERT_EQ(stat(socket_path.c_str(), &st), 0);
+  EXPECT_EQ(st.st_uid, 0u);
+  EXPECT_EQ(st.st_mode & 0777, 0600u) << std::oct << st.st_mode;
+  const std::string connect_arg = "UNIX-CONNECT:" + socket_path;
+  const auto nobody =
+      RunCommand(InNetns(a.netns, AsNobody({"socat", "-u", "/dev/null", connect_arg})));
+  EXPECT_NE(nobody.exit_code, 0);
+  EXPECT_NE(nobody.err.find("Permission denied"), std::string::npos) << nobody.err;
+  const auto root = RunCommand(InNetns(a.netns, {"socat", "-u", "/dev/null", connect_arg}));
+  EXPECT_EQ(root.exit_code, 0) << root.err;
+
+  kill(medium.pid(), SIGTERM);
+  kill(physics.pid(), SIGTERM);
+  EXPECT_EQ(medium.Wait(10 * kNsPerS), 0) << medium.err();
+  EXPECT_EQ(physics.Wait(10 * kNsPerS), 0) << physics.err();
+}
+
+TEST(IsolationTest, RobotImageWithUserNobodyRunsAsUid65534) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE_ROOT();
+  const auto t = MakeScenario("iso", 3, 1);
+  DownGuard down(t.scenario.name);
+  nns::Up(t.scenario);
+  const std::string dir = ::testing::TempDir();
+  const std::string manifest = dir + "/iso-nobody-" + std::to_string(getpid()) + ".textproto";
+  std::ofstream(manifest) << "name: \"whoami\"\nuser: \"nobody\"\n"
+                             "command: \"/bin/sh\" command: \"-c\" command: \"id -u; id -g\"\n";
+  const images::Image image = images::LoadImage("", manifest);
+  images::LaunchContext context;
+  context.scenario = t.scenario.name;
+  context.robot = "r1";
+  const std::string log = dir + "/iso-nobody-" + std::to_string(getpid()) + ".log";
+  std::remove(log.c_str());
+  {
+    images::RobotProcess process(image, context, SitlnetBinary(), log);
+    const auto status = process.WaitExit(20 * kNsPerS);
+    ASSERT_TRUE(status);
+    EXPECT_EQ(*status, 0);
+  }
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, "65534\n65534\n");
+  std::remove(log.c_str());
+  std::remove(manifest.c_str());
+}
+
+}  // namespace
+}  // namespace sitlnet
