@@ -264,8 +264,10 @@ void BridgeCore::AttachAll() {
     try {
       impl_->AttachRobot(static_cast<int>(i));
     } catch (const Error& e) {
+      const bool busy = std::string(e.what()).find("busy") != std::string::npos;
       throw Error("robot " + impl_->scenario.robots[i].name + ": " + e.what() +
-                  " (is the scenario up? sitlnet up " + impl_->scenario.source_path + ")");
+                  (busy ? " (another process holds this TAP: a medium daemon or sitlnet run?)"
+                        : " (is the scenario up? sitlnet up " + impl_->scenario.source_path + ")"));
     }
   }
 }

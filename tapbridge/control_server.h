@@ -15,6 +15,9 @@
 
 namespace sitlnet::tapbridge {
 
+// True if something accepts connections on `path` (a live daemon).
+bool ControlSocketAnswers(const std::string& path);
+
 class ControlServer {
  public:
   // Binds `path` (removing a stale socket; refusing if a daemon answers on it).

@@ -75,6 +75,12 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
   bridge_options.seed = scenario.spec.timing().seed();
   bridge_options.log = log;
   BridgeCore core(scenario, std::move(medium), bridge_options);
+  const std::string socket_path =
+      options.control_socket.empty() ? ControlSocketPath(scenario.name) : options.control_socket;
+  if (ControlSocketAnswers(socket_path)) {
+    throw Error("a medium daemon already serves scenario " + scenario.name + " (" + socket_path +
+                ")");
+  }
   core.AttachAll();
 
   // SIGINT/SIGTERM arrive as events on the loop (signalfd): the loop ends
@@ -104,8 +110,6 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
   core.AddAirFrameObserver([&fanout](const AirFrame& frame) { fanout.OnFrame(frame); });
   core.SetAirFrameCapture(fanout.active());
 
-  const std::string socket_path =
-      options.control_socket.empty() ? ControlSocketPath(scenario.name) : options.control_socket;
   MakeDirectories(socket_path.substr(0, socket_path.rfind('/')));
   ControlServer server(socket_path, &loop, &core, &fanout);
 
@@ -153,10 +157,12 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
     uint64_t expirations = 0;
     [[maybe_unused]] ssize_t n = read(stats_fd, &expirations, sizeof expirations);
     const LatenessStats lateness = core.TakeLateness();
-    // Lag behind the wall clock: how late deliveries were written.
-    log("t=" + std::to_string(core.VirtualNowNs() / kNsPerMs) +
-        " ms: " + std::to_string(lateness.count) + " deliveries, lateness p50 " +
-        Us(lateness.p50_ns) + " p99 " + Us(lateness.p99_ns) + " max " + Us(lateness.max_ns));
+    // Lag behind the wall clock: how late deliveries were written. Quiet
+    // while nothing is delivered.
+    if (lateness.count > 0)
+      log("t=" + std::to_string(core.VirtualNowNs() / kNsPerMs) +
+          " ms: " + std::to_string(lateness.count) + " deliveries, lateness p50 " +
+          Us(lateness.p50_ns) + " p99 " + Us(lateness.p99_ns) + " max " + Us(lateness.max_ns));
     core.RefreshKernelCounters();
     for (int i = 0; i < core.robot_count(); ++i) {
       if (!core.port_counters(i).attached) {

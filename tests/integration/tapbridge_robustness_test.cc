@@ -187,12 +187,16 @@ TEST(TapbridgeBadInput, DeletedNamespaceReportedOthersKeepRunning) {
   EXPECT_FALSE(scenario.Counters().station(2).attached());
 }
 
-// TAPs are persistent: a new daemon attaches to them again.
+// TAPs are persistent: a new daemon attaches to them again. A second daemon
+// while one runs is refused.
 TEST(TapbridgeBadInput, DaemonRestartReattaches) {
   SITLNET_REQUIRE_ROOT();
   MediumScenario scenario("rst", 1, kTwo);
   scenario.StartDaemon();
   ASSERT_TRUE(Pings(scenario, "a", 1));
+  const Result second = RunProgram({SitlnetBinary(), "medium", scenario.path()}, 10 * kNsPerS);
+  EXPECT_EQ(second.code, 1) << "a second daemon for the same scenario is refused";
+  EXPECT_NE(second.err.find("already serves"), std::string::npos) << second.err;
   const std::string log = scenario.StopDaemon();
   EXPECT_NE(log.find("stopping on SIGTERM"), std::string::npos) << log;
   EXPECT_FALSE(Pings(scenario, "a", 1, 1)) << "no daemon, no medium";
