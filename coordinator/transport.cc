@@ -6,6 +6,7 @@
 #include <netinet/tcp.h>
 #include <poll.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
 
@@ -274,6 +275,11 @@ Listener::Listener(const Endpoint& endpoint) : endpoint_(endpoint) {
     unlink(endpoint.path.c_str());  // A stale socket from a killed run.
     if (bind(socket_.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) < 0) {
       throw SystemError("bind unix socket \"" + endpoint.path + "\"", errno);
+    }
+    // Owner only, whatever the umask: robots share the host's filesystem, and connecting to a
+    // Unix socket needs write permission on it (docs/security.md).
+    if (chmod(endpoint.path.c_str(), 0600) != 0) {
+      throw SystemError("chmod 0600 unix socket \"" + endpoint.path + "\"", errno);
     }
   } else {
     addrinfo* info = Resolve(endpoint, /*passive=*/true);

@@ -60,12 +60,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   if (medium->NextEventNs()) __builtin_trap();  // The medium must go idle.
   for (const auto& air_frame : air) sitlnet::tapbridge::EncodePcapRecord(air_frame, 0);
-  // Counters stay consistent: a station never receives more than was sent.
+  // Counters stay consistent. Idle medium: every frame a station sent was sent (acknowledged,
+  // or a group frame on the air), lost after its retries, or dropped at a full queue.
   uint64_t sent = 0, delivered = 0;
   for (int s = 0; s < stations; ++s) {
     const auto counters = medium->Counters(s);
     sent += counters.sent;
     delivered += counters.delivered;
+    uint64_t accounted = counters.queue_drops;
+    for (const auto& [name, count] : counters.other) accounted += name == "sent_ok" ? count : 0;
+    for (const auto& [name, count] : counters.lost) accounted += name == "retry_limit" ? count : 0;
+    if (accounted != counters.sent) __builtin_trap();
   }
   if (delivered > sent * static_cast<uint64_t>(stations - 1)) __builtin_trap();
   return 0;

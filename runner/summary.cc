@@ -60,6 +60,13 @@ std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& 
     lost += (lost.size() > 1 ? "," : "") + Quote(reason) + ":" + std::to_string(count);
   }
   lost += "}";
+  // Model details (sent_ok, retries, ...): with them sent = sent_ok + lost.retry_limit +
+  // queue_drops + frames still queued (tests/integration/soak.sh checks it).
+  std::string other = "{";
+  for (const auto& [name, count] : medium.other) {
+    other += (other.size() > 1 ? "," : "") + Quote(name) + ":" + std::to_string(count);
+  }
+  other += "}";
   std::string json = "{\"name\":" + Quote(robot.name);
   json += ",\"exit_status\":" +
           (robot.exit_status ? std::to_string(*robot.exit_status) : std::string("null"));
@@ -67,7 +74,7 @@ std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& 
   json += ",\"medium\":{\"sent\":" + std::to_string(medium.sent) +
           ",\"delivered\":" + std::to_string(medium.delivered) +
           ",\"queue_drops\":" + std::to_string(medium.queue_drops) + ",\"lost\":" + lost +
-          ",\"oversize_dropped\":" + std::to_string(port.oversize_dropped) +
+          ",\"other\":" + other + ",\"oversize_dropped\":" + std::to_string(port.oversize_dropped) +
           ",\"unknown_source_dropped\":" + std::to_string(port.unknown_source_dropped) + "}";
   json += ",\"physics\":{\"commands_accepted\":" + std::to_string(phys.commands_accepted) +
           ",\"states_sent\":" + std::to_string(phys.states_sent) + ",\"dropped\":" +

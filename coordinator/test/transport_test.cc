@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <thread>
@@ -166,6 +167,20 @@ TEST(Listener, UnixSocketRoundTrip) {
   const std::string path = TempSocketPath("uds");
   ExchangeOver(ParseEndpoint("unix:" + path));
   EXPECT_NE(access(path.c_str(), F_OK), 0) << "socket file left behind";
+}
+
+TEST(Listener, UnixSocketIsOwnerOnlyWhateverTheUmask) {
+  const std::string path = TempSocketPath("mode");
+  const mode_t old_umask = umask(0);
+  {
+    Listener listener(ParseEndpoint("unix:" + path));
+    umask(old_umask);
+    struct stat st {};
+    ASSERT_EQ(stat(path.c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 0777, 0600u);
+  }
+  umask(old_umask);
+  unlink(path.c_str());
 }
 
 TEST(Listener, TcpLoopbackRoundTripOnAnEphemeralPort) {
