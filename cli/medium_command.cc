@@ -16,7 +16,7 @@ namespace {
 
 constexpr const char* kMediumHelp =
     "usage: sitlnet medium SCENARIO [--pcap FILE] [--stats-interval-ms N] [--rt-priority P]\n"
-    "                              [--relay]\n"
+    "                              [--spin-us N] [--relay]\n"
     "\n"
     "Runs the simulated 802.11 medium between the robots of SCENARIO (a scenario\n"
     "file, or the name of a scenario that is up): attaches every robot's wlan0,\n"
@@ -27,6 +27,7 @@ constexpr const char* kMediumHelp =
     "\n"
     "  --pcap FILE   write every frame on the air as 802.11 + radiotap (tshark -r FILE)\n"
     "  --rt-priority P  SCHED_FIFO priority (default 10; 0: normal scheduling)\n"
+    "  --spin-us N   wake N us before each event and busy-wait (precision for CPU; default 0)\n"
     "  --relay       no 802.11 model: relay frames at once (benchmark floor)\n"
     "\n"
     "Control socket: /run/sitlnet/<scenario>/medium.sock (positions, counters,\n"
@@ -58,6 +59,8 @@ int RunMediumCommand(int argc, char** argv) {
       options.pcap_path = argv[++i];
     } else if (arg == "--stats-interval-ms" && i + 1 < argc) {
       options.stats_interval_ns = std::stoll(argv[++i]) * kNsPerMs;
+    } else if (arg == "--spin-us" && i + 1 < argc) {
+      options.spin_ns = std::stoll(argv[++i]) * kNsPerUs;
     } else if (arg == "--rt-priority" && i + 1 < argc) {
       options.realtime_priority = std::stoi(argv[++i]);
     } else if (arg == "--relay") {

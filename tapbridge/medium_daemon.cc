@@ -74,6 +74,7 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
   bridge_options.realtime_factor = scenario.spec.timing().realtime_factor();
   bridge_options.seed = scenario.spec.timing().seed();
   bridge_options.log = log;
+  bridge_options.spin_ns = options.spin_ns;
   BridgeCore core(scenario, std::move(medium), bridge_options);
   const std::string socket_path =
       options.control_socket.empty() ? ControlSocketPath(scenario.name) : options.control_socket;

@@ -126,6 +126,9 @@ struct LatenessStats {
 struct BridgeOptions {
   double realtime_factor = 1.0;  // Virtual seconds per wall second (realtime pacing).
   uint64_t seed = 1;             // Lockstep intra-step offsets.
+  // Realtime: wake this long before an event and busy-wait the rest (0: pure
+  // timer wakeups). Trades CPU for delivery precision (docs/performance.md).
+  TimeNs spin_ns = 0;
   // Writes log lines (one line each, no newline); default: stderr with a prefix.
   std::function<void(const std::string&)> log;
   // Attach only these robots (indices); empty: all.
@@ -244,6 +247,7 @@ struct DaemonOptions {
   // due to the microsecond; on a loaded host a normal thread waits for a core
   // for milliseconds (docs/performance.md). Refused (no CAP_SYS_NICE): logged.
   int realtime_priority = 10;
+  TimeNs spin_ns = 0;  // BridgeOptions::spin_ns.
   std::function<void(const std::string&)> log;
 };
 

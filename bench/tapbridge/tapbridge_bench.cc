@@ -11,7 +11,7 @@
 // it crosses the robot's TAP like any program's frames, without ARP.
 //
 // Usage (root): tapbridge_bench [--robots N] [--seconds S] [--repeat R]
-//                               [--offered-mbps M] [--sitlnet PATH]
+//                               [--offered-mbps M] [--sitlnet PATH] [--spin-us N]
 #include <linux/if_packet.h>
 #include <net/ethernet.h>
 #include <net/if.h>
@@ -47,6 +47,7 @@ struct Options {
   int repeat = 3;
   double offered_mbps = 64;  // Total, over all robots: 2x the 54 Mb/s capacity.
   std::string sitlnet = "build/bin/sitlnet";
+  std::string spin_us = "0";  // Forwarded to sitlnet medium --spin-us.
 };
 
 struct Sample {
@@ -128,6 +129,8 @@ Sample RunOnce(const Options& options, const sitlnet::Scenario& scenario,
     std::vector<const char*> argv = {options.sitlnet.c_str(), "medium",
                                      scenario.source_path.c_str()};
     if (relay) argv.push_back("--relay");
+    argv.push_back("--spin-us");
+    argv.push_back(options.spin_us.c_str());
     argv.push_back(nullptr);
     execv(argv[0], const_cast<char* const*>(argv.data()));
     _exit(127);
