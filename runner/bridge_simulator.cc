@@ -39,6 +39,10 @@ void BridgeSimulator::RunIteration(const proto::coord::Start& start, proto::coor
     started_ = true;
   }
   const TimeNs wall_end = wall_of(start.end_ns());
+  // At least one non-blocking turn: when the coordinator runs behind real
+  // time, wall_end is already past, and without it the TAPs were never read
+  // (64 robots in realtime pacing moved 0 frames in 30 s).
+  loop_.RunOnce(0);
   for (TimeNs now = MonotonicNowNs(); now < wall_end; now = MonotonicNowNs()) {
     // epoll's millisecond timeout, rounded up; the bridge's own timerfd
     // writes deliveries at their exact instants meanwhile.

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 
@@ -146,6 +147,42 @@ void WaitForRobotsToSpeak(const Scenario& scenario, const std::vector<RobotSlot>
   }
 }
 
+// VmHWM of a process in KiB (0 if unreadable): its peak resident set since exec.
+int64_t PeakRssKib(pid_t pid) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::atoll(line.c_str() + 6);
+  }
+  return 0;
+}
+
+// Benchmark knobs (bench/scale, docs/performance.md), not scenario settings:
+// SITLNET_PHYSICS_THREADS=N steps the robots on N threads (default 2) and
+// SITLNET_PHYSICS_INTEGRATOR=euler trades RK4's accuracy (docs/physics.md)
+// for about a third of its cost. Anything else is a one-line error.
+physics::ServerOptions PhysicsOptionsFromEnvironment() {
+  physics::ServerOptions options;
+  if (const char* threads = std::getenv("SITLNET_PHYSICS_THREADS"); threads && *threads) {
+    char* end = nullptr;
+    const long value = std::strtol(threads, &end, 10);
+    if (*end != '\0' || value < 1 || value > 64) {
+      throw Error(std::string("SITLNET_PHYSICS_THREADS=\"") + threads + "\": want 1..64");
+    }
+    options.world.threads = static_cast<int>(value);
+  }
+  if (const char* integrator = std::getenv("SITLNET_PHYSICS_INTEGRATOR");
+      integrator && *integrator) {
+    const std::string name = integrator;
+    if (name != "euler" && name != "rk4") {
+      throw Error("SITLNET_PHYSICS_INTEGRATOR=\"" + name + "\": want euler or rk4");
+    }
+    options.world.integrator =
+        name == "euler" ? physics::Integrator::kEuler : physics::Integrator::kRk4;
+  }
+  return options;
+}
+
 }  // namespace
 
 RunReport RunScenario(const RunOptions& options) {
@@ -171,7 +208,7 @@ RunReport RunScenario(const RunOptions& options) {
                scenario.name.c_str(), scenario.robots.size(), report.run_dir.c_str());
   const bool lockstep = scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP;
 
-  physics::PhysicsServer physics_server(scenario);
+  physics::PhysicsServer physics_server(scenario, PhysicsOptionsFromEnvironment());
   tapbridge::BridgeOptions bridge_options;
   bridge_options.realtime_factor = scenario.spec.timing().realtime_factor();
   bridge_options.seed = scenario.spec.timing().seed();
@@ -254,10 +291,17 @@ RunReport RunScenario(const RunOptions& options) {
   // SIGTERM to every image first, then wait for each: images may need up to
   // their receive timeout to notice (flocker: 1 s), so stopping them one
   // after the other took 41 s for 64 robots.
+  std::vector<int64_t> rss_kib;
   for (RobotSlot& robot : robots) {
     if (robot.process && !robot.exit_status && !robot.process->PollExit()) {
+      if (const int64_t peak = PeakRssKib(robot.process->pid()); peak > 0) rss_kib.push_back(peak);
       kill(robot.process->pid(), SIGTERM);
     }
+  }
+  if (!rss_kib.empty()) {
+    std::sort(rss_kib.begin(), rss_kib.end());
+    report.robot_max_rss_kib = rss_kib.back();
+    report.robot_median_rss_kib = rss_kib[rss_kib.size() / 2];
   }
   for (RobotSlot& robot : robots) {
     if (robot.process && !robot.exit_status) robot.process->Stop();
@@ -267,7 +311,6 @@ RunReport RunScenario(const RunOptions& options) {
   // runs later), so the children's usage is the robots'.
   getrusage(RUSAGE_CHILDREN, &usage);
   report.robots_cpu_s = cpu_s(usage);
-  report.robot_max_rss_kib = usage.ru_maxrss;
   deliveries.Flush();
   pcap.flush();
 

@@ -31,12 +31,16 @@ struct RunReport {
   int exit_code = 0;  // 0 ok, 1 failure (robot failure by policy, error), 130 interrupted.
   bool interrupted = false;
   // Wall-clock phases and CPU, for bench/scale (summary.json "resources").
-  TimeNs startup_ns = 0;          // From RunScenario's start to the coordinator's first iteration.
-  TimeNs loop_ns = 0;             // The coordinator's iterations.
-  TimeNs stop_ns = 0;             // Stopping the robots' images.
-  double self_cpu_s = 0;          // user+sys of this process (all threads) at the end of the loop.
-  double robots_cpu_s = 0;        // user+sys of the reaped children: the robots' images.
-  int64_t robot_max_rss_kib = 0;  // Largest max RSS among the robots' images.
+  TimeNs startup_ns = 0;    // From RunScenario's start to the coordinator's first iteration.
+  TimeNs loop_ns = 0;       // The coordinator's iterations.
+  TimeNs stop_ns = 0;       // Stopping the robots' images.
+  double self_cpu_s = 0;    // user+sys of this process (all threads) at the end of the loop.
+  double robots_cpu_s = 0;  // user+sys of the reaped children: the robots' images.
+  // Peak RSS (VmHWM) of each running image just before it is stopped, largest
+  // and median. Not the children's ru_maxrss: that keeps the forked copy of
+  // sitlnet's RSS from before exec.
+  int64_t robot_max_rss_kib = 0;
+  int64_t robot_median_rss_kib = 0;
 };
 
 // Runs the scenario to the end of its duration (or until SIGINT/SIGTERM).

@@ -120,7 +120,8 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
           ",\"stop_robots_s\":" + Seconds(report.stop_ns) +
           ",\"sitlnet_cpu_s\":" + std::to_string(report.self_cpu_s) +
           ",\"robots_cpu_s\":" + std::to_string(report.robots_cpu_s) +
-          ",\"robot_max_rss_kib\":" + std::to_string(report.robot_max_rss_kib) + "}";
+          ",\"robot_max_rss_kib\":" + std::to_string(report.robot_max_rss_kib) +
+          ",\"robot_median_rss_kib\":" + std::to_string(report.robot_median_rss_kib) + "}";
   json += ",\"robots\":[";
   for (int i = 0; i < robot_count; ++i) {
     json += (i ? "," : "") + RobotJson(robots[i], i, bridge, physics);

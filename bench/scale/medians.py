@@ -1,18 +1,26 @@
 #!/usr/bin/env python3
-"""Medians per (robots, pacing) of runs.csv -> scale.csv (bench/scale/run.sh)."""
+"""Medians per point of a runs CSV (bench/scale/run.sh, ablation.sh).
+
+Usage: medians.py RUNS.csv OUT.csv [--group COLUMN]
+Groups by (robots, pacing), or by COLUMN (ablation.sh: variant) first.
+"""
 import csv
 import statistics
 import sys
 
+group_by = sys.argv[4] if sys.argv[3:4] == ["--group"] else None
+keys = ([group_by] if group_by else []) + ["robots", "pacing"]
 rows = list(csv.DictReader(open(sys.argv[1])))
-cols = [c for c in rows[0].keys() if c not in ("robots", "pacing", "run", "failure")]
+cols = [c for c in rows[0].keys() if c not in keys + ["run", "failure"]]
 groups = {}
 for row in rows:
     if row["failure"]:
-        continue  # a failed run is listed in runs.csv, not counted
-    groups.setdefault((int(row["robots"]), row["pacing"]), []).append(row)
+        continue  # a failed run is listed in the runs CSV, not counted
+    key = tuple(int(row[k]) if k == "robots" else row[k] for k in keys)
+    groups.setdefault(key, []).append(row)
 with open(sys.argv[2], "w") as out:
-    out.write("robots,pacing,runs," + ",".join(cols) + "\n")
-    for (n, pacing), group in sorted(groups.items()):
+    out.write(",".join(keys) + ",runs," + ",".join(cols) + "\n")
+    for key, group in groups.items() if group_by else sorted(groups.items()):
         values = [statistics.median(float(g[c]) for g in group) for c in cols]
-        out.write(f"{n},{pacing},{len(group)}," + ",".join(f"{v:.6g}" for v in values) + "\n")
+        out.write(",".join(str(k) for k in key) + f",{len(group)}," +
+                  ",".join(f"{v:.6g}" for v in values) + "\n")
