@@ -24,7 +24,8 @@ sed -i -e "s/^name: \"scale$robots\"/name: \"soak$robots\"/" \
   -e 's/10\.93\.0\.0\/24/10.97.0.0\/24/' -e 's/10\.94\.0\.0\/16/10.98.0.0\/16/' "$out/soak.textproto"
 
 # halt_on_error=0: report everything, do not stop at the first finding; LSan runs at exit.
-export ASAN_OPTIONS="detect_leaks=1:halt_on_error=0:abort_on_error=0"
+# A small quarantine (default 256 MiB) so that RSS growth shows the program, not ASan filling it.
+export ASAN_OPTIONS="detect_leaks=1:halt_on_error=0:abort_on_error=0:quarantine_size_mb=16"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=0"
 "$build/bin/sitlnet" run "$out/soak.textproto" --out "$out/run" --duration "$seconds" \
   --pacing realtime 2>"$out/run.stderr" &
