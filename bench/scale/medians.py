@@ -20,7 +20,10 @@ for row in rows:
     groups.setdefault(key, []).append(row)
 with open(sys.argv[2], "w") as out:
     out.write(",".join(keys) + ",runs," + ",".join(cols) + "\n")
-    for key, group in groups.items() if group_by else sorted(groups.items()):
+    # By pacing, then robots: each mode's rows contiguous, so gnuplot draws
+    # their lines (a NaN row between points breaks a line).
+    order = (lambda item: 0) if group_by else (lambda item: (item[0][1], item[0][0]))
+    for key, group in sorted(groups.items(), key=order):
         values = [statistics.median(float(g[c]) for g in group) for c in cols]
         out.write(",".join(str(k) for k in key) + f",{len(group)}," +
                   ",".join(f"{v:.6g}" for v in values) + "\n")

@@ -76,3 +76,4 @@ echo "medians: $root/docs/scale.csv, runs: $root/docs/scale_runs.csv, plots: $ro
 if [ "$ablation" = 1 ]; then
   "$here/ablation.sh" --build "$build" --out "$out/ablation"
 fi
+"$here/table.py" "$root/docs/scale.csv" $([ "$ablation" = 1 ] && echo "$root/docs/scale_ablation.csv")
