@@ -3,10 +3,13 @@
 # "End to end"): the same flight with one cost taken away at a time.
 #
 #   sudo bench/scale/ablation.sh [--build DIR] [--out DIR] [--runs R] [--seconds S] [--robots N]
+#                                [--only NAME,NAME]
 #
-# Variants: baseline; SITLNET_PHYSICS_THREADS=1; SITLNET_PHYSICS_INTEGRATOR=euler;
-# no obstacles (gen_scenario.py --no-obstacles); no obstacles + euler. Rows in
-# OUT/ablation_runs.csv, medians in docs/scale_ablation.csv. Called by run.sh.
+# Lockstep variants: baseline; SITLNET_PHYSICS_THREADS=1; SITLNET_PHYSICS_INTEGRATOR=euler;
+# no obstacles (gen_scenario.py --no-obstacles); no obstacles + euler. Realtime
+# variants: realtime (as run.sh) and realtime_fifo (the whole run under
+# `chrt -f 10`: SCHED_FIFO, inherited by the images; about one core for S seconds).
+# Rows in OUT/ablation_runs.csv, medians in docs/scale_ablation.csv. Called by run.sh.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -15,6 +18,7 @@ out="/tmp/sitlnet-scale-ablation-$(date -u +%Y%m%d-%H%M%S)"
 runs=3
 seconds=20
 n=64
+only=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
@@ -22,6 +26,7 @@ while [ $# -gt 0 ]; do
     --runs) runs=$2; shift 2 ;;
     --seconds) seconds=$2; shift 2 ;;
     --robots) n=$2; shift 2 ;;
+    --only) only=",$2,"; shift 2 ;;
     *) echo "usage: $0 [--build DIR] [--out DIR] [--runs R] [--seconds S] [--robots N]" >&2; exit 2 ;;
   esac
 done
@@ -30,24 +35,29 @@ mkdir -p "$out"
 "$here/gen_scenario.py" "$n" "$out/scale$n.textproto"
 "$here/gen_scenario.py" "$n" "$out/scale${n}_noobs.textproto" --no-obstacles
 echo "variant,$("$here/extract.py" --header)" > "$out/ablation_runs.csv"
-# variant:scenario:threads:integrator
-variants="baseline:scale$n:2:rk4 threads1:scale$n:1:rk4 euler:scale$n:2:euler
-          no_obstacles:scale${n}_noobs:2:rk4 no_obstacles_euler:scale${n}_noobs:2:euler"
+# variant:scenario:threads:integrator:pacing:priority
+variants="baseline:scale$n:2:rk4:lockstep:normal threads1:scale$n:1:rk4:lockstep:normal
+          euler:scale$n:2:euler:lockstep:normal no_obstacles:scale${n}_noobs:2:rk4:lockstep:normal
+          no_obstacles_euler:scale${n}_noobs:2:euler:lockstep:normal
+          realtime:scale$n:2:rk4:realtime:normal realtime_fifo:scale$n:2:rk4:realtime:fifo"
 for run in $(seq 1 "$runs"); do  # round-robin, as run.sh
   for variant in $variants; do
-    IFS=: read -r name scenario threads integrator <<< "$variant"
+    IFS=: read -r name scenario threads integrator pacing priority <<< "$variant"
+    [ -z "$only" ] || [[ "$only" == *",$name,"* ]] || continue
+    prio=()
+    [ "$priority" = fifo ] && prio=(chrt -f 10)
     dir="$out/$name-$run"
     load1=$(cut -d' ' -f1 /proc/loadavg)
     start=$(date +%s%N)
     status=0
     SITLNET_PHYSICS_THREADS=$threads SITLNET_PHYSICS_INTEGRATOR=$integrator \
-      "$sitlnet" run "$out/$scenario.textproto" --out "$dir" --pacing lockstep \
+      "${prio[@]}" "$sitlnet" run "$out/$scenario.textproto" --out "$dir" --pacing "$pacing" \
       --duration "$seconds" --seed "$run" --no-progress > "$dir.log" 2>&1 || status=$?
     end=$(date +%s%N)
     wall=$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.3f", (b - a) / 1e9 }')
     echo "$(date -u +%H:%M:%S) $name run $run: ${wall}s wall, exit $status, load $load1"
     if [ -f "$dir/summary.json" ]; then
-      echo "$name,$("$here/extract.py" "$dir" "$n" lockstep "$run" "$wall" "$load1")" >> "$out/ablation_runs.csv"
+      echo "$name,$("$here/extract.py" "$dir" "$n" "$pacing" "$run" "$wall" "$load1")" >> "$out/ablation_runs.csv"
     else
       "$sitlnet" down "scale$n" > /dev/null 2>&1 || true
     fi

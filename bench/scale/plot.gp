@@ -42,6 +42,8 @@ unset logscale y
 set output outdir.'/scale_lag.png'
 set title 'Realtime pacing: iteration lag p99 and frames through the medium'
 set ylabel 'lag p99 (ms)'
+set logscale y
+set yrange [0.5:*]
 set y2label 'frames sent per wall second'
 set y2tics
 set ytics nomirror

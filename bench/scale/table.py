@@ -29,12 +29,13 @@ for r in sorted(rows, key=lambda r: (r["pacing"], int(r["robots"]))):
           f"| {f(r['startup_s'], 2)} | {f(r['teardown_s'], 2)} |")
 if len(sys.argv) > 2:
     print()
-    print("| variant (64 robots, lockstep) | runs | load | STF mean | STF p99 | T_phy ms | T_net ms "
-          "| T_overhead ms | sitlnet CPU s per sim s | robots CPU s per sim s |")
-    print("|" + " --- |" * 10)
+    print("| variant (64 robots) | pacing | runs | load | STF mean | STF p99 | T_phy ms | T_net ms "
+          "| T_overhead ms | lag p99 ms | sitlnet CPU s per sim s | robots CPU s per sim s |")
+    print("|" + " --- |" * 12)
     for r in csv.DictReader(open(sys.argv[2])):
         sim = float(r["simulated_s"])
-        print(f"| {r['variant']} | {r['runs']} | {f(r['load1'], 1)} | {f(r['stf_mean'], 3)} "
-              f"| {f(r['stf_p99'], 3)} | {f(r['t_phy_ms'], 2)} | {f(r['t_net_ms'], 2)} "
-              f"| {f(r['t_overhead_ms'], 3)} | {float(r['sitlnet_cpu_s']) / sim:.3f} "
-              f"| {float(r['robots_cpu_s']) / sim:.3f} |")
+        lag = f(r["lag_p99_ms"], 2) if r["pacing"] == "realtime" else "–"
+        print(f"| {r['variant']} | {r['pacing']} | {r['runs']} | {f(r['load1'], 1)} "
+              f"| {f(r['stf_mean'], 3)} | {f(r['stf_p99'], 3)} | {f(r['t_phy_ms'], 2)} "
+              f"| {f(r['t_net_ms'], 2)} | {f(r['t_overhead_ms'], 3)} | {lag} "
+              f"| {float(r['sitlnet_cpu_s']) / sim:.3f} | {float(r['robots_cpu_s']) / sim:.3f} |")
