@@ -285,5 +285,39 @@ TEST(FaultsTest, RobotThatStopsAnsweringInLockstepStopsTheRunNamingIt) {
   std::remove(chatty.c_str());
 }
 
+TEST(FaultsTest, DaemonsKilledWithSigkillThenDownLeavesNothingAndTheyRestart) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const FaultScenario s = WriteScenario(3, {"", ""}, "");
+  DownGuard guard(s.name);
+  ASSERT_EQ(RunCommand({SitlnetBinary(), "up", s.path}).exit_code, 0);
+  const std::string socket_path = "/run/sitlnet/" + s.name + "/medium.sock";
+  {
+    Child medium({SitlnetBinary(), "medium", s.path});
+    Child physics({SitlnetBinary(), "physics", s.path});
+    ASSERT_TRUE(medium.WaitForOutput(true, "control socket", 20 * kNsPerS)) << medium.err();
+    ASSERT_TRUE(physics.WaitForOutput(true, "serving on port", 20 * kNsPerS)) << physics.err();
+    ASSERT_EQ(kill(medium.pid(), SIGKILL), 0);
+    ASSERT_EQ(kill(physics.pid(), SIGKILL), 0);
+    EXPECT_EQ(medium.Wait(10 * kNsPerS), 128 + SIGKILL);
+    EXPECT_EQ(physics.Wait(10 * kNsPerS), 128 + SIGKILL);
+  }
+  // A stale control socket is left; a new daemon replaces it (the old one does not answer).
+  struct stat st {};
+  EXPECT_EQ(stat(socket_path.c_str(), &st), 0);
+  {
+    Child medium({SitlnetBinary(), "medium", s.path});
+    Child physics({SitlnetBinary(), "physics", s.path});
+    EXPECT_TRUE(medium.WaitForOutput(true, "control socket", 20 * kNsPerS)) << medium.err();
+    EXPECT_TRUE(physics.WaitForOutput(true, "serving on port", 20 * kNsPerS)) << physics.err();
+    // `down` stops the registered daemons too, then removes everything.
+    const CommandResult down = RunCommand({SitlnetBinary(), "down", s.name});
+    EXPECT_EQ(down.exit_code, 0) << down.err;
+    EXPECT_NE(medium.Wait(10 * kNsPerS), -1);
+    EXPECT_NE(physics.Wait(10 * kNsPerS), -1);
+  }
+  ExpectNothingLeft(s);
+  EXPECT_NE(stat(socket_path.c_str(), &st), 0) << socket_path << " left behind";
+}
+
 }  // namespace
 }  // namespace sitlnet::nns::testing
