@@ -18,9 +18,6 @@ class BridgeSimulator final : public coordinator::Simulator {
   // `bridge` must be attached and outlive this.
   BridgeSimulator(const Scenario& scenario, tapbridge::BridgeCore* bridge,
                   coordinator::Pacing pacing, double realtime_factor);
-  ~BridgeSimulator() override;
-  BridgeSimulator(const BridgeSimulator&) = delete;
-  BridgeSimulator& operator=(const BridgeSimulator&) = delete;
   void RunIteration(const proto::coord::Start& start, proto::coord::End* end,
                     coordinator::IterationContext& context) override;
 
@@ -34,11 +31,6 @@ class BridgeSimulator final : public coordinator::Simulator {
   tapbridge::EventLoop loop_;
   bool started_ = false;
   TimeNs wall_origin_ns_ = 0;
-  // Realtime: a timerfd in loop_ armed at the iteration's wall-clock end, so
-  // that the iteration ends on time rather than at epoll's next whole
-  // millisecond (which made iterations start 0-1 ms late, 0.6 ms median).
-  int end_timer_fd_ = -1;
-  bool end_reached_ = false;
 };
 
 }  // namespace sitlnet::runner
