@@ -23,18 +23,6 @@
 namespace sitlnet::nns::testing {
 namespace {
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-std::string TempDir() {
-  const char* tmp = std::getenv("TMPDIR");
-  return std::string(tmp ? tmp : "/tmp");
-}
-
 // A scenario "fa<pid%10000><slot>" with subnets of its own (10.{200+slot} ctl, 10.{250+slot}
 // wlan: away from the other integration tests' ranges).
 struct FaultScenario {

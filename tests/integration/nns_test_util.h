@@ -113,6 +113,11 @@ bool HasCapability(int cap);
 // Returns an empty string on success, else what went wrong.
 std::string UdpRoundTrip(const std::string& netns, Ipv4 robot_address);
 
+// The whole file (binary-safe); empty if it cannot be read.
+std::string ReadAll(const std::string& path);
+// $TMPDIR, or /tmp.
+std::string TempDir();
+
 // build/bin/sitlnet of the tree under test.
 std::string SitlnetBinary();
 

@@ -13,18 +13,6 @@
 namespace sitlnet::nns::testing {
 namespace {
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-std::string TempDir() {
-  const char* tmp = std::getenv("TMPDIR");
-  return std::string(tmp ? tmp : "/tmp");
-}
-
 // A scenario named "ru<pid%10000><slot>" on subnets of its own; `robots` is
 // the robot blocks' text.
 struct RunScenario {
