@@ -5,6 +5,9 @@
 #define SITLNET_CLI_COMMANDS_H_
 
 #include <functional>
+#include <string>
+
+#include "scenario/scenario.h"
 
 namespace sitlnet::cli {
 
@@ -25,6 +28,10 @@ int RunMediumCommand(int argc, char** argv);   // cli/medium_command.cc (tapbrid
 int RunCaptureCommand(int argc, char** argv);  // cli/capture_command.cc (tapbridge)
 int RunPhysicsCommand(int argc, char** argv);  // cli/physics_command.cc (physics_mujoco)
 int RunRunCommand(int argc, char** argv);      // cli/run_command.cc (runner)
+
+// A scenario file, or the name of a scenario that is up (its state file names
+// the file). Throws Error.
+Scenario LoadByFileOrName(const std::string& what);
 
 // True if any argument before "--" is -h or --help.
 bool WantsHelp(int argc, char** argv);

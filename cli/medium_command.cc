@@ -36,14 +36,6 @@ constexpr const char* kMediumHelp =
     "exit codes: 0 stopped by a signal, 1 failed (scenario not up, daemon already\n"
     "running), 2 usage or bad scenario file, 3 missing privileges.\n";
 
-Scenario LoadByFileOrName(const std::string& what) {
-  struct stat st {};
-  if (stat(what.c_str(), &st) == 0) return LoadScenarioFile(what);
-  const std::optional<nns::ScenarioState> state = nns::ReadScenarioState(what);
-  if (!state) throw Error("no scenario file and no scenario up named \"" + what + "\"");
-  return LoadScenarioFile(state->source_path);
-}
-
 }  // namespace
 
 int RunMediumCommand(int argc, char** argv) {

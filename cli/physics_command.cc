@@ -38,14 +38,6 @@ std::atomic<bool> g_stop{false};
 
 void OnSignal(int) { g_stop.store(true); }
 
-Scenario LoadByFileOrName(const std::string& what) {
-  struct stat st {};
-  if (stat(what.c_str(), &st) == 0) return LoadScenarioFile(what);
-  const std::optional<nns::ScenarioState> state = nns::ReadScenarioState(what);
-  if (!state) throw Error("no scenario file and no scenario up named \"" + what + "\"");
-  return LoadScenarioFile(state->source_path);
-}
-
 void PrintCounters(const Scenario& scenario, const physics::PhysicsServer& server) {
   std::printf("%-12s %9s %9s %9s %9s %9s %9s %7s %9s\n", "robot", "commands", "states", "malformed",
               "invalid", "wrong_id", "foreign", "cuts", "json");

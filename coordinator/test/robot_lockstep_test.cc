@@ -129,39 +129,22 @@ TEST(RobotLockstep, NetworkStartsOnlyAfterEveryRobotsCommand) {
   EXPECT_GE(f.server.counters(1).commands_accepted, 31u);
 }
 
-TEST(RobotLockstep, ARobotThatStopsAnsweringStopsTheRunWithItsName) {
-  Fixture f;
+// Robot a answers every state, robot b those of iterations 0..4 only; runs the
+// coordinator with `lockstep` (throws what RunCoordinator throws).
+RunResult RunWithRobotBSilentAfterFive(Fixture& f, const RobotLockstepOptions& lockstep) {
   std::thread a(Robot, 0, 1 << 30, &f.stop);
-  std::thread b(Robot, 1, 5, &f.stop);  // Answers the states of iterations 0..4 only.
+  std::thread b(Robot, 1, 5, &f.stop);
+  struct JoinAtExit {
+    Fixture& f;
+    std::thread& a;
+    std::thread& b;
+    ~JoinAtExit() {
+      f.stop = true;
+      a.join();
+      b.join();
+    }
+  } join{f, a, b};
   WaitForJoin(&f.server);
-  PhysicsServerSimulator physics_sim(f.scenario, &f.server, {true, 200 * kNsPerMs});
-  GateChecker network_sim(&f.collected);
-  auto physics =
-      MakeInProcessConnector("physics", Role::kPhysics, &physics_sim, Threading::kOwnThread);
-  auto network =
-      MakeInProcessConnector("network", Role::kNetwork, &network_sim, Threading::kCallerThread);
-  CoordinatorOptions options = OptionsFromScenario(f.scenario);
-  options.lockstep_robots = true;
-  try {
-    RunCoordinator(*physics, *network, options);
-    ADD_FAILURE() << "the run went on without robot b";
-  } catch (const Error& e) {
-    EXPECT_STREQ(e.what(),
-                 "physics connector 'physics' failed in iteration 5: robot 'b' did not answer "
-                 "the state of iteration 5 (virtual 50 ms) with a command within 200 ms");
-  }
-  f.stop = true;
-  a.join();
-  b.join();
-}
-
-TEST(RobotLockstep, ASilentRobotCanBeDroppedWithItsMotorsCut) {
-  Fixture f;
-  std::thread a(Robot, 0, 1 << 30, &f.stop);
-  std::thread b(Robot, 1, 5, &f.stop);  // Answers the states of iterations 0..4 only.
-  WaitForJoin(&f.server);
-  RobotLockstepOptions lockstep{true, 200 * kNsPerMs};
-  lockstep.drop_silent = true;
   PhysicsServerSimulator physics_sim(f.scenario, &f.server, lockstep);
   GateChecker network_sim(&f.collected);
   auto physics =
@@ -170,10 +153,26 @@ TEST(RobotLockstep, ASilentRobotCanBeDroppedWithItsMotorsCut) {
       MakeInProcessConnector("network", Role::kNetwork, &network_sim, Threading::kCallerThread);
   CoordinatorOptions options = OptionsFromScenario(f.scenario);
   options.lockstep_robots = true;
-  const RunResult result = RunCoordinator(*physics, *network, options);
-  f.stop = true;
-  a.join();
-  b.join();
+  return RunCoordinator(*physics, *network, options);
+}
+
+TEST(RobotLockstep, ARobotThatStopsAnsweringStopsTheRunWithItsName) {
+  Fixture f;
+  try {
+    RunWithRobotBSilentAfterFive(f, {true, 200 * kNsPerMs});
+    ADD_FAILURE() << "the run went on without robot b";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(),
+                 "physics connector 'physics' failed in iteration 5: robot 'b' did not answer "
+                 "the state of iteration 5 (virtual 50 ms) with a command within 200 ms");
+  }
+}
+
+TEST(RobotLockstep, ASilentRobotCanBeDroppedWithItsMotorsCut) {
+  Fixture f;
+  RobotLockstepOptions lockstep{true, 200 * kNsPerMs};
+  lockstep.drop_silent = true;
+  const RunResult result = RunWithRobotBSilentAfterFive(f, lockstep);
   EXPECT_EQ(result.iterations_done, 30);  // the run went on without b
   EXPECT_EQ(f.server.world().rotor_target(1), (physics::RotorSpeeds{0, 0, 0, 0}));
   EXPECT_EQ(f.server.counters(1).failsafe_cuts, 1u);
