@@ -53,15 +53,20 @@ TimeNs MonotonicNowNs();
 class LineFile {
  public:
   // Creates/truncates `path` and writes `header` (a line, without newline;
-  // empty: none). Throws Error naming the path.
-  LineFile(const std::string& path, const std::string& header, int lines_per_flush = 256);
-  ~LineFile();
+  // empty: none). Errors name `what` and the path: 'create <what> "<path>": ...'.
+  LineFile(const std::string& path, const std::string& header, int lines_per_flush = 256,
+           std::string_view what = "file");
+  ~LineFile();  // Flushes; a write error is printed, not thrown.
   LineFile(const LineFile&) = delete;
   LineFile& operator=(const LineFile&) = delete;
   void Append(std::string_view line);  // Without the newline.
+  // Throws Error naming the file if write(2) fails (disk full); the lines
+  // written before stay whole.
   void Flush();
 
  private:
+  std::string path_;
+  std::string what_;
   int fd_ = -1;
   int lines_per_flush_;
   int pending_ = 0;

@@ -2,15 +2,17 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 
 #include "common/common.h"
 
 namespace sitlnet {
 
-LineFile::LineFile(const std::string& path, const std::string& header, int lines_per_flush)
-    : lines_per_flush_(lines_per_flush) {
+LineFile::LineFile(const std::string& path, const std::string& header, int lines_per_flush,
+                   std::string_view what)
+    : path_(path), what_(what), lines_per_flush_(lines_per_flush < 1 ? 1 : lines_per_flush) {
   fd_ = open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw Error(SystemErrorMessage("create \"" + path + "\"", errno));
+  if (fd_ < 0) throw Error(SystemErrorMessage("create " + what_ + " \"" + path + "\"", errno));
   if (!header.empty()) {
     buffer_ = header + "\n";
     Flush();
@@ -18,7 +20,11 @@ LineFile::LineFile(const std::string& path, const std::string& header, int lines
 }
 
 LineFile::~LineFile() {
-  Flush();
+  try {
+    Flush();
+  } catch (const Error& error) {
+    std::fprintf(stderr, "sitlnet: %s\n", error.what());
+  }
   if (fd_ >= 0) close(fd_);
 }
 
@@ -33,7 +39,10 @@ void LineFile::Flush() {
   while (done < buffer_.size()) {
     const ssize_t n = write(fd_, buffer_.data() + done, buffer_.size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;  // Disk full: what was written so far is whole lines.
+    if (n < 0) {
+      buffer_.erase(0, done);
+      throw Error(SystemErrorMessage("write " + what_ + " \"" + path_ + "\"", errno));
+    }
     done += static_cast<size_t>(n);
   }
   buffer_.clear();

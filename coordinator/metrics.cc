@@ -1,12 +1,10 @@
 #include "coordinator/metrics.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 namespace sitlnet::coordinator {
 
@@ -20,47 +18,18 @@ const char* MetricsCsvWriter::Header() {
 }
 
 MetricsCsvWriter::MetricsCsvWriter(const std::string& path, int rows_per_flush)
-    : path_(path), rows_per_flush_(std::max(1, rows_per_flush)) {
-  fd_ = open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw Error(SystemErrorMessage("create metrics file \"" + path + "\"", errno));
-  buffer_ = Header();
-  Flush();
-}
-
-MetricsCsvWriter::~MetricsCsvWriter() {
-  try {
-    Flush();
-  } catch (const Error& e) {
-    std::fprintf(stderr, "sitlnet: %s\n", e.what());
-  }
-  if (fd_ >= 0) close(fd_);
-}
+    : file_(path, std::string(Header(), std::strlen(Header()) - 1), rows_per_flush,
+            "metrics file") {}
 
 void MetricsCsvWriter::Append(const IterationMetrics& r) {
   char line[256];
   const int n =
-      std::snprintf(line, sizeof line, "%lld,%lld,%lld,%lld,%lld,%lld,%.6f,%lld\n",
+      std::snprintf(line, sizeof line, "%lld,%lld,%lld,%lld,%lld,%lld,%.6f,%lld",
                     static_cast<long long>(r.iteration), static_cast<long long>(r.start_ns),
                     static_cast<long long>(r.t_phy_ns), static_cast<long long>(r.t_net_ns),
                     static_cast<long long>(r.t_total_ns), static_cast<long long>(r.t_overhead_ns),
                     r.stf, static_cast<long long>(r.lag_ns));
-  buffer_.append(line, static_cast<size_t>(n));
-  if (++pending_rows_ >= rows_per_flush_) Flush();
-}
-
-void MetricsCsvWriter::Flush() {
-  size_t done = 0;
-  while (done < buffer_.size()) {
-    const ssize_t n = write(fd_, buffer_.data() + done, buffer_.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      buffer_.erase(0, done);
-      throw Error(SystemErrorMessage("write metrics file \"" + path_ + "\"", errno));
-    }
-    done += static_cast<size_t>(n);
-  }
-  buffer_.clear();
-  pending_rows_ = 0;
+  file_.Append(std::string_view(line, static_cast<size_t>(n)));
 }
 
 Distribution Distribute(std::vector<double> values) {

@@ -33,20 +33,15 @@ class MetricsCsvWriter {
  public:
   // Creates/truncates `path` and writes the header. Throws Error naming the path.
   explicit MetricsCsvWriter(const std::string& path, int rows_per_flush = 100);
-  ~MetricsCsvWriter();  // Flushes.
   MetricsCsvWriter(const MetricsCsvWriter&) = delete;
   MetricsCsvWriter& operator=(const MetricsCsvWriter&) = delete;
 
   void Append(const IterationMetrics& row);
-  void Flush();
+  void Flush() { file_.Flush(); }
   static const char* Header();
 
  private:
-  std::string path_;
-  int fd_ = -1;
-  int rows_per_flush_;
-  int pending_rows_ = 0;
-  std::string buffer_;
+  LineFile file_;  // Flushes at destruction.
 };
 
 // mean / p50 / p99 of one column.
