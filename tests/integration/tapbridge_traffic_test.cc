@@ -2,6 +2,7 @@
 // medium daemon; every bound is computed from 802.11 timing in the test.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <regex>
 #include <sstream>
@@ -91,9 +92,14 @@ TEST_P(TapbridgeUdpSaturation, GoodputWithinFivePercentOfAnalytic) {
   ASSERT_EQ(server->Wait(10 * kNsPerS), 0);
   const std::vector<double> intervals = SteadyIntervalsMbps(server->out());
   ASSERT_GE(intervals.size(), 3u) << server->out();
-  double sum = 0;
-  for (double v : intervals) sum += v;
-  const double measured_mbps = sum / intervals.size();
+  // Median of the steady one-second intervals: a host stall in one second
+  // (the machine is shared) must not decide the verdict on the medium.
+  std::vector<double> sorted = intervals;
+  std::sort(sorted.begin(), sorted.end());
+  const size_t middle = sorted.size() / 2;
+  const double measured_mbps = sorted.size() % 2 == 1
+                                   ? sorted[middle]
+                                   : (sorted[middle - 1] + sorted[middle]) / 2;
   std::printf("802.11a %.0f Mb/s: UDP goodput %.3f Mb/s, analytic %.3f Mb/s\n", rate_mbps,
               measured_mbps, analytic_mbps);
   EXPECT_NEAR(measured_mbps, analytic_mbps, 0.05 * analytic_mbps);
@@ -119,9 +125,14 @@ TEST(TapbridgeTraffic, RealtimeFactorScalesWallClockGoodput) {
   ASSERT_EQ(server->Wait(10 * kNsPerS), 0);
   const std::vector<double> intervals = SteadyIntervalsMbps(server->out());
   ASSERT_GE(intervals.size(), 3u) << server->out();
-  double sum = 0;
-  for (double v : intervals) sum += v;
-  const double measured_mbps = sum / intervals.size();
+  // Median of the steady one-second intervals: a host stall in one second
+  // (the machine is shared) must not decide the verdict on the medium.
+  std::vector<double> sorted = intervals;
+  std::sort(sorted.begin(), sorted.end());
+  const size_t middle = sorted.size() / 2;
+  const double measured_mbps = sorted.size() % 2 == 1
+                                   ? sorted[middle]
+                                   : (sorted[middle - 1] + sorted[middle]) / 2;
   std::printf("realtime factor 0.5, 6 Mb/s: %.3f Mb/s per wall second, expected %.3f\n",
               measured_mbps, expected_mbps);
   EXPECT_NEAR(measured_mbps, expected_mbps, 0.05 * expected_mbps);
