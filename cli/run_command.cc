@@ -15,7 +15,7 @@ namespace {
 
 constexpr const char* kRunHelp =
     "usage: sitlnet run SCENARIO [--out DIR] [--duration S] [--pacing realtime|lockstep]\n"
-    "                   [--seed N] [--no-shadowing] [--no-progress]\n"
+    "                   [--seed N] [--no-shadowing] [--no-progress] [--rt-priority P]\n"
     "\n"
     "Brings SCENARIO up, starts the simulated 802.11 medium, the MuJoCo physics,\n"
     "every robot's image and the coordinator, runs for the scenario's duration\n"
@@ -24,6 +24,9 @@ constexpr const char* kRunHelp =
     "medium.pcap, deliveries.csv, connectivity.csv, robots/<name>.log,\n"
     "summary.json, PNG plots) and tears everything down. Ctrl-C stops in order.\n"
     "Images are looked up in $SITLNET_IMAGES, else the source tree's robot_images/.\n"
+    "In realtime pacing sitlnet's own threads ask for SCHED_FIFO priority P\n"
+    "(--rt-priority, default 10; 0: normal scheduling; without CAP_SYS_NICE a\n"
+    "warning, then normal); the images run at normal priority.\n"
     "\n"
     "exit codes: 0 ok, 1 failure (a robot failed with on_robot_failure STOP, a\n"
     "component failed), 2 usage or bad scenario, 3 missing privileges,\n"
@@ -85,6 +88,15 @@ int RunRunCommand(int argc, char** argv) {
       options.no_shadowing = true;
     } else if (arg == "--no-progress") {
       options.progress = false;
+    } else if (arg == "--rt-priority") {
+      const std::string text = value();
+      char* end = nullptr;
+      const long priority = std::strtol(text.c_str(), &end, 10);
+      if (end == text.c_str() || *end != '\0' || priority < 0 || priority > 99) {
+        std::fprintf(stderr, "sitlnet run: --rt-priority \"%s\" is not 0..99\n", text.c_str());
+        return kExitUsage;
+      }
+      options.realtime_priority = static_cast<int>(priority);
     } else if (!arg.empty() && arg[0] == '-') {
       std::fprintf(stderr, "sitlnet run: unknown option %s\n%s", arg.c_str(), kRunHelp);
       return kExitUsage;

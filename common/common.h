@@ -45,6 +45,19 @@ inline constexpr TimeNs kNsPerS = 1000 * kNsPerMs;
 // CLOCK_MONOTONIC in nanoseconds.
 TimeNs MonotonicNowNs();
 
+//-------------------------------- Scheduling --------------------------------
+
+// Asks for SCHED_FIFO `priority` (1..99) for the calling thread; threads it creates afterwards
+// inherit it. Realtime loops (the medium daemon, `sitlnet run` in realtime pacing) use it because
+// on a busy 2-core host a normal-priority loop waits milliseconds for a core
+// (docs/performance.md). Returns "" on success, else a one-line reason (no CAP_SYS_NICE,
+// RLIMIT_RTPRIO) for the caller to print as a warning: running at normal priority still works.
+std::string RequestRealtimePriority(int priority);
+
+// In a forked child before exec: back to SCHED_OTHER, so that programs started by a realtime
+// harness (robot images, gnuplot) do not inherit its priority. Lowering needs no privilege.
+void ResetToNormalScheduling();
+
 //--------------------------------- Files ------------------------------------
 
 // A text file (CSV, logs) appended as whole lines: buffered, written with one

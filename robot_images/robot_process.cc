@@ -66,6 +66,9 @@ RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
     // Own session: a Ctrl-C on the terminal reaches `sitlnet run`, which stops
     // the robots in order, not every robot at once.
     setsid();
+    // `sitlnet run` may hold SCHED_FIFO in realtime pacing; the robot's software runs as on
+    // any host, at normal priority (wrap its command in chrt to change that).
+    ResetToNormalScheduling();
     dup2(log_fd, STDOUT_FILENO);
     dup2(log_fd, STDERR_FILENO);
     const int null_fd = open("/dev/null", O_RDONLY);

@@ -74,6 +74,7 @@ std::string RunGnuplot(const std::string& script_path, const std::string& log_pa
   const pid_t pid = fork();
   if (pid < 0) return SystemErrorMessage("fork gnuplot", errno);
   if (pid == 0) {
+    ResetToNormalScheduling();
     const int null_fd = open("/dev/null", O_RDWR);
     const int log_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(null_fd, STDIN_FILENO);

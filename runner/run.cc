@@ -207,6 +207,15 @@ RunReport RunScenario(const RunOptions& options) {
                "sitlnet run: %s: %zu robots up, starting medium, physics and images -> %s\n",
                scenario.name.c_str(), scenario.robots.size(), report.run_dir.c_str());
   const bool lockstep = scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP;
+  // Realtime pacing on a busy host: a normal-priority loop waits milliseconds for a core
+  // (docs/performance.md, "Realtime 64"). Before the physics and bridge threads exist, so that
+  // they inherit it; children (images, gnuplot) reset to normal scheduling.
+  if (!lockstep && options.realtime_priority > 0) {
+    if (const std::string refused = RequestRealtimePriority(options.realtime_priority);
+        !refused.empty()) {
+      std::fprintf(stderr, "sitlnet run: warning: %s\n", refused.c_str());
+    }
+  }
 
   physics::PhysicsServer physics_server(scenario, PhysicsOptionsFromEnvironment());
   tapbridge::BridgeOptions bridge_options;

@@ -24,6 +24,9 @@ struct RunOptions {
   std::string images_root;                       // Folder of the image manifests.
   TimeNs trajectory_period_ns = 100 * kNsPerMs;  // Sampling of trajectories.csv.
   bool progress = true;                          // Live progress line on stderr.
+  // SCHED_FIFO priority of sitlnet's own threads in realtime pacing (0: normal scheduling;
+  // refused without CAP_SYS_NICE: a warning, then normal). Images run at normal priority.
+  int realtime_priority = 10;
 };
 
 struct RunReport {

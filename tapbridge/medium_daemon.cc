@@ -1,7 +1,6 @@
 // The medium daemon (`sitlnet medium SCENARIO`): main() reads like a script.
 // Parse options, build the medium, attach the TAPs, open the outputs, serve
 // the control socket, run the realtime loop until SIGINT/SIGTERM.
-#include <sched.h>
 #include <signal.h>
 #include <sys/epoll.h>
 #include <sys/inotify.h>
@@ -95,12 +94,9 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
   if (signal_fd < 0) throw Error(SystemErrorMessage("signalfd", errno));
 
   if (options.realtime_priority > 0) {
-    sched_param param{};
-    param.sched_priority = options.realtime_priority;
-    if (sched_setscheduler(0, SCHED_FIFO, &param) != 0) {
-      log(SystemErrorMessage("SCHED_FIFO priority " + std::to_string(options.realtime_priority) +
-                                 " refused, running with normal priority",
-                             errno));
+    if (const std::string refused = RequestRealtimePriority(options.realtime_priority);
+        !refused.empty()) {
+      log(refused);
     }
   }
 
