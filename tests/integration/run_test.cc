@@ -1,5 +1,6 @@
 // `sitlnet run` end to end with real namespaces, MuJoCo, the medium and the
 // flocker image: lockstep reproducibility, robot failures, Ctrl-C, teardown.
+#include <linux/capability.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -227,6 +228,40 @@ TEST(RunTest, ImageNotReadyInTimeIsAFailure) {
   EXPECT_NE(result.err.find("robot \"a\" not ready within 500 ms (no \"READY\" in its log)"),
             std::string::npos)
       << result.err;
+  ExpectNothingLeft(scenario.name);
+}
+
+// Realtime pacing: sitlnet's own threads ask for SCHED_FIFO 10 (a busy host otherwise delays the
+// loop by milliseconds, docs/performance.md); the robot's software must not inherit it. The
+// image reports its own policy and its parent's (the `sitlnet run` process) with chrt.
+TEST(RunTest, RealtimeRunIsFifoButItsImagesAreNot) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario =
+      WriteScenario(8,
+                    "robot { name: \"a\" image: \"shell\" "
+                    "args: \"echo self; chrt -p $$; echo parent; chrt -p $PPID; exec sleep 60\" }\n"
+                    "robot { name: \"b\" }\n",
+                    "timing { duration_ms: 2000 pacing: PACING_REALTIME }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const CommandResult result = SitlnetRun(scenario, out, {});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string log = ReadAll(out + "/robots/a.log");
+  const size_t parent = log.find("parent");
+  ASSERT_NE(parent, std::string::npos) << log;
+  const std::string self_part = log.substr(0, parent);
+  const std::string parent_part = log.substr(parent);
+  EXPECT_NE(self_part.find("policy: SCHED_OTHER"), std::string::npos) << log;
+  if (HasCapability(CAP_SYS_NICE)) {
+    EXPECT_NE(parent_part.find("policy: SCHED_FIFO"), std::string::npos) << log;
+    EXPECT_NE(parent_part.find("priority: 10"), std::string::npos) << log;
+  } else {
+    // Without CAP_SYS_NICE (e.g. the min-caps pass): one warning, then normal scheduling.
+    EXPECT_NE(result.err.find("SCHED_FIFO priority 10 refused (needs CAP_SYS_NICE)"),
+              std::string::npos)
+        << result.err;
+    EXPECT_NE(parent_part.find("policy: SCHED_OTHER"), std::string::npos) << log;
+  }
   ExpectNothingLeft(scenario.name);
 }
 
