@@ -1,13 +1,19 @@
 // `sitlnet medium SCENARIO [--pcap FILE]`: the medium daemon of a scenario
 // that is up (docs/tapbridge.md).
+#include <google/protobuf/text_format.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include "cli/commands.h"
+#include "coordinator/coordinator.h"
 #include "nns/nns.h"
+#include "runner/remote_medium.h"
 #include "scenario/scenario.h"
 #include "tapbridge/tapbridge.h"
 
@@ -17,6 +23,8 @@ namespace {
 constexpr const char* kMediumHelp =
     "usage: sitlnet medium SCENARIO [--pcap FILE] [--stats-interval-ms N] [--rt-priority P]\n"
     "                              [--spin-us N] [--relay]\n"
+    "       sitlnet medium SCENARIO --connect HOST:PORT [--seed N] [--no-shadowing]\n"
+    "                              [--connect-timeout S]\n"
     "\n"
     "Runs the simulated 802.11 medium between the robots of SCENARIO (a scenario\n"
     "file, or the name of a scenario that is up): attaches every robot's wlan0,\n"
@@ -33,8 +41,59 @@ constexpr const char* kMediumHelp =
     "Control socket: /run/sitlnet/<scenario>/medium.sock (positions, counters,\n"
     "live pcap: sitlnet capture --medium).\n"
     "\n"
-    "exit codes: 0 stopped by a signal, 1 failed (scenario not up, daemon already\n"
-    "running), 2 usage or bad scenario file, 3 missing privileges.\n";
+    "With --connect, no TAPs and no privileges: this host runs only the 802.11\n"
+    "model, for `sitlnet run SCENARIO --listen HOST:PORT --remote network` on the\n"
+    "robots' host (docs/coordinator.md, \"A connector on another host\"). It\n"
+    "connects to HOST:PORT (retrying while nothing listens, up to\n"
+    "--connect-timeout S, default 60), proves with the scenario's hash that it\n"
+    "loaded the same SCENARIO file (give the run's --seed and --no-shadowing\n"
+    "too), serves every network step until the run ends, and exits 0; the\n"
+    "pcap and counters are written in the run folder on the robots' host.\n"
+    "\n"
+    "exit codes: 0 stopped by a signal (--connect: the run ended), 1 failed (scenario not up, "
+    "daemon already\n"
+    "running; --connect: coordinator unreachable, refused the handshake, or\n"
+    "vanished mid-run), 2 usage or bad scenario file, 3 missing privileges.\n";
+
+// `--connect`: the medium model as a network connector of a coordinator on
+// another host (runner/remote_medium.h).
+int ServeRemoteMedium(Scenario scenario, const std::string& endpoint_text,
+                      std::optional<uint64_t> seed, bool no_shadowing, TimeNs connect_timeout_ns) {
+  if (seed || no_shadowing) {  // As `sitlnet run` applies them (runner/run.cc).
+    proto::Scenario spec = scenario.spec;
+    if (seed) spec.mutable_timing()->set_seed(*seed);
+    if (no_shadowing) spec.mutable_radio()->set_shadowing(false);
+    std::string text;
+    google::protobuf::TextFormat::PrintToString(spec, &text);
+    const std::string source = scenario.source_path;
+    scenario = LoadScenarioText(text, source + " (with overrides)");
+    scenario.source_path = source;
+  }
+  const coordinator::Endpoint endpoint = coordinator::ParseEndpoint(endpoint_text);
+  std::fprintf(stderr, "sitlnet medium: %s: connecting to the coordinator at %s\n",
+               scenario.name.c_str(), endpoint.ToString().c_str());
+  coordinator::Fd socket;
+  try {
+    socket = coordinator::Connect(endpoint, MonotonicNowNs() + connect_timeout_ns);
+  } catch (const coordinator::TransportError& e) {
+    throw Error(std::string("cannot reach the coordinator: ") + e.what() +
+                (e.kind() == coordinator::TransportError::Kind::kTimeout
+                     ? " (retried for " + std::to_string(connect_timeout_ns / kNsPerS) + " s)"
+                     : std::string()));
+  }
+  coordinator::StopSignal stop;  // From here on Ctrl-C ends the wait in order.
+  coordinator::Channel channel(std::move(socket));
+  runner::MediumLinkSimulator simulator(scenario, tapbridge::MakeMacPhySimMedium(scenario));
+  char host[256] = "localhost";
+  gethostname(host, sizeof host - 1);
+  const coordinator::ConnectorIdentity identity{std::string("medium@") + host,
+                                                coordinator::Role::kNetwork,
+                                                runner::MediumScenarioHash(scenario)};
+  const std::string reason =
+      coordinator::ServeCoordinator(channel, simulator, identity, 10 * kNsPerS, stop.fd());
+  std::fprintf(stderr, "sitlnet medium: %s: stopped: %s\n", scenario.name.c_str(), reason.c_str());
+  return kExitOk;
+}
 
 }  // namespace
 
@@ -45,9 +104,40 @@ int RunMediumCommand(int argc, char** argv) {
   }
   std::string scenario_arg;
   tapbridge::DaemonOptions options;
+  std::string connect;
+  std::optional<uint64_t> seed;
+  bool no_shadowing = false;
+  bool daemon_option = false;  // One that only the local daemon uses.
+  TimeNs connect_timeout_ns = 60 * kNsPerS;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--pcap" && i + 1 < argc) {
+    const auto number = [&](const std::string& text) {
+      char* end = nullptr;
+      const double value = std::strtod(text.c_str(), &end);
+      if (end == text.c_str() || *end != '\0' || !(value >= 0)) {
+        std::fprintf(stderr, "sitlnet medium: %s \"%s\" is not a number\n", arg.c_str(),
+                     text.c_str());
+        std::exit(kExitUsage);
+      }
+      return value;
+    };
+    daemon_option = daemon_option || arg == "--pcap" || arg == "--stats-interval-ms" ||
+                    arg == "--spin-us" || arg == "--rt-priority" || arg == "--relay";
+    if (arg == "--connect" && i + 1 < argc) {
+      connect = argv[++i];
+    } else if (arg == "--seed" && i + 1 < argc) {
+      const std::string text = argv[++i];
+      char* end = nullptr;
+      seed = std::strtoull(text.c_str(), &end, 10);
+      if (end == text.c_str() || *end != '\0') {
+        std::fprintf(stderr, "sitlnet medium: --seed \"%s\" is not a number\n", text.c_str());
+        return kExitUsage;
+      }
+    } else if (arg == "--no-shadowing") {
+      no_shadowing = true;
+    } else if (arg == "--connect-timeout" && i + 1 < argc) {
+      connect_timeout_ns = static_cast<TimeNs>(number(argv[++i]) * kNsPerS);
+    } else if (arg == "--pcap" && i + 1 < argc) {
       options.pcap_path = argv[++i];
     } else if (arg == "--stats-interval-ms" && i + 1 < argc) {
       options.stats_interval_ns = std::stoll(argv[++i]) * kNsPerMs;
@@ -69,12 +159,26 @@ int RunMediumCommand(int argc, char** argv) {
     std::fputs(kMediumHelp, stderr);
     return kExitUsage;
   }
+  if (connect.empty() ? (seed || no_shadowing) : daemon_option) {
+    std::fprintf(stderr,
+                 connect.empty()
+                     ? "sitlnet medium: --seed and --no-shadowing go with --connect (the local "
+                       "daemon uses the scenario's)\n"
+                     : "sitlnet medium: --connect takes only --seed, --no-shadowing and "
+                       "--connect-timeout (the pcap is written by the run)\n");
+    return kExitUsage;
+  }
   Scenario scenario;
   const int load_status = ReportErrors("medium", kExitUsage, [&] {
     scenario = LoadByFileOrName(scenario_arg);
     return kExitOk;
   });
   if (load_status != kExitOk) return load_status;
+  if (!connect.empty()) {
+    return ReportErrors("medium", kExitFailure, [&] {
+      return ServeRemoteMedium(scenario, connect, seed, no_shadowing, connect_timeout_ns);
+    });
+  }
   return ReportErrors("medium", kExitFailure, [&] {
     nns::RequirePrivileges();
     nns::DaemonRegistration registration(scenario.name, "medium");  // `down` stops us too

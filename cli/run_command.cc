@@ -16,6 +16,7 @@ namespace {
 constexpr const char* kRunHelp =
     "usage: sitlnet run SCENARIO [--out DIR] [--duration S] [--pacing realtime|lockstep]\n"
     "                   [--seed N] [--no-shadowing] [--no-progress] [--rt-priority P]\n"
+    "                   [--listen HOST:PORT --remote network [--remote-timeout S]]\n"
     "\n"
     "Brings SCENARIO up, starts the simulated 802.11 medium, the MuJoCo physics,\n"
     "every robot's image and the coordinator, runs for the scenario's duration\n"
@@ -27,6 +28,15 @@ constexpr const char* kRunHelp =
     "In realtime pacing sitlnet's own threads ask for SCHED_FIFO priority P\n"
     "(--rt-priority, default 10; 0: normal scheduling; without CAP_SYS_NICE a\n"
     "warning, then normal); the images run at normal priority.\n"
+    "\n"
+    "  --listen HOST:PORT --remote network\n"
+    "      the 802.11 medium model runs on another host: listen on HOST:PORT\n"
+    "      (0.0.0.0:7100; port 0 picks one, printed; or unix:/path), wait for\n"
+    "      `sitlnet medium SCENARIO --connect THIS_HOST:PORT` there (same scenario\n"
+    "      file, same --seed and --no-shadowing), then run; the robots' TAPs and\n"
+    "      physics stay here. Lockstep pacing only. No authentication: a trusted\n"
+    "      network or an SSH tunnel (docs/coordinator.md).\n"
+    "  --remote-timeout S  longest wait for it to connect (default 60)\n"
     "\n"
     "exit codes: 0 ok, 1 failure (a robot failed with on_robot_failure STOP, a\n"
     "component failed), 2 usage or bad scenario, 3 missing privileges,\n"
@@ -48,6 +58,7 @@ int RunRunCommand(int argc, char** argv) {
     return kExitOk;
   }
   runner::RunOptions options;
+  std::string remote;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const auto value = [&]() -> std::string {
@@ -97,6 +108,27 @@ int RunRunCommand(int argc, char** argv) {
         return kExitUsage;
       }
       options.realtime_priority = static_cast<int>(priority);
+    } else if (arg == "--listen") {
+      options.listen = value();
+    } else if (arg == "--remote") {
+      remote = value();
+      if (remote != "network") {
+        std::fprintf(stderr,
+                     "sitlnet run: --remote network is the side that can run on another host, "
+                     "not \"%s\" (physics serves the robots' ctl0 here; docs/coordinator.md)\n",
+                     remote.c_str());
+        return kExitUsage;
+      }
+    } else if (arg == "--remote-timeout") {
+      const std::string text = value();
+      char* end = nullptr;
+      const double seconds = std::strtod(text.c_str(), &end);
+      if (end == text.c_str() || *end != '\0' || !(seconds > 0)) {
+        std::fprintf(stderr, "sitlnet run: --remote-timeout \"%s\" is not a positive number\n",
+                     text.c_str());
+        return kExitUsage;
+      }
+      options.remote_wait_ns = static_cast<TimeNs>(seconds * kNsPerS);
     } else if (!arg.empty() && arg[0] == '-') {
       std::fprintf(stderr, "sitlnet run: unknown option %s\n%s", arg.c_str(), kRunHelp);
       return kExitUsage;
@@ -109,6 +141,10 @@ int RunRunCommand(int argc, char** argv) {
   }
   if (options.scenario_path.empty()) {
     std::fputs(kRunHelp, stderr);
+    return kExitUsage;
+  }
+  if (options.listen.empty() != remote.empty()) {
+    std::fprintf(stderr, "sitlnet run: --listen and --remote network go together\n");
     return kExitUsage;
   }
   options.sitlnet_exe = SelfExe();

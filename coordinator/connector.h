@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "common/common.h"
@@ -120,6 +121,9 @@ struct HandshakeExpectation {
   uint64_t scenario_hash = 0;
   TimeNs iteration_ns = 0;
   bool lockstep_robots = false;
+  // If set, a connector of the other role is refused with an Error naming
+  // both roles (a coordinator that waits for one remote side only).
+  std::optional<Role> role;
 };
 
 // Accepts connections on `listener` until one physics and one network
@@ -147,6 +151,15 @@ class StrayConnectionError : public Error {
 // Handshake on an already-accepted channel (AcceptConnectors uses it).
 std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpectation& expect,
                                            const WaitLimits& limits);
+
+// Accepts connections on `listener` until one connector of `role` completed
+// the handshake (stray connections are logged and skipped, as above). Throws
+// Error "no network connector connected to tcp:0.0.0.0:7100 within 60000 ms"
+// at limits.deadline_ns, or the handshake's refusal. Returns null if
+// interrupted. Used by `sitlnet run --remote network`.
+std::unique_ptr<Connector> AcceptConnectorOfRole(Listener& listener, Role role,
+                                                 HandshakeExpectation expect,
+                                                 const WaitLimits& limits);
 
 }  // namespace sitlnet::coordinator
 

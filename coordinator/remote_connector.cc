@@ -205,6 +205,9 @@ std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpec
   } else if (h.scenario_hash() != expect.scenario_hash) {
     refusal = who + " loaded a different scenario: hash " + Hex(h.scenario_hash()) +
               ", the coordinator's is " + Hex(expect.scenario_hash);
+  } else if (expect.role && role != *expect.role) {
+    refusal = who + " connected, but this coordinator waits for a " + RoleName(*expect.role) +
+              " connector";
   }
   if (!refusal.empty()) {
     SendErrorQuietly(channel, refusal);
@@ -264,6 +267,31 @@ AcceptedConnectors AcceptConnectors(Listener& listener, const HandshakeExpectati
     slot = std::move(connector);
   }
   return accepted;
+}
+
+std::unique_ptr<Connector> AcceptConnectorOfRole(Listener& listener, Role role,
+                                                 HandshakeExpectation expect,
+                                                 const WaitLimits& limits) {
+  expect.role = role;
+  for (;;) {
+    Fd fd;
+    try {
+      fd = listener.Accept(limits.deadline_ns, limits.interrupt_fd);
+    } catch (const TransportError& e) {
+      if (e.kind() == TransportError::Kind::kTimeout) {
+        throw Error("no " + RoleName(role) + " connector connected to " +
+                    listener.endpoint().ToString() + " within " + Ms(limits.timeout_ns));
+      }
+      throw;
+    }
+    if (!fd.valid()) return nullptr;  // Interrupted.
+    try {
+      return AcceptConnector(Channel(std::move(fd)), expect, limits);
+    } catch (const StrayConnectionError& e) {
+      std::fprintf(stderr, "sitlnet: warning: ignored a connection on %s: %s\n",
+                   listener.endpoint().ToString().c_str(), e.what());
+    }
+  }
 }
 
 //----------------------------- Connector process ----------------------------

@@ -16,6 +16,7 @@
 #include "nns/nns.h"
 #include "runner/bridge_simulator.h"
 #include "runner/outputs.h"
+#include "runner/remote_medium.h"
 #include "runner/run_monitor.h"
 #include "runner/runner.h"
 #include "runner/summary.h"
@@ -183,6 +184,32 @@ physics::ServerOptions PhysicsOptionsFromEnvironment() {
   return options;
 }
 
+// `--listen ... --remote network`: waits for the medium's network connector
+// (another host's `sitlnet medium FILE --connect`) before anything is
+// created, so that a timeout or a refusal leaves nothing behind. Returns null
+// if interrupted; throws Error naming the missing side or the refusal.
+std::unique_ptr<coordinator::Connector> AcceptRemoteNetwork(const Scenario& scenario,
+                                                            const RunOptions& options,
+                                                            int interrupt_fd) {
+  coordinator::Listener listener(coordinator::ParseEndpoint(options.listen));
+  std::fprintf(stderr,
+               "sitlnet run: %s: waiting %lld s for the network connector on %s "
+               "(sitlnet medium FILE --connect HOST:PORT)\n",
+               scenario.name.c_str(), static_cast<long long>(options.remote_wait_ns / kNsPerS),
+               listener.endpoint().ToString().c_str());
+  coordinator::HandshakeExpectation expect;
+  expect.scenario_hash = MediumScenarioHash(scenario);
+  expect.iteration_ns = scenario.iteration_ns;
+  coordinator::WaitLimits limits;
+  limits.timeout_ns = options.remote_wait_ns;
+  limits.deadline_ns = MonotonicNowNs() + options.remote_wait_ns;
+  limits.interrupt_fd = interrupt_fd;
+  auto connector =
+      coordinator::AcceptConnectorOfRole(listener, coordinator::Role::kNetwork, expect, limits);
+  if (connector) std::fprintf(stderr, "sitlnet run: %s connected\n", connector->Describe().c_str());
+  return connector;  // The listener closes: nothing else can connect.
+}
+
 }  // namespace
 
 RunReport RunScenario(const RunOptions& options) {
@@ -190,6 +217,12 @@ RunReport RunScenario(const RunOptions& options) {
   const Scenario scenario = LoadWithOverrides(options);
   RunReport report;
   report.run_dir = options.out_dir.empty() ? DefaultRunDir(scenario.name) : options.out_dir;
+  if (!options.listen.empty() &&
+      scenario.spec.timing().pacing() != proto::Timing::PACING_LOCKSTEP) {
+    throw Error(
+        "--remote network needs lockstep pacing (--pacing lockstep): in realtime the bridge "
+        "asks its medium for the next event at every frame, a network round trip each");
+  }
   nns::RequirePrivileges();
   coordinator::StopSignal stop;  // Ctrl-C from here on stops in order.
   MakeDirs(report.run_dir + "/robots");
@@ -199,6 +232,22 @@ RunReport RunScenario(const RunOptions& options) {
     std::ofstream(report.run_dir + "/scenario.textproto")
         << "# Effective scenario of this run (from " << scenario.source_path << ")\n"
         << text;
+  }
+
+  std::unique_ptr<coordinator::Connector> remote_network;
+  if (!options.listen.empty()) {
+    try {
+      remote_network = AcceptRemoteNetwork(scenario, options, stop.fd());
+    } catch (const Error& error) {
+      std::fprintf(stderr, "sitlnet run: %s\n", error.what());
+      report.exit_code = 1;
+      return report;
+    }
+    if (!remote_network) {
+      report.interrupted = true;
+      report.exit_code = 130;
+      return report;
+    }
   }
 
   nns::Up(scenario);
@@ -221,7 +270,17 @@ RunReport RunScenario(const RunOptions& options) {
   tapbridge::BridgeOptions bridge_options;
   bridge_options.realtime_factor = scenario.spec.timing().realtime_factor();
   bridge_options.seed = scenario.spec.timing().seed();
-  tapbridge::BridgeCore bridge(scenario, tapbridge::MakeMacPhySimMedium(scenario), bridge_options);
+  RemoteMedium* remote_medium = nullptr;  // Owned by the bridge.
+  std::unique_ptr<tapbridge::MediumModel> medium;
+  if (remote_network) {
+    auto remote = std::make_unique<RemoteMedium>(
+        scenario, std::move(remote_network), coordinator::CoordinatorOptions{}.answer_timeout_ns);
+    remote_medium = remote.get();
+    medium = std::move(remote);
+  } else {
+    medium = tapbridge::MakeMacPhySimMedium(scenario);
+  }
+  tapbridge::BridgeCore bridge(scenario, std::move(medium), bridge_options);
   bridge.AttachAll();
 
   // The medium's view: pcap (virtual timestamps in lockstep, so that runs
@@ -328,6 +387,19 @@ RunReport RunScenario(const RunOptions& options) {
   if (!failure.empty()) std::fprintf(stderr, "sitlnet run: %s\n", failure.c_str());
   WriteSummaryAndPlots(scenario, report, metrics.Summarize(), result.iterations_done, robots,
                        bridge, physics_server, failure);
+  if (remote_medium) {
+    remote_medium->Stop(failure.empty() ? (result.interrupted ? "interrupted" : "run finished")
+                                        : failure);
+    const MediumLinkStats& link = remote_medium->stats();
+    const double n = static_cast<double>(std::max<int64_t>(1, link.round_trips));
+    std::fprintf(stderr,
+                 "sitlnet run: medium link to %s: %lld round trips, mean %.1f us each "
+                 "(remote medium %.1f us, transport %.1f us)\n",
+                 remote_medium->Describe().c_str(), static_cast<long long>(link.round_trips),
+                 static_cast<double>(link.round_trip_ns) / n / kNsPerUs,
+                 static_cast<double>(link.remote_busy_ns) / n / kNsPerUs,
+                 static_cast<double>(link.round_trip_ns - link.remote_busy_ns) / n / kNsPerUs);
+  }
   return report;
 }
 

@@ -14,6 +14,11 @@
 namespace sitlnet::runner {
 
 struct RunOptions {
+  // The medium model on another host (runner/remote_medium.h): listen here
+  // (`host:port`, `unix:/path`) for its network connector (`sitlnet medium
+  // FILE --connect`), waiting at most remote_wait_ns. Lockstep pacing only.
+  std::string listen;
+  TimeNs remote_wait_ns = 60 * kNsPerS;
   std::string scenario_path;
   std::string out_dir;                           // Empty: runs/<scenario>-<UTC date-time>.
   std::optional<double> duration_s;              // Overrides timing.duration_ms.

@@ -1,0 +1,288 @@
+#include "runner/remote_medium.h"
+
+#include <algorithm>
+
+#include "coordinator/coordinator.h"
+
+namespace sitlnet::runner {
+namespace {
+
+namespace pm = proto::medium;
+
+std::string MacBytes(const MacAddress& mac) {
+  return std::string(mac.bytes.begin(), mac.bytes.end());
+}
+
+MacAddress MacFrom(const std::string& bytes) {
+  MacAddress mac;
+  if (bytes.size() == mac.bytes.size()) std::copy(bytes.begin(), bytes.end(), mac.bytes.begin());
+  return mac;
+}
+
+void ToProto(const tapbridge::AirFrame& f, pm::AirFrame* out) {
+  out->set_start_ns(f.start_ns);
+  out->set_duration_ns(f.duration_ns);
+  out->set_transmitter(f.transmitter);
+  out->set_kind(static_cast<int32_t>(f.kind));
+  out->set_retry(f.retry);
+  out->set_failed(f.failed);
+  out->set_rate_mbps(f.rate_mbps);
+  out->set_channel_mhz(f.channel_mhz);
+  out->set_band_5ghz(f.band_5ghz);
+  out->set_ofdm(f.ofdm);
+  out->set_signal_dbm(f.signal_dbm);
+  out->set_noise_dbm(f.noise_dbm);
+  out->set_duration_field_us(f.duration_field_us);
+  out->set_sequence(f.sequence);
+  out->set_receiver(MacBytes(f.receiver));
+  out->set_sender(MacBytes(f.sender));
+  out->set_ethernet(f.ethernet.data(), f.ethernet.size());
+  out->set_mpdu(f.mpdu.data(), f.mpdu.size());
+}
+
+tapbridge::AirFrame FromProto(const pm::AirFrame& p) {
+  tapbridge::AirFrame f;
+  f.start_ns = p.start_ns();
+  f.duration_ns = p.duration_ns();
+  f.transmitter = p.transmitter();
+  f.kind = static_cast<tapbridge::AirFrameKind>(
+      std::clamp<int32_t>(p.kind(), 0, static_cast<int32_t>(tapbridge::AirFrameKind::kCts)));
+  f.retry = p.retry();
+  f.failed = p.failed();
+  f.rate_mbps = p.rate_mbps();
+  f.channel_mhz = p.channel_mhz();
+  f.band_5ghz = p.band_5ghz();
+  f.ofdm = p.ofdm();
+  f.signal_dbm = p.signal_dbm();
+  f.noise_dbm = p.noise_dbm();
+  f.duration_field_us = static_cast<uint16_t>(p.duration_field_us());
+  f.sequence = static_cast<uint16_t>(p.sequence());
+  f.receiver = MacFrom(p.receiver());
+  f.sender = MacFrom(p.sender());
+  f.ethernet.assign(p.ethernet().begin(), p.ethernet().end());
+  f.mpdu.assign(p.mpdu().begin(), p.mpdu().end());
+  return f;
+}
+
+void ToProto(const tapbridge::MediumCounters& c, pm::StationCounters* out) {
+  out->set_sent(c.sent);
+  out->set_delivered(c.delivered);
+  out->set_queue_drops(c.queue_drops);
+  for (const auto& [name, value] : c.lost) {
+    pm::Count* count = out->add_lost();
+    count->set_name(name);
+    count->set_value(value);
+  }
+  for (const auto& [name, value] : c.other) {
+    pm::Count* count = out->add_other();
+    count->set_name(name);
+    count->set_value(value);
+  }
+}
+
+tapbridge::MediumCounters FromProto(const pm::StationCounters& p) {
+  tapbridge::MediumCounters c;
+  c.sent = p.sent();
+  c.delivered = p.delivered();
+  c.queue_drops = p.queue_drops();
+  for (const pm::Count& count : p.lost()) c.lost.emplace_back(count.name(), count.value());
+  for (const pm::Count& count : p.other()) c.other.emplace_back(count.name(), count.value());
+  return c;
+}
+
+}  // namespace
+
+uint64_t MediumScenarioHash(const Scenario& scenario) {
+  Scenario copy = scenario;
+  copy.spec.mutable_timing()->clear_duration_ms();
+  copy.spec.mutable_timing()->clear_pacing();
+  return coordinator::ScenarioHash(copy);
+}
+
+//------------------------------ Coordinator's host ---------------------------
+
+RemoteMedium::RemoteMedium(const Scenario& scenario,
+                           std::unique_ptr<coordinator::Connector> connector,
+                           TimeNs answer_timeout_ns)
+    : connector_(std::move(connector)),
+      network_step_ns_(scenario.network_step_ns),
+      answer_timeout_ns_(answer_timeout_ns),
+      stations_(static_cast<int>(scenario.robots.size())),
+      counters_(scenario.robots.size()) {}
+
+RemoteMedium::~RemoteMedium() { Stop("the run ended"); }
+
+void RemoteMedium::Submit(int station, TimeNs at_ns, std::span<const uint8_t> ethernet) {
+  pm::SubmitOp* op = NewOp()->mutable_submit();
+  op->set_station(station);
+  op->set_at_ns(at_ns);
+  op->set_ethernet(ethernet.data(), ethernet.size());
+}
+
+void RemoteMedium::AdvanceTo(TimeNs until_ns, std::vector<tapbridge::Delivery>* deliveries,
+                             std::vector<tapbridge::AirFrame>* air) {
+  pm::AdvanceOp* op = NewOp()->mutable_advance();
+  op->set_until_ns(until_ns);
+  op->set_trace_air(air != nullptr);
+  // The bridge's lockstep step ends here: one round trip for the whole step.
+  // Earlier advances (before each frame enters) only record; what they would
+  // have returned comes back, in the same order, with the step's reply.
+  if (until_ns % network_step_ns_ != 0 || until_ns <= last_sent_until_ns_) {
+    advance_pending_ = true;
+    return;
+  }
+  last_sent_until_ns_ = until_ns;
+  Exchange(/*want_counters=*/false);
+  for (const pm::Delivery& d : reply_.deliveries()) {
+    if (d.station() < 0 || d.station() >= stations_) continue;
+    deliveries->push_back(tapbridge::Delivery{
+        d.station(), d.time_ns(), std::vector<uint8_t>(d.frame().begin(), d.frame().end()),
+        d.rx_power_dbm(), d.sinr_db()});
+  }
+  if (air != nullptr) {
+    for (const pm::AirFrame& frame : reply_.air()) air->push_back(FromProto(frame));
+  }
+}
+
+void RemoteMedium::SetPosition(int station, double x_m, double y_m, double z_m) {
+  pm::PositionOp* op = NewOp()->mutable_position();
+  op->set_station(station);
+  op->set_x_m(x_m);
+  op->set_y_m(y_m);
+  op->set_z_m(z_m);
+}
+
+void RemoteMedium::SetStationEnabled(int station, bool enabled) {
+  pm::EnableOp* op = NewOp()->mutable_enable();
+  op->set_station(station);
+  op->set_enabled(enabled);
+}
+
+tapbridge::MediumCounters RemoteMedium::Counters(int station) const {
+  // Mid-step (advances recorded, not sent) the reply's deliveries would have
+  // no caller to go to: keep the last counters; between steps only positions
+  // are pending and go along.
+  if (counters_stale_ && healthy_ && !stopped_ && !advance_pending_) {
+    try {
+      const_cast<RemoteMedium*>(this)->Exchange(/*want_counters=*/true);
+    } catch (const Error&) {
+      // The run reports the link's failure where it happened; counters stay
+      // the last ones received.
+    }
+  }
+  return counters_.at(station);
+}
+
+void RemoteMedium::Exchange(bool want_counters) {
+  if (!healthy_ || stopped_) throw Error(Describe() + ": the medium link is down");
+  request_.set_want_counters(want_counters);
+  payload_.clear();
+  request_.SerializeToString(&payload_);
+  request_.Clear();
+  advance_pending_ = false;
+  start_.Clear();
+  start_.set_iteration(exchange_);
+  start_.set_start_ns(last_sent_until_ns_ - network_step_ns_);
+  start_.set_end_ns(last_sent_until_ns_);
+  start_.set_payload(std::move(payload_));
+  coordinator::WaitLimits limits;
+  limits.timeout_ns = answer_timeout_ns_;
+  const TimeNs begin_ns = MonotonicNowNs();
+  limits.deadline_ns = begin_ns + answer_timeout_ns_;
+  try {
+    connector_->Begin(start_, limits);
+    connector_->Finish(exchange_, &end_, limits);
+  } catch (const Error&) {
+    healthy_ = false;
+    throw;
+  }
+  stats_.round_trip_ns += MonotonicNowNs() - begin_ns;
+  stats_.remote_busy_ns += end_.busy_ns();
+  ++stats_.round_trips;
+  if (!reply_.ParseFromString(end_.payload())) {
+    healthy_ = false;
+    throw Error(Describe() + ": malformed medium reply to request " + std::to_string(exchange_));
+  }
+  ++exchange_;
+  if (want_counters) {
+    if (reply_.counters_size() != stations_) {
+      healthy_ = false;
+      throw Error(Describe() + ": medium reply has counters of " +
+                  std::to_string(reply_.counters_size()) + " stations, the scenario " +
+                  std::to_string(stations_));
+    }
+    for (int i = 0; i < stations_; ++i) counters_[i] = FromProto(reply_.counters(i));
+    counters_stale_ = false;
+  } else {
+    counters_stale_ = true;
+  }
+}
+
+void RemoteMedium::Stop(const std::string& reason) {
+  if (stopped_) return;
+  stopped_ = true;
+  connector_->Stop(reason);
+}
+
+//--------------------------------- Other host --------------------------------
+
+MediumLinkSimulator::MediumLinkSimulator(const Scenario& scenario,
+                                         std::unique_ptr<tapbridge::MediumModel> medium)
+    : medium_(std::move(medium)), stations_(static_cast<int>(scenario.robots.size())) {}
+
+void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End* end,
+                                       coordinator::IterationContext&) {
+  if (!request_.ParseFromString(start.payload())) {
+    throw Error("medium request " + std::to_string(start.iteration()) +
+                " is not a MediumRequest (is the coordinator a `sitlnet run --remote network`?)");
+  }
+  reply_.Clear();
+  const auto station_ok = [&](int station) {
+    if (station < 0 || station >= stations_) {
+      throw Error("medium request " + std::to_string(start.iteration()) + ": station " +
+                  std::to_string(station) + " out of range (the scenario has " +
+                  std::to_string(stations_) + " robots)");
+    }
+    return station;
+  };
+  for (const pm::MediumOp& op : request_.ops()) {
+    switch (op.kind_case()) {
+      case pm::MediumOp::kSubmit:
+        medium_->Submit(station_ok(op.submit().station()), op.submit().at_ns(),
+                        std::span<const uint8_t>(
+                            reinterpret_cast<const uint8_t*>(op.submit().ethernet().data()),
+                            op.submit().ethernet().size()));
+        break;
+      case pm::MediumOp::kAdvance:
+        deliveries_.clear();
+        air_.clear();
+        medium_->AdvanceTo(op.advance().until_ns(), &deliveries_,
+                           op.advance().trace_air() ? &air_ : nullptr);
+        for (const tapbridge::Delivery& d : deliveries_) {
+          pm::Delivery* out = reply_.add_deliveries();
+          out->set_station(d.station);
+          out->set_time_ns(d.time_ns);
+          out->set_frame(d.frame.data(), d.frame.size());
+          out->set_rx_power_dbm(d.rx_power_dbm);
+          out->set_sinr_db(d.sinr_db);
+        }
+        for (const tapbridge::AirFrame& frame : air_) ToProto(frame, reply_.add_air());
+        break;
+      case pm::MediumOp::kPosition:
+        medium_->SetPosition(station_ok(op.position().station()), op.position().x_m(),
+                             op.position().y_m(), op.position().z_m());
+        break;
+      case pm::MediumOp::kEnable:
+        medium_->SetStationEnabled(station_ok(op.enable().station()), op.enable().enabled());
+        break;
+      default:
+        throw Error("medium request " + std::to_string(start.iteration()) + ": empty operation");
+    }
+  }
+  if (request_.want_counters()) {
+    for (int i = 0; i < stations_; ++i) ToProto(medium_->Counters(i), reply_.add_counters());
+  }
+  reply_.SerializeToString(end->mutable_payload());
+}
+
+}  // namespace sitlnet::runner
