@@ -202,12 +202,12 @@ std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpec
   } else if (h.protocol_version() != kProtocolVersion) {
     refusal = who + " speaks protocol version " + std::to_string(h.protocol_version()) +
               ", the coordinator " + std::to_string(kProtocolVersion);
-  } else if (h.scenario_hash() != expect.scenario_hash) {
-    refusal = who + " loaded a different scenario: hash " + Hex(h.scenario_hash()) +
-              ", the coordinator's is " + Hex(expect.scenario_hash);
   } else if (expect.role && role != *expect.role) {
     refusal = who + " connected, but this coordinator waits for a " + RoleName(*expect.role) +
               " connector";
+  } else if (h.scenario_hash() != expect.scenario_hash) {
+    refusal = who + " loaded a different scenario: hash " + Hex(h.scenario_hash()) +
+              ", the coordinator's is " + Hex(expect.scenario_hash);
   }
   if (!refusal.empty()) {
     SendErrorQuietly(channel, refusal);

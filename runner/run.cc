@@ -385,7 +385,11 @@ RunReport RunScenario(const RunOptions& options) {
   report.interrupted = result.interrupted;
   report.exit_code = !failure.empty() ? 1 : result.interrupted ? 130 : 0;
   if (!failure.empty()) std::fprintf(stderr, "sitlnet run: %s\n", failure.c_str());
-  WriteSummaryAndPlots(scenario, report, metrics.Summarize(), result.iterations_done, robots,
+  // A failed run throws out of RunCoordinator before it returns a count: the
+  // metrics have one row per iteration done.
+  const coordinator::MetricsSummary summary = metrics.Summarize();
+  WriteSummaryAndPlots(scenario, report, summary,
+                       std::max<int64_t>(result.iterations_done, summary.iterations), robots,
                        bridge, physics_server, failure);
   if (remote_medium) {
     remote_medium->Stop(failure.empty() ? (result.interrupted ? "interrupted" : "run finished")
