@@ -50,10 +50,10 @@ constexpr const char* kMediumHelp =
     "too), serves every network step until the run ends, and exits 0; the\n"
     "pcap and counters are written in the run folder on the robots' host.\n"
     "\n"
-    "exit codes: 0 stopped by a signal (--connect: the run ended), 1 failed (scenario not up, "
-    "daemon already\n"
-    "running; --connect: coordinator unreachable, refused the handshake, or\n"
-    "vanished mid-run), 2 usage or bad scenario file, 3 missing privileges.\n";
+    "exit codes: 0 stopped by a signal (--connect: the run ended), 1 failed\n"
+    "(scenario not up, daemon already running; --connect: coordinator\n"
+    "unreachable, refused the handshake, or vanished mid-run), 2 usage or bad\n"
+    "scenario file, 3 missing privileges.\n";
 
 // `--connect`: the medium model as a network connector of a coordinator on
 // another host (runner/remote_medium.h).
