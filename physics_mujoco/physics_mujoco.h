@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "common/common.h"
@@ -58,8 +59,14 @@ enum class Integrator {
 };
 
 struct WorldOptions {
-  Integrator integrator = Integrator::kRk4;
+  // Unset: the scenario's timing.physics_integrator (RK4 by default).
+  std::optional<Integrator> integrator;
   int threads = 2;  // Threads stepping robots, the caller's included (>= 1).
+  // Obstacle culling (docs/physics.md): each robot's model holds only the obstacles within
+  // reach of its square tile of side cull_tile_m; trajectories and lidar ranges are the same
+  // as with every obstacle in one model (tested bit for bit). false: one model holds all.
+  bool cull_obstacles = true;
+  double cull_tile_m = 20;
 };
 
 // The MuJoCo world of a scenario. Not thread-safe: one caller at a time.
@@ -105,6 +112,12 @@ class World {
   void ResetRobot(int robot);
 
   const proto::Airframe& airframe(int robot) const;
+
+  // Obstacle culling figures (tests, benchmarks): obstacles in the robot's current model,
+  // times robots moved to another model, models compiled so far.
+  int obstacles_in_model(int robot) const;
+  int64_t model_switches() const;
+  int models_compiled() const;
 
  private:
   struct Impl;

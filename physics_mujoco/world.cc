@@ -1,10 +1,15 @@
-// World: one mjData per robot on a shared mjModel per airframe (docs/physics.md, "Layout").
+// World: one mjData per robot on a model per airframe and obstacle tile (docs/physics.md,
+// "Layout" and "Obstacle culling").
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
+#include <mutex>
 #include <numbers>
+#include <optional>
 
 #include "physics_mujoco/mujoco_model.h"
+#include "physics_mujoco/obstacle_tiles.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "physics_mujoco/rotor_model.h"
 #include "physics_mujoco/sensors.h"
@@ -15,14 +20,32 @@ namespace sitlnet::physics {
 
 namespace {
 
-struct AirframeModel {
+// Farthest a robot's centre may move within one physics step while it keeps a tile's model
+// (the speed limit below enforces it; faster robots use the model with every obstacle).
+// RK4's stages stay within about dt * |v| + dt^2 * |a| of the step's start.
+constexpr double kStepTravel_m = 1.0;
+
+// A compiled model: the ground, some obstacles, and one quad of an airframe.
+struct CompiledModel {
   ModelPtr model;
-  RotorModel rotors;
   int body = -1;  // The quad's body id.
+  int obstacles = 0;
+};
+
+// Every model of one airframe: one per tile visited, and one with every obstacle.
+struct AirframeModels {
+  const proto::Airframe* airframe = nullptr;
+  std::string what;  // "file: airframe \"name\"", for errors
+  RotorModel rotors;
+  std::unique_ptr<CompiledModel> all;
+  std::map<TileIndex, std::unique_ptr<CompiledModel>> tiles;  // under World::Impl::models_mutex
 };
 
 struct RobotSlot {
-  const AirframeModel* airframe_model = nullptr;
+  AirframeModels* airframe = nullptr;
+  const CompiledModel* model = nullptr;
+  bool on_all = true;  // model is airframe->all
+  Rect region;         // where the robot keeps a tile model (unused when on_all)
   const RobotPlan* plan = nullptr;
   DataPtr data;
   RotorSpeeds target{};
@@ -31,42 +54,57 @@ struct RobotSlot {
   bool frame_driven = false;
   double linear_drag_n_s_per_m = 0;
   ImuNoise imu_noise;
+  int64_t model_switches = 0;
 };
 
-// One physics step of one robot: motor lag, rotor wrench from the current attitude, mj_step.
-void StepRobot(RobotSlot* slot) {
-  const AirframeModel& am = *slot->airframe_model;
-  am.rotors.StepMotors(slot->target, &slot->speeds);
-  ApplyRotorWrench(am.rotors, slot->speeds, slot->linear_drag_n_s_per_m, am.body, slot->data.get());
-  mj_step(am.model.get(), slot->data.get());
-  ++slot->steps;
+template <typename T>
+void CopyArray(T* to, const T* from, int count) {
+  if (count > 0) std::memcpy(to, from, sizeof(T) * count);
 }
 
-void PlaceAtStart(RobotSlot* slot) {
-  const mjModel* m = slot->airframe_model->model.get();
-  mjData* d = slot->data.get();
-  mj_resetData(m, d);
-  const auto& spec = slot->plan->spec;
-  d->qpos[0] = spec.position_m().x();
-  d->qpos[1] = spec.position_m().y();
-  d->qpos[2] = spec.position_m().z();
-  const double half_yaw = spec.yaw_deg() * std::numbers::pi / 360.0;
-  d->qpos[3] = std::cos(half_yaw);
-  d->qpos[4] = 0;
-  d->qpos[5] = 0;
-  d->qpos[6] = std::sin(half_yaw);
-  // Sensors and derived positions valid before the first step.
-  mj_forward(m, d);
-  slot->target = {};
-  slot->speeds = {};
-  slot->steps = 0;
+// Moves a robot's state onto a fresh mjData of another model of its airframe: the same bodies,
+// joints and sensors, other static obstacle geoms of the world body. Copied: everything
+// mj_step reads besides the model (MuJoCo 2.2.2, engine_forward.c: time, qpos, qvel, act,
+// qacc_warmstart for the constraint solver, ctrl, qfrc_applied, xfrc_applied, mocap, userdata)
+// and the outputs World reads between steps (sensordata: the accelerometer; qacc, act_dot).
+// mj_kinematics then gives the obstacles' global poses, which mj_ray reads; every other
+// derived quantity is recomputed by the next mj_step before use.
+void MoveState(const mjModel* from_m, const mjData* from, const mjModel* to_m, mjData* to) {
+  SITLNET_DEMAND(from_m->nq == to_m->nq && from_m->nv == to_m->nv && from_m->na == to_m->na &&
+                 from_m->nu == to_m->nu && from_m->nbody == to_m->nbody &&
+                 from_m->nmocap == to_m->nmocap && from_m->nuserdata == to_m->nuserdata &&
+                 from_m->nsensordata == to_m->nsensordata);
+  to->time = from->time;
+  CopyArray(to->qpos, from->qpos, to_m->nq);
+  CopyArray(to->qvel, from->qvel, to_m->nv);
+  CopyArray(to->act, from->act, to_m->na);
+  CopyArray(to->qacc_warmstart, from->qacc_warmstart, to_m->nv);
+  CopyArray(to->ctrl, from->ctrl, to_m->nu);
+  CopyArray(to->qfrc_applied, from->qfrc_applied, to_m->nv);
+  CopyArray(to->xfrc_applied, from->xfrc_applied, 6 * to_m->nbody);
+  CopyArray(to->mocap_pos, from->mocap_pos, 3 * to_m->nmocap);
+  CopyArray(to->mocap_quat, from->mocap_quat, 4 * to_m->nmocap);
+  CopyArray(to->userdata, from->userdata, to_m->nuserdata);
+  CopyArray(to->sensordata, from->sensordata, to_m->nsensordata);
+  CopyArray(to->qacc, from->qacc, to_m->nv);
+  CopyArray(to->act_dot, from->act_dot, to_m->na);
+  CopyArray(to->warning, from->warning, mjNWARNING);
+  mj_kinematics(to_m, to);
+  // mj_kinematics normalizes the quaternions in qpos in place; normalizing again at the next
+  // step is not exact to the last bit, so the state goes back as it was.
+  CopyArray(to->qpos, from->qpos, to_m->nq);
 }
 
 }  // namespace
 
 struct World::Impl {
   const Scenario* scenario = nullptr;
-  std::map<std::string, std::unique_ptr<AirframeModel>> models;  // by airframe name
+  Integrator integrator = Integrator::kRk4;
+  std::optional<ObstacleTiles> tiles;  // empty: culling off, every robot on its `all` model
+  double max_speed_m_s = 0;            // faster: the `all` model (kStepTravel_m per step)
+  std::map<std::string, std::unique_ptr<AirframeModels>> models;  // by airframe name
+  mutable std::mutex models_mutex;  // tile models are compiled while robots step in threads
+  int models_compiled = 0;
   std::vector<std::unique_ptr<RobotSlot>> robots;
   StepPool pool;
   std::vector<RobotSlot*> active;  // scratch: robots stepped by Advance
@@ -77,37 +115,144 @@ struct World::Impl {
     SITLNET_DEMAND(index >= 0 && index < static_cast<int>(robots.size()));
     return *robots[index];
   }
+
+  std::unique_ptr<CompiledModel> Compile(const AirframeModels& am,
+                                         const std::vector<int>* obstacles) {
+    ModelPtr compiled = LoadModelFromXml(
+        SingleRobotWorldXml(*scenario, *am.airframe, integrator, obstacles), am.what);
+    const int body = mj_name2id(compiled.get(), mjOBJ_BODY, kQuadBodyName);
+    SITLNET_DEMAND(body > 0);
+    ++models_compiled;
+    const int count =
+        obstacles ? static_cast<int>(obstacles->size()) : scenario->spec.obstacle_size();
+    return std::unique_ptr<CompiledModel>(new CompiledModel{std::move(compiled), body, count});
+  }
+
+  // The tile's model, compiled on first use and shared by every robot of the airframe.
+  const CompiledModel* TileModel(AirframeModels* am, TileIndex tile) {
+    std::lock_guard<std::mutex> lock(models_mutex);
+    auto& model = am->tiles[tile];
+    if (!model) {
+      const std::vector<int> obstacles = tiles->ObstaclesOf(tile);
+      model = Compile(*am, &obstacles);
+    }
+    return model.get();
+  }
+
+  bool Fast(const mjData* d) const {
+    const double v2 = d->qvel[0] * d->qvel[0] + d->qvel[1] * d->qvel[1] + d->qvel[2] * d->qvel[2];
+    return !(v2 <= max_speed_m_s * max_speed_m_s);  // NaN: fast
+  }
+
+  // Puts the robot on the model its state calls for, if it is not on it: its tile's while it
+  // stays in the tile's region and under the speed limit, else the one with every obstacle.
+  // Called whenever the state changes outside mj_step and after every step, so between steps
+  // every obstacle the robot can touch or see within lidar range is in its model.
+  void PlaceModel(RobotSlot* slot) {
+    if (!tiles) return;
+    const mjData* d = slot->data.get();
+    const double x = d->qpos[0], y = d->qpos[1];
+    const bool tiled = !Fast(d) && tiles->HasTile(x, y);
+    if (tiled ? (!slot->on_all && slot->region.Contains(x, y)) : slot->on_all) return;
+    const CompiledModel* next = slot->airframe->all.get();
+    if (tiled) {
+      const TileIndex tile = tiles->TileOf(x, y);
+      next = TileModel(slot->airframe, tile);
+      slot->region = tiles->Region(tile);
+    }
+    slot->on_all = !tiled;
+    if (next == slot->model) return;
+    DataPtr data(mj_makeData(next->model.get()));
+    SITLNET_DEMAND(data != nullptr);
+    MoveState(slot->model->model.get(), slot->data.get(), next->model.get(), data.get());
+    slot->data = std::move(data);
+    slot->model = next;
+    ++slot->model_switches;
+  }
+
+  // One physics step of one robot: motor lag, rotor wrench from the current attitude, mj_step.
+  void Step(RobotSlot* slot) {
+    const AirframeModels& am = *slot->airframe;
+    am.rotors.StepMotors(slot->target, &slot->speeds);
+    ApplyRotorWrench(am.rotors, slot->speeds, slot->linear_drag_n_s_per_m, slot->model->body,
+                     slot->data.get());
+    mj_step(slot->model->model.get(), slot->data.get());
+    ++slot->steps;
+    PlaceModel(slot);
+  }
+
+  void PlaceAtStart(RobotSlot* slot) {
+    // A fresh mjData on the `all` model, then the start tile's model.
+    slot->model = slot->airframe->all.get();
+    slot->on_all = true;
+    const mjModel* m = slot->model->model.get();
+    slot->data.reset(mj_makeData(m));
+    SITLNET_DEMAND(slot->data != nullptr);
+    mjData* d = slot->data.get();
+    const auto& spec = slot->plan->spec;
+    d->qpos[0] = spec.position_m().x();
+    d->qpos[1] = spec.position_m().y();
+    d->qpos[2] = spec.position_m().z();
+    const double half_yaw = spec.yaw_deg() * std::numbers::pi / 360.0;
+    d->qpos[3] = std::cos(half_yaw);
+    d->qpos[4] = 0;
+    d->qpos[5] = 0;
+    d->qpos[6] = std::sin(half_yaw);
+    // Sensors and derived positions valid before the first step.
+    mj_forward(m, d);
+    slot->target = {};
+    slot->speeds = {};
+    slot->steps = 0;
+    PlaceModel(slot);
+  }
 };
 
 World::World(const Scenario& scenario, const WorldOptions& options)
     : impl_(std::make_unique<Impl>(options.threads)) {
-  impl_->scenario = &scenario;
+  Impl& impl = *impl_;
+  impl.scenario = &scenario;
+  impl.integrator = options.integrator.value_or(Integrator::kRk4);
+  if (options.cull_obstacles) {
+    // Reach: the longest lidar ray, or the body's bounding sphere plus one step's travel.
+    double reach_m = 0;
+    for (const RobotPlan& plan : scenario.robots) {
+      const auto half = BodyHalfSize(plan.airframe);
+      const double lidar_m = plan.spec.lidar().rays() > 0 ? plan.spec.lidar().max_range_m() : 0;
+      reach_m = std::max({reach_m, lidar_m, std::hypot(half[0], half[1], half[2]) + kStepTravel_m});
+    }
+    SITLNET_DEMAND(options.cull_tile_m > 0);
+    impl.tiles.emplace(scenario, options.cull_tile_m, reach_m);
+    impl.max_speed_m_s = kStepTravel_m * kNsPerS / static_cast<double>(scenario.physics_step_ns);
+  }
   for (const RobotPlan& plan : scenario.robots) {
-    auto& model = impl_->models[plan.airframe.name()];
-    if (!model) {
-      const std::string what =
+    auto& am = impl.models[plan.airframe.name()];
+    if (!am) {
+      am.reset(new AirframeModels{
+          &plan.airframe,
           scenario.source_path + ": airframe \"" +
-          (plan.airframe.name().empty() ? std::string("default") : plan.airframe.name()) + "\"";
-      ModelPtr compiled =
-          LoadModelFromXml(SingleRobotWorldXml(scenario, plan.airframe, options.integrator), what);
-      const int body = mj_name2id(compiled.get(), mjOBJ_BODY, kQuadBodyName);
-      SITLNET_DEMAND(body > 0);
-      model.reset(new AirframeModel{std::move(compiled),
-                                    RotorModel(plan.airframe, scenario.physics_step_ns), body});
+              (plan.airframe.name().empty() ? std::string("default") : plan.airframe.name()) + "\"",
+          RotorModel(plan.airframe, scenario.physics_step_ns),
+          {},
+          {}});
+      // Compiled up front: bad airframes fail here, and it is the fallback of every tile.
+      am->all = impl.Compile(*am, nullptr);
     }
     auto slot = std::unique_ptr<RobotSlot>(
-        new RobotSlot{model.get(),
+        new RobotSlot{am.get(),
+                      nullptr,
+                      true,
+                      {},
                       &plan,
-                      DataPtr(mj_makeData(model->model.get())),
+                      nullptr,
                       {},
                       {},
                       0,
                       false,
                       plan.airframe.linear_drag_n_s_per_m(),
-                      ImuNoise(plan.spec.imu(), scenario.spec.timing().seed(), plan.index)});
-    SITLNET_DEMAND(slot->data != nullptr);
-    PlaceAtStart(slot.get());
-    impl_->robots.push_back(std::move(slot));
+                      ImuNoise(plan.spec.imu(), scenario.spec.timing().seed(), plan.index),
+                      0});
+    impl.PlaceAtStart(slot.get());
+    impl.robots.push_back(std::move(slot));
   }
 }
 
@@ -132,14 +277,14 @@ void World::Advance(int steps) {
     const int begin = n * chunk / chunks;
     const int end = n * (chunk + 1) / chunks;
     for (int i = begin; i < end; ++i) {
-      for (int s = 0; s < steps; ++s) StepRobot(active[i]);
+      for (int s = 0; s < steps; ++s) impl_->Step(active[i]);
     }
   });
 }
 
 void World::AdvanceRobot(int robot, int steps) {
   RobotSlot& slot = impl_->Robot(robot);
-  for (int s = 0; s < steps; ++s) StepRobot(&slot);
+  for (int s = 0; s < steps; ++s) impl_->Step(&slot);
 }
 
 void World::SetFrameDriven(int robot, bool frame_driven) {
@@ -149,7 +294,7 @@ bool World::frame_driven(int robot) const { return impl_->Robot(robot).frame_dri
 
 void World::SetRotorTarget(int robot, const RotorSpeeds& target_rad_s) {
   RobotSlot& slot = impl_->Robot(robot);
-  const double max = slot.airframe_model->rotors.max_speed_rad_s();
+  const double max = slot.airframe->rotors.max_speed_rad_s();
   for (int i = 0; i < kRotors; ++i) slot.target[i] = std::clamp(target_rad_s[i], 0.0, max);
 }
 
@@ -195,21 +340,36 @@ void World::Lidar(int robot, std::vector<float>* ranges_m) const {
   const mjData* d = slot.data.get();
   double rotation[9];
   mju_quat2Mat(rotation, d->qpos + 3);
-  CastLidar(slot.airframe_model->model.get(), d, spec, d->qpos, rotation, slot.airframe_model->body,
-            ranges_m);
+  // Exact on a tile model too: every obstacle within max_range_m of the robot is in it.
+  CastLidar(slot.model->model.get(), d, spec, d->qpos, rotation, slot.model->body, ranges_m);
 }
 
 void World::SetVelocity(int robot, const Vec3d& velocity_m_s) {
-  mjData* d = impl_->Robot(robot).data.get();
+  RobotSlot& slot = impl_->Robot(robot);
+  mjData* d = slot.data.get();
   d->qvel[0] = velocity_m_s.x;
   d->qvel[1] = velocity_m_s.y;
   d->qvel[2] = velocity_m_s.z;
+  impl_->PlaceModel(&slot);  // a speed past the limit needs the model with every obstacle
 }
 
-void World::ResetRobot(int robot) { PlaceAtStart(&impl_->Robot(robot)); }
+void World::ResetRobot(int robot) { impl_->PlaceAtStart(&impl_->Robot(robot)); }
 
 const proto::Airframe& World::airframe(int robot) const {
   return impl_->Robot(robot).plan->airframe;
+}
+
+int World::obstacles_in_model(int robot) const { return impl_->Robot(robot).model->obstacles; }
+
+int64_t World::model_switches() const {
+  int64_t switches = 0;
+  for (const auto& slot : impl_->robots) switches += slot->model_switches;
+  return switches;
+}
+
+int World::models_compiled() const {
+  std::lock_guard<std::mutex> lock(impl_->models_mutex);
+  return impl_->models_compiled;
 }
 
 }  // namespace sitlnet::physics

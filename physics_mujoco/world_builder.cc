@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 namespace sitlnet::physics {
 namespace {
@@ -16,7 +17,9 @@ std::string Num(double value) {
 
 std::string Triple(double x, double y, double z) { return Num(x) + " " + Num(y) + " " + Num(z); }
 
-void AppendHeader(const Scenario& scenario, Integrator integrator, int robots, std::string* xml) {
+// `obstacles`: indices into the scenario's obstacles, in scenario order; null: all of them.
+void AppendHeader(const Scenario& scenario, Integrator integrator, int robots,
+                  const std::vector<int>* obstacles, std::string* xml) {
   const double timestep_s = static_cast<double>(scenario.physics_step_ns) / kNsPerS;
   // Contacts: a quad touches the ground and a few boxes at once; sizes are explicit because
   // MuJoCo 2.2.2's defaults overflow with many bodies, and mjData holds njmax x njmax matrices
@@ -32,9 +35,11 @@ void AppendHeader(const Scenario& scenario, Integrator integrator, int robots, s
   *xml += "  <worldbody>\n";
   // Ground: an infinite plane at z = 0 (size 0 0: infinite).
   *xml += "    <geom name=\"ground\" type=\"plane\" size=\"0 0 1\"/>\n";
-  const auto& obstacles = scenario.spec.obstacle();
-  for (int i = 0; i < obstacles.size(); ++i) {
-    const proto::Obstacle& box = obstacles[i];
+  const auto& boxes = scenario.spec.obstacle();
+  const int count = obstacles ? static_cast<int>(obstacles->size()) : boxes.size();
+  for (int k = 0; k < count; ++k) {
+    const int i = obstacles ? (*obstacles)[k] : k;
+    const proto::Obstacle& box = boxes[i];
     *xml += "    <geom name=\"obstacle" + std::to_string(i) + "\" type=\"box\" pos=\"" +
             Triple(box.center_m().x(), box.center_m().y(), box.center_m().z()) + "\" size=\"" +
             Triple(box.size_m().x() / 2, box.size_m().y() / 2, box.size_m().z() / 2) +
@@ -74,9 +79,9 @@ std::array<double, 3> BodyHalfSize(const proto::Airframe& airframe) {
 }
 
 std::string SingleRobotWorldXml(const Scenario& scenario, const proto::Airframe& airframe,
-                                Integrator integrator) {
+                                Integrator integrator, const std::vector<int>* obstacles) {
   std::string xml;
-  AppendHeader(scenario, integrator, 1, &xml);
+  AppendHeader(scenario, integrator, 1, obstacles, &xml);
   AppendQuad(airframe, "", "0 0 0", "0 0 0", &xml);
   xml += "  </worldbody>\n";
   // The accelerometer gives the specific force including contact forces (IMU at rest on the
@@ -89,7 +94,7 @@ std::string SingleRobotWorldXml(const Scenario& scenario, const proto::Airframe&
 std::string AllRobotsWorldXml(const Scenario& scenario, Integrator integrator) {
   std::string xml;
   const int robots = static_cast<int>(scenario.robots.size());
-  AppendHeader(scenario, integrator, robots, &xml);
+  AppendHeader(scenario, integrator, robots, nullptr, &xml);
   for (const RobotPlan& robot : scenario.robots) {
     const auto& p = robot.spec.position_m();
     AppendQuad(robot.airframe, std::to_string(robot.index), Triple(p.x(), p.y(), p.z()),

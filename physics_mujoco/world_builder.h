@@ -4,6 +4,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "physics_mujoco/physics_mujoco.h"
 #include "scenario/scenario.h"
@@ -20,8 +21,10 @@ std::array<double, 3> BodyHalfSize(const proto::Airframe& airframe);
 // A world holding ground, obstacles and ONE multirotor of `airframe` at the origin (placed
 // per robot through qpos). Every robot with this airframe shares the compiled model and has
 // its own mjData: robots do not collide with each other (docs/physics.md says why).
+// `obstacles`: indices into scenario.spec.obstacle() to include, in increasing order (a
+// tile's, obstacle_tiles.h); null: every obstacle.
 std::string SingleRobotWorldXml(const Scenario& scenario, const proto::Airframe& airframe,
-                                Integrator integrator);
+                                Integrator integrator, const std::vector<int>* obstacles = nullptr);
 
 // A world holding every robot of the scenario as bodies of one model, at their start poses.
 // Only used to measure the alternative layout (bench/physics).

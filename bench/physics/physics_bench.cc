@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -193,6 +194,85 @@ double OwnWorkNsPerRobotStep() {
   return Median(samples);
 }
 
+// The 64-robot flocking layout of bench/scale/gen_scenario.py (16 replicas of the arrow case
+// study 50 m apart, 48 obstacle boxes, 36-ray lidars of 15 m), every robot flying east at 5 m/s
+// at 3 m from x = 30, into the arrows (x 47..100; a full run covers 50 m, collisions
+// included), its lidar cast every 10 steps as the server does: thread CPU us per step of
+// World::Advance(10) on one thread, without obstacle culling and with tiles of several sizes
+// (the same trajectories in every column: culling is exact).
+Scenario ScaleScenario() {
+  const double ys[4] = {-8, -2, 4, 10};  // the case study's start positions
+  std::string text = "name: \"bench\"\n";
+  for (int i = 0; i < 64; ++i) {
+    const double y0 = 50.0 * (i / 4 - 7.5);
+    text += "robot { name: \"r" + std::to_string(i) +
+            "\" position_m { x: 30 y: " + std::to_string(y0 + ys[i % 4]) +
+            " z: 3 } lidar { rays: 36 max_range_m: 15 } }\n";
+  }
+  for (int r = 0; r < 16; ++r) {
+    const double y0 = 50.0 * (r - 7.5);
+    const auto box = [&](double x, double y, double sx, double sy, double yaw) {
+      text += "obstacle { center_m { x: " + std::to_string(x) + " y: " + std::to_string(y) +
+              " z: 10 } size_m { x: " + std::to_string(sx) + " y: " + std::to_string(sy) +
+              " z: 20 } yaw_deg: " + std::to_string(yaw) + " }\n";
+    };
+    box(63.1, y0 + 9.2, 32, 4, 35);
+    box(63.1, y0 - 9.2, 32, 4, -35);
+    box(80, y0, 40, 6, 0);
+  }
+  text += "addresses { ctl_subnet: \"127.80.0.0/16\" physics_port: 39999 }\n";
+  return LoadScenarioText(text, "bench scale");
+}
+
+void CullingTable() {
+  const Scenario scenario = ScaleScenario();
+  const proto::Airframe& airframe = scenario.robots[0].airframe;
+  const double hover = std::sqrt(airframe.mass_kg() * 9.81 / (4 * airframe.thrust_coefficient()));
+  const double tiles_m[] = {0, 10, 20, 40, 80};  // 0: no culling
+  std::printf(
+      "\nobstacle culling, 64 robots of bench/scale (48 boxes) flying east at 5 m/s from x = 30:\n"
+      "us per step (all robots), World::Advance(10), 1 thread, thread CPU, median of %d\n",
+      g_runs);
+  std::printf("%5s | %10s", "integ", "no_culling");
+  for (double tile : tiles_m) {
+    if (tile > 0) std::printf("  tile%3.0fm", tile);
+  }
+  std::printf(" | obstacles per model (tile 20 m), switches, models\n");
+  for (Integrator integrator : {Integrator::kRk4, Integrator::kEuler}) {
+    std::vector<std::unique_ptr<World>> worlds;
+    for (double tile : tiles_m) {
+      WorldOptions options{integrator, 1};
+      options.cull_obstacles = tile > 0;
+      if (tile > 0) options.cull_tile_m = tile;
+      worlds.push_back(std::make_unique<World>(scenario, options));
+      for (int i = 0; i < 64; ++i) {
+        worlds.back()->SetRotorSpeeds(i, {hover, hover, hover, hover});
+        worlds.back()->SetVelocity(i, {5, 0, 0});
+      }
+    }
+    std::vector<std::vector<double>> samples(worlds.size());
+    std::vector<float> ranges;
+    for (int r = -1; r < g_runs; ++r) {
+      for (size_t w = 0; w < worlds.size(); ++w) {
+        const double us = UsPerStep(1000, true, [&](int k) {
+          for (int s = 0; s < k; s += 10) {
+            worlds[w]->Advance(10);
+            for (int i = 0; i < 64; ++i) worlds[w]->Lidar(i, &ranges);  // as the server: 100 Hz
+          }
+        });
+        if (r >= 0) samples[w].push_back(us);
+      }
+    }
+    std::printf("%5s |", integrator == Integrator::kRk4 ? "RK4" : "Euler");
+    for (auto& column : samples) std::printf(" %10.1f", Median(column));
+    int most = 0;
+    for (int i = 0; i < 64; ++i) most = std::max(most, worlds[2]->obstacles_in_model(i));
+    std::printf(" | max %d of 48, %ld, %d\n", most, static_cast<long>(worlds[2]->model_switches()),
+                worlds[2]->models_compiled());
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 }  // namespace sitlnet::physics
 
@@ -219,5 +299,6 @@ int main(int argc, char** argv) {
   }
   std::printf("own work per robot-step (motor lag + wrench), thread CPU: %.0f ns\n",
               OwnWorkNsPerRobotStep());
+  CullingTable();
   return 0;
 }
