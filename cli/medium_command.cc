@@ -55,6 +55,12 @@ constexpr const char* kMediumHelp =
     "unreachable, refused the handshake, or vanished mid-run), 2 usage or bad\n"
     "scenario file, 3 missing privileges.\n";
 
+std::string Seconds(TimeNs ns) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", static_cast<double>(ns) / kNsPerS);
+  return text;
+}
+
 // `--connect`: the medium model as a network connector of a coordinator on
 // another host (runner/remote_medium.h).
 int ServeRemoteMedium(Scenario scenario, const std::string& endpoint_text,
@@ -78,7 +84,7 @@ int ServeRemoteMedium(Scenario scenario, const std::string& endpoint_text,
   } catch (const coordinator::TransportError& e) {
     throw Error(std::string("cannot reach the coordinator: ") + e.what() +
                 (e.kind() == coordinator::TransportError::Kind::kTimeout
-                     ? " (retried for " + std::to_string(connect_timeout_ns / kNsPerS) + " s)"
+                     ? " (tried for " + Seconds(connect_timeout_ns) + " s)"
                      : std::string()));
   }
   coordinator::StopSignal stop;  // From here on Ctrl-C ends the wait in order.

@@ -337,10 +337,25 @@ Fd Connect(const Endpoint& endpoint, TimeNs deadline_ns) {
       err = errno;
     } else {
       addrinfo* info = Resolve(endpoint, /*passive=*/false);
-      fd = Fd(socket(info->ai_family, SOCK_STREAM | SOCK_CLOEXEC, 0));
+      // Non-blocking, so that a host that drops the SYN (down, filtered)
+      // costs the deadline, not the kernel's ~2 min of SYN retries.
+      fd = Fd(socket(info->ai_family, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0));
       rc = connect(fd.get(), info->ai_addr, info->ai_addrlen);
       err = errno;
       freeaddrinfo(info);
+      if (rc < 0 && err == EINPROGRESS) {
+        pollfd wait{fd.get(), POLLOUT, 0};
+        const int n = poll(&wait, 1, PollTimeoutMs(deadline_ns));
+        if (n == 0) {
+          throw TransportError(TransportError::Kind::kTimeout,
+                               "connect to " + endpoint.ToString() +
+                                   ": no answer before the deadline (host down or filtered?)");
+        }
+        socklen_t length = sizeof err;
+        if (n < 0 || getsockopt(fd.get(), SOL_SOCKET, SO_ERROR, &err, &length) < 0) err = errno;
+        rc = err == 0 ? 0 : -1;
+      }
+      if (rc == 0) fcntl(fd.get(), F_SETFL, fcntl(fd.get(), F_GETFL) & ~O_NONBLOCK);
     }
     if (rc == 0) return fd;
     const bool not_yet = err == ENOENT || err == ECONNREFUSED;

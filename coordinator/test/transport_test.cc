@@ -1,11 +1,13 @@
 #include "coordinator/transport.h"
 
 #include <gtest/gtest.h>
+#include <netinet/in.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <thread>
+#include <vector>
 
 namespace sitlnet::coordinator {
 namespace {
@@ -200,6 +202,41 @@ TEST(Connect, NamesTheEndpointWhenNobodyListens) {
   } catch (const TransportError& e) {
     EXPECT_EQ(std::string(e.what()), "connect to unix:" + path + ": No such file or directory");
   }
+}
+
+// A peer that never answers the SYN (a host that is down or filtered) costs
+// the deadline, not the kernel's ~2 minutes of SYN retries. On loopback: a
+// listener with a full accept queue drops SYNs (tcp_abort_on_overflow = 0).
+TEST(Connect, GivesUpAtTheDeadlineWhenTheSynIsNeverAnswered) {
+  const int listener = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(listener, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(bind(listener, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+  ASSERT_EQ(listen(listener, 0), 0);  // Room for one connection, never accepted.
+  socklen_t length = sizeof address;
+  getsockname(listener, reinterpret_cast<sockaddr*>(&address), &length);
+  std::vector<int> fillers;
+  for (int i = 0; i < 2; ++i) {
+    fillers.push_back(socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0));
+    connect(fillers.back(), reinterpret_cast<sockaddr*>(&address), sizeof address);
+  }
+  const TimeNs begin = MonotonicNowNs();
+  try {
+    Connect(ParseEndpoint("127.0.0.1:" + std::to_string(ntohs(address.sin_port))),
+            begin + 300 * kNsPerMs);
+    FAIL() << "connected to a full accept queue";
+  } catch (const TransportError& e) {
+    EXPECT_EQ(e.kind(), TransportError::Kind::kTimeout) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no answer before the deadline"), std::string::npos)
+        << e.what();
+  }
+  const TimeNs waited = MonotonicNowNs() - begin;
+  EXPECT_GE(waited, 300 * kNsPerMs);
+  EXPECT_LT(waited, 900 * kNsPerMs);  // The first SYN retry is due at 1 s.
+  for (int fd : fillers) close(fd);
+  close(listener);
 }
 
 }  // namespace
