@@ -29,7 +29,7 @@ constexpr const char* kPhysicsHelp =
     "\n"
     "  --duration-s S  stop after S seconds of virtual time (default: never)\n"
     "  --threads N     threads stepping robots (default 2)\n"
-    "  --euler         semi-implicit Euler instead of RK4 (docs/physics.md)\n"
+    "  --euler         semi-implicit Euler, whatever the scenario says (docs/physics.md)\n"
     "\n"
     "Prints per-robot counters at exit. exit codes: 0 ok, 1 failed, 2 usage or bad\n"
     "scenario file.\n";

@@ -211,7 +211,10 @@ World::World(const Scenario& scenario, const WorldOptions& options)
     : impl_(std::make_unique<Impl>(options.threads)) {
   Impl& impl = *impl_;
   impl.scenario = &scenario;
-  impl.integrator = options.integrator.value_or(Integrator::kRk4);
+  impl.integrator = options.integrator.value_or(scenario.spec.timing().physics_integrator() ==
+                                                        proto::Timing::INTEGRATOR_EULER
+                                                    ? Integrator::kEuler
+                                                    : Integrator::kRk4);
   if (options.cull_obstacles) {
     // Reach: the longest lidar ray, or the body's bounding sphere plus one step's travel.
     double reach_m = 0;

@@ -160,8 +160,9 @@ int64_t PeakRssKib(pid_t pid) {
 
 // Benchmark knobs (bench/scale, docs/performance.md), not scenario settings:
 // SITLNET_PHYSICS_THREADS=N steps the robots on N threads (default 2) and
-// SITLNET_PHYSICS_INTEGRATOR=euler trades RK4's accuracy (docs/physics.md)
-// for about a third of its cost. Anything else is a one-line error.
+// SITLNET_PHYSICS_INTEGRATOR=euler|rk4 overrides the scenario's
+// timing.physics_integrator (Euler trades RK4's accuracy, docs/physics.md, for about a
+// third of its cost). Anything else is a one-line error.
 physics::ServerOptions PhysicsOptionsFromEnvironment() {
   physics::ServerOptions options;
   if (const char* threads = std::getenv("SITLNET_PHYSICS_THREADS"); threads && *threads) {
@@ -180,6 +181,16 @@ physics::ServerOptions PhysicsOptionsFromEnvironment() {
     }
     options.world.integrator =
         name == "euler" ? physics::Integrator::kEuler : physics::Integrator::kRk4;
+  }
+  // SITLNET_PHYSICS_CULL_TILE_M=M: obstacle tiles of M metres; 0: no culling (docs/physics.md).
+  if (const char* tile = std::getenv("SITLNET_PHYSICS_CULL_TILE_M"); tile && *tile) {
+    char* end = nullptr;
+    const double value = std::strtod(tile, &end);
+    if (*end != '\0' || !(value >= 0 && value <= 1e6)) {
+      throw Error(std::string("SITLNET_PHYSICS_CULL_TILE_M=\"") + tile + "\": want 0..1e6 m");
+    }
+    options.world.cull_obstacles = value > 0;
+    if (value > 0) options.world.cull_tile_m = value;
   }
   return options;
 }
@@ -385,6 +396,20 @@ RunReport RunScenario(const RunOptions& options) {
   report.interrupted = result.interrupted;
   report.exit_code = !failure.empty() ? 1 : result.interrupted ? 130 : 0;
   if (!failure.empty()) std::fprintf(stderr, "sitlnet run: %s\n", failure.c_str());
+  if (remote_medium) {
+    const MediumLinkStats& link = remote_medium->stats();
+    report.medium_link = link;
+    const double n = static_cast<double>(std::max<int64_t>(1, link.round_trips));
+    std::fprintf(stderr,
+                 "sitlnet run: medium link to %s: %lld round trips, mean %.1f us each "
+                 "(remote medium %.1f us, transport %.1f us), %.0f B out, %.0f B back\n",
+                 remote_medium->Describe().c_str(), static_cast<long long>(link.round_trips),
+                 static_cast<double>(link.round_trip_ns) / n / kNsPerUs,
+                 static_cast<double>(link.remote_busy_ns) / n / kNsPerUs,
+                 static_cast<double>(link.round_trip_ns - link.remote_busy_ns) / n / kNsPerUs,
+                 static_cast<double>(link.request_bytes) / n,
+                 static_cast<double>(link.reply_bytes) / n);
+  }
   // A failed run throws out of RunCoordinator before it returns a count: the
   // metrics have one row per iteration done.
   const coordinator::MetricsSummary summary = metrics.Summarize();
@@ -394,15 +419,6 @@ RunReport RunScenario(const RunOptions& options) {
   if (remote_medium) {
     remote_medium->Stop(failure.empty() ? (result.interrupted ? "interrupted" : "run finished")
                                         : failure);
-    const MediumLinkStats& link = remote_medium->stats();
-    const double n = static_cast<double>(std::max<int64_t>(1, link.round_trips));
-    std::fprintf(stderr,
-                 "sitlnet run: medium link to %s: %lld round trips, mean %.1f us each "
-                 "(remote medium %.1f us, transport %.1f us)\n",
-                 remote_medium->Describe().c_str(), static_cast<long long>(link.round_trips),
-                 static_cast<double>(link.round_trip_ns) / n / kNsPerUs,
-                 static_cast<double>(link.remote_busy_ns) / n / kNsPerUs,
-                 static_cast<double>(link.round_trip_ns - link.remote_busy_ns) / n / kNsPerUs);
   }
   return report;
 }

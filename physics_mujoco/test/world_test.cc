@@ -75,6 +75,25 @@ TEST(WorldTest, SemiImplicitEulerLagsFreeFallByHalfGTDt) {
   EXPECT_NEAR(world.Pose(0).position_m.z, 20 - kG / 2 - kG * 1.0 * 0.001 / 2, 1e-9);
 }
 
+TEST(WorldTest, TheScenarioChoosesTheIntegratorAndOptionsOverrideIt) {
+  const std::string robot = "robot { name: \"a\" position_m { z: 20 } }";
+  const Scenario euler = MakeScenario(robot, "physics_integrator: INTEGRATOR_EULER");
+  const Scenario rk4 = MakeScenario(robot, "physics_integrator: INTEGRATOR_RK4");
+  const double exact_m = 20 - kG / 2;         // after 1 s of free fall
+  const double euler_lag_m = kG * 0.001 / 2;  // g t dt / 2
+  World from_scenario(euler);
+  World overridden(euler, WorldOptions{Integrator::kRk4, 1});
+  World default_rk4(MakeScenario(robot));
+  World rk4_overridden(rk4, WorldOptions{Integrator::kEuler, 1});
+  for (World* world : {&from_scenario, &overridden, &default_rk4, &rk4_overridden}) {
+    world->Advance(1000);
+  }
+  EXPECT_NEAR(from_scenario.Pose(0).position_m.z, exact_m - euler_lag_m, 1e-9);
+  EXPECT_NEAR(overridden.Pose(0).position_m.z, exact_m, 1e-9);
+  EXPECT_NEAR(default_rk4.Pose(0).position_m.z, exact_m, 1e-9);
+  EXPECT_NEAR(rk4_overridden.Pose(0).position_m.z, exact_m - euler_lag_m, 1e-9);
+}
+
 // Speeds up one diagonal pair and slows the other keeping total thrust: pure yaw torque.
 void YawCommand(World* world, bool speed_up_cw) {
   const double w = HoverSpeed(world->airframe(0));
