@@ -198,6 +198,8 @@ void RemoteMedium::Exchange(bool want_counters) {
   }
   stats_.round_trip_ns += MonotonicNowNs() - begin_ns;
   stats_.remote_busy_ns += end_.busy_ns();
+  stats_.request_bytes += static_cast<int64_t>(start_.payload().size());
+  stats_.reply_bytes += static_cast<int64_t>(end_.payload().size());
   ++stats_.round_trips;
   if (!reply_.ParseFromString(end_.payload())) {
     healthy_ = false;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "coordinator/connector.h"
+#include "runner/runner.h"
 #include "sitlnet/medium_link.pb.h"
 #include "tapbridge/tapbridge.h"
 
@@ -29,14 +30,6 @@ namespace sitlnet::runner {
 // `sitlnet run --duration 5 --pacing lockstep` meets a plain
 // `sitlnet medium FILE --connect`. Seed and radio settings are covered.
 uint64_t MediumScenarioHash(const Scenario& scenario);
-
-// Transport and remote work of a run's medium link, for the run's log and
-// docs/performance.md.
-struct MediumLinkStats {
-  int64_t round_trips = 0;
-  TimeNs round_trip_ns = 0;   // Sum of START sent -> END received.
-  TimeNs remote_busy_ns = 0;  // Sum of the remote medium's own time (End.busy_ns).
-};
 
 class RemoteMedium final : public tapbridge::MediumModel {
  public:

@@ -34,6 +34,17 @@ struct RunOptions {
   int realtime_priority = 10;
 };
 
+// The medium link of a run with --remote network (runner/remote_medium.h):
+// sums over its round trips, for the run's log, summary.json and
+// docs/performance.md.
+struct MediumLinkStats {
+  int64_t round_trips = 0;
+  TimeNs round_trip_ns = 0;   // START sent -> END received.
+  TimeNs remote_busy_ns = 0;  // The remote medium's own time (End.busy_ns).
+  int64_t request_bytes = 0;  // MediumRequest payloads sent.
+  int64_t reply_bytes = 0;    // MediumReply payloads received.
+};
+
 struct RunReport {
   std::string run_dir;
   int exit_code = 0;  // 0 ok, 1 failure (robot failure by policy, error), 130 interrupted.
@@ -49,6 +60,7 @@ struct RunReport {
   // sitlnet's RSS from before exec.
   int64_t robot_max_rss_kib = 0;
   int64_t robot_median_rss_kib = 0;
+  std::optional<MediumLinkStats> medium_link;  // --remote network only.
 };
 
 // Runs the scenario to the end of its duration (or until SIGINT/SIGTERM).

@@ -1,5 +1,6 @@
 #include "runner/summary.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 
@@ -122,6 +123,19 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
           ",\"robots_cpu_s\":" + std::to_string(report.robots_cpu_s) +
           ",\"robot_max_rss_kib\":" + std::to_string(report.robot_max_rss_kib) +
           ",\"robot_median_rss_kib\":" + std::to_string(report.robot_median_rss_kib) + "}";
+  json += ",\"medium_link\":";
+  if (const auto& link = report.medium_link) {
+    const double n = static_cast<double>(std::max<int64_t>(1, link->round_trips));
+    const auto mean_us = [&](TimeNs ns) { return std::to_string(ns / n / kNsPerUs); };
+    json += "{\"round_trips\":" + std::to_string(link->round_trips) +
+            ",\"round_trip_us_mean\":" + mean_us(link->round_trip_ns) +
+            ",\"remote_medium_us_mean\":" + mean_us(link->remote_busy_ns) +
+            ",\"transport_us_mean\":" + mean_us(link->round_trip_ns - link->remote_busy_ns) +
+            ",\"request_bytes_mean\":" + std::to_string(link->request_bytes / n) +
+            ",\"reply_bytes_mean\":" + std::to_string(link->reply_bytes / n) + "}";
+  } else {
+    json += "null";
+  }
   json += ",\"robots\":[";
   for (int i = 0; i < robot_count; ++i) {
     json += (i ? "," : "") + RobotJson(robots[i], i, bridge, physics);
