@@ -91,6 +91,12 @@ void PrepareNetnsDir();
 // must restore its namespace (ScopedNetns on the original fd does).
 void CreateNetnsAndEnter(const std::string& name);
 
+// Sets net.ipv4.ping_group_range to "0 2147483647" in the CALLING THREAD's namespace (what
+// systemd sets on a host): every user may open ICMP datagram sockets (ping(8) falls back to
+// them), so ping and robot software need no CAP_NET_RAW there. Best effort: false when
+// /proc/sys is read-only (a container without --privileged) or absent.
+bool AllowUnprivilegedPing();
+
 // Namespace identity (st_dev, st_ino) of a namespace file.
 struct NsId {
   dev_t dev = 0;

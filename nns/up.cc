@@ -83,6 +83,9 @@ void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket
     inside = std::make_unique<RouteSocket>();  // Stays bound to the robot's namespace.
     // Born inside the namespace (reference.md): no move, no name clash.
     internal::CreatePersistentTap("wlan0", who + ": create TAP wlan0");
+    // Unmodified ping and robot software without CAP_NET_RAW (docs/security.md). Best effort:
+    // a read-only /proc/sys leaves the kernel default, where ping needs CAP_NET_RAW.
+    internal::AllowUnprivilegedPing();
   }
 
   const int lo = internal::LinkIndex(*inside, "lo");

@@ -212,7 +212,9 @@ TEST(FaultsTest, RunKilledWithSigkillLeavesWholeOutputsAndDownRemovesEverything)
               static_cast<long long>(WholeCsvRows(s.out + "/metrics.csv")),
               static_cast<long long>(WholeCsvRows(trajectories)), static_cast<long long>(records),
               truncated ? " + a cut record" : "");
-  if (!truncated) EXPECT_EQ(tshark.exit_code, 0) << tshark.err;
+  if (!truncated) {
+    EXPECT_EQ(tshark.exit_code, 0) << tshark.err;
+  }
   RunCommand({"rm", "-rf", s.out});
 }
 

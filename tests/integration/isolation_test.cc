@@ -267,7 +267,8 @@ TEST(IsolationTest, DaemonsListenOnlyWhereTheyMustAndTheMediumSocketIsRootOnly) 
 
 TEST(IsolationTest, RobotImageWithUserNobodyRunsAsUid65534) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  if (!CanSetuid()) GTEST_SKIP() << "needs CAP_SETUID + CAP_SETGID to run an image as nobody";
+  SITLNET_REQUIRE_CAPABILITY(CAP_SETUID, "an image's `user: nobody` switches the robot's user");
+  SITLNET_REQUIRE_CAPABILITY(CAP_SETGID, "an image's `user: nobody` switches the robot's group");
   const auto t = MakeScenario("iso", 3, 1);
   DownGuard down(t.scenario.name);
   nns::Up(t.scenario);

@@ -29,10 +29,10 @@ int Lines(const std::string& text) {
 
 TEST(NnsRefusalTest, MissingPrivilegesGiveOneLineNamingThemAndTheFix) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  // setpriv drops capabilities from the bounding set, which needs
-  // CAP_SETPCAP; the capability-dropped run (only NET_ADMIN + SYS_ADMIN)
+  // A root child without capabilities needs them gone from its bounding set (exec as uid 0
+  // otherwise grants them all back), and dropping them needs CAP_SETPCAP: the min-caps pass
   // cannot make a less privileged child, so this test cannot run there.
-  if (!HasCapability(CAP_SETPCAP)) GTEST_SKIP() << "needs CAP_SETPCAP to drop capabilities";
+  SITLNET_REQUIRE_CAPABILITY(CAP_SETPCAP, "setpriv drops capabilities from a child's bounding set");
   const TestScenario test = MakeScenario("prv", 0, 1);
   DownGuard guard(test.scenario.name);
   // Every capability gone (root without capabilities, as in a locked-down container).

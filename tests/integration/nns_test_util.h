@@ -1,6 +1,6 @@
-// Helpers for the nns integration tests: privilege gate, unique scenarios,
-// cleanup guards, and running programs (the CLI, `ip`, tcpdump) with bounded
-// waits. `ip` is used only as an independent observer, never by the library.
+// Helpers for the nns integration tests: privilege gate, unique scenarios, cleanup guards, a UDP
+// round trip into a robot; programs (the CLI, `ip`, tcpdump) run through test_util.h. `ip` is
+// used only as an independent observer, never by the library.
 #ifndef SITLNET_TESTS_INTEGRATION_NNS_TEST_UTIL_H_
 #define SITLNET_TESTS_INTEGRATION_NNS_TEST_UTIL_H_
 
@@ -12,10 +12,20 @@
 
 #include "nns/nns.h"
 #include "scenario/scenario.h"
+#include "tests/integration/test_util.h"
 
 namespace sitlnet::nns::testing {
 
-bool IsCi();
+// The shared helpers (test_util.h), under the names these tests have always used.
+using integration_test::Child;
+using integration_test::CommandResult;
+using integration_test::HasCapability;
+using integration_test::IsCi;
+using integration_test::PingProgram;
+using integration_test::ReadAll;
+using integration_test::RunCommand;
+using integration_test::SitlnetBinary;
+using integration_test::TempDir;
 
 // Skips the test (fails under CI=true) when namespaces cannot be created.
 #define SITLNET_REQUIRE_NNS_PRIVILEGES()                                         \
@@ -61,65 +71,11 @@ class CommandGuard {
   std::vector<std::string> command_;
 };
 
-struct CommandResult {
-  int exit_code = -1;  // 128+signal if killed, as a shell reports it.
-  std::string out;
-  std::string err;
-};
-
-// Runs argv to completion (killed after timeout_ns), capturing its output.
-// `env` entries "K=V" are added to the environment.
-CommandResult RunCommand(const std::vector<std::string>& argv, TimeNs timeout_ns = 30 * kNsPerS,
-                         const std::vector<std::string>& env = {});
-
-// A running child with pipes on stdout and stderr; killed (SIGKILL) and
-// reaped on destruction if still running.
-class Child {
- public:
-  Child(const std::vector<std::string>& argv, const std::vector<std::string>& env = {});
-  ~Child();
-  Child(const Child&) = delete;
-  Child& operator=(const Child&) = delete;
-
-  pid_t pid() const { return pid_; }
-  // Reads stdout or stderr until `needle` appears or the deadline passes.
-  bool WaitForOutput(bool from_stderr, const std::string& needle, TimeNs timeout_ns);
-  // Waits for exit up to timeout_ns; returns exit code (128+signal) or -1.
-  int Wait(TimeNs timeout_ns);
-  const std::string& out() const { return out_; }
-  const std::string& err() const { return err_; }
-
- private:
-  // One poll round on the pipes (and the pidfd); reads what is there.
-  void Drain(TimeNs timeout_ns, bool wake_on_exit);
-  pid_t pid_ = -1;
-  int pidfd_ = -1;
-  int out_fd_ = -1;
-  int err_fd_ = -1;
-  int status_ = -1;
-  std::string out_;
-  std::string err_;
-};
-
-// Effective capability `cap` (CAP_NET_RAW, ...) of this process. The suite
-// must pass with only CAP_NET_ADMIN + CAP_SYS_ADMIN (issue 2, item 6): the
-// observers that need more (ping and tcpdump need CAP_NET_RAW, setpriv needs
-// CAP_SETPCAP to drop capabilities) run only when it is there.
-bool HasCapability(int cap);
-
 // Sends a UDP datagram from the root namespace to `robot_address` and waits
 // for the echo sent back by a socket bound inside namespace `netns` (by a
 // test thread that entered it with setns). No capability beyond setns.
 // Returns an empty string on success, else what went wrong.
 std::string UdpRoundTrip(const std::string& netns, Ipv4 robot_address);
-
-// The whole file (binary-safe); empty if it cannot be read.
-std::string ReadAll(const std::string& path);
-// $TMPDIR, or /tmp.
-std::string TempDir();
-
-// build/bin/sitlnet of the tree under test.
-std::string SitlnetBinary();
 
 bool LinkExistsInRoot(const std::string& name);
 bool StateExists(const std::string& scenario);

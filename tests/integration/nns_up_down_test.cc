@@ -2,12 +2,15 @@
 // specified, and `down` leaves nothing. Observed with `ip`, ping and tcpdump,
 // independent of the library's own netlink code.
 #include <linux/capability.h>
+#include <netinet/in.h>
 #include <poll.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <thread>
 
 #include "tests/integration/nns_test_util.h"
 
@@ -123,6 +126,36 @@ TEST(NnsUpTest, RootNamespaceReachesEveryRobotOverCtl0) {
   if (!HasCapability(CAP_NET_RAW)) std::printf("(no CAP_NET_RAW: checked with UDP, not ping)\n");
 }
 
+// Every robot namespace allows ICMP datagram sockets to all groups (net.ipv4.ping_group_range
+// "0 2147483647", as systemd sets on a host), so ping and robot software need no CAP_NET_RAW
+// there; the root namespace keeps its own value. The kernel checks only the caller's group
+// against the range when such a socket is created (net/ipv4/ping.c, ping_init_sock), not
+// capabilities: creating one is the oracle, in either pass.
+TEST(NnsUpTest, RobotNamespacesAllowPingWithoutCapNetRaw) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const std::string range_path = "/proc/sys/net/ipv4/ping_group_range";
+  const std::string root_before = ReadAll(range_path);
+  const TestScenario test = MakeScenario("icm", 7, 2);
+  DownGuard guard(test.scenario.name);
+  Up(test.scenario);
+  EXPECT_EQ(ReadAll(range_path), root_before) << "the root namespace's range is not ours";
+  for (const RobotPlan& robot : test.scenario.robots) {
+    const CommandResult range =
+        RunCommand({SitlnetBinary(), "exec", robot.netns, "--", "cat", range_path});
+    EXPECT_EQ(range.out, "0\t2147483647\n") << robot.name << ": " << range.err;
+    int socket_error = 0;
+    std::thread inside([&] {
+      ScopedNetns enter(robot.netns);
+      const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, IPPROTO_ICMP);
+      socket_error = fd < 0 ? errno : 0;
+      if (fd >= 0) close(fd);
+    });
+    inside.join();
+    EXPECT_EQ(socket_error, 0) << robot.name
+                               << ": ICMP datagram socket: " << std::strerror(socket_error);
+  }
+}
+
 TEST(NnsUpTest, OutsideAddressIsUnreachableInsideARobot) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const TestScenario test = MakeScenario("rte", 3, 1);
@@ -176,13 +209,10 @@ TEST(NnsUpTest, PingInsideARobotReachesItsTapAndTcpdump) {
   }
 
   // r2 is on the wlan subnet, so r1 ARPs for it on wlan0. Nobody answers
-  // (no medium here): ping fails, but its frames must have gone out. Without
-  // CAP_NET_RAW ping cannot run; a UDP datagram (bash's /dev/udp) ARPs the same.
+  // (no medium here): ping fails, but its frames must have gone out.
   const std::string target = FormatIpv4(r2.wlan_address);
-  Child sender(raw ? std::vector<std::string>{"ip", "netns", "exec", r1.netns, "ping", "-n", "-c",
-                                              "1", "-W", "3", target}
-                   : std::vector<std::string>{SitlnetBinary(), "exec", r1.netns, "--", "bash", "-c",
-                                              "echo x > /dev/udp/" + target + "/9"});
+  Child sender(
+      {"ip", "netns", "exec", r1.netns, PingProgram(), "-n", "-c", "1", "-W", "3", target});
   bool seen = false;
   const TimeNs deadline = MonotonicNowNs() + 5 * kNsPerS;
   while (!seen && MonotonicNowNs() < deadline) {
@@ -194,7 +224,7 @@ TEST(NnsUpTest, PingInsideARobotReachesItsTapAndTcpdump) {
   }
   EXPECT_TRUE(seen) << "no ARP request for " << FormatIpv4(r2.wlan_address) << " on the TAP";
   if (!raw) {
-    std::printf("(no CAP_NET_RAW: tcpdump not run, frame sent with UDP instead of ping)\n");
+    std::printf("(no CAP_NET_RAW: tcpdump not run, the TAP alone observed the frame)\n");
     return;
   }
   EXPECT_EQ(tcpdump->Wait(10 * kNsPerS), 0) << tcpdump->err();

@@ -3,8 +3,7 @@
 #include <arpa/inet.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
-#include <linux/if_packet.h>
-#include <net/if.h>
+#include <netinet/in.h>
 #include <poll.h>
 #include <sched.h>
 #include <sys/socket.h>
@@ -19,31 +18,41 @@
 namespace sitlnet::tapbridge::testing {
 namespace {
 
-// An AF_PACKET socket on wlan0 of namespace `netns`: frames sent on it enter
-// the robot's TAP exactly like a program's frames.
-int PacketSocket(const std::string& netns) {
+// A UDP socket bound to `address`:47000 inside namespace `netns` (created by this thread after
+// setns; the socket stays there). In a lockstep scenario every robot has PERMANENT neighbour
+// entries for its peers (docs/nns.md), so each datagram to a peer leaves as one frame on wlan0,
+// queued on the TAP when send() returns, as a program's would, without ARP. Plain UDP needs no
+// capability (a packet socket would need CAP_NET_RAW).
+constexpr uint16_t kPort = 47000;
+
+sockaddr_in SocketAddress(Ipv4 address) {
+  sockaddr_in sa{};
+  sa.sin_family = AF_INET;
+  sa.sin_addr.s_addr = htonl(address.host_order);
+  sa.sin_port = htons(kPort);
+  return sa;
+}
+
+int UdpSocketIn(const std::string& netns, Ipv4 address) {
   const int original = open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC);
   const int target = open(("/run/netns/" + netns).c_str(), O_RDONLY | O_CLOEXEC);
   SITLNET_DEMAND(original >= 0 && target >= 0 && setns(target, CLONE_NEWNET) == 0);
-  const int fd = socket(AF_PACKET, SOCK_RAW | SOCK_CLOEXEC, htons(0x88b5));
-  sockaddr_ll address{};
-  address.sll_family = AF_PACKET;
-  address.sll_protocol = htons(0x88b5);
-  address.sll_ifindex = static_cast<int>(if_nametoindex("wlan0"));
-  SITLNET_DEMAND(bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0);
+  const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  const sockaddr_in local = SocketAddress(address);
+  const int bound = bind(fd, reinterpret_cast<const sockaddr*>(&local), sizeof local);
   SITLNET_DEMAND(setns(original, CLONE_NEWNET) == 0);
   close(original);
   close(target);
+  EXPECT_EQ(bound, 0) << "bind " << FormatIpv4(address) << " in " << netns << ": "
+                      << std::strerror(errno);
   return fd;
 }
 
-std::vector<uint8_t> Frame(int from, int to, uint8_t tag) {
-  std::vector<uint8_t> frame(200, tag);
-  std::memcpy(frame.data(), RobotMac(to).bytes.data(), 6);
-  std::memcpy(frame.data() + 6, RobotMac(from).bytes.data(), 6);
-  frame[12] = 0x88;  // Local experimental ethertype.
-  frame[13] = 0xb5;
-  return frame;
+bool SendTo(int fd, Ipv4 to, uint8_t tag) {
+  const std::vector<uint8_t> payload(158, tag);  // 200-byte Ethernet frames.
+  const sockaddr_in address = SocketAddress(to);
+  return sendto(fd, payload.data(), payload.size(), 0, reinterpret_cast<const sockaddr*>(&address),
+                sizeof address) == static_cast<ssize_t>(payload.size());
 }
 
 // Runs one lockstep step in which each robot sent three frames to the other;
@@ -56,15 +65,15 @@ std::vector<TimeNs> LockstepDeliveries(const Scenario& scenario, uint64_t seed,
   core.AttachAll();
   std::vector<TimeNs> instants;
   core.AddDeliveryObserver([&](const Delivery& d) { instants.push_back(d.time_ns); });
-  const int a = PacketSocket(scenario.robots[0].netns);
-  const int b = PacketSocket(scenario.robots[1].netns);
+  const RobotPlan& robot_a = scenario.robots[0];
+  const RobotPlan& robot_b = scenario.robots[1];
+  const int a = UdpSocketIn(robot_a.netns, robot_a.wlan_address);
+  const int b = UdpSocketIn(robot_b.netns, robot_b.wlan_address);
   for (uint8_t k = 1; k <= 3; ++k) {
-    const std::vector<uint8_t> ab = Frame(0, 1, k), ba = Frame(1, 0, k);
-    EXPECT_EQ(send(a, ab.data(), ab.size(), 0), static_cast<ssize_t>(ab.size()));
-    EXPECT_EQ(send(b, ba.data(), ba.size(), 0), static_cast<ssize_t>(ba.size()));
+    EXPECT_TRUE(SendTo(a, robot_b.wlan_address, k)) << std::strerror(errno);
+    EXPECT_TRUE(SendTo(b, robot_a.wlan_address, k)) << std::strerror(errno);
   }
-  // send() on a packet socket has queued the frame on the TAP when it
-  // returns: the step sees all six.
+  // send() has queued the frame on the TAP when it returns: the step sees all six.
   core.StepLockstep(10 * kNsPerMs);
   *received_by_b = 0;
   uint8_t buffer[2048];
@@ -81,7 +90,8 @@ TEST(TapbridgeLockstep, DeliveriesWrittenWithinTheStepAndReproducible) {
   SITLNET_REQUIRE_ROOT();
   MediumScenario up("lck", 2,
                     "robot { name: \"a\" position_m { x: 0 y: 0 z: 1 } }\n"
-                    "robot { name: \"b\" position_m { x: 10 y: 0 z: 1 } }\n");
+                    "robot { name: \"b\" position_m { x: 10 y: 0 z: 1 } }\n"
+                    "timing { pacing: PACING_LOCKSTEP }\n");
   const Scenario scenario = LoadScenarioFile(up.path());
   int received = 0;
   const std::vector<TimeNs> first = LockstepDeliveries(scenario, 7, &received);
@@ -104,11 +114,11 @@ TEST(TapbridgeTraffic, Ipv6LinkLocalUnicastAndMulticast) {
   scenario.StartDaemon();
   // b's link-local address from its MAC 02:00:00:00:00:01 (EUI-64, U/L bit
   // flipped). -w: ping retries until 2 replies while DAD completes.
-  const Result unicast =
-      scenario.Exec("a", {"ping", "-6", "-c", "2", "-w", "10", "fe80::ff:fe00:1%wlan0"});
-  EXPECT_EQ(unicast.code, 0) << unicast.out << unicast.err;
-  const Result multicast =
-      scenario.Exec("a", {"ping", "-6", "-c", "2", "-w", "10", "ff02::1%wlan0"});
+  const CommandResult unicast =
+      scenario.Exec("a", {PingProgram(), "-6", "-c", "2", "-w", "10", "fe80::ff:fe00:1%wlan0"});
+  EXPECT_EQ(unicast.exit_code, 0) << unicast.out << unicast.err;
+  const CommandResult multicast =
+      scenario.Exec("a", {PingProgram(), "-6", "-c", "2", "-w", "10", "ff02::1%wlan0"});
   EXPECT_NE(multicast.out.find("from fe80::ff:fe00:1"), std::string::npos) << multicast.out;
 }
 

@@ -1,6 +1,6 @@
 // Helpers for the tapbridge integration tests: a scenario brought up with the
 // CLI under a unique name, the medium daemon as a child process, programs run
-// inside robots, 802.11 timing computed from the standard (the oracles).
+// inside robots (processes: test_util.h), 802.11 timing computed from the standard (the oracles).
 #ifndef SITLNET_TESTS_INTEGRATION_TAPBRIDGE_TEST_UTIL_H_
 #define SITLNET_TESTS_INTEGRATION_TAPBRIDGE_TEST_UTIL_H_
 
@@ -13,10 +13,19 @@
 
 #include "common/common.h"
 #include "sitlnet/medium.pb.h"
+#include "tests/integration/test_util.h"
 
 namespace sitlnet::tapbridge::testing {
 
-bool IsCi();
+// The shared helpers (test_util.h).
+using integration_test::Child;
+using integration_test::CommandResult;
+using integration_test::IsCi;
+using integration_test::PingProgram;
+using integration_test::RunCommand;
+using integration_test::SitlnetBinary;
+using integration_test::SourceDir;
+
 // Why the tests cannot run here (not root), or empty.
 std::string MissingRoot();
 
@@ -28,40 +37,6 @@ std::string MissingRoot();
       GTEST_SKIP() << missing;                                                \
     }                                                                         \
   } while (0)
-
-// A child process with stdout and stderr captured through pipes. Killed
-// (SIGKILL, by pid) and reaped on destruction if still running.
-class Child {
- public:
-  explicit Child(const std::vector<std::string>& argv);
-  ~Child();
-  Child(const Child&) = delete;
-  Child& operator=(const Child&) = delete;
-  pid_t pid() const { return pid_; }
-  // Reads output until `needle` appears in stdout (or stderr) or the timeout.
-  bool WaitFor(const std::string& needle, bool in_stderr, TimeNs timeout_ns);
-  // Waits for exit; returns the exit code (128+signal), -1 on timeout.
-  int Wait(TimeNs timeout_ns);
-  const std::string& out() const { return out_; }
-  const std::string& err() const { return err_; }
-
- private:
-  void Pump(TimeNs timeout_ns);
-  pid_t pid_ = -1;
-  int out_fd_ = -1, err_fd_ = -1;
-  int status_ = -1;
-  std::string out_, err_;
-};
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-// Runs argv to completion (SIGKILL after the timeout).
-Result RunProgram(const std::vector<std::string>& argv, TimeNs timeout_ns = 60 * kNsPerS);
-
-std::string SitlnetBinary();
-std::string SourceDir();
 
 // A scenario `sitlnet up` under a unique name (tag, pid, slot) with unique
 // subnets; `body` holds robot/radio/obstacle lines (no name, no addresses).
@@ -87,8 +62,8 @@ class MediumScenario {
   Child* daemon() { return daemon_.get(); }
 
   // Runs argv inside robot `robot` (by name) with `sitlnet exec`.
-  Result Exec(const std::string& robot, const std::vector<std::string>& argv,
-              TimeNs timeout_ns = 60 * kNsPerS);
+  CommandResult Exec(const std::string& robot, const std::vector<std::string>& argv,
+                     TimeNs timeout_ns = 60 * kNsPerS);
   std::unique_ptr<Child> Spawn(const std::string& robot, const std::vector<std::string>& argv);
 
   proto::MediumStatus Counters();

@@ -11,7 +11,8 @@ namespace sitlnet::tapbridge::testing {
 namespace {
 
 bool Pings(MediumScenario& s, const std::string& from, int to) {
-  return s.Exec(from, {"ping", "-c", "2", "-W", "1", "-i", "0.2", s.Address(to)}).code == 0;
+  return s.Exec(from, {PingProgram(), "-c", "2", "-W", "1", "-i", "0.2", s.Address(to)})
+             .exit_code == 0;
 }
 
 // scenarios/line3.textproto as written, under a test-local name and subnets.

@@ -1,0 +1,209 @@
+#include "tests/integration/test_util.h"
+
+#include <fcntl.h>
+#include <linux/capability.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace sitlnet::integration_test {
+namespace {
+
+std::vector<char*> CStrings(const std::vector<std::string>& strings) {
+  std::vector<char*> result;
+  for (const std::string& s : strings) result.push_back(const_cast<char*>(s.c_str()));
+  result.push_back(nullptr);
+  return result;
+}
+
+int DecodeStatus(int status) {
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return -1;
+}
+
+bool EnvIs(const char* name, const std::string& value) {
+  const char* set = std::getenv(name);
+  return set != nullptr && value == set;
+}
+
+}  // namespace
+
+bool IsCi() { return EnvIs("CI", "true"); }
+
+bool IsMinCapsPass() { return EnvIs("SITLNET_MIN_CAPS", "1"); }
+
+bool HasCapability(int cap) {
+  __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct data[_LINUX_CAPABILITY_U32S_3]{};
+  if (syscall(SYS_capget, &header, data) != 0) return false;
+  return (data[cap / 32].effective & (1u << (cap % 32))) != 0;
+}
+
+Child::Child(const std::vector<std::string>& argv, const std::vector<std::string>& env) {
+  int out[2], err[2];
+  SITLNET_DEMAND(pipe2(out, O_CLOEXEC) == 0 && pipe2(err, O_CLOEXEC) == 0);
+  pid_ = fork();
+  SITLNET_DEMAND(pid_ >= 0);
+  if (pid_ == 0) {
+    dup2(out[1], 1);
+    dup2(err[1], 2);
+    const int null = open("/dev/null", O_RDONLY);
+    dup2(null, 0);
+    for (const std::string& entry : env) putenv(const_cast<char*>(entry.c_str()));
+    std::vector<char*> args = CStrings(argv);
+    execvp(args[0], args.data());
+    _exit(127);
+  }
+  close(out[1]);
+  close(err[1]);
+  out_fd_ = out[0];
+  err_fd_ = err[0];
+  fcntl(out_fd_, F_SETFL, O_NONBLOCK);
+  fcntl(err_fd_, F_SETFL, O_NONBLOCK);
+  pidfd_ = static_cast<int>(syscall(SYS_pidfd_open, pid_, 0));
+}
+
+Child::~Child() {
+  if (status_ < 0 && pid_ > 0) {
+    kill(pid_, SIGKILL);
+    waitpid(pid_, nullptr, 0);
+  }
+  for (int fd : {out_fd_, err_fd_, pidfd_}) {
+    if (fd >= 0) close(fd);
+  }
+}
+
+void Child::Drain(TimeNs timeout_ns, bool wake_on_exit) {
+  pollfd fds[3] = {
+      {out_fd_, POLLIN, 0}, {err_fd_, POLLIN, 0}, {wake_on_exit ? pidfd_ : -1, POLLIN, 0}};
+  if (poll(fds, 3, static_cast<int>(timeout_ns / kNsPerMs)) <= 0) return;
+  char buffer[65536];
+  for (int i = 0; i < 2; ++i) {
+    if (fds[i].revents == 0) continue;
+    int& fd = i == 0 ? out_fd_ : err_fd_;
+    for (;;) {
+      const ssize_t n = read(fd, buffer, sizeof buffer);
+      if (n > 0) {
+        (i == 0 ? out_ : err_).append(buffer, n);
+        continue;
+      }
+      if (n == 0) {  // EOF: stop polling it.
+        close(fd);
+        fd = -1;
+      }
+      break;
+    }
+  }
+}
+
+bool Child::WaitForOutput(bool from_stderr, const std::string& needle, TimeNs timeout_ns) {
+  const TimeNs deadline = MonotonicNowNs() + timeout_ns;
+  const std::string& text = from_stderr ? err_ : out_;
+  while (text.find(needle) == std::string::npos) {
+    const TimeNs left = deadline - MonotonicNowNs();
+    if (left <= 0 || (from_stderr ? err_fd_ : out_fd_) < 0) return false;
+    Drain(left, false);
+  }
+  return true;
+}
+
+int Child::Poll() {
+  if (status_ >= 0) return DecodeStatus(status_);
+  int status = 0;
+  if (waitpid(pid_, &status, WNOHANG) != pid_) return -1;
+  status_ = status;
+  Drain(0, false);  // What the child wrote before exiting.
+  return DecodeStatus(status);
+}
+
+int Child::Wait(TimeNs timeout_ns) {
+  const TimeNs deadline = MonotonicNowNs() + timeout_ns;
+  for (;;) {
+    const int code = Poll();
+    if (code >= 0 || status_ >= 0) return code;
+    const TimeNs left = deadline - MonotonicNowNs();
+    if (left <= 0) break;
+    Drain(left, true);  // Wakes on output or on exit (pidfd).
+  }
+  kill(pid_, SIGKILL);
+  int status = 0;
+  waitpid(pid_, &status, 0);
+  status_ = status;
+  return -1;
+}
+
+CommandResult RunCommand(const std::vector<std::string>& argv, TimeNs timeout_ns,
+                         const std::vector<std::string>& env) {
+  Child child(argv, env);
+  CommandResult result;
+  result.exit_code = child.Wait(timeout_ns);
+  result.out = child.out();
+  result.err = child.err();
+  return result;
+}
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+std::string TempDir() {
+  const char* tmp = std::getenv("TMPDIR");
+  return std::string(tmp ? tmp : "/tmp");
+}
+
+std::string SitlnetBinary() {
+  if (const char* dir = std::getenv("SITLNET_BINARY_DIR")) return std::string(dir) + "/bin/sitlnet";
+  // Run by hand: this binary is <build>/tests/<name>.
+  char self[4096] = {};
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  std::string path(self, n > 0 ? n : 0);
+  path = path.substr(0, path.rfind('/'));
+  return path.substr(0, path.rfind('/')) + "/bin/sitlnet";
+}
+
+std::string SourceDir() {
+  const char* dir = std::getenv("SITLNET_SOURCE_DIR");
+  return dir ? dir : ".";
+}
+
+std::string Base36(unsigned value) {
+  std::string text;
+  do {
+    text.insert(text.begin(), "0123456789abcdefghijklmnopqrstuvwxyz"[value % 36]);
+    value /= 36;
+  } while (value != 0);
+  return text;
+}
+
+std::string PingProgram() {
+  if (prctl(PR_CAPBSET_READ, CAP_NET_RAW, 0, 0, 0) == 1) return "ping";
+  // A plain copy of the bytes carries no security.capability attribute.
+  static const struct Copy {
+    std::string dir = TempDir() + "/sitlnet-ping-" + std::to_string(getpid());
+    std::string path = dir + "/ping";
+    Copy() {
+      SITLNET_DEMAND(mkdir(dir.c_str(), 0755) == 0 || errno == EEXIST);
+      std::ofstream(path, std::ios::binary) << ReadAll("/usr/bin/ping");
+      SITLNET_DEMAND(chmod(path.c_str(), 0755) == 0);
+    }
+    ~Copy() {
+      unlink(path.c_str());
+      rmdir(dir.c_str());
+    }
+  } copy;
+  return copy.path;
+}
+
+}  // namespace sitlnet::integration_test
