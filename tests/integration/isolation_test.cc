@@ -274,8 +274,14 @@ TEST(IsolationTest, RobotImageWithUserNobodyRunsAsUid65534) {
   nns::Up(t.scenario);
   const std::string dir = ::testing::TempDir();
   const std::string manifest = dir + "/iso-nobody-" + std::to_string(getpid()) + ".textproto";
+  // And it can ping its physics address with no capability at all: ICMP datagram sockets are
+  // allowed in robot namespaces (docs/nns.md); the ping copy has no file capabilities.
+  const std::string ping = integration_test::PingWithoutFileCapabilities() + " -n -c 1 -W 5 " +
+                           FormatIpv4(t.scenario.robots[0].ctl_root_address) +
+                           " >/dev/null && echo ping-ok";
   std::ofstream(manifest) << "name: \"whoami\"\nuser: \"nobody\"\n"
-                             "command: \"/bin/sh\" command: \"-c\" command: \"id -u; id -g\"\n";
+                             "command: \"/bin/sh\" command: \"-c\" command: \"id -u; id -g; "
+                          << ping << "\"\n";
   const images::Image image = images::LoadImage("", manifest);
   images::LaunchContext context;
   context.scenario = t.scenario.name;
@@ -290,7 +296,7 @@ TEST(IsolationTest, RobotImageWithUserNobodyRunsAsUid65534) {
   }
   std::ifstream in(log);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_EQ(text, "65534\n65534\n");
+  EXPECT_EQ(text, "65534\n65534\nping-ok\n");
   std::remove(log.c_str());
   std::remove(manifest.c_str());
 }

@@ -218,5 +218,29 @@ TEST(TapbridgeBadInput, DaemonRestartReattaches) {
   EXPECT_TRUE(Pings(scenario, "a", 1));
 }
 
+// The daemon asks for SCHED_FIFO 10 (docs/tapbridge.md). With CAP_SYS_NICE it gets it; without
+// (the min-caps pass) it says so in one line, stays SCHED_OTHER and serves the medium all the
+// same. chrt (util-linux) observes the policy of the daemon's main thread, which asked.
+TEST(TapbridgeDaemon, SchedFifoWithCapSysNiceElseOneWarningAndNormalPriority) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("fif", 2, kTwo);
+  scenario.StartDaemon();
+  ASSERT_TRUE(Pings(scenario, "a", 1));
+  const CommandResult chrt = RunCommand({"chrt", "-p", std::to_string(scenario.daemon()->pid())});
+  ASSERT_EQ(chrt.exit_code, 0) << chrt.err;
+  const std::string log = scenario.StopDaemon();
+  const std::string warning = "SCHED_FIFO priority 10 refused (needs CAP_SYS_NICE)";
+  if (integration_test::HasCapability(CAP_SYS_NICE)) {
+    EXPECT_NE(chrt.out.find("policy: SCHED_FIFO"), std::string::npos) << chrt.out;
+    EXPECT_NE(chrt.out.find("priority: 10"), std::string::npos) << chrt.out;
+    EXPECT_EQ(log.find(warning), std::string::npos) << log;
+  } else {
+    EXPECT_NE(chrt.out.find("policy: SCHED_OTHER"), std::string::npos) << chrt.out;
+    const size_t first = log.find(warning);
+    EXPECT_NE(first, std::string::npos) << log;
+    EXPECT_EQ(log.find(warning, first + 1), std::string::npos) << "one warning: " << log;
+  }
+}
+
 }  // namespace
 }  // namespace sitlnet::tapbridge::testing

@@ -189,6 +189,10 @@ std::string Base36(unsigned value) {
 
 std::string PingProgram() {
   if (prctl(PR_CAPBSET_READ, CAP_NET_RAW, 0, 0, 0) == 1) return "ping";
+  return PingWithoutFileCapabilities();
+}
+
+std::string PingWithoutFileCapabilities() {
   // A plain copy of the bytes carries no security.capability attribute.
   static const struct Copy {
     std::string dir = TempDir() + "/sitlnet-ping-" + std::to_string(getpid());

@@ -108,6 +108,9 @@ std::string Base36(unsigned value);
 // process under TempDir() and removed at exit. That copy opens ICMP datagram sockets, which
 // `sitlnet up` allows in every robot namespace (net.ipv4.ping_group_range, docs/nns.md).
 std::string PingProgram();
+// That copy without file capabilities, whatever this process holds: as an unprivileged user it
+// can only use ICMP datagram sockets.
+std::string PingWithoutFileCapabilities();
 
 }  // namespace sitlnet::integration_test
 
