@@ -1,6 +1,7 @@
 #include "runner/remote_medium.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "coordinator/coordinator.h"
 
@@ -113,6 +114,7 @@ RemoteMedium::RemoteMedium(const Scenario& scenario,
 RemoteMedium::~RemoteMedium() { Stop("the run ended"); }
 
 void RemoteMedium::Submit(int station, TimeNs at_ns, std::span<const uint8_t> ethernet) {
+  submit_pending_ = true;
   pm::SubmitOp* op = NewOp()->mutable_submit();
   op->set_station(station);
   op->set_at_ns(at_ns);
@@ -129,6 +131,13 @@ void RemoteMedium::AdvanceTo(TimeNs until_ns, std::vector<tapbridge::Delivery>* 
   // have returned comes back, in the same order, with the step's reply.
   if (until_ns % network_step_ns_ != 0 || until_ns <= last_sent_until_ns_) {
     advance_pending_ = true;
+    return;
+  }
+  // Nothing new entered and the medium's next event is after this step: the
+  // step produces nothing; its calls go with the next request.
+  if (!submit_pending_ && remote_quiet_until_ns_ >= until_ns) {
+    advance_pending_ = false;  // Those recorded are known to produce nothing.
+    ++stats_.quiet_steps;
     return;
   }
   last_sent_until_ns_ = until_ns;
@@ -180,6 +189,7 @@ void RemoteMedium::Exchange(bool want_counters) {
   request_.SerializeToString(&payload_);
   request_.Clear();
   advance_pending_ = false;
+  submit_pending_ = false;
   start_.Clear();
   start_.set_iteration(exchange_);
   start_.set_start_ns(last_sent_until_ns_ - network_step_ns_);
@@ -206,6 +216,9 @@ void RemoteMedium::Exchange(bool want_counters) {
     throw Error(Describe() + ": malformed medium reply to request " + std::to_string(exchange_));
   }
   ++exchange_;
+  // AdvanceTo(t) runs every event at or before t: quiet through next - 1.
+  remote_quiet_until_ns_ =
+      reply_.idle() ? std::numeric_limits<TimeNs>::max() : reply_.next_event_ns() - 1;
   if (want_counters) {
     if (reply_.counters_size() != stations_) {
       healthy_ = false;
@@ -280,6 +293,11 @@ void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::
       default:
         throw Error("medium request " + std::to_string(start.iteration()) + ": empty operation");
     }
+  }
+  if (const std::optional<TimeNs> next = medium_->NextEventNs()) {
+    reply_.set_next_event_ns(*next);
+  } else {
+    reply_.set_idle(true);
   }
   if (request_.want_counters()) {
     for (int i = 0; i < stations_; ++i) ToProto(medium_->Counters(i), reply_.add_counters());

@@ -5,7 +5,9 @@
 // tapbridge's MediumModel interface:
 //  - RemoteMedium (coordinator's host) records the bridge's calls during one
 //    network step and, at the step's end, sends them as one START to the
-//    network connector and returns what its END carried;
+//    network connector and returns what its END carried (a step without new
+//    frames that ends before the medium's next event is not sent: its calls
+//    go with the next one);
 //  - MediumLinkSimulator (the other host) replays them on a real medium.
 // The medium sees exactly the calls it would see in-process, so lockstep runs
 // are byte-identical either way (tests/integration/remote_run_test.cc).
@@ -77,6 +79,10 @@ class RemoteMedium final : public tapbridge::MediumModel {
   uint64_t exchange_ = 0;
   TimeNs last_sent_until_ns_ = 0;
   bool advance_pending_ = false;  // AdvanceTo calls recorded since the last exchange.
+  bool submit_pending_ = false;   // Submit calls recorded since the last exchange.
+  // The remote medium produces nothing up to this instant (from the last
+  // reply; before the first one: nothing known).
+  TimeNs remote_quiet_until_ns_ = -1;
   bool healthy_ = true;
   bool stopped_ = false;
   mutable bool counters_stale_ = true;

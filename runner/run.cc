@@ -401,9 +401,11 @@ RunReport RunScenario(const RunOptions& options) {
     report.medium_link = link;
     const double n = static_cast<double>(std::max<int64_t>(1, link.round_trips));
     std::fprintf(stderr,
-                 "sitlnet run: medium link to %s: %lld round trips, mean %.1f us each "
-                 "(remote medium %.1f us, transport %.1f us), %.0f B out, %.0f B back\n",
+                 "sitlnet run: medium link to %s: %lld round trips (%lld quiet steps without), "
+                 "mean %.1f us each (remote medium %.1f us, transport %.1f us), %.0f B out, "
+                 "%.0f B back\n",
                  remote_medium->Describe().c_str(), static_cast<long long>(link.round_trips),
+                 static_cast<long long>(link.quiet_steps),
                  static_cast<double>(link.round_trip_ns) / n / kNsPerUs,
                  static_cast<double>(link.remote_busy_ns) / n / kNsPerUs,
                  static_cast<double>(link.round_trip_ns - link.remote_busy_ns) / n / kNsPerUs,

@@ -43,6 +43,7 @@ struct MediumLinkStats {
   TimeNs remote_busy_ns = 0;  // The remote medium's own time (End.busy_ns).
   int64_t request_bytes = 0;  // MediumRequest payloads sent.
   int64_t reply_bytes = 0;    // MediumReply payloads received.
+  int64_t quiet_steps = 0;    // Network steps that needed no round trip.
 };
 
 struct RunReport {

@@ -128,6 +128,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
     const double n = static_cast<double>(std::max<int64_t>(1, link->round_trips));
     const auto mean_us = [&](TimeNs ns) { return std::to_string(ns / n / kNsPerUs); };
     json += "{\"round_trips\":" + std::to_string(link->round_trips) +
+            ",\"quiet_steps\":" + std::to_string(link->quiet_steps) +
             ",\"round_trip_us_mean\":" + mean_us(link->round_trip_ns) +
             ",\"remote_medium_us_mean\":" + mean_us(link->remote_busy_ns) +
             ",\"transport_us_mean\":" + mean_us(link->round_trip_ns - link->remote_busy_ns) +
