@@ -112,5 +112,42 @@ TEST(Coordinator, MissingConnectorTimesOutNamingTheRole) {
 }
 
 // A physics simulator that never finishes iteration `stuck_at` until released.
+// `sitlnet run --remote network` waits for one network connector: a physics
+// one is refused by name on both sides; a stray connection before it is
+// skipped; none at all times out naming the role.
+TEST(Coordinator, AcceptConnectorOfRoleRefusesTheOtherRoleAndSkipsStrays) {
+  Listener listener(ParseEndpoint("127.0.0.1:0"));
+  Fd stray = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
+  stray.Reset();
+  SyntheticPhysics physics_sim(Robots(1));
+  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash});
+  const std::string expected =
+      "physics connector 'phys0' connected, but this coordinator waits for a network connector";
+  try {
+    AcceptConnectorOfRole(listener, Role::kNetwork, Expect(), Within(5 * kNsPerS));
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.what(), expected);
+  }
+  phys.Join();
+  EXPECT_EQ(phys.error(), "the coordinator refused: " + expected);
+
+  SyntheticNetwork network_sim(Robots(1));
+  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash});
+  auto network = AcceptConnectorOfRole(listener, Role::kNetwork, Expect(), Within(5 * kNsPerS));
+  ASSERT_TRUE(network);
+  EXPECT_EQ(network->Describe(), "network connector 'net0'");
+  network->Stop("done");
+  net.Join();
+
+  try {
+    AcceptConnectorOfRole(listener, Role::kNetwork, Expect(), Within(100 * kNsPerMs));
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "no network connector connected to " +
+                                         listener.endpoint().ToString() + " within 100 ms");
+  }
+}
+
 }  // namespace
 }  // namespace sitlnet::coordinator
