@@ -1,6 +1,7 @@
 #include "runner/remote_medium.h"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 
 #include "coordinator/coordinator.h"
@@ -144,9 +145,18 @@ void RemoteMedium::AdvanceTo(TimeNs until_ns, std::vector<tapbridge::Delivery>* 
   Exchange(/*want_counters=*/false);
   for (const pm::Delivery& d : reply_.deliveries()) {
     if (d.station() < 0 || d.station() >= stations_) continue;
-    deliveries->push_back(tapbridge::Delivery{
-        d.station(), d.time_ns(), std::vector<uint8_t>(d.frame().begin(), d.frame().end()),
-        d.rx_power_dbm(), d.sinr_db()});
+    const std::string* frame = &d.frame();
+    if (frame->empty()) {
+      if (d.frame_index() < 0 || d.frame_index() >= reply_.frames_size()) {
+        healthy_ = false;
+        throw Error(Describe() + ": medium reply names frame " + std::to_string(d.frame_index()) +
+                    " of " + std::to_string(reply_.frames_size()));
+      }
+      frame = &reply_.frames(d.frame_index());
+    }
+    deliveries->push_back(tapbridge::Delivery{d.station(), d.time_ns(),
+                                              std::vector<uint8_t>(frame->begin(), frame->end()),
+                                              d.rx_power_dbm(), d.sinr_db()});
   }
   if (air != nullptr) {
     for (const pm::AirFrame& frame : reply_.air()) air->push_back(FromProto(frame));
@@ -277,7 +287,15 @@ void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::
           pm::Delivery* out = reply_.add_deliveries();
           out->set_station(d.station);
           out->set_time_ns(d.time_ns);
-          out->set_frame(d.frame.data(), d.frame.size());
+          // The receivers of one transmission get their copies one after
+          // the other: compare with the last frame only.
+          const std::string* last =
+              reply_.frames_size() ? &reply_.frames(reply_.frames_size() - 1) : nullptr;
+          if (!last || last->size() != d.frame.size() ||
+              std::memcmp(d.frame.data(), last->data(), d.frame.size()) != 0) {
+            reply_.add_frames(d.frame.data(), d.frame.size());
+          }
+          out->set_frame_index(reply_.frames_size() - 1);
           out->set_rx_power_dbm(d.rx_power_dbm);
           out->set_sinr_db(d.sinr_db);
         }
