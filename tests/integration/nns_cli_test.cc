@@ -1,6 +1,7 @@
 // The sitlnet CLI end to end: exec passes status and environment, status
 // shows what runs, kill -9 of `up` mid-way then `down` leaves nothing.
 #include <linux/capability.h>
+#include <sched.h>
 #include <signal.h>
 
 #include "tests/integration/nns_test_util.h"
@@ -62,6 +63,10 @@ TEST(NnsCliTest, StatusShowsRobotsDevicesAndProcesses) {
   Child sleeper({SitlnetBinary(), "exec", s.robots[0].netns, "--", "sh", "-c",
                  "echo ready; exec sleep 1000"});
   ASSERT_TRUE(sleeper.WaitForOutput(false, "ready", 10 * kNsPerS)) << sleeper.err();
+  // "ready" comes from sh just before it execs sleep (same pid): wait for the exec to land.
+  const std::string comm = "/proc/" + std::to_string(sleeper.pid()) + "/comm";
+  const TimeNs deadline = MonotonicNowNs() + 10 * kNsPerS;
+  while (ReadAll(comm) != "sleep\n" && MonotonicNowNs() < deadline) sched_yield();
   const CommandResult status = RunCommand({SitlnetBinary(), "status", s.name});
   EXPECT_EQ(status.exit_code, 0) << status.err;
   for (const RobotPlan& robot : s.robots) {

@@ -55,6 +55,21 @@ bool SendTo(int fd, Ipv4 to, uint8_t tag) {
                 sizeof address) == static_cast<ssize_t>(payload.size());
 }
 
+// Waits until wlan0 of `netns` is operational after the bridge attached its TAP. Attaching
+// turns the carrier on, but the kernel swaps the drop-everything noop qdisc for the real one
+// later, in its linkwatch work (net/core/link_watch.c: operstate, then dev_activate): a frame
+// sent before that is dropped. `ip` observes the operstate (`state UP`); the qdisc follows
+// within the same work item.
+bool WaitUntilOperational(const std::string& netns) {
+  const TimeNs deadline = MonotonicNowNs() + 5 * kNsPerS;
+  while (MonotonicNowNs() < deadline) {
+    const CommandResult link =
+        RunCommand({"ip", "-n", netns, "-o", "link", "show", "dev", "wlan0"});
+    if (link.out.find("state UP") != std::string::npos) return true;
+  }
+  return false;
+}
+
 // Runs one lockstep step in which each robot sent three frames to the other;
 // returns the delivery instants, in order.
 std::vector<TimeNs> LockstepDeliveries(const Scenario& scenario, uint64_t seed,
@@ -67,6 +82,7 @@ std::vector<TimeNs> LockstepDeliveries(const Scenario& scenario, uint64_t seed,
   core.AddDeliveryObserver([&](const Delivery& d) { instants.push_back(d.time_ns); });
   const RobotPlan& robot_a = scenario.robots[0];
   const RobotPlan& robot_b = scenario.robots[1];
+  EXPECT_TRUE(WaitUntilOperational(robot_a.netns) && WaitUntilOperational(robot_b.netns));
   const int a = UdpSocketIn(robot_a.netns, robot_a.wlan_address);
   const int b = UdpSocketIn(robot_b.netns, robot_b.wlan_address);
   for (uint8_t k = 1; k <= 3; ++k) {
