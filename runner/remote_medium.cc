@@ -112,7 +112,8 @@ RemoteMedium::RemoteMedium(const Scenario& scenario,
       stations_(static_cast<int>(scenario.robots.size())),
       counters_(scenario.robots.size()) {}
 
-RemoteMedium::~RemoteMedium() { Stop("the run ended"); }
+// Without an explicit Stop the run is being unwound by an error.
+RemoteMedium::~RemoteMedium() { Stop("the run ended early (see the coordinator's output)"); }
 
 void RemoteMedium::Submit(int station, TimeNs at_ns, std::span<const uint8_t> ethernet) {
   submit_pending_ = true;

@@ -245,20 +245,25 @@ RunReport RunScenario(const RunOptions& options) {
         << text;
   }
 
-  std::unique_ptr<coordinator::Connector> remote_network;
+  // Wrapped at once, so that whatever fails from here on, the remote side
+  // gets Stop with a reason rather than a closed connection.
+  std::unique_ptr<RemoteMedium> remote_owned;  // Until the bridge takes it.
   if (!options.listen.empty()) {
+    std::unique_ptr<coordinator::Connector> connector;
     try {
-      remote_network = AcceptRemoteNetwork(scenario, options, stop.fd());
+      connector = AcceptRemoteNetwork(scenario, options, stop.fd());
     } catch (const Error& error) {
       std::fprintf(stderr, "sitlnet run: %s\n", error.what());
       report.exit_code = 1;
       return report;
     }
-    if (!remote_network) {
+    if (!connector) {
       report.interrupted = true;
       report.exit_code = 130;
       return report;
     }
+    remote_owned = std::make_unique<RemoteMedium>(
+        scenario, std::move(connector), coordinator::CoordinatorOptions{}.answer_timeout_ns);
   }
 
   nns::Up(scenario);
@@ -283,11 +288,9 @@ RunReport RunScenario(const RunOptions& options) {
   bridge_options.seed = scenario.spec.timing().seed();
   RemoteMedium* remote_medium = nullptr;  // Owned by the bridge.
   std::unique_ptr<tapbridge::MediumModel> medium;
-  if (remote_network) {
-    auto remote = std::make_unique<RemoteMedium>(
-        scenario, std::move(remote_network), coordinator::CoordinatorOptions{}.answer_timeout_ns);
-    remote_medium = remote.get();
-    medium = std::move(remote);
+  if (remote_owned) {
+    remote_medium = remote_owned.get();
+    medium = std::move(remote_owned);
   } else {
     medium = tapbridge::MakeMacPhySimMedium(scenario);
   }
