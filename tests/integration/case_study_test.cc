@@ -54,20 +54,35 @@ std::map<long, std::map<int, std::pair<double, double>>> ReadTrajectories(const 
   return positions;
 }
 
-std::string RunCaseStudy(const std::string& tag, const std::vector<std::string>& extra) {
-  const char* tmp = std::getenv("TMPDIR");
-  const std::string out =
-      std::string(tmp ? tmp : "/tmp") + "/case_study_" + std::to_string(getpid()) + "_" + tag;
+// The case study under a name and subnets of this process (scenario names are global: a demo
+// or another test run flying "arrow" at the same time must not clash), otherwise unchanged.
+struct CaseStudy {
+  std::string name;
+  std::string path;
+};
+CaseStudy WriteCaseStudy(int slot) {
+  const unsigned pid = static_cast<unsigned>(getpid());
+  CaseStudy study;
+  study.name = "cs" + std::to_string(pid % 10000) + std::to_string(slot);
   const char* source = std::getenv("SITLNET_SOURCE_DIR");
-  std::vector<std::string> argv = {
-      SitlnetBinary(),
-      "run",
-      std::string(source ? source : ".") + "/scenarios/arrow_flocking.textproto",
-      "--out",
-      out,
-      "--pacing",
-      "lockstep",
-      "--no-progress"};
+  std::string text =
+      ReadAll(std::string(source ? source : ".") + "/scenarios/arrow_flocking.textproto");
+  const std::string original = "name: \"arrow\"";
+  const size_t at = text.find(original);
+  EXPECT_NE(at, std::string::npos) << "scenarios/arrow_flocking.textproto has no " << original;
+  if (at != std::string::npos) text.replace(at, original.size(), "name: \"" + study.name + "\"");
+  const std::string third = std::to_string(pid % 250);
+  text += "addresses { wlan_subnet: \"10." + std::to_string(236 + slot) + "." + third +
+          ".0/24\" ctl_subnet: \"10." + std::to_string(196 + slot) + "." + third + ".0/24\" }\n";
+  study.path = TempDir() + "/" + study.name + ".textproto";
+  std::ofstream(study.path) << text;
+  return study;
+}
+
+std::string RunCaseStudy(const CaseStudy& study, const std::vector<std::string>& extra) {
+  const std::string out = TempDir() + "/" + study.name + "-out";
+  std::vector<std::string> argv = {SitlnetBinary(), "run",      study.path,     "--out", out,
+                                   "--pacing",      "lockstep", "--no-progress"};
   argv.insert(argv.end(), extra.begin(), extra.end());
   const CommandResult result = RunCommand(argv, 900 * kNsPerS);
   EXPECT_EQ(result.exit_code, 0) << result.err;
@@ -76,8 +91,9 @@ std::string RunCaseStudy(const std::string& tag, const std::vector<std::string>&
 
 TEST(CaseStudyTest, ShadowingSplitsTheFleetAndItReunitesPastTheArrow) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  DownGuard guard("arrow");
-  const std::string out = RunCaseStudy("shadowing", {});
+  const CaseStudy study = WriteCaseStudy(0);
+  DownGuard guard(study.name);
+  const std::string out = RunCaseStudy(study, {});
   const auto connectivity = ReadConnectivity(out + "/connectivity.csv");
   const auto positions = ReadTrajectories(out + "/trajectories.csv");
   ASSERT_FALSE(connectivity.empty());
@@ -112,8 +128,9 @@ TEST(CaseStudyTest, ShadowingSplitsTheFleetAndItReunitesPastTheArrow) {
 
 TEST(CaseStudyTest, WithoutShadowingTheFleetStaysConnected) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  DownGuard guard("arrow");
-  const std::string out = RunCaseStudy("no_shadowing", {"--no-shadowing"});
+  const CaseStudy study = WriteCaseStudy(1);
+  DownGuard guard(study.name);
+  const std::string out = RunCaseStudy(study, {"--no-shadowing"});
   const auto connectivity = ReadConnectivity(out + "/connectivity.csv");
   ASSERT_GE(connectivity.size(), 1000u);  // 130 s at 100 ms
   for (const auto& [time_ms, sample] : connectivity) {
