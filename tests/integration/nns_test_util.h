@@ -24,6 +24,7 @@ using integration_test::IsCi;
 using integration_test::PingProgram;
 using integration_test::ReadAll;
 using integration_test::RunCommand;
+using integration_test::RunWithoutCapabilities;
 using integration_test::SitlnetBinary;
 using integration_test::TempDir;
 

@@ -48,7 +48,8 @@ bool HasCapability(int cap) {
   return (data[cap / 32].effective & (1u << (cap % 32))) != 0;
 }
 
-Child::Child(const std::vector<std::string>& argv, const std::vector<std::string>& env) {
+Child::Child(const std::vector<std::string>& argv, const std::vector<std::string>& env,
+             const std::function<void()>& before_exec) {
   int out[2], err[2];
   SITLNET_DEMAND(pipe2(out, O_CLOEXEC) == 0 && pipe2(err, O_CLOEXEC) == 0);
   pid_ = fork();
@@ -59,6 +60,7 @@ Child::Child(const std::vector<std::string>& argv, const std::vector<std::string
     const int null = open("/dev/null", O_RDONLY);
     dup2(null, 0);
     for (const std::string& entry : env) putenv(const_cast<char*>(entry.c_str()));
+    if (before_exec) before_exec();
     std::vector<char*> args = CStrings(argv);
     execvp(args[0], args.data());
     _exit(127);
@@ -144,6 +146,30 @@ int Child::Wait(TimeNs timeout_ns) {
 CommandResult RunCommand(const std::vector<std::string>& argv, TimeNs timeout_ns,
                          const std::vector<std::string>& env) {
   Child child(argv, env);
+  CommandResult result;
+  result.exit_code = child.Wait(timeout_ns);
+  result.out = child.out();
+  result.err = child.err();
+  return result;
+}
+
+CommandResult RunWithoutCapabilities(const std::vector<std::string>& argv, uint64_t drop_mask,
+                                     TimeNs timeout_ns) {
+  // Read before fork: the child only makes system calls.
+  __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct data[_LINUX_CAPABILITY_U32S_3]{};
+  SITLNET_DEMAND(syscall(SYS_capget, &header, data) == 0);
+  for (int i = 0; i < _LINUX_CAPABILITY_U32S_3; ++i) {
+    const auto keep = static_cast<uint32_t>(~(drop_mask >> (32 * i)));
+    data[i].effective &= keep;
+    data[i].permitted &= keep;
+    data[i].inheritable &= keep;
+  }
+  Child child(argv, {}, [&] {
+    if (prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0 || syscall(SYS_capset, &header, data) != 0) {
+      _exit(126);
+    }
+  });
   CommandResult result;
   result.exit_code = child.Wait(timeout_ns);
   result.out = child.out();

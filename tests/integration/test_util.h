@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 #include <sys/types.h>
 
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -53,7 +55,10 @@ struct CommandResult {
 // to the environment.
 class Child {
  public:
-  explicit Child(const std::vector<std::string>& argv, const std::vector<std::string>& env = {});
+  // `before_exec`, if given, runs in the child between fork and exec (async-signal-safe calls
+  // only); it may call _exit.
+  explicit Child(const std::vector<std::string>& argv, const std::vector<std::string>& env = {},
+                 const std::function<void()>& before_exec = nullptr);
   ~Child();
   Child(const Child&) = delete;
   Child& operator=(const Child&) = delete;
@@ -84,6 +89,15 @@ class Child {
 // Runs argv to completion (killed after timeout_ns), capturing its output.
 CommandResult RunCommand(const std::vector<std::string>& argv, TimeNs timeout_ns = 30 * kNsPerS,
                          const std::vector<std::string>& env = {});
+
+// Runs argv to completion as this user but without the capabilities in `drop_mask` (bit i =
+// capability i, ~0 for all): the child sets no_new_privs, then clears them from its effective,
+// permitted and inheritable sets. no_new_privs keeps an exec as uid 0 from granting them back
+// (security/commoncap.c, cap_bprm_creds_from_file), so unlike dropping them from the bounding
+// set (setpriv) this needs no CAP_SETPCAP and works in the min-caps pass. Exit code 126 if the
+// child could not drop them.
+CommandResult RunWithoutCapabilities(const std::vector<std::string>& argv, uint64_t drop_mask,
+                                     TimeNs timeout_ns = 30 * kNsPerS);
 
 //---------------------------------- Paths -----------------------------------
 
