@@ -158,6 +158,33 @@ TEST(WorldTest, QuadFlownIntoABoxStopsAgainstIt) {
   EXPECT_LT(std::abs(world.Pose(0).velocity_m_s.x), 0.05);
 }
 
+TEST(WorldTest, AdvancingInOneCallOrStepByStepGivesTheSameFlightAndImu) {
+  // World evaluates the accelerometer only in the last step of an Advance call (the others run
+  // on a copy of the model with sensors off): 10 calls of 1 step must equal 1 call of 10, for
+  // the pose and for the IMU, here through a collision (contact forces in the accelerometer).
+  const Scenario scenario = MakeScenario(
+      "robot { name: \"a\" position_m { z: 2 } }\n"
+      "obstacle { name: \"wall\" center_m { x: 3 z: 2 } size_m { x: 1 y: 6 z: 4 } }");
+  World by_call(scenario), by_step(scenario);
+  for (World* world : {&by_call, &by_step}) {
+    SetHover(world, 0);
+    world->SetVelocity(0, {2, 0, 0});
+  }
+  for (int ms = 0; ms < 2000; ms += 10) {
+    by_call.Advance(10);
+    for (int s = 0; s < 10; ++s) by_step.Advance(1);
+    const ImuSample a = by_call.Imu(0), b = by_step.Imu(0);
+    ASSERT_EQ(a.accel_m_s2.x, b.accel_m_s2.x) << ms;
+    ASSERT_EQ(a.accel_m_s2.y, b.accel_m_s2.y) << ms;
+    ASSERT_EQ(a.accel_m_s2.z, b.accel_m_s2.z) << ms;
+    ASSERT_EQ(a.gyro_rad_s.y, b.gyro_rad_s.y) << ms;
+    ASSERT_EQ(by_call.Pose(0).position_m.x, by_step.Pose(0).position_m.x) << ms;
+    ASSERT_EQ(by_call.Pose(0).orientation.y, by_step.Pose(0).orientation.y) << ms;
+  }
+  // The collision happened (contact force along x in the accelerometer at some point).
+  EXPECT_GT(by_call.Pose(0).position_m.x, 2.3);
+}
+
 TEST(WorldTest, LidarRayReturnsTheDistanceToABox) {
   // Box face at x = 4 (centre 5, size 2); 4 rays over 360 deg: -180, -90, 0 (nose), 90.
   const Scenario scenario = MakeScenario(
