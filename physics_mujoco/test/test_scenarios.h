@@ -12,8 +12,10 @@ namespace sitlnet::physics::testing {
 // A scenario with `body` inserted (robots, obstacles, airframes...). Its ctl subnet is on the
 // loopback network (127.77.0.0/16: robot i's server at 127.77.0.(4i+1), robot side .(4i+2)),
 // so protocol tests run without privileges; physics_port is unique to this process.
-// `timing` is added inside its timing block (e.g. "physics_integrator: INTEGRATOR_EULER").
-Scenario MakeScenario(const std::string& body, const std::string& timing = "");
+// `timing` is added inside its timing block (e.g. "physics_integrator: INTEGRATOR_EULER");
+// `physics_step_us` must divide the 10 ms iteration.
+Scenario MakeScenario(const std::string& body, const std::string& timing = "",
+                      int physics_step_us = 1000);
 
 // UDP port of the physics server in MakeScenario's scenarios, and a second free one.
 uint16_t TestPhysicsPort();

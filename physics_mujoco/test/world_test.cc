@@ -67,6 +67,43 @@ TEST(WorldTest, FreeFallMatchesHalfGTSquaredWithinOneMillimetre) {
   EXPECT_NEAR(imu.accel_m_s2.z, 0, 1e-6);
 }
 
+TEST(WorldTest, Rk4AtTwoMillisecondStepsMeetsTheFreeFallHoverAndWallOracles) {
+  // Half the model evaluations of 1 ms steps (docs/performance.md): the same oracles hold.
+  const Scenario fall = MakeScenario("robot { name: \"a\" position_m { z: 20 } }", "", 2000);
+  World world(fall);
+  world.Advance(500);  // 1 s
+  EXPECT_EQ(world.time_ns(0), kNsPerS);
+  EXPECT_NEAR(world.Pose(0).position_m.z, 20 - kG / 2, 1e-3);
+  const Scenario hover = MakeScenario("robot { name: \"a\" position_m { z: 5 } }", "", 2000);
+  World hovering(hover);
+  SetHover(&hovering, 0);
+  double worst_m = 0;
+  for (int i = 0; i < 1000; ++i) {  // 10 s
+    hovering.Advance(5);
+    worst_m = std::max(worst_m, std::abs(hovering.Pose(0).position_m.z - 5));
+  }
+  EXPECT_LT(worst_m, 0.01);
+  EXPECT_NEAR(hovering.Imu(0).accel_m_s2.z, kG, 1e-6);
+  // Into a wall at 2 m/s (as QuadFlownIntoABoxStopsAgainstIt): the contact's 4 ms time
+  // constant is two 2 ms steps, the least MuJoCo keeps; it still stops against the wall.
+  const Scenario wall = MakeScenario(
+      "robot { name: \"a\" position_m { z: 2 } }\n"
+      "obstacle { name: \"wall\" center_m { x: 3 z: 2 } size_m { x: 1 y: 6 z: 4 } }",
+      "", 2000);
+  World ramming(wall);
+  SetHover(&ramming, 0);
+  ramming.SetVelocity(0, {2, 0, 0});
+  double max_x = 0;
+  for (int i = 0; i < 300; ++i) {  // 3 s
+    ramming.Advance(5);
+    max_x = std::max(max_x, ramming.Pose(0).position_m.x);
+  }
+  const double contact_x = 2.5 - 0.14;
+  EXPECT_GT(max_x, contact_x - 0.01);
+  EXPECT_LT(max_x, contact_x + 0.02);
+  EXPECT_LT(std::abs(ramming.Pose(0).velocity_m_s.x), 0.05);
+}
+
 TEST(WorldTest, SemiImplicitEulerLagsFreeFallByHalfGTDt) {
   // Documents why RK4 is the default: Euler's position error is g t dt / 2 (4.9 mm here).
   const Scenario scenario = MakeScenario("robot { name: \"a\" position_m { z: 20 } }");
