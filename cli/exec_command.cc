@@ -84,7 +84,13 @@ int RunExecCommand(int argc, char** argv) {
   if (status != kExitOk) return status;
   execvp(command[0], command);
   const int err = errno;
-  std::fprintf(stderr, "sitlnet exec: run \"%s\": %s\n", command[0], std::strerror(err));
+  // EPERM from exec of an existing file: most often a program with file capabilities (Debian's
+  // ping: cap_net_raw) outside this process's bounding set, e.g. in a container without them.
+  const char* hint = err == EPERM ? " (a program with file capabilities, such as ping, cannot "
+                                    "run when they are outside the bounding set: "
+                                    "docs/security.md)"
+                                  : "";
+  std::fprintf(stderr, "sitlnet exec: run \"%s\": %s%s\n", command[0], std::strerror(err), hint);
   return err == ENOENT ? kExitNotFound : kExitCannotExecute;
 }
 

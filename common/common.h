@@ -45,6 +45,12 @@ inline constexpr TimeNs kNsPerS = 1000 * kNsPerMs;
 // CLOCK_MONOTONIC in nanoseconds.
 TimeNs MonotonicNowNs();
 
+//-------------------------------- Privileges --------------------------------
+
+// Whether the calling thread holds capability `cap` (CAP_* from <linux/capability.h>) in its
+// effective set, read with capget (no libcap dependency).
+bool HasEffectiveCapability(int cap);
+
 //-------------------------------- Scheduling --------------------------------
 
 // Asks for SCHED_FIFO `priority` (1..99) for the calling thread; threads it creates afterwards

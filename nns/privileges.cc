@@ -1,7 +1,6 @@
 // Privilege check: one line naming what is missing and how to get it.
 #include <fcntl.h>
 #include <linux/capability.h>
-#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -10,17 +9,6 @@
 #include "nns/internal.h"
 
 namespace sitlnet::nns {
-namespace {
-
-// Effective capability bit `cap`, read with capget (no libcap dependency).
-bool HasEffectiveCapability(int cap) {
-  __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
-  __user_cap_data_struct data[_LINUX_CAPABILITY_U32S_3]{};
-  if (syscall(SYS_capget, &header, data) != 0) return false;
-  return (data[cap / 32].effective & (1u << (cap % 32))) != 0;
-}
-
-}  // namespace
 
 std::optional<std::string> MissingPrivileges() {
   std::string missing;

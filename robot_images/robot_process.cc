@@ -1,5 +1,6 @@
 // Robot processes: `sitlnet exec` of an image, logged, stopped by pid.
 #include <fcntl.h>
+#include <linux/capability.h>
 #include <poll.h>
 #include <pwd.h>
 #include <signal.h>
@@ -39,6 +40,14 @@ RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
     if (user == nullptr) {
       throw Error("robot \"" + robot_ + "\": image user \"" + image.manifest.user() +
                   "\" does not exist on this host (" + image.manifest_path + ")");
+    }
+    // Checked here rather than left to setpriv, whose "setresuid failed" would only reach the
+    // robot's log (docs/security.md: a run under only CAP_NET_ADMIN + CAP_SYS_ADMIN).
+    if (!HasEffectiveCapability(CAP_SETUID) || !HasEffectiveCapability(CAP_SETGID)) {
+      throw Error("robot \"" + robot_ + "\": image user \"" + image.manifest.user() + "\" (" +
+                  image.manifest_path +
+                  ") needs CAP_SETUID and CAP_SETGID to switch user: run as root, or remove "
+                  "`user` from the manifest");
     }
     for (const char* arg : {"setpriv", "--init-groups", "--reset-env"}) args.push_back(arg);
     args.push_back("--reuid=" + std::to_string(user->pw_uid));

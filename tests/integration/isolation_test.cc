@@ -9,9 +9,11 @@
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <fstream>
@@ -298,6 +300,40 @@ TEST(IsolationTest, RobotImageWithUserNobodyRunsAsUid65534) {
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(text, "65534\n65534\nping-ok\n");
   std::remove(log.c_str());
+  std::remove(manifest.c_str());
+}
+
+// Without CAP_SETUID/CAP_SETGID (a container given only NET_ADMIN + SYS_ADMIN) an image with
+// `user` is refused up front with one line naming the robot, the manifest and the capabilities,
+// not left to fail inside the robot's log. Runs in both passes: with the capabilities, this
+// thread lowers its own effective set for the check and raises it again (capabilities are
+// per thread; lowering the effective set keeps them in the permitted set).
+TEST(IsolationTest, ImageWithUserNeedsCapSetuidAndSaysSo) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const std::string dir = ::testing::TempDir();
+  const std::string manifest = dir + "/iso-user-" + std::to_string(getpid()) + ".textproto";
+  std::ofstream(manifest) << "name: \"asuser\"\nuser: \"nobody\"\ncommand: \"/bin/true\"\n";
+  const images::Image image = images::LoadImage("", manifest);
+  images::LaunchContext context;
+  context.scenario = "never-up";
+  context.robot = "r1";
+  __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct saved[_LINUX_CAPABILITY_U32S_3]{};
+  ASSERT_EQ(syscall(SYS_capget, &header, saved), 0);
+  __user_cap_data_struct lowered[_LINUX_CAPABILITY_U32S_3];
+  std::copy(std::begin(saved), std::end(saved), std::begin(lowered));
+  lowered[CAP_SETUID / 32].effective &= ~(1u << (CAP_SETUID % 32));
+  ASSERT_EQ(syscall(SYS_capset, &header, lowered), 0);
+  std::string error;
+  try {
+    images::RobotProcess process(image, context, SitlnetBinary(), dir + "/iso-user.log");
+  } catch (const Error& e) {
+    error = e.what();
+  }
+  ASSERT_EQ(syscall(SYS_capset, &header, saved), 0);
+  EXPECT_EQ(error, "robot \"r1\": image user \"nobody\" (" + manifest +
+                       ") needs CAP_SETUID and CAP_SETGID to switch user: run as root, or "
+                       "remove `user` from the manifest");
   std::remove(manifest.c_str());
 }
 
