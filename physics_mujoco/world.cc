@@ -37,13 +37,17 @@ struct CompiledModel {
   int obstacles = 0;
 };
 
-// Every model of one airframe: one per tile visited, and one with every obstacle.
+// Every model of one airframe: one per distinct obstacle set of the tiles visited, and one
+// with every obstacle.
 struct AirframeModels {
   const proto::Airframe* airframe = nullptr;
   std::string what;  // "file: airframe \"name\"", for errors
   RotorModel rotors;
   std::unique_ptr<CompiledModel> all;
-  std::map<TileIndex, std::unique_ptr<CompiledModel>> tiles;  // under World::Impl::models_mutex
+  // Under World::Impl::models_mutex: tiles with the same obstacles share a model, so a robot
+  // moving between them keeps its mjData (open ground: the ground-only model everywhere).
+  std::map<TileIndex, const CompiledModel*> tiles;
+  std::map<std::vector<int>, std::unique_ptr<CompiledModel>> by_obstacles;
 };
 
 struct RobotSlot {
@@ -137,15 +141,22 @@ struct World::Impl {
         new CompiledModel{std::move(compiled), std::move(without_sensors), body, count});
   }
 
-  // The tile's model, compiled on first use and shared by every robot of the airframe.
+  // The tile's model, compiled on first use and shared by every robot of the airframe and
+  // every tile with the same obstacles.
   const CompiledModel* TileModel(AirframeModels* am, TileIndex tile) {
     std::lock_guard<std::mutex> lock(models_mutex);
-    auto& model = am->tiles[tile];
+    const CompiledModel*& model = am->tiles[tile];
     if (!model) {
-      const std::vector<int> obstacles = tiles->ObstaclesOf(tile);
-      model = Compile(*am, &obstacles);
+      std::vector<int> obstacles = tiles->ObstaclesOf(tile);
+      if (static_cast<int>(obstacles.size()) == scenario->spec.obstacle_size()) {
+        model = am->all.get();
+      } else {
+        auto& compiled = am->by_obstacles[obstacles];
+        if (!compiled) compiled = Compile(*am, &obstacles);
+        model = compiled.get();
+      }
     }
-    return model.get();
+    return model;
   }
 
   bool Fast(const mjData* d) const {
@@ -246,6 +257,7 @@ World::World(const Scenario& scenario, const WorldOptions& options)
           scenario.source_path + ": airframe \"" +
               (plan.airframe.name().empty() ? std::string("default") : plan.airframe.name()) + "\"",
           RotorModel(plan.airframe, scenario.physics_step_ns),
+          {},
           {},
           {}});
       // Compiled up front: bad airframes fail here, and it is the fallback of every tile.

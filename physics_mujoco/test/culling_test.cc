@@ -49,7 +49,8 @@ std::string CullingScenario() {
       text += Box(x, y, 6, 3 + (i + j + 3) % 4, 2 + std::abs(i * j) % 3, 12, 23.0 * i - 41.0 * j);
     }
   }
-  text += Box(60, -80, 0.5, 200, 4, 1, 0);                   // the slider's table
+  text += Box(60, -80, 0.5, 200, 4, 1, 0);  // the slider's table
+  text += Box(10, -70, 6, 1, 1, 12, 0);     // only in tile -1's model: the slider must switch
   text += Box(162.5 + 0.14 - 0.004 + 1, 80, 3, 2, 8, 6, 0);  // the rammer's wall, 2 m thick
   return text;
 }
@@ -106,6 +107,7 @@ TEST(CullingTest, TileModelsFlyBitIdenticalToTheModelWithEveryObstacle) {
   World tiles7(scenario, Culled(7));  // lidar reach 15 m > tile: many more switches
   std::vector<World*> worlds = {&all, &tiles20, &tiles7};
   for (World* world : worlds) StartFlights(world);
+  const int slider_obstacles_at_start = tiles20.obstacles_in_model(1);
   std::vector<float> want, got;
   int lidar_hits = 0;
   bool slider_flat = true, slider_crossed = false, rammer_stopped = false;
@@ -136,6 +138,7 @@ TEST(CullingTest, TileModelsFlyBitIdenticalToTheModelWithEveryObstacle) {
   EXPECT_GT(lidar_hits, 1000);
   EXPECT_TRUE(slider_flat);
   EXPECT_TRUE(slider_crossed);
+  EXPECT_NE(tiles20.obstacles_in_model(1), slider_obstacles_at_start);  // it changed model
   EXPECT_TRUE(rammer_stopped);
   EXPECT_LT(all.Pose(2).position_m.x, 162.5);
   EXPECT_EQ(all.model_switches(), 0);
@@ -174,6 +177,23 @@ TEST(CullingTest, FastRobotUsesTheModelWithEveryObstacle) {
   EXPECT_EQ(world.obstacles_in_model(0), 2);
   world.SetVelocity(0, {0, 0, 0});
   EXPECT_EQ(world.obstacles_in_model(0), 0);
+}
+
+TEST(CullingTest, TilesWithTheSameObstaclesShareOneModel) {
+  // 100 m east over open ground (5 tiles of 20 m), one box far north: every tile on the way
+  // has no obstacle, so after the start (the model with every obstacle, then the ground-only
+  // one) the robot never changes model. Compiled: those two.
+  const Scenario scenario = MakeScenario("robot { name: \"a\" position_m { x: 1 y: 1 z: 2 } }\n" +
+                                         Box(50, 500, 2, 1, 1, 1, 0));
+  World world(scenario, Culled(20));
+  const double w = HoverSpeed(world.airframe(0));
+  world.SetRotorSpeeds(0, {w, w, w, w});
+  world.SetVelocity(0, {10, 0, 0});
+  world.Advance(10000);
+  EXPECT_GT(world.Pose(0).position_m.x, 100);
+  EXPECT_EQ(world.obstacles_in_model(0), 0);
+  EXPECT_EQ(world.model_switches(), 1);
+  EXPECT_EQ(world.models_compiled(), 2);
 }
 
 TEST(ObstacleTilesTest, TileModelsHoldTheBoxesWithinReachOfTheRegionYawIncluded) {
