@@ -170,7 +170,7 @@ Row RunOne(const std::string& transport, int robots, int net_step_us, int64_t it
     WaitLimits limits;
     limits.timeout_ns = 10 * kNsPerS;
     limits.deadline_ns = MonotonicNowNs() + limits.timeout_ns;
-    HandshakeExpectation expect{ScenarioHash(scenario), scenario.iteration_ns, false};
+    HandshakeExpectation expect{ScenarioHash(scenario), scenario.iteration_ns, false, std::nullopt};
     if (hybrid) {
       BenchPhysics physics_sim(scenario);
       auto physics = MakeInProcessConnector("physics", Role::kPhysics, physics_sim.get(),

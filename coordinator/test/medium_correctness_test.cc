@@ -66,7 +66,7 @@ std::vector<DeliveryRecord> CoSimulate(const Scenario& scenario) {
   WaitLimits limits;
   limits.timeout_ns = 5 * kNsPerS;
   limits.deadline_ns = MonotonicNowNs() + limits.timeout_ns;
-  HandshakeExpectation expect{hash, scenario.iteration_ns, false};
+  HandshakeExpectation expect{hash, scenario.iteration_ns, false, std::nullopt};
   auto network = AcceptConnector(Channel(listener.Accept(limits.deadline_ns)), expect, limits);
   CoordinatorOptions options = OptionsFromScenario(scenario);
   EXPECT_EQ(options.pacing, Pacing::kLockstep);

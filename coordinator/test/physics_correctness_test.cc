@@ -110,7 +110,7 @@ TEST(PhysicsCorrectness, CoSimulatedTrajectoriesAreBitIdenticalToPhysicsAlone) {
   limits.timeout_ns = 10 * kNsPerS;
   limits.deadline_ns = MonotonicNowNs() + limits.timeout_ns;
   auto physics = AcceptConnector(Channel(listener.Accept(limits.deadline_ns)),
-                                 {hash, scenario.iteration_ns, false}, limits);
+                                 {hash, scenario.iteration_ns, false, std::nullopt}, limits);
   const CoordinatorOptions options = OptionsFromScenario(scenario);
   ASSERT_EQ(options.iterations, kIterations);
   EXPECT_EQ(RunCoordinator(*physics, *network, options).iterations_done, kIterations);
@@ -178,7 +178,8 @@ RunOutputs RunBothOverSockets(const Scenario& scenario) {
   WaitLimits limits;
   limits.timeout_ns = 10 * kNsPerS;
   limits.deadline_ns = MonotonicNowNs() + limits.timeout_ns;
-  AcceptedConnectors c = AcceptConnectors(listener, {hash, scenario.iteration_ns, false}, limits);
+  AcceptedConnectors c =
+      AcceptConnectors(listener, {hash, scenario.iteration_ns, false, std::nullopt}, limits);
   RunCoordinator(*c.physics, *c.network, OptionsFromScenario(scenario));
   c = {};
   phys.join();
