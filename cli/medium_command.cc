@@ -1,6 +1,5 @@
 // `sitlnet medium SCENARIO [--pcap FILE]`: the medium daemon of a scenario
 // that is up (docs/tapbridge.md).
-#include <google/protobuf/text_format.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -14,6 +13,7 @@
 #include "coordinator/coordinator.h"
 #include "nns/nns.h"
 #include "runner/remote_medium.h"
+#include "runner/runner.h"
 #include "scenario/scenario.h"
 #include "tapbridge/tapbridge.h"
 
@@ -65,15 +65,11 @@ std::string Seconds(TimeNs ns) {
 // another host (runner/remote_medium.h).
 int ServeRemoteMedium(Scenario scenario, const std::string& endpoint_text,
                       std::optional<uint64_t> seed, bool no_shadowing, TimeNs connect_timeout_ns) {
-  if (seed || no_shadowing) {  // As `sitlnet run` applies them (runner/run.cc).
-    proto::Scenario spec = scenario.spec;
-    if (seed) spec.mutable_timing()->set_seed(*seed);
-    if (no_shadowing) spec.mutable_radio()->set_shadowing(false);
-    std::string text;
-    google::protobuf::TextFormat::PrintToString(spec, &text);
-    const std::string source = scenario.source_path;
-    scenario = LoadScenarioText(text, source + " (with overrides)");
-    scenario.source_path = source;
+  if (seed || no_shadowing) {  // As `sitlnet run` applies them.
+    runner::RunOptions overrides;
+    overrides.seed = seed;
+    overrides.no_shadowing = no_shadowing;
+    scenario = runner::ApplyRunOverrides(scenario, overrides);
   }
   const coordinator::Endpoint endpoint = coordinator::ParseEndpoint(endpoint_text);
   std::fprintf(stderr, "sitlnet medium: %s: connecting to the coordinator at %s\n",
@@ -142,7 +138,15 @@ int RunMediumCommand(int argc, char** argv) {
     } else if (arg == "--no-shadowing") {
       no_shadowing = true;
     } else if (arg == "--connect-timeout" && i + 1 < argc) {
-      connect_timeout_ns = static_cast<TimeNs>(number(argv[++i]) * kNsPerS);
+      const double seconds = number(argv[++i]);
+      // Bounded: seconds x 1e9 must fit the int64 nanoseconds added to the clock.
+      if (!(seconds > 0 && seconds <= 86400)) {
+        std::fprintf(stderr,
+                     "sitlnet medium: --connect-timeout \"%s\" is not 0 < S <= 86400 seconds\n",
+                     argv[i]);
+        return kExitUsage;
+      }
+      connect_timeout_ns = static_cast<TimeNs>(seconds * kNsPerS);
     } else if (arg == "--pcap" && i + 1 < argc) {
       options.pcap_path = argv[++i];
     } else if (arg == "--stats-interval-ms" && i + 1 < argc) {

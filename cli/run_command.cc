@@ -123,8 +123,9 @@ int RunRunCommand(int argc, char** argv) {
       const std::string text = value();
       char* end = nullptr;
       const double seconds = std::strtod(text.c_str(), &end);
-      if (end == text.c_str() || *end != '\0' || !(seconds > 0)) {
-        std::fprintf(stderr, "sitlnet run: --remote-timeout \"%s\" is not a positive number\n",
+      // Bounded: seconds x 1e9 must fit the int64 nanoseconds added to the clock.
+      if (end == text.c_str() || *end != '\0' || !(seconds > 0 && seconds <= 86400)) {
+        std::fprintf(stderr, "sitlnet run: --remote-timeout \"%s\" is not 0 < S <= 86400 seconds\n",
                      text.c_str());
         return kExitUsage;
       }

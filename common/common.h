@@ -60,8 +60,13 @@ bool HasEffectiveCapability(int cap);
 // RLIMIT_RTPRIO) for the caller to print as a warning: running at normal priority still works.
 std::string RequestRealtimePriority(int priority);
 
-// In a forked child before exec: back to SCHED_OTHER, so that programs started by a realtime
-// harness (robot images, gnuplot) do not inherit its priority. Lowering needs no privilege.
+// Does nothing if the thread already has a realtime policy (a run started under `chrt -f`: the
+// caller's choice stands).
+//
+// In a forked child before exec: back to SCHED_OTHER if RequestRealtimePriority raised this
+// process, so that programs started by the harness (robot images, gnuplot) do not inherit a
+// priority they were not given; a policy inherited from the caller is passed on unchanged.
+// Lowering needs no privilege.
 void ResetToNormalScheduling();
 
 //--------------------------------- Files ------------------------------------

@@ -24,25 +24,8 @@
 namespace sitlnet::runner {
 namespace {
 
-// The scenario with the command line's overrides applied, revalidated.
 Scenario LoadWithOverrides(const RunOptions& options) {
-  Scenario scenario = LoadScenarioFile(options.scenario_path);
-  proto::Scenario spec = scenario.spec;
-  if (options.duration_s) {
-    if (!(*options.duration_s > 0)) throw Error("--duration must be > 0 seconds");
-    spec.mutable_timing()->set_duration_ms(static_cast<int64_t>(*options.duration_s * 1000));
-  }
-  if (options.lockstep) {
-    spec.mutable_timing()->set_pacing(*options.lockstep ? proto::Timing::PACING_LOCKSTEP
-                                                        : proto::Timing::PACING_REALTIME);
-  }
-  if (options.seed) spec.mutable_timing()->set_seed(*options.seed);
-  if (options.no_shadowing) spec.mutable_radio()->set_shadowing(false);
-  std::string text;
-  google::protobuf::TextFormat::PrintToString(spec, &text);
-  Scenario effective = LoadScenarioText(text, options.scenario_path + " (with overrides)");
-  effective.source_path = options.scenario_path;
-  return effective;
+  return ApplyRunOverrides(LoadScenarioFile(options.scenario_path), options);
 }
 
 std::string DefaultRunDir(const std::string& scenario_name) {
@@ -186,8 +169,10 @@ physics::ServerOptions PhysicsOptionsFromEnvironment() {
   if (const char* tile = std::getenv("SITLNET_PHYSICS_CULL_TILE_M"); tile && *tile) {
     char* end = nullptr;
     const double value = std::strtod(tile, &end);
-    if (*end != '\0' || !(value >= 0 && value <= 1e6)) {
-      throw Error(std::string("SITLNET_PHYSICS_CULL_TILE_M=\"") + tile + "\": want 0..1e6 m");
+    // 0 or at least a metre: a tile index is the position over the tile size, as an int64.
+    if (*end != '\0' || !(value == 0 || (value >= 1 && value <= 1e6))) {
+      throw Error(std::string("SITLNET_PHYSICS_CULL_TILE_M=\"") + tile +
+                  "\": want 0 (no culling) or 1..1e6 m");
     }
     options.world.cull_obstacles = value > 0;
     if (value > 0) options.world.cull_tile_m = value;
@@ -222,6 +207,26 @@ std::unique_ptr<coordinator::Connector> AcceptRemoteNetwork(const Scenario& scen
 }
 
 }  // namespace
+
+// The scenario with the command line's overrides applied, revalidated.
+Scenario ApplyRunOverrides(const Scenario& scenario, const RunOptions& options) {
+  proto::Scenario spec = scenario.spec;
+  if (options.duration_s) {
+    if (!(*options.duration_s > 0)) throw Error("--duration must be > 0 seconds");
+    spec.mutable_timing()->set_duration_ms(static_cast<int64_t>(*options.duration_s * 1000));
+  }
+  if (options.lockstep) {
+    spec.mutable_timing()->set_pacing(*options.lockstep ? proto::Timing::PACING_LOCKSTEP
+                                                        : proto::Timing::PACING_REALTIME);
+  }
+  if (options.seed) spec.mutable_timing()->set_seed(*options.seed);
+  if (options.no_shadowing) spec.mutable_radio()->set_shadowing(false);
+  std::string text;
+  google::protobuf::TextFormat::PrintToString(spec, &text);
+  Scenario effective = LoadScenarioText(text, scenario.source_path + " (with overrides)");
+  effective.source_path = scenario.source_path;
+  return effective;
+}
 
 RunReport RunScenario(const RunOptions& options) {
   const TimeNs begin_ns = MonotonicNowNs();
@@ -402,18 +407,14 @@ RunReport RunScenario(const RunOptions& options) {
   if (remote_medium) {
     const MediumLinkStats& link = remote_medium->stats();
     report.medium_link = link;
-    const double n = static_cast<double>(std::max<int64_t>(1, link.round_trips));
+    const MediumLinkStats::Means mean = link.PerRoundTrip();
     std::fprintf(stderr,
                  "sitlnet run: medium link to %s: %lld round trips (%lld quiet steps without), "
                  "mean %.1f us each (remote medium %.1f us, transport %.1f us), %.0f B out, "
                  "%.0f B back\n",
                  remote_medium->Describe().c_str(), static_cast<long long>(link.round_trips),
-                 static_cast<long long>(link.quiet_steps),
-                 static_cast<double>(link.round_trip_ns) / n / kNsPerUs,
-                 static_cast<double>(link.remote_busy_ns) / n / kNsPerUs,
-                 static_cast<double>(link.round_trip_ns - link.remote_busy_ns) / n / kNsPerUs,
-                 static_cast<double>(link.request_bytes) / n,
-                 static_cast<double>(link.reply_bytes) / n);
+                 static_cast<long long>(link.quiet_steps), mean.round_trip_us,
+                 mean.remote_medium_us, mean.transport_us, mean.request_bytes, mean.reply_bytes);
   }
   // A failed run throws out of RunCoordinator before it returns a count: the
   // metrics have one row per iteration done.

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "common/common.h"
+#include "scenario/scenario.h"
 
 namespace sitlnet::runner {
 
@@ -44,6 +45,19 @@ struct MediumLinkStats {
   int64_t request_bytes = 0;  // MediumRequest payloads sent.
   int64_t reply_bytes = 0;    // MediumReply payloads received.
   int64_t quiet_steps = 0;    // Network steps that needed no round trip.
+
+  // Means per round trip (0 round trips count as 1), for the log line and summary.json.
+  struct Means {
+    double round_trip_us = 0, remote_medium_us = 0, transport_us = 0;
+    double request_bytes = 0, reply_bytes = 0;
+  };
+  Means PerRoundTrip() const {
+    const double n = static_cast<double>(round_trips > 0 ? round_trips : 1);
+    const double us = n * kNsPerUs;
+    return {static_cast<double>(round_trip_ns) / us, static_cast<double>(remote_busy_ns) / us,
+            static_cast<double>(round_trip_ns - remote_busy_ns) / us,
+            static_cast<double>(request_bytes) / n, static_cast<double>(reply_bytes) / n};
+  }
 };
 
 struct RunReport {
@@ -63,6 +77,11 @@ struct RunReport {
   int64_t robot_median_rss_kib = 0;
   std::optional<MediumLinkStats> medium_link;  // --remote network only.
 };
+
+// `scenario` with the overrides of `options` (duration_s, lockstep, seed, no_shadowing) applied
+// and validated again; source_path kept. `sitlnet medium --connect` applies the same ones, so that
+// both ends of a remote medium hash the same scenario.
+Scenario ApplyRunOverrides(const Scenario& scenario, const RunOptions& options);
 
 // Runs the scenario to the end of its duration (or until SIGINT/SIGTERM).
 // Throws Error for bad input found before anything was created; later

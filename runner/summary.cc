@@ -125,15 +125,14 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
           ",\"robot_median_rss_kib\":" + std::to_string(report.robot_median_rss_kib) + "}";
   json += ",\"medium_link\":";
   if (const auto& link = report.medium_link) {
-    const double n = static_cast<double>(std::max<int64_t>(1, link->round_trips));
-    const auto mean_us = [&](TimeNs ns) { return std::to_string(ns / n / kNsPerUs); };
+    const MediumLinkStats::Means mean = link->PerRoundTrip();
     json += "{\"round_trips\":" + std::to_string(link->round_trips) +
             ",\"quiet_steps\":" + std::to_string(link->quiet_steps) +
-            ",\"round_trip_us_mean\":" + mean_us(link->round_trip_ns) +
-            ",\"remote_medium_us_mean\":" + mean_us(link->remote_busy_ns) +
-            ",\"transport_us_mean\":" + mean_us(link->round_trip_ns - link->remote_busy_ns) +
-            ",\"request_bytes_mean\":" + std::to_string(link->request_bytes / n) +
-            ",\"reply_bytes_mean\":" + std::to_string(link->reply_bytes / n) + "}";
+            ",\"round_trip_us_mean\":" + std::to_string(mean.round_trip_us) +
+            ",\"remote_medium_us_mean\":" + std::to_string(mean.remote_medium_us) +
+            ",\"transport_us_mean\":" + std::to_string(mean.transport_us) +
+            ",\"request_bytes_mean\":" + std::to_string(mean.request_bytes) +
+            ",\"reply_bytes_mean\":" + std::to_string(mean.reply_bytes) + "}";
   } else {
     json += "null";
   }

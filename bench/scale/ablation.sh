@@ -11,7 +11,7 @@
 # (gen_scenario.py --no-obstacles); no obstacles + euler. Realtime variants: realtime (as
 # run.sh: sitlnet's threads at SCHED_FIFO 10, its default, images at normal priority),
 # realtime_normal (--rt-priority 0) and realtime_fifo_all (the whole run under `chrt -f 10`,
-# images included; about one core for S seconds).
+# images included: sitlnet leaves an inherited realtime policy alone; about one core for S s).
 # Rows in OUT/ablation_runs.csv, medians in docs/scale_ablation.csv. Called by run.sh.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)

@@ -229,7 +229,7 @@ TEST(TapbridgeDaemon, SchedFifoWithCapSysNiceElseOneWarningAndNormalPriority) {
   const CommandResult chrt = RunCommand({"chrt", "-p", std::to_string(scenario.daemon()->pid())});
   ASSERT_EQ(chrt.exit_code, 0) << chrt.err;
   const std::string log = scenario.StopDaemon();
-  const std::string warning = "SCHED_FIFO priority 10 refused (needs CAP_SYS_NICE)";
+  const std::string warning = "SCHED_FIFO priority 10 refused (needs CAP_SYS_NICE or RLIMIT_RTPRIO)";
   if (integration_test::HasCapability(CAP_SYS_NICE)) {
     EXPECT_NE(chrt.out.find("policy: SCHED_FIFO"), std::string::npos) << chrt.out;
     EXPECT_NE(chrt.out.find("priority: 10"), std::string::npos) << chrt.out;

@@ -41,12 +41,7 @@ bool IsCi() { return EnvIs("CI", "true"); }
 
 bool IsMinCapsPass() { return EnvIs("SITLNET_MIN_CAPS", "1"); }
 
-bool HasCapability(int cap) {
-  __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
-  __user_cap_data_struct data[_LINUX_CAPABILITY_U32S_3]{};
-  if (syscall(SYS_capget, &header, data) != 0) return false;
-  return (data[cap / 32].effective & (1u << (cap % 32))) != 0;
-}
+bool HasCapability(int cap) { return HasEffectiveCapability(cap); }
 
 Child::Child(const std::vector<std::string>& argv, const std::vector<std::string>& env,
              const std::function<void()>& before_exec) {
