@@ -66,32 +66,6 @@ tapbridge::AirFrame FromProto(const pm::AirFrame& p) {
   return f;
 }
 
-void ToProto(const tapbridge::MediumCounters& c, pm::StationCounters* out) {
-  out->set_sent(c.sent);
-  out->set_delivered(c.delivered);
-  out->set_queue_drops(c.queue_drops);
-  for (const auto& [name, value] : c.lost) {
-    pm::Count* count = out->add_lost();
-    count->set_name(name);
-    count->set_value(value);
-  }
-  for (const auto& [name, value] : c.other) {
-    pm::Count* count = out->add_other();
-    count->set_name(name);
-    count->set_value(value);
-  }
-}
-
-tapbridge::MediumCounters FromProto(const pm::StationCounters& p) {
-  tapbridge::MediumCounters c;
-  c.sent = p.sent();
-  c.delivered = p.delivered();
-  c.queue_drops = p.queue_drops();
-  for (const pm::Count& count : p.lost()) c.lost.emplace_back(count.name(), count.value());
-  for (const pm::Count& count : p.other()) c.other.emplace_back(count.name(), count.value());
-  return c;
-}
-
 }  // namespace
 
 uint64_t MediumScenarioHash(const Scenario& scenario) {
@@ -237,7 +211,8 @@ void RemoteMedium::Exchange(bool want_counters) {
                   std::to_string(reply_.counters_size()) + " stations, the scenario " +
                   std::to_string(stations_));
     }
-    for (int i = 0; i < stations_; ++i) counters_[i] = FromProto(reply_.counters(i));
+    for (int i = 0; i < stations_; ++i)
+      counters_[i] = tapbridge::MediumCountersFromProto(reply_.counters(i));
     counters_stale_ = false;
   } else {
     counters_stale_ = true;
@@ -319,7 +294,8 @@ void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::
     reply_.set_idle(true);
   }
   if (request_.want_counters()) {
-    for (int i = 0; i < stations_; ++i) ToProto(medium_->Counters(i), reply_.add_counters());
+    for (int i = 0; i < stations_; ++i)
+      tapbridge::MediumCountersToProto(medium_->Counters(i), reply_.add_counters());
   }
   reply_.SerializeToString(end->mutable_payload());
 }

@@ -33,15 +33,6 @@ sockaddr_un SocketAddress(const std::string& path) {
   return address;
 }
 
-void AddCount(google::protobuf::RepeatedPtrField<proto::NamedCount>* out,
-              const std::vector<std::pair<std::string, uint64_t>>& counts) {
-  for (const auto& [name, count] : counts) {
-    proto::NamedCount* c = out->Add();
-    c->set_name(name);
-    c->set_count(count);
-  }
-}
-
 }  // namespace
 
 bool ControlSocketAnswers(const std::string& path) {
@@ -217,15 +208,10 @@ proto::MediumStatus ControlServer::Status() const {
   for (int i = 0; i < core_->robot_count(); ++i) {
     proto::StationCounters* s = status.add_station();
     const PortCounters& port = core_->port_counters(i);
-    const MediumCounters medium = core_->medium_counters(i);
+    MediumCountersToProto(core_->medium_counters(i), s);
     s->set_robot_index(i);
     s->set_robot(scenario.robots[i].name);
     s->set_attached(port.attached);
-    s->set_sent(medium.sent);
-    s->set_delivered(medium.delivered);
-    s->set_queue_drops(medium.queue_drops);
-    AddCount(s->mutable_lost(), medium.lost);
-    AddCount(s->mutable_other(), medium.other);
     s->set_frames_read(port.frames_read);
     s->set_oversize_dropped(port.oversize_dropped);
     s->set_runt_dropped(port.runt_dropped);

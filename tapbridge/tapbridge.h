@@ -19,6 +19,10 @@
 #include "common/common.h"
 #include "scenario/scenario.h"
 
+namespace sitlnet::proto {
+class StationCounters;
+}
+
 namespace sitlnet::tapbridge {
 
 //------------------------------ Medium interface -----------------------------
@@ -67,6 +71,11 @@ struct MediumCounters {
   std::vector<std::pair<std::string, uint64_t>> lost;   // By reason, e.g. "retry_limit".
   std::vector<std::pair<std::string, uint64_t>> other;  // Model details (retries, ACKs sent).
 };
+
+// The medium fields of proto::StationCounters (medium.proto): the medium daemon's status and
+// the remote medium link both carry counters this way.
+void MediumCountersToProto(const MediumCounters& counters, proto::StationCounters* out);
+MediumCounters MediumCountersFromProto(const proto::StationCounters& in);
 
 class MediumModel {
  public:
