@@ -17,7 +17,7 @@ int DataPsduBytes(const Frame& frame) {
 }
 
 TimeNs DataDurationNs(const State& s, const Frame& frame) {
-  return PpduDurationNs(s.config.standard, s.data_mode.mode.rate_mbps, DataPsduBytes(frame));
+  return PpduDurationNs(s.data_mode.mode, s.data_mode.header, DataPsduBytes(frame));
 }
 
 void TraceDrop(State& s, int station, DropReason reason, const MacAddress& destination,
@@ -85,7 +85,8 @@ void SendData(State& s, int station) {
   StationState& st = s.stations[station];
   Frame& f = st.current;
   const uint16_t duration = f.group ? 0 : Micros(s.phy.sifs_ns + s.ack_ns);
-  Transmission& tx = StartTransmission(s, station, FrameKind::kData, s.data_mode, DataPsduBytes(f),
+  Transmission& tx = StartTransmission(s, station, FrameKind::kData,
+                                       f.group ? s.group_mode : s.data_mode, DataPsduBytes(f),
                                        f.destination, duration);
   tx.retry = f.data_sent_before;
   tx.sequence_number = f.sequence_number;
@@ -101,11 +102,30 @@ void SendData(State& s, int station) {
   st.exchange = f.group ? Exchange::kIdle : Exchange::kWaitAck;
 }
 
+// ns-3 3.37's WifiMacQueue::Insert: when the queue is full, first remove every
+// frame that has waited longer than MaxDelay (WipeAllExpiredMpdus). The frame
+// in service is not expired here (see docs/mac_phy_sim.md).
+void DropExpired(State& s, int station) {
+  StationState& st = s.stations[station];
+  const TimeNs max_delay = s.config.queue_max_delay_ns;
+  if (max_delay <= 0) return;
+  auto expired = [&](const Frame& f) { return f.enqueued_ns + max_delay <= s.now_ns; };
+  for (const Frame& f : st.queue) {
+    if (!expired(f)) continue;
+    ++st.counters.queue_expired;
+    TraceDrop(s, station, DropReason::kQueueExpired, f.destination, 0, f.ethernet->size());
+  }
+  std::erase_if(st.queue, expired);
+}
+
+size_t FramesHeld(const StationState& st) { return st.queue.size() + (st.has_current ? 1 : 0); }
+
 }  // namespace
 
 void OnEnqueue(State& s, int station, Bytes ethernet) {
   StationState& st = s.stations[station];
-  if (st.queue.size() >= s.config.queue_limit_frames) {
+  if (FramesHeld(st) >= s.config.queue_limit_frames) DropExpired(s, station);
+  if (FramesHeld(st) >= s.config.queue_limit_frames) {
     ++st.counters.queue_drops;
     MacAddress destination;
     std::copy_n(ethernet->begin(), 6, destination.bytes.begin());
@@ -116,6 +136,7 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
   std::copy_n(ethernet->begin(), 6, frame.destination.bytes.begin());
   frame.group = frame.destination.IsGroup();
   frame.ethernet = std::move(ethernet);
+  frame.enqueued_ns = s.now_ns;
   frame.use_rts = !frame.group && s.config.rts_threshold_bytes > 0 &&
                   DataPsduBytes(frame) > static_cast<int>(s.config.rts_threshold_bytes);
   st.queue.push_back(std::move(frame));
@@ -220,6 +241,7 @@ void OnTimeout(State& s, int station, uint64_t generation) {
     st.timeout_waits_for_rx = true;
     return;
   }
+  st.timeout_end_ns = s.now_ns;
   ExchangeFailed(s, station);
 }
 

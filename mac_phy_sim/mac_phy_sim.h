@@ -25,8 +25,8 @@ namespace sitlnet::mac {
 
 enum class Standard : uint8_t {
   k80211a,  // OFDM, 5 GHz, 6..54 Mb/s (IEEE 802.11-2016 clause 17).
-  k80211b,  // DSSS/CCK, 2.4 GHz, 1, 2, 5.5, 11 Mb/s, long preamble (clauses 15, 16).
-  k80211g,  // ERP-OFDM, 2.4 GHz, 6..54 Mb/s (clause 18), no DSSS protection.
+  k80211b,  // DSSS/CCK, 2.4 GHz, 1, 2, 5.5, 11 Mb/s (clauses 15, 16).
+  k80211g,  // ERP, 2.4 GHz: ERP-OFDM 6..54 Mb/s and DSSS/CCK 1..11 Mb/s (clause 18), no protection.
 };
 
 // Plain values only; every field has the default ns-3 3.37 uses (see
@@ -46,7 +46,17 @@ struct MediumConfig {
   double shadowing_db_per_wall = 9;         // beta
   double shadowing_db_per_m = 0.4;          // gamma
   uint32_t rts_threshold_bytes = 0;         // MPDUs longer than this use RTS/CTS; 0: never.
-  uint32_t queue_limit_frames = 100;        // Per-station drop-tail transmit queue.
+  // Per-station drop-tail transmit queue, the frame in service included
+  // (ns-3 3.37 WifiMacQueue: MaxSize 500 packets, MaxDelay 500 ms; frames
+  // older than the delay are dropped when a frame arrives at a full queue).
+  uint32_t queue_limit_frames = 500;
+  TimeNs queue_max_delay_ns = 500 * kNsPerMs;  // 0: frames never expire.
+  // Rate of group-addressed (broadcast, multicast) DATA frames. Unset: the
+  // lowest basic rate (6 Mb/s for 11a, 1 Mb/s DSSS for 11b/11g), as ns-3.
+  std::optional<double> group_rate_mbps;
+  // 11b/11g DSSS: short PPDU format (96 us instead of 192 us) at 5.5 and 11
+  // Mb/s, as ns-3's WifiRemoteStationManager::SetShortPreambleEnabled.
+  bool short_preamble = false;
   int short_retry_limit = 7;                // dot11ShortRetryLimit: attempts for short frames.
   int long_retry_limit = 4;                 // dot11LongRetryLimit: attempts when RTS is used.
   std::optional<int> cw_min;                // Override of the standard's CWmin (tests).
@@ -65,6 +75,7 @@ struct PhyInfo {
   double noise_floor_dbm = 0;    // kTB over the channel bandwidth + noise figure.
   double reference_loss_db = 0;  // At 1 m.
   double ack_rate_mbps = 0;      // Control-response rate for the configured data rate.
+  double group_rate_mbps = 0;    // Rate of group-addressed DATA frames.
   TimeNs slot_ns = 0, sifs_ns = 0, difs_ns = 0, eifs_ns = 0;
   int cw_min = 0, cw_max = 0;
 };
@@ -141,7 +152,11 @@ struct TxRecord {
   std::vector<RxRecord> receptions;  // Every other station, by StationId.
 };
 
-enum class DropReason : uint8_t { kRetryLimit, kQueueFull };
+enum class DropReason : uint8_t {
+  kRetryLimit,
+  kQueueFull,
+  kQueueExpired,  // Waited longer than queue_max_delay_ns (removed when the queue was full).
+};
 
 struct DropRecord {
   TimeNs time_ns = 0;
@@ -165,6 +180,7 @@ struct StationCounters {
   uint64_t frames_submitted = 0;  // Accepted by SubmitFrame.
   uint64_t malformed = 0;         // Rejected by SubmitFrame (too short/long).
   uint64_t queue_drops = 0;       // Arrived at a full queue.
+  uint64_t queue_expired = 0;     // Dropped after waiting longer than queue_max_delay_ns.
   uint64_t data_tx = 0;           // DATA transmissions, retries included.
   uint64_t retries = 0;           // DATA transmissions with the Retry bit.
   uint64_t rts_tx = 0, cts_tx = 0, ack_tx = 0;

@@ -9,7 +9,11 @@ namespace {
 
 double DbmToMw(double dbm) { return std::pow(10.0, dbm / 10); }
 
-ModeEntry MakeMode(const PhyMode& mode) { return ModeEntry{mode, PerfectSinr(mode)}; }
+ModeEntry MakeMode(const MediumConfig& config, double rate_mbps) {
+  const PhyMode mode = ModeFor(config.standard, rate_mbps);
+  const PhyHeader header = HeaderFor(config.standard, mode, config.short_preamble);
+  return ModeEntry{mode, PerfectSinr(mode), header, PerfectSinr(header.header_mode)};
+}
 
 // SplitMix64 (Steele et al. 2014): decorrelated per-station seeds from one seed.
 uint64_t SplitMix64(uint64_t x) {
@@ -62,9 +66,9 @@ void Dispatch(State& s, const Event& e) {
 Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
     : config(config_in),
       phy(phy_in),
-      data_mode(MakeMode(ModeFor(config_in.standard, config_in.rate_mbps))),
-      control_mode(MakeMode(ModeFor(config_in.standard, phy_in.ack_rate_mbps))),
-      header_mode(MakeMode(HeaderModeFor(config_in.standard))),
+      data_mode(MakeMode(config_in, config_in.rate_mbps)),
+      control_mode(MakeMode(config_in, phy_in.ack_rate_mbps)),
+      group_mode(MakeMode(config_in, phy_in.group_rate_mbps)),
       channel(phy_in.reference_loss_db, config_in.path_loss_exponent, config_in.shadowing,
               config_in.shadowing_db_per_wall, config_in.shadowing_db_per_m) {
   // Below the sensitivity a signal is not even tracked as interference.
@@ -73,12 +77,11 @@ Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
   cca_mw = DbmToMw(config.cca_energy_detect_dbm);
   tx_power_mw = DbmToMw(config.tx_power_dbm);
   preamble_snr_linear = std::pow(10.0, config.preamble_detect_snr_db / 10);
-  preamble_ns = PreambleAndHeaderNs(config.standard);
-  signal_extension_ns = SignalExtensionNs(config.standard);
-  ack_ns = PpduDurationNs(config.standard, phy.ack_rate_mbps, kAckBytes);
-  cts_ns = PpduDurationNs(config.standard, phy.ack_rate_mbps, kCtsBytes);
-  // ns-3's AckTimeout/CtsTimeout: SIFS + slot + PHY preamble and header.
-  timeout_ns = phy.sifs_ns + phy.slot_ns + preamble_ns;
+  ack_ns = PpduDurationNs(control_mode.mode, control_mode.header, kAckBytes);
+  cts_ns = PpduDurationNs(control_mode.mode, control_mode.header, kCtsBytes);
+  // ns-3's AckTimeout/CtsTimeout (10.3.2.9): SIFS + slot + aRxPHYStartDelay,
+  // the PHY preamble and header of the expected response.
+  timeout_ns = phy.sifs_ns + phy.slot_ns + control_mode.header.preamble_and_header_ns;
 }
 
 Medium::Medium(const MediumConfig& config)

@@ -23,10 +23,13 @@ namespace sitlnet::mac {
 
 using Bytes = std::shared_ptr<const std::vector<uint8_t>>;
 
-// A PHY mode plus the SINR above which its error rate is exactly zero.
+// A PHY mode with its PHY header, and the SINRs above which the error rates
+// of payload and header are exactly zero.
 struct ModeEntry {
   PhyMode mode;
   double perfect_sinr = 0;
+  PhyHeader header;
+  double header_perfect_sinr = 0;
 };
 
 // An MSDU in a station's queue or in service.
@@ -35,6 +38,7 @@ struct Frame {
   MacAddress destination;
   bool group = false;
   uint16_t sequence_number = 0;
+  TimeNs enqueued_ns = 0;         // For queue_max_delay_ns.
   int short_attempts = 0;         // RTS attempts, or DATA attempts without RTS.
   int long_attempts = 0;          // DATA attempts after a CTS.
   bool data_sent_before = false;  // Sets the Retry bit.
@@ -101,6 +105,7 @@ struct StationState {
   TimeNs access_at_ns = -1;    // Scheduled access, -1 if none (SetAccessAt).
   TimeNs nav_event_ns = -1;    // Pending kNavEnd event time, -1 if none.
   TimeNs nav_until_ns = 0;
+  TimeNs timeout_end_ns = -kNsPerS;  // Last ACK/CTS timeout that expired with nothing received.
   // PHY.
   int transmitting_tx = -1;
   int active_signals = 0;
@@ -132,9 +137,9 @@ struct Medium::State {
 
   MediumConfig config;
   PhyInfo phy;
-  ModeEntry data_mode, control_mode, header_mode;
+  ModeEntry data_mode, control_mode, group_mode;
   double noise_mw = 0, cca_mw = 0, tx_power_mw = 0, preamble_snr_linear = 0;
-  TimeNs preamble_ns = 0, signal_extension_ns = 0, ack_ns = 0, cts_ns = 0, timeout_ns = 0;
+  TimeNs ack_ns = 0, cts_ns = 0, timeout_ns = 0;
 
   Channel channel;
   Scheduler scheduler;

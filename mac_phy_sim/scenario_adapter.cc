@@ -33,6 +33,11 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
   config.shadowing_db_per_m = radio.shadowing_db_per_m();
   config.rts_threshold_bytes = radio.rts_threshold_bytes();
   config.queue_limit_frames = radio.queue_limit_frames();
+  config.queue_max_delay_ns = static_cast<TimeNs>(radio.queue_max_delay_ms()) * kNsPerMs;
+  if (radio.has_group_rate_mbps()) config.group_rate_mbps = radio.group_rate_mbps();
+  config.short_slot = radio.short_slot();
+  config.short_preamble = radio.short_preamble();
+  if (radio.has_capture_margin_db()) config.capture_margin_db = radio.capture_margin_db();
   config.seed = scenario.spec.timing().seed();
   return config;
 }

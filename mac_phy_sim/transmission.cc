@@ -81,7 +81,7 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   tx.kind = kind;
   tx.mode = &mode;
   tx.start_ns = s.now_ns;
-  tx.end_ns = s.now_ns + PpduDurationNs(s.config.standard, mode.mode.rate_mbps, psdu_bytes);
+  tx.end_ns = s.now_ns + PpduDurationNs(mode.mode, mode.header, psdu_bytes);
   tx.ra = ra;
   tx.ta = s.stations[source].mac;
   tx.duration_us = duration_us;

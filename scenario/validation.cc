@@ -94,24 +94,40 @@ void ValidateObstacles(const SourceLocator& at, const proto::Scenario& spec) {
 bool IsValidRate(proto::Radio::Standard standard, double rate_mbps) {
   static const double kOfdm[] = {6, 9, 12, 18, 24, 36, 48, 54};
   static const double kDsss[] = {1, 2, 5.5, 11};
-  if (standard == proto::Radio::STANDARD_80211B) {
+  // An ERP (11g) PHY has the DSSS rates too (IEEE 802.11-2016 18.1.1).
+  if (standard != proto::Radio::STANDARD_80211A) {
     for (double rate : kDsss) {
       if (rate == rate_mbps) return true;
     }
-    return false;
   }
-  for (double rate : kOfdm) {
-    if (rate == rate_mbps) return true;
+  if (standard != proto::Radio::STANDARD_80211B) {
+    for (double rate : kOfdm) {
+      if (rate == rate_mbps) return true;
+    }
   }
   return false;
 }
+
+constexpr const char* kRateLists = " (802.11a: 6 9 12 18 24 36 48 54; 802.11b: 1 2 5.5 11; 802.11g: both)";
 
 void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
   if (!IsValidRate(radio.standard(), radio.rate_mbps())) {
     at.Fail({{"radio"}, {"rate_mbps"}},
             "radio: rate_mbps " + Num(radio.rate_mbps()) + " is not a rate of " +
-                proto::Radio::Standard_Name(radio.standard()) +
-                " (802.11a/g: 6 9 12 18 24 36 48 54; 802.11b: 1 2 5.5 11)");
+                proto::Radio::Standard_Name(radio.standard()) + kRateLists);
+  }
+  if (radio.has_group_rate_mbps() && !IsValidRate(radio.standard(), radio.group_rate_mbps())) {
+    at.Fail({{"radio"}, {"group_rate_mbps"}},
+            "radio: group_rate_mbps " + Num(radio.group_rate_mbps()) + " is not a rate of " +
+                proto::Radio::Standard_Name(radio.standard()) + kRateLists);
+  }
+  if (radio.short_slot() && radio.standard() != proto::Radio::STANDARD_80211G) {
+    at.Fail({{"radio"}, {"short_slot"}}, "radio: short_slot applies to STANDARD_80211G only");
+  }
+  if (radio.has_capture_margin_db() && !InRange(radio.capture_margin_db(), 0, 100)) {
+    at.Fail({{"radio"}, {"capture_margin_db"}},
+            "radio: capture_margin_db " + Num(radio.capture_margin_db()) +
+                " out of range [0, 100]");
   }
   if (!InRange(radio.tx_power_dbm(), -10, 30)) {
     at.Fail({{"radio"}, {"tx_power_dbm"}},

@@ -111,22 +111,6 @@ TEST(MediumTest, UnknownDestinationExhaustsShortRetryLimit) {
   EXPECT_EQ(drops, 1);
 }
 
-TEST(MediumTest, DropTailQueue) {
-  MediumConfig config;
-  config.queue_limit_frames = 2;
-  Medium medium(config);
-  const StationId a = medium.AddStation(RobotMac(0), {});
-  medium.AddStation(RobotMac(1), {1, 0, 0});
-  const auto frame = MakeEthernetFrame(RobotMac(1), RobotMac(0), 500);
-  for (int i = 0; i < 5; ++i) medium.SubmitFrame(a, frame, 0);
-  std::vector<Delivery> out;
-  medium.AdvanceTo(kNsPerS, &out);
-  // One in service, two queued, two dropped.
-  EXPECT_EQ(medium.counters(a).queue_drops, 2u);
-  EXPECT_EQ(out.size(), 3u);
-  EXPECT_EQ(medium.counters(a).frames_submitted, 5u);
-}
-
 TEST(MediumTest, TraceDescribesDataAndAck) {
   Medium medium(MediumConfig{});
   medium.AddStation(RobotMac(0), {});

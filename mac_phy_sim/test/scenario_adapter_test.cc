@@ -23,10 +23,36 @@ TEST(ScenarioAdapterTest, BuildsStationsObstaclesAndRadio) {
   EXPECT_EQ(config.rts_threshold_bytes, 400u);
   EXPECT_EQ(config.seed, 9u);
   EXPECT_FALSE(config.reference_loss_db.has_value());
+  // ns-3 3.37's WifiMacQueue defaults; group frames at the lowest basic rate.
+  EXPECT_EQ(config.queue_limit_frames, 500u);
+  EXPECT_EQ(config.queue_max_delay_ns, 500 * kNsPerMs);
+  EXPECT_FALSE(config.group_rate_mbps.has_value());
+  EXPECT_FALSE(config.capture_margin_db.has_value());
   Medium medium = MakeMediumFromScenario(scenario);
   ASSERT_EQ(medium.station_count(), 2);
   // Friis at 2.4 GHz + 30 log10(30) + one 2 m box: 2 walls + 0.8 dB.
   EXPECT_NEAR(medium.LossDb(0, 1), 40.046 + 30 * std::log10(30.0) + 18.8, 1e-3);
+}
+
+TEST(ScenarioAdapterTest, MapsTheNs3FidelityOptions) {
+  const Scenario scenario = LoadScenarioText(R"(
+    name: "opts"
+    robot { name: "a" }
+    robot { name: "b" position_m { x: 5 } }
+    radio {
+      standard: STANDARD_80211G rate_mbps: 54 group_rate_mbps: 11 short_slot: true
+      short_preamble: true capture_margin_db: 5 queue_limit_frames: 50 queue_max_delay_ms: 0
+    }
+  )",
+                                             "opts.textproto");
+  const MediumConfig config = MediumConfigFromScenario(scenario);
+  EXPECT_EQ(config.group_rate_mbps, 11);
+  EXPECT_TRUE(config.short_slot);
+  EXPECT_TRUE(config.short_preamble);
+  EXPECT_EQ(config.capture_margin_db, 5);
+  EXPECT_EQ(config.queue_limit_frames, 50u);
+  EXPECT_EQ(config.queue_max_delay_ns, 0);
+  EXPECT_EQ(Medium(config).phy().slot_ns, 9 * kNsPerUs);
 }
 
 }  // namespace

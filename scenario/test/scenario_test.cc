@@ -86,6 +86,10 @@ TEST(ScenarioTest, RejectsOutOfRangeRadio) {
                  "tx_power_dbm 40 out of range [-10, 30]");
   ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211B rate_mbps: 54 }\n",
                  "t.textproto:4:35", "not a rate of STANDARD_80211B");
+  ExpectRejected(std::string(kTwo) + "radio { group_rate_mbps: 11 }\n", "t.textproto:4:9",
+                 "group_rate_mbps 11 is not a rate of STANDARD_80211A");
+  ExpectRejected(std::string(kTwo) + "radio { short_slot: true }\n", "t.textproto:4:9",
+                 "short_slot applies to STANDARD_80211G only");
 }
 
 TEST(ScenarioTest, RejectsAddressesOutsideOrClashing) {

@@ -1,0 +1,149 @@
+// Frame exchange details that decide agreement with ns-3 3.37: queue size,
+// drop policy and expiry (WifiMacQueue), the rate of group-addressed frames
+// (GetNonUnicastMode), control-response rates, and DIFS after an ACK timeout
+// (ChannelAccessManager::GetAccessGrantStart).
+#include <gtest/gtest.h>
+
+#include <optional>
+#include <vector>
+
+#include "mac_phy_sim/mac_phy_sim.h"
+#include "mac_phy_sim/phy_mode.h"
+#include "mac_phy_sim/test/saturation_harness.h"
+
+namespace sitlnet::mac {
+namespace {
+
+using testing::MakeEthernetFrame;
+
+constexpr MacAddress kBroadcast{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
+
+std::vector<TxRecord> DrainTransmissions(Medium& medium) {
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  std::vector<TxRecord> out;
+  for (TraceEvent& event : trace) {
+    if (event.tx) out.push_back(std::move(*event.tx));
+  }
+  return out;
+}
+
+TEST(FrameExchangeTest, QueueLimitCountsTheFrameInService) {
+  // ns-3's WifiMacQueue keeps the MPDU being sent in the queue, so MaxSize
+  // covers it: a limit of 2 holds the frame in service and one more.
+  MediumConfig config;
+  config.queue_limit_frames = 2;
+  Medium medium(config);
+  const StationId a = medium.AddStation(RobotMac(0), {});
+  medium.AddStation(RobotMac(1), {1, 0, 0});
+  const auto frame = MakeEthernetFrame(RobotMac(1), RobotMac(0), 500);
+  for (int i = 0; i < 5; ++i) medium.SubmitFrame(a, frame, 0);
+  std::vector<Delivery> out;
+  medium.AdvanceTo(kNsPerS, &out);
+  EXPECT_EQ(medium.counters(a).queue_drops, 3u);
+  EXPECT_EQ(out.size(), 2u);
+  EXPECT_EQ(medium.counters(a).frames_submitted, 5u);
+}
+
+TEST(FrameExchangeTest, DefaultQueueHoldsNs3s500Frames) {
+  Medium medium(MediumConfig{});
+  const StationId a = medium.AddStation(RobotMac(0), {});
+  medium.AddStation(RobotMac(1), {1, 0, 0});
+  const auto frame = MakeEthernetFrame(RobotMac(1), RobotMac(0), 100);
+  for (int i = 0; i < 600; ++i) medium.SubmitFrame(a, frame, 0);
+  medium.AdvanceTo(0, nullptr);
+  EXPECT_EQ(medium.queued_frames(a), 499u);  // Plus the one in service.
+  EXPECT_EQ(medium.counters(a).queue_drops, 100u);
+}
+
+TEST(FrameExchangeTest, FullQueueDropsFramesOlderThanMaxDelayFirst) {
+  // Station 1 does not exist: the frame in service is retried for a while and
+  // the two behind it wait. A frame arriving at the full queue after
+  // queue_max_delay_ns removes both (ns-3 WifiMacQueue::Insert ->
+  // WipeAllExpiredMpdus) and takes a place instead of being dropped.
+  MediumConfig config;
+  config.queue_limit_frames = 3;
+  config.queue_max_delay_ns = 1 * kNsPerMs;
+  Medium medium(config);
+  const StationId a = medium.AddStation(RobotMac(0), {});
+  const auto frame = MakeEthernetFrame(RobotMac(1), RobotMac(0), 1500);
+  for (int i = 0; i < 3; ++i) medium.SubmitFrame(a, frame, 0);
+  medium.SubmitFrame(a, frame, 500 * kNsPerUs);  // Full, nothing expired yet: dropped.
+  medium.SubmitFrame(a, frame, 2 * kNsPerMs);    // Full, two expired: they go, it stays.
+  medium.AdvanceTo(2 * kNsPerMs, nullptr);
+  EXPECT_EQ(medium.counters(a).queue_drops, 1u);
+  EXPECT_EQ(medium.counters(a).queue_expired, 2u);
+  EXPECT_EQ(medium.queued_frames(a), 1u);
+}
+
+TEST(FrameExchangeTest, GroupFramesGoAtTheLowestBasicRateWithoutAck) {
+  // The flocking beacon: a PSDU of 264 bytes (242-byte Ethernet
+  // frame) lasts 60 us at 54 Mb/s but 376 us at 6 Mb/s (17.4.3); 11g sends it
+  // at 1 Mb/s DSSS, 192 + 8 x 264 = 2304 us. Configurable per scenario.
+  struct Case {
+    Standard standard;
+    std::optional<double> group_rate_mbps;
+    double expected_rate_mbps;
+    TimeNs expected_airtime_ns;
+  };
+  for (const Case& c : {Case{Standard::k80211a, std::nullopt, 6, 376 * kNsPerUs},
+                        Case{Standard::k80211a, 54, 54, 60 * kNsPerUs},
+                        Case{Standard::k80211g, std::nullopt, 1, 2304 * kNsPerUs}}) {
+    MediumConfig config;
+    config.standard = c.standard;
+    config.group_rate_mbps = c.group_rate_mbps;
+    Medium medium(config);
+    medium.AddStation(RobotMac(0), {});
+    medium.AddStation(RobotMac(1), {1, 0, 0});
+    medium.EnableTrace(true);
+    medium.SubmitFrame(0, MakeEthernetFrame(kBroadcast, RobotMac(0), 242 - 14), 0);
+    std::vector<Delivery> out;
+    medium.AdvanceTo(10 * kNsPerMs, &out);
+    const std::vector<TxRecord> txs = DrainTransmissions(medium);
+    ASSERT_EQ(txs.size(), 1u);  // No ACK, no retry.
+    EXPECT_EQ(txs[0].rate_mbps, c.expected_rate_mbps);
+    EXPECT_EQ(txs[0].end_ns - txs[0].start_ns, c.expected_airtime_ns);
+    EXPECT_EQ(out.size(), 1u);
+  }
+}
+
+TEST(FrameExchangeTest, ElevenMbpsDsssFrameIsAcknowledgedAtElevenMbps) {
+  MediumConfig config;
+  config.standard = Standard::k80211b;
+  config.rate_mbps = 11;
+  Medium medium(config);
+  medium.AddStation(RobotMac(0), {});
+  medium.AddStation(RobotMac(1), {1, 0, 0});
+  medium.EnableTrace(true);
+  medium.SubmitFrame(0, MakeEthernetFrame(RobotMac(1), RobotMac(0), 1500), 0);
+  medium.AdvanceTo(10 * kNsPerMs, nullptr);
+  const std::vector<TxRecord> txs = DrainTransmissions(medium);
+  ASSERT_EQ(txs.size(), 2u);
+  EXPECT_EQ(txs[1].kind, FrameKind::kAck);
+  EXPECT_EQ(txs[1].rate_mbps, 11);
+  EXPECT_EQ(txs[1].start_ns, txs[0].end_ns + 10 * kNsPerUs);  // SIFS.
+  EXPECT_EQ(txs[1].end_ns - txs[1].start_ns, 203 * kNsPerUs);
+}
+
+TEST(FrameExchangeTest, DifsFollowsAnExpiredAckTimeout) {
+  // No receiver, CW fixed at 0 so no backoff slot: the retry starts when the
+  // ACK timeout (SIFS + slot + 20 us PHY header = 45 us after the DATA) has
+  // expired and DIFS (34 us) has followed it, as ns-3's GetAccessGrantStart
+  // treats the timeout end like the end of a busy period: 79 us after.
+  MediumConfig config;
+  config.cw_min = 0;
+  config.cw_max = 0;
+  Medium medium(config);
+  medium.AddStation(RobotMac(0), {});
+  medium.EnableTrace(true);
+  medium.SubmitFrame(0, MakeEthernetFrame(RobotMac(1), RobotMac(0), 100), 0);
+  medium.AdvanceTo(10 * kNsPerMs, nullptr);
+  const std::vector<TxRecord> txs = DrainTransmissions(medium);
+  ASSERT_EQ(txs.size(), 7u);  // dot11ShortRetryLimit attempts.
+  for (size_t i = 1; i < txs.size(); ++i) {
+    EXPECT_EQ(txs[i].start_ns - txs[i - 1].end_ns, (45 + 34) * kNsPerUs) << i;
+  }
+}
+
+}  // namespace
+}  // namespace sitlnet::mac
