@@ -85,9 +85,9 @@ void SendData(State& s, int station) {
   StationState& st = s.stations[station];
   Frame& f = st.current;
   const uint16_t duration = f.group ? 0 : Micros(s.phy.sifs_ns + s.ack_ns);
-  Transmission& tx = StartTransmission(s, station, FrameKind::kData,
-                                       f.group ? s.group_mode : s.data_mode, DataPsduBytes(f),
-                                       f.destination, duration);
+  Transmission& tx =
+      StartTransmission(s, station, FrameKind::kData, f.group ? s.group_mode : s.data_mode,
+                        DataPsduBytes(f), f.destination, duration);
   tx.retry = f.data_sent_before;
   tx.sequence_number = f.sequence_number;
   tx.ethernet = f.ethernet;

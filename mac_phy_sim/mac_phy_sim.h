@@ -57,11 +57,11 @@ struct MediumConfig {
   // 11b/11g DSSS: short PPDU format (96 us instead of 192 us) at 5.5 and 11
   // Mb/s, as ns-3's WifiRemoteStationManager::SetShortPreambleEnabled.
   bool short_preamble = false;
-  int short_retry_limit = 7;                // dot11ShortRetryLimit: attempts for short frames.
-  int long_retry_limit = 4;                 // dot11LongRetryLimit: attempts when RTS is used.
-  std::optional<int> cw_min;                // Override of the standard's CWmin (tests).
-  std::optional<int> cw_max;                // Override of the standard's CWmax (tests).
-  bool short_slot = false;                  // 802.11g only: 9 us slot instead of 20 us.
+  int short_retry_limit = 7;  // dot11ShortRetryLimit: attempts for short frames.
+  int long_retry_limit = 4;   // dot11LongRetryLimit: attempts when RTS is used.
+  std::optional<int> cw_min;  // Override of the standard's CWmin (tests).
+  std::optional<int> cw_max;  // Override of the standard's CWmax (tests).
+  bool short_slot = false;    // 802.11g only: 9 us slot instead of 20 us.
   // Frame capture (ns-3 SimpleFrameCaptureModel): while the preamble of the
   // frame being received is still in progress, switch to a new frame that is
   // this much stronger. Unset: no capture (ns-3's default).

@@ -72,7 +72,7 @@ PhyHeader HeaderFor(Standard standard, const PhyMode& mode, bool short_preamble)
 
 double ControlRateFor(Standard standard, double rate_mbps) {
   const PhyMode mode = ModeFor(standard, rate_mbps);  // Validates.
-  if (!mode.ofdm) return rate_mbps;  // Every DSSS/HR-DSSS rate is basic.
+  if (!mode.ofdm) return rate_mbps;                   // Every DSSS/HR-DSSS rate is basic.
   if (rate_mbps >= 24) return 24;
   if (rate_mbps >= 12) return 12;
   return 6;

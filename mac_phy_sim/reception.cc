@@ -31,8 +31,8 @@ double ChunkSuccess(const State& s, const Transmission& tx, TimeNs a, TimeNs b, 
   // PHY header: the SIGNAL / PLCP header bits, pro rata of the overlap.
   const TimeNs header_overlap = std::min(b, header_end) - std::max(a, tx.start_ns);
   if (header_overlap > 0 && sinr < tx.mode->header_perfect_sinr) {
-    const double bits = header.header_bits * static_cast<double>(header_overlap) /
-                        header.preamble_and_header_ns;
+    const double bits =
+        header.header_bits * static_cast<double>(header_overlap) / header.preamble_and_header_ns;
     success *= ChunkSuccessRate(header.header_mode, sinr, bits);
   }
   const TimeNs payload_overlap = std::min(b, payload_end) - std::max(a, header_end);

@@ -108,7 +108,8 @@ bool IsValidRate(proto::Radio::Standard standard, double rate_mbps) {
   return false;
 }
 
-constexpr const char* kRateLists = " (802.11a: 6 9 12 18 24 36 48 54; 802.11b: 1 2 5.5 11; 802.11g: both)";
+constexpr const char* kRateLists =
+    " (802.11a: 6 9 12 18 24 36 48 54; 802.11b: 1 2 5.5 11; 802.11g: both)";
 
 void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
   if (!IsValidRate(radio.standard(), radio.rate_mbps())) {
@@ -125,9 +126,9 @@ void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
     at.Fail({{"radio"}, {"short_slot"}}, "radio: short_slot applies to STANDARD_80211G only");
   }
   if (radio.has_capture_margin_db() && !InRange(radio.capture_margin_db(), 0, 100)) {
-    at.Fail({{"radio"}, {"capture_margin_db"}},
-            "radio: capture_margin_db " + Num(radio.capture_margin_db()) +
-                " out of range [0, 100]");
+    at.Fail(
+        {{"radio"}, {"capture_margin_db"}},
+        "radio: capture_margin_db " + Num(radio.capture_margin_db()) + " out of range [0, 100]");
   }
   if (!InRange(radio.tx_power_dbm(), -10, 30)) {
     at.Fail({{"radio"}, {"tx_power_dbm"}},

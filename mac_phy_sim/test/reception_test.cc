@@ -28,8 +28,7 @@ int FirstSourceAtB(int a_delay_us) {
   const StationId a = medium.AddStation(RobotMac(1), {-10, 0, 0});
   const StationId c = medium.AddStation(RobotMac(2), {45, 0, 0});
   medium.SubmitFrame(c, MakeEthernetFrame(RobotMac(0), RobotMac(2), 100), 0);
-  medium.SubmitFrame(a, MakeEthernetFrame(RobotMac(0), RobotMac(1), 100),
-                     a_delay_us * kNsPerUs);
+  medium.SubmitFrame(a, MakeEthernetFrame(RobotMac(0), RobotMac(1), 100), a_delay_us * kNsPerUs);
   std::vector<Delivery> out;
   medium.AdvanceTo(5 * kNsPerMs, &out);
   for (const Delivery& d : out) {
