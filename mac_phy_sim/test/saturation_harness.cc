@@ -13,6 +13,61 @@ std::vector<uint8_t> MakeEthernetFrame(const MacAddress& to, const MacAddress& f
   return frame;
 }
 
+namespace {
+
+struct FlowRun {
+  std::vector<Vec3> positions_m;
+  std::vector<side_by_side::Flow> flows;
+  int payload_bytes = 1500;
+  TimeNs warmup_ns = 0, measure_ns = 0;
+};
+
+// Keeps every sender's queue topped up and counts payload delivered in the
+// measurement window.
+SaturationResult RunFlows(const MediumConfig& config, const FlowRun& run) {
+  Medium medium(config);
+  for (size_t i = 0; i < run.positions_m.size(); ++i) {
+    medium.AddStation(RobotMac(static_cast<int>(i)), run.positions_m[i]);
+  }
+  std::vector<std::vector<uint8_t>> frames;
+  for (const side_by_side::Flow& flow : run.flows) {
+    frames.push_back(MakeEthernetFrame(RobotMac(flow.to), RobotMac(flow.from), run.payload_bytes));
+  }
+  // Top up every 2 ms: at most ~5 frames leave a queue in 2 ms even alone at
+  // 54 Mb/s, so 16 queued frames never run out.
+  const TimeNs step_ns = 2 * kNsPerMs;
+  const TimeNs end_ns = run.warmup_ns + run.measure_ns;
+  std::vector<Delivery> deliveries;
+  SaturationResult result;
+  uint64_t payload_bytes = 0;
+  for (TimeNs t = 0; t < end_ns; t += step_ns) {
+    for (size_t i = 0; i < run.flows.size(); ++i) {
+      while (medium.queued_frames(run.flows[i].from) < 16) {
+        medium.SubmitFrame(run.flows[i].from, frames[i], t);
+        medium.AdvanceTo(t, nullptr);  // Enqueue now so queued_frames() sees it.
+      }
+    }
+    deliveries.clear();
+    medium.AdvanceTo(t + step_ns, &deliveries);
+    for (const Delivery& d : deliveries) {
+      if (d.delivery_ns > run.warmup_ns && d.delivery_ns <= end_ns) {
+        ++result.frames_delivered;
+        payload_bytes += d.ethernet_frame.size() - 14;
+      }
+    }
+  }
+  result.throughput_mbps = payload_bytes * 8.0 / (run.measure_ns / 1e9) / 1e6;
+  uint64_t attempts = 0, failures = 0;
+  for (const side_by_side::Flow& flow : run.flows) {
+    attempts += medium.counters(flow.from).data_tx;
+    failures += medium.counters(flow.from).tx_failures;
+  }
+  result.collision_probability = attempts ? static_cast<double>(failures) / attempts : 0;
+  return result;
+}
+
+}  // namespace
+
 SaturationResult RunSaturation(const SaturationSetup& setup) {
   MediumConfig config;
   config.standard = Standard::k80211a;
@@ -20,51 +75,47 @@ SaturationResult RunSaturation(const SaturationSetup& setup) {
   config.short_retry_limit = setup.retry_limit;
   config.long_retry_limit = setup.retry_limit;
   config.seed = setup.seed;
-  Medium medium(config);
-  const int senders = setup.stations;
-  const int total = setup.topology == Topology::kSink ? senders + 1 : senders;
-  // Stations 1 mm apart, as in ns-3's Bianchi validation: everyone hears
-  // everyone at the reference loss.
-  for (int i = 0; i < total; ++i) medium.AddStation(RobotMac(i), Vec3{0.001 * i, 0, 0});
-  std::vector<std::vector<uint8_t>> frames;
-  std::vector<int> sender_ids;
-  for (int i = 0; i < senders; ++i) {
-    const int id = setup.topology == Topology::kSink ? i + 1 : i;
-    const int to = setup.topology == Topology::kSink ? 0 : (i + 1) % senders;
-    sender_ids.push_back(id);
-    frames.push_back(MakeEthernetFrame(RobotMac(to), RobotMac(id), setup.payload_bytes));
+  side_by_side::Case c;
+  c.senders = setup.stations;
+  c.topology =
+      setup.topology == Topology::kSink ? side_by_side::Topology::kSink : side_by_side::Topology::kRing;
+  const side_by_side::Layout layout = side_by_side::MakeLayout(c);
+  FlowRun run;
+  for (const side_by_side::Point& p : layout.positions) run.positions_m.push_back({p.x, p.y, p.z});
+  run.flows = layout.flows;
+  run.payload_bytes = setup.payload_bytes;
+  run.warmup_ns = setup.warmup_ns;
+  run.measure_ns = setup.measure_ns;
+  return RunFlows(config, run);
+}
+
+MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
+  MediumConfig config;
+  config.standard = c.standard == side_by_side::Standard::kA
+                        ? Standard::k80211a
+                        : (c.standard == side_by_side::Standard::kB ? Standard::k80211b
+                                                                    : Standard::k80211g);
+  config.short_slot = c.short_slot;
+  config.rate_mbps = c.rate_mbps;
+  config.rts_threshold_bytes = c.rts_threshold_bytes;
+  if (c.capture) config.capture_margin_db = 5;  // ns-3 SimpleFrameCaptureModel's default margin.
+  if (c.unlimited_retries) {
+    config.short_retry_limit = 1000000;
+    config.long_retry_limit = 1000000;
   }
-  // Top up every 2 ms: at most ~5 frames leave a queue in 2 ms even alone at
-  // 54 Mb/s, so 16 queued frames never run out.
-  const TimeNs step_ns = 2 * kNsPerMs;
-  const TimeNs end_ns = setup.warmup_ns + setup.measure_ns;
-  std::vector<Delivery> deliveries;
-  SaturationResult result;
-  uint64_t payload_bytes = 0;
-  for (TimeNs t = 0; t < end_ns; t += step_ns) {
-    for (int i = 0; i < senders; ++i) {
-      while (medium.queued_frames(sender_ids[i]) < 16) {
-        medium.SubmitFrame(sender_ids[i], frames[i], t);
-        medium.AdvanceTo(t, nullptr);  // Enqueue now so queued_frames() sees it.
-      }
-    }
-    deliveries.clear();
-    medium.AdvanceTo(t + step_ns, &deliveries);
-    for (const Delivery& d : deliveries) {
-      if (d.delivery_ns > setup.warmup_ns && d.delivery_ns <= end_ns) {
-        ++result.frames_delivered;
-        payload_bytes += d.ethernet_frame.size() - 14;
-      }
-    }
-  }
-  result.throughput_mbps = payload_bytes * 8.0 / (setup.measure_ns / 1e9) / 1e6;
-  uint64_t attempts = 0, failures = 0;
-  for (int id : sender_ids) {
-    attempts += medium.counters(id).data_tx;
-    failures += medium.counters(id).tx_failures;
-  }
-  result.collision_probability = attempts ? static_cast<double>(failures) / attempts : 0;
-  return result;
+  config.seed = seed;
+  return config;
+}
+
+SaturationResult RunCase(const side_by_side::Case& c, uint64_t seed) {
+  const side_by_side::Layout layout = side_by_side::MakeLayout(c);
+  FlowRun run;
+  for (const side_by_side::Point& p : layout.positions) run.positions_m.push_back({p.x, p.y, p.z});
+  run.flows = layout.flows;
+  run.payload_bytes = c.payload_bytes;
+  run.warmup_ns = static_cast<TimeNs>(c.warmup_s * 1e9);
+  run.measure_ns = static_cast<TimeNs>(c.measure_s * 1e9);
+  return RunFlows(ConfigForCase(c, seed), run);
 }
 
 }  // namespace sitlnet::mac::testing

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mac_phy_sim/mac_phy_sim.h"
+#include "mac_phy_sim/test/side_by_side_case.h"
 
 namespace sitlnet::mac::testing {
 
@@ -37,6 +38,12 @@ std::vector<uint8_t> MakeEthernetFrame(const MacAddress& to, const MacAddress& f
                                        int payload_bytes);
 
 SaturationResult RunSaturation(const SaturationSetup& setup);
+
+// The medium configuration of a side-by-side cell (the ns-3 half configures
+// ns-3 from the same values: reference loss, control rate).
+MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed);
+// Runs a side-by-side cell: every flow of its layout saturated.
+SaturationResult RunCase(const side_by_side::Case& c, uint64_t seed);
 
 }  // namespace sitlnet::mac::testing
 
