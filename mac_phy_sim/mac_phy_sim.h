@@ -66,6 +66,19 @@ struct MediumConfig {
   // frame being received is still in progress, switch to a new frame that is
   // this much stronger. Unset: no capture (ns-3's default).
   std::optional<double> capture_margin_db;
+  // Channel effects ns-3 users reach for; all off by default (docs/mac_phy_sim.md).
+  // Constant-speed propagation delay, distance / 299792458 m/s per receiver
+  // (ns-3 ConstantSpeedPropagationDelayModel, the Yans default).
+  bool propagation_delay = false;
+  // Nakagami-m fast fading, one draw per frame and receiver (ns-3
+  // NakagamiPropagationLossModel and its defaults): m0 below d1, m1 below d2,
+  // m2 beyond. Rayleigh fading: every m = 1.
+  bool nakagami_fading = false;
+  double nakagami_m0 = 1.5, nakagami_m1 = 0.75, nakagami_m2 = 0.75;
+  double nakagami_d1_m = 80, nakagami_d2_m = 200;
+  // Log-normal shadowing: a fixed zero-mean Gaussian loss (dB) per station
+  // pair, drawn from the seed; 0: off.
+  double lognormal_shadowing_sigma_db = 0;
   uint64_t seed = 1;  // Every random draw derives from this (per-station streams).
 };
 

@@ -58,6 +58,12 @@ void Dispatch(State& s, const Event& e) {
       s.stations[e.station].nav_event_ns = -1;
       UpdateCca(s, e.station);
       return;
+    case EventType::kSignalStart:
+      OnSignalStart(s, static_cast<int>(e.aux >> 32), static_cast<int>(e.aux & 0xffffffffu));
+      return;
+    case EventType::kSignalEnd:
+      OnSignalEnd(s, static_cast<int>(e.aux >> 32), static_cast<int>(e.aux & 0xffffffffu));
+      return;
   }
 }
 
@@ -72,7 +78,12 @@ Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
       channel(phy_in.reference_loss_db, config_in.path_loss_exponent, config_in.shadowing,
               config_in.shadowing_db_per_wall, config_in.shadowing_db_per_m) {
   // Below the sensitivity a signal is not even tracked as interference.
-  channel.set_dead_link_loss_db(config.tx_power_dbm - config.rx_sensitivity_dbm);
+  // With fading, a link up to 30 dB weaker on average can still be drawn above
+  // it (transmission.cc), so its loss must stay exact.
+  channel.set_dead_link_loss_db(config.tx_power_dbm - config.rx_sensitivity_dbm +
+                                (config.nakagami_fading ? 30 : 0));
+  channel.set_lognormal_shadowing(config.lognormal_shadowing_sigma_db,
+                                  SplitMix64(config.seed ^ 0x6c6f676e6f726d61ull));
   noise_mw = DbmToMw(phy.noise_floor_dbm);
   cca_mw = DbmToMw(config.cca_energy_detect_dbm);
   tx_power_mw = DbmToMw(config.tx_power_dbm);
@@ -101,6 +112,8 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3& position_m) {
   StationState& st = s.stations.emplace_back();
   st.mac = mac;
   st.rng.seed(SplitMix64(s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));
+  // A stream of its own, so turning fading on leaves the other draws as they were.
+  st.fading_rng.seed(SplitMix64(~s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));
   st.cw = s.phy.cw_min;
   st.idle_since_ns = s.now_ns;
   s.channel.AddStation(position_m);

@@ -51,7 +51,8 @@ struct RxEntry {
   double power_mw = 0;
   double power_dbm = 0;
   RxOutcome outcome = RxOutcome::kBelowSensitivity;
-  double sinr = 0;  // Linear: lowest SINR of a locked frame, else SNR (dB only on output).
+  double sinr = 0;      // Linear: lowest SINR of a locked frame, else SNR (dB only on output).
+  TimeNs delay_ns = 0;  // Propagation delay: the signal spans [start, end] + delay_ns here.
 };
 
 // A PPDU on the air.
@@ -68,6 +69,8 @@ struct Transmission {
   MacAddress ra, ta;
   Bytes ethernet;           // DATA only.
   std::vector<RxEntry> rx;  // Receivers above sensitivity, by station id.
+  int signals_pending = 0;  // Delayed receivers whose signal has not ended yet.
+  bool on_air = false;      // Between StartTransmission and OnTxEnd.
 };
 
 // The frame a station's PHY is locked on, with its SINR history so far.
@@ -87,6 +90,7 @@ enum class Exchange : uint8_t { kIdle, kWaitAck, kWaitCts };
 struct StationState {
   MacAddress mac;
   std::mt19937_64 rng;
+  std::mt19937_64 fading_rng;  // Only drawn from with nakagami_fading (runs without it unchanged).
   StationCounters counters;
   // Transmit queue and the frame in service.
   std::deque<Frame> queue;
@@ -188,6 +192,9 @@ void OnRespond(State& s, int station);
 Transmission& StartTransmission(State& s, int source, FrameKind kind, const ModeEntry& mode,
                                 int psdu_bytes, const MacAddress& ra, uint16_t duration_us);
 void OnTxEnd(State& s, int tx_id);
+// With propagation_delay: signal entry `entry` of `tx_id` starts / ends at its receiver.
+void OnSignalStart(State& s, int tx_id, int entry);
+void OnSignalEnd(State& s, int tx_id, int entry);
 
 // ---- reception.cc
 void SignalArrives(State& s, int station, Transmission& tx, int entry_index);

@@ -144,6 +144,13 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
     throw Error(std::string("medium config: group_") + e.what());
   }
   demand(config.queue_max_delay_ns >= 0, "queue_max_delay_ns must be >= 0");
+  demand(!config.nakagami_fading ||
+             (config.nakagami_m0 >= 0.5 && config.nakagami_m1 >= 0.5 && config.nakagami_m2 >= 0.5),
+         "nakagami_m0/m1/m2 must be >= 0.5 (Nakagami's m)");
+  demand(config.nakagami_d1_m > 0 && config.nakagami_d2_m >= config.nakagami_d1_m,
+         "need 0 < nakagami_d1_m <= nakagami_d2_m");
+  demand(config.lognormal_shadowing_sigma_db >= 0 && config.lognormal_shadowing_sigma_db <= 30,
+         "lognormal_shadowing_sigma_db out of range [0, 30]");
   // aSlotTime, aSIFSTime: 17.4.4 (OFDM), 15.4.5 (DSSS), 18.4.5 (ERP).
   const int slot_us = a ? 9 : (b ? 20 : (config.short_slot ? 9 : 20));
   const int sifs_us = a ? 16 : 10;

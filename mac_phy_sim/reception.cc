@@ -50,8 +50,11 @@ void CloseChunk(State& s, StationState& st) {
   const double sinr = rx.power_mw / (s.noise_mw + rx.interference_mw);
   rx.min_sinr = std::min(rx.min_sinr, sinr);
   if (rx.success_probability > 0) {  // Already lost: later chunks cannot help.
+    // In the transmitter's time frame: the signal reached this receiver delay_ns late.
+    const Transmission& tx = s.transmissions[rx.tx];
+    const TimeNs delay_ns = tx.rx[rx.entry].delay_ns;
     rx.success_probability *=
-        ChunkSuccess(s, s.transmissions[rx.tx], rx.chunk_start_ns, s.now_ns, sinr);
+        ChunkSuccess(s, tx, rx.chunk_start_ns - delay_ns, s.now_ns - delay_ns, sinr);
   }
   rx.chunk_start_ns = s.now_ns;
 }

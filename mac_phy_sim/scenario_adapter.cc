@@ -38,6 +38,14 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
   config.short_slot = radio.short_slot();
   config.short_preamble = radio.short_preamble();
   if (radio.has_capture_margin_db()) config.capture_margin_db = radio.capture_margin_db();
+  config.propagation_delay = radio.propagation_delay();
+  config.nakagami_fading = radio.nakagami_fading();
+  config.nakagami_m0 = radio.nakagami_m0();
+  config.nakagami_m1 = radio.nakagami_m1();
+  config.nakagami_m2 = radio.nakagami_m2();
+  config.nakagami_d1_m = radio.nakagami_d1_m();
+  config.nakagami_d2_m = radio.nakagami_d2_m();
+  config.lognormal_shadowing_sigma_db = radio.lognormal_shadowing_sigma_db();
   config.seed = scenario.spec.timing().seed();
   return config;
 }

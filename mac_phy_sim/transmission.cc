@@ -1,6 +1,8 @@
-// Putting a PPDU on the air (power at every station from the channel cache)
-// and taking it off (end of reception everywhere, MAC reactions, trace).
+// Putting a PPDU on the air (power at every station from the channel cache,
+// optional Nakagami fading and propagation delay) and taking it off (end of
+// reception everywhere, MAC reactions, trace).
 #include <cmath>
+#include <random>
 
 #include "mac_phy_sim/medium_state.h"
 #include "mac_phy_sim/mpdu.h"
@@ -63,6 +65,54 @@ void CountReceiverOutcome(StationState& st, const Transmission& tx, const RxEntr
   }
 }
 
+// ns-3 ConstantSpeedPropagationDelayModel's default speed.
+constexpr double kSpeedOfLightMps = 299792458.0;
+// With fading, links whose mean power is this far under the RX sensitivity
+// are not drawn at all: a Gamma(m >= 0.5, 1/m) gain reaches +30 dB (1000x
+// the mean) with probability below 1e-200.
+constexpr double kFadingMarginDb = 30;
+
+double DistanceM(const Channel& channel, int a, int b) {
+  const Vec3& pa = channel.position(a);
+  const Vec3& pb = channel.position(b);
+  const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+// ns-3 NakagamiPropagationLossModel: m by distance (d < d1: m0; d < d2: m1; else m2).
+double NakagamiM(const MediumConfig& c, double distance_m) {
+  if (distance_m < c.nakagami_d1_m) return c.nakagami_m0;
+  return distance_m < c.nakagami_d2_m ? c.nakagami_m1 : c.nakagami_m2;
+}
+
+// The receiver side of the end of signal `i` of `tx`: reception outcome, NAV,
+// CCA, MAC reactions.
+void EndAtReceiver(State& s, Transmission& tx, int i) {
+  const int r = tx.rx[i].station;
+  StationState& st = s.stations[r];
+  const bool was_locked = st.rx.tx == tx.id;
+  const bool decoded = SignalEnds(s, r, tx, i);
+  // Virtual carrier sense from any decoded frame addressed to someone else.
+  if (decoded && !(tx.ra == st.mac) && tx.duration_us > 0) {
+    SetNav(s, r, s.now_ns + tx.duration_us * kNsPerUs);
+  }
+  UpdateCca(s, r);
+  CountReceiverOutcome(st, tx, tx.rx[i]);
+  if (decoded) OnFrameReceived(s, r, tx, tx.rx[i]);
+  if (was_locked) OnLockedRxEnd(s, r);
+}
+
+// Everyone is done with `tx`: trace it and return it to the pool.
+void Release(State& s, Transmission& tx) {
+  if (s.trace_enabled) TraceTransmission(s, tx);
+  tx.ethernet.reset();
+  s.free_transmissions.push_back(tx.id);
+}
+
+uint64_t SignalAux(int tx_id, int entry) {
+  return (static_cast<uint64_t>(tx_id) << 32) | static_cast<uint32_t>(entry);
+}
+
 }  // namespace
 
 Transmission& StartTransmission(State& s, int source, FrameKind kind, const ModeEntry& mode,
@@ -90,6 +140,8 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   tx.sequence_number = 0;
   tx.ethernet.reset();
   tx.rx.clear();
+  tx.signals_pending = 0;
+  tx.on_air = true;
 
   StationState& src = s.stations[source];
   AbortReception(s, source);
@@ -99,17 +151,41 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   // reception, so the later transmission end dominates).
   src.use_eifs = false;
   UpdateCca(s, source);
+  const MediumConfig& config = s.config;
+  const bool fading = config.nakagami_fading;
+  const double floor_dbm = config.rx_sensitivity_dbm - (fading ? kFadingMarginDb : 0);
   const int n = static_cast<int>(s.stations.size());
   for (int r = 0; r < n; ++r) {
     if (r == source) continue;
-    const double dbm = s.config.tx_power_dbm - s.channel.LossDb(source, r);
-    if (dbm < s.config.rx_sensitivity_dbm) continue;
-    tx.rx.push_back(
-        {r, s.tx_power_mw * s.channel.GainLinear(source, r), dbm, RxOutcome::kBelowSensitivity, 0});
+    double dbm = config.tx_power_dbm - s.channel.LossDb(source, r);
+    if (dbm < floor_dbm) continue;
+    double mw = s.tx_power_mw * s.channel.GainLinear(source, r);
+    if (fading) {
+      // ns-3 draws the received power from Gamma(m, mean / m) per frame.
+      const double m = NakagamiM(config, DistanceM(s.channel, source, r));
+      const double gain = std::gamma_distribution<double>(m, 1 / m)(s.stations[r].fading_rng);
+      mw *= gain;
+      dbm += 10 * std::log10(gain);
+      if (dbm < config.rx_sensitivity_dbm) continue;
+    }
+    const TimeNs delay_ns =
+        config.propagation_delay
+            ? std::llround(DistanceM(s.channel, source, r) / kSpeedOfLightMps * 1e9)
+            : 0;
+    tx.rx.push_back({r, mw, dbm, RxOutcome::kBelowSensitivity, 0, delay_ns});
   }
   for (int i = 0; i < static_cast<int>(tx.rx.size()); ++i) {
-    SignalArrives(s, tx.rx[i].station, tx, i);
-    UpdateCca(s, tx.rx[i].station);
+    const RxEntry& entry = tx.rx[i];
+    if (entry.delay_ns == 0) {
+      SignalArrives(s, entry.station, tx, i);
+      UpdateCca(s, entry.station);
+      continue;
+    }
+    ++tx.signals_pending;
+    s.scheduler.Push(tx.start_ns + entry.delay_ns, EventType::kSignalStart, entry.station,
+                     SignalAux(id, i));
+    s.scheduler.Push(tx.end_ns + entry.delay_ns, EventType::kSignalEnd, entry.station,
+                     SignalAux(id, i));
   }
   s.scheduler.Push(tx.end_ns, EventType::kTxEnd, source, static_cast<uint64_t>(id));
   return tx;
@@ -117,26 +193,27 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
 
 void OnTxEnd(State& s, int tx_id) {
   Transmission& tx = s.transmissions[tx_id];
+  tx.on_air = false;
   s.stations[tx.source].transmitting_tx = -1;
   for (int i = 0; i < static_cast<int>(tx.rx.size()); ++i) {
-    const int r = tx.rx[i].station;
-    StationState& st = s.stations[r];
-    const bool was_locked = st.rx.tx == tx_id;
-    const bool decoded = SignalEnds(s, r, tx, i);
-    // Virtual carrier sense from any decoded frame addressed to someone else.
-    if (decoded && !(tx.ra == st.mac) && tx.duration_us > 0) {
-      SetNav(s, r, s.now_ns + tx.duration_us * kNsPerUs);
-    }
-    UpdateCca(s, r);
-    CountReceiverOutcome(st, tx, tx.rx[i]);
-    if (decoded) OnFrameReceived(s, r, tx, tx.rx[i]);
-    if (was_locked) OnLockedRxEnd(s, r);
+    if (tx.rx[i].delay_ns == 0) EndAtReceiver(s, tx, i);
   }
   UpdateCca(s, tx.source);
   OnOwnTxEnd(s, tx);
-  if (s.trace_enabled) TraceTransmission(s, tx);
-  tx.ethernet.reset();
-  s.free_transmissions.push_back(tx_id);
+  if (tx.signals_pending == 0) Release(s, tx);
+}
+
+void OnSignalStart(State& s, int tx_id, int entry) {
+  Transmission& tx = s.transmissions[tx_id];
+  const int r = tx.rx[entry].station;
+  SignalArrives(s, r, tx, entry);
+  UpdateCca(s, r);
+}
+
+void OnSignalEnd(State& s, int tx_id, int entry) {
+  Transmission& tx = s.transmissions[tx_id];
+  EndAtReceiver(s, tx, entry);
+  if (--tx.signals_pending == 0 && !tx.on_air) Release(s, tx);
 }
 
 }  // namespace sitlnet::mac

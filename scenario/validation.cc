@@ -125,6 +125,18 @@ void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
   if (radio.short_slot() && radio.standard() != proto::Radio::STANDARD_80211G) {
     at.Fail({{"radio"}, {"short_slot"}}, "radio: short_slot applies to STANDARD_80211G only");
   }
+  if (radio.nakagami_fading() &&
+      (radio.nakagami_m0() < 0.5 || radio.nakagami_m1() < 0.5 || radio.nakagami_m2() < 0.5)) {
+    at.Fail({{"radio"}, {"nakagami_m0"}}, "radio: nakagami_m0/m1/m2 must be >= 0.5");
+  }
+  if (!(radio.nakagami_d1_m() > 0 && radio.nakagami_d2_m() >= radio.nakagami_d1_m())) {
+    at.Fail({{"radio"}, {"nakagami_d1_m"}}, "radio: need 0 < nakagami_d1_m <= nakagami_d2_m");
+  }
+  if (!InRange(radio.lognormal_shadowing_sigma_db(), 0, 30)) {
+    at.Fail({{"radio"}, {"lognormal_shadowing_sigma_db"}},
+            "radio: lognormal_shadowing_sigma_db " + Num(radio.lognormal_shadowing_sigma_db()) +
+                " out of range [0, 30]");
+  }
   if (radio.has_capture_margin_db() && !InRange(radio.capture_margin_db(), 0, 100)) {
     at.Fail(
         {{"radio"}, {"capture_margin_db"}},

@@ -42,6 +42,8 @@ TEST(ScenarioAdapterTest, MapsTheNs3FidelityOptions) {
     radio {
       standard: STANDARD_80211G rate_mbps: 54 group_rate_mbps: 11 short_slot: true
       short_preamble: true capture_margin_db: 5 queue_limit_frames: 50 queue_max_delay_ms: 0
+      propagation_delay: true nakagami_fading: true nakagami_m0: 1 nakagami_d2_m: 150
+      lognormal_shadowing_sigma_db: 4
     }
   )",
                                              "opts.textproto");
@@ -53,6 +55,12 @@ TEST(ScenarioAdapterTest, MapsTheNs3FidelityOptions) {
   EXPECT_EQ(config.queue_limit_frames, 50u);
   EXPECT_EQ(config.queue_max_delay_ns, 0);
   EXPECT_EQ(Medium(config).phy().slot_ns, 9 * kNsPerUs);
+  EXPECT_TRUE(config.propagation_delay);
+  EXPECT_TRUE(config.nakagami_fading);
+  EXPECT_EQ(config.nakagami_m0, 1);
+  EXPECT_EQ(config.nakagami_m1, 0.75);  // ns-3's default.
+  EXPECT_EQ(config.nakagami_d2_m, 150);
+  EXPECT_EQ(config.lognormal_shadowing_sigma_db, 4);
 }
 
 }  // namespace
