@@ -1,4 +1,4 @@
-// Frame exchange (IEEE 802.11-2016 10.3.2.5-10.3.2.11): drop-tail queue,
+// Frame exchange (IEEE 802.11-2016 10.3.2.5-10.3.2.11, 10.3.4.4): queue,
 // DATA/ACK and RTS/CTS/DATA/ACK sequences, ACK/CTS timeouts (ns-3: SIFS +
 // slot + PHY preamble/header), retries with short/long retry counters and
 // binary exponential backoff, duplicate filtering by (TA, sequence number).
@@ -57,10 +57,14 @@ void ExchangeFailed(State& s, int station) {
   st.timeout_waits_for_rx = false;
   ++st.counters.tx_failures;
   Frame& f = st.current;
+  // Station retry counts (10.3.4.4): SRC for RTS and short DATA, LRC for DATA
+  // after a CTS; at the limit the frame in service is discarded.
   const bool data_after_cts = !was_cts && f.use_rts;
-  const bool exhausted = data_after_cts ? f.long_attempts >= s.config.long_retry_limit
-                                        : f.short_attempts >= s.config.short_retry_limit;
-  if (exhausted) {
+  int& count = data_after_cts ? st.long_retry_count : st.short_retry_count;
+  ++count;
+  const int limit = data_after_cts ? s.config.long_retry_limit : s.config.short_retry_limit;
+  if (count >= limit) {
+    count = 0;
     ++st.counters.lost_retry_limit;
     TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
               f.ethernet->size());
@@ -94,28 +98,32 @@ void SendData(State& s, int station) {
   ++st.counters.data_tx;
   if (f.data_sent_before) ++st.counters.retries;
   f.data_sent_before = true;
-  if (f.use_rts) {
-    ++f.long_attempts;
-  } else {
-    ++f.short_attempts;
-  }
   st.exchange = f.group ? Exchange::kIdle : Exchange::kWaitAck;
 }
 
-// ns-3 3.37's WifiMacQueue::Insert: when the queue is full, first remove every
-// frame that has waited longer than MaxDelay (WipeAllExpiredMpdus). The frame
-// in service is not expired here (see docs/mac_phy_sim.md).
-void DropExpired(State& s, int station) {
+// ns-3 3.37's WifiMacQueue::WipeAllExpiredMpdus: removes every frame that
+// has waited longer than MaxDelay since it was queued. ns-3 calls it when a
+// frame arrives at a full queue (WifiMacQueue::Insert) and at every channel
+// access (FrameExchangeManager::StartTransmission), where it also removes the
+// frame being retried (ns-3 keeps it in the queue): `include_current`.
+void DropExpired(State& s, int station, bool include_current) {
   StationState& st = s.stations[station];
   const TimeNs max_delay = s.config.queue_max_delay_ns;
   if (max_delay <= 0) return;
   auto expired = [&](const Frame& f) { return f.enqueued_ns + max_delay <= s.now_ns; };
-  for (const Frame& f : st.queue) {
-    if (!expired(f)) continue;
+  auto drop = [&](const Frame& f) {
     ++st.counters.queue_expired;
-    TraceDrop(s, station, DropReason::kQueueExpired, f.destination, 0, f.ethernet->size());
+    TraceDrop(s, station, DropReason::kQueueExpired, f.destination, f.sequence_number,
+              f.ethernet->size());
+  };
+  for (const Frame& f : st.queue) {
+    if (expired(f)) drop(f);
   }
   std::erase_if(st.queue, expired);
+  if (include_current && st.has_current && expired(st.current)) {
+    drop(st.current);
+    NextFrame(s, station);  // The contention window stays as it is, as in ns-3.
+  }
 }
 
 size_t FramesHeld(const StationState& st) { return st.queue.size() + (st.has_current ? 1 : 0); }
@@ -124,7 +132,7 @@ size_t FramesHeld(const StationState& st) { return st.queue.size() + (st.has_cur
 
 void OnEnqueue(State& s, int station, Bytes ethernet) {
   StationState& st = s.stations[station];
-  if (FramesHeld(st) >= s.config.queue_limit_frames) DropExpired(s, station);
+  if (FramesHeld(st) >= s.config.queue_limit_frames) DropExpired(s, station, false);
   if (FramesHeld(st) >= s.config.queue_limit_frames) {
     ++st.counters.queue_drops;
     MacAddress destination;
@@ -148,6 +156,13 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
 
 void StartCurrentFrame(State& s, int station) {
   StationState& st = s.stations[station];
+  DropExpired(s, station, true);
+  if (!st.has_current) {
+    // Everything expired: release the channel with a new backoff (ns-3's
+    // Txop::NotifyChannelReleased -> GenerateBackoff).
+    StartBackoff(s, station);
+    return;
+  }
   Frame& f = st.current;
   if (!f.use_rts) {
     SendData(s, station);
@@ -158,7 +173,6 @@ void StartCurrentFrame(State& s, int station) {
   StartTransmission(s, station, FrameKind::kRts, s.control_mode, kRtsBytes, f.destination,
                     duration);
   ++st.counters.rts_tx;
-  ++f.short_attempts;
   st.exchange = Exchange::kWaitCts;
 }
 
@@ -213,6 +227,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
         ++st.timeout_generation;
         st.timeout_waits_for_rx = false;
         st.exchange = Exchange::kIdle;
+        st.short_retry_count = 0;  // ns-3 ReportRtsOk.
         ScheduleResponse(s, station, FrameKind::kData, st.current.destination, 0);
       }
       return;
@@ -221,6 +236,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
         ++st.timeout_generation;
         st.timeout_waits_for_rx = false;
         ++st.counters.sent_ok;
+        (st.current.use_rts ? st.long_retry_count : st.short_retry_count) = 0;
         FinishCurrent(s, station);
       }
       return;

@@ -39,8 +39,6 @@ struct Frame {
   bool group = false;
   uint16_t sequence_number = 0;
   TimeNs enqueued_ns = 0;         // For queue_max_delay_ns.
-  int short_attempts = 0;         // RTS attempts, or DATA attempts without RTS.
-  int long_attempts = 0;          // DATA attempts after a CTS.
   bool data_sent_before = false;  // Sets the Retry bit.
   bool use_rts = false;
 };
@@ -98,6 +96,11 @@ struct StationState {
   Frame current;
   uint16_t next_sequence_number = 0;
   int cw = 0;
+  // Station retry counts, SRC and LRC (IEEE 802.11-2016 10.3.4.4; ns-3's
+  // per-station SSRC/SLRC): they count failures until a success or a
+  // discard, across frames, so a frame that expired in the queue passes its
+  // count on to the next one.
+  int short_retry_count = 0, long_retry_count = 0;
   // Channel access (DCF).
   bool busy = false;
   TimeNs idle_since_ns = 0;

@@ -42,16 +42,6 @@ std::string ModeName(Standard standard, double rate_mbps) {
   return prefix + std::to_string(static_cast<int>(rate_mbps)) + "Mbps";
 }
 
-// One station alone: DIFS + mean backoff + DATA + SIFS + ACK, roughly (us):
-// the traffic source offers twice that rate so every queue stays full.
-double CycleUs(const Case& c) {
-  const bool dsss = IsDsss(c.rate_mbps);
-  const double slot = c.standard == Standard::kA || c.short_slot ? 9 : 20;
-  const double bits = 8.0 * (c.payload_bytes + 36);
-  const double data = dsss ? 192 + bits / c.rate_mbps : 20 + bits / c.rate_mbps;
-  return 50 + 7.5 * slot + data + 250;
-}
-
 }  // namespace
 
 Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
@@ -66,24 +56,55 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
     Config::SetDefault("ns3::WifiRemoteStationManager::MaxSsrc", UintegerValue(7));
     Config::SetDefault("ns3::WifiRemoteStationManager::MaxSlrc", UintegerValue(4));
   }
-  const sitlnet::side_by_side::Layout layout = sitlnet::side_by_side::MakeLayout(c);
-  const int n = static_cast<int>(layout.positions.size());
-  NodeContainer nodes;
-  nodes.Create(n);
   WifiHelper wifi;
-  wifi.SetStandard(c.standard == Standard::kA
-                       ? WIFI_STANDARD_80211a
-                       : (c.standard == Standard::kB ? WIFI_STANDARD_80211b : WIFI_STANDARD_80211g));
+  wifi.SetStandard(
+      c.standard == Standard::kA
+          ? WIFI_STANDARD_80211a
+          : (c.standard == Standard::kB ? WIFI_STANDARD_80211b : WIFI_STANDARD_80211g));
   wifi.SetRemoteStationManager(
       "ns3::ConstantRateWifiManager", "DataMode", StringValue(ModeName(c.standard, c.rate_mbps)),
       "ControlMode", StringValue(ModeName(c.standard, radio.rts_rate_mbps)), "RtsCtsThreshold",
       UintegerValue(c.rts_threshold_bytes == 0 ? 65535 : c.rts_threshold_bytes));
-  YansWifiChannelHelper channel;
-  channel.SetPropagationDelay("ns3::ConstantSpeedPropagationDelayModel");
-  channel.AddPropagationLoss("ns3::LogDistancePropagationLossModel", "Exponent", DoubleValue(3),
-                             "ReferenceLoss", DoubleValue(radio.reference_loss_db));
+  const sitlnet::side_by_side::Layout layout = sitlnet::side_by_side::MakeLayout(c);
+  const int n = static_cast<int>(layout.positions.size());
+  NodeContainer nodes;
+  nodes.Create(n);
+  MobilityHelper mobility;
+  Ptr<ListPositionAllocator> positions = CreateObject<ListPositionAllocator>();
+  for (const auto& p : layout.positions) positions->Add(Vector(p.x, p.y, p.z));
+  mobility.SetPositionAllocator(positions);
+  mobility.SetMobilityModel("ns3::ConstantPositionMobilityModel");
+  mobility.Install(nodes);
+
+  Ptr<YansWifiChannel> channel = CreateObject<YansWifiChannel>();
+  channel->SetPropagationDelayModel(CreateObject<ConstantSpeedPropagationDelayModel>());
+  if (!radio.link_losses_db.empty()) {
+    Ptr<MatrixPropagationLossModel> matrix = CreateObject<MatrixPropagationLossModel>();
+    matrix->SetDefaultLoss(1000);
+    for (int a = 0; a < n; ++a) {
+      for (int b = a + 1; b < n; ++b) {
+        matrix->SetLoss(nodes.Get(a)->GetObject<MobilityModel>(),
+                        nodes.Get(b)->GetObject<MobilityModel>(),
+                        radio.link_losses_db[static_cast<size_t>(a) * n + b]);
+      }
+    }
+    channel->SetPropagationLossModel(matrix);
+  } else {
+    Ptr<LogDistancePropagationLossModel> log_distance =
+        CreateObject<LogDistancePropagationLossModel>();
+    log_distance->SetAttribute("Exponent", DoubleValue(3));
+    log_distance->SetAttribute("ReferenceLoss", DoubleValue(radio.reference_loss_db));
+    if (c.nakagami_m > 0) {
+      Ptr<NakagamiPropagationLossModel> nakagami = CreateObject<NakagamiPropagationLossModel>();
+      nakagami->SetAttribute("m0", DoubleValue(c.nakagami_m));
+      nakagami->SetAttribute("m1", DoubleValue(c.nakagami_m));
+      nakagami->SetAttribute("m2", DoubleValue(c.nakagami_m));
+      log_distance->SetNext(nakagami);
+    }
+    channel->SetPropagationLossModel(log_distance);
+  }
   YansWifiPhyHelper phy;
-  phy.SetChannel(channel.Create());
+  phy.SetChannel(channel);
   phy.SetErrorRateModel("ns3::NistErrorRateModel");
   if (c.capture) phy.SetFrameCaptureModel("ns3::SimpleFrameCaptureModel");
   WifiMacHelper mac;
@@ -95,16 +116,9 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
     }
   }
 
-  MobilityHelper mobility;
-  Ptr<ListPositionAllocator> positions = CreateObject<ListPositionAllocator>();
-  for (const auto& p : layout.positions) positions->Add(Vector(p.x, p.y, p.z));
-  mobility.SetPositionAllocator(positions);
-  mobility.SetMobilityModel("ns3::ConstantPositionMobilityModel");
-  mobility.Install(nodes);
-
   PacketSocketHelper packet_socket;
   packet_socket.Install(nodes);
-  const Time interval = NanoSeconds(static_cast<int64_t>(CycleUs(c) * 1000 / 2));
+  const Time interval = NanoSeconds(sitlnet::side_by_side::OfferIntervalNs(c));
   std::vector<bool> has_server(n, false);
   int k = 0;
   for (const auto& flow : layout.flows) {
@@ -117,7 +131,7 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
     client->SetAttribute("PacketSize", UintegerValue(c.payload_bytes));
     client->SetAttribute("MaxPackets", UintegerValue(0));
     client->SetAttribute("Interval", TimeValue(interval));
-    client->SetStartTime(Seconds(0.001 * k++));
+    client->SetStartTime(NanoSeconds(sitlnet::side_by_side::OfferStartNs(k++)));
     nodes.Get(flow.from)->AddApplication(client);
     if (has_server[flow.to]) continue;
     has_server[flow.to] = true;

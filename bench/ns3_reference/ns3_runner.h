@@ -4,6 +4,7 @@
 #define SITLNET_BENCH_NS3_REFERENCE_NS3_RUNNER_H_
 
 #include <cstdint>
+#include <vector>
 
 #include "mac_phy_sim/test/side_by_side_case.h"
 
@@ -18,6 +19,10 @@ struct Ns3Outcome {
 struct Ns3Radio {
   double reference_loss_db = 46.6777;
   double rts_rate_mbps = 6;
+  // With log-normal shadowing: mac_phy_sim's loss per station pair
+  // (row-major), given to ns-3's MatrixPropagationLossModel instead of the
+  // log-distance model, so both simulate the same realised links.
+  std::vector<double> link_losses_db;
 };
 
 // Runs cell `c` in ns-3 3.37 with RngRun `run`: ad hoc (non-QoS) 802.11a/b/g,

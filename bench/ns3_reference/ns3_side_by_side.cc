@@ -7,13 +7,15 @@
 // against its ns-3 column). `table` turns such a CSV into the Markdown table
 // of docs/validation.md.
 //
-// Usage: ns3_side_by_side matrix <out.csv> [seeds] [cell-id-substring]
+// Usage: ns3_side_by_side matrix <out.csv> [seeds] [cell-id-substrings,...]
 //        ns3_side_by_side table <in.csv>
+//        ns3_side_by_side refresh <csv>   (recompute the mac_phy_sim columns)
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -155,7 +157,45 @@ std::vector<Case> Cells() {
     const Case c = geo(Standard::kA, 6, Topology::kHidden, 20, 40, 0, capture);
     add(c, geo_name(c), capture);
   }
+  // Channel effects: Rayleigh (m = 1) and Nakagami m = 1.5 fading on one
+  // link, near the edge of its rate; log-normal shadowing on a link and on
+  // the hidden pair (ns-3 given the same realised losses).
+  auto fading = [&](double rate, double distance_m, double m, double sigma_db, bool fast) {
+    Case c = geo(Standard::kA, rate, Topology::kLink, distance_m, 0, 0, false);
+    c.senders = 1;
+    c.nakagami_m = m;
+    c.lognormal_sigma_db = sigma_db;
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "a-%gM-link-%g%s%s", rate, distance_m,
+                  m > 0 ? (m == 1 ? "-rayleigh" : "-nakagami1.5") : "",
+                  sigma_db > 0 ? "-lognormal" : "");
+    add(c, buf, fast);
+  };
+  fading(6, 40, 1, 0, true);
+  fading(6, 70, 1, 0, false);
+  fading(54, 15, 1, 0, false);
+  fading(6, 70, 1.5, 0, false);
+  fading(24, 30, 0, 6, false);
+  Case shadowed = geo(Standard::kA, 6, Topology::kHidden, 40, 40, 0, false);
+  shadowed.lognormal_sigma_db = 6;
+  add(shadowed, geo_name(shadowed) + "-lognormal");
   return cells;
+}
+
+// `filter`: comma-separated substrings of cell ids; empty: every cell.
+bool Selected(const std::string& id, const std::string& filter) {
+  if (filter.empty()) return true;
+  std::stringstream in(filter);
+  for (std::string part; std::getline(in, part, ',');) {
+    if (!part.empty() && id.find(part) != std::string::npos) return true;
+  }
+  return false;
+}
+
+std::string FormatG(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
 }
 
 struct Stats {
@@ -179,20 +219,23 @@ int RunMatrix(const std::string& out_path, int seeds, const std::string& filter)
   out << sitlnet::side_by_side::CsvHeader() << "\n";
   int failed = 0, total = 0;
   for (const Case& c : Cells()) {
-    if (!filter.empty() && c.id.find(filter) == std::string::npos) continue;
+    if (!Selected(c.id, filter)) continue;
     const sitlnet::mac::MediumConfig config = sitlnet::mac::testing::ConfigForCase(c, 1);
     const sitlnet::mac::PhyInfo phy = sitlnet::mac::DerivePhyInfo(config);
-    const Ns3Radio radio{phy.reference_loss_db, phy.ack_rate_mbps};
+    Ns3Radio radio{phy.reference_loss_db, phy.ack_rate_mbps, {}};
     std::vector<double> ns3, ours;
     double ns3_wall = 0, ours_wall = 0;
     for (int seed = 1; seed <= seeds; ++seed) {
+      if (c.lognormal_sigma_db > 0) {
+        radio.link_losses_db = sitlnet::mac::testing::LinkLossesDb(c, static_cast<uint64_t>(seed));
+      }
       const Ns3Outcome n = RunNs3Case(c, radio, static_cast<uint32_t>(seed));
       ns3.push_back(n.throughput_mbps);
       ns3_wall += n.wall_s;
       const auto start = std::chrono::steady_clock::now();
-      ours.push_back(sitlnet::mac::testing::RunCase(c, static_cast<uint64_t>(seed)).throughput_mbps);
-      ours_wall +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      ours.push_back(
+          sitlnet::mac::testing::RunCase(c, static_cast<uint64_t>(seed)).throughput_mbps);
+      ours_wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     Row row;
     row.c = c;
@@ -209,13 +252,51 @@ int RunMatrix(const std::string& out_path, int seeds, const std::string& filter)
     const bool pass = sitlnet::side_by_side::Passes(row);
     ++total;
     if (!pass) ++failed;
-    std::printf("%-36s ns-3 %8.4f (sd %.4f)  mac_phy_sim %8.4f (sd %.4f)  %+6.2f %%  %s  (%.1f s / %.2f s)\n",
-                c.id.c_str(), sn.mean, sn.sd, so.mean, so.sd,
-                100 * sitlnet::side_by_side::RelativeError(row), pass ? "pass" : "FAIL", ns3_wall,
-                ours_wall);
+    std::printf(
+        "%-36s ns-3 %8.4f (sd %.4f)  mac_phy_sim %8.4f (sd %.4f)  %+6.2f %%  %s  (%.1f s / %.2f "
+        "s)\n",
+        c.id.c_str(), sn.mean, sn.sd, so.mean, so.sd,
+        100 * sitlnet::side_by_side::RelativeError(row), pass ? "pass" : "FAIL", ns3_wall,
+        ours_wall);
     std::fflush(stdout);
   }
   std::printf("%d passed, %d failed\n", total - failed, failed);
+  return 0;
+}
+
+// Recomputes the mac_phy_sim columns of every row of a CSV with the current
+// code (same cells, seeds and durations), keeping the ns-3 columns and the
+// '#' provenance lines.
+int Refresh(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> comments;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line[0] == '#') comments.push_back(line);
+  }
+  std::vector<Row> rows;
+  std::string error;
+  if (!sitlnet::side_by_side::ReadCsv(path, &rows, &error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 1;
+  }
+  std::ofstream out(path);
+  for (const std::string& line : comments) out << line << "\n";
+  out << "# mac_phy_sim columns refreshed with ns3_side_by_side refresh\n";
+  out << sitlnet::side_by_side::CsvHeader() << "\n";
+  for (Row& row : rows) {
+    std::vector<double> ours;
+    const auto start = std::chrono::steady_clock::now();
+    for (int seed = 1; seed <= row.seeds; ++seed) {
+      ours.push_back(
+          sitlnet::mac::testing::RunCase(row.c, static_cast<uint64_t>(seed)).throughput_mbps);
+    }
+    row.ours_wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const Stats so = Summarize(ours);
+    row.ours_mean_mbps = so.mean;
+    row.ours_sd_mbps = so.sd;
+    out << sitlnet::side_by_side::FormatRow(row) << "\n";
+  }
   return 0;
 }
 
@@ -228,26 +309,34 @@ int PrintTable(const std::string& in_path) {
   }
   std::printf(
       "| cell | std | slot | rate Mb/s | n | topology | payload B | RTS | capture | geometry m | "
-      "ns-3 Mb/s (sd) | mac_phy_sim Mb/s (sd) | error | rule | pass | ns-3 s | mac_phy_sim s |\n"
+      "channel | ns-3 Mb/s (sd) | mac_phy_sim Mb/s (sd) | error | rule | pass | ns-3 s | "
+      "mac_phy_sim s |\n"
       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | "
-      "--- | --- |\n");
+      "--- | --- | --- |\n");
   int passed = 0;
   for (const Row& r : rows) {
     const Case& c = r.c;
-    const bool geo = c.topology == Topology::kHidden || c.topology == Topology::kExposed;
-    char geometry[32] = "1 mm apart";
-    if (geo) std::snprintf(geometry, sizeof geometry, "%g / %g", c.near_m, c.far_m);
+    char geometry[64] = "1 mm apart";
+    if (c.topology == Topology::kHidden || c.topology == Topology::kExposed) {
+      std::snprintf(geometry, sizeof geometry, "%g / %g", c.near_m, c.far_m);
+    } else if (c.topology == Topology::kLink) {
+      std::snprintf(geometry, sizeof geometry, "%g", c.near_m);
+    }
+    std::string channel = "-";
+    if (c.nakagami_m > 0) channel = "Nakagami m " + FormatG(c.nakagami_m);
+    if (c.lognormal_sigma_db > 0) channel = "log-normal " + FormatG(c.lognormal_sigma_db) + " dB";
     const bool pass = sitlnet::side_by_side::Passes(r);
     passed += pass;
     std::printf(
-        "| %s | %s | %s | %g | %d | %s | %d | %s | %s | %s | %.4f (%.4f) | %.4f (%.4f) | %+.2f %% | "
+        "| %s | %s | %s | %g | %d | %s | %d | %s | %s | %s | %s | %.4f (%.4f) | %.4f (%.4f) | "
+        "%+.2f %% | "
         "%.1f %% | %s | %.1f | %.2f |\n",
         c.id.c_str(), StandardName(c.standard),
         c.standard == Standard::kG ? (c.short_slot ? "short" : "long") : "-", c.rate_mbps,
         c.senders, TopologyName(c.topology), c.payload_bytes,
         c.rts_threshold_bytes ? std::to_string(c.rts_threshold_bytes).c_str() : "off",
-        c.capture ? "on" : "off", geometry, r.ns3_mean_mbps, r.ns3_sd_mbps, r.ours_mean_mbps,
-        r.ours_sd_mbps, 100 * sitlnet::side_by_side::RelativeError(r),
+        c.capture ? "on" : "off", geometry, channel.c_str(), r.ns3_mean_mbps, r.ns3_sd_mbps,
+        r.ours_mean_mbps, r.ours_sd_mbps, 100 * sitlnet::side_by_side::RelativeError(r),
         100 * sitlnet::side_by_side::RuleFraction(c), pass ? "yes" : "**no**", r.ns3_wall_s,
         r.ours_wall_s);
   }
@@ -263,8 +352,10 @@ int main(int argc, char** argv) {
     return RunMatrix(argv[2], argc > 3 ? std::atoi(argv[3]) : 5, argc > 4 ? argv[4] : "");
   }
   if (mode == "table" && argc > 2) return PrintTable(argv[2]);
+  if (mode == "refresh" && argc > 2) return Refresh(argv[2]);
   std::fprintf(stderr,
                "usage: ns3_side_by_side matrix <out.csv> [seeds] [cell-id-substring]\n"
-               "       ns3_side_by_side table <in.csv>\n");
+               "       ns3_side_by_side table <in.csv>\n"
+               "       ns3_side_by_side refresh <csv>\n");
   return 2;
 }

@@ -56,24 +56,56 @@ TEST(FrameExchangeTest, DefaultQueueHoldsNs3s500Frames) {
   EXPECT_EQ(medium.counters(a).queue_drops, 100u);
 }
 
-TEST(FrameExchangeTest, FullQueueDropsFramesOlderThanMaxDelayFirst) {
-  // Station 1 does not exist: the frame in service is retried for a while and
-  // the two behind it wait. A frame arriving at the full queue after
-  // queue_max_delay_ns removes both (ns-3 WifiMacQueue::Insert ->
-  // WipeAllExpiredMpdus) and takes a place instead of being dropped.
+TEST(FrameExchangeTest, FramesOlderThanMaxDelayExpireOnInsertAndAtAccess) {
+  // ns-3 3.37 removes frames older than WifiMacQueue's MaxDelay when a frame
+  // arrives at a full queue (Insert) and at every channel access
+  // (FrameExchangeManager::StartTransmission), the frame being sent included.
+  // 11b at 1 Mb/s: station B holds the medium with an 18.6 ms broadcast from
+  // t = 0; A's three frames (queue limit 3) wait behind it.
   MediumConfig config;
+  config.standard = Standard::k80211b;
+  config.rate_mbps = 1;
   config.queue_limit_frames = 3;
   config.queue_max_delay_ns = 1 * kNsPerMs;
   Medium medium(config);
   const StationId a = medium.AddStation(RobotMac(0), {});
-  const auto frame = MakeEthernetFrame(RobotMac(1), RobotMac(0), 1500);
-  for (int i = 0; i < 3; ++i) medium.SubmitFrame(a, frame, 0);
-  medium.SubmitFrame(a, frame, 500 * kNsPerUs);  // Full, nothing expired yet: dropped.
-  medium.SubmitFrame(a, frame, 2 * kNsPerMs);    // Full, two expired: they go, it stays.
-  medium.AdvanceTo(2 * kNsPerMs, nullptr);
+  const StationId b = medium.AddStation(RobotMac(1), {1, 0, 0});
+  medium.SubmitFrame(b, MakeEthernetFrame(kBroadcast, RobotMac(1), 2290), 0);
+  const auto frame = MakeEthernetFrame(RobotMac(1), RobotMac(0), 100);
+  for (int i = 0; i < 3; ++i) medium.SubmitFrame(a, frame, 100 * kNsPerUs);
+  medium.SubmitFrame(a, frame, 500 * kNsPerUs);   // Full, nothing expired: dropped.
+  medium.SubmitFrame(a, frame, 1200 * kNsPerUs);  // Full: the two waiting expire, it stays.
+  medium.AdvanceTo(1300 * kNsPerUs, nullptr);
   EXPECT_EQ(medium.counters(a).queue_drops, 1u);
   EXPECT_EQ(medium.counters(a).queue_expired, 2u);
   EXPECT_EQ(medium.queued_frames(a), 1u);
+  // At A's access after the broadcast both remaining frames are too old.
+  std::vector<Delivery> out;
+  medium.AdvanceTo(30 * kNsPerMs, &out);
+  EXPECT_EQ(medium.counters(a).queue_expired, 4u);
+  EXPECT_EQ(medium.counters(a).data_tx, 0u);
+  EXPECT_EQ(out.size(), 1u);  // B's broadcast only.
+}
+
+TEST(FrameExchangeTest, RetryCountIsPerStationAcrossExpiredFrames) {
+  // The short retry count is the station's (10.3.4.4; ns-3's SSRC): it counts
+  // failures until a success or a discard, not per frame. Here every frame
+  // expires (1 ms) before its retry (a 2 ms DATA to an absent station, CW 0)
+  // and a fresh one goes instead; every 7th failure still discards a frame.
+  MediumConfig config;
+  config.rate_mbps = 6;
+  config.cw_min = 0;
+  config.cw_max = 0;
+  config.queue_max_delay_ns = 1 * kNsPerMs;
+  Medium medium(config);
+  const StationId a = medium.AddStation(RobotMac(0), {});
+  const auto frame = MakeEthernetFrame(RobotMac(1), RobotMac(0), 1500);
+  for (TimeNs t = 0; t < 45 * kNsPerMs; t += 500 * kNsPerUs) medium.SubmitFrame(a, frame, t);
+  medium.AdvanceTo(45 * kNsPerMs, nullptr);
+  const StationCounters& c = medium.counters(a);
+  EXPECT_EQ(c.retries, 0u);  // Never the same frame twice.
+  EXPECT_GE(c.data_tx, 14u);
+  EXPECT_EQ(c.lost_retry_limit, c.tx_failures / 7);
 }
 
 TEST(FrameExchangeTest, GroupFramesGoAtTheLowestBasicRateWithoutAck) {

@@ -19,43 +19,51 @@ struct FlowRun {
   std::vector<Vec3> positions_m;
   std::vector<side_by_side::Flow> flows;
   int payload_bytes = 1500;
+  TimeNs offer_interval_ns = 0;
   TimeNs warmup_ns = 0, measure_ns = 0;
 };
 
-// Keeps every sender's queue topped up and counts payload delivered in the
-// measurement window.
+// Every flow's source queues a frame per offer interval (side_by_side_case.h:
+// the traffic ns-3's packet sockets offer in the side-by-side); counts the
+// payload delivered in the measurement window.
 SaturationResult RunFlows(const MediumConfig& config, const FlowRun& run) {
   Medium medium(config);
   for (size_t i = 0; i < run.positions_m.size(); ++i) {
     medium.AddStation(RobotMac(static_cast<int>(i)), run.positions_m[i]);
   }
   std::vector<std::vector<uint8_t>> frames;
-  for (const side_by_side::Flow& flow : run.flows) {
+  std::vector<TimeNs> next_offer_ns;
+  for (size_t i = 0; i < run.flows.size(); ++i) {
+    const side_by_side::Flow& flow = run.flows[i];
     frames.push_back(MakeEthernetFrame(RobotMac(flow.to), RobotMac(flow.from), run.payload_bytes));
+    next_offer_ns.push_back(side_by_side::OfferStartNs(static_cast<int>(i)));
   }
-  // Top up every 2 ms: at most ~5 frames leave a queue in 2 ms even alone at
-  // 54 Mb/s, so 16 queued frames never run out.
-  const TimeNs step_ns = 2 * kNsPerMs;
   const TimeNs end_ns = run.warmup_ns + run.measure_ns;
   std::vector<Delivery> deliveries;
   SaturationResult result;
   uint64_t payload_bytes = 0;
-  for (TimeNs t = 0; t < end_ns; t += step_ns) {
-    for (size_t i = 0; i < run.flows.size(); ++i) {
-      while (medium.queued_frames(run.flows[i].from) < 16) {
-        medium.SubmitFrame(run.flows[i].from, frames[i], t);
-        medium.AdvanceTo(t, nullptr);  // Enqueue now so queued_frames() sees it.
-      }
-    }
-    deliveries.clear();
-    medium.AdvanceTo(t + step_ns, &deliveries);
+  auto count = [&] {
     for (const Delivery& d : deliveries) {
       if (d.delivery_ns > run.warmup_ns && d.delivery_ns <= end_ns) {
         ++result.frames_delivered;
         payload_bytes += d.ethernet_frame.size() - 14;
       }
     }
+    deliveries.clear();
+  };
+  while (true) {
+    size_t flow = 0;
+    for (size_t i = 1; i < next_offer_ns.size(); ++i) {
+      if (next_offer_ns[i] < next_offer_ns[flow]) flow = i;
+    }
+    if (next_offer_ns[flow] >= end_ns) break;
+    medium.AdvanceTo(next_offer_ns[flow], &deliveries);
+    count();
+    medium.SubmitFrame(run.flows[flow].from, frames[flow], next_offer_ns[flow]);
+    next_offer_ns[flow] += run.offer_interval_ns;
   }
+  medium.AdvanceTo(end_ns, &deliveries);
+  count();
   result.throughput_mbps = payload_bytes * 8.0 / (run.measure_ns / 1e9) / 1e6;
   uint64_t attempts = 0, failures = 0;
   for (const side_by_side::Flow& flow : run.flows) {
@@ -66,24 +74,31 @@ SaturationResult RunFlows(const MediumConfig& config, const FlowRun& run) {
   return result;
 }
 
-}  // namespace
-
-SaturationResult RunSaturation(const SaturationSetup& setup) {
-  MediumConfig config;
-  config.standard = Standard::k80211a;
-  config.rate_mbps = setup.rate_mbps;
-  config.short_retry_limit = setup.retry_limit;
-  config.long_retry_limit = setup.retry_limit;
-  config.seed = setup.seed;
-  side_by_side::Case c;
-  c.senders = setup.stations;
-  c.topology =
-      setup.topology == Topology::kSink ? side_by_side::Topology::kSink : side_by_side::Topology::kRing;
+FlowRun MakeFlowRun(const side_by_side::Case& c) {
   const side_by_side::Layout layout = side_by_side::MakeLayout(c);
   FlowRun run;
   for (const side_by_side::Point& p : layout.positions) run.positions_m.push_back({p.x, p.y, p.z});
   run.flows = layout.flows;
-  run.payload_bytes = setup.payload_bytes;
+  run.payload_bytes = c.payload_bytes;
+  run.offer_interval_ns = side_by_side::OfferIntervalNs(c);
+  run.warmup_ns = static_cast<TimeNs>(c.warmup_s * 1e9);
+  run.measure_ns = static_cast<TimeNs>(c.measure_s * 1e9);
+  return run;
+}
+
+}  // namespace
+
+SaturationResult RunSaturation(const SaturationSetup& setup) {
+  side_by_side::Case c;
+  c.rate_mbps = setup.rate_mbps;
+  c.senders = setup.stations;
+  c.topology = setup.topology == Topology::kSink ? side_by_side::Topology::kSink
+                                                 : side_by_side::Topology::kRing;
+  c.payload_bytes = setup.payload_bytes;
+  MediumConfig config = ConfigForCase(c, setup.seed);
+  config.short_retry_limit = setup.retry_limit;
+  config.long_retry_limit = setup.retry_limit;
+  FlowRun run = MakeFlowRun(c);
   run.warmup_ns = setup.warmup_ns;
   run.measure_ns = setup.measure_ns;
   return RunFlows(config, run);
@@ -91,13 +106,20 @@ SaturationResult RunSaturation(const SaturationSetup& setup) {
 
 MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
   MediumConfig config;
-  config.standard = c.standard == side_by_side::Standard::kA
-                        ? Standard::k80211a
-                        : (c.standard == side_by_side::Standard::kB ? Standard::k80211b
-                                                                    : Standard::k80211g);
+  config.standard =
+      c.standard == side_by_side::Standard::kA
+          ? Standard::k80211a
+          : (c.standard == side_by_side::Standard::kB ? Standard::k80211b : Standard::k80211g);
   config.short_slot = c.short_slot;
   config.rate_mbps = c.rate_mbps;
   config.rts_threshold_bytes = c.rts_threshold_bytes;
+  // ns-3's Yans channel always has its constant-speed delay; at 1 mm it is 0 ns here.
+  config.propagation_delay = true;
+  if (c.nakagami_m > 0) {
+    config.nakagami_fading = true;
+    config.nakagami_m0 = config.nakagami_m1 = config.nakagami_m2 = c.nakagami_m;
+  }
+  config.lognormal_shadowing_sigma_db = c.lognormal_sigma_db;
   if (c.capture) config.capture_margin_db = 5;  // ns-3 SimpleFrameCaptureModel's default margin.
   if (c.unlimited_retries) {
     config.short_retry_limit = 1000000;
@@ -107,15 +129,23 @@ MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
   return config;
 }
 
-SaturationResult RunCase(const side_by_side::Case& c, uint64_t seed) {
+std::vector<double> LinkLossesDb(const side_by_side::Case& c, uint64_t seed) {
+  Medium medium(ConfigForCase(c, seed));
   const side_by_side::Layout layout = side_by_side::MakeLayout(c);
-  FlowRun run;
-  for (const side_by_side::Point& p : layout.positions) run.positions_m.push_back({p.x, p.y, p.z});
-  run.flows = layout.flows;
-  run.payload_bytes = c.payload_bytes;
-  run.warmup_ns = static_cast<TimeNs>(c.warmup_s * 1e9);
-  run.measure_ns = static_cast<TimeNs>(c.measure_s * 1e9);
-  return RunFlows(ConfigForCase(c, seed), run);
+  for (size_t i = 0; i < layout.positions.size(); ++i) {
+    const side_by_side::Point& p = layout.positions[i];
+    medium.AddStation(RobotMac(static_cast<int>(i)), {p.x, p.y, p.z});
+  }
+  const int n = medium.station_count();
+  std::vector<double> losses(static_cast<size_t>(n) * n, 0.0);
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) losses[static_cast<size_t>(a) * n + b] = medium.LossDb(a, b);
+  }
+  return losses;
+}
+
+SaturationResult RunCase(const side_by_side::Case& c, uint64_t seed) {
+  return RunFlows(ConfigForCase(c, seed), MakeFlowRun(c));
 }
 
 }  // namespace sitlnet::mac::testing

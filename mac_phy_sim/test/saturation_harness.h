@@ -1,7 +1,8 @@
 // Saturated-traffic driver shared by the validation tests and the benchmark:
-// every sender's queue is topped up so it never runs empty, as in Bianchi's
-// model and ns-3's wifi-bianchi example (1500-byte payloads, i.e. 1514-byte
-// Ethernet frames, 1536-byte MPDUs).
+// every sender's source offers frames faster than the medium carries them,
+// exactly as the ns-3 side of the side-by-side does (side_by_side_case.h), so
+// its queue never runs empty, as in Bianchi's model (1500-byte payloads, i.e.
+// 1514-byte Ethernet frames, 1536-byte MPDUs).
 #ifndef SITLNET_MAC_PHY_SIM_TEST_SATURATION_HARNESS_H_
 #define SITLNET_MAC_PHY_SIM_TEST_SATURATION_HARNESS_H_
 
@@ -42,6 +43,9 @@ SaturationResult RunSaturation(const SaturationSetup& setup);
 // The medium configuration of a side-by-side cell (the ns-3 half configures
 // ns-3 from the same values: reference loss, control rate).
 MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed);
+// Loss (dB) between every pair of the cell's stations, row-major, as the
+// medium computes it for `seed` (log-normal shadowing included).
+std::vector<double> LinkLossesDb(const side_by_side::Case& c, uint64_t seed);
 // Runs a side-by-side cell: every flow of its layout saturated.
 SaturationResult RunCase(const side_by_side::Case& c, uint64_t seed);
 

@@ -17,6 +17,7 @@ enum class Topology {
   kSink,     // `senders` stations 1 mm apart send to one more, receive-only station.
   kHidden,   // A -> B <- C on a line: A-B `near_m`, B-C `far_m`; A and C out of each other's range.
   kExposed,  // B <- A   C -> D: A-C `far_m` (they hear each other), A-B = C-D = `near_m`.
+  kLink,     // One sender, one receiver `near_m` away (for fading and shadowing cells).
 };
 
 struct Case {
@@ -29,6 +30,8 @@ struct Case {
   int payload_bytes = 1500;          // Ethernet/packet payload; MPDU = payload + 36 bytes.
   uint32_t rts_threshold_bytes = 0;  // 0: no RTS/CTS.
   bool capture = false;              // SimpleFrameCaptureModel, 5 dB margin.
+  double nakagami_m = 0;             // Nakagami fading with this m at every distance; 0: off.
+  double lognormal_sigma_db = 0;     // Log-normal shadowing per link; 0: off.
   double near_m = 0, far_m = 0;      // Hidden/exposed geometry.
   double warmup_s = 1, measure_s = 10;
   // Bianchi's assumption for saturation (CW stays at CWmax); otherwise the
@@ -66,12 +69,34 @@ inline Layout MakeLayout(const Case& c) {
       layout.flows = {{0, 1}, {2, 1}};
       break;
     case Topology::kExposed:
-      layout.positions = {{0, 0, 0}, {-c.near_m, 0, 0}, {c.far_m, 0, 0}, {c.far_m + c.near_m, 0, 0}};
+      layout.positions = {
+          {0, 0, 0}, {-c.near_m, 0, 0}, {c.far_m, 0, 0}, {c.far_m + c.near_m, 0, 0}};
       layout.flows = {{0, 1}, {2, 3}};
+      break;
+    case Topology::kLink:
+      layout.positions = {{0, 0, 0}, {c.near_m, 0, 0}};
+      layout.flows = {{0, 1}};
       break;
   }
   return layout;
 }
+
+// The traffic both simulators offer: every flow's source queues one packet
+// per interval, starting 1 ms after the previous flow's (ns-3's
+// PacketSocketClient as the side-by-side configures it). The interval is half
+// the time one station alone needs per frame (DIFS + mean backoff + DATA +
+// SIFS + ACK, roughly), so every queue stays full: the medium, not the
+// source, sets the throughput. Queues then hold 500 frames and frames expire
+// after 500 ms (ns-3's WifiMacQueue defaults), as in ns-3.
+inline int64_t OfferIntervalNs(const Case& c) {
+  const bool dsss = c.rate_mbps == 1 || c.rate_mbps == 2 || c.rate_mbps == 5.5 || c.rate_mbps == 11;
+  const double slot_us = c.standard == Standard::kA || c.short_slot ? 9 : 20;
+  const double bits = 8.0 * (c.payload_bytes + 36);
+  const double data_us = (dsss ? 192 : 20) + bits / c.rate_mbps;
+  const double cycle_us = 50 + 7.5 * slot_us + data_us + 250;
+  return static_cast<int64_t>(cycle_us * 1000 / 2);
+}
+inline int64_t OfferStartNs(int flow_index) { return 1000000LL * flow_index; }
 
 inline const char* StandardName(Standard s) {
   return s == Standard::kA ? "a" : (s == Standard::kB ? "b" : "g");
@@ -86,6 +111,8 @@ inline const char* TopologyName(Topology t) {
       return "hidden";
     case Topology::kExposed:
       return "exposed";
+    case Topology::kLink:
+      return "link";
   }
   return "?";
 }

@@ -10,19 +10,25 @@ namespace {
 
 constexpr const char* kColumns =
     "id,standard,short_slot,rate_mbps,senders,topology,payload_bytes,rts_threshold_bytes,capture,"
-    "near_m,far_m,warmup_s,measure_s,unlimited_retries,fast,seeds,ns3_mean_mbps,ns3_sd_mbps,"
+    "near_m,far_m,nakagami_m,lognormal_sigma_db,warmup_s,measure_s,unlimited_retries,fast,seeds,"
+    "ns3_mean_mbps,ns3_sd_mbps,"
     "ours_mean_mbps,ours_sd_mbps,ns3_wall_s,ours_wall_s";
 
 bool ParseStandard(const std::string& s, Standard* out) {
-  if (s == "a") *out = Standard::kA;
-  else if (s == "b") *out = Standard::kB;
-  else if (s == "g") *out = Standard::kG;
-  else return false;
+  if (s == "a")
+    *out = Standard::kA;
+  else if (s == "b")
+    *out = Standard::kB;
+  else if (s == "g")
+    *out = Standard::kG;
+  else
+    return false;
   return true;
 }
 
 bool ParseTopology(const std::string& s, Topology* out) {
-  for (Topology t : {Topology::kRing, Topology::kSink, Topology::kHidden, Topology::kExposed}) {
+  for (Topology t :
+       {Topology::kRing, Topology::kSink, Topology::kHidden, Topology::kExposed, Topology::kLink}) {
     if (s == TopologyName(t)) {
       *out = t;
       return true;
@@ -35,7 +41,7 @@ bool ParseLine(const std::string& line, Row* row) {
   std::vector<std::string> f;
   std::stringstream in(line);
   for (std::string cell; std::getline(in, cell, ',');) f.push_back(cell);
-  if (f.size() != 22) return false;
+  if (f.size() != 24) return false;
   try {
     Case& c = row->c;
     c.id = f[0];
@@ -48,17 +54,19 @@ bool ParseLine(const std::string& line, Row* row) {
     c.capture = f[8] == "1";
     c.near_m = std::stod(f[9]);
     c.far_m = std::stod(f[10]);
-    c.warmup_s = std::stod(f[11]);
-    c.measure_s = std::stod(f[12]);
-    c.unlimited_retries = f[13] == "1";
-    c.fast = f[14] == "1";
-    row->seeds = std::stoi(f[15]);
-    row->ns3_mean_mbps = std::stod(f[16]);
-    row->ns3_sd_mbps = std::stod(f[17]);
-    row->ours_mean_mbps = std::stod(f[18]);
-    row->ours_sd_mbps = std::stod(f[19]);
-    row->ns3_wall_s = std::stod(f[20]);
-    row->ours_wall_s = std::stod(f[21]);
+    c.nakagami_m = std::stod(f[11]);
+    c.lognormal_sigma_db = std::stod(f[12]);
+    c.warmup_s = std::stod(f[13]);
+    c.measure_s = std::stod(f[14]);
+    c.unlimited_retries = f[15] == "1";
+    c.fast = f[16] == "1";
+    row->seeds = std::stoi(f[17]);
+    row->ns3_mean_mbps = std::stod(f[18]);
+    row->ns3_sd_mbps = std::stod(f[19]);
+    row->ours_mean_mbps = std::stod(f[20]);
+    row->ours_sd_mbps = std::stod(f[21]);
+    row->ns3_wall_s = std::stod(f[22]);
+    row->ours_wall_s = std::stod(f[23]);
   } catch (const std::exception&) {
     return false;
   }
@@ -72,13 +80,14 @@ std::string CsvHeader() { return kColumns; }
 std::string FormatRow(const Row& r) {
   const Case& c = r.c;
   char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "%s,%s,%d,%g,%d,%s,%d,%u,%d,%g,%g,%g,%g,%d,%d,%d,%.6f,%.6f,%.6f,%.6f,%.3f,%.3f",
-                c.id.c_str(), StandardName(c.standard), c.short_slot ? 1 : 0, c.rate_mbps,
-                c.senders, TopologyName(c.topology), c.payload_bytes, c.rts_threshold_bytes,
-                c.capture ? 1 : 0, c.near_m, c.far_m, c.warmup_s, c.measure_s,
-                c.unlimited_retries ? 1 : 0, c.fast ? 1 : 0, r.seeds, r.ns3_mean_mbps,
-                r.ns3_sd_mbps, r.ours_mean_mbps, r.ours_sd_mbps, r.ns3_wall_s, r.ours_wall_s);
+  std::snprintf(
+      buf, sizeof buf,
+      "%s,%s,%d,%g,%d,%s,%d,%u,%d,%g,%g,%g,%g,%g,%g,%d,%d,%d,%.6f,%.6f,%.6f,%.6f,%.3f,%.3f",
+      c.id.c_str(), StandardName(c.standard), c.short_slot ? 1 : 0, c.rate_mbps, c.senders,
+      TopologyName(c.topology), c.payload_bytes, c.rts_threshold_bytes, c.capture ? 1 : 0, c.near_m,
+      c.far_m, c.nakagami_m, c.lognormal_sigma_db, c.warmup_s, c.measure_s,
+      c.unlimited_retries ? 1 : 0, c.fast ? 1 : 0, r.seeds, r.ns3_mean_mbps, r.ns3_sd_mbps,
+      r.ours_mean_mbps, r.ours_sd_mbps, r.ns3_wall_s, r.ours_wall_s);
   return buf;
 }
 
@@ -103,7 +112,7 @@ bool ReadCsv(const std::string& path, std::vector<Row>* rows, std::string* error
 }
 
 double RuleFraction(const Case& c) {
-  return c.topology == Topology::kHidden || c.topology == Topology::kExposed ? 0.05 : 0.015;
+  return c.topology == Topology::kRing || c.topology == Topology::kSink ? 0.015 : 0.05;
 }
 
 double RelativeError(const Row& r) { return r.ours_mean_mbps / r.ns3_mean_mbps - 1; }

@@ -27,7 +27,7 @@ std::string FormatRow(const Row& row);
 bool ReadCsv(const std::string& path, std::vector<Row>* rows, std::string* error);
 
 // ns-3's pass rule: 1.5 % on saturation means (its Bianchi validation), 5 %
-// on hidden and exposed topologies.
+// on hidden and exposed topologies and on the fading/shadowing links.
 double RuleFraction(const Case& c);
 double RelativeError(const Row& row);  // mac_phy_sim mean / ns-3 mean - 1.
 bool Passes(const Row& row);
