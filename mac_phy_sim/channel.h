@@ -46,6 +46,8 @@ class Channel {
   const Vec3& position(int station) const { return positions_[station]; }
   void AddObstacle(const Box& box);
   int obstacle_count() const { return static_cast<int>(boxes_.size()); }
+  // Forgets every cached loss (after the dead-link threshold changed).
+  void InvalidateAll() { obstacles_epoch_ = ++epoch_; }
 
   // Total loss a <-> b in dB (symmetric), recomputed first if stale.
   double LossDb(int a, int b) { return loss_db_[Fresh(a, b)]; }

@@ -16,8 +16,8 @@ int DataPsduBytes(const Frame& frame) {
   return MpduBytesForEthernet(static_cast<int>(frame.ethernet->size()));
 }
 
-TimeNs DataDurationNs(const State& s, const Frame& frame) {
-  return PpduDurationNs(s.data_mode.mode, s.data_mode.header, DataPsduBytes(frame));
+TimeNs DataDurationNs(const Frame& frame) {
+  return PpduDurationNs(frame.rate->data.mode, frame.rate->data.header, DataPsduBytes(frame));
 }
 
 void TraceDrop(State& s, int station, DropReason reason, const MacAddress& destination,
@@ -76,8 +76,10 @@ void ExchangeFailed(State& s, int station) {
 }
 
 void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& ra,
-                      uint16_t duration_us) {
+                      uint16_t duration_us, const RateEntry* answered = nullptr, double snr = 0) {
   StationState& st = s.stations[station];
+  st.response_rate = answered;
+  st.response_snr = snr;
   st.response_pending = true;
   st.response_kind = kind;
   st.response_ra = ra;
@@ -88,10 +90,9 @@ void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& r
 void SendData(State& s, int station) {
   StationState& st = s.stations[station];
   Frame& f = st.current;
-  const uint16_t duration = f.group ? 0 : Micros(s.phy.sifs_ns + s.ack_ns);
-  Transmission& tx =
-      StartTransmission(s, station, FrameKind::kData, f.group ? s.group_mode : s.data_mode,
-                        DataPsduBytes(f), f.destination, duration);
+  const uint16_t duration = f.group ? 0 : Micros(s.phy.sifs_ns + f.rate->ack_ns);
+  Transmission& tx = StartTransmission(s, station, FrameKind::kData, f.rate->data, DataPsduBytes(f),
+                                       f.destination, duration);
   tx.retry = f.data_sent_before;
   tx.sequence_number = f.sequence_number;
   tx.ethernet = f.ethernet;
@@ -164,14 +165,20 @@ void StartCurrentFrame(State& s, int station) {
     return;
   }
   Frame& f = st.current;
+  ChooseRates(s, station);
   if (!f.use_rts) {
     SendData(s, station);
     return;
   }
-  // RTS Duration: CTS + DATA + ACK + 3 SIFS (9.3.1.2).
-  const uint16_t duration = Micros(3 * s.phy.sifs_ns + s.cts_ns + DataDurationNs(s, f) + s.ack_ns);
-  StartTransmission(s, station, FrameKind::kRts, s.control_mode, kRtsBytes, f.destination,
-                    duration);
+  // RTS Duration: CTS + DATA + ACK + 3 SIFS (9.3.1.2). RTS at the control
+  // rate of the DATA rate (or Ideal's RTS rate); CTS answers at the control
+  // rate of the RTS's.
+  const uint16_t duration =
+      Micros(3 * s.phy.sifs_ns + f.rts_rate->cts_ns + DataDurationNs(f) + f.rate->ack_ns);
+  const ModeEntry& rts_mode = s.config.rate_control == MediumConfig::RateControl::kIdeal
+                                  ? f.rts_rate->data
+                                  : f.rts_rate->control;
+  StartTransmission(s, station, FrameKind::kRts, rts_mode, kRtsBytes, f.destination, duration);
   ++st.counters.rts_tx;
   st.exchange = Exchange::kWaitCts;
 }
@@ -187,8 +194,12 @@ void OnOwnTxEnd(State& s, const Transmission& tx) {
       (tx.kind == FrameKind::kRts && st.exchange == Exchange::kWaitCts)) {
     ++st.timeout_generation;
     st.timeout_waits_for_rx = false;
-    s.scheduler.Push(s.now_ns + s.timeout_ns, EventType::kTimeout, tx.source,
-                     st.timeout_generation);
+    // ns-3's AckTimeout/CtsTimeout (10.3.2.9): SIFS + slot + aRxPHYStartDelay,
+    // the PHY preamble and header of the expected response.
+    const TimeNs timeout_ns =
+        s.phy.sifs_ns + s.phy.slot_ns +
+        RateFor(s, tx.mode->mode.rate_mbps).control.header.preamble_and_header_ns;
+    s.scheduler.Push(s.now_ns + timeout_ns, EventType::kTimeout, tx.source, st.timeout_generation);
   }
 }
 
@@ -199,7 +210,8 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
     case FrameKind::kData: {
       if (!tx.group && !for_me) return;
       if (!tx.group) {
-        ScheduleResponse(s, station, FrameKind::kAck, tx.ta, 0);
+        ScheduleResponse(s, station, FrameKind::kAck, tx.ta, 0,
+                         &RateFor(s, tx.mode->mode.rate_mbps), entry.sinr);
         auto& last = st.last_sequence_from;
         if (static_cast<int>(last.size()) <= tx.source) last.resize(tx.source + 1, -1);
         if (tx.retry && last[tx.source] == tx.sequence_number) {
@@ -218,8 +230,10 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
     case FrameKind::kRts:
       // Answer only with an idle NAV (10.3.2.7).
       if (for_me && st.nav_until_ns <= s.now_ns) {
-        const TimeNs rest = tx.duration_us * kNsPerUs - s.phy.sifs_ns - s.cts_ns;
-        ScheduleResponse(s, station, FrameKind::kCts, tx.ta, Micros(std::max<TimeNs>(rest, 0)));
+        const RateEntry& rts_rate = RateFor(s, tx.mode->mode.rate_mbps);
+        const TimeNs rest = tx.duration_us * kNsPerUs - s.phy.sifs_ns - rts_rate.cts_ns;
+        ScheduleResponse(s, station, FrameKind::kCts, tx.ta, Micros(std::max<TimeNs>(rest, 0)),
+                         &rts_rate, entry.sinr);
       }
       return;
     case FrameKind::kCts:
@@ -228,6 +242,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
         st.timeout_waits_for_rx = false;
         st.exchange = Exchange::kIdle;
         st.short_retry_count = 0;  // ns-3 ReportRtsOk.
+        ReportSnr(s, station, tx.ta, tx.reported_snr);
         ScheduleResponse(s, station, FrameKind::kData, st.current.destination, 0);
       }
       return;
@@ -237,6 +252,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
         st.timeout_waits_for_rx = false;
         ++st.counters.sent_ok;
         (st.current.use_rts ? st.long_retry_count : st.short_retry_count) = 0;
+        ReportSnr(s, station, tx.ta, tx.reported_snr);  // ns-3 ReportDataOk.
         FinishCurrent(s, station);
       }
       return;
@@ -268,12 +284,15 @@ void OnRespond(State& s, int station) {
   if (st.transmitting_tx >= 0) return;
   switch (st.response_kind) {
     case FrameKind::kAck:
-      StartTransmission(s, station, FrameKind::kAck, s.control_mode, kAckBytes, st.response_ra, 0);
+      StartTransmission(s, station, FrameKind::kAck, st.response_rate->control, kAckBytes,
+                        st.response_ra, 0)
+          .reported_snr = st.response_snr;
       ++st.counters.ack_tx;
       return;
     case FrameKind::kCts:
-      StartTransmission(s, station, FrameKind::kCts, s.control_mode, kCtsBytes, st.response_ra,
-                        st.response_duration_us);
+      StartTransmission(s, station, FrameKind::kCts, st.response_rate->control, kCtsBytes,
+                        st.response_ra, st.response_duration_us)
+          .reported_snr = st.response_snr;
       ++st.counters.cts_tx;
       return;
     case FrameKind::kData:

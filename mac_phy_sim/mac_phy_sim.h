@@ -79,7 +79,15 @@ struct MediumConfig {
   // Log-normal shadowing: a fixed zero-mean Gaussian loss (dB) per station
   // pair, drawn from the seed; 0: off.
   double lognormal_shadowing_sigma_db = 0;
-  uint64_t seed = 1;  // Every random draw derives from this (per-station streams).
+  // Data rate selection. kConstant: every station sends at its rate
+  // (rate_mbps or its StationRadio). kIdeal: per destination, the highest
+  // rate whose SNR for a bit error rate of ideal_ber is below the SNR the
+  // destination last measured on an acknowledged frame (ns-3's
+  // IdealWifiManager; starts at the lowest rate).
+  enum class RateControl : uint8_t { kConstant, kIdeal };
+  RateControl rate_control = RateControl::kConstant;
+  double ideal_ber = 1e-6;  // ns-3 IdealWifiManager's BerThreshold.
+  uint64_t seed = 1;        // Every random draw derives from this (per-station streams).
 };
 
 // Derived PHY/MAC constants of a config (what the medium actually uses).
@@ -115,6 +123,12 @@ struct Box {
 };
 
 using StationId = int;  // Dense: 0 .. station_count()-1, in the order added.
+
+// Per-station radio settings; unset fields take the MediumConfig's.
+struct StationRadio {
+  std::optional<double> tx_power_dbm;  // [-30, 40]
+  std::optional<double> rate_mbps;     // A rate of the standard (kConstant rate control).
+};
 
 //---------------------------- Outputs: deliveries ---------------------------
 
@@ -221,6 +235,9 @@ class Medium {
 
   // Adds a radio; returns its id (= number of stations before the call).
   StationId AddStation(const MacAddress& mac, const Vec3& position_m);
+  // The same with its own tx power and/or data rate; throws Error naming the
+  // field if one is out of range or not a rate of the standard.
+  StationId AddStation(const MacAddress& mac, const Vec3& position_m, const StationRadio& radio);
   int station_count() const;
 
   // Moves a station at virtual time max(at_ns, now_ns()). Frames already on

@@ -32,6 +32,17 @@ struct ModeEntry {
   double header_perfect_sinr = 0;
 };
 
+// A data rate: its mode, the mode of the control responses to it (ACK, CTS;
+// also RTS frames sent ahead of it), their airtimes, and ns-3
+// IdealWifiManager's SNR threshold for it (linear).
+struct RateEntry {
+  ModeEntry data;
+  ModeEntry control;
+  TimeNs ack_ns = 0, cts_ns = 0;
+  double ideal_snr_threshold = 0;
+  bool basic = false;  // In the basic rate set (phy_mode.h).
+};
+
 // An MSDU in a station's queue or in service.
 struct Frame {
   Bytes ethernet;
@@ -41,6 +52,8 @@ struct Frame {
   TimeNs enqueued_ns = 0;         // For queue_max_delay_ns.
   bool data_sent_before = false;  // Sets the Retry bit.
   bool use_rts = false;
+  const RateEntry* rate = nullptr;      // DATA rate of the current attempt (rate_control.cc).
+  const RateEntry* rts_rate = nullptr;  // RTS rate of the current attempt.
 };
 
 // What one receiver saw of one transmission.
@@ -65,6 +78,7 @@ struct Transmission {
   uint16_t sequence_number = 0;
   uint16_t duration_us = 0;
   MacAddress ra, ta;
+  double reported_snr = 0;  // ACK/CTS: SNR (linear) of the frame answered, as ns-3's SnrTag.
   Bytes ethernet;           // DATA only.
   std::vector<RxEntry> rx;  // Receivers above sensitivity, by station id.
   int signals_pending = 0;  // Delayed receivers whose signal has not ended yet.
@@ -87,6 +101,10 @@ enum class Exchange : uint8_t { kIdle, kWaitAck, kWaitCts };
 
 struct StationState {
   MacAddress mac;
+  double tx_power_dbm = 0, tx_power_mw = 0;
+  const RateEntry* rate = nullptr;  // Its constant data rate.
+  // kIdeal: last SNR (linear) each destination measured on our frames.
+  std::vector<std::pair<MacAddress, double>> ideal_snr;
   std::mt19937_64 rng;
   std::mt19937_64 fading_rng;  // Only drawn from with nakagami_fading (runs without it unchanged).
   StationCounters counters;
@@ -126,6 +144,8 @@ struct StationState {
   FrameKind response_kind = FrameKind::kAck;
   MacAddress response_ra;
   uint16_t response_duration_us = 0;
+  const RateEntry* response_rate = nullptr;  // Rate of the frame being answered.
+  double response_snr = 0;
   std::vector<int> last_sequence_from;  // Per source station, -1: none (duplicates).
 };
 
@@ -144,9 +164,10 @@ struct Medium::State {
 
   MediumConfig config;
   PhyInfo phy;
-  ModeEntry data_mode, control_mode, group_mode;
-  double noise_mw = 0, cca_mw = 0, tx_power_mw = 0, preamble_snr_linear = 0;
-  TimeNs ack_ns = 0, cts_ns = 0, timeout_ns = 0;
+  std::vector<RateEntry> rates;  // Every rate of the standard, ascending; never resized.
+  const RateEntry* group_rate = nullptr;
+  double max_tx_power_dbm = 0;  // Over the config and every station.
+  double noise_mw = 0, cca_mw = 0, preamble_snr_linear = 0;
 
   Channel channel;
   Scheduler scheduler;
@@ -190,6 +211,14 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
 void OnLockedRxEnd(State& s, int station);  // Resolves a deferred timeout.
 void OnTimeout(State& s, int station, uint64_t generation);
 void OnRespond(State& s, int station);
+
+// ---- rate_control.cc
+void BuildRates(State& s);
+const RateEntry& RateFor(const State& s, double rate_mbps);
+// Picks the DATA (and RTS) rate of the current frame's next attempt.
+void ChooseRates(State& s, int station);
+// kIdeal: the destination measured `snr` (linear) on a frame of ours.
+void ReportSnr(State& s, int station, const MacAddress& destination, double snr);
 
 // ---- transmission.cc
 Transmission& StartTransmission(State& s, int source, FrameKind kind, const ModeEntry& mode,

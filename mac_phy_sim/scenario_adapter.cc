@@ -46,6 +46,9 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
   config.nakagami_d1_m = radio.nakagami_d1_m();
   config.nakagami_d2_m = radio.nakagami_d2_m();
   config.lognormal_shadowing_sigma_db = radio.lognormal_shadowing_sigma_db();
+  if (radio.rate_control() == proto::Radio::RATE_CONTROL_IDEAL) {
+    config.rate_control = MediumConfig::RateControl::kIdeal;
+  }
   config.seed = scenario.spec.timing().seed();
   return config;
 }
@@ -53,7 +56,10 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
 Medium MakeMediumFromScenario(const sitlnet::Scenario& scenario) {
   Medium medium(MediumConfigFromScenario(scenario));
   for (const RobotPlan& robot : scenario.robots) {
-    medium.AddStation(robot.wlan_mac, ToVec3(robot.spec.position_m()));
+    StationRadio radio;
+    if (robot.spec.has_tx_power_dbm()) radio.tx_power_dbm = robot.spec.tx_power_dbm();
+    if (robot.spec.has_rate_mbps()) radio.rate_mbps = robot.spec.rate_mbps();
+    medium.AddStation(robot.wlan_mac, ToVec3(robot.spec.position_m()), radio);
   }
   for (const proto::Obstacle& obstacle : scenario.spec.obstacle()) {
     medium.AddObstacle(

@@ -37,7 +37,7 @@ void TraceTransmission(State& s, const Transmission& tx) {
       const RxEntry& e = tx.rx[next_entry++];
       record.receptions.push_back({r, e.outcome, e.power_dbm, 10 * std::log10(e.sinr)});
     } else {
-      const double dbm = s.config.tx_power_dbm - s.channel.LossDb(tx.source, r);
+      const double dbm = s.stations[tx.source].tx_power_dbm - s.channel.LossDb(tx.source, r);
       record.receptions.push_back(
           {r, RxOutcome::kBelowSensitivity, dbm, dbm - s.phy.noise_floor_dbm});
     }
@@ -139,6 +139,7 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   tx.retry = false;
   tx.sequence_number = 0;
   tx.ethernet.reset();
+  tx.reported_snr = 0;
   tx.rx.clear();
   tx.signals_pending = 0;
   tx.on_air = true;
@@ -157,9 +158,9 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   const int n = static_cast<int>(s.stations.size());
   for (int r = 0; r < n; ++r) {
     if (r == source) continue;
-    double dbm = config.tx_power_dbm - s.channel.LossDb(source, r);
+    double dbm = src.tx_power_dbm - s.channel.LossDb(source, r);
     if (dbm < floor_dbm) continue;
-    double mw = s.tx_power_mw * s.channel.GainLinear(source, r);
+    double mw = src.tx_power_mw * s.channel.GainLinear(source, r);
     if (fading) {
       // ns-3 draws the received power from Gamma(m, mean / m) per frame.
       const double m = NakagamiM(config, DistanceM(s.channel, source, r));

@@ -261,6 +261,15 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
     for (double coordinate : position) {
       if (!std::isfinite(coordinate)) at.Fail({{"robot", i}, {"position_m"}}, who + "non-finite");
     }
+    if (robot.has_tx_power_dbm() && !InRange(robot.tx_power_dbm(), -10, 30)) {
+      at.Fail({{"robot", i}, {"tx_power_dbm"}},
+              who + "tx_power_dbm " + Num(robot.tx_power_dbm()) + " out of range [-10, 30]");
+    }
+    if (robot.has_rate_mbps() && !IsValidRate(spec.radio().standard(), robot.rate_mbps())) {
+      at.Fail({{"robot", i}, {"rate_mbps"}},
+              who + "rate_mbps " + Num(robot.rate_mbps()) + " is not a rate of " +
+                  proto::Radio::Standard_Name(spec.radio().standard()) + kRateLists);
+    }
     if (!robot.airframe().empty() && FindAirframe(spec, robot.airframe()).name().empty()) {
       at.Fail({{"robot", i}, {"airframe"}}, who + "unknown airframe \"" + robot.airframe() + "\"");
     }

@@ -61,10 +61,15 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
       c.standard == Standard::kA
           ? WIFI_STANDARD_80211a
           : (c.standard == Standard::kB ? WIFI_STANDARD_80211b : WIFI_STANDARD_80211g));
-  wifi.SetRemoteStationManager(
-      "ns3::ConstantRateWifiManager", "DataMode", StringValue(ModeName(c.standard, c.rate_mbps)),
-      "ControlMode", StringValue(ModeName(c.standard, radio.rts_rate_mbps)), "RtsCtsThreshold",
-      UintegerValue(c.rts_threshold_bytes == 0 ? 65535 : c.rts_threshold_bytes));
+  const UintegerValue rts_threshold(c.rts_threshold_bytes == 0 ? 65535 : c.rts_threshold_bytes);
+  if (c.ideal_rate) {
+    wifi.SetRemoteStationManager("ns3::IdealWifiManager", "RtsCtsThreshold", rts_threshold);
+  } else {
+    wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode",
+                                 StringValue(ModeName(c.standard, c.rate_mbps)), "ControlMode",
+                                 StringValue(ModeName(c.standard, radio.rts_rate_mbps)),
+                                 "RtsCtsThreshold", rts_threshold);
+  }
   const sitlnet::side_by_side::Layout layout = sitlnet::side_by_side::MakeLayout(c);
   const int n = static_cast<int>(layout.positions.size());
   NodeContainer nodes;

@@ -176,6 +176,16 @@ std::vector<Case> Cells() {
   fading(54, 15, 1, 0, false);
   fading(6, 70, 1.5, 0, false);
   fading(24, 30, 0, 6, false);
+  // Rate adaptation: ns-3's IdealWifiManager against mac_phy_sim's on a
+  // distance sweep (one 11a link, the source offering for 54 Mb/s).
+  for (double distance_m : {5.0, 20.0, 35.0, 50.0, 65.0, 80.0}) {
+    Case c = geo(Standard::kA, 54, Topology::kLink, distance_m, 0, 0, false);
+    c.senders = 1;
+    c.ideal_rate = true;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "a-ideal-link-%g", distance_m);
+    add(c, buf, distance_m == 35);
+  }
   Case shadowed = geo(Standard::kA, 6, Topology::kHidden, 40, 40, 0, false);
   shadowed.lognormal_sigma_db = 6;
   add(shadowed, geo_name(shadowed) + "-lognormal");
@@ -322,7 +332,7 @@ int PrintTable(const std::string& in_path) {
     } else if (c.topology == Topology::kLink) {
       std::snprintf(geometry, sizeof geometry, "%g", c.near_m);
     }
-    std::string channel = "-";
+    std::string channel = c.ideal_rate ? "Ideal rate control" : "-";
     if (c.nakagami_m > 0) channel = "Nakagami m " + FormatG(c.nakagami_m);
     if (c.lognormal_sigma_db > 0) channel = "log-normal " + FormatG(c.lognormal_sigma_db) + " dB";
     const bool pass = sitlnet::side_by_side::Passes(r);

@@ -120,6 +120,7 @@ MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
     config.nakagami_m0 = config.nakagami_m1 = config.nakagami_m2 = c.nakagami_m;
   }
   config.lognormal_shadowing_sigma_db = c.lognormal_sigma_db;
+  if (c.ideal_rate) config.rate_control = MediumConfig::RateControl::kIdeal;
   if (c.capture) config.capture_margin_db = 5;  // ns-3 SimpleFrameCaptureModel's default margin.
   if (c.unlimited_retries) {
     config.short_retry_limit = 1000000;

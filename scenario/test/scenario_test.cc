@@ -90,6 +90,8 @@ TEST(ScenarioTest, RejectsOutOfRangeRadio) {
                  "group_rate_mbps 11 is not a rate of STANDARD_80211A");
   ExpectRejected(std::string(kTwo) + "radio { short_slot: true }\n", "t.textproto:4:9",
                  "short_slot applies to STANDARD_80211G only");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" rate_mbps: 11 }\n", "t.textproto:2:19",
+                 "robot \"a\": rate_mbps 11 is not a rate of STANDARD_80211A");
 }
 
 TEST(ScenarioTest, RejectsAddressesOutsideOrClashing) {
