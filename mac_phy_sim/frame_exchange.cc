@@ -117,10 +117,11 @@ void DropExpired(State& s, int station, bool include_current) {
     TraceDrop(s, station, DropReason::kQueueExpired, f.destination, f.sequence_number,
               f.ethernet->size());
   };
-  for (const Frame& f : st.queue) {
-    if (expired(f)) drop(f);
+  // Frames are queued in arrival order, so the expired ones are a prefix.
+  while (!st.queue.empty() && expired(st.queue.front())) {
+    drop(st.queue.front());
+    st.queue.pop_front();
   }
-  std::erase_if(st.queue, expired);
   if (include_current && st.has_current && expired(st.current)) {
     drop(st.current);
     NextFrame(s, station);  // The contention window stays as it is, as in ns-3.

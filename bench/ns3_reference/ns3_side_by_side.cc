@@ -178,13 +178,13 @@ std::vector<Case> Cells() {
   fading(24, 30, 0, 6, false);
   // Rate adaptation: ns-3's IdealWifiManager against mac_phy_sim's on a
   // distance sweep (one 11a link, the source offering for 54 Mb/s).
-  for (double distance_m : {5.0, 20.0, 35.0, 50.0, 65.0, 80.0}) {
+  for (double distance_m : {5.0, 20.0, 30.0, 40.0, 45.0, 50.0}) {
     Case c = geo(Standard::kA, 54, Topology::kLink, distance_m, 0, 0, false);
     c.senders = 1;
     c.ideal_rate = true;
     char buf[64];
     std::snprintf(buf, sizeof buf, "a-ideal-link-%g", distance_m);
-    add(c, buf, distance_m == 35);
+    add(c, buf, distance_m == 40);
   }
   Case shadowed = geo(Standard::kA, 6, Topology::kHidden, 40, 40, 0, false);
   shadowed.lognormal_sigma_db = 6;
