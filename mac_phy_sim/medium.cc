@@ -69,11 +69,11 @@ Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
       channel(phy_in.reference_loss_db, config_in.path_loss_exponent, config_in.shadowing,
               config_in.shadowing_db_per_wall, config_in.shadowing_db_per_m) {
   // Below the sensitivity a signal is not even tracked as interference.
-  // With fading, a link up to 30 dB weaker on average can still be drawn above
-  // it (transmission.cc), so its loss must stay exact.
+  // With fading, a link up to kFadingMarginDb weaker on average can still be
+  // drawn above it (transmission.cc), so its loss must stay exact.
   max_tx_power_dbm = config.tx_power_dbm;
   channel.set_dead_link_loss_db(config.tx_power_dbm - config.rx_sensitivity_dbm +
-                                (config.nakagami_fading ? 30 : 0));
+                                (config.nakagami_fading ? kFadingMarginDb : 0));
   channel.set_lognormal_shadowing(config.lognormal_shadowing_sigma_db,
                                   SplitMix64(config.seed ^ 0x6c6f676e6f726d61ull));
   noise_mw = DbmToMw(phy.noise_floor_dbm);
@@ -115,7 +115,7 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3& position_m,
     // Links are "dead" below the sensitivity for the strongest transmitter.
     s.max_tx_power_dbm = tx_power_dbm;
     s.channel.set_dead_link_loss_db(tx_power_dbm - s.config.rx_sensitivity_dbm +
-                                    (s.config.nakagami_fading ? 30 : 0));
+                                    (s.config.nakagami_fading ? kFadingMarginDb : 0));
     s.channel.InvalidateAll();
   }
   const int id = static_cast<int>(s.stations.size());
@@ -127,6 +127,10 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3& position_m,
   st.rng.seed(SplitMix64(s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));
   // A stream of its own, so turning fading on leaves the other draws as they were.
   st.fading_rng.seed(SplitMix64(~s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));
+  const double m[3] = {s.config.nakagami_m0, s.config.nakagami_m1, s.config.nakagami_m2};
+  for (int k = 0; k < 3; ++k) {
+    st.fading[k] = std::gamma_distribution<double>(m[k], 1 / m[k]);
+  }
   st.cw = s.phy.cw_min;
   st.idle_since_ns = s.now_ns;
   s.channel.AddStation(position_m);

@@ -23,6 +23,13 @@ namespace sitlnet::mac {
 
 using Bytes = std::shared_ptr<const std::vector<uint8_t>>;
 
+// With fading, links whose mean power is more than this under the RX
+// sensitivity are not drawn at all: a Gamma(m, 1/m) gain exceeds +16 dB
+// (39.8 x the mean) with probability erfc(sqrt(19.9)) = 2.5e-10 for the
+// smallest m allowed (0.5, where the gain is a squared normal), less for
+// larger m. Drawing them would double the cost of a 64-station broadcast.
+inline constexpr double kFadingMarginDb = 16;
+
 // A PHY mode with its PHY header, and the SINRs above which the error rates
 // of payload and header are exactly zero.
 struct ModeEntry {
@@ -107,6 +114,8 @@ struct StationState {
   std::vector<std::pair<MacAddress, double>> ideal_snr;
   std::mt19937_64 rng;
   std::mt19937_64 fading_rng;  // Only drawn from with nakagami_fading (runs without it unchanged).
+  // Gamma(m, 1/m) for m0, m1, m2, kept so the normal deviates they cache are used.
+  std::gamma_distribution<double> fading[3];
   StationCounters counters;
   // Transmit queue and the frame in service.
   std::deque<Frame> queue;

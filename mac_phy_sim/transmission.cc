@@ -67,22 +67,19 @@ void CountReceiverOutcome(StationState& st, const Transmission& tx, const RxEntr
 
 // ns-3 ConstantSpeedPropagationDelayModel's default speed.
 constexpr double kSpeedOfLightMps = 299792458.0;
-// With fading, links whose mean power is this far under the RX sensitivity
-// are not drawn at all: a Gamma(m >= 0.5, 1/m) gain reaches +30 dB (1000x
-// the mean) with probability below 1e-200.
-constexpr double kFadingMarginDb = 30;
 
-double DistanceM(const Channel& channel, int a, int b) {
+double SquaredDistanceM2(const Channel& channel, int a, int b) {
   const Vec3& pa = channel.position(a);
   const Vec3& pb = channel.position(b);
   const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
-  return std::sqrt(dx * dx + dy * dy + dz * dz);
+  return dx * dx + dy * dy + dz * dz;
 }
 
-// ns-3 NakagamiPropagationLossModel: m by distance (d < d1: m0; d < d2: m1; else m2).
-double NakagamiM(const MediumConfig& c, double distance_m) {
-  if (distance_m < c.nakagami_d1_m) return c.nakagami_m0;
-  return distance_m < c.nakagami_d2_m ? c.nakagami_m1 : c.nakagami_m2;
+// ns-3 NakagamiPropagationLossModel: m by distance (d < d1: m0; d < d2: m1;
+// else m2). Returns which of the three.
+int NakagamiIndex(const MediumConfig& c, double squared_distance_m2) {
+  if (squared_distance_m2 < c.nakagami_d1_m * c.nakagami_d1_m) return 0;
+  return squared_distance_m2 < c.nakagami_d2_m * c.nakagami_d2_m ? 1 : 2;
 }
 
 // The receiver side of the end of signal `i` of `tx`: reception outcome, NAV,
@@ -163,15 +160,17 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
     double mw = src.tx_power_mw * s.channel.GainLinear(source, r);
     if (fading) {
       // ns-3 draws the received power from Gamma(m, mean / m) per frame.
-      const double m = NakagamiM(config, DistanceM(s.channel, source, r));
-      const double gain = std::gamma_distribution<double>(m, 1 / m)(s.stations[r].fading_rng);
+      StationState& receiver = s.stations[r];
+      const double gain = receiver.fading[NakagamiIndex(config, SquaredDistanceM2(s.channel, source, r))](
+          receiver.fading_rng);
       mw *= gain;
       dbm += 10 * std::log10(gain);
       if (dbm < config.rx_sensitivity_dbm) continue;
     }
     const TimeNs delay_ns =
         config.propagation_delay
-            ? std::llround(DistanceM(s.channel, source, r) / kSpeedOfLightMps * 1e9)
+            ? std::llround(std::sqrt(SquaredDistanceM2(s.channel, source, r)) / kSpeedOfLightMps *
+                           1e9)
             : 0;
     tx.rx.push_back({r, mw, dbm, RxOutcome::kBelowSensitivity, 0, delay_ns});
   }

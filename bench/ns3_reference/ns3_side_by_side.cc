@@ -10,6 +10,7 @@
 // Usage: ns3_side_by_side matrix <out.csv> [seeds] [cell-id-substrings,...]
 //        ns3_side_by_side table <in.csv>
 //        ns3_side_by_side refresh <csv>   (recompute the mac_phy_sim columns)
+//        ns3_side_by_side speed           (n = 5, 20, 50 saturation, both, timed)
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -291,7 +292,10 @@ int Refresh(const std::string& path) {
   }
   std::ofstream out(path);
   for (const std::string& line : comments) out << line << "\n";
-  out << "# mac_phy_sim columns refreshed with ns3_side_by_side refresh\n";
+  const std::string note = "# mac_phy_sim columns: ns3_side_by_side refresh, with the code of the commit that holds this file";
+  bool noted = false;
+  for (const std::string& line : comments) noted |= line == note;
+  if (!noted) out << note << "\n";
   out << sitlnet::side_by_side::CsvHeader() << "\n";
   for (Row& row : rows) {
     std::vector<double> ours;
@@ -306,6 +310,29 @@ int Refresh(const std::string& path) {
     row.ours_mean_mbps = so.mean;
     row.ours_sd_mbps = so.sd;
     out << sitlnet::side_by_side::FormatRow(row) << "\n";
+  }
+  return 0;
+}
+
+// Speed: ns-3's n-station 11a 54 Mb/s saturation cell (ring, 1 s warm-up +
+// 10 s, RngRun 1) and mac_phy_sim's medium on the same scenario with the
+// light driver (RunTopUpSaturation), one after the other in this process.
+int PrintSpeed() {
+  std::printf("| n | ns-3 simulated s per wall s | mac_phy_sim simulated s per wall s | speed-up |\n"
+              "| --- | --- | --- | --- |\n");
+  for (int n : {5, 20, 50}) {
+    Case c;
+    c.senders = n;
+    c.warmup_s = 1;
+    c.measure_s = 10;
+    const Ns3Outcome ns3 = RunNs3Case(c, Ns3Radio{46.6777, 24, {}}, 1);
+    const auto start = std::chrono::steady_clock::now();
+    sitlnet::mac::testing::RunTopUpSaturation(n, 11, 1);
+    const double ours_wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("| %d | %.3f | %.1f | %.0fx |\n", n, 11 / ns3.wall_s, 11 / ours_wall,
+                ns3.wall_s / ours_wall);
+    std::fflush(stdout);
   }
   return 0;
 }
@@ -363,9 +390,11 @@ int main(int argc, char** argv) {
   }
   if (mode == "table" && argc > 2) return PrintTable(argv[2]);
   if (mode == "refresh" && argc > 2) return Refresh(argv[2]);
+  if (mode == "speed") return PrintSpeed();
   std::fprintf(stderr,
                "usage: ns3_side_by_side matrix <out.csv> [seeds] [cell-id-substring]\n"
                "       ns3_side_by_side table <in.csv>\n"
-               "       ns3_side_by_side refresh <csv>\n");
+               "       ns3_side_by_side refresh <csv>\n"
+               "       ns3_side_by_side speed\n");
   return 2;
 }

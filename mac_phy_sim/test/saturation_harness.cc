@@ -104,6 +104,38 @@ SaturationResult RunSaturation(const SaturationSetup& setup) {
   return RunFlows(config, run);
 }
 
+uint64_t RunTopUpSaturation(int n, double seconds, uint64_t seed) {
+  MediumConfig config;
+  config.seed = seed;
+  config.short_retry_limit = config.long_retry_limit = 1000000;  // Bianchi's assumption.
+  Medium medium(config);
+  const int total = n == 1 ? 2 : n;
+  for (int i = 0; i < total; ++i) medium.AddStation(RobotMac(i), Vec3{0.001 * i, 0, 0});
+  std::vector<std::vector<uint8_t>> frames;
+  for (int i = 0; i < n; ++i) {
+    frames.push_back(MakeEthernetFrame(RobotMac((i + 1) % total), RobotMac(i), 1500));
+  }
+  const TimeNs step_ns = 2 * kNsPerMs;
+  const TimeNs end_ns = static_cast<TimeNs>(seconds * 1e9);
+  std::vector<Delivery> deliveries;
+  for (TimeNs t = 0; t < end_ns; t += step_ns) {
+    for (int i = 0; i < n; ++i) {
+      while (medium.queued_frames(i) < 16) {
+        medium.SubmitFrame(i, frames[i], t);
+        medium.AdvanceTo(t, nullptr);  // Enqueue now so queued_frames() sees it.
+      }
+    }
+    deliveries.clear();
+    medium.AdvanceTo(t + step_ns, &deliveries);
+  }
+  uint64_t transmissions = 0;
+  for (int i = 0; i < total; ++i) {
+    const StationCounters& c = medium.counters(i);
+    transmissions += c.data_tx + c.ack_tx;
+  }
+  return transmissions;
+}
+
 MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
   MediumConfig config;
   config.standard =

@@ -40,6 +40,14 @@ std::vector<uint8_t> MakeEthernetFrame(const MacAddress& to, const MacAddress& f
 
 SaturationResult RunSaturation(const SaturationSetup& setup);
 
+// The medium's own cost: n saturated 802.11a 54 Mb/s stations 1 mm apart in
+// a ring (n = 1: to a receive-only station), 1500-byte payloads, retries
+// unlimited, with a light driver that keeps 16 frames queued per sender
+// (topped up every 2 ms) for `seconds` of virtual time. Returns the number
+// of transmissions (DATA, ACK). Used by the benchmarks' timing, not for
+// validation (RunCase offers traffic exactly as the ns-3 side does).
+uint64_t RunTopUpSaturation(int n, double seconds, uint64_t seed);
+
 // The medium configuration of a side-by-side cell (the ns-3 half configures
 // ns-3 from the same values: reference loss, control rate).
 MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed);
