@@ -113,6 +113,7 @@ void DropExpired(State& s, int station, bool include_current) {
   if (max_delay <= 0) return;
   auto expired = [&](const Frame& f) { return f.enqueued_ns + max_delay <= s.now_ns; };
   auto drop = [&](const Frame& f) {
+    ++st.counters.queue_drops;
     ++st.counters.queue_expired;
     TraceDrop(s, station, DropReason::kQueueExpired, f.destination, f.sequence_number,
               f.ethernet->size());

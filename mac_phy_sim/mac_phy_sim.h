@@ -206,8 +206,8 @@ struct StationCounters {
   // Transmit side.
   uint64_t frames_submitted = 0;  // Accepted by SubmitFrame.
   uint64_t malformed = 0;         // Rejected by SubmitFrame (too short/long).
-  uint64_t queue_drops = 0;       // Arrived at a full queue.
-  uint64_t queue_expired = 0;     // Dropped after waiting longer than queue_max_delay_ns.
+  uint64_t queue_drops = 0;       // Dropped by the queue: arrived full, or expired in it.
+  uint64_t queue_expired = 0;     // Of those, waited longer than queue_max_delay_ns.
   uint64_t data_tx = 0;           // DATA transmissions, retries included.
   uint64_t retries = 0;           // DATA transmissions with the Retry bit.
   uint64_t rts_tx = 0, cts_tx = 0, ack_tx = 0;

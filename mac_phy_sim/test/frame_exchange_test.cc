@@ -76,13 +76,14 @@ TEST(FrameExchangeTest, FramesOlderThanMaxDelayExpireOnInsertAndAtAccess) {
   medium.SubmitFrame(a, frame, 500 * kNsPerUs);   // Full, nothing expired: dropped.
   medium.SubmitFrame(a, frame, 1200 * kNsPerUs);  // Full: the two waiting expire, it stays.
   medium.AdvanceTo(1300 * kNsPerUs, nullptr);
-  EXPECT_EQ(medium.counters(a).queue_drops, 1u);
+  EXPECT_EQ(medium.counters(a).queue_drops, 3u);  // One arrival at a full queue, two expired.
   EXPECT_EQ(medium.counters(a).queue_expired, 2u);
   EXPECT_EQ(medium.queued_frames(a), 1u);
   // At A's access after the broadcast both remaining frames are too old.
   std::vector<Delivery> out;
   medium.AdvanceTo(30 * kNsPerMs, &out);
   EXPECT_EQ(medium.counters(a).queue_expired, 4u);
+  EXPECT_EQ(medium.counters(a).queue_drops, 5u);
   EXPECT_EQ(medium.counters(a).data_tx, 0u);
   EXPECT_EQ(out.size(), 1u);  // B's broadcast only.
 }
