@@ -161,17 +161,17 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
     if (fading) {
       // ns-3 draws the received power from Gamma(m, mean / m) per frame.
       StationState& receiver = s.stations[r];
-      const double gain = receiver.fading[NakagamiIndex(config, SquaredDistanceM2(s.channel, source, r))](
-          receiver.fading_rng);
+      const double gain =
+          receiver.fading[NakagamiIndex(config, SquaredDistanceM2(s.channel, source, r))](
+              receiver.fading_rng);
       mw *= gain;
       dbm += 10 * std::log10(gain);
       if (dbm < config.rx_sensitivity_dbm) continue;
     }
-    const TimeNs delay_ns =
-        config.propagation_delay
-            ? std::llround(std::sqrt(SquaredDistanceM2(s.channel, source, r)) / kSpeedOfLightMps *
-                           1e9)
-            : 0;
+    const TimeNs delay_ns = config.propagation_delay
+                                ? std::llround(std::sqrt(SquaredDistanceM2(s.channel, source, r)) /
+                                               kSpeedOfLightMps * 1e9)
+                                : 0;
     tx.rx.push_back({r, mw, dbm, RxOutcome::kBelowSensitivity, 0, delay_ns});
   }
   for (int i = 0; i < static_cast<int>(tx.rx.size()); ++i) {

@@ -292,7 +292,9 @@ int Refresh(const std::string& path) {
   }
   std::ofstream out(path);
   for (const std::string& line : comments) out << line << "\n";
-  const std::string note = "# mac_phy_sim columns: ns3_side_by_side refresh, with the code of the commit that holds this file";
+  const std::string note =
+      "# mac_phy_sim columns: ns3_side_by_side refresh, with the code of the commit that holds "
+      "this file";
   bool noted = false;
   for (const std::string& line : comments) noted |= line == note;
   if (!noted) out << note << "\n";
@@ -318,8 +320,9 @@ int Refresh(const std::string& path) {
 // 10 s, RngRun 1) and mac_phy_sim's medium on the same scenario with the
 // light driver (RunTopUpSaturation), one after the other in this process.
 int PrintSpeed() {
-  std::printf("| n | ns-3 simulated s per wall s | mac_phy_sim simulated s per wall s | speed-up |\n"
-              "| --- | --- | --- | --- |\n");
+  std::printf(
+      "| n | ns-3 simulated s per wall s | mac_phy_sim simulated s per wall s | speed-up |\n"
+      "| --- | --- | --- | --- |\n");
   for (int n : {5, 20, 50}) {
     Case c;
     c.senders = n;

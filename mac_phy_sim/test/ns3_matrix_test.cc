@@ -43,10 +43,9 @@ TEST(Ns3MatrixTest, FastSubsetWithinNs3PassRule) {
     }
     row.ours_mean_mbps = sum / row.seeds;
     EXPECT_TRUE(side_by_side::Passes(row))
-        << row.c.id << ": mac_phy_sim " << row.ours_mean_mbps << " Mb/s, ns-3 "
-        << row.ns3_mean_mbps << " Mb/s (sd " << row.ns3_sd_mbps << "), error "
-        << 100 * side_by_side::RelativeError(row) << " %, rule "
-        << 100 * side_by_side::RuleFraction(row.c) << " %";
+        << row.c.id << ": mac_phy_sim " << row.ours_mean_mbps << " Mb/s, ns-3 " << row.ns3_mean_mbps
+        << " Mb/s (sd " << row.ns3_sd_mbps << "), error " << 100 * side_by_side::RelativeError(row)
+        << " %, rule " << 100 * side_by_side::RuleFraction(row.c) << " %";
   }
 }
 

@@ -82,7 +82,7 @@ TEST(RateControlTest, IdealStartsLowThenFollowsTheReportedSnr) {
     EXPECT_LE(settled, previous) << distance_m;
     previous = settled;
   }
-  EXPECT_EQ(IdealRates(5, 3).back(), 54);   // SNR 45 dB.
+  EXPECT_EQ(IdealRates(5, 3).back(), 54);  // SNR 45 dB.
   EXPECT_EQ(IdealRates(65, 3).back(), 6);
 }
 
