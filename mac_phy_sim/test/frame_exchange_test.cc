@@ -14,19 +14,10 @@
 namespace sitlnet::mac {
 namespace {
 
+using testing::DrainTransmissions;
 using testing::MakeEthernetFrame;
 
 constexpr MacAddress kBroadcast{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
-
-std::vector<TxRecord> DrainTransmissions(Medium& medium) {
-  std::vector<TraceEvent> trace;
-  medium.DrainTrace(&trace);
-  std::vector<TxRecord> out;
-  for (TraceEvent& event : trace) {
-    if (event.tx) out.push_back(std::move(*event.tx));
-  }
-  return out;
-}
 
 TEST(FrameExchangeTest, QueueLimitCountsTheFrameInService) {
   // ns-3's WifiMacQueue keeps the MPDU being sent in the queue, so MaxSize

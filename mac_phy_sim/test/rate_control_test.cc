@@ -12,17 +12,8 @@
 namespace sitlnet::mac {
 namespace {
 
+using testing::DrainTransmissions;
 using testing::MakeEthernetFrame;
-
-std::vector<TxRecord> Transmissions(Medium& medium) {
-  std::vector<TraceEvent> trace;
-  medium.DrainTrace(&trace);
-  std::vector<TxRecord> out;
-  for (TraceEvent& e : trace) {
-    if (e.tx) out.push_back(std::move(*e.tx));
-  }
-  return out;
-}
 
 TEST(RateControlTest, StationsHaveTheirOwnTxPowerAndRate) {
   Medium medium(MediumConfig{});  // 11a, 54 Mb/s, 16.0206 dBm by default.
@@ -37,7 +28,7 @@ TEST(RateControlTest, StationsHaveTheirOwnTxPowerAndRate) {
   // 6 dBm - (46.6777 + 30 dB) at B; 16.0206 dBm - 76.6777 dB at A.
   EXPECT_NEAR(out[0].rx_power_dbm, 6 - 76.6777, 1e-3);
   EXPECT_NEAR(out[1].rx_power_dbm, 16.0206 - 76.6777, 1e-3);
-  const std::vector<TxRecord> txs = Transmissions(medium);
+  const std::vector<TxRecord> txs = DrainTransmissions(medium);
   ASSERT_EQ(txs.size(), 4u);
   EXPECT_EQ(txs[0].rate_mbps, 12);  // A's DATA at its own rate,
   EXPECT_EQ(txs[1].rate_mbps, 12);  // answered at the control rate of 12 Mb/s;
@@ -60,7 +51,7 @@ std::vector<double> IdealRates(double distance_m, int frames) {
   }
   medium.AdvanceTo(frames * 5 * kNsPerMs, nullptr);
   std::vector<double> rates;
-  for (const TxRecord& tx : Transmissions(medium)) {
+  for (const TxRecord& tx : DrainTransmissions(medium)) {
     if (tx.kind == FrameKind::kData) rates.push_back(tx.rate_mbps);
   }
   return rates;

@@ -104,6 +104,16 @@ SaturationResult RunSaturation(const SaturationSetup& setup) {
   return RunFlows(config, run);
 }
 
+std::vector<TxRecord> DrainTransmissions(Medium& medium) {
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  std::vector<TxRecord> out;
+  for (TraceEvent& event : trace) {
+    if (event.tx) out.push_back(std::move(*event.tx));
+  }
+  return out;
+}
+
 uint64_t RunTopUpSaturation(int n, double seconds, uint64_t seed) {
   MediumConfig config;
   config.seed = seed;

@@ -40,6 +40,9 @@ std::vector<uint8_t> MakeEthernetFrame(const MacAddress& to, const MacAddress& f
 
 SaturationResult RunSaturation(const SaturationSetup& setup);
 
+// Moves the transmissions of the medium's trace out (drops are left out).
+std::vector<TxRecord> DrainTransmissions(Medium& medium);
+
 // The medium's own cost: n saturated 802.11a 54 Mb/s stations 1 mm apart in
 // a ring (n = 1: to a receive-only station), 1500-byte payloads, retries
 // unlimited, with a light driver that keeps 16 frames queued per sender
