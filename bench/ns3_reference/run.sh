@@ -5,9 +5,13 @@
 # 2-core development machine), writes docs/ns3_matrix.csv with its
 # provenance and regenerates the table in docs/validation.md (between the
 # "ns3-matrix" markers). Needs root (or sudo) for the package installation.
-# Usage: bench/ns3_reference/run.sh [build-dir] [seeds] [cell-id-substring]
+# Usage: bench/ns3_reference/run.sh [build-dir] [seeds] [cell-id-substrings,...]
 #   With a cell filter the CSV goes to <build-dir>/ns3_matrix.csv and the
-#   docs are left alone.
+#   docs are left alone. Other modes of the binary:
+#   <build-dir>/bin/ns3_side_by_side refresh docs/ns3_matrix.csv  (recompute
+#   the mac_phy_sim columns after a model change, keeping ns-3's), then
+#   bench/ns3_reference/update_validation_table.sh <binary> <csv> docs/validation.md;
+#   <build-dir>/bin/ns3_side_by_side speed  (ns-3 vs mac_phy_sim timing, n = 5/20/50).
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$repo/build-bench}
