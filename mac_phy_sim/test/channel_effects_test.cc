@@ -168,3 +168,51 @@ TEST(ChannelEffectsTest, LognormalShadowingIsAFixedGaussianPerLink) {
 
 }  // namespace
 }  // namespace sitlnet::mac
+
+namespace sitlnet::mac {
+namespace {
+
+// The same seed gives the same bytes with every channel effect and Ideal
+// rate control on; another seed does not.
+std::vector<TraceEvent> EffectsRun(uint64_t seed) {
+  MediumConfig config;
+  config.seed = seed;
+  config.propagation_delay = true;
+  config.nakagami_fading = true;
+  config.lognormal_shadowing_sigma_db = 6;
+  config.rate_control = MediumConfig::RateControl::kIdeal;
+  Medium medium(config);
+  for (int i = 0; i < 6; ++i) medium.AddStation(RobotMac(i), {15.0 * i, 3.0 * (i % 2), 0});
+  medium.EnableTrace(true);
+  for (int k = 0; k < 40; ++k) {
+    for (int i = 0; i < 6; ++i) {
+      medium.SubmitFrame(i, testing::MakeEthernetFrame(RobotMac((i + 1) % 6), RobotMac(i), 400),
+                         k * kNsPerMs);
+    }
+  }
+  medium.AdvanceTo(kNsPerS, nullptr);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  return trace;
+}
+
+TEST(ChannelEffectsTest, SameSeedSameBytesWithEveryEffectOn) {
+  const std::vector<TraceEvent> a = EffectsRun(3), b = EffectsRun(3), c = EffectsRun(4);
+  ASSERT_EQ(a.size(), b.size());
+  bool differs = a.size() != c.size();
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].tx.has_value(), b[i].tx.has_value());
+    if (!a[i].tx) continue;
+    EXPECT_EQ(a[i].tx->start_ns, b[i].tx->start_ns);
+    EXPECT_EQ(a[i].tx->mpdu, b[i].tx->mpdu);
+    EXPECT_EQ(a[i].tx->rate_mbps, b[i].tx->rate_mbps);
+    for (size_t r = 0; r < a[i].tx->receptions.size(); ++r) {
+      EXPECT_EQ(a[i].tx->receptions[r].rx_power_dbm, b[i].tx->receptions[r].rx_power_dbm);
+    }
+    if (!differs && (!c[i].tx || c[i].tx->start_ns != a[i].tx->start_ns)) differs = true;
+  }
+  EXPECT_TRUE(differs);
+}
+
+}  // namespace
+}  // namespace sitlnet::mac
