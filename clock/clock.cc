@@ -100,6 +100,11 @@ TimeNs Timebase::VirtualSpanOf(TimeNs wall_span_ns) const {
   return Saturate(FloorDiv(product, Wide{1} << -exponent_));
 }
 
+TimeNs TickTimeNs(int64_t tick, int64_t rate_hz) {
+  SITLNET_DEMAND(rate_hz > 0 && tick >= 0);
+  return Saturate(Wide{tick} * kNsPerS / rate_hz);
+}
+
 bool SleepUntilVirtual(const Timebase& timebase, TimeNs virtual_ns, WallClock& wall_clock,
                        int interrupt_fd) {
   return wall_clock.SleepUntilOrInterruptedNs(timebase.WallOf(virtual_ns), interrupt_fd);

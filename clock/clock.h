@@ -95,6 +95,11 @@ class Timebase {
   TimeNs wall_origin_ns_ = 0;
 };
 
+// Virtual time of tick `tick` of a clock running at `rate_hz` (e.g. the frames of a lock-step
+// autopilot): floor(tick * 1 s / rate_hz), exact, so a rate that does not divide a second
+// carries its remainder instead of drifting. Demands rate_hz > 0 and tick >= 0.
+TimeNs TickTimeNs(int64_t tick, int64_t rate_hz);
+
 // Sleeps on `wall_clock` until virtual time `virtual_ns` has come by `timebase`. Returns false
 // early if `interrupt_fd` (>= 0) becomes readable.
 bool SleepUntilVirtual(const Timebase& timebase, TimeNs virtual_ns, WallClock& wall_clock,

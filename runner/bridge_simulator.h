@@ -26,11 +26,10 @@ class BridgeSimulator final : public coordinator::Simulator {
 
   tapbridge::BridgeCore& bridge_;
   coordinator::Pacing pacing_;
-  double realtime_factor_;
+  clock::Timebase timebase_;  // Begun at the first realtime iteration.
   TimeNs network_step_ns_;
   tapbridge::EventLoop loop_;
   bool started_ = false;
-  TimeNs wall_origin_ns_ = 0;
 };
 
 }  // namespace sitlnet::runner

@@ -289,7 +289,6 @@ RunReport RunScenario(const RunOptions& options) {
 
   physics::PhysicsServer physics_server(scenario, PhysicsOptionsFromEnvironment());
   tapbridge::BridgeOptions bridge_options;
-  bridge_options.realtime_factor = scenario.spec.timing().realtime_factor();
   bridge_options.seed = scenario.spec.timing().seed();
   RemoteMedium* remote_medium = nullptr;  // Owned by the bridge.
   std::unique_ptr<tapbridge::MediumModel> medium;

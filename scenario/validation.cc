@@ -4,6 +4,8 @@
 #include <set>
 #include <sstream>
 
+#include "clock/clock.h"
+
 namespace sitlnet::scenario_internal {
 namespace {
 
@@ -157,8 +159,8 @@ void ValidateTiming(const SourceLocator& at, Scenario* scenario) {
                   " is not a whole multiple of " + field + " " + std::to_string(step));
     }
   }
-  if (!(std::isfinite(timing.realtime_factor()) && timing.realtime_factor() > 0)) {
-    at.Fail({{"timing"}, {"realtime_factor"}}, "timing: realtime_factor must be > 0");
+  if (const std::string why = clock::CheckRealtimeFactor(timing.realtime_factor()); !why.empty()) {
+    at.Fail({{"timing"}, {"realtime_factor"}}, "timing: " + why);
   }
   scenario->iteration_ns = timing.iteration_us() * kNsPerUs;
   scenario->physics_step_ns = timing.physics_step_us() * kNsPerUs;

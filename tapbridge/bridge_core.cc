@@ -86,7 +86,7 @@ struct BridgeCore::Impl {
   EventLoop* loop = nullptr;
   std::weak_ptr<const void> loop_lifetime;  // Expired: the loop is gone, do not touch it.
   int timer_fd = -1;
-  TimeNs wall_origin_ns = 0;
+  clock::Timebase timebase;  // Set by StartRealtime.
   TimeNs armed_wall_ns = -1;
   TimeNs stopped_at_ns = -1;  // Virtual time when StopRealtime ran.
   LatenessHistogram interval_lateness;
@@ -104,14 +104,8 @@ struct BridgeCore::Impl {
     }
   }
 
-  TimeNs WallOf(TimeNs virtual_ns) const {
-    if (options.realtime_factor == 1.0) return wall_origin_ns + virtual_ns;
-    return wall_origin_ns + static_cast<TimeNs>(std::ceil(virtual_ns / options.realtime_factor));
-  }
-  TimeNs VirtualOf(TimeNs wall_ns) const {
-    if (options.realtime_factor == 1.0) return wall_ns - wall_origin_ns;
-    return static_cast<TimeNs>((wall_ns - wall_origin_ns) * options.realtime_factor);
-  }
+  TimeNs WallOf(TimeNs virtual_ns) const { return timebase.WallOf(virtual_ns); }
+  TimeNs VirtualOf(TimeNs wall_ns) const { return timebase.VirtualOf(wall_ns); }
 
   // Runs the medium to `until_ns` and hands out what it produced.
   void AdvanceMediumTo(TimeNs until_ns) {
@@ -249,7 +243,6 @@ BridgeCore::BridgeCore(const Scenario& scenario, std::unique_ptr<MediumModel> me
                        BridgeOptions options)
     : impl_(std::make_unique<Impl>()) {
   SITLNET_DEMAND(medium != nullptr);
-  SITLNET_DEMAND(options.realtime_factor > 0);
   impl_->scenario = scenario;
   impl_->medium = std::move(medium);
   impl_->options = std::move(options);
@@ -308,14 +301,14 @@ void BridgeCore::AddAirFrameObserver(AirFrameObserver observer) {
 
 void BridgeCore::SetAirFrameCapture(bool enabled) { impl_->capture_air = enabled; }
 
-void BridgeCore::StartRealtime(EventLoop* loop, TimeNs wall_origin_ns) {
+void BridgeCore::StartRealtime(EventLoop* loop, const clock::Timebase& timebase) {
   SITLNET_DEMAND(impl_->loop == nullptr);
   // Timer slack defaults to 50 µs for normal threads; deliveries are due to
   // the nanosecond, so ask for the minimum (prctl(2), PR_SET_TIMERSLACK).
   prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0);
   impl_->loop = loop;
   impl_->loop_lifetime = loop->lifetime();
-  impl_->wall_origin_ns = wall_origin_ns;
+  impl_->timebase = timebase;
   impl_->timer_fd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
   if (impl_->timer_fd < 0) throw Error(SystemErrorMessage("timerfd_create", errno));
   loop->Add(impl_->timer_fd, EPOLLIN, [this](uint32_t) {

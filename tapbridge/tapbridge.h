@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "clock/clock.h"
 #include "common/common.h"
 #include "scenario/scenario.h"
 
@@ -133,8 +134,7 @@ struct LatenessStats {
 };
 
 struct BridgeOptions {
-  double realtime_factor = 1.0;  // Virtual seconds per wall second (realtime pacing).
-  uint64_t seed = 1;             // Lockstep intra-step offsets.
+  uint64_t seed = 1;  // Lockstep intra-step offsets.
   // Realtime: wake this long before an event and busy-wait the rest (0: pure
   // timer wakeups). Trades CPU for delivery precision (docs/performance.md).
   TimeNs spin_ns = 0;
@@ -170,8 +170,8 @@ class BridgeCore {
   void SetAirFrameCapture(bool enabled);
 
   //---- Realtime driver: registers TAPs and a timerfd on `loop`; virtual time
-  //---- 0 is the wall instant `wall_origin_ns` (CLOCK_MONOTONIC).
-  void StartRealtime(EventLoop* loop, TimeNs wall_origin_ns);
+  //---- follows `timebase` (the run's origin and realtime factor, clock/clock.h).
+  void StartRealtime(EventLoop* loop, const clock::Timebase& timebase);
   TimeNs VirtualNowNs() const;
   // Unregisters from the loop (also done by the destructor); the loop may be
   // destroyed afterwards. Virtual time stays where it stopped.

@@ -116,6 +116,14 @@ TEST(Timebase, RefusesFactorsItCannotConvertExactly) {
   EXPECT_TRUE(CheckRealtimeFactor(0.25).empty());
 }
 
+TEST(TickTimeNs, CarriesTheRemainderOfRatesThatDoNotDivideASecond) {
+  EXPECT_EQ(TickTimeNs(1, 400), 2'500'000);
+  EXPECT_EQ(TickTimeNs(1, 3), 333'333'333);        // floor(1e9 / 3)
+  EXPECT_EQ(TickTimeNs(2, 3), 666'666'666);        // floor(2e9 / 3), not 2 * 333'333'333
+  EXPECT_EQ(TickTimeNs(3, 3), kNsPerS);            // no drift after a whole second
+  EXPECT_EQ(TickTimeNs(10'000'000'000, 1), std::numeric_limits<TimeNs>::max());  // 1e19 ns saturates
+}
+
 class RecordingClock final : public WallClock {
  public:
   TimeNs NowNs() override { return now_ns; }

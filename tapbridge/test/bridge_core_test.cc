@@ -51,7 +51,9 @@ TEST(BridgeCore, LoopMayDieBeforeTheCore) {
   BridgeCore core(scenario, MakeRelayMedium({RobotMac(0)}), BridgeOptions{});
   {
     EventLoop loop;
-    core.StartRealtime(&loop, MonotonicNowNs());
+    clock::Timebase timebase;
+    timebase.Begin(MonotonicNowNs());
+    core.StartRealtime(&loop, timebase);
     loop.RunOnce(0);
   }
   EXPECT_GE(core.VirtualNowNs(), 0);
@@ -62,7 +64,9 @@ TEST(BridgeCore, StopRealtimeThenLoopRunsWithoutTheCore) {
   EventLoop loop;
   {
     BridgeCore core(scenario, MakeRelayMedium({RobotMac(0)}), BridgeOptions{});
-    core.StartRealtime(&loop, MonotonicNowNs());
+    clock::Timebase timebase;
+    timebase.Begin(MonotonicNowNs());
+    core.StartRealtime(&loop, timebase);
   }
   loop.RunOnce(0);  // The after-batch hook was removed with the core.
 }
