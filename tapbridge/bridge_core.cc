@@ -16,6 +16,7 @@
 #include <cstring>
 #include <random>
 
+#include "tapbridge/lockstep_spread.h"
 #include "tapbridge/tap_port.h"
 #include "tapbridge/tapbridge.h"
 
@@ -251,9 +252,7 @@ BridgeCore::BridgeCore(const Scenario& scenario, std::unique_ptr<MediumModel> me
   impl_->counters.resize(n);
   impl_->warned_unknown_source.assign(n, false);
   for (size_t i = 0; i < n; ++i) {
-    // Per-robot stream: seed and index through SplitMix-style mixing via seed_seq.
-    std::seed_seq seq{impl_->options.seed, static_cast<uint64_t>(i), uint64_t{0x7a9b}};
-    impl_->robot_rngs.emplace_back(seq);
+    impl_->robot_rngs.push_back(LockstepSpreadStream(impl_->options.seed, i));
   }
 }
 
