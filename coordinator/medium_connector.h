@@ -32,7 +32,7 @@ class FrameSource {
 
 // Every robot broadcasts a `payload_bytes` UDP-like frame every `period_ns`,
 // robot i offset by i·period/robots (the DANCERS case study's state
-// broadcast; reference.md's "200 B at 10 Hz" scale test). Payload bytes carry
+// broadcast; the "200 B at 10 Hz" broadcast scale test of docs/references.md#ns3-tapbridge). Payload bytes carry
 // the robot index and sequence number, so every frame is distinct.
 class PeriodicBroadcast final : public FrameSource {
  public:

@@ -30,7 +30,7 @@ enum class Standard : uint8_t {
 };
 
 // Plain values only; every field has the default ns-3 3.37 uses (see
-// ../shared/reference.md) unless noted. Validated by the Medium constructor.
+// docs/references.md#radio-defaults) unless noted. Validated by the Medium constructor.
 struct MediumConfig {
   Standard standard = Standard::k80211a;
   double rate_mbps = 54;  // Data rate of every station (no rate control).

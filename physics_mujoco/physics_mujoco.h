@@ -168,7 +168,7 @@ class PhysicsServer {
   // its RobotState at its state rate and cutting motors of robots silent past their timeout.
   void Advance(int steps);
 
-  // Lock-step (docs/design.md, "lockstep"): sends every subscribed, world-clocked robot its
+  // Lock-step (docs/protocols.md, lock-step): sends every subscribed, world-clocked robot its
   // RobotState now (on top of the periodic ones).
   void SendStates();
   // Lock-step: handles packets until every subscribed, world-clocked robot has sent a command

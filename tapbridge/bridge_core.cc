@@ -359,7 +359,7 @@ void BridgeCore::StepLockstep(TimeNs until_ns) {
   std::vector<Pending> pending;
   // Robot index order, then the order read from that robot's TAP; each frame
   // gets a seeded instant in [from, until), sorted per robot so a robot's own
-  // frames keep their order (design.md, lockstep pacing).
+  // frames keep their order (docs/tapbridge.md, lockstep).
   for (size_t robot = 0; robot < impl_->ports.size(); ++robot) {
     TapPort* port = impl_->ports[robot].get();
     if (!port) continue;

@@ -110,7 +110,7 @@ Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, 
   return {seconds / wall, seconds / cpu, cpu * 1e6 / std::max<uint64_t>(1, Transmissions(medium))};
 }
 
-// The full ns-3 Bianchi table (reference.md), both topologies, ~25,000 frames
+// The full ns-3 Bianchi table (docs/references.md#bianchi), both topologies, ~25,000 frames
 // per point as in the tests: measured throughput, error vs each table, and
 // ns-3's pass rule.
 void PrintValidation() {

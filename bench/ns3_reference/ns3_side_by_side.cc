@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
   struct Case {
     int n;
     double rate_mbps;
-    double difs_table, eifs_table;  // reference.md (0: not in the table)
+    double difs_table, eifs_table;  // docs/references.md#bianchi (0: not in the table)
   };
   const std::vector<Case> cases = {
       {5, 6, 4.7087, 4.6899},     {10, 6, 4.3453, 4.3197},    {5, 24, 16.2470, 16.0836},

@@ -1,4 +1,4 @@
-// Path loss and Sommer et al. obstacle shadowing (reference.md oracles).
+// Path loss and Sommer et al. obstacle shadowing (docs/references.md#radio-defaults, #obstacle-shadowing).
 #include "mac_phy_sim/channel.h"
 
 #include <gtest/gtest.h>
