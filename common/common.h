@@ -37,6 +37,12 @@ std::string SystemErrorMessage(std::string_view what, int err);
 //----------------------------------- Time -----------------------------------
 
 // Virtual and wall time are integer nanoseconds everywhere.
+// A point or vector in 3-D (metres, m/s, ...: the unit is in the name of the variable). The
+// one geometric type of the data path: physics positions, medium station positions, obstacles.
+struct Vec3d {
+  double x = 0, y = 0, z = 0;
+};
+
 using TimeNs = int64_t;
 inline constexpr TimeNs kNsPerUs = 1000;
 inline constexpr TimeNs kNsPerMs = 1000 * kNsPerUs;

@@ -53,7 +53,7 @@ void ApplyPoses(const proto::coord::Poses& poses, TimeNs at_ns, mac::Medium* med
   const int n = std::min(medium->station_count(), poses.position_m_size() / 3);
   for (int i = 0; i < n; ++i) {
     medium->SetStationPosition(i,
-                               mac::Vec3{poses.position_m(3 * i), poses.position_m(3 * i + 1),
+                               Vec3d{poses.position_m(3 * i), poses.position_m(3 * i + 1),
                                          poses.position_m(3 * i + 2)},
                                at_ns);
   }

@@ -79,14 +79,10 @@ TimeNs PpduDurationNs(Standard standard, double rate_mbps, int psdu_bytes);
 
 //------------------------------- Geometry -----------------------------------
 
-struct Vec3 {
-  double x = 0, y = 0, z = 0;
-};
-
 // A box obstacle: centre, full edge lengths along its own axes, yaw about +z.
 struct Box {
-  Vec3 center_m;
-  Vec3 size_m;
+  Vec3d center_m;
+  Vec3d size_m;
   double yaw_deg = 0;
 };
 
@@ -191,12 +187,12 @@ class Medium {
   const PhyInfo& phy() const;
 
   // Adds a radio; returns its id (= number of stations before the call).
-  StationId AddStation(const MacAddress& mac, const Vec3& position_m);
+  StationId AddStation(const MacAddress& mac, const Vec3d& position_m);
   int station_count() const;
 
   // Moves a station at virtual time max(at_ns, now_ns()). Frames already on
   // the air keep the power they started with.
-  void SetStationPosition(StationId station, const Vec3& position_m, TimeNs at_ns);
+  void SetStationPosition(StationId station, const Vec3d& position_m, TimeNs at_ns);
 
   // Adds an obstacle (any time; applies to transmissions starting later).
   void AddObstacle(const Box& box);

@@ -92,7 +92,7 @@ const PhyInfo& Medium::phy() const { return state_->phy; }
 int Medium::station_count() const { return static_cast<int>(state_->stations.size()); }
 TimeNs Medium::now_ns() const { return state_->now_ns; }
 
-StationId Medium::AddStation(const MacAddress& mac, const Vec3& position_m) {
+StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m) {
   State& s = *state_;
   const int id = static_cast<int>(s.stations.size());
   StationState& st = s.stations.emplace_back();
@@ -104,7 +104,7 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3& position_m) {
   return id;
 }
 
-void Medium::SetStationPosition(StationId station, const Vec3& position_m, TimeNs at_ns) {
+void Medium::SetStationPosition(StationId station, const Vec3d& position_m, TimeNs at_ns) {
   State& s = *state_;
   SITLNET_DEMAND(station >= 0 && station < station_count());
   int slot;

@@ -48,7 +48,7 @@ void RefuseClashWithOtherScenarios(const Scenario& scenario, const std::vector<H
   for (const std::string& other : ListScenarios()) {
     const std::optional<ScenarioState> state = ReadScenarioState(other);
     if (!state) continue;
-    for (const RobotState& robot : state->robots) {
+    for (const OwnedRobot& robot : state->robots) {
       for (const HostRoute& route : routes) {
         if (route.device != robot.root_veth) continue;
         for (const auto& [field, prefix] : {std::pair{"wlan_subnet", scenario.wlan_subnet},

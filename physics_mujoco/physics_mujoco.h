@@ -28,10 +28,6 @@ namespace sitlnet::physics {
 inline constexpr int kRotors = 4;
 using RotorSpeeds = std::array<double, kRotors>;  // rad/s
 
-struct Vec3d {
-  double x = 0, y = 0, z = 0;
-};
-
 // Unit quaternion (w, x, y, z) rotating body-frame vectors into the world frame.
 struct Quat {
   double w = 1, x = 0, y = 0, z = 0;

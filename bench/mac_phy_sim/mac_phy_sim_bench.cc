@@ -76,12 +76,12 @@ Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, 
     medium.AddObstacle(Box{{pos(rng), pos(rng), 10}, {size(rng), size(rng), 20}, yaw(rng)});
   }
   const int n = 64;
-  std::vector<Vec3> where(n);
+  std::vector<Vec3d> where(n);
   std::vector<std::vector<uint8_t>> frames;
   std::vector<TimeNs> phase(n);
   const MacAddress broadcast{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
   for (int i = 0; i < n; ++i) {
-    where[i] = Vec3{pos(rng), pos(rng), 5};
+    where[i] = Vec3d{pos(rng), pos(rng), 5};
     medium.AddStation(RobotMac(i), where[i]);
     frames.push_back(testing::MakeEthernetFrame(broadcast, RobotMac(i), 200 - 14));
     phase[i] = static_cast<TimeNs>(rng() % (100 * kNsPerMs));

@@ -25,7 +25,7 @@ SaturationResult RunSaturation(const SaturationSetup& setup) {
   const int total = setup.topology == Topology::kSink ? senders + 1 : senders;
   // Stations 1 mm apart, as in ns-3's Bianchi validation: everyone hears
   // everyone at the reference loss.
-  for (int i = 0; i < total; ++i) medium.AddStation(RobotMac(i), Vec3{0.001 * i, 0, 0});
+  for (int i = 0; i < total; ++i) medium.AddStation(RobotMac(i), Vec3d{0.001 * i, 0, 0});
   std::vector<std::vector<uint8_t>> frames;
   std::vector<int> sender_ids;
   for (int i = 0; i < senders; ++i) {
