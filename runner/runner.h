@@ -83,6 +83,21 @@ struct RunReport {
 // both ends of a remote medium hash the same scenario.
 Scenario ApplyRunOverrides(const Scenario& scenario, const RunOptions& options);
 
+// `sitlnet medium --connect`: where the coordinator listens and the overrides its run applied.
+struct RemoteMediumOptions {
+  std::string coordinator_endpoint;  // HOST:PORT.
+  std::optional<uint64_t> seed;      // The run's --seed, if given.
+  bool no_shadowing = false;         // The run's --no-shadowing.
+  TimeNs connect_timeout_ns = 60 * kNsPerS;
+};
+
+// Runs only the 802.11 model of `scenario` as the network connector of a coordinator on another
+// host: connects (retrying while nothing listens, up to the timeout), proves with the scenario's
+// hash that both loaded the same scenario, serves every network step until the run ends or
+// SIGINT/SIGTERM, and returns why it stopped. Throws Error if the coordinator cannot be reached
+// or refuses the handshake.
+std::string ServeRemoteMedium(Scenario scenario, const RemoteMediumOptions& options);
+
 // Runs the scenario to the end of its duration (or until SIGINT/SIGTERM).
 // Throws Error for bad input found before anything was created; later
 // failures are reported in the run folder and on stderr, with everything

@@ -20,9 +20,8 @@ TapPort::TapPort(const std::string& netns, const std::string& ifname)
   const std::string path = "/run/netns/" + netns;
   struct stat ns_stat {};
   if (stat(path.c_str(), &ns_stat) != 0) {
-    throw Error(SystemErrorMessage("attach to TAP \"" + ifname + "\" in namespace \"" + netns +
-                                       "\": stat " + path,
-                                   errno));
+    throw Error(SystemErrorMessage(
+        "attach to TAP \"" + ifname + "\" in namespace \"" + netns + "\": stat " + path, errno));
   }
   netns_inode_ = ns_stat.st_ino;
   {

@@ -76,7 +76,7 @@ TEST(Timebase, LongRunsSaturateInsteadOfOverflowing) {
   EXPECT_EQ(half.WallSpanOf(max), max / 2 + 1);  // ceil((2^63 - 1) / 2) = 2^62
   EXPECT_EQ(half.VirtualSpanOf(max), max);       // 2 * max saturates
   Timebase quarter(0.25);
-  EXPECT_EQ(quarter.WallSpanOf(max / 2), max);   // 4 * (max / 2) saturates
+  EXPECT_EQ(quarter.WallSpanOf(max / 2), max);  // 4 * (max / 2) saturates
   EXPECT_EQ(quarter.VirtualSpanOf(max), max / 4);
 }
 
@@ -118,10 +118,11 @@ TEST(Timebase, RefusesFactorsItCannotConvertExactly) {
 
 TEST(TickTimeNs, CarriesTheRemainderOfRatesThatDoNotDivideASecond) {
   EXPECT_EQ(TickTimeNs(1, 400), 2'500'000);
-  EXPECT_EQ(TickTimeNs(1, 3), 333'333'333);        // floor(1e9 / 3)
-  EXPECT_EQ(TickTimeNs(2, 3), 666'666'666);        // floor(2e9 / 3), not 2 * 333'333'333
-  EXPECT_EQ(TickTimeNs(3, 3), kNsPerS);            // no drift after a whole second
-  EXPECT_EQ(TickTimeNs(10'000'000'000, 1), std::numeric_limits<TimeNs>::max());  // 1e19 ns saturates
+  EXPECT_EQ(TickTimeNs(1, 3), 333'333'333);  // floor(1e9 / 3)
+  EXPECT_EQ(TickTimeNs(2, 3), 666'666'666);  // floor(2e9 / 3), not 2 * 333'333'333
+  EXPECT_EQ(TickTimeNs(3, 3), kNsPerS);      // no drift after a whole second
+  EXPECT_EQ(TickTimeNs(10'000'000'000, 1),
+            std::numeric_limits<TimeNs>::max());  // 1e19 ns saturates
 }
 
 class RecordingClock final : public WallClock {

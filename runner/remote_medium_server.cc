@@ -1,0 +1,53 @@
+// `sitlnet medium --connect`: the 802.11 model serving a coordinator on another host as its
+// network connector (docs/coordinator.md, "A connector on another host").
+#include <unistd.h>
+
+#include <cstdio>
+#include <string>
+
+#include "coordinator/coordinator.h"
+#include "runner/remote_medium.h"
+#include "runner/runner.h"
+#include "tapbridge/tapbridge.h"
+
+namespace sitlnet::runner {
+namespace {
+
+std::string Seconds(TimeNs ns) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", static_cast<double>(ns) / kNsPerS);
+  return text;
+}
+
+}  // namespace
+
+std::string ServeRemoteMedium(Scenario scenario, const RemoteMediumOptions& options) {
+  if (options.seed || options.no_shadowing) {  // As `sitlnet run` applies them.
+    RunOptions overrides;
+    overrides.seed = options.seed;
+    overrides.no_shadowing = options.no_shadowing;
+    scenario = ApplyRunOverrides(scenario, overrides);
+  }
+  const coordinator::Endpoint endpoint = coordinator::ParseEndpoint(options.coordinator_endpoint);
+  std::fprintf(stderr, "sitlnet medium: %s: connecting to the coordinator at %s\n",
+               scenario.name.c_str(), endpoint.ToString().c_str());
+  coordinator::Fd socket;
+  try {
+    socket = coordinator::Connect(endpoint, MonotonicNowNs() + options.connect_timeout_ns);
+  } catch (const coordinator::TransportError& e) {
+    throw Error(std::string("cannot reach the coordinator: ") + e.what() +
+                (e.kind() == coordinator::TransportError::Kind::kTimeout
+                     ? " (tried for " + Seconds(options.connect_timeout_ns) + " s)"
+                     : std::string()));
+  }
+  coordinator::StopSignal stop;  // From here on Ctrl-C ends the wait in order.
+  coordinator::Channel channel(std::move(socket));
+  MediumLinkSimulator simulator(scenario, tapbridge::MakeMacPhySimMedium(scenario));
+  char host[256] = "localhost";
+  gethostname(host, sizeof host - 1);
+  const coordinator::ConnectorIdentity identity{
+      std::string("medium@") + host, coordinator::Role::kNetwork, MediumScenarioHash(scenario)};
+  return coordinator::ServeCoordinator(channel, simulator, identity, 10 * kNsPerS, stop.fd());
+}
+
+}  // namespace sitlnet::runner
