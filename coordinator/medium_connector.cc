@@ -52,10 +52,9 @@ namespace {
 void ApplyPoses(const proto::coord::Poses& poses, TimeNs at_ns, mac::Medium* medium) {
   const int n = std::min(medium->station_count(), poses.position_m_size() / 3);
   for (int i = 0; i < n; ++i) {
-    medium->SetStationPosition(i,
-                               Vec3d{poses.position_m(3 * i), poses.position_m(3 * i + 1),
-                                         poses.position_m(3 * i + 2)},
-                               at_ns);
+    medium->SetStationPosition(
+        i, Vec3d{poses.position_m(3 * i), poses.position_m(3 * i + 1), poses.position_m(3 * i + 2)},
+        at_ns);
   }
 }
 
@@ -70,10 +69,8 @@ void StepMedium(mac::Medium* medium, FrameSource* source, TimeNs t, TimeNs step_
   medium->AdvanceTo(t + step_ns, deliveries);
 }
 
-void Record(const std::vector<mac::Delivery>& in, std::vector<DeliveryRecord>* out) {
-  for (const mac::Delivery& d : in) {
-    out->push_back({d.delivery_ns, d.station, d.source, d.ethernet_frame});
-  }
+void Record(const std::vector<mac::Delivery>& in, std::vector<mac::Delivery>* out) {
+  out->insert(out->end(), in.begin(), in.end());
 }
 
 }  // namespace

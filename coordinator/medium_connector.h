@@ -46,14 +46,6 @@ class PeriodicBroadcast final : public FrameSource {
 };
 
 // One delivery as the tests compare them.
-struct DeliveryRecord {
-  TimeNs delivery_ns = 0;
-  int station = 0;
-  int source = 0;
-  std::vector<uint8_t> ethernet_frame;
-  friend bool operator==(const DeliveryRecord&, const DeliveryRecord&) = default;
-};
-
 class MediumSimulator final : public Simulator {
  public:
   // `source` may be null (no traffic); both must outlive the simulator.
@@ -62,7 +54,7 @@ class MediumSimulator final : public Simulator {
                     IterationContext& context) override;
   // Every delivery so far, in medium order, if recording is on (default off).
   void set_record(bool record) { record_ = record; }
-  const std::vector<DeliveryRecord>& deliveries() const { return records_; }
+  const std::vector<mac::Delivery>& deliveries() const { return records_; }
   uint64_t delivery_count() const { return delivery_count_; }
   mac::Medium& medium() { return medium_; }
 
@@ -73,7 +65,7 @@ class MediumSimulator final : public Simulator {
   bool record_ = false;
   std::vector<TimedFrame> frames_;
   std::vector<mac::Delivery> deliveries_;
-  std::vector<DeliveryRecord> records_;
+  std::vector<mac::Delivery> records_;
   uint64_t delivery_count_ = 0;
 };
 

@@ -99,6 +99,7 @@ struct Delivery {
   TimeNs delivery_ns = 0;               // End of the PPDU at the receiver.
   double rx_power_dbm = 0;
   double sinr_db = 0;  // Lowest SINR over the frame.
+  friend bool operator==(const Delivery&, const Delivery&) = default;
 };
 
 //------------------------------ Outputs: trace ------------------------------

@@ -44,7 +44,7 @@ class RemoteMedium final : public tapbridge::MediumModel {
   ~RemoteMedium() override;  // Stops the connector if Stop() was not called.
 
   void Submit(int station, TimeNs at_ns, std::span<const uint8_t> ethernet) override;
-  void AdvanceTo(TimeNs until_ns, std::vector<tapbridge::Delivery>* deliveries,
+  void AdvanceTo(TimeNs until_ns, std::vector<mac::Delivery>* deliveries,
                  std::vector<tapbridge::AirFrame>* air) override;
   // Realtime pacing is refused for a remote medium; the lockstep bridge does
   // not ask.
@@ -102,7 +102,7 @@ class MediumLinkSimulator final : public coordinator::Simulator {
   int stations_;
   proto::medium::MediumRequest request_;
   proto::medium::MediumReply reply_;
-  std::vector<tapbridge::Delivery> deliveries_;
+  std::vector<mac::Delivery> deliveries_;
   std::vector<tapbridge::AirFrame> air_;
 };
 

@@ -310,16 +310,14 @@ RunReport RunScenario(const RunOptions& options) {
     pcap << tapbridge::EncodePcapRecord(frame, epoch_offset_ns);
   });
   LineFile deliveries(report.run_dir + "/deliveries.csv", kDeliveryHeader);
-  // The same deliveries as link events, kept for the connectivity analysis at the end (in
-  // delivery order, which is time order).
-  std::vector<LinkEvent> link_events;
+  // The communication graph over time (connectivity.csv), fed as deliveries happen.
+  ConnectivityTracker connectivity(static_cast<int>(scenario.robots.size()), kConnectivityWindowNs,
+                                   kConnectivitySampleNs);
   bridge.AddDeliveryObserver([&](const tapbridge::Delivery& d) {
-    if (d.frame.size() < 12) return;
-    const int from = (d.frame[10] << 8) | d.frame[11];  // RobotMac(index) in the source MAC
-    link_events.push_back(LinkEvent{d.time_ns, from, d.station});
+    connectivity.Heard(d.delivery_ns, d.source, d.station);
     char line[128];
-    std::snprintf(line, sizeof line, "%lld,%d,%d,%.2f,%.2f", static_cast<long long>(d.time_ns),
-                  from, d.station, d.rx_power_dbm, d.sinr_db);
+    std::snprintf(line, sizeof line, "%lld,%d,%d,%.2f,%.2f", static_cast<long long>(d.delivery_ns),
+                  d.source, d.station, d.rx_power_dbm, d.sinr_db);
     deliveries.Append(line);
   });
 
@@ -424,7 +422,7 @@ RunReport RunScenario(const RunOptions& options) {
   const coordinator::MetricsSummary summary = metrics.Summarize();
   WriteSummaryAndPlots(scenario, report, summary,
                        std::max<int64_t>(result.iterations_done, summary.iterations), robots,
-                       bridge, physics_server, link_events, failure);
+                       bridge, physics_server, &connectivity, failure);
   if (remote_medium) {
     remote_medium->Stop(failure.empty() ? (result.interrupted ? "interrupted" : "run finished")
                                         : failure);

@@ -48,8 +48,7 @@ class MacPhySimMedium : public MediumModel {
     medium_.AdvanceTo(until_ns, &scratch_);
     for (mac::Delivery& d : scratch_) {
       if (!enabled_[d.station]) continue;
-      deliveries->push_back(Delivery{d.station, d.delivery_ns, std::move(d.ethernet_frame),
-                                     d.rx_power_dbm, d.sinr_db});
+      deliveries->push_back(std::move(d));
     }
     if (tracing_) {
       trace_.clear();

@@ -18,6 +18,7 @@
 
 #include "clock/clock.h"
 #include "common/common.h"
+#include "mac_phy_sim/mac_phy_sim.h"
 #include "scenario/scenario.h"
 
 namespace sitlnet::proto {
@@ -31,13 +32,9 @@ namespace sitlnet::tapbridge {
 // MakeMacPhySimMedium; MakeRelayMedium is the no-medium floor for benchmarks.
 
 // One frame handed to one station, as decided by the medium.
-struct Delivery {
-  int station = 0;             // Destination station (robot index).
-  TimeNs time_ns = 0;          // Virtual instant the frame is received (end of PPDU).
-  std::vector<uint8_t> frame;  // Ethernet frame (dst, src, ethertype, payload), no FCS.
-  double rx_power_dbm = 0;
-  double sinr_db = 0;
-};
+// A frame handed to a robot: the medium model's own record (mac_phy_sim/mac_phy_sim.h), whatever
+// the model (802.11, relay, remote). Stations are robot indices.
+using mac::Delivery;
 
 enum class AirFrameKind { kData, kAck, kRts, kCts };
 

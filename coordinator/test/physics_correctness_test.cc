@@ -151,7 +151,7 @@ TEST(PhysicsCorrectness, CoSimulatedTrajectoriesAreBitIdenticalToPhysicsAlone) {
 // medium's random draws (and only those: physics does not depend on them).
 struct RunOutputs {
   Trajectory trajectory;
-  std::vector<DeliveryRecord> deliveries;
+  std::vector<mac::Delivery> deliveries;
 };
 
 RunOutputs RunBothOverSockets(const Scenario& scenario) {

@@ -50,13 +50,13 @@ struct Output {
 // frames; c moves into range half way.
 Output Drive(tapbridge::MediumModel& medium, const Scenario& s) {
   Output out;
-  std::vector<tapbridge::Delivery> deliveries;
+  std::vector<mac::Delivery> deliveries;
   std::vector<tapbridge::AirFrame> air;
   const auto collect = [&] {
-    for (const tapbridge::Delivery& d : deliveries) {
-      out.deliveries.push_back(std::to_string(d.station) + "," + std::to_string(d.time_ns) + "," +
+    for (const mac::Delivery& d : deliveries) {
+      out.deliveries.push_back(std::to_string(d.station) + "," + std::to_string(d.delivery_ns) + "," +
                                std::to_string(d.rx_power_dbm) + "," + std::to_string(d.sinr_db) +
-                               "," + std::string(d.frame.begin(), d.frame.end()));
+                               "," + std::string(d.ethernet_frame.begin(), d.ethernet_frame.end()));
     }
     for (const tapbridge::AirFrame& frame : air) out.pcap += tapbridge::EncodePcapRecord(frame, 0);
     deliveries.clear();
