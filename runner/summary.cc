@@ -124,7 +124,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
           ",\"robot_median_rss_kib\":" + std::to_string(report.robot_median_rss_kib) + "}";
   json += ",\"medium_link\":";
   if (const auto& link = report.medium_link) {
-    const MediumLinkStats::Means mean = link->PerRoundTrip();
+    const network_side::MediumLinkStats::Means mean = link->PerRoundTrip();
     json += "{\"round_trips\":" + std::to_string(link->round_trips) +
             ",\"quiet_steps\":" + std::to_string(link->quiet_steps) +
             ",\"round_trip_us_mean\":" + std::to_string(mean.round_trip_us) +

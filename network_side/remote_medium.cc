@@ -1,12 +1,11 @@
-#include "runner/remote_medium.h"
-
 #include <algorithm>
 #include <cstring>
 #include <limits>
 
 #include "coordinator/coordinator.h"
+#include "network_side/network_side.h"
 
-namespace sitlnet::runner {
+namespace sitlnet::network_side {
 namespace {
 
 namespace pm = proto::medium;
@@ -232,7 +231,7 @@ MediumLinkSimulator::MediumLinkSimulator(const Scenario& scenario,
     : medium_(std::move(medium)), stations_(static_cast<int>(scenario.robots.size())) {}
 
 void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End* end,
-                                       coordinator::IterationContext&) {
+                                       IterationContext&) {
   if (!request_.ParseFromString(start.payload())) {
     throw Error("medium request " + std::to_string(start.iteration()) +
                 " is not a MediumRequest (is the coordinator a `sitlnet run --remote network`?)");
@@ -302,4 +301,4 @@ void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::
   reply_.SerializeToString(end->mutable_payload());
 }
 
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::network_side

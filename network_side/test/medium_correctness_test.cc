@@ -8,12 +8,15 @@
 #include <thread>
 
 #include "coordinator/coordinator.h"
-#include "coordinator/medium_connector.h"
 #include "coordinator/synthetic.h"
 #include "mac_phy_sim/scenario_adapter.h"
+#include "network_side/network_side.h"
 
-namespace sitlnet::coordinator {
+namespace sitlnet::network_side {
 namespace {
+
+// These tests drive the coordinator directly.
+using namespace coordinator;  // NOLINT(google-build-using-namespace)
 
 constexpr int kRobots = 8;
 constexpr int64_t kIterations = 100;  // 1 s of virtual time.
@@ -135,4 +138,4 @@ TEST(MediumReproducibility, TwoLockstepRunsAreIdenticalAndTheSeedMatters) {
 }
 
 }  // namespace
-}  // namespace sitlnet::coordinator
+}  // namespace sitlnet::network_side

@@ -1,11 +1,10 @@
-#include "coordinator/medium_connector.h"
-
 #include <algorithm>
 #include <functional>
 
 #include "mac_phy_sim/scenario_adapter.h"
+#include "network_side/network_side.h"
 
-namespace sitlnet::coordinator {
+namespace sitlnet::network_side {
 
 PeriodicBroadcast::PeriodicBroadcast(int robots, TimeNs period_ns, int payload_bytes)
     : robots_(robots), period_ns_(period_ns), payload_bytes_(payload_bytes) {
@@ -86,4 +85,4 @@ void MediumSimulator::RunIteration(const proto::coord::Start& start, proto::coor
   }
 }
 
-}  // namespace sitlnet::coordinator
+}  // namespace sitlnet::network_side
