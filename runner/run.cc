@@ -302,11 +302,11 @@ RunReport RunScenario(const RunOptions& options) {
 
   // The medium's view: pcap (virtual timestamps in lockstep, so that runs
   // are byte-identical; wall-clock dates in realtime) and the delivery log.
-  std::ofstream pcap(report.run_dir + "/medium.pcap", std::ios::binary);
-  pcap << tapbridge::PcapFileHeader();
+  LineFile pcap(report.run_dir + "/medium.pcap", "", 256, "pcap");
+  pcap.AppendRecord(tapbridge::PcapFileHeader());
   const TimeNs epoch_offset_ns = lockstep ? 0 : static_cast<TimeNs>(std::time(nullptr)) * kNsPerS;
   bridge.AddAirFrameObserver([&](const tapbridge::AirFrame& frame) {
-    pcap << tapbridge::EncodePcapRecord(frame, epoch_offset_ns);
+    pcap.AppendRecord(tapbridge::EncodePcapRecord(frame, epoch_offset_ns));
   });
   LineFile deliveries(report.run_dir + "/deliveries.csv", kDeliveryHeader);
   // The communication graph over time (connectivity.csv), fed as deliveries happen.
@@ -399,7 +399,7 @@ RunReport RunScenario(const RunOptions& options) {
   getrusage(RUSAGE_CHILDREN, &usage);
   report.robots_cpu_s = cpu_s(usage);
   deliveries.Flush();
-  pcap.flush();
+  pcap.Flush();
 
   report.interrupted = result.interrupted;
   report.exit_code = !failure.empty() ? 1 : result.interrupted ? 130 : 0;
