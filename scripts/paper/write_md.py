@@ -52,13 +52,13 @@ slower = [int(r["robots"]) for r in lockstep if float(r["stf_mean"]) >= 1]
 stf_rows = "\n".join(
     f"| {r['robots']} | lockstep | {r['runs']} | {float(r['t_phy_ms']) / 10:.4f} "
     f"| {float(r['t_net_ms']) / 10:.4f} | {float(r['t_total_ms']) / 10:.4f} "
-    f"| {float(r['t_overhead_ms']) / 10:.4f} | {100 * float(r['overhead_share']):.1f} % | |"
-    for r in lockstep)
+    f"| {float(r['t_overhead_ms']) / 10:.4f} | {100 * float(r['overhead_share']):.1f} % | "
+    f"| {float(r['load1']):.1f} |" for r in lockstep)
 # Realtime: an iteration lasts 10 ms of wall time by design (the medium waits for the clock), so
 # only the physics' share and the lag behind the wall clock say whether the host keeps up.
 stf_rows += "\n" + "\n".join(
     f"| {r['robots']} | realtime | {r['runs']} | {float(r['t_phy_ms']) / 10:.4f} | paced | paced "
-    f"| | | {float(r['lag_p99_ms']):.2f} |" for r in realtime)
+    f"| | | {float(r['lag_p99_ms']):.2f} | {float(r['load1']):.1f} |" for r in realtime)
 at32 = [r for r in lockstep if r["robots"] == "32"]
 share32 = (f"{100 * float(at32[0]['overhead_share']):.1f} % (lockstep)" if at32 else
            "not measured in this mode (`--full` measures 32 robots)")
@@ -110,12 +110,13 @@ component throughout, one side, all past (without).
 Paper: the co-simulation (ns-3 with Robotsim, Mini-Dancers or Gazebo) runs faster than real time
 below about 20 robots. sitlnet ({run['scale_plan']}; Δ = 10 ms, the bench/scale flocking
 scenario): {faster_text}. In realtime pacing the run is paced to the wall clock (STF 1); what
-matters there is the lag behind it (p99 below).
+matters there is the lag behind it (p99 below). The host is shared: "load" is the median 1-minute
+load average when the runs started (2 cores); docs/performance.md has figures on an idle host.
 
 ![]({img}paper_fig5_stf.png)
 
-| robots | pacing | runs | STF physics | STF network | STF co-simulation | STF overhead | overhead share | lag p99 (ms) |
-| --- | --- | --- | --- | --- | --- | --- | --- | --- |
+| robots | pacing | runs | STF physics | STF network | STF co-simulation | STF overhead | overhead share | lag p99 (ms) | load |
+| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |
 {stf_rows}
 
 ## Overhead share
