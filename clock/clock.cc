@@ -53,6 +53,14 @@ WallClock& DefaultWallClock() {
   return clock;
 }
 
+TimeNs CalendarNsOfWall(TimeNs wall_ns) {
+  timespec realtime{};
+  clock_gettime(CLOCK_REALTIME, &realtime);
+  const TimeNs wall_now_ns = MonotonicNowNs();
+  return Saturate(Wide{realtime.tv_sec} * kNsPerS + realtime.tv_nsec -
+                  (wall_now_ns - Wide{wall_ns}));
+}
+
 std::string CheckRealtimeFactor(double factor) {
   if (std::isfinite(factor) && factor >= kMinRealtimeFactor && factor <= kMaxRealtimeFactor) {
     return "";

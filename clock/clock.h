@@ -47,6 +47,11 @@ class SystemWallClock final : public WallClock {
 // Process-wide instance of SystemWallClock.
 WallClock& DefaultWallClock();
 
+// The CLOCK_REALTIME instant (ns since the Unix epoch) of the CLOCK_MONOTONIC instant `wall_ns`,
+// as the two clocks stand now: calendar dates in outputs (a pcap's date of virtual time 0),
+// never pacing (CLOCK_REALTIME jumps when the host's time is set).
+TimeNs CalendarNsOfWall(TimeNs wall_ns);
+
 //------------------------------ Virtual <-> wall time ------------------------------
 
 // Realtime factors a run may use (virtual seconds per wall second). Outside this range the

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <ctime>
 #include <limits>
 #include <random>
 #include <vector>
@@ -169,6 +170,17 @@ TEST(SleepUntilVirtual, SleepsUntilTheWallInstantOfTheVirtualTime) {
   EXPECT_TRUE(SleepUntilVirtual(timebase, 3 * kNsPerMs, wall));
   ASSERT_EQ(wall.slept_until.size(), 1u);
   EXPECT_EQ(wall.slept_until[0], 1000 + 12 * kNsPerMs);
+}
+
+TEST(CalendarNsOfWall, IsTheRealtimeClockAtThatMonotonicInstant) {
+  // Oracle: both clocks read here; they advance together (no one sets the host's time here).
+  timespec realtime{};
+  const TimeNs wall_now_ns = MonotonicNowNs();
+  clock_gettime(CLOCK_REALTIME, &realtime);
+  const TimeNs calendar_now_ns = TimeNs{realtime.tv_sec} * kNsPerS + realtime.tv_nsec;
+  const TimeNs origin_ns = wall_now_ns - 3 * kNsPerS;
+  EXPECT_NEAR(static_cast<double>(CalendarNsOfWall(origin_ns)),
+              static_cast<double>(calendar_now_ns - 3 * kNsPerS), 0.1 * kNsPerS);
 }
 
 }  // namespace
