@@ -10,9 +10,7 @@
 #include <string>
 
 #include "cli/commands.h"
-#include "coordinator/coordinator.h"
 #include "nns/nns.h"
-#include "runner/remote_medium.h"
 #include "runner/runner.h"
 #include "scenario/scenario.h"
 #include "tapbridge/tapbridge.h"
@@ -54,48 +52,6 @@ constexpr const char* kMediumHelp =
     "(scenario not up, daemon already running; --connect: coordinator\n"
     "unreachable, refused the handshake, or vanished mid-run), 2 usage or bad\n"
     "scenario file, 3 missing privileges.\n";
-
-std::string Seconds(TimeNs ns) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", static_cast<double>(ns) / kNsPerS);
-  return text;
-}
-
-// `--connect`: the medium model as a network connector of a coordinator on
-// another host (runner/remote_medium.h).
-int ServeRemoteMedium(Scenario scenario, const std::string& endpoint_text,
-                      std::optional<uint64_t> seed, bool no_shadowing, TimeNs connect_timeout_ns) {
-  if (seed || no_shadowing) {  // As `sitlnet run` applies them.
-    runner::RunOptions overrides;
-    overrides.seed = seed;
-    overrides.no_shadowing = no_shadowing;
-    scenario = runner::ApplyRunOverrides(scenario, overrides);
-  }
-  const coordinator::Endpoint endpoint = coordinator::ParseEndpoint(endpoint_text);
-  std::fprintf(stderr, "sitlnet medium: %s: connecting to the coordinator at %s\n",
-               scenario.name.c_str(), endpoint.ToString().c_str());
-  coordinator::Fd socket;
-  try {
-    socket = coordinator::Connect(endpoint, MonotonicNowNs() + connect_timeout_ns);
-  } catch (const coordinator::TransportError& e) {
-    throw Error(std::string("cannot reach the coordinator: ") + e.what() +
-                (e.kind() == coordinator::TransportError::Kind::kTimeout
-                     ? " (tried for " + Seconds(connect_timeout_ns) + " s)"
-                     : std::string()));
-  }
-  coordinator::StopSignal stop;  // From here on Ctrl-C ends the wait in order.
-  coordinator::Channel channel(std::move(socket));
-  runner::MediumLinkSimulator simulator(scenario, tapbridge::MakeMacPhySimMedium(scenario));
-  char host[256] = "localhost";
-  gethostname(host, sizeof host - 1);
-  const coordinator::ConnectorIdentity identity{std::string("medium@") + host,
-                                                coordinator::Role::kNetwork,
-                                                runner::MediumScenarioHash(scenario)};
-  const std::string reason =
-      coordinator::ServeCoordinator(channel, simulator, identity, 10 * kNsPerS, stop.fd());
-  std::fprintf(stderr, "sitlnet medium: %s: stopped: %s\n", scenario.name.c_str(), reason.c_str());
-  return kExitOk;
-}
 
 }  // namespace
 
@@ -186,7 +142,17 @@ int RunMediumCommand(int argc, char** argv) {
   if (load_status != kExitOk) return load_status;
   if (!connect.empty()) {
     return ReportErrors("medium", kExitFailure, [&] {
-      return ServeRemoteMedium(scenario, connect, seed, no_shadowing, connect_timeout_ns);
+      runner::RunOptions overrides;  // As `sitlnet run` applies them: both hash the same scenario.
+      overrides.seed = seed;
+      overrides.no_shadowing = no_shadowing;
+      network_side::RemoteMediumOptions remote;
+      remote.coordinator_endpoint = connect;
+      remote.connect_timeout_ns = connect_timeout_ns;
+      const std::string reason =
+          network_side::ServeRemoteMedium(runner::ApplyRunOverrides(scenario, overrides), remote);
+      std::fprintf(stderr, "sitlnet medium: %s: stopped: %s\n", scenario.name.c_str(),
+                   reason.c_str());
+      return kExitOk;
     });
   }
   return ReportErrors("medium", kExitFailure, [&] {

@@ -47,7 +47,8 @@ void Warn(const CoordinatorOptions& options, const std::string& line) {
   }
 }
 
-std::string LagWarning(const IterationMetrics& m, TimeNs iteration_ns, double factor) {
+std::string LagWarning(const IterationMetrics& m, TimeNs iteration_ns,
+                       const clock::Timebase& timebase) {
   char text[320];
   std::snprintf(
       text, sizeof text,
@@ -58,8 +59,8 @@ std::string LagWarning(const IterationMetrics& m, TimeNs iteration_ns, double fa
       static_cast<double>(m.start_ns) / kNsPerS, static_cast<double>(m.t_total_ns) / kNsPerMs,
       static_cast<double>(m.t_phy_ns) / kNsPerMs, static_cast<double>(m.t_net_ns) / kNsPerMs,
       static_cast<double>(m.t_overhead_ns) / kNsPerMs,
-      static_cast<double>(iteration_ns) / kNsPerMs / factor,
-      static_cast<double>(iteration_ns) / kNsPerMs, factor);
+      static_cast<double>(timebase.WallSpanOf(iteration_ns)) / kNsPerMs,
+      static_cast<double>(iteration_ns) / kNsPerMs, timebase.realtime_factor());
   return text;
 }
 
@@ -94,7 +95,8 @@ RunResult RunCoordinator(Connector& physics, Connector& network,
                          const CoordinatorOptions& options) {
   SITLNET_DEMAND(physics.role() == Role::kPhysics && network.role() == Role::kNetwork);
   SITLNET_DEMAND(options.iteration_ns > 0 && options.iterations >= 0);
-  Clock& clock = options.clock ? *options.clock : DefaultClock();
+  clock::WallClock& wall_clock =
+      options.wall_clock ? *options.wall_clock : clock::DefaultWallClock();
   Pacer pacer(options.pacing, options.realtime_factor, options.iteration_ns);
   LagWarner lag_warner(options.lag_warning_ns, kNsPerS);
   RunGuard guard(physics, network, options);
@@ -106,7 +108,7 @@ RunResult RunCoordinator(Connector& physics, Connector& network,
   proto::coord::End phy_end;
   proto::coord::End net_end;
 
-  pacer.Begin(clock.NowNs());
+  pacer.Begin(wall_clock.NowNs());
   for (int64_t k = 0; k < options.iterations; ++k) {
     const uint64_t iteration = static_cast<uint64_t>(k);
     for (proto::coord::Start* start : {&phy_start, &net_start}) {
@@ -114,7 +116,7 @@ RunResult RunCoordinator(Connector& physics, Connector& network,
       start->set_start_ns(k * options.iteration_ns);
       start->set_end_ns((k + 1) * options.iteration_ns);
     }
-    const TimeNs t0 = clock.NowNs();
+    const TimeNs t0 = wall_clock.NowNs();
     WaitLimits limits;
     limits.timeout_ns = options.answer_timeout_ns;
     limits.deadline_ns = MonotonicNowNs() + options.answer_timeout_ns;
@@ -140,7 +142,7 @@ RunResult RunCoordinator(Connector& physics, Connector& network,
       guard.set_reason("interrupted during iteration " + std::to_string(k));
       return result;
     }
-    const TimeNs t1 = clock.NowNs();
+    const TimeNs t1 = wall_clock.NowNs();
     // Physics' poses at (k+1)Δ go to the network with START k+1.
     net_start.mutable_poses()->Swap(phy_end.mutable_poses());
 
@@ -156,12 +158,12 @@ RunResult RunCoordinator(Connector& physics, Connector& network,
     if (options.metrics_csv) options.metrics_csv->Append(m);
     if (options.metrics) options.metrics->Add(m);
     if (lag_warner.ShouldWarn(m.lag_ns, t1)) {
-      Warn(options, LagWarning(m, options.iteration_ns, options.realtime_factor));
+      Warn(options, LagWarning(m, options.iteration_ns, pacer.timebase()));
     }
     result.iterations_done = k + 1;
     bool slept = true;
     if (decision.sleep_until_ns > t1) {
-      slept = clock.SleepUntilOrInterruptedNs(decision.sleep_until_ns, options.interrupt_fd);
+      slept = wall_clock.SleepUntilOrInterruptedNs(decision.sleep_until_ns, options.interrupt_fd);
     }
     // A signal during the sleep or the last iteration ends the run here.
     if (options.interrupt_fd >= 0 && k + 1 < options.iterations) {

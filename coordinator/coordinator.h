@@ -46,7 +46,7 @@ struct CoordinatorOptions {
   // Realtime: warn when an iteration ends later than this behind its deadline
   // (at most one warning per wall second).
   TimeNs lag_warning_ns = 10 * kNsPerMs;
-  Clock* clock = nullptr;                   // nullptr: DefaultClock().
+  clock::WallClock* wall_clock = nullptr;  // nullptr: clock::DefaultWallClock().
   int interrupt_fd = -1;                    // StopSignal::fd(); -1: none.
   MetricsCsvWriter* metrics_csv = nullptr;  // May be null.
   MetricsCollector* metrics = nullptr;      // May be null.

@@ -1,48 +1,22 @@
 // Wall-clock pacing of iterations: `realtime` (virtual time follows the wall
 // clock times a real-time factor) or `lockstep` (as fast as possible).
-// The clock is injected so the deadline logic is testable without sleeping.
+// Deadlines come from the run's clock::Timebase (clock/clock.h), the one owner
+// of the virtual<->wall mapping.
 #ifndef SITLNET_COORDINATOR_PACING_H_
 #define SITLNET_COORDINATOR_PACING_H_
 
 #include <string>
 
+#include "clock/clock.h"
 #include "common/common.h"
 
 namespace sitlnet::coordinator {
-
-// A monotonic wall clock (nanoseconds, arbitrary origin).
-class Clock {
- public:
-  virtual ~Clock() = default;
-  virtual TimeNs NowNs() = 0;
-  // Returns once NowNs() >= wall_ns (at once if already past).
-  virtual void SleepUntilNs(TimeNs wall_ns) = 0;
-  // Same, but returns false early if `interrupt_fd` (>= 0) becomes readable.
-  // Default: not interruptible.
-  virtual bool SleepUntilOrInterruptedNs(TimeNs wall_ns, int interrupt_fd) {
-    SleepUntilNs(wall_ns);
-    return true;
-  }
-};
-
-// CLOCK_MONOTONIC; sleeps with clock_nanosleep(TIMER_ABSTIME) so deadlines
-// do not drift with the time spent computing.
-class SystemClock final : public Clock {
- public:
-  TimeNs NowNs() override;
-  void SleepUntilNs(TimeNs wall_ns) override;
-  // ppoll() on the fd with the time left, re-armed until the deadline.
-  bool SleepUntilOrInterruptedNs(TimeNs wall_ns, int interrupt_fd) override;
-};
-
-// Process-wide instance of SystemClock.
-Clock& DefaultClock();
 
 enum class Pacing { kRealtime, kLockstep };
 std::string PacingName(Pacing pacing);
 
 // Deadlines of iterations. Iteration k covers virtual time [kΔ, (k+1)Δ); in
-// realtime mode it must not end before wall_origin + (k+1)Δ / factor.
+// realtime mode it must not end before the wall instant of (k+1)Δ.
 // Deadlines are absolute: an iteration that ran late does not shift later
 // ones, so the run catches up when the host has spare time again.
 class Pacer {
@@ -50,7 +24,7 @@ class Pacer {
   Pacer(Pacing pacing, double realtime_factor, TimeNs iteration_ns);
 
   // Starts the wall clock of the run: iteration 0 begins at `wall_origin_ns`.
-  void Begin(TimeNs wall_origin_ns) { wall_origin_ns_ = wall_origin_ns; }
+  void Begin(TimeNs wall_origin_ns) { timebase_.Begin(wall_origin_ns); }
 
   // Wall instant before which iteration k must not end (lockstep: the
   // origin, i.e. never wait).
@@ -64,13 +38,13 @@ class Pacer {
   Decision AfterIteration(int64_t iteration, TimeNs now_ns) const;
 
   Pacing pacing() const { return pacing_; }
-  double realtime_factor() const { return realtime_factor_; }
+  double realtime_factor() const { return timebase_.realtime_factor(); }
+  const clock::Timebase& timebase() const { return timebase_; }
 
  private:
   Pacing pacing_;
-  double realtime_factor_;
+  clock::Timebase timebase_;
   TimeNs iteration_ns_;
-  TimeNs wall_origin_ns_ = 0;
 };
 
 // Decides when to warn that realtime pacing is falling behind: at most once

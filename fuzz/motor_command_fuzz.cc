@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "physics_mujoco/control_server.h"
+#include "physics_mujoco/robot_codec.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   constexpr double kMaxSpeedRadS = 1000;

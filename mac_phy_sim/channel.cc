@@ -24,7 +24,7 @@ bool Slab(double p, double d, double lo, double hi, double* t_in, double* t_out)
 PreparedBox PrepareBox(const Box& box) {
   PreparedBox p;
   p.center_m = box.center_m;
-  p.half_m = Vec3{box.size_m.x / 2, box.size_m.y / 2, box.size_m.z / 2};
+  p.half_m = Vec3d{box.size_m.x / 2, box.size_m.y / 2, box.size_m.z / 2};
   p.cos_yaw = std::cos(box.yaw_deg * kDegToRad);
   p.sin_yaw = std::sin(box.yaw_deg * kDegToRad);
   const double c = std::fabs(p.cos_yaw), s = std::fabs(p.sin_yaw);
@@ -36,18 +36,18 @@ PreparedBox PrepareBox(const Box& box) {
   return p;
 }
 
-BoxCrossing CrossPreparedBox(const PreparedBox& box, const Vec3& a, const Vec3& b) {
+BoxCrossing CrossPreparedBox(const PreparedBox& box, const Vec3d& a, const Vec3d& b) {
   // Into the box frame: translate, then rotate by -yaw about z.
   const double c = box.cos_yaw, s = -box.sin_yaw;
-  auto local = [&](const Vec3& p) {
+  auto local = [&](const Vec3d& p) {
     const double x = p.x - box.center_m.x, y = p.y - box.center_m.y;
-    return Vec3{c * x - s * y, s * x + c * y, p.z - box.center_m.z};
+    return Vec3d{c * x - s * y, s * x + c * y, p.z - box.center_m.z};
   };
-  const Vec3 la = local(a), lb = local(b);
-  const Vec3 d{lb.x - la.x, lb.y - la.y, lb.z - la.z};
+  const Vec3d la = local(a), lb = local(b);
+  const Vec3d d{lb.x - la.x, lb.y - la.y, lb.z - la.z};
   double t_in = -std::numeric_limits<double>::infinity();
   double t_out = std::numeric_limits<double>::infinity();
-  const Vec3& h = box.half_m;
+  const Vec3d& h = box.half_m;
   if (!Slab(la.x, d.x, -h.x, h.x, &t_in, &t_out) || !Slab(la.y, d.y, -h.y, h.y, &t_in, &t_out) ||
       !Slab(la.z, d.z, -h.z, h.z, &t_in, &t_out)) {
     return {};
@@ -60,7 +60,7 @@ BoxCrossing CrossPreparedBox(const PreparedBox& box, const Vec3& a, const Vec3& 
   return crossing;
 }
 
-BoxCrossing CrossBox(const Box& box, const Vec3& a, const Vec3& b) {
+BoxCrossing CrossBox(const Box& box, const Vec3d& a, const Vec3d& b) {
   return CrossPreparedBox(PrepareBox(box), a, b);
 }
 
@@ -72,7 +72,7 @@ Channel::Channel(double reference_loss_db, double exponent, bool shadowing, doub
       db_per_wall_(db_per_wall),
       db_per_m_(db_per_m) {}
 
-int Channel::AddStation(const Vec3& position_m) {
+int Channel::AddStation(const Vec3d& position_m) {
   const int index = static_cast<int>(positions_.size());
   positions_.push_back(position_m);
   moved_epoch_.push_back(++epoch_);
@@ -86,8 +86,8 @@ int Channel::AddStation(const Vec3& position_m) {
   return index;
 }
 
-void Channel::SetPosition(int station, const Vec3& position_m) {
-  const Vec3& old = positions_[station];
+void Channel::SetPosition(int station, const Vec3d& position_m) {
+  const Vec3d& old = positions_[station];
   if (old.x == position_m.x && old.y == position_m.y && old.z == position_m.z) return;
   positions_[station] = position_m;
   moved_epoch_[station] = ++epoch_;
@@ -136,8 +136,8 @@ double Channel::LognormalDb(int a, int b) const {
 }
 
 double Channel::ComputeLoss(int a, int b) {
-  const Vec3& pa = positions_[a];
-  const Vec3& pb = positions_[b];
+  const Vec3d& pa = positions_[a];
+  const Vec3d& pb = positions_[b];
   const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
   double loss = PathLossDb(std::sqrt(dx * dx + dy * dy + dz * dz)) + LognormalDb(a, b);
   // Shadowing only adds loss: a link already dead in free space stays dead.
@@ -180,7 +180,7 @@ void Channel::RebuildGrid() {
   }
 }
 
-double Channel::ShadowingDb(const Vec3& a, const Vec3& b, double stop_at_db) {
+double Channel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_db) {
   if (boxes_.empty()) return 0;
   if (grid_stale_) RebuildGrid();
   if (++stamp_ == 0) {  // Wrapped: reset stamps so none looks visited.

@@ -25,25 +25,25 @@ struct BoxCrossing {
   int walls = 0;
   double inside_m = 0;
 };
-BoxCrossing CrossBox(const Box& box, const Vec3& a, const Vec3& b);
+BoxCrossing CrossBox(const Box& box, const Vec3d& a, const Vec3d& b);
 
 // A box with its rotation and xy bounding rectangle precomputed.
 struct PreparedBox {
-  Vec3 center_m, half_m;
+  Vec3d center_m, half_m;
   double cos_yaw = 1, sin_yaw = 0;
   double min_x = 0, max_x = 0, min_y = 0, max_y = 0;
 };
 PreparedBox PrepareBox(const Box& box);
-BoxCrossing CrossPreparedBox(const PreparedBox& box, const Vec3& a, const Vec3& b);
+BoxCrossing CrossPreparedBox(const PreparedBox& box, const Vec3d& a, const Vec3d& b);
 
 class Channel {
  public:
   Channel(double reference_loss_db, double exponent, bool shadowing, double db_per_wall,
           double db_per_m);
 
-  int AddStation(const Vec3& position_m);  // Returns its index.
-  void SetPosition(int station, const Vec3& position_m);
-  const Vec3& position(int station) const { return positions_[station]; }
+  int AddStation(const Vec3d& position_m);  // Returns its index.
+  void SetPosition(int station, const Vec3d& position_m);
+  const Vec3d& position(int station) const { return positions_[station]; }
   void AddObstacle(const Box& box);
   int obstacle_count() const { return static_cast<int>(boxes_.size()); }
   // Forgets every cached loss (after the dead-link threshold changed).
@@ -57,7 +57,7 @@ class Channel {
   double PathLossDb(double distance_m) const;
   // Uncached: shadowing loss of the segment a -> b; stops adding boxes once
   // the total reaches `stop_at_db` (the link is dead then anyway).
-  double ShadowingDb(const Vec3& a, const Vec3& b,
+  double ShadowingDb(const Vec3d& a, const Vec3d& b,
                      double stop_at_db = std::numeric_limits<double>::infinity());
   // Losses at or above this are "no link": their exact value is not needed,
   // so shadowing stops accumulating there (see docs/mac_phy_sim.md).
@@ -88,7 +88,7 @@ class Channel {
   double reference_loss_db_, exponent_;
   bool shadowing_;
   double db_per_wall_, db_per_m_;
-  std::vector<Vec3> positions_;
+  std::vector<Vec3d> positions_;
   uint64_t epoch_ = 1;                 // Counts changes (moves, obstacles).
   std::vector<uint64_t> moved_epoch_;  // Per station: epoch of its last move.
   uint64_t obstacles_epoch_ = 0;       // Epoch of the last obstacle added.

@@ -30,7 +30,7 @@ enum class Standard : uint8_t {
 };
 
 // Plain values only; every field has the default ns-3 3.37 uses (see
-// ../shared/reference.md) unless noted. Validated by the Medium constructor.
+// docs/references.md#radio-defaults) unless noted. Validated by the Medium constructor.
 struct MediumConfig {
   Standard standard = Standard::k80211a;
   double rate_mbps = 54;  // Data rate of every station (no rate control).
@@ -111,14 +111,10 @@ TimeNs PpduDurationNs(Standard standard, double rate_mbps, int psdu_bytes);
 
 //------------------------------- Geometry -----------------------------------
 
-struct Vec3 {
-  double x = 0, y = 0, z = 0;
-};
-
 // A box obstacle: centre, full edge lengths along its own axes, yaw about +z.
 struct Box {
-  Vec3 center_m;
-  Vec3 size_m;
+  Vec3d center_m;
+  Vec3d size_m;
   double yaw_deg = 0;
 };
 
@@ -141,6 +137,7 @@ struct Delivery {
   TimeNs delivery_ns = 0;               // End of the PPDU at the receiver.
   double rx_power_dbm = 0;
   double sinr_db = 0;  // Lowest SINR over the frame.
+  friend bool operator==(const Delivery&, const Delivery&) = default;
 };
 
 //------------------------------ Outputs: trace ------------------------------
@@ -234,15 +231,15 @@ class Medium {
   const PhyInfo& phy() const;
 
   // Adds a radio; returns its id (= number of stations before the call).
-  StationId AddStation(const MacAddress& mac, const Vec3& position_m);
+  StationId AddStation(const MacAddress& mac, const Vec3d& position_m);
   // The same with its own tx power and/or data rate; throws Error naming the
   // field if one is out of range or not a rate of the standard.
-  StationId AddStation(const MacAddress& mac, const Vec3& position_m, const StationRadio& radio);
+  StationId AddStation(const MacAddress& mac, const Vec3d& position_m, const StationRadio& radio);
   int station_count() const;
 
   // Moves a station at virtual time max(at_ns, now_ns()). Frames already on
   // the air keep the power they started with.
-  void SetStationPosition(StationId station, const Vec3& position_m, TimeNs at_ns);
+  void SetStationPosition(StationId station, const Vec3d& position_m, TimeNs at_ns);
 
   // Adds an obstacle (any time; applies to transmissions starting later).
   void AddObstacle(const Box& box);

@@ -93,11 +93,11 @@ const PhyInfo& Medium::phy() const { return state_->phy; }
 int Medium::station_count() const { return static_cast<int>(state_->stations.size()); }
 TimeNs Medium::now_ns() const { return state_->now_ns; }
 
-StationId Medium::AddStation(const MacAddress& mac, const Vec3& position_m) {
+StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m) {
   return AddStation(mac, position_m, StationRadio{});
 }
 
-StationId Medium::AddStation(const MacAddress& mac, const Vec3& position_m,
+StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
                              const StationRadio& radio) {
   State& s = *state_;
   const double tx_power_dbm = radio.tx_power_dbm.value_or(s.config.tx_power_dbm);
@@ -137,7 +137,7 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3& position_m,
   return id;
 }
 
-void Medium::SetStationPosition(StationId station, const Vec3& position_m, TimeNs at_ns) {
+void Medium::SetStationPosition(StationId station, const Vec3d& position_m, TimeNs at_ns) {
   State& s = *state_;
   SITLNET_DEMAND(station >= 0 && station < station_count());
   int slot;

@@ -160,7 +160,7 @@ struct StationState {
 
 struct PendingMove {
   int station = 0;
-  Vec3 position_m;
+  Vec3d position_m;
 };
 
 struct PendingFrame {

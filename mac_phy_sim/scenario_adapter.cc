@@ -3,7 +3,7 @@
 namespace sitlnet::mac {
 namespace {
 
-Vec3 ToVec3(const proto::Vec3& v) { return Vec3{v.x(), v.y(), v.z()}; }
+Vec3d ToVec3(const proto::Vec3& v) { return Vec3d{v.x(), v.y(), v.z()}; }
 
 }  // namespace
 

@@ -69,8 +69,8 @@ void CountReceiverOutcome(StationState& st, const Transmission& tx, const RxEntr
 constexpr double kSpeedOfLightMps = 299792458.0;
 
 double SquaredDistanceM2(const Channel& channel, int a, int b) {
-  const Vec3& pa = channel.position(a);
-  const Vec3& pb = channel.position(b);
+  const Vec3d& pa = channel.position(a);
+  const Vec3d& pb = channel.position(b);
   const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
   return dx * dx + dy * dy + dz * dz;
 }

@@ -82,7 +82,7 @@ void ConfigureLink(const RouteSocket& sock, int ifindex, const LinkSettings& set
   if (settings.txqueuelen > 0) rtnl_link_set_txqlen(changes.get(), settings.txqueuelen);
   if (settings.multicast_off) rtnl_link_unset_flags(changes.get(), IFF_MULTICAST);
   if (settings.ipv6_silent) {
-    // Before link-up: no link-local address, hence no DAD, MLD or RS (reference.md).
+    // Before link-up: no link-local address, hence no DAD, MLD or RS (docs/references.md#linux).
     const int err = rtnl_link_inet6_set_addr_gen_mode(changes.get(), IN6_ADDR_GEN_MODE_NONE);
     if (err < 0) throw Error(NlError(what + ": addrgenmode none", err));
   }

@@ -77,7 +77,7 @@ void CreateNetnsAndEnter(const std::string& name) {
     unlink(path.c_str());
     throw Error(SystemErrorMessage("unshare network namespace for \"" + name + "\"", err));
   }
-  // thread-self, not self: only this thread moved (reference.md).
+  // thread-self, not self: only this thread moved (docs/references.md#linux).
   if (mount("/proc/thread-self/ns/net", path.c_str(), "none", MS_BIND, nullptr) != 0) {
     const int err = errno;
     unlink(path.c_str());

@@ -114,7 +114,8 @@ std::vector<HostRoute> ReadHostRoutes();
 // vanishes at reboot together with the namespaces.
 inline constexpr const char* kStateDir = "/run/sitlnet";
 
-struct RobotState {
+// One robot as the state file records it: what `up` created for it and `down` removes.
+struct OwnedRobot {
   int index = 0;
   std::string name;
   std::string netns;
@@ -128,10 +129,10 @@ struct ScenarioState {
   std::string name;
   std::string source_path;
   int physics_port = 0;
-  std::vector<RobotState> robots;
+  std::vector<OwnedRobot> robots;
 
   // "<ctl_root_address>:<physics_port>" of robot `index` (SITLNET_PHYSICS_ADDR).
-  std::string PhysicsAddress(const RobotState& robot) const;
+  std::string PhysicsAddress(const OwnedRobot& robot) const;
 };
 
 ScenarioState StateFromScenario(const Scenario& scenario);
@@ -148,7 +149,7 @@ std::optional<ScenarioState> ReadScenarioState(const std::string& name);
 // "<scenario>-<robot>" (its namespace name), or `scenario` + "robot".
 struct RobotRef {
   ScenarioState scenario;
-  RobotState robot;
+  OwnedRobot robot;
 };
 // Throws Error (one line, listing candidates when ambiguous) if not found.
 RobotRef ResolveRobot(const std::vector<ScenarioState>& scenarios, const std::string& robot,
@@ -219,7 +220,7 @@ struct LinkInfo {
 };
 
 struct RobotStatus {
-  RobotState robot;
+  OwnedRobot robot;
   bool netns_present = false;
   bool root_veth_present = false;
   std::vector<LinkInfo> links;  // Inside the robot's namespace.

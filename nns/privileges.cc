@@ -16,7 +16,7 @@ std::optional<std::string> MissingPrivileges() {
     missing.append(missing.empty() ? "" : ", ").append(item);
   };
   // TAP/veth creation and addresses need CAP_NET_ADMIN; unshare, setns and
-  // the /run/netns mounts need CAP_SYS_ADMIN (reference.md).
+  // the /run/netns mounts need CAP_SYS_ADMIN (docs/references.md#linux).
   if (!HasEffectiveCapability(CAP_NET_ADMIN)) add("CAP_NET_ADMIN");
   if (!HasEffectiveCapability(CAP_SYS_ADMIN)) add("CAP_SYS_ADMIN");
   const int tun = open("/dev/net/tun", O_RDWR | O_CLOEXEC);

@@ -15,7 +15,7 @@
 
 namespace sitlnet::nns {
 
-std::string ScenarioState::PhysicsAddress(const RobotState& robot) const {
+std::string ScenarioState::PhysicsAddress(const OwnedRobot& robot) const {
   return FormatIpv4(robot.ctl_root_address) + ":" + std::to_string(physics_port);
 }
 
@@ -25,7 +25,7 @@ ScenarioState StateFromScenario(const Scenario& scenario) {
   state.source_path = scenario.source_path;
   state.physics_port = static_cast<int>(scenario.spec.addresses().physics_port());
   for (const RobotPlan& plan : scenario.robots) {
-    state.robots.push_back(RobotState{plan.index, plan.name, plan.netns, plan.root_veth,
+    state.robots.push_back(OwnedRobot{plan.index, plan.name, plan.netns, plan.root_veth,
                                       plan.wlan_address, plan.ctl_root_address,
                                       plan.ctl_robot_address});
   }
@@ -37,7 +37,7 @@ std::string FormatState(const ScenarioState& state) {
   out << "# sitlnet state, written by `sitlnet up` before it created anything (docs/nns.md)\n"
       << "scenario " << state.name << "\n"
       << "physics_port " << state.physics_port << "\n";
-  for (const RobotState& robot : state.robots) {
+  for (const OwnedRobot& robot : state.robots) {
     out << "robot " << robot.index << " " << robot.name << " " << robot.netns << " "
         << robot.root_veth << " " << FormatIpv4(robot.wlan_address) << " "
         << FormatIpv4(robot.ctl_root_address) << " " << FormatIpv4(robot.ctl_robot_address) << "\n";
@@ -66,7 +66,7 @@ ScenarioState ParseState(const std::string& text, const std::string& source) {
     } else if (key == "source") {
       state.source_path = line.size() > 7 ? line.substr(7) : "";
     } else if (key == "robot") {
-      RobotState robot;
+      OwnedRobot robot;
       std::string wlan, ctl_root, ctl_robot;
       ok = static_cast<bool>(fields >> robot.index >> robot.name >> robot.netns >>
                              robot.root_veth >> wlan >> ctl_root >> ctl_robot);
@@ -186,7 +186,7 @@ RobotRef ResolveRobot(const std::vector<ScenarioState>& scenarios, const std::st
   std::vector<RobotRef> matches;
   for (const ScenarioState& scenario : scenarios) {
     if (!scenario_name.empty() && scenario.name != scenario_name) continue;
-    for (const RobotState& candidate : scenario.robots) {
+    for (const OwnedRobot& candidate : scenario.robots) {
       // "<robot>" or its namespace name "<scenario>-<robot>".
       if (candidate.name == robot || (scenario_name.empty() && candidate.netns == robot)) {
         matches.push_back(RobotRef{scenario, candidate});

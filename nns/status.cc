@@ -11,7 +11,7 @@ std::vector<RobotStatus> Status(const ScenarioState& state) {
   std::vector<internal::NsId> namespaces;
   std::vector<size_t> robot_of_namespace;
   internal::RouteSocket root;
-  for (const RobotState& robot : state.robots) {
+  for (const OwnedRobot& robot : state.robots) {
     RobotStatus status;
     status.robot = robot;
     status.root_veth_present = internal::LinkIndex(root, robot.root_veth) != 0;

@@ -16,7 +16,7 @@ namespace {
 
 // Opens /dev/net/tun and binds it to TAP `ifname` in the calling thread's
 // namespace (creating it if absent). IFF_NO_PI: frames are bare Ethernet.
-// No IFF_VNET_HDR: offloads would yield 64 KB superframes (reference.md).
+// No IFF_VNET_HDR: offloads would yield 64 KB superframes (docs/references.md#linux).
 UniqueFd OpenTap(const std::string& ifname, int open_flags, const std::string& what) {
   UniqueFd fd(open("/dev/net/tun", O_RDWR | O_CLOEXEC | open_flags));
   if (!fd.valid()) throw Error(SystemErrorMessage(what + ": open /dev/net/tun", errno));

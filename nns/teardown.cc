@@ -131,7 +131,7 @@ DownReport internal::DownLocked(const std::string& name) {
   }
   // 1. Processes, all namespaces of the scenario in one /proc scan per round.
   std::vector<internal::NsId> namespaces;
-  for (const RobotState& robot : state->robots) {
+  for (const OwnedRobot& robot : state->robots) {
     internal::NsId id;
     if (internal::StatNs(NetnsPath(robot.netns), &id)) namespaces.push_back(id);
   }
@@ -148,17 +148,17 @@ DownReport internal::DownLocked(const std::string& name) {
   internal::RouteSocket root;
   const uint32_t group = internal::LinkGroupForScenario(name);
   std::set<std::string> ours;
-  for (const RobotState& robot : state->robots) ours.insert(robot.root_veth);
+  for (const OwnedRobot& robot : state->robots) ours.insert(robot.root_veth);
   const std::vector<std::string> in_group = internal::LinksInGroup(root, group);
   if (!in_group.empty() && std::all_of(in_group.begin(), in_group.end(),
                                        [&](const auto& link) { return ours.count(link) != 0; })) {
     internal::DeleteLinkGroup(root, group);
     report.links_removed += static_cast<int>(in_group.size());
   }
-  for (const RobotState& robot : state->robots) {
+  for (const OwnedRobot& robot : state->robots) {
     if (internal::DeleteLinkIfPresent(root, robot.root_veth)) ++report.links_removed;
   }
-  for (const RobotState& robot : state->robots) {
+  for (const OwnedRobot& robot : state->robots) {
     if (RemoveNetns(robot.netns)) ++report.namespaces_removed;
   }
   internal::RemoveState(name);

@@ -48,7 +48,7 @@ void RefuseClashWithOtherScenarios(const Scenario& scenario, const std::vector<H
   for (const std::string& other : ListScenarios()) {
     const std::optional<ScenarioState> state = ReadScenarioState(other);
     if (!state) continue;
-    for (const RobotState& robot : state->robots) {
+    for (const OwnedRobot& robot : state->robots) {
       for (const HostRoute& route : routes) {
         if (route.device != robot.root_veth) continue;
         for (const auto& [field, prefix] : {std::pair{"wlan_subnet", scenario.wlan_subnet},
@@ -81,7 +81,7 @@ void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket
     robot_netns.Reset(open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC));
     if (!robot_netns.valid()) throw Error(SystemErrorMessage(who + ": open namespace", errno));
     inside = std::make_unique<RouteSocket>();  // Stays bound to the robot's namespace.
-    // Born inside the namespace (reference.md): no move, no name clash.
+    // Born inside the namespace (docs/references.md#linux): no move, no name clash.
     internal::CreatePersistentTap("wlan0", who + ": create TAP wlan0");
     // Unmodified ping and robot software without CAP_NET_RAW (docs/security.md). Best effort:
     // a read-only /proc/sys leaves the kernel default, where ping needs CAP_NET_RAW.
@@ -104,7 +104,7 @@ void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket
   if (scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP) {
     // Lockstep needs every frame to leave in the step that produced it; an
     // ARP exchange would delay the first send to a peer by the kernel's own
-    // timers (design.md). MACs are known in advance: RobotMac(index).
+    // timers (docs/references.md#linux, "Lockstep and the TAP"). MACs are known in advance: RobotMac(index).
     for (const RobotPlan& peer : scenario.robots) {
       if (peer.index == robot.index) continue;
       internal::AddPermanentNeighbour(*inside, wlan, peer.wlan_address, peer.wlan_mac,

@@ -1,5 +1,6 @@
-// ArduPilot's JSON SITL physics-backend protocol (ardupilot libraries/SITL/examples/JSON/
-// readme.md): servo packets in, "\n{json}\n" state out, frame_count driven lock-step.
+// ArduPilot's JSON SITL physics-backend protocol (docs/references.md#ardupilot-json, from
+// ArduPilot's libraries/SITL/examples/JSON/readme.md): servo packets in, "\n{json}\n" state out,
+// frame_count driven lock-step.
 #ifndef SITLNET_PHYSICS_MUJOCO_ARDUPILOT_JSON_H_
 #define SITLNET_PHYSICS_MUJOCO_ARDUPILOT_JSON_H_
 

@@ -28,10 +28,6 @@ namespace sitlnet::physics {
 inline constexpr int kRotors = 4;
 using RotorSpeeds = std::array<double, kRotors>;  // rad/s
 
-struct Vec3d {
-  double x = 0, y = 0, z = 0;
-};
-
 // Unit quaternion (w, x, y, z) rotating body-frame vectors into the world frame.
 struct Quat {
   double w = 1, x = 0, y = 0, z = 0;
@@ -168,7 +164,7 @@ class PhysicsServer {
   // its RobotState at its state rate and cutting motors of robots silent past their timeout.
   void Advance(int steps);
 
-  // Lock-step (docs/design.md, "lockstep"): sends every subscribed, world-clocked robot its
+  // Lock-step (docs/protocols.md, lock-step): sends every subscribed, world-clocked robot its
   // RobotState now (on top of the periodic ones).
   void SendStates();
   // Lock-step: handles packets until every subscribed, world-clocked robot has sent a command

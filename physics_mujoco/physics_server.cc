@@ -7,8 +7,9 @@
 #include <cerrno>
 #include <cmath>
 
+#include "clock/clock.h"
 #include "physics_mujoco/ardupilot_json.h"
-#include "physics_mujoco/control_server.h"
+#include "physics_mujoco/robot_codec.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "physics_mujoco/udp_socket.h"
 
@@ -147,8 +148,7 @@ struct PhysicsServer::Impl {
     // Frame n ends at n / frame_rate: whole physics steps, the remainder carried (exact over
     // many frames when 1/frame_rate is not a multiple of the step).
     const int64_t target_steps =
-        ep.json_base_steps +
-        ep.json_frames * kNsPerS / (int64_t{ep.json_rate_hz} * world.step_ns());
+        ep.json_base_steps + clock::TickTimeNs(ep.json_frames, ep.json_rate_hz) / world.step_ns();
     world.AdvanceRobot(ep.robot, static_cast<int>(target_steps - world.steps(ep.robot)));
     ep.last_json =
         FormatJsonState(world.time_ns(ep.robot), world.Pose(ep.robot), world.Imu(ep.robot));
@@ -337,14 +337,12 @@ const RobotCounters& PhysicsServer::counters(int robot) const {
 
 TimeNs RunRealtime(PhysicsServer* server, double realtime_factor, TimeNs duration_ns,
                    const std::atomic<bool>& stop) {
-  SITLNET_DEMAND(realtime_factor > 0);
   const TimeNs step_ns = server->world().step_ns();
-  const TimeNs start_ns = MonotonicNowNs();
+  clock::Timebase timebase(realtime_factor);
+  timebase.Begin(MonotonicNowNs());
   TimeNs max_lag_ns = 0;
   for (int64_t steps = 0; !stop.load() && (duration_ns <= 0 || steps * step_ns < duration_ns);) {
-    const TimeNs due_ns =
-        start_ns +
-        static_cast<TimeNs>(static_cast<double>((steps + 1) * step_ns) / realtime_factor);
+    const TimeNs due_ns = timebase.WallOf((steps + 1) * step_ns);
     const TimeNs now_ns = MonotonicNowNs();
     if (now_ns < due_ns) {
       // Sleep until the step is due, waking early for packets (handled at once, so a command
@@ -356,7 +354,7 @@ TimeNs RunRealtime(PhysicsServer* server, double realtime_factor, TimeNs duratio
       if (ppoll(&fd, 1, &timeout, nullptr) > 0) server->Poll();
       continue;
     }
-    max_lag_ns = std::max(max_lag_ns, now_ns - due_ns);
+    max_lag_ns = std::max(max_lag_ns, timebase.LagNs((steps + 1) * step_ns, now_ns));
     server->Advance(1);
     ++steps;
   }

@@ -32,23 +32,6 @@ void WriteConnectivityCsv(const std::string& path, const std::vector<Connectivit
   }
 }
 
-std::vector<LinkEvent> ReadDeliveryLog(const std::string& path) {
-  std::ifstream file(path);
-  if (!file) throw Error(SystemErrorMessage("open " + path, errno));
-  std::vector<LinkEvent> events;
-  std::string line;
-  std::getline(file, line);  // header
-  while (std::getline(file, line)) {
-    LinkEvent event;
-    long long time_ns = 0;
-    if (std::sscanf(line.c_str(), "%lld,%d,%d", &time_ns, &event.from, &event.to) == 3) {
-      event.time_ns = time_ns;
-      events.push_back(event);
-    }
-  }
-  return events;
-}
-
 namespace {
 
 // Corners of an obstacle's footprint, for gnuplot's polygon objects.

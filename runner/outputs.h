@@ -32,9 +32,6 @@ inline constexpr char kDeliveryHeader[] = "time_ns,from,to,rx_power_dbm,sinr_db"
 void WriteConnectivityCsv(const std::string& path, const std::vector<ConnectivitySample>& samples,
                           int robots);
 
-// Reads deliveries.csv back into link events (sorted by time).
-std::vector<LinkEvent> ReadDeliveryLog(const std::string& path);
-
 // Draws trajectories.png (top view over the obstacles), connectivity.png and
 // stf.png into `run_dir` with gnuplot. Returns the PNGs written; a missing
 // gnuplot or a failed plot is a warning line in *warnings, not an error.

@@ -7,6 +7,7 @@
 
 #include "coordinator/metrics.h"
 #include "physics_mujoco/physics_mujoco.h"
+#include "runner/connectivity.h"
 #include "runner/run_monitor.h"
 #include "runner/runner.h"
 #include "tapbridge/tapbridge.h"
@@ -21,7 +22,8 @@ inline constexpr TimeNs kConnectivitySampleNs = 100 * kNsPerMs;
 void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
                           const coordinator::MetricsSummary& metrics, int64_t iterations_done,
                           const std::vector<RobotSlot>& robots, tapbridge::BridgeCore& bridge,
-                          const physics::PhysicsServer& physics, const std::string& failure);
+                          const physics::PhysicsServer& physics, ConnectivityTracker* connectivity,
+                          const std::string& failure);
 
 }  // namespace sitlnet::runner
 

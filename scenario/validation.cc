@@ -4,6 +4,8 @@
 #include <set>
 #include <sstream>
 
+#include "clock/clock.h"
+
 namespace sitlnet::scenario_internal {
 namespace {
 
@@ -29,6 +31,22 @@ std::string Num(double value) {
 bool InRange(double value, double low, double high) {
   return std::isfinite(value) && value >= low && value <= high;
 }
+
+// Fails unless `value` is finite and in [low, high]: "<who><field> <value> out of range [l, h]".
+void RequireInRange(const SourceLocator& at, std::initializer_list<SourceLocator::Step> path,
+                    const std::string& who, const char* field, double value, double low,
+                    double high) {
+  if (!InRange(value, low, high)) {
+    at.Fail(path,
+            who + field + " " + Num(value) + " out of range [" + Num(low) + ", " + Num(high) + "]");
+  }
+}
+
+// Largest values that keep every derived nanosecond count (and sums of them) far from int64's
+// end; nothing a scenario needs comes near them.
+constexpr int64_t kMaxDurationMs = 366LL * 24 * 3600 * 1000;  // a year of virtual time
+constexpr int64_t kMaxStepUs = 60LL * 1000 * 1000;            // a minute per step
+constexpr uint32_t kMaxLidarRays = 4096;
 
 void ValidateName(const SourceLocator& at, Scenario* scenario) {
   const std::string& name = scenario->spec.name();
@@ -65,6 +83,10 @@ void ValidateAirframes(const SourceLocator& at, const proto::Scenario& spec) {
         at.Fail({{"airframe", i}, {field}}, who + field + " " + Num(value) + " must be > 0");
       }
     }
+    RequireInRange(at, {{"airframe", i}, {"drag_coefficient"}}, who, "drag_coefficient",
+                   airframe.drag_coefficient(), 0, 1);
+    RequireInRange(at, {{"airframe", i}, {"linear_drag_n_s_per_m"}}, who, "linear_drag_n_s_per_m",
+                   airframe.linear_drag_n_s_per_m(), 0, 1e3);
   }
 }
 
@@ -84,10 +106,17 @@ void ValidateObstacles(const SourceLocator& at, const proto::Scenario& spec) {
     if (!box.has_size_m()) at.Fail({{"obstacle", i}}, who + "size_m is required");
     const double sizes[] = {box.size_m().x(), box.size_m().y(), box.size_m().z()};
     for (double size : sizes) {
-      if (!(std::isfinite(size) && size > 0)) {
-        at.Fail({{"obstacle", i}, {"size_m"}}, who + "every size_m component must be > 0");
+      if (!(std::isfinite(size) && size > 0 && size <= 1e5)) {
+        at.Fail({{"obstacle", i}, {"size_m"}}, who + "every size_m component must be in (0, 1e5]");
       }
     }
+    const double center[] = {box.center_m().x(), box.center_m().y(), box.center_m().z()};
+    for (double coordinate : center) {
+      if (!InRange(coordinate, -1e6, 1e6)) {
+        at.Fail({{"obstacle", i}, {"center_m"}}, who + "center_m must be finite, within 1e6 m");
+      }
+    }
+    RequireInRange(at, {{"obstacle", i}, {"yaw_deg"}}, who, "yaw_deg", box.yaw_deg(), -1e6, 1e6);
   }
 }
 
@@ -160,6 +189,12 @@ void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
             "radio: shadowing_db_per_wall must be in [0, 200] and "
             "shadowing_db_per_m in [0, 100]");
   }
+  RequireInRange(at, {{"radio"}, {"noise_figure_db"}}, "radio: ", "noise_figure_db",
+                 radio.noise_figure_db(), 0, 50);
+  RequireInRange(at, {{"radio"}, {"rx_sensitivity_dbm"}}, "radio: ", "rx_sensitivity_dbm",
+                 radio.rx_sensitivity_dbm(), -200, 0);
+  RequireInRange(at, {{"radio"}, {"cca_energy_detect_dbm"}}, "radio: ", "cca_energy_detect_dbm",
+                 radio.cca_energy_detect_dbm(), -200, 0);
   if (radio.queue_limit_frames() < 1) {
     at.Fail({{"radio"}, {"queue_limit_frames"}}, "radio: queue_limit_frames must be >= 1");
   }
@@ -172,9 +207,11 @@ void ValidateTiming(const SourceLocator& at, Scenario* scenario) {
                                                       {"network_step_us", timing.network_step_us()},
                                                       {"duration_ms", timing.duration_ms()}};
   for (const auto& [field, value] : positive) {
-    if (value <= 0) {
+    const int64_t max = std::string(field) == "duration_ms" ? kMaxDurationMs : kMaxStepUs;
+    if (value <= 0 || value > max) {
       at.Fail({{"timing"}, {field}},
-              std::string("timing: ") + field + " " + std::to_string(value) + " must be > 0");
+              std::string("timing: ") + field + " " + std::to_string(value) +
+                  (value <= 0 ? " must be > 0" : " must be at most " + std::to_string(max)));
     }
   }
   const std::pair<const char*, int64_t> steps[] = {{"physics_step_us", timing.physics_step_us()},
@@ -186,8 +223,8 @@ void ValidateTiming(const SourceLocator& at, Scenario* scenario) {
                   " is not a whole multiple of " + field + " " + std::to_string(step));
     }
   }
-  if (!(std::isfinite(timing.realtime_factor()) && timing.realtime_factor() > 0)) {
-    at.Fail({{"timing"}, {"realtime_factor"}}, "timing: realtime_factor must be > 0");
+  if (const std::string why = clock::CheckRealtimeFactor(timing.realtime_factor()); !why.empty()) {
+    at.Fail({{"timing"}, {"realtime_factor"}}, "timing: " + why);
   }
   scenario->iteration_ns = timing.iteration_us() * kNsPerUs;
   scenario->physics_step_ns = timing.physics_step_us() * kNsPerUs;
@@ -259,7 +296,37 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
     const double position[] = {robot.position_m().x(), robot.position_m().y(),
                                robot.position_m().z()};
     for (double coordinate : position) {
-      if (!std::isfinite(coordinate)) at.Fail({{"robot", i}, {"position_m"}}, who + "non-finite");
+      if (!InRange(coordinate, -1e6, 1e6)) {
+        at.Fail({{"robot", i}, {"position_m"}}, who + "position_m must be finite, within 1e6 m");
+      }
+    }
+    RequireInRange(at, {{"robot", i}, {"yaw_deg"}}, who, "yaw_deg", robot.yaw_deg(), -1e6, 1e6);
+    RequireInRange(at, {{"robot", i}, {"state_rate_hz"}}, who, "state_rate_hz",
+                   robot.state_rate_hz(), 0.01, 1e5);
+    if (robot.command_timeout_ms() < 0 || robot.command_timeout_ms() > kMaxDurationMs) {
+      at.Fail({{"robot", i}, {"command_timeout_ms"}},
+              who + "command_timeout_ms must be in [0, " + std::to_string(kMaxDurationMs) + "]");
+    }
+    if (robot.ardupilot_json_port() > 65535) {
+      at.Fail({{"robot", i}, {"ardupilot_json_port"}},
+              who + "ardupilot_json_port must be <= 65535");
+    }
+    if (robot.lidar().rays() > kMaxLidarRays) {
+      at.Fail({{"robot", i}, {"lidar"}, {"rays"}},
+              who + "lidar rays " + std::to_string(robot.lidar().rays()) + " out of range [0, " +
+                  std::to_string(kMaxLidarRays) + "]");
+    }
+    RequireInRange(at, {{"robot", i}, {"lidar"}, {"max_range_m"}}, who, "lidar max_range_m",
+                   robot.lidar().max_range_m(), 0.01, 1e4);
+    RequireInRange(at, {{"robot", i}, {"lidar"}, {"fov_deg"}}, who, "lidar fov_deg",
+                   robot.lidar().fov_deg(), 0.01, 360);
+    const std::pair<const char*, double> imu[] = {
+        {"gyro_noise_rad_s", robot.imu().gyro_noise_rad_s()},
+        {"gyro_bias_rad_s", robot.imu().gyro_bias_rad_s()},
+        {"accel_noise_m_s2", robot.imu().accel_noise_m_s2()},
+        {"accel_bias_m_s2", robot.imu().accel_bias_m_s2()}};
+    for (const auto& [field, value] : imu) {
+      RequireInRange(at, {{"robot", i}, {"imu"}, {field}}, who + "imu ", field, value, 0, 1e3);
     }
     if (robot.has_tx_power_dbm() && !InRange(robot.tx_power_dbm(), -10, 30)) {
       at.Fail({{"robot", i}, {"tx_power_dbm"}},
@@ -308,8 +375,10 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
 
 void ValidateAndDerive(const SourceLocator& locator, Scenario* scenario) {
   ValidateName(locator, scenario);
-  if (scenario->spec.silent_robot_timeout_ms() <= 0) {
-    locator.Fail({{"silent_robot_timeout_ms"}}, "silent_robot_timeout_ms must be > 0");
+  if (scenario->spec.silent_robot_timeout_ms() <= 0 ||
+      scenario->spec.silent_robot_timeout_ms() > kMaxDurationMs) {
+    locator.Fail({{"silent_robot_timeout_ms"}},
+                 "silent_robot_timeout_ms must be in [1, " + std::to_string(kMaxDurationMs) + "]");
   }
   ValidateAirframes(locator, scenario->spec);
   ValidateObstacles(locator, scenario->spec);

@@ -16,6 +16,7 @@
 #include <cstring>
 #include <random>
 
+#include "tapbridge/lockstep_spread.h"
 #include "tapbridge/tap_port.h"
 #include "tapbridge/tapbridge.h"
 
@@ -86,7 +87,7 @@ struct BridgeCore::Impl {
   EventLoop* loop = nullptr;
   std::weak_ptr<const void> loop_lifetime;  // Expired: the loop is gone, do not touch it.
   int timer_fd = -1;
-  TimeNs wall_origin_ns = 0;
+  clock::Timebase timebase;  // Set by StartRealtime.
   TimeNs armed_wall_ns = -1;
   TimeNs stopped_at_ns = -1;  // Virtual time when StopRealtime ran.
   LatenessHistogram interval_lateness;
@@ -104,14 +105,8 @@ struct BridgeCore::Impl {
     }
   }
 
-  TimeNs WallOf(TimeNs virtual_ns) const {
-    if (options.realtime_factor == 1.0) return wall_origin_ns + virtual_ns;
-    return wall_origin_ns + static_cast<TimeNs>(std::ceil(virtual_ns / options.realtime_factor));
-  }
-  TimeNs VirtualOf(TimeNs wall_ns) const {
-    if (options.realtime_factor == 1.0) return wall_ns - wall_origin_ns;
-    return static_cast<TimeNs>((wall_ns - wall_origin_ns) * options.realtime_factor);
-  }
+  TimeNs WallOf(TimeNs virtual_ns) const { return timebase.WallOf(virtual_ns); }
+  TimeNs VirtualOf(TimeNs wall_ns) const { return timebase.VirtualOf(wall_ns); }
 
   // Runs the medium to `until_ns` and hands out what it produced.
   void AdvanceMediumTo(TimeNs until_ns) {
@@ -126,14 +121,14 @@ struct BridgeCore::Impl {
       TapPort* port = ports[d.station].get();
       if (!port) continue;
       PortCounters& c = counters[d.station];
-      if (port->Write(d.frame) == 0) {
+      if (port->Write(d.ethernet_frame) == 0) {
         ++c.frames_written;
       } else {
         ++c.write_errors;
       }
       if (loop) {
         // Measured right after the write(): what a reader in the robot sees.
-        const TimeNs lateness_ns = MonotonicNowNs() - WallOf(d.time_ns);
+        const TimeNs lateness_ns = MonotonicNowNs() - WallOf(d.delivery_ns);
         interval_lateness.Add(lateness_ns);
         total_lateness.Add(lateness_ns);
       }
@@ -249,7 +244,6 @@ BridgeCore::BridgeCore(const Scenario& scenario, std::unique_ptr<MediumModel> me
                        BridgeOptions options)
     : impl_(std::make_unique<Impl>()) {
   SITLNET_DEMAND(medium != nullptr);
-  SITLNET_DEMAND(options.realtime_factor > 0);
   impl_->scenario = scenario;
   impl_->medium = std::move(medium);
   impl_->options = std::move(options);
@@ -258,9 +252,7 @@ BridgeCore::BridgeCore(const Scenario& scenario, std::unique_ptr<MediumModel> me
   impl_->counters.resize(n);
   impl_->warned_unknown_source.assign(n, false);
   for (size_t i = 0; i < n; ++i) {
-    // Per-robot stream: seed and index through SplitMix-style mixing via seed_seq.
-    std::seed_seq seq{impl_->options.seed, static_cast<uint64_t>(i), uint64_t{0x7a9b}};
-    impl_->robot_rngs.emplace_back(seq);
+    impl_->robot_rngs.push_back(LockstepSpreadStream(impl_->options.seed, i));
   }
 }
 
@@ -308,14 +300,14 @@ void BridgeCore::AddAirFrameObserver(AirFrameObserver observer) {
 
 void BridgeCore::SetAirFrameCapture(bool enabled) { impl_->capture_air = enabled; }
 
-void BridgeCore::StartRealtime(EventLoop* loop, TimeNs wall_origin_ns) {
+void BridgeCore::StartRealtime(EventLoop* loop, const clock::Timebase& timebase) {
   SITLNET_DEMAND(impl_->loop == nullptr);
   // Timer slack defaults to 50 µs for normal threads; deliveries are due to
   // the nanosecond, so ask for the minimum (prctl(2), PR_SET_TIMERSLACK).
   prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0);
   impl_->loop = loop;
   impl_->loop_lifetime = loop->lifetime();
-  impl_->wall_origin_ns = wall_origin_ns;
+  impl_->timebase = timebase;
   impl_->timer_fd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
   if (impl_->timer_fd < 0) throw Error(SystemErrorMessage("timerfd_create", errno));
   loop->Add(impl_->timer_fd, EPOLLIN, [this](uint32_t) {
@@ -367,7 +359,7 @@ void BridgeCore::StepLockstep(TimeNs until_ns) {
   std::vector<Pending> pending;
   // Robot index order, then the order read from that robot's TAP; each frame
   // gets a seeded instant in [from, until), sorted per robot so a robot's own
-  // frames keep their order (design.md, lockstep pacing).
+  // frames keep their order (docs/tapbridge.md, lockstep).
   for (size_t robot = 0; robot < impl_->ports.size(); ++robot) {
     TapPort* port = impl_->ports[robot].get();
     if (!port) continue;

@@ -19,7 +19,7 @@ class MacPhySimMedium : public MediumModel {
       : medium_(mac::MakeMediumFromScenario(scenario)) {
     for (const RobotPlan& robot : scenario.robots) {
       const auto& p = robot.spec.position_m();
-      positions_.push_back(mac::Vec3{p.x(), p.y(), p.z()});
+      positions_.push_back(Vec3d{p.x(), p.y(), p.z()});
     }
     enabled_.assign(positions_.size(), true);
     macs_.resize(positions_.size());
@@ -48,8 +48,7 @@ class MacPhySimMedium : public MediumModel {
     medium_.AdvanceTo(until_ns, &scratch_);
     for (mac::Delivery& d : scratch_) {
       if (!enabled_[d.station]) continue;
-      deliveries->push_back(Delivery{d.station, d.delivery_ns, std::move(d.ethernet_frame),
-                                     d.rx_power_dbm, d.sinr_db});
+      deliveries->push_back(std::move(d));
     }
     if (tracing_) {
       trace_.clear();
@@ -65,7 +64,7 @@ class MacPhySimMedium : public MediumModel {
   std::optional<TimeNs> NextEventNs() const override { return medium_.NextEventNs(); }
 
   void SetPosition(int station, double x_m, double y_m, double z_m) override {
-    positions_[station] = mac::Vec3{x_m, y_m, z_m};
+    positions_[station] = Vec3d{x_m, y_m, z_m};
     if (enabled_[station]) {
       medium_.SetStationPosition(station, positions_[station], medium_.now_ns());
     }
@@ -74,7 +73,7 @@ class MacPhySimMedium : public MediumModel {
   void SetStationEnabled(int station, bool enabled) override {
     if (enabled_[station] == enabled) return;
     enabled_[station] = enabled;
-    const mac::Vec3 parked{kParkedDistanceM * (station + 1), kParkedDistanceM, 0};
+    const Vec3d parked{kParkedDistanceM * (station + 1), kParkedDistanceM, 0};
     medium_.SetStationPosition(station, enabled ? positions_[station] : parked, medium_.now_ns());
   }
 
@@ -161,7 +160,7 @@ class MacPhySimMedium : public MediumModel {
   }
 
   mutable mac::Medium medium_;  // NextEventNs is not const in mac_phy_sim.
-  std::vector<mac::Vec3> positions_;
+  std::vector<Vec3d> positions_;
   std::vector<bool> enabled_;
   std::vector<MacAddress> macs_;
   std::vector<mac::Delivery> scratch_;

@@ -12,7 +12,6 @@
 #include <cerrno>
 #include <climits>
 #include <cstdio>
-#include <ctime>
 
 #include "tapbridge/control_server.h"
 #include "tapbridge/pcap_fanout.h"
@@ -21,12 +20,6 @@ namespace sitlnet::tapbridge {
 namespace {
 
 std::string Us(TimeNs ns) { return std::to_string(ns / kNsPerUs) + " us"; }
-
-TimeNs RealtimeNowNs() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return TimeNs{ts.tv_sec} * kNsPerS + ts.tv_nsec;
-}
 
 void MakeDirectories(const std::string& path) {
   for (size_t at = 1; at != std::string::npos; at = path.find('/', at + 1)) {
@@ -70,7 +63,6 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
       options.use_relay_medium ? MakeRelayMedium(macs) : MakeMacPhySimMedium(scenario);
 
   BridgeOptions bridge_options;
-  bridge_options.realtime_factor = scenario.spec.timing().realtime_factor();
   bridge_options.seed = scenario.spec.timing().seed();
   bridge_options.log = log;
   bridge_options.spin_ns = options.spin_ns;
@@ -101,8 +93,9 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
   }
 
   EventLoop loop;
-  const TimeNs wall_origin_ns = MonotonicNowNs();
-  PcapFanout fanout(RealtimeNowNs() - (MonotonicNowNs() - wall_origin_ns));
+  clock::Timebase timebase(scenario.spec.timing().realtime_factor());
+  timebase.Begin(MonotonicNowNs());
+  PcapFanout fanout(clock::CalendarNsOfWall(timebase.wall_origin_ns()));
   if (!options.pcap_path.empty()) fanout.OpenFile(options.pcap_path);
   core.AddAirFrameObserver([&fanout](const AirFrame& frame) { fanout.OnFrame(frame); });
   core.SetAirFrameCapture(fanout.active());
@@ -173,7 +166,7 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
       " robots attached, realtime factor " +
       std::to_string(scenario.spec.timing().realtime_factor()) + ", control socket " + socket_path +
       (options.pcap_path.empty() ? "" : ", pcap " + options.pcap_path));
-  core.StartRealtime(&loop, wall_origin_ns);
+  core.StartRealtime(&loop, timebase);
   loop.Run();
   core.StopRealtime();  // Before `loop` goes out of scope (it was declared after `core`).
 

@@ -1,82 +1,36 @@
 #include "tapbridge/tap_port.h"
 
 #include <fcntl.h>
-#include <linux/if.h>
-#include <linux/if_tun.h>
-#include <sched.h>
-#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstdio>
-#include <cstring>
 #include <sstream>
 
 #include "common/common.h"
+#include "nns/nns.h"
 
 namespace sitlnet::tapbridge {
-namespace {
-
-// Returns the calling thread to its original namespace on scope exit; a
-// failure to return is a bug-level condition (the thread would keep working
-// in a robot's namespace), so it aborts.
-class ThreadNetnsGuard {
- public:
-  ThreadNetnsGuard() : original_(open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC)) {}
-  ~ThreadNetnsGuard() {
-    if (entered_) SITLNET_DEMAND(setns(original_, CLONE_NEWNET) == 0);
-    if (original_ >= 0) close(original_);
-  }
-  bool ok() const { return original_ >= 0; }
-  void MarkEntered() { entered_ = true; }
-
- private:
-  int original_;
-  bool entered_ = false;
-};
-
-}  // namespace
 
 TapPort::TapPort(const std::string& netns, const std::string& ifname)
     : netns_(netns), ifname_(ifname) {
-  const std::string what = "attach TAP " + ifname + " in netns " + netns;
+  // nns owns attaching: it refuses a missing device instead of letting TUNSETIFF create a
+  // fresh, non-persistent one that nobody configured.
+  nns::UniqueFd tap = nns::AttachTap(netns, ifname, /*nonblocking=*/true);
   const std::string path = "/run/netns/" + netns;
-  const int ns_fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (ns_fd < 0) throw Error(SystemErrorMessage(what + ": open " + path, errno));
   struct stat ns_stat {};
-  fstat(ns_fd, &ns_stat);
+  if (stat(path.c_str(), &ns_stat) != 0) {
+    throw Error(SystemErrorMessage(
+        "attach to TAP \"" + ifname + "\" in namespace \"" + netns + "\": stat " + path, errno));
+  }
   netns_inode_ = ns_stat.st_ino;
   {
-    ThreadNetnsGuard guard;
-    if (!guard.ok()) {
-      close(ns_fd);
-      throw Error(SystemErrorMessage(what + ": open own namespace", errno));
-    }
-    if (setns(ns_fd, CLONE_NEWNET) != 0) {
-      const int err = errno;
-      close(ns_fd);
-      throw Error(SystemErrorMessage(what + ": setns", err));
-    }
-    guard.MarkEntered();
-    close(ns_fd);
-    fd_ = open("/dev/net/tun", O_RDWR | O_NONBLOCK | O_CLOEXEC);
-    if (fd_ < 0) throw Error(SystemErrorMessage(what + ": open /dev/net/tun", errno));
-    ifreq request{};
-    // Same flags as nns creates the persistent device with; offloads and
-    // IFF_VNET_HDR stay off so frames are 802.11-sized (reference.md).
-    request.ifr_flags = IFF_TAP | IFF_NO_PI;
-    std::snprintf(request.ifr_name, IFNAMSIZ, "%s", ifname.c_str());
-    if (ioctl(fd_, TUNSETIFF, &request) != 0) {
-      const int err = errno;
-      close(fd_);
-      fd_ = -1;
-      throw Error(SystemErrorMessage(what + ": TUNSETIFF", err));
-    }
-    // seq_open_net binds the file to the opener's namespace: later reads from
-    // the root namespace still show the robot's devices.
+    // seq_open_net binds the file to the opener's namespace: later reads from the root
+    // namespace still show the robot's devices.
+    nns::ScopedNetns inside(netns);
     proc_net_dev_fd_ = open("/proc/thread-self/net/dev", O_RDONLY | O_CLOEXEC);
   }
+  fd_ = tap.Release();
 }
 
 TapPort::~TapPort() {

@@ -15,9 +15,9 @@ namespace sitlnet::tapbridge {
 // (opened inside the namespace, so reads keep showing that namespace).
 class TapPort {
  public:
-  // Enters /run/netns/<netns> on the calling thread, opens /dev/net/tun with
-  // TUNSETIFF IFF_TAP|IFF_NO_PI `ifname`, returns to the original namespace.
-  // Throws Error "attach TAP <ifname> in netns <netns>: <why>".
+  // Attaches to the existing TAP `ifname` in /run/netns/<netns> through
+  // nns::AttachTap. Throws Error 'attach to TAP "<ifname>" in namespace "<netns>": <why>',
+  // also when the device does not exist ("no such device": it is never created here).
   TapPort(const std::string& netns, const std::string& ifname);
   ~TapPort();
   TapPort(const TapPort&) = delete;

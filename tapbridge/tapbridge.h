@@ -16,7 +16,9 @@
 #include <utility>
 #include <vector>
 
+#include "clock/clock.h"
 #include "common/common.h"
+#include "mac_phy_sim/mac_phy_sim.h"
 #include "scenario/scenario.h"
 
 namespace sitlnet::proto {
@@ -30,13 +32,9 @@ namespace sitlnet::tapbridge {
 // MakeMacPhySimMedium; MakeRelayMedium is the no-medium floor for benchmarks.
 
 // One frame handed to one station, as decided by the medium.
-struct Delivery {
-  int station = 0;             // Destination station (robot index).
-  TimeNs time_ns = 0;          // Virtual instant the frame is received (end of PPDU).
-  std::vector<uint8_t> frame;  // Ethernet frame (dst, src, ethertype, payload), no FCS.
-  double rx_power_dbm = 0;
-  double sinr_db = 0;
-};
+// A frame handed to a robot: the medium model's own record (mac_phy_sim/mac_phy_sim.h), whatever
+// the model (802.11, relay, remote). Stations are robot indices.
+using mac::Delivery;
 
 enum class AirFrameKind { kData, kAck, kRts, kCts };
 
@@ -133,8 +131,7 @@ struct LatenessStats {
 };
 
 struct BridgeOptions {
-  double realtime_factor = 1.0;  // Virtual seconds per wall second (realtime pacing).
-  uint64_t seed = 1;             // Lockstep intra-step offsets.
+  uint64_t seed = 1;  // Lockstep intra-step offsets.
   // Realtime: wake this long before an event and busy-wait the rest (0: pure
   // timer wakeups). Trades CPU for delivery precision (docs/performance.md).
   TimeNs spin_ns = 0;
@@ -170,8 +167,8 @@ class BridgeCore {
   void SetAirFrameCapture(bool enabled);
 
   //---- Realtime driver: registers TAPs and a timerfd on `loop`; virtual time
-  //---- 0 is the wall instant `wall_origin_ns` (CLOCK_MONOTONIC).
-  void StartRealtime(EventLoop* loop, TimeNs wall_origin_ns);
+  //---- follows `timebase` (the run's origin and realtime factor, clock/clock.h).
+  void StartRealtime(EventLoop* loop, const clock::Timebase& timebase);
   TimeNs VirtualNowNs() const;
   // Unregisters from the loop (also done by the destructor); the loop may be
   // destroyed afterwards. Virtual time stays where it stopped.

@@ -9,11 +9,11 @@
 //   coordinator_bench serve ROLE ENDPOINT ROBOTS NET_STEP_US   (a connector process)
 //
 // Network side: the real medium (mac_phy_sim), every robot broadcasting 200 B
-// at 10 Hz (reference.md's broadcast scale workload), all robots in range.
+// at 10 Hz (the broadcast scale workload of docs/references.md#ns3-tapbridge), all robots in range.
 // Physics side: the real MuJoCo world (physics_mujoco's World, 2 threads,
 // δ_phy = 1 ms, every robot hovering), or with SITLNET_BENCH_PHYSICS=synthetic
 // a measured busy loop of kPhysicsWorkNsPerRobotStep per robot per step
-// (MuJoCo's cost from reference.md); tables say which.
+// (MuJoCo's cost from docs/references.md#mujoco); tables say which.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -25,17 +25,20 @@
 #include <vector>
 
 #include "coordinator/coordinator.h"
-#include "coordinator/medium_connector.h"
-#include "coordinator/physics_connector.h"
+#include "network_side/network_side.h"
+#include "physics_side/physics_side.h"
 #include "coordinator/synthetic.h"
 
 namespace sitlnet::coordinator {
+
+using namespace network_side;  // NOLINT(google-build-using-namespace)
+using namespace physics_side;  // NOLINT(google-build-using-namespace)
 
 int RunCompressionBench();
 
 namespace {
 
-// reference.md: 64 quadrotors, separate mjData on one mjModel, 2 threads:
+// docs/references.md#mujoco: 64 quadrotors, separate mjData on one mjModel, 2 threads:
 // 43 µs per physics step -> 672 ns per robot per step (wall).
 constexpr TimeNs kPhysicsWorkNsPerRobotStep = 672;
 constexpr TimeNs kBroadcastPeriodNs = 100 * kNsPerMs;  // 10 Hz

@@ -71,12 +71,12 @@ Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, 
     medium.AddObstacle(Box{{pos(rng), pos(rng), 10}, {size(rng), size(rng), 20}, yaw(rng)});
   }
   const int n = 64;
-  std::vector<Vec3> where(n);
+  std::vector<Vec3d> where(n);
   std::vector<std::vector<uint8_t>> frames;
   std::vector<TimeNs> phase(n);
   const MacAddress broadcast{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
   for (int i = 0; i < n; ++i) {
-    where[i] = Vec3{pos(rng), pos(rng), 5};
+    where[i] = Vec3d{pos(rng), pos(rng), 5};
     medium.AddStation(RobotMac(i), where[i]);
     frames.push_back(testing::MakeEthernetFrame(broadcast, RobotMac(i), 200 - 14));
     phase[i] = static_cast<TimeNs>(rng() % (100 * kNsPerMs));
@@ -105,7 +105,7 @@ Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, 
   return {seconds / wall, seconds / cpu, cpu * 1e6 / std::max<uint64_t>(1, Transmissions(medium))};
 }
 
-// The full ns-3 Bianchi table (reference.md), both topologies, ~25,000 frames
+// The full ns-3 Bianchi table (docs/references.md#bianchi), both topologies, ~25,000 frames
 // per point as in the tests: measured throughput, error vs each table, and
 // ns-3's pass rule.
 void PrintValidation() {

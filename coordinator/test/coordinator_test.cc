@@ -94,7 +94,7 @@ TEST(Coordinator, RealtimePacingEndsEachIterationAtItsDeadline) {
   CoordinatorOptions options = Lockstep(5);
   options.pacing = Pacing::kRealtime;
   options.realtime_factor = 2.0;
-  options.clock = &clock;
+  options.wall_clock = &clock;
   const TimeNs origin = clock.NowNs();
   clock.set_advance_per_read_ns(kNsPerMs);  // Every clock read "costs" 1 ms of work.
   std::vector<std::string> warnings;
@@ -122,7 +122,7 @@ TEST(Coordinator, RealtimeLagIsMeasuredAndWarnedWithNumbers) {
       MakeInProcessConnector("net0", Role::kNetwork, &network_sim, Threading::kCallerThread);
   CoordinatorOptions options = Lockstep(3);
   options.pacing = Pacing::kRealtime;
-  options.clock = &clock;
+  options.wall_clock = &clock;
   clock.set_advance_per_read_ns(12 * kNsPerMs);  // Each read 12 ms later: too slow for 10 ms.
   std::vector<std::string> warnings;
   options.warn = [&](const std::string& w) { warnings.push_back(w); };

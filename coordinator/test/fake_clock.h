@@ -9,7 +9,7 @@
 
 namespace sitlnet::coordinator {
 
-class FakeClock final : public Clock {
+class FakeClock final : public clock::WallClock {
  public:
   explicit FakeClock(TimeNs now_ns = 1'000'000'000) : now_ns_(now_ns) {}
   TimeNs NowNs() override {

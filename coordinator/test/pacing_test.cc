@@ -23,10 +23,11 @@ TEST(Pacer, RealtimeFactorScalesWallTime) {
   Pacer slow(Pacing::kRealtime, 0.5, 10 * kNsPerMs);
   slow.Begin(kOrigin);
   EXPECT_EQ(slow.DeadlineNs(999'999), kOrigin + 20'000 * kNsPerS);
-  // A factor that does not divide evenly: 1/3 of 10 ms is 3.333 ms, rounded.
+  // A factor that does not divide evenly: 1/3 of 10 ms is 3.3333... ms, rounded up to the
+  // next wall nanosecond (clock/clock.h's rule: no iteration ends before its virtual time).
   Pacer third(Pacing::kRealtime, 3.0, 10 * kNsPerMs);
   third.Begin(0);
-  EXPECT_EQ(third.DeadlineNs(0), 3'333'333);
+  EXPECT_EQ(third.DeadlineNs(0), 3'333'334);
   EXPECT_EQ(third.DeadlineNs(2), 10 * kNsPerMs);
 }
 

@@ -135,7 +135,7 @@ TEST(ChannelEffectsTest, LognormalShadowingIsAFixedGaussianPerLink) {
   config.seed = 7;
   Medium medium(config);
   const int n = 40;
-  std::vector<Vec3> positions;
+  std::vector<Vec3d> positions;
   for (int i = 0; i < n; ++i) {
     positions.push_back({20 * std::cos(2 * M_PI * i / n), 20 * std::sin(2 * M_PI * i / n), 0});
     medium.AddStation(RobotMac(i), positions.back());

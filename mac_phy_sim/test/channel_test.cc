@@ -1,4 +1,4 @@
-// Path loss and Sommer et al. obstacle shadowing (reference.md oracles).
+// Path loss and Sommer et al. obstacle shadowing (docs/references.md#radio-defaults, #obstacle-shadowing).
 #include "mac_phy_sim/channel.h"
 
 #include <gtest/gtest.h>
@@ -58,7 +58,7 @@ TEST(ChannelTest, GridAgreesWithBruteForce) {
   }
   std::uniform_real_distribution<double> wide(-300, 300), height(-5, 15);
   for (int k = 0; k < 500; ++k) {
-    const Vec3 a{wide(rng), wide(rng), height(rng)}, b{wide(rng), wide(rng), height(rng)};
+    const Vec3d a{wide(rng), wide(rng), height(rng)}, b{wide(rng), wide(rng), height(rng)};
     double expected = 0;
     for (const Box& box : boxes) {
       const BoxCrossing c = CrossBox(box, a, b);

@@ -45,7 +45,7 @@ TEST(MediumTest, UnicastDeliveryTimingPowerAndAck) {
   EXPECT_EQ(out[0].ethernet_frame, frame);
   // Medium idle since t = 0: DIFS (34 us), no backoff (10.3.4.2), then 248 us of PPDU.
   EXPECT_EQ(out[0].delivery_ns, (34 + 248) * kNsPerUs);
-  // 16.0206 dBm - (46.6777 + 30 log10(10)) dB (reference.md, rounded to 1e-4 dB);
+  // 16.0206 dBm - (46.6777 + 30 log10(10)) dB (docs/references.md#radio-defaults, rounded to 1e-4 dB);
   // SINR against -93.97 dBm.
   EXPECT_NEAR(out[0].rx_power_dbm, 16.0206 - 76.6777, 1e-3);
   EXPECT_NEAR(out[0].sinr_db, 16.0206 - 76.6777 + 93.97, 0.01);

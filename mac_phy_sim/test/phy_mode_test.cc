@@ -1,5 +1,5 @@
 // Airtime, interframe spaces and control rates against IEEE 802.11-2016 and
-// the oracle table of ../shared/reference.md.
+// the oracle table of docs/references.md#80211-timing.
 #include "mac_phy_sim/phy_mode.h"
 
 #include <gtest/gtest.h>
@@ -10,7 +10,7 @@ namespace sitlnet::mac {
 namespace {
 
 TEST(PhyModeTest, OfdmAirtimeMatchesReferenceTable) {
-  // reference.md "OFDM airtime oracle (us)": rows L = 14, 92, 612, 1536.
+  // docs/references.md#80211-timing, the OFDM TXTIME formula at L = 14, 92, 612, 1536.
   const double rates[] = {6, 9, 12, 18, 24, 36, 48, 54};
   const struct {
     int psdu_bytes;
@@ -49,7 +49,7 @@ TEST(PhyModeTest, RejectsRatesTheStandardLacks) {
 }
 
 TEST(PhyModeTest, TimingPerStandard) {
-  // reference.md "802.11 timing (us)".
+  // docs/references.md#80211-timing.
   MediumConfig a;
   const PhyInfo pa = DerivePhyInfo(a);
   EXPECT_EQ(pa.slot_ns, 9 * kNsPerUs);
@@ -141,7 +141,7 @@ TEST(PhyModeTest, ShortDsssPreambleOnlyAtHrDsssRates) {
 }
 
 TEST(PhyModeTest, NoiseFloorAndReferenceLossDefaults) {
-  // reference.md: -93.97 dBm over 20 MHz with NF 7; Friis at 1 m 46.6777 dB
+  // docs/references.md#radio-defaults: -93.97 dBm over 20 MHz with NF 7; Friis at 1 m 46.6777 dB
   // (5.15 GHz) and 40.046 dB (2.4 GHz).
   MediumConfig a;
   const PhyInfo pa = DerivePhyInfo(a);

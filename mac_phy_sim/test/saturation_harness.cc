@@ -16,7 +16,7 @@ std::vector<uint8_t> MakeEthernetFrame(const MacAddress& to, const MacAddress& f
 namespace {
 
 struct FlowRun {
-  std::vector<Vec3> positions_m;
+  std::vector<Vec3d> positions_m;
   std::vector<side_by_side::Flow> flows;
   int payload_bytes = 1500;
   TimeNs offer_interval_ns = 0;
@@ -120,7 +120,7 @@ uint64_t RunTopUpSaturation(int n, double seconds, uint64_t seed) {
   config.short_retry_limit = config.long_retry_limit = 1000000;  // Bianchi's assumption.
   Medium medium(config);
   const int total = n == 1 ? 2 : n;
-  for (int i = 0; i < total; ++i) medium.AddStation(RobotMac(i), Vec3{0.001 * i, 0, 0});
+  for (int i = 0; i < total; ++i) medium.AddStation(RobotMac(i), Vec3d{0.001 * i, 0, 0});
   std::vector<std::vector<uint8_t>> frames;
   for (int i = 0; i < n; ++i) {
     frames.push_back(MakeEthernetFrame(RobotMac((i + 1) % total), RobotMac(i), 1500));

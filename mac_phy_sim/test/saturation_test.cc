@@ -1,5 +1,5 @@
 // Saturation throughput and collision probability against ns-3's Bianchi
-// reference tables and Bianchi's model (../shared/reference.md).
+// reference tables and Bianchi's model (docs/references.md#bianchi).
 //
 // Duration: ns-3 measures 100 s. What matters for an honest 1.5 % check is
 // the number of delivered frames, not seconds: each test measures about
@@ -26,7 +26,7 @@ TimeNs MeasureFor(int frames, double expected_mbps) {
 
 struct OneStationCase {
   double rate_mbps;
-  double expected_mbps;  // reference.md, basic access, no collisions.
+  double expected_mbps;  // Analytic, basic access, no collisions (docs/validation.md).
 };
 
 class OneStationTest : public ::testing::TestWithParam<OneStationCase> {};
@@ -80,7 +80,7 @@ TEST_P(BianchiTest, WithinNs3PassRule) {
       << " frames; DIFS table " << c.difs_table_mbps << ", EIFS table " << c.eifs_table_mbps;
 }
 
-// reference.md, "Bianchi saturation throughput (ns-3 reference tables)".
+// ns-3's Bianchi reference tables (docs/references.md#bianchi).
 constexpr BianchiCase kCases[] = {
     {5, 6, Topology::kRing, 4.7087, 4.6899},    {10, 6, Topology::kRing, 4.3453, 4.3197},
     {5, 24, Topology::kRing, 16.2470, 16.0836}, {10, 24, Topology::kRing, 15.1426, 14.9153},
@@ -108,7 +108,7 @@ double BianchiP(int n, int w, int m) {
 }
 
 TEST(BianchiModelTest, FixedPointMatchesReference) {
-  // reference.md: W = 16, m = 6: n = 5 p = 0.27154, n = 10 p = 0.38440.
+  // docs/references.md#bianchi: W = 16, m = 6: n = 5 p = 0.27154, n = 10 p = 0.38440.
   EXPECT_NEAR(BianchiP(5, 16, 6), 0.27154, 5e-5);
   EXPECT_NEAR(BianchiP(10, 16, 6), 0.38440, 5e-5);
 }

@@ -26,21 +26,6 @@ TEST(OutputsTest, PoseRowsAreOneCsvLineEach) {
             std::count(kTrajectoryHeader, kTrajectoryHeader + sizeof kTrajectoryHeader, ','));
 }
 
-TEST(OutputsTest, DeliveryLogRoundTripsIntoConnectivity) {
-  const std::string dir = ::testing::TempDir() + "/outputs_test_run";
-  mkdir(dir.c_str(), 0755);
-  {
-    LineFile log(dir + "/deliveries.csv", kDeliveryHeader);
-    log.Append("100000000,0,1,-60.0,30.0");
-    log.Append("200000000,1,2,-61.0,29.0");
-  }
-  const auto events = ReadDeliveryLog(dir + "/deliveries.csv");
-  ASSERT_EQ(events.size(), 2u);
-  EXPECT_EQ(events[1].time_ns, 200'000'000);
-  EXPECT_EQ(events[1].from, 1);
-  EXPECT_EQ(events[1].to, 2);
-}
-
 TEST(OutputsTest, GnuplotDrawsThreePngs) {
   const std::string dir = ::testing::TempDir() + "/outputs_test_plots";
   mkdir(dir.c_str(), 0755);
@@ -65,7 +50,8 @@ TEST(OutputsTest, GnuplotDrawsThreePngs) {
     metrics.Append("0,0,1,1,2,1,0.2,0");
     metrics.Append("1,10000000,1,1,2,1,0.3,0");
   }
-  WriteConnectivityCsv(dir + "/connectivity.csv", ConnectivityOverTime(2, {}, kNsPerS, kNsPerS, 3 * kNsPerS), 2);
+  WriteConnectivityCsv(dir + "/connectivity.csv",
+                       ConnectivityTracker(2, kNsPerS, kNsPerS).Finish(3 * kNsPerS), 2);
   std::vector<std::string> warnings;
   const auto pngs = DrawPlots(dir, scenario, "test", &warnings);
   ASSERT_TRUE(warnings.empty()) << warnings[0];

@@ -117,6 +117,29 @@ TEST(ScenarioTest, RejectsUnknownAirframeAndBadObstacle) {
                  "size_m");
 }
 
+// Every numeric field is finite and in range (an audit found NaN/inf, 4e9 lidar rays, negative
+// noise and overflowing durations accepted).
+TEST(ScenarioTest, RejectsNonFiniteAndOutOfRangeNumbers) {
+  const std::string two = kTwo;
+  ExpectRejected(two + "obstacle { size_m { x: 1 y: 1 z: 1 } center_m { x: nan } }\n",
+                 "t.textproto:4:38", "center_m must be finite");
+  ExpectRejected(two + "obstacle { size_m { x: inf y: 1 z: 1 } }\n", "t.textproto:4:12", "size_m");
+  ExpectRejected(two + "obstacle { size_m { x: 1 y: 1 z: 1 } yaw_deg: inf }\n", "t.textproto:4:38",
+                 "yaw_deg inf out of range");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" yaw_deg: nan }\n", "t.textproto:2:19",
+                 "yaw_deg nan out of range");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" lidar { rays: 4000000000 } }\n",
+                 "t.textproto:2:27", "lidar rays 4000000000 out of range");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" imu { gyro_noise_rad_s: -1 } }\n",
+                 "t.textproto:2:25", "imu gyro_noise_rad_s -1 out of range");
+  ExpectRejected(two + "timing { duration_ms: 9223372036854 }\n", "t.textproto:4:10",
+                 "duration_ms 9223372036854 must be at most");
+  ExpectRejected(two + "timing { realtime_factor: 1e-300 }\n", "t.textproto:4:10",
+                 "realtime_factor 1e-300 must be in");
+  ExpectRejected(two + "radio { noise_figure_db: nan }\n", "t.textproto:4:9",
+                 "noise_figure_db nan out of range");
+}
+
 TEST(ScenarioTest, HostRouteClashIsRefused) {
   const Scenario scenario = LoadScenarioText(kTwo, "t.textproto");
   const std::vector<HostRoute> fine = {{*ParseIpv4Prefix("0.0.0.0/0"), "eth0"},

@@ -22,7 +22,8 @@ TEST(RelayMedium, UnicastToOwnerGroupToAllOthers) {
   medium->AdvanceTo(100, &out, nullptr);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].station, 2);
-  EXPECT_EQ(out[0].time_ns, 100);
+  EXPECT_EQ(out[0].delivery_ns, 100);
+  EXPECT_EQ(out[0].source, 0);
   out.clear();
   MacAddress broadcast{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
   medium->Submit(1, 200, Frame(broadcast, RobotMac(1)));
@@ -51,7 +52,9 @@ TEST(BridgeCore, LoopMayDieBeforeTheCore) {
   BridgeCore core(scenario, MakeRelayMedium({RobotMac(0)}), BridgeOptions{});
   {
     EventLoop loop;
-    core.StartRealtime(&loop, MonotonicNowNs());
+    clock::Timebase timebase;
+    timebase.Begin(MonotonicNowNs());
+    core.StartRealtime(&loop, timebase);
     loop.RunOnce(0);
   }
   EXPECT_GE(core.VirtualNowNs(), 0);
@@ -62,7 +65,9 @@ TEST(BridgeCore, StopRealtimeThenLoopRunsWithoutTheCore) {
   EventLoop loop;
   {
     BridgeCore core(scenario, MakeRelayMedium({RobotMac(0)}), BridgeOptions{});
-    core.StartRealtime(&loop, MonotonicNowNs());
+    clock::Timebase timebase;
+    timebase.Begin(MonotonicNowNs());
+    core.StartRealtime(&loop, timebase);
   }
   loop.RunOnce(0);  // The after-batch hook was removed with the core.
 }

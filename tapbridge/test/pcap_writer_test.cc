@@ -53,7 +53,7 @@ TEST(PcapWriter, RadiotapFieldsAtTheirAlignedOffsets) {
 
 TEST(PcapWriter, DataFrameHeaderSnapAndFcs) {
   const std::vector<uint8_t> mpdu = Encode80211Mpdu(DataFrame());
-  // 24-byte header + 8 LLC/SNAP + 2 payload bytes + 4 FCS: Ethernet + 22 (reference.md).
+  // 24-byte header + 8 LLC/SNAP + 2 payload bytes + 4 FCS: Ethernet + 22 (docs/references.md#80211-timing).
   ASSERT_EQ(mpdu.size(), DataFrame().ethernet.size() + 22);
   EXPECT_EQ(mpdu[0], 0x08);
   EXPECT_EQ(mpdu[1], 0x08);    // Retry
@@ -81,7 +81,7 @@ TEST(PcapWriter, FailedFrameHasBadFcsFlagAndBadFcs) {
 TEST(PcapWriter, ControlFrameSizes) {
   AirFrame f;
   f.kind = AirFrameKind::kAck;
-  EXPECT_EQ(Encode80211Mpdu(f).size(), 14u);  // ACK 14 B (reference.md)
+  EXPECT_EQ(Encode80211Mpdu(f).size(), 14u);  // ACK 14 B (docs/references.md#80211-timing)
   f.kind = AirFrameKind::kCts;
   EXPECT_EQ(Encode80211Mpdu(f).size(), 14u);
   f.kind = AirFrameKind::kRts;

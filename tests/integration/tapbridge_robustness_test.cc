@@ -200,6 +200,22 @@ TEST(TapbridgeBadInput, DeletedNamespaceReportedOthersKeepRunning) {
   EXPECT_FALSE(scenario.Counters().station(2).attached());
 }
 
+// A robot whose wlan0 is gone is reported in one line naming the robot and the device; the
+// daemon exits and does not create a fresh (unconfigured, non-persistent) TAP in its place.
+TEST(TapbridgeBadInput, MissingWlan0IsReportedNotRecreated) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario scenario("nwl", 2, kTwo);
+  ASSERT_EQ(RunCommand({"ip", "-n", scenario.Netns("b"), "link", "delete", "wlan0"}).exit_code, 0);
+  const CommandResult daemon = RunCommand({SitlnetBinary(), "medium", scenario.path()}, 10 * kNsPerS);
+  EXPECT_NE(daemon.exit_code, 0);
+  EXPECT_EQ(Lines(daemon.err), 1) << daemon.err;
+  EXPECT_NE(daemon.err.find("robot b"), std::string::npos) << daemon.err;
+  EXPECT_NE(daemon.err.find("\"wlan0\""), std::string::npos) << daemon.err;
+  EXPECT_NE(daemon.err.find("no such device"), std::string::npos) << daemon.err;
+  const CommandResult links = RunCommand({"ip", "-n", scenario.Netns("b"), "-o", "link", "show"});
+  EXPECT_EQ(links.out.find("wlan0"), std::string::npos) << links.out;
+}
+
 // TAPs are persistent: a new daemon attaches to them again. A second daemon
 // while one runs is refused.
 TEST(TapbridgeBadInput, DaemonRestartReattaches) {

@@ -40,7 +40,7 @@ std::pair<TimeNs, TimeNs> PingRtt(const std::string& out) {
 // idle medium, immediate access) and at most DIFS + CWmin slots of backoff +
 // airtime. On top, each of the two deliveries may be written up to 200 µs late
 // (the bridge's p99 target) and the kernels turn the echo around. ns-3's
-// TapBridge shows 0.673 ms here (reference.md, its average); our median must beat it.
+// TapBridge shows 0.673 ms here (docs/references.md#ns3-tapbridge, its average); our median must beat it.
 TEST(TapbridgeTraffic, PingRttMatchesAirtimeAndDcf) {
   SITLNET_REQUIRE_ROOT();
   MediumScenario scenario("png", 0, TwoRobots(54));
@@ -60,7 +60,7 @@ TEST(TapbridgeTraffic, PingRttMatchesAirtimeAndDcf) {
               median_ns / 1e6, static_cast<long>(airtime_ns), summary.c_str());
   EXPECT_GE(min_ns, 2 * airtime_ns) << "faster than the air allows: frames bypass the medium";
   EXPECT_LE(median_ns, 2 * (worst_medium_ns + bridge_allowance_ns)) << ping.out;
-  EXPECT_LT(median_ns, 673 * kNsPerUs) << "not better than ns-3 TapBridge (reference.md)";
+  EXPECT_LT(median_ns, 673 * kNsPerUs) << "not better than ns-3 TapBridge (docs/references.md#ns3-tapbridge)";
 }
 
 // Receiver-side interval goodputs (Kbits/sec) from iperf3's text output,
@@ -85,7 +85,7 @@ class TapbridgeUdpSaturation : public ::testing::TestWithParam<double> {};
 
 // One saturated sender: the receiver's goodput must be within 5 % of
 // payload / (DIFS + CWmin/2 slots + DATA + SIFS + ACK) (Bianchi, one station;
-// reference.md: ns-3 shows 29.875 / 5.262 Mb/s for 1470 B at 54 / 6 Mb/s).
+// docs/references.md#ns3-tapbridge: ns-3 shows 29.875 / 5.262 Mb/s for 1470 B at 54 / 6 Mb/s).
 TEST_P(TapbridgeUdpSaturation, GoodputWithinFivePercentOfAnalytic) {
   SITLNET_REQUIRE_ROOT();
   const double rate_mbps = GetParam();
@@ -148,7 +148,7 @@ TEST(TapbridgeTraffic, RealtimeFactorScalesWallClockGoodput) {
 
 // TCP: expect the DATA/ACK pattern of delayed ACKs (one 66-byte TCP ACK per
 // two 1514-byte segments) in one DCF cycle each, i.e. about 24 Mb/s at 54
-// (ns-3 measured 24.07, reference.md). Plausible: between 75 % of that and
+// (ns-3 measured 24.07, docs/references.md#ns3-tapbridge). Plausible: between 75 % of that and
 // the one-station UDP bound (collisions between the two senders and TCP's
 // own dynamics only lower it).
 TEST(TapbridgeTraffic, TcpCompletesWithPlausibleGoodput) {

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -180,8 +181,25 @@ std::string ReadAll(const std::string& path) {
 }
 
 std::string TempDir() {
-  const char* tmp = std::getenv("TMPDIR");
-  return std::string(tmp ? tmp : "/tmp");
+  // One private folder per test process, removed with everything in it when the process
+  // exits normally, so scenario files and run folders do not pile up in /tmp.
+  struct Folder {
+    std::string path;
+    Folder() {
+      const char* tmp = std::getenv("TMPDIR");
+      std::string pattern = std::string(tmp ? tmp : "/tmp") + "/sitlnet-test-XXXXXX";
+      SITLNET_DEMAND(mkdtemp(pattern.data()) != nullptr);
+      // World-readable like /tmp's entries: images may run as another user (`user: nobody`).
+      SITLNET_DEMAND(chmod(pattern.c_str(), 0755) == 0);
+      path = pattern;
+    }
+    ~Folder() {
+      std::error_code ignored;
+      std::filesystem::remove_all(path, ignored);
+    }
+  };
+  static const Folder folder;
+  return folder.path;
 }
 
 std::string SitlnetBinary() {

@@ -103,7 +103,7 @@ CommandResult RunWithoutCapabilities(const std::vector<std::string>& argv, uint6
 
 // The whole file (binary-safe); empty if it cannot be read.
 std::string ReadAll(const std::string& path);
-// $TMPDIR, or /tmp.
+// A folder private to this test process under $TMPDIR (or /tmp), removed at normal exit.
 std::string TempDir();
 // <build>/bin/sitlnet of the tree under test ($SITLNET_BINARY_DIR, else from /proc/self/exe).
 std::string SitlnetBinary();

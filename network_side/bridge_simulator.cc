@@ -1,14 +1,14 @@
-#include "runner/bridge_simulator.h"
-
 #include <algorithm>
 
-namespace sitlnet::runner {
+#include "network_side/network_side.h"
+
+namespace sitlnet::network_side {
 
 BridgeSimulator::BridgeSimulator(const Scenario& scenario, tapbridge::BridgeCore* bridge,
                                  coordinator::Pacing pacing, double realtime_factor)
     : bridge_(*bridge),
       pacing_(pacing),
-      realtime_factor_(realtime_factor),
+      timebase_(realtime_factor),
       network_step_ns_(scenario.network_step_ns) {}
 
 void BridgeSimulator::MoveStations(const proto::coord::Poses& poses) {
@@ -20,7 +20,7 @@ void BridgeSimulator::MoveStations(const proto::coord::Poses& poses) {
 }
 
 void BridgeSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End*,
-                                   coordinator::IterationContext&) {
+                                   IterationContext&) {
   MoveStations(start.poses());
   if (pacing_ == coordinator::Pacing::kLockstep) {
     for (TimeNs until = start.start_ns() + network_step_ns_; until <= start.end_ns();
@@ -29,16 +29,13 @@ void BridgeSimulator::RunIteration(const proto::coord::Start& start, proto::coor
     }
     return;
   }
-  const auto wall_of = [&](TimeNs virtual_ns) {
-    return wall_origin_ns_ + static_cast<TimeNs>(virtual_ns / realtime_factor_);
-  };
   if (!started_) {
     // Virtual start_ns is now: the coordinator just began this iteration.
-    wall_origin_ns_ = MonotonicNowNs() - static_cast<TimeNs>(start.start_ns() / realtime_factor_);
-    bridge_.StartRealtime(&loop_, wall_origin_ns_);
+    timebase_.BeginAt(start.start_ns(), MonotonicNowNs());
+    bridge_.StartRealtime(&loop_, timebase_);
     started_ = true;
   }
-  const TimeNs wall_end = wall_of(start.end_ns());
+  const TimeNs wall_end = timebase_.WallOf(start.end_ns());
   // At least one non-blocking turn: when the coordinator runs behind real
   // time, wall_end is already past, and without it the TAPs were never read
   // (64 robots in realtime pacing moved 0 frames in 30 s).
@@ -50,4 +47,4 @@ void BridgeSimulator::RunIteration(const proto::coord::Start& start, proto::coor
   }
 }
 
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::network_side

@@ -1,7 +1,7 @@
 // Native robot <-> physics protocol codec: MotorCommand validation, RobotState filling.
 // The sockets and the per-robot state live in physics_server.cc.
-#ifndef SITLNET_PHYSICS_MUJOCO_CONTROL_SERVER_H_
-#define SITLNET_PHYSICS_MUJOCO_CONTROL_SERVER_H_
+#ifndef SITLNET_PHYSICS_MUJOCO_ROBOT_CODEC_H_
+#define SITLNET_PHYSICS_MUJOCO_ROBOT_CODEC_H_
 
 #include <cstddef>
 #include <cstdint>
@@ -38,4 +38,4 @@ void FillRobotState(int robot_index, int64_t steps, TimeNs sim_time_ns, const Ro
 
 }  // namespace sitlnet::physics
 
-#endif  // SITLNET_PHYSICS_MUJOCO_CONTROL_SERVER_H_
+#endif  // SITLNET_PHYSICS_MUJOCO_ROBOT_CODEC_H_

@@ -2,16 +2,18 @@
 // the medium behind the link produces, call for call, what the same medium
 // produces in-process (the property that makes remote runs byte-identical;
 // tests/integration/remote_run_test.cc checks it end to end).
-#include "runner/remote_medium.h"
-
 #include <gtest/gtest.h>
 
 #include <thread>
 
 #include "coordinator/coordinator.h"
+#include "network_side/network_side.h"
 
-namespace sitlnet::runner {
+namespace sitlnet::network_side {
 namespace {
+
+// These tests drive the coordinator directly.
+using namespace coordinator;  // NOLINT(google-build-using-namespace)
 
 using coordinator::Channel;
 
@@ -50,13 +52,14 @@ struct Output {
 // frames; c moves into range half way.
 Output Drive(tapbridge::MediumModel& medium, const Scenario& s) {
   Output out;
-  std::vector<tapbridge::Delivery> deliveries;
+  std::vector<mac::Delivery> deliveries;
   std::vector<tapbridge::AirFrame> air;
   const auto collect = [&] {
-    for (const tapbridge::Delivery& d : deliveries) {
-      out.deliveries.push_back(std::to_string(d.station) + "," + std::to_string(d.time_ns) + "," +
-                               std::to_string(d.rx_power_dbm) + "," + std::to_string(d.sinr_db) +
-                               "," + std::string(d.frame.begin(), d.frame.end()));
+    for (const mac::Delivery& d : deliveries) {
+      out.deliveries.push_back(std::to_string(d.station) + "," + std::to_string(d.delivery_ns) +
+                               "," + std::to_string(d.rx_power_dbm) + "," +
+                               std::to_string(d.sinr_db) + "," +
+                               std::string(d.ethernet_frame.begin(), d.ethernet_frame.end()));
     }
     for (const tapbridge::AirFrame& frame : air) out.pcap += tapbridge::EncodePcapRecord(frame, 0);
     deliveries.clear();
@@ -88,7 +91,7 @@ TEST(RemoteMedium, ProducesCallForCallWhatTheMediumProducesInProcess) {
   const Scenario scenario = ThreeRobots();
   auto local = tapbridge::MakeMacPhySimMedium(scenario);
   const Output expected = Drive(*local, scenario);
-  ASSERT_GT(expected.deliveries.size(), 100u);  // Traffic crossed, c joined half way.
+  ASSERT_GT(expected.deliveries.size(), 100u);   // Traffic crossed, c joined half way.
   ASSERT_GT(expected.pcap.size(), 150u * 100u);  // Data frames and ACKs on the air.
 
   auto [coordinator_end, connector_end] = coordinator::SocketPair();
@@ -171,4 +174,4 @@ TEST(MediumLinkSimulator, RefusesMalformedRequestsWithOneLine) {
 }
 
 }  // namespace
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::network_side

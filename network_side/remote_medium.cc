@@ -1,12 +1,11 @@
-#include "runner/remote_medium.h"
-
 #include <algorithm>
 #include <cstring>
 #include <limits>
 
 #include "coordinator/coordinator.h"
+#include "network_side/network_side.h"
 
-namespace sitlnet::runner {
+namespace sitlnet::network_side {
 namespace {
 
 namespace pm = proto::medium;
@@ -97,7 +96,7 @@ void RemoteMedium::Submit(int station, TimeNs at_ns, std::span<const uint8_t> et
   op->set_ethernet(ethernet.data(), ethernet.size());
 }
 
-void RemoteMedium::AdvanceTo(TimeNs until_ns, std::vector<tapbridge::Delivery>* deliveries,
+void RemoteMedium::AdvanceTo(TimeNs until_ns, std::vector<mac::Delivery>* deliveries,
                              std::vector<tapbridge::AirFrame>* air) {
   pm::AdvanceOp* op = NewOp()->mutable_advance();
   op->set_until_ns(until_ns);
@@ -129,9 +128,9 @@ void RemoteMedium::AdvanceTo(TimeNs until_ns, std::vector<tapbridge::Delivery>* 
       }
       frame = &reply_.frames(d.frame_index());
     }
-    deliveries->push_back(tapbridge::Delivery{d.station(), d.time_ns(),
-                                              std::vector<uint8_t>(frame->begin(), frame->end()),
-                                              d.rx_power_dbm(), d.sinr_db()});
+    deliveries->push_back(mac::Delivery{d.station(), d.source(),
+                                        std::vector<uint8_t>(frame->begin(), frame->end()),
+                                        d.time_ns(), d.rx_power_dbm(), d.sinr_db()});
   }
   if (air != nullptr) {
     for (const pm::AirFrame& frame : reply_.air()) air->push_back(FromProto(frame));
@@ -232,7 +231,7 @@ MediumLinkSimulator::MediumLinkSimulator(const Scenario& scenario,
     : medium_(std::move(medium)), stations_(static_cast<int>(scenario.robots.size())) {}
 
 void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End* end,
-                                       coordinator::IterationContext&) {
+                                       IterationContext&) {
   if (!request_.ParseFromString(start.payload())) {
     throw Error("medium request " + std::to_string(start.iteration()) +
                 " is not a MediumRequest (is the coordinator a `sitlnet run --remote network`?)");
@@ -259,17 +258,19 @@ void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::
         air_.clear();
         medium_->AdvanceTo(op.advance().until_ns(), &deliveries_,
                            op.advance().trace_air() ? &air_ : nullptr);
-        for (const tapbridge::Delivery& d : deliveries_) {
+        for (const mac::Delivery& d : deliveries_) {
           pm::Delivery* out = reply_.add_deliveries();
           out->set_station(d.station);
-          out->set_time_ns(d.time_ns);
+          out->set_source(d.source);
+          out->set_time_ns(d.delivery_ns);
           // The receivers of one transmission get their copies one after
           // the other: compare with the last frame only.
           const std::string* last =
               reply_.frames_size() ? &reply_.frames(reply_.frames_size() - 1) : nullptr;
-          if (!last || last->size() != d.frame.size() ||
-              std::memcmp(d.frame.data(), last->data(), d.frame.size()) != 0) {
-            reply_.add_frames(d.frame.data(), d.frame.size());
+          const std::vector<uint8_t>& frame = d.ethernet_frame;
+          if (!last || last->size() != frame.size() ||
+              std::memcmp(frame.data(), last->data(), frame.size()) != 0) {
+            reply_.add_frames(frame.data(), frame.size());
           }
           out->set_frame_index(reply_.frames_size() - 1);
           out->set_rx_power_dbm(d.rx_power_dbm);
@@ -300,4 +301,4 @@ void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::
   reply_.SerializeToString(end->mutable_payload());
 }
 
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::network_side

@@ -1,4 +1,4 @@
-#include "physics_mujoco/control_server.h"
+#include "physics_mujoco/robot_codec.h"
 
 #include <cmath>
 
