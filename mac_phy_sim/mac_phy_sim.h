@@ -171,10 +171,17 @@ struct TxRecord {
   double rate_mbps = 0;
   MacAddress receiver;     // addr1 (broadcast for group frames).
   MacAddress transmitter;  // addr2 (absent on air for ACK/CTS; still filled).
-  // The exact MPDU as sent: 802.11 header, LLC/SNAP + payload for DATA, FCS.
-  std::vector<uint8_t> mpdu;
+  // DATA: the Ethernet frame carried, as submitted (shared with the queue, not copied); null
+  // for control frames. MpduBytes() gives the bytes on air.
+  std::shared_ptr<const std::vector<uint8_t>> ethernet_frame;
   std::vector<RxRecord> receptions;  // Every other station, by StationId.
 };
+
+// The exact MPDU of a transmission as sent (IEEE 802.11-2016 9.2.4, 9.3): for DATA an IBSS
+// header (addr1 RA, addr2 TA, addr3 the stations' shared BSSID), RFC 1042 LLC/SNAP, the
+// Ethernet type and payload; ACK/CTS/RTS as their control frames; each with its CRC-32 FCS.
+// Built on demand (only a pcap needs the bytes): a function of the record's fields alone.
+std::vector<uint8_t> MpduBytes(const TxRecord& tx);
 
 enum class DropReason : uint8_t {
   kRetryLimit,

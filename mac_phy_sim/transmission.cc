@@ -5,7 +5,6 @@
 #include <random>
 
 #include "mac_phy_sim/medium_state.h"
-#include "mac_phy_sim/mpdu.h"
 
 namespace sitlnet::mac {
 namespace {
@@ -22,12 +21,7 @@ void TraceTransmission(State& s, const Transmission& tx) {
   record.rate_mbps = tx.mode->mode.rate_mbps;
   record.receiver = tx.ra;
   record.transmitter = tx.ta;
-  if (tx.kind == FrameKind::kData) {
-    BuildDataMpdu(tx.ra, tx.ta, tx.duration_us, tx.sequence_number, tx.retry, *tx.ethernet,
-                  &record.mpdu);
-  } else {
-    BuildControlMpdu(tx.kind, tx.ra, tx.ta, tx.duration_us, &record.mpdu);
-  }
+  if (tx.kind == FrameKind::kData) record.ethernet_frame = tx.ethernet;
   const int n = static_cast<int>(s.stations.size());
   record.receptions.reserve(n - 1);
   size_t next_entry = 0;

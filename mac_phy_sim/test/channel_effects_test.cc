@@ -204,7 +204,7 @@ TEST(ChannelEffectsTest, SameSeedSameBytesWithEveryEffectOn) {
     ASSERT_EQ(a[i].tx.has_value(), b[i].tx.has_value());
     if (!a[i].tx) continue;
     EXPECT_EQ(a[i].tx->start_ns, b[i].tx->start_ns);
-    EXPECT_EQ(a[i].tx->mpdu, b[i].tx->mpdu);
+    EXPECT_EQ(MpduBytes(*a[i].tx), MpduBytes(*b[i].tx));
     EXPECT_EQ(a[i].tx->rate_mbps, b[i].tx->rate_mbps);
     for (size_t r = 0; r < a[i].tx->receptions.size(); ++r) {
       EXPECT_EQ(a[i].tx->receptions[r].rx_power_dbm, b[i].tx->receptions[r].rx_power_dbm);

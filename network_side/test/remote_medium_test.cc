@@ -142,6 +142,39 @@ TEST(RemoteMedium, ScenarioHashIgnoresDurationAndPacingButNotTheSeed) {
   EXPECT_NE(MediumScenarioHash(base), MediumScenarioHash(ThreeRobots(8)));
 }
 
+// A frame crosses the link once, whoever needs it: its deliveries and its on-air record (for the
+// pcap) name the same entry of the reply's frames. Oracle: one 1500-byte unicast frame, answered
+// by an ACK; the reply is the frame plus small fixed-size records, not two copies of it.
+TEST(MediumLinkSimulator, SendsEachFrameOnceForItsDeliveriesAndItsAirRecord) {
+  const Scenario scenario = ThreeRobots();
+  MediumLinkSimulator simulator(scenario, tapbridge::MakeMacPhySimMedium(scenario));
+  struct NoContext : coordinator::IterationContext {
+    void CommandsCollected() override {}
+  } context;
+  const std::vector<uint8_t> frame = Frame(scenario, 0, scenario.robots[1].wlan_mac, 1500, 9);
+  proto::medium::MediumRequest request;
+  proto::medium::SubmitOp* submit = request.add_ops()->mutable_submit();
+  submit->set_station(0);
+  submit->set_ethernet(frame.data(), frame.size());
+  proto::medium::AdvanceOp* advance = request.add_ops()->mutable_advance();
+  advance->set_until_ns(5 * kNsPerMs);
+  advance->set_trace_air(true);
+  proto::coord::Start start;
+  proto::coord::End end;
+  start.set_payload(request.SerializeAsString());
+  simulator.RunIteration(start, &end, context);
+  proto::medium::MediumReply reply;
+  ASSERT_TRUE(reply.ParseFromString(end.payload()));
+  ASSERT_EQ(reply.deliveries_size(), 1);  // Unicast: b only.
+  ASSERT_EQ(reply.air_size(), 2);         // DATA, ACK.
+  ASSERT_EQ(reply.frames_size(), 1);
+  EXPECT_EQ(reply.frames(0), std::string(frame.begin(), frame.end()));
+  EXPECT_EQ(reply.deliveries(0).frame_index(), 0);
+  EXPECT_EQ(reply.air(0).frame_index(), 0);
+  EXPECT_EQ(reply.air(1).frame_index(), -1);
+  EXPECT_LT(end.payload().size(), frame.size() + 300);
+}
+
 TEST(MediumLinkSimulator, RefusesMalformedRequestsWithOneLine) {
   const Scenario scenario = ThreeRobots();
   MediumLinkSimulator simulator(scenario, tapbridge::MakeMacPhySimMedium(scenario));
