@@ -34,16 +34,25 @@ std::string StartTime(pid_t pid) {
 
 }  // namespace
 
+namespace internal {
+
+void WritePidFile(const std::string& scenario, const std::string& role) {
+  const std::string path = PidFilePath(scenario, role);
+  const pid_t pid = getpid();
+  std::ofstream file(path, std::ios::trunc);
+  file << pid << " " << StartTime(pid) << "\n";
+  if (!file) throw Error(SystemErrorMessage("write \"" + path + "\"", errno));
+}
+
+}  // namespace internal
+
 DaemonRegistration::DaemonRegistration(const std::string& scenario, const std::string& role)
     : path_(PidFilePath(scenario, role)) {
   const std::string dir = std::string(kStateDir) + "/" + scenario;
   if (access(dir.c_str(), F_OK) != 0) {
     throw Error("scenario \"" + scenario + "\" is not up (no " + dir + "); run sitlnet up first");
   }
-  const pid_t pid = getpid();
-  std::ofstream file(path_, std::ios::trunc);
-  file << pid << " " << StartTime(pid) << "\n";
-  if (!file) throw Error(SystemErrorMessage("write \"" + path_ + "\"", errno));
+  internal::WritePidFile(scenario, role);
 }
 
 DaemonRegistration::~DaemonRegistration() { unlink(path_.c_str()); }
@@ -51,11 +60,11 @@ DaemonRegistration::~DaemonRegistration() { unlink(path_.c_str()); }
 std::vector<ProcessInfo> RegisteredDaemons(const std::string& scenario) {
   std::vector<ProcessInfo> daemons;
   const std::string dir = std::string(kStateDir) + "/" + scenario;
-  for (const char* role : {"medium", "physics"}) {
+  for (const char* role : {"medium", "physics", "run"}) {
     std::ifstream file(PidFilePath(scenario, role));
     pid_t pid = 0;
     std::string start_time;
-    if (!(file >> pid >> start_time) || pid <= 1) continue;
+    if (!(file >> pid >> start_time) || pid <= 1 || pid == getpid()) continue;
     if (StartTime(pid) != start_time) continue;  // exited; the pid may be someone else's now
     daemons.push_back(ProcessInfo{pid, role});
   }

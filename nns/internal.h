@@ -136,6 +136,8 @@ DownReport DownLocked(const std::string& name);
 // Link group of the scenario's root-side veths, derived from its name.
 uint32_t LinkGroupForScenario(const std::string& scenario);
 void WriteState(const ScenarioState& state);  // Atomic (write + rename).
+// Records the calling process as the scenario's daemon `role` (<role>.pid: pid and start time).
+void WritePidFile(const std::string& scenario, const std::string& role);
 void RemoveState(const std::string& scenario);
 
 }  // namespace sitlnet::nns::internal

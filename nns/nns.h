@@ -157,7 +157,7 @@ RobotRef ResolveRobot(const std::vector<ScenarioState>& scenarios, const std::st
 
 //------------------------------ Scenario daemons -----------------------------
 
-// A root-namespace daemon of a scenario (role "medium" or "physics") records
+// A root-namespace daemon of a scenario (role "medium", "physics" or "run") records
 // "<pid> <start time>" in /run/sitlnet/<scenario>/<role>.pid for as long as
 // this object lives, so that Down() stops it too (also after the daemon's
 // parent crashed). Throws Error if the scenario is not up.
@@ -179,6 +179,10 @@ struct UpOptions {
   // Throwing from it aborts `up`, which then rolls back (used by tests and by
   // the CLI's fault-injection hook, docs/nns.md).
   std::function<void(int robots_done)> on_robot_done;
+  // The calling process holds the scenario for as long as it runs (`sitlnet run`): recorded,
+  // under the state lock, as the scenario's "run" daemon, so that another `up` or `run` of it
+  // is refused instead of tearing it down, and `down` stops it.
+  bool register_caller_as_run = false;
 };
 
 // Brings the scenario's robots up (see docs/nns.md for the exact devices):
@@ -196,9 +200,9 @@ struct DownReport {
 };
 
 // Tears scenario `name` down from its state file: SIGTERM then SIGKILL its
-// registered daemons (DaemonRegistration) and every process in its namespaces (bounded wait on pidfds), unmount and remove the
-// namespaces, delete the root-side veths by exact name, remove the state.
-// Idempotent; a scenario without a state file is a no-op.
+// registered daemons (DaemonRegistration) and every process in its namespaces (bounded wait on
+// pidfds), unmount and remove the namespaces, delete the root-side veths by exact name, remove the
+// state. Idempotent; a scenario without a state file is a no-op.
 DownReport Down(const std::string& name);
 // Down for every scenario in ListScenarios().
 DownReport DownAll();
@@ -230,7 +234,12 @@ struct RobotStatus {
 // Reads devices and processes of every robot of `state`.
 std::vector<RobotStatus> Status(const ScenarioState& state);
 
-// Live daemons registered for `scenario` (pid and start time still match).
+// Throws Error naming them if `scenario` has a live run or daemon (`Up` checks it under the
+// state lock; callers may check first, before they create anything of their own).
+void RefuseIfInUse(const std::string& scenario);
+
+// Live daemons registered for `scenario` (pid and start time still match), the calling
+// process excluded.
 std::vector<ProcessInfo> RegisteredDaemons(const std::string& scenario);
 
 // Processes whose network namespace is /run/netns/<netns> (inode match on

@@ -7,13 +7,56 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "nns/internal.h"
 
 namespace sitlnet::nns {
+
+namespace {
+
+// The source path is the one free-form field: a newline in it must not start a line of its
+// own (a forged robot line would make `down` delete what it names). Control bytes and '%'
+// are written as %XX.
+std::string EscapePath(const std::string& path) {
+  static const char* kHex = "0123456789ABCDEF";
+  std::string out;
+  for (const unsigned char c : path) {
+    if (c < 0x20 || c == 0x7f || c == '%') {
+      out += '%';
+      out += kHex[c >> 4];
+      out += kHex[c & 0xf];
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out;
+}
+
+std::optional<std::string> UnescapePath(const std::string& text) {
+  std::string out;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '%') {
+      out += text[i];
+      continue;
+    }
+    if (i + 2 >= text.size()) return std::nullopt;
+    const std::string hex = text.substr(i + 1, 2);
+    if (hex.size() != 2 || !std::isxdigit(static_cast<unsigned char>(hex[0])) ||
+        !std::isxdigit(static_cast<unsigned char>(hex[1]))) {
+      return std::nullopt;
+    }
+    out += static_cast<char>(std::stoi(hex, nullptr, 16));
+    i += 2;
+  }
+  return out;
+}
+
+}  // namespace
 
 std::string ScenarioState::PhysicsAddress(const OwnedRobot& robot) const {
   return FormatIpv4(robot.ctl_root_address) + ":" + std::to_string(physics_port);
@@ -43,7 +86,7 @@ std::string FormatState(const ScenarioState& state) {
         << FormatIpv4(robot.ctl_root_address) << " " << FormatIpv4(robot.ctl_robot_address) << "\n";
   }
   // Last: the path may contain spaces; it runs to the end of the line.
-  out << "source " << state.source_path << "\n";
+  out << "source " << EscapePath(state.source_path) << "\n";
   return out.str();
 }
 
@@ -64,7 +107,9 @@ ScenarioState ParseState(const std::string& text, const std::string& source) {
     } else if (key == "physics_port") {
       ok = static_cast<bool>(fields >> state.physics_port);
     } else if (key == "source") {
-      state.source_path = line.size() > 7 ? line.substr(7) : "";
+      const std::optional<std::string> path = UnescapePath(line.size() > 7 ? line.substr(7) : "");
+      ok = path.has_value();
+      if (ok) state.source_path = *path;
     } else if (key == "robot") {
       OwnedRobot robot;
       std::string wlan, ctl_root, ctl_robot;
@@ -72,6 +117,11 @@ ScenarioState ParseState(const std::string& text, const std::string& source) {
                              robot.root_veth >> wlan >> ctl_root >> ctl_robot);
       const auto a = ParseIpv4(wlan), b = ParseIpv4(ctl_root), c = ParseIpv4(ctl_robot);
       ok = ok && a && b && c;
+      // Names follow the plan's rule: `down` deletes a namespace and a link by these names, so
+      // a line naming anything else (another scenario's robot, docker0) is refused.
+      ok = ok && !state.name.empty() && robot.index >= 0 && robot.index < kMaxRobots &&
+           robot.netns == RobotNetnsName(state.name, robot.name) &&
+           robot.root_veth == RobotRootVethName(state.name, robot.index);
       if (ok) {
         robot.wlan_address = *a;
         robot.ctl_root_address = *b;
@@ -148,7 +198,7 @@ void RemoveState(const std::string& scenario) {
   unlink(StatePath(scenario).c_str());
   unlink((StatePath(scenario) + ".tmp").c_str());
   // What daemons leave behind after a crash: their pid files and sockets.
-  for (const char* file : {"medium.pid", "physics.pid", "medium.sock"}) {
+  for (const char* file : {"medium.pid", "physics.pid", "run.pid", "medium.sock"}) {
     unlink((dir + "/" + file).c_str());
   }
   if (rmdir(dir.c_str()) != 0 && errno != ENOENT) {
@@ -178,7 +228,11 @@ std::optional<ScenarioState> ReadScenarioState(const std::string& name) {
   if (!file) return std::nullopt;
   std::ostringstream text;
   text << file.rdbuf();
-  return ParseState(text.str(), path);
+  ScenarioState state = ParseState(text.str(), path);
+  if (state.name != name) {
+    throw Error(path + ": state file names scenario \"" + state.name + "\", not \"" + name + "\"");
+  }
+  return state;
 }
 
 RobotRef ResolveRobot(const std::vector<ScenarioState>& scenarios, const std::string& robot,

@@ -104,7 +104,8 @@ void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket
   if (scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP) {
     // Lockstep needs every frame to leave in the step that produced it; an
     // ARP exchange would delay the first send to a peer by the kernel's own
-    // timers (docs/references.md#linux, "Lockstep and the TAP"). MACs are known in advance: RobotMac(index).
+    // timers (docs/references.md#linux, "Lockstep and the TAP"). MACs are known in advance:
+    // RobotMac(index).
     for (const RobotPlan& peer : scenario.robots) {
       if (peer.index == robot.index) continue;
       internal::AddPermanentNeighbour(*inside, wlan, peer.wlan_address, peer.wlan_mac,
@@ -166,9 +167,22 @@ void UpAllRobots(const Scenario& scenario, const UpOptions& options) {
 
 }  // namespace
 
+void RefuseIfInUse(const std::string& scenario) {
+  const std::vector<ProcessInfo> live = RegisteredDaemons(scenario);
+  if (live.empty()) return;
+  std::string who;
+  for (const ProcessInfo& daemon : live) {
+    who += (who.empty() ? "" : ", ") + std::string("sitlnet ") + daemon.command + " (pid " +
+           std::to_string(daemon.pid) + ")";
+  }
+  throw Error("scenario \"" + scenario + "\" is running: " + who + "; stop it, or `sitlnet down " +
+              scenario + "` ends it");
+}
+
 void Up(const Scenario& scenario, const UpOptions& options) {
   RequirePrivileges();
   internal::StateLock lock;
+  RefuseIfInUse(scenario.name);         // Never torn down from under its run (audit finding 6).
   internal::DownLocked(scenario.name);  // Our own leftovers (a crash, a previous up).
   {
     RouteSocket root;
@@ -180,6 +194,7 @@ void Up(const Scenario& scenario, const UpOptions& options) {
   // Ownership first: from here on, whatever exists under our names is ours.
   internal::WriteState(StateFromScenario(scenario));
   try {
+    if (options.register_caller_as_run) internal::WritePidFile(scenario.name, "run");
     UpAllRobots(scenario, options);
   } catch (...) {
     try {

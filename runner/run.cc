@@ -239,7 +239,8 @@ RunReport RunScenario(const RunOptions& options) {
         "asks its medium for the next event at every frame, a network round trip each");
   }
   nns::RequirePrivileges();
-  coordinator::StopSignal stop;  // Ctrl-C from here on stops in order.
+  nns::RefuseIfInUse(scenario.name);  // Before the run folder: a refused run leaves nothing.
+  coordinator::StopSignal stop;       // Ctrl-C from here on stops in order.
   MakeDirs(report.run_dir + "/robots");
   {
     std::string text;
@@ -270,7 +271,9 @@ RunReport RunScenario(const RunOptions& options) {
         scenario, std::move(connector), coordinator::CoordinatorOptions{}.answer_timeout_ns);
   }
 
-  nns::Up(scenario);
+  nns::UpOptions up_options;
+  up_options.register_caller_as_run = true;  // Another run of it is refused, not torn down.
+  nns::Up(scenario, up_options);
   DownOnExit down(scenario.name);
   std::fprintf(stderr,
                "sitlnet run: %s: %zu robots up, starting medium, physics and images -> %s\n",

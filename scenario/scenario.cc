@@ -33,6 +33,14 @@ class FirstErrorCollector : public google::protobuf::io::ErrorCollector {
 
 }  // namespace
 
+std::string RobotNetnsName(const std::string& scenario, const std::string& robot) {
+  return scenario + "-" + robot;
+}
+
+std::string RobotRootVethName(const std::string& scenario, int index) {
+  return scenario + "-c" + std::to_string(index);
+}
+
 int Scenario::RobotIndex(std::string_view robot_name) const {
   for (const RobotPlan& robot : robots) {
     if (robot.name == robot_name) return robot.index;

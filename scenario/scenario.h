@@ -31,6 +31,11 @@ struct RobotPlan {
   proto::Airframe airframe;  // Resolved airframe (the named one or the default).
 };
 
+// The names the plan gives a robot's namespace and its root-side veth (RobotPlan::netns,
+// ::root_veth); nns checks its state file against them.
+std::string RobotNetnsName(const std::string& scenario, const std::string& robot);
+std::string RobotRootVethName(const std::string& scenario, int index);
+
 // A validated scenario. Immutable after LoadScenario* returns.
 struct Scenario {
   std::string source_path;  // File it came from ("<string>" for in-memory text).

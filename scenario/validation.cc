@@ -343,8 +343,8 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
     RobotPlan plan;
     plan.index = i;
     plan.name = robot.name();
-    plan.netns = scenario->name + "-" + robot.name();
-    plan.root_veth = scenario->name + "-c" + std::to_string(i);
+    plan.netns = RobotNetnsName(scenario->name, robot.name());
+    plan.root_veth = RobotRootVethName(scenario->name, i);
     plan.wlan_mac = RobotMac(i);
     plan.wlan_address = Ipv4{scenario->wlan_subnet.network.host_order + 1 + uint32_t(i)};
     if (robot.has_wlan_address()) {

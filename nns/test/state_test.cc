@@ -1,6 +1,8 @@
 // The state file round-trips and robot names resolve as docs/cli.md says.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "nns/nns.h"
 
 namespace sitlnet::nns {
@@ -44,6 +46,33 @@ TEST(StateTest, MalformedLineNamesFileAndLine) {
   }
   EXPECT_THROW(ParseState("physics_port 1\n", "s"), Error);  // No scenario name.
   EXPECT_THROW(ParseState("scenario x\nbogus 1\n", "s"), Error);
+}
+
+// Audit finding 5: a newline in the scenario's path was written raw and read back as a robot
+// line, which `down` then tore down (a namespace and a link it never created, e.g. docker0).
+TEST(StateTest, ANewlineInTheSourcePathCannotAddARobot) {
+  ScenarioState state = StateFromScenario(TwoRobots("alpha"));
+  state.source_path =
+      "/tmp/x\nrobot 2 z alpha-z docker0 10.0.0.1 10.0.0.2 10.0.0.3\nsource /tmp/%41.textproto";
+  const std::string text = FormatState(state);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 6) << text;  // Comment, 4 facts, source.
+  const ScenarioState back = ParseState(text, "state");
+  EXPECT_EQ(back.robots.size(), 2u);
+  EXPECT_EQ(back.source_path, state.source_path);
+}
+
+TEST(StateTest, RobotLinesMustNameThePlansNamespaceAndVeth) {
+  const std::string head = "scenario alpha\nphysics_port 9600\n";
+  const std::string addresses = " 10.0.0.1 10.0.0.2 10.0.0.3\n";
+  EXPECT_NO_THROW(ParseState(head + "robot 0 a alpha-a alpha-c0" + addresses, "s"));
+  for (const std::string& forged : {"robot 0 a alpha-a docker0", "robot 0 a other-a alpha-c0",
+                                    "robot 1 a alpha-a alpha-c0", "robot -1 a alpha-a alpha-c-1"}) {
+    EXPECT_THROW(ParseState(head + forged + addresses, "s"), Error) << forged;
+  }
+  EXPECT_THROW(ParseState("robot 0 a alpha-a alpha-c0" + addresses + head, "s"), Error)
+      << "a robot line before the scenario's name cannot be checked";
+  EXPECT_THROW(ParseState(head + "source /tmp/%4\n", "s"), Error);
+  EXPECT_THROW(ParseState(head + "source /tmp/%zz\n", "s"), Error);
 }
 
 TEST(StateTest, ResolvesPlainQualifiedAndScopedNames) {

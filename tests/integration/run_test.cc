@@ -170,6 +170,37 @@ TEST(RunTest, InterruptDuringStartUpLeavesNothing) {
   ExpectNothingLeft(scenario.name);
 }
 
+// Audit finding 6: a second `sitlnet run` (or `up`) of a scenario that is running tore the first
+// one down. Now it is refused in one line naming the run, creates nothing, and the first run
+// carries on.
+TEST(RunTest, ASecondRunOfARunningScenarioIsRefusedAndTheFirstCarriesOn) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteScenario(9, kTwoFlockers, "timing { duration_ms: 60000 }\n");
+  DownGuard guard(scenario.name);
+  Child first({SitlnetBinary(), "run", scenario.path, "--out",
+               TempDir() + "/" + scenario.name + "-first", "--no-progress"});
+  ASSERT_TRUE(first.WaitForOutput(true, "robots up", 30 * kNsPerS)) << first.err();
+  const std::string second_out = TempDir() + "/" + scenario.name + "-second";
+  const CommandResult second = SitlnetRun(scenario, second_out, {});
+  EXPECT_NE(second.exit_code, 0);
+  EXPECT_NE(second.err.find("is running: sitlnet run (pid " + std::to_string(first.pid()) + ")"),
+            std::string::npos)
+      << second.err;
+  EXPECT_EQ(std::count(second.err.begin(), second.err.end(), '\n'), 1) << second.err;
+  struct stat info {};
+  EXPECT_NE(stat(second_out.c_str(), &info), 0) << "the refused run made its folder";
+  const CommandResult up = RunCommand({SitlnetBinary(), "up", scenario.path});
+  EXPECT_NE(up.exit_code, 0);
+  EXPECT_NE(up.err.find("is running"), std::string::npos) << up.err;
+  // The first run is untouched: its namespaces are there and it is still running.
+  EXPECT_TRUE(NetnsExists(scenario.name + "-a"));
+  EXPECT_TRUE(NetnsExists(scenario.name + "-b"));
+  EXPECT_EQ(kill(first.pid(), 0), 0);
+  kill(first.pid(), SIGINT);
+  EXPECT_EQ(first.Wait(60 * kNsPerS), 130) << first.err();
+  ExpectNothingLeft(scenario.name);
+}
+
 }  // namespace
 }  // namespace sitlnet::nns::testing
 
