@@ -81,13 +81,10 @@ bool FrameParser::Next(Frame* frame) {
     const uint8_t* p = buffer_.data() + start_;
     const size_t available = buffer_.size() - start_;
     if (p[0] == kMagicV1) {
-      // MAVLink 1: skipped whole (PX4's simulator module speaks MAVLink 2); its checksum is
-      // not checked, so a garbage 0xFE costs at most one frame's worth of bytes.
-      if (available < kHeaderV1Bytes) return false;
-      const size_t total = kHeaderV1Bytes + p[1] + kChecksumBytes;
-      if (available < total) return false;
+      // MAVLink 1 (PX4's simulator module speaks MAVLink 2): counted and skipped like garbage,
+      // one byte at a time, so a stray 0xFE cannot swallow the frames after it.
       ++counters_.mavlink1_frames;
-      start_ += total;
+      ++start_;
       continue;
     }
     if (p[0] != kMagicV2) {
@@ -98,15 +95,13 @@ bool FrameParser::Next(Frame* frame) {
     if (available < kHeaderV2Bytes) return false;
     const size_t length = p[1];
     const bool is_signed = (p[2] & kIncompatSigned) != 0;
-    const size_t total =
-        kHeaderV2Bytes + length + kChecksumBytes + (is_signed ? kSignatureBytes : 0);
     const uint32_t id = uint32_t{p[7]} | (uint32_t{p[8]} << 8) | (uint32_t{p[9]} << 16);
     const MessageInfo* info = FindMessage(id);
     if (info == nullptr) {
-      // Cannot be checked without its CRC_EXTRA: trusted for its length and skipped.
-      if (available < total) return false;
+      // Cannot be checked without its CRC_EXTRA, so its length cannot be trusted either: skipped
+      // one byte at a time, so a stray 0xFD cannot swallow the frames after it.
       ++counters_.unknown_messages;
-      start_ += total;
+      ++start_;
       continue;
     }
     if (length == 0 || length > info->max_length) {
@@ -114,6 +109,8 @@ bool FrameParser::Next(Frame* frame) {
       ++start_;
       continue;
     }
+    const size_t total =
+        kHeaderV2Bytes + length + kChecksumBytes + (is_signed ? kSignatureBytes : 0);
     if (available < total) return false;
     uint16_t crc = Crc16(p + 1, kHeaderV2Bytes - 1 + length);
     crc = Crc16(&info->crc_extra, 1, crc);

@@ -59,18 +59,21 @@ struct Frame {
   std::array<uint8_t, kMaxPayloadBytes> payload{};
 };
 
-// What the parser dropped; each dropped frame or byte is counted once.
+// What the parser found besides valid frames. A byte that begins no valid frame is skipped and
+// counted once: as the start of a frame that failed (bad_crc, bad_length), as the magic byte of
+// a message sitlnet cannot check (unknown_messages, mavlink1_frames), or else as bytes_skipped.
 struct ParserCounters {
   uint64_t frames = 0;            // Valid frames of known messages.
-  uint64_t bytes_skipped = 0;     // Bytes that began no frame (garbage, resynchronization).
+  uint64_t bytes_skipped = 0;     // Other bytes that began no frame (garbage, a failed frame's).
   uint64_t bad_crc = 0;           // Known message, checksum wrong.
   uint64_t bad_length = 0;        // Known message, payload longer than the message or empty.
-  uint64_t unknown_messages = 0;  // MAVLink 2 frame of a message sitlnet does not know.
-  uint64_t mavlink1_frames = 0;   // MAVLink 1 frames (0xFE), skipped whole.
+  uint64_t unknown_messages = 0;  // MAVLink 2 header of a message sitlnet does not know.
+  uint64_t mavlink1_frames = 0;   // MAVLink 1 magic bytes (0xFE).
 };
 
 // Splits a byte stream (TCP) into frames. Bytes that cannot begin a valid frame are skipped
-// one at a time until the next magic byte, so a corrupted frame costs no valid one after it.
+// one at a time until the next magic byte, so a corrupted or unknown frame costs no valid one
+// after it (only a frame that passes its CRC is consumed whole).
 class FrameParser {
  public:
   void Push(const uint8_t* data, size_t size);

@@ -61,6 +61,13 @@ Px4SimulatorLink::~Px4SimulatorLink() {
   CloseFd(&listen_fd_);
 }
 
+uint16_t Px4SimulatorLink::port() const {
+  sockaddr_in sa{};
+  socklen_t length = sizeof sa;
+  SITLNET_DEMAND(getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&sa), &length) == 0);
+  return ntohs(sa.sin_port);
+}
+
 const Px4LinkCounters& Px4SimulatorLink::counters() const {
   counters_.parser = parser_before_;
   Add(&counters_.parser, parser_.counters());

@@ -72,6 +72,8 @@ class Px4SimulatorLink {
   void Send(const mavlink::HilSensor& sensor, const mavlink::HilGps* gps,
             const mavlink::HilStateQuaternion* ground_truth);
 
+  // The port listened on (the kernel's choice when constructed with port 0).
+  uint16_t port() const;
   int listen_fd() const { return listen_fd_; }
   int connection_fd() const { return connection_fd_; }  // -1 without a connection
   const Px4LinkCounters& counters() const;
