@@ -114,8 +114,8 @@ bool FrameParser::Next(Frame* frame) {
     if (available < total) return false;
     uint16_t crc = Crc16(p + 1, kHeaderV2Bytes - 1 + length);
     crc = Crc16(&info->crc_extra, 1, crc);
-    const uint16_t sent = static_cast<uint16_t>(p[kHeaderV2Bytes + length] |
-                                                (p[kHeaderV2Bytes + length + 1] << 8));
+    const uint16_t sent =
+        static_cast<uint16_t>(p[kHeaderV2Bytes + length] | (p[kHeaderV2Bytes + length + 1] << 8));
     if (crc != sent) {
       ++counters_.bad_crc;
       ++start_;  // Resynchronize at the next magic byte: a real frame may start inside.

@@ -10,8 +10,8 @@
 
 namespace sitlnet::physics::mavlink {
 
-inline constexpr uint8_t kModeFlagSafetyArmed = 128;      // MAV_MODE_FLAG_SAFETY_ARMED
-inline constexpr uint64_t kActuatorFlagLockstep = 1;      // HIL_ACTUATOR_CONTROLS_FLAGS_LOCKSTEP
+inline constexpr uint8_t kModeFlagSafetyArmed = 128;       // MAV_MODE_FLAG_SAFETY_ARMED
+inline constexpr uint64_t kActuatorFlagLockstep = 1;       // HIL_ACTUATOR_CONTROLS_FLAGS_LOCKSTEP
 inline constexpr uint32_t kSensorUpdatedAccelGyro = 0x3F;  // HIL_SENSOR_UPDATED_X/Y/ZACC, GYRO
 inline constexpr uint32_t kSensorUpdatedMag = 0x1C0;       // X/Y/ZMAG
 inline constexpr uint32_t kSensorUpdatedBaro = 0x1A00;  // ABS_PRESSURE, PRESSURE_ALT, TEMPERATURE
@@ -51,7 +51,7 @@ struct HilGps {  // 113
   int32_t lat = 0, lon = 0;  // degE7
   int32_t alt = 0;           // mm above MSL
   uint16_t eph = kUnknownU16, epv = kUnknownU16;
-  uint16_t vel = kUnknownU16;     // cm/s ground speed
+  uint16_t vel = kUnknownU16;      // cm/s ground speed
   int16_t vn = 0, ve = 0, vd = 0;  // cm/s NED
   uint16_t cog = kUnknownU16;      // cdeg
   uint8_t fix_type = 0;

@@ -30,8 +30,8 @@ void Px4Robot::PollLink(World* world) {
 bool Px4Robot::Step(World* world, TimeNs time_ns) {
   PollLink(world);
   if (time_ns < next_sensor_ns_) return false;
-  next_sensor_ns_ += options_.sensor_period_ns *
-                     ((time_ns - next_sensor_ns_) / options_.sensor_period_ns + 1);
+  next_sensor_ns_ +=
+      options_.sensor_period_ns * ((time_ns - next_sensor_ns_) / options_.sensor_period_ns + 1);
   if (!link_.connected()) return false;
   const RobotPose pose = world->Pose(robot_);
   const ImuSample imu = world->Imu(robot_);

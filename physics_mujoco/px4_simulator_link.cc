@@ -40,8 +40,8 @@ void Add(mavlink::ParserCounters* sum, const mavlink::ParserCounters& more) {
 Px4SimulatorLink::Px4SimulatorLink(Ipv4 address, uint16_t port, double max_rotor_speed_rad_s,
                                    const std::string& what)
     : what_(what), max_rotor_speed_rad_s_(max_rotor_speed_rad_s) {
-  const std::string where = what + ": listen TCP " + FormatIpv4(address) + ":" +
-                            std::to_string(port);
+  const std::string where =
+      what + ": listen TCP " + FormatIpv4(address) + ":" + std::to_string(port);
   listen_fd_ = socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
   if (listen_fd_ < 0) throw Error(SystemErrorMessage(where, errno));
   const int one = 1;
@@ -92,8 +92,8 @@ Px4SimulatorLink::Event Px4SimulatorLink::Poll() {
   for (;;) {
     const int fd = accept4(listen_fd_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
     if (fd < 0) break;
-    const bool replacing = connection_fd_ >= 0 || event != Event::kNone ||
-                           counters_.connections > 0;
+    const bool replacing =
+        connection_fd_ >= 0 || event != Event::kNone || counters_.connections > 0;
     Disconnect();
     connection_fd_ = fd;
     const int one = 1;
@@ -140,8 +140,7 @@ void Px4SimulatorLink::Take(const mavlink::Frame& frame) {
 }
 
 bool Px4SimulatorLink::answered_last_sensor() const {
-  return sensor_sent_ && counters_.actuator_controls > 0 &&
-         command_.time_usec == last_sensor_usec_;
+  return sensor_sent_ && counters_.actuator_controls > 0 && command_.time_usec == last_sensor_usec_;
 }
 
 template <typename Message>

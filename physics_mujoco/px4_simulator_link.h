@@ -23,8 +23,8 @@ struct Px4LinkCounters {
   uint64_t disconnections = 0;     // Closed by PX4 (or reset).
   uint64_t actuator_controls = 0;  // HIL_ACTUATOR_CONTROLS taken.
   uint64_t heartbeats_received = 0;
-  uint64_t ignored = 0;          // Valid messages sitlnet does not act on (COMMAND_LONG, ...).
-  uint64_t dropped_invalid = 0;  // HIL_ACTUATOR_CONTROLS with a non-finite motor output.
+  uint64_t ignored = 0;            // Valid messages sitlnet does not act on (COMMAND_LONG, ...).
+  uint64_t dropped_invalid = 0;    // HIL_ACTUATOR_CONTROLS with a non-finite motor output.
   mavlink::ParserCounters parser;  // Summed over connections.
   uint64_t sensors_sent = 0;
   uint64_t gps_sent = 0;

@@ -38,8 +38,8 @@ Quat Conjugate(const Quat& q) { return {q.w, -q.x, -q.y, -q.z}; }
 }  // namespace
 
 Atmosphere IsaTroposphere(double altitude_msl_m) {
-  const double geopotential_m =
-      kEarthRadiusForGeopotentialM * altitude_msl_m / (kEarthRadiusForGeopotentialM + altitude_msl_m);
+  const double geopotential_m = kEarthRadiusForGeopotentialM * altitude_msl_m /
+                                (kEarthRadiusForGeopotentialM + altitude_msl_m);
   Atmosphere air;
   air.temperature_k = kSeaLevelTemperatureK - kLapseRateKPerM * geopotential_m;
   air.pressure_pa =
@@ -61,8 +61,7 @@ Vec3d MagneticFieldNedGauss(const proto::MagneticField& field) {
 }
 
 HilSensorModel::HilSensorModel(const proto::Robot& robot, const proto::GeodeticOrigin& origin,
-                               const GeodeticFrame* frame, uint64_t scenario_seed,
-                               int robot_index)
+                               const GeodeticFrame* frame, uint64_t scenario_seed, int robot_index)
     : spec_(robot),
       frame_(frame),
       field_ned_gauss_(MagneticFieldNedGauss(origin.magnetic_field())),

@@ -218,8 +218,8 @@ void ValidateGeodeticOrigin(const SourceLocator& at, const proto::Scenario& spec
                          const char* why) {
     // Open at the poles: the ENU frame's east and north are undefined there.
     if (!InRange(value, low, high)) {
-      at.Fail({{"geodetic_origin"}, {field}}, std::string("geodetic_origin: ") + field + " " +
-                                                  Num(value) + " out of range " + why);
+      at.Fail({{"geodetic_origin"}, {field}},
+              std::string("geodetic_origin: ") + field + " " + Num(value) + " out of range " + why);
     }
   };
   check("latitude_deg", origin.latitude_deg(), -89.9, 89.9,
@@ -230,9 +230,10 @@ void ValidateGeodeticOrigin(const SourceLocator& at, const proto::Scenario& spec
   check("altitude_m", origin.altitude_m(), -1000, 9000,
         "[-1000, 9000] (the barometer's ISA troposphere ends at 11 km)");
   if ((origin.has_latitude_deg() || origin.has_longitude_deg()) && !origin.has_magnetic_field()) {
-    at.Fail({{"geodetic_origin"}},
-            "geodetic_origin: a latitude/longitude other than the default needs magnetic_field "
-            "(declination_deg, inclination_deg, intensity_gauss of the World Magnetic Model there)");
+    at.Fail(
+        {{"geodetic_origin"}},
+        "geodetic_origin: a latitude/longitude other than the default needs magnetic_field "
+        "(declination_deg, inclination_deg, intensity_gauss of the World Magnetic Model there)");
   }
   const proto::MagneticField& field = origin.magnetic_field();
   const auto check_field = [&](const char* name, double value, double low, double high,
@@ -264,8 +265,8 @@ void ValidateHilSensors(const SourceLocator& at, int i, const proto::Robot& robo
       {"magnetometer", "noise_gauss", robot.magnetometer().noise_gauss()}};
   for (const auto& [block, field, value] : noises) {
     if (!InRange(value, 0, 1e6)) {
-      at.Fail({{"robot", i}, {block}, {field}}, who + block + " " + field + " " + Num(value) +
-                                                    " must be finite and >= 0");
+      at.Fail({{"robot", i}, {block}, {field}},
+              who + block + " " + field + " " + Num(value) + " must be finite and >= 0");
     }
   }
   if (robot.gps().satellites() > 254) {

@@ -26,8 +26,8 @@ struct Field {
 
 int SizeOf(const std::string& type) {
   static const std::map<std::string, int> sizes = {
-      {"uint64_t", 8}, {"int64_t", 8}, {"double", 8}, {"uint32_t", 4}, {"int32_t", 4},
-      {"float", 4},    {"uint16_t", 2}, {"int16_t", 2}, {"uint8_t", 1}, {"int8_t", 1}};
+      {"uint64_t", 8}, {"int64_t", 8},  {"double", 8},  {"uint32_t", 4}, {"int32_t", 4},
+      {"float", 4},    {"uint16_t", 2}, {"int16_t", 2}, {"uint8_t", 1},  {"int8_t", 1}};
   return sizes.at(type);
 }
 
@@ -97,11 +97,21 @@ TEST(MavlinkCodecTest, CrcExtraAndLengthsFollowFromCommonXml) {
        0},
       {kHilSensorId,
        "HIL_SENSOR",
-       {{"uint64_t", "time_usec"},    {"float", "xacc"},          {"float", "yacc"},
-        {"float", "zacc"},            {"float", "xgyro"},         {"float", "ygyro"},
-        {"float", "zgyro"},           {"float", "xmag"},          {"float", "ymag"},
-        {"float", "zmag"},            {"float", "abs_pressure"},  {"float", "diff_pressure"},
-        {"float", "pressure_alt"},    {"float", "temperature"},   {"uint32_t", "fields_updated"}},
+       {{"uint64_t", "time_usec"},
+        {"float", "xacc"},
+        {"float", "yacc"},
+        {"float", "zacc"},
+        {"float", "xgyro"},
+        {"float", "ygyro"},
+        {"float", "zgyro"},
+        {"float", "xmag"},
+        {"float", "ymag"},
+        {"float", "zmag"},
+        {"float", "abs_pressure"},
+        {"float", "diff_pressure"},
+        {"float", "pressure_alt"},
+        {"float", "temperature"},
+        {"uint32_t", "fields_updated"}},
        1},  // id
       {kHilGpsId,
        "HIL_GPS",
@@ -121,14 +131,22 @@ TEST(MavlinkCodecTest, CrcExtraAndLengthsFollowFromCommonXml) {
        3},  // id, yaw
       {kHilStateQuaternionId,
        "HIL_STATE_QUATERNION",
-       {{"uint64_t", "time_usec"}, {"float", "attitude_quaternion", 4},
-        {"float", "rollspeed"},    {"float", "pitchspeed"},
-        {"float", "yawspeed"},     {"int32_t", "lat"},
-        {"int32_t", "lon"},        {"int32_t", "alt"},
-        {"int16_t", "vx"},         {"int16_t", "vy"},
-        {"int16_t", "vz"},         {"uint16_t", "ind_airspeed"},
-        {"uint16_t", "true_airspeed"}, {"int16_t", "xacc"},
-        {"int16_t", "yacc"},       {"int16_t", "zacc"}},
+       {{"uint64_t", "time_usec"},
+        {"float", "attitude_quaternion", 4},
+        {"float", "rollspeed"},
+        {"float", "pitchspeed"},
+        {"float", "yawspeed"},
+        {"int32_t", "lat"},
+        {"int32_t", "lon"},
+        {"int32_t", "alt"},
+        {"int16_t", "vx"},
+        {"int16_t", "vy"},
+        {"int16_t", "vz"},
+        {"uint16_t", "ind_airspeed"},
+        {"uint16_t", "true_airspeed"},
+        {"int16_t", "xacc"},
+        {"int16_t", "yacc"},
+        {"int16_t", "zacc"}},
        0},
   };
   for (const auto& message : messages) {
@@ -202,8 +220,8 @@ TEST(MavlinkCodecTest, ParserSkipsGarbageCorruptionUnknownAndMavlink1) {
   corrupted[12] ^= 0xFF;  // a payload byte: CRC fails
   stream.insert(stream.end(), corrupted.begin(), corrupted.end());
   // An unknown message id 9999 (CRC not checkable), skipped whole.
-  const std::vector<uint8_t> unknown = {0xFD, 2, 0, 0, 5, 1, 1, 0x0F, 0x27, 0x00, 0xFD, 0xFD,
-                                        0xAA, 0xBB};
+  const std::vector<uint8_t> unknown = {0xFD, 2,    0,    0,    5,    1,    1,
+                                        0x0F, 0x27, 0x00, 0xFD, 0xFD, 0xAA, 0xBB};
   stream.insert(stream.end(), unknown.begin(), unknown.end());
   // A MAVLink 1 heartbeat (9-byte payload), skipped whole.
   const std::vector<uint8_t> v1 = {0xFE, 9, 0, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 3, 0xAA, 0xBB};

@@ -4,9 +4,7 @@
 // HEARTBEAT and COMMAND_LONG) that sitlnet decodes. Skipped when node or the package is missing,
 // except under CI=true, where that is a failure.
 #include <gtest/gtest.h>
-#include <netinet/in.h>
 #include <poll.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -20,7 +18,7 @@
 
 #include "physics_mujoco/mavlink_messages.h"
 #include "physics_mujoco/px4_simulator_link.h"
-#include "physics_mujoco/udp_socket.h"
+#include "physics_mujoco/test/fake_px4.h"
 
 namespace sitlnet::physics {
 namespace {
@@ -105,36 +103,20 @@ void ExpectInt(const std::map<std::string, std::string>& m, const std::string& n
   EXPECT_EQ(std::stoll(m.at(name)), value) << name;
 }
 
-// Connects to the link as PX4 would and returns everything the link sends for one Send().
+// Connects to the link as PX4 would and returns everything the link sends for one Send():
+// HEARTBEAT, HIL_SENSOR, HIL_GPS, HIL_STATE_QUATERNION.
 std::vector<uint8_t> CaptureSend(const mavlink::HilSensor& sensor, const mavlink::HilGps& gps,
                                  const mavlink::HilStateQuaternion& truth) {
-  Px4SimulatorLink link(Ipv4{0x7F000001}, 0, 1000, "node test");
-  const int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  const sockaddr_in sa = MakeSockaddr(Ipv4{0x7F000001}, link.port());
-  EXPECT_EQ(connect(fd, reinterpret_cast<const sockaddr*>(&sa), sizeof sa), 0);
+  const Ipv4 loopback{0x7F000001};
+  Px4SimulatorLink link(loopback, 0, 1000, "node test");
+  testing::FakePx4 px4(loopback, link.port());
   pollfd listen{link.listen_fd(), POLLIN, 0};
   EXPECT_EQ(poll(&listen, 1, 5000), 1);
   link.Poll();
   EXPECT_TRUE(link.connected());
   link.Send(sensor, &gps, &truth);
-  // HEARTBEAT, HIL_SENSOR, HIL_GPS, HIL_STATE_QUATERNION.
-  std::vector<uint8_t> bytes;
-  mavlink::FrameParser counter;
-  int frames = 0;
-  while (frames < 4) {
-    pollfd p{fd, POLLIN, 0};
-    if (poll(&p, 1, 5000) != 1) break;
-    uint8_t buffer[4096];
-    const ssize_t n = recv(fd, buffer, sizeof buffer, 0);
-    if (n <= 0) break;
-    bytes.insert(bytes.end(), buffer, buffer + n);
-    counter.Push(buffer, static_cast<size_t>(n));
-    mavlink::Frame frame;
-    while (counter.Next(&frame)) ++frames;
-  }
-  close(fd);
-  EXPECT_EQ(frames, 4);
-  return bytes;
+  px4.Receive(mavlink::kHilStateQuaternionId);  // the last of the four
+  return px4.received();
 }
 
 TEST_F(MavlinkNodeTest, NodeMavlinkDecodesEveryMessageSitlnetSends) {
@@ -191,7 +173,8 @@ TEST_F(MavlinkNodeTest, NodeMavlinkDecodesEveryMessageSitlnetSends) {
       (std::filesystem::temp_directory_path() / ("sitlnet_mavlink_" + std::to_string(getpid())))
           .string();
   std::ofstream(path, std::ios::binary)
-      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+      .write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
   const std::string out = RunCommand("node " + ScriptDir() + "/decode.cjs < " + path);
   std::filesystem::remove(path);
 
@@ -204,7 +187,8 @@ TEST_F(MavlinkNodeTest, NodeMavlinkDecodesEveryMessageSitlnetSends) {
     ExpectInt(m, "sysid", 1);
     ExpectInt(m, "compid", 200);
   }
-  for (size_t i = 0; i < messages.size(); ++i) ExpectInt(messages[i], "seq", static_cast<long long>(i));
+  for (size_t i = 0; i < messages.size(); ++i)
+    ExpectInt(messages[i], "seq", static_cast<long long>(i));
 
   const auto& heartbeat = messages[0];
   EXPECT_EQ(heartbeat.at("name"), "HEARTBEAT");
@@ -278,9 +262,10 @@ std::vector<uint8_t> FromHex(const std::string& hex) {
 }
 
 TEST_F(MavlinkNodeTest, SitlnetDecodesWhatNodeMavlinkEncodes) {
-  const std::string out = RunCommand("node " + ScriptDir() +
-                              "/encode.cjs 987654321 129 1 0.5 0.25 0.125 1 0.75 0 0 0 0 0 0 0 0 "
-                              "0 0 0");
+  const std::string out =
+      RunCommand("node " + ScriptDir() +
+                 "/encode.cjs 987654321 129 1 0.5 0.25 0.125 1 0.75 0 0 0 0 0 0 0 0 "
+                 "0 0 0");
   std::vector<uint8_t> stream;
   std::istringstream lines(out);
   std::string line;

@@ -2,16 +2,14 @@
 #include "physics_mujoco/px4_simulator_link.h"
 
 #include <gtest/gtest.h>
-#include <netinet/in.h>
 #include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "physics_mujoco/px4_messages.h"
-#include "physics_mujoco/udp_socket.h"
+#include "physics_mujoco/test/fake_px4.h"
 
 namespace sitlnet::physics {
 namespace {
@@ -66,53 +64,6 @@ TEST(Px4MessagesTest, MotorOutputsNeedTheArmedFlag) {
   EXPECT_FALSE(RotorSpeedsOf(controls, 1000).has_value());
 }
 
-// PX4's side of the link: a TCP client.
-class FakePx4 {
- public:
-  explicit FakePx4(uint16_t port) {
-    fd_ = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    const sockaddr_in sa = MakeSockaddr(kLoopback, port);
-    EXPECT_EQ(connect(fd_, reinterpret_cast<const sockaddr*>(&sa), sizeof sa), 0);
-  }
-  ~FakePx4() { close(fd_); }
-  void Write(const std::vector<uint8_t>& bytes) {
-    ASSERT_EQ(send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL),
-              static_cast<ssize_t>(bytes.size()));
-  }
-  void SendControls(uint64_t time_usec, float throttle, bool armed) {
-    mavlink::HilActuatorControls controls;
-    controls.time_usec = time_usec;
-    controls.controls = {throttle, throttle, throttle, throttle};
-    controls.mode = 1 | (armed ? mavlink::kModeFlagSafetyArmed : 0);
-    controls.flags = mavlink::kActuatorFlagLockstep;
-    std::vector<uint8_t> bytes;
-    mavlink::AppendMessage(controls, {0, 1, 1}, &bytes);
-    Write(bytes);
-  }
-  // Reads until a frame of message `id` arrives (waiting on the socket, 5 s at most).
-  mavlink::Frame Receive(uint32_t id) {
-    mavlink::Frame frame;
-    for (;;) {
-      while (parser_.Next(&frame)) {
-        if (frame.message_id == id) return frame;
-      }
-      pollfd p{fd_, POLLIN, 0};
-      EXPECT_EQ(poll(&p, 1, 5000), 1) << "no message " << id;
-      uint8_t buffer[4096];
-      const ssize_t n = recv(fd_, buffer, sizeof buffer, 0);
-      if (n <= 0) {
-        ADD_FAILURE() << "connection closed";
-        return frame;
-      }
-      parser_.Push(buffer, static_cast<size_t>(n));
-    }
-  }
-
- private:
-  int fd_ = -1;
-  mavlink::FrameParser parser_;
-};
-
 // Polls the link until `done` holds, waiting on its sockets between polls (5 s at most).
 template <typename Done>
 void PollUntil(Px4SimulatorLink* link, Done done) {
@@ -132,7 +83,7 @@ TEST(Px4SimulatorLinkTest, SensorsOutControlsInGarbageCountedReconnectResets) {
   link.Send(sensor, nullptr, nullptr);  // nobody connected yet
   EXPECT_EQ(link.counters().send_errors, 1u);
 
-  auto px4 = std::make_unique<FakePx4>(link.port());
+  auto px4 = std::make_unique<testing::FakePx4>(kLoopback, link.port());
   PollUntil(&link, [&] { return link.connected(); });
   EXPECT_EQ(link.counters().reconnections, 0u);
 
@@ -158,7 +109,7 @@ TEST(Px4SimulatorLinkTest, SensorsOutControlsInGarbageCountedReconnectResets) {
   EXPECT_GE(link.counters().parser.bytes_skipped, 3u);
 
   // PX4 restarts: a new connection replaces the old one and asks for a reset.
-  auto restarted = std::make_unique<FakePx4>(link.port());
+  auto restarted = std::make_unique<testing::FakePx4>(kLoopback, link.port());
   Px4SimulatorLink::Event event = Px4SimulatorLink::Event::kNone;
   PollUntil(&link, [&] {
     if (event == Px4SimulatorLink::Event::kNone) event = link.Poll();

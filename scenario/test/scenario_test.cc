@@ -155,8 +155,7 @@ TEST(ScenarioTest, GeodeticOriginDefaultsAndRanges) {
   // Another place without its magnetic field: refused rather than given Zurich's.
   ExpectRejected(std::string(kTwo) + "geodetic_origin { latitude_deg: 10 }\n", "t.textproto:4:1",
                  "needs magnetic_field");
-  ExpectRejected(std::string(kTwo) +
-                     "geodetic_origin { magnetic_field { intensity_gauss: 5 } }\n",
+  ExpectRejected(std::string(kTwo) + "geodetic_origin { magnetic_field { intensity_gauss: 5 } }\n",
                  "t.textproto:4:36", "intensity_gauss 5 out of range");
   const Scenario moved = LoadScenarioText(
       std::string(kTwo) +
@@ -168,8 +167,8 @@ TEST(ScenarioTest, GeodeticOriginDefaultsAndRanges) {
 }
 
 TEST(ScenarioTest, RejectsBadHilSensorFigures) {
-  ExpectRejected("name: \"t\"\nrobot { name: \"a\" gps { rate_hz: 0 } }\n", "t.textproto:2:",
-                 "gps rate_hz 0 out of range");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" gps { rate_hz: 0 } }\n",
+                 "t.textproto:2:", "gps rate_hz 0 out of range");
   ExpectRejected("name: \"t\"\nrobot { name: \"a\" barometer { noise_pa: -1 } }\n",
                  "t.textproto:2:", "barometer noise_pa -1 must be finite and >= 0");
   ExpectRejected("name: \"t\"\nrobot { name: \"a\" gps { satellites: 255 } }\n",
