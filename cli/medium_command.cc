@@ -142,12 +142,14 @@ int RunMediumCommand(int argc, char** argv) {
   if (load_status != kExitOk) return load_status;
   if (!connect.empty()) {
     return ReportErrors("medium", kExitFailure, [&] {
-      runner::RemoteMediumOptions remote;
+      runner::RunOptions overrides;  // As `sitlnet run` applies them: both hash the same scenario.
+      overrides.seed = seed;
+      overrides.no_shadowing = no_shadowing;
+      network_side::RemoteMediumOptions remote;
       remote.coordinator_endpoint = connect;
-      remote.seed = seed;
-      remote.no_shadowing = no_shadowing;
       remote.connect_timeout_ns = connect_timeout_ns;
-      const std::string reason = runner::ServeRemoteMedium(scenario, remote);
+      const std::string reason =
+          network_side::ServeRemoteMedium(runner::ApplyRunOverrides(scenario, overrides), remote);
       std::fprintf(stderr, "sitlnet medium: %s: stopped: %s\n", scenario.name.c_str(),
                    reason.c_str());
       return kExitOk;

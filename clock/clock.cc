@@ -11,7 +11,7 @@
 namespace sitlnet::clock {
 namespace {
 
-using Wide = __int128;
+__extension__ using Wide = __int128;
 
 // floor(a / b) and ceil(a / b) for b > 0 (C++ division truncates toward zero).
 Wide FloorDiv(Wide a, Wide b) { return a / b - ((a % b != 0) && (a < 0)); }
@@ -53,6 +53,14 @@ WallClock& DefaultWallClock() {
   return clock;
 }
 
+TimeNs CalendarNsOfWall(TimeNs wall_ns) {
+  timespec realtime{};
+  clock_gettime(CLOCK_REALTIME, &realtime);
+  const TimeNs wall_now_ns = MonotonicNowNs();
+  return Saturate(Wide{realtime.tv_sec} * kNsPerS + realtime.tv_nsec -
+                  (wall_now_ns - Wide{wall_ns}));
+}
+
 std::string CheckRealtimeFactor(double factor) {
   if (std::isfinite(factor) && factor >= kMinRealtimeFactor && factor <= kMaxRealtimeFactor) {
     return "";
@@ -79,25 +87,48 @@ Timebase::Timebase(double realtime_factor) : realtime_factor_(realtime_factor) {
   }
 }
 
+// ceil(v / (m * 2^e)) and floor(w * m * 2^e), exact and unsaturated: |v|, |w| < 2^64 and a
+// factor in range keep them below 2^127.
+Wide Timebase::WideWallSpan(TimeNs virtual_span_ns) const {
+  const Wide v = virtual_span_ns;
+  if (exponent_ >= 0) return CeilDiv(v, Wide{mantissa_} << exponent_);
+  return CeilDiv(v << -exponent_, Wide{mantissa_});
+}
+
+Wide Timebase::WideVirtualSpan(Wide wall_span_ns) const {
+  const Wide product = wall_span_ns * mantissa_;
+  if (exponent_ >= 0) return product << exponent_;
+  return FloorDiv(product, Wide{1} << -exponent_);
+}
+
 void Timebase::BeginAt(TimeNs virtual_ns, TimeNs wall_now_ns) {
   // The latest origin with VirtualOf(wall_now_ns) >= virtual_ns is wall_now - WallSpanOf(v);
   // VirtualSpanOf(WallSpanOf(v)) >= v, and for the whole nanoseconds that follow it grows, so
   // the run's clock never reads behind what the driver was told is now.
-  wall_origin_ns_ = wall_now_ns - WallSpanOf(virtual_ns);
+  wall_origin_ns_ = Saturate(Wide{wall_now_ns} - WideWallSpan(virtual_ns));
+}
+
+// Instants are computed in 128 bits before saturating, like spans: an origin plus a span past
+// int64 is "never" (INT64_MAX), not a wrapped-around instant in the past.
+TimeNs Timebase::WallOf(TimeNs virtual_ns) const {
+  return Saturate(Wide{wall_origin_ns_} + WideWallSpan(virtual_ns));
+}
+
+TimeNs Timebase::VirtualOf(TimeNs wall_ns) const {
+  return Saturate(WideVirtualSpan(Wide{wall_ns} - wall_origin_ns_));
+}
+
+TimeNs Timebase::LagNs(TimeNs virtual_ns, TimeNs wall_now_ns) const {
+  const TimeNs due_ns = WallOf(virtual_ns);
+  return wall_now_ns > due_ns ? Saturate(Wide{wall_now_ns} - due_ns) : 0;
 }
 
 TimeNs Timebase::WallSpanOf(TimeNs virtual_span_ns) const {
-  // ceil(v / (m * 2^e))
-  const Wide v = virtual_span_ns;
-  if (exponent_ >= 0) return Saturate(CeilDiv(v, Wide{mantissa_} << exponent_));
-  return Saturate(CeilDiv(v << -exponent_, Wide{mantissa_}));
+  return Saturate(WideWallSpan(virtual_span_ns));
 }
 
 TimeNs Timebase::VirtualSpanOf(TimeNs wall_span_ns) const {
-  // floor(w * m * 2^e)
-  const Wide product = Wide{wall_span_ns} * mantissa_;
-  if (exponent_ >= 0) return Saturate(product << exponent_);
-  return Saturate(FloorDiv(product, Wide{1} << -exponent_));
+  return Saturate(WideVirtualSpan(wall_span_ns));
 }
 
 TimeNs TickTimeNs(int64_t tick, int64_t rate_hz) {

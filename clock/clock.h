@@ -47,6 +47,11 @@ class SystemWallClock final : public WallClock {
 // Process-wide instance of SystemWallClock.
 WallClock& DefaultWallClock();
 
+// The CLOCK_REALTIME instant (ns since the Unix epoch) of the CLOCK_MONOTONIC instant `wall_ns`,
+// as the two clocks stand now: calendar dates in outputs (a pcap's date of virtual time 0),
+// never pacing (CLOCK_REALTIME jumps when the host's time is set).
+TimeNs CalendarNsOfWall(TimeNs wall_ns);
+
 //------------------------------ Virtual <-> wall time ------------------------------
 
 // Realtime factors a run may use (virtual seconds per wall second). Outside this range the
@@ -72,14 +77,11 @@ class Timebase {
   void BeginAt(TimeNs virtual_ns, TimeNs wall_now_ns);
 
   // Wall instant at which virtual time `virtual_ns` has come (the rounding rule above).
-  TimeNs WallOf(TimeNs virtual_ns) const { return wall_origin_ns_ + WallSpanOf(virtual_ns); }
+  TimeNs WallOf(TimeNs virtual_ns) const;
   // Virtual time that has come at wall instant `wall_ns`.
-  TimeNs VirtualOf(TimeNs wall_ns) const { return VirtualSpanOf(wall_ns - wall_origin_ns_); }
+  TimeNs VirtualOf(TimeNs wall_ns) const;
   // How far `wall_now_ns` is past the instant of `virtual_ns` (0 if not past).
-  TimeNs LagNs(TimeNs virtual_ns, TimeNs wall_now_ns) const {
-    const TimeNs due_ns = WallOf(virtual_ns);
-    return wall_now_ns > due_ns ? wall_now_ns - due_ns : 0;
-  }
+  TimeNs LagNs(TimeNs virtual_ns, TimeNs wall_now_ns) const;
   // The same conversions for durations: ceil(virtual_span / factor), floor(wall_span * factor).
   TimeNs WallSpanOf(TimeNs virtual_span_ns) const;
   TimeNs VirtualSpanOf(TimeNs wall_span_ns) const;
@@ -88,6 +90,10 @@ class Timebase {
   TimeNs wall_origin_ns() const { return wall_origin_ns_; }
 
  private:
+  __extension__ using Wide = __int128;
+  Wide WideWallSpan(TimeNs virtual_span_ns) const;
+  Wide WideVirtualSpan(Wide wall_span_ns) const;
+
   double realtime_factor_;
   // realtime_factor_ == mantissa_ * 2^exponent_ exactly, mantissa_ odd (or 1).
   int64_t mantissa_ = 1;

@@ -77,9 +77,10 @@ void ResetToNormalScheduling();
 
 //--------------------------------- Files ------------------------------------
 
-// A text file (CSV, logs) appended as whole lines: buffered, written with one
-// write(2) per flush (every `lines_per_flush` lines and at destruction), so an
-// interrupted run leaves only complete lines. Not thread-safe.
+// A file of a run (CSV, logs, the pcap) appended as whole lines or records: buffered, written
+// with one write(2) per flush (every `lines_per_flush` lines or records and at destruction), so
+// an interrupted run leaves only complete ones. Opened close-on-exec (robot processes started
+// later never inherit it) and without following a symbolic link at `path`. Not thread-safe.
 class LineFile {
  public:
   // Creates/truncates `path` and writes `header` (a line, without newline;
@@ -90,6 +91,7 @@ class LineFile {
   LineFile(const LineFile&) = delete;
   LineFile& operator=(const LineFile&) = delete;
   void Append(std::string_view line);  // Without the newline.
+  void AppendRecord(std::string_view bytes);  // Binary, written as is.
   // Throws Error naming the file if write(2) fails (disk full); the lines
   // written before stay whole.
   void Flush();

@@ -11,7 +11,7 @@ namespace sitlnet {
 LineFile::LineFile(const std::string& path, const std::string& header, int lines_per_flush,
                    std::string_view what)
     : path_(path), what_(what), lines_per_flush_(lines_per_flush < 1 ? 1 : lines_per_flush) {
-  fd_ = open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  fd_ = open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0644);
   if (fd_ < 0) throw Error(SystemErrorMessage("create " + what_ + " \"" + path + "\"", errno));
   if (!header.empty()) {
     buffer_ = header + "\n";
@@ -31,6 +31,11 @@ LineFile::~LineFile() {
 void LineFile::Append(std::string_view line) {
   buffer_.append(line);
   buffer_ += '\n';
+  if (++pending_ >= lines_per_flush_) Flush();
+}
+
+void LineFile::AppendRecord(std::string_view bytes) {
+  buffer_.append(bytes);
   if (++pending_ >= lines_per_flush_) Flush();
 }
 

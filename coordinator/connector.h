@@ -34,9 +34,9 @@ class IterationContext {
   virtual void CommandsCollected() = 0;
 };
 
-// A simulator the coordinator can step. Implementations: the physics and
-// medium connectors (physics_connector.h, medium_connector.h) and the
-// synthetic ones (synthetic.h: benchmarks, tests).
+// A simulator the coordinator can step. Implementations: the physics side
+// (physics_side/physics_side.h), the network side (network_side/network_side.h)
+// and the synthetic ones (synthetic.h: benchmarks, tests).
 class Simulator {
  public:
   virtual ~Simulator() = default;

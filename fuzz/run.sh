@@ -15,7 +15,6 @@ targets=("$@")
 build=build-fuzz
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSITLNET_FUZZ=ON \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DSITLNET_MODULES="common;scenario;mac_phy_sim;tapbridge;physics_mujoco;coordinator;robot_images" \
   >"/tmp/sitlnet-build-fuzz.configure.log" 2>&1 || { cat "/tmp/sitlnet-build-fuzz.configure.log" >&2; exit 1; }
 mkdir -p "$build"
 cmake --build "$build" -j2 --target "${targets[@]}" >"$build/build.log" 2>&1 ||

@@ -46,6 +46,8 @@ class Channel {
   const Vec3d& position(int station) const { return positions_[station]; }
   void AddObstacle(const Box& box);
   int obstacle_count() const { return static_cast<int>(boxes_.size()); }
+  // Forgets every cached loss (after the dead-link threshold changed).
+  void InvalidateAll() { obstacles_epoch_ = ++epoch_; }
 
   // Total loss a <-> b in dB (symmetric), recomputed first if stale.
   double LossDb(int a, int b) { return loss_db_[Fresh(a, b)]; }
@@ -60,6 +62,15 @@ class Channel {
   // Losses at or above this are "no link": their exact value is not needed,
   // so shadowing stops accumulating there (see docs/mac_phy_sim.md).
   void set_dead_link_loss_db(double loss_db) { dead_link_loss_db_ = loss_db; }
+  // Log-normal shadowing: adds a zero-mean Gaussian loss of `sigma_db` per
+  // station pair, the same both ways and for the whole run, drawn from
+  // `seed` and the pair alone (independent of the order links are used).
+  void set_lognormal_shadowing(double sigma_db, uint64_t seed) {
+    lognormal_sigma_db_ = sigma_db;
+    lognormal_seed_ = seed;
+  }
+  // The log-normal loss of pair (a, b) in dB (0 when off).
+  double LognormalDb(int a, int b) const;
 
  private:
   // Index of the pair in the matrices after making it current: a pair is
@@ -82,6 +93,8 @@ class Channel {
   std::vector<uint64_t> moved_epoch_;  // Per station: epoch of its last move.
   uint64_t obstacles_epoch_ = 0;       // Epoch of the last obstacle added.
   double dead_link_loss_db_ = std::numeric_limits<double>::infinity();
+  double lognormal_sigma_db_ = 0;
+  uint64_t lognormal_seed_ = 0;
   size_t stride_ = 0;
   std::vector<double> loss_db_;           // stride_ x stride_, row-major.
   std::vector<double> gain_;              // Same layout, linear.

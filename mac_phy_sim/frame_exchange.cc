@@ -1,4 +1,4 @@
-// Frame exchange (IEEE 802.11-2016 10.3.2.5-10.3.2.11): drop-tail queue,
+// Frame exchange (IEEE 802.11-2016 10.3.2.5-10.3.2.11, 10.3.4.4): queue,
 // DATA/ACK and RTS/CTS/DATA/ACK sequences, ACK/CTS timeouts (ns-3: SIFS +
 // slot + PHY preamble/header), retries with short/long retry counters and
 // binary exponential backoff, duplicate filtering by (TA, sequence number).
@@ -16,8 +16,8 @@ int DataPsduBytes(const Frame& frame) {
   return MpduBytesForEthernet(static_cast<int>(frame.ethernet->size()));
 }
 
-TimeNs DataDurationNs(const State& s, const Frame& frame) {
-  return PpduDurationNs(s.config.standard, s.data_mode.mode.rate_mbps, DataPsduBytes(frame));
+TimeNs DataDurationNs(const Frame& frame) {
+  return PpduDurationNs(frame.rate->data.mode, frame.rate->data.header, DataPsduBytes(frame));
 }
 
 void TraceDrop(State& s, int station, DropReason reason, const MacAddress& destination,
@@ -57,10 +57,14 @@ void ExchangeFailed(State& s, int station) {
   st.timeout_waits_for_rx = false;
   ++st.counters.tx_failures;
   Frame& f = st.current;
+  // Station retry counts (10.3.4.4): SRC for RTS and short DATA, LRC for DATA
+  // after a CTS; at the limit the frame in service is discarded.
   const bool data_after_cts = !was_cts && f.use_rts;
-  const bool exhausted = data_after_cts ? f.long_attempts >= s.config.long_retry_limit
-                                        : f.short_attempts >= s.config.short_retry_limit;
-  if (exhausted) {
+  int& count = data_after_cts ? st.long_retry_count : st.short_retry_count;
+  ++count;
+  const int limit = data_after_cts ? s.config.long_retry_limit : s.config.short_retry_limit;
+  if (count >= limit) {
+    count = 0;
     ++st.counters.lost_retry_limit;
     TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
               f.ethernet->size());
@@ -72,8 +76,10 @@ void ExchangeFailed(State& s, int station) {
 }
 
 void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& ra,
-                      uint16_t duration_us) {
+                      uint16_t duration_us, const RateEntry* answered = nullptr, double snr = 0) {
   StationState& st = s.stations[station];
+  st.response_rate = answered;
+  st.response_snr = snr;
   st.response_pending = true;
   st.response_kind = kind;
   st.response_ra = ra;
@@ -84,8 +90,8 @@ void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& r
 void SendData(State& s, int station) {
   StationState& st = s.stations[station];
   Frame& f = st.current;
-  const uint16_t duration = f.group ? 0 : Micros(s.phy.sifs_ns + s.ack_ns);
-  Transmission& tx = StartTransmission(s, station, FrameKind::kData, s.data_mode, DataPsduBytes(f),
+  const uint16_t duration = f.group ? 0 : Micros(s.phy.sifs_ns + f.rate->ack_ns);
+  Transmission& tx = StartTransmission(s, station, FrameKind::kData, f.rate->data, DataPsduBytes(f),
                                        f.destination, duration);
   tx.retry = f.data_sent_before;
   tx.sequence_number = f.sequence_number;
@@ -93,19 +99,44 @@ void SendData(State& s, int station) {
   ++st.counters.data_tx;
   if (f.data_sent_before) ++st.counters.retries;
   f.data_sent_before = true;
-  if (f.use_rts) {
-    ++f.long_attempts;
-  } else {
-    ++f.short_attempts;
-  }
   st.exchange = f.group ? Exchange::kIdle : Exchange::kWaitAck;
 }
+
+// ns-3 3.37's WifiMacQueue::WipeAllExpiredMpdus: removes every frame that
+// has waited longer than MaxDelay since it was queued. ns-3 calls it when a
+// frame arrives at a full queue (WifiMacQueue::Insert) and at every channel
+// access (FrameExchangeManager::StartTransmission), where it also removes the
+// frame being retried (ns-3 keeps it in the queue): `include_current`.
+void DropExpired(State& s, int station, bool include_current) {
+  StationState& st = s.stations[station];
+  const TimeNs max_delay = s.config.queue_max_delay_ns;
+  if (max_delay <= 0) return;
+  auto expired = [&](const Frame& f) { return f.enqueued_ns + max_delay <= s.now_ns; };
+  auto drop = [&](const Frame& f) {
+    ++st.counters.queue_drops;
+    ++st.counters.queue_expired;
+    TraceDrop(s, station, DropReason::kQueueExpired, f.destination, f.sequence_number,
+              f.ethernet->size());
+  };
+  // Frames are queued in arrival order, so the expired ones are a prefix.
+  while (!st.queue.empty() && expired(st.queue.front())) {
+    drop(st.queue.front());
+    st.queue.pop_front();
+  }
+  if (include_current && st.has_current && expired(st.current)) {
+    drop(st.current);
+    NextFrame(s, station);  // The contention window stays as it is, as in ns-3.
+  }
+}
+
+size_t FramesHeld(const StationState& st) { return st.queue.size() + (st.has_current ? 1 : 0); }
 
 }  // namespace
 
 void OnEnqueue(State& s, int station, Bytes ethernet) {
   StationState& st = s.stations[station];
-  if (st.queue.size() >= s.config.queue_limit_frames) {
+  if (FramesHeld(st) >= s.config.queue_limit_frames) DropExpired(s, station, false);
+  if (FramesHeld(st) >= s.config.queue_limit_frames) {
     ++st.counters.queue_drops;
     MacAddress destination;
     std::copy_n(ethernet->begin(), 6, destination.bytes.begin());
@@ -116,6 +147,7 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
   std::copy_n(ethernet->begin(), 6, frame.destination.bytes.begin());
   frame.group = frame.destination.IsGroup();
   frame.ethernet = std::move(ethernet);
+  frame.enqueued_ns = s.now_ns;
   frame.use_rts = !frame.group && s.config.rts_threshold_bytes > 0 &&
                   DataPsduBytes(frame) > static_cast<int>(s.config.rts_threshold_bytes);
   st.queue.push_back(std::move(frame));
@@ -127,17 +159,29 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
 
 void StartCurrentFrame(State& s, int station) {
   StationState& st = s.stations[station];
+  DropExpired(s, station, true);
+  if (!st.has_current) {
+    // Everything expired: release the channel with a new backoff (ns-3's
+    // Txop::NotifyChannelReleased -> GenerateBackoff).
+    StartBackoff(s, station);
+    return;
+  }
   Frame& f = st.current;
+  ChooseRates(s, station);
   if (!f.use_rts) {
     SendData(s, station);
     return;
   }
-  // RTS Duration: CTS + DATA + ACK + 3 SIFS (9.3.1.2).
-  const uint16_t duration = Micros(3 * s.phy.sifs_ns + s.cts_ns + DataDurationNs(s, f) + s.ack_ns);
-  StartTransmission(s, station, FrameKind::kRts, s.control_mode, kRtsBytes, f.destination,
-                    duration);
+  // RTS Duration: CTS + DATA + ACK + 3 SIFS (9.3.1.2). RTS at the control
+  // rate of the DATA rate (or Ideal's RTS rate); CTS answers at the control
+  // rate of the RTS's.
+  const uint16_t duration =
+      Micros(3 * s.phy.sifs_ns + f.rts_rate->cts_ns + DataDurationNs(f) + f.rate->ack_ns);
+  const ModeEntry& rts_mode = s.config.rate_control == MediumConfig::RateControl::kIdeal
+                                  ? f.rts_rate->data
+                                  : f.rts_rate->control;
+  StartTransmission(s, station, FrameKind::kRts, rts_mode, kRtsBytes, f.destination, duration);
   ++st.counters.rts_tx;
-  ++f.short_attempts;
   st.exchange = Exchange::kWaitCts;
 }
 
@@ -152,8 +196,12 @@ void OnOwnTxEnd(State& s, const Transmission& tx) {
       (tx.kind == FrameKind::kRts && st.exchange == Exchange::kWaitCts)) {
     ++st.timeout_generation;
     st.timeout_waits_for_rx = false;
-    s.scheduler.Push(s.now_ns + s.timeout_ns, EventType::kTimeout, tx.source,
-                     st.timeout_generation);
+    // ns-3's AckTimeout/CtsTimeout (10.3.2.9): SIFS + slot + aRxPHYStartDelay,
+    // the PHY preamble and header of the expected response.
+    const TimeNs timeout_ns =
+        s.phy.sifs_ns + s.phy.slot_ns +
+        RateFor(s, tx.mode->mode.rate_mbps).control.header.preamble_and_header_ns;
+    s.scheduler.Push(s.now_ns + timeout_ns, EventType::kTimeout, tx.source, st.timeout_generation);
   }
 }
 
@@ -164,7 +212,8 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
     case FrameKind::kData: {
       if (!tx.group && !for_me) return;
       if (!tx.group) {
-        ScheduleResponse(s, station, FrameKind::kAck, tx.ta, 0);
+        ScheduleResponse(s, station, FrameKind::kAck, tx.ta, 0,
+                         &RateFor(s, tx.mode->mode.rate_mbps), entry.sinr);
         auto& last = st.last_sequence_from;
         if (static_cast<int>(last.size()) <= tx.source) last.resize(tx.source + 1, -1);
         if (tx.retry && last[tx.source] == tx.sequence_number) {
@@ -183,8 +232,10 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
     case FrameKind::kRts:
       // Answer only with an idle NAV (10.3.2.7).
       if (for_me && st.nav_until_ns <= s.now_ns) {
-        const TimeNs rest = tx.duration_us * kNsPerUs - s.phy.sifs_ns - s.cts_ns;
-        ScheduleResponse(s, station, FrameKind::kCts, tx.ta, Micros(std::max<TimeNs>(rest, 0)));
+        const RateEntry& rts_rate = RateFor(s, tx.mode->mode.rate_mbps);
+        const TimeNs rest = tx.duration_us * kNsPerUs - s.phy.sifs_ns - rts_rate.cts_ns;
+        ScheduleResponse(s, station, FrameKind::kCts, tx.ta, Micros(std::max<TimeNs>(rest, 0)),
+                         &rts_rate, entry.sinr);
       }
       return;
     case FrameKind::kCts:
@@ -192,6 +243,8 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
         ++st.timeout_generation;
         st.timeout_waits_for_rx = false;
         st.exchange = Exchange::kIdle;
+        st.short_retry_count = 0;  // ns-3 ReportRtsOk.
+        ReportSnr(s, station, tx.ta, tx.reported_snr);
         ScheduleResponse(s, station, FrameKind::kData, st.current.destination, 0);
       }
       return;
@@ -200,6 +253,8 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
         ++st.timeout_generation;
         st.timeout_waits_for_rx = false;
         ++st.counters.sent_ok;
+        (st.current.use_rts ? st.long_retry_count : st.short_retry_count) = 0;
+        ReportSnr(s, station, tx.ta, tx.reported_snr);  // ns-3 ReportDataOk.
         FinishCurrent(s, station);
       }
       return;
@@ -220,6 +275,7 @@ void OnTimeout(State& s, int station, uint64_t generation) {
     st.timeout_waits_for_rx = true;
     return;
   }
+  st.timeout_end_ns = s.now_ns;
   ExchangeFailed(s, station);
 }
 
@@ -230,12 +286,15 @@ void OnRespond(State& s, int station) {
   if (st.transmitting_tx >= 0) return;
   switch (st.response_kind) {
     case FrameKind::kAck:
-      StartTransmission(s, station, FrameKind::kAck, s.control_mode, kAckBytes, st.response_ra, 0);
+      StartTransmission(s, station, FrameKind::kAck, st.response_rate->control, kAckBytes,
+                        st.response_ra, 0)
+          .reported_snr = st.response_snr;
       ++st.counters.ack_tx;
       return;
     case FrameKind::kCts:
-      StartTransmission(s, station, FrameKind::kCts, s.control_mode, kCtsBytes, st.response_ra,
-                        st.response_duration_us);
+      StartTransmission(s, station, FrameKind::kCts, st.response_rate->control, kCtsBytes,
+                        st.response_ra, st.response_duration_us)
+          .reported_snr = st.response_snr;
       ++st.counters.cts_tx;
       return;
     case FrameKind::kData:

@@ -25,8 +25,8 @@ namespace sitlnet::mac {
 
 enum class Standard : uint8_t {
   k80211a,  // OFDM, 5 GHz, 6..54 Mb/s (IEEE 802.11-2016 clause 17).
-  k80211b,  // DSSS/CCK, 2.4 GHz, 1, 2, 5.5, 11 Mb/s, long preamble (clauses 15, 16).
-  k80211g,  // ERP-OFDM, 2.4 GHz, 6..54 Mb/s (clause 18), no DSSS protection.
+  k80211b,  // DSSS/CCK, 2.4 GHz, 1, 2, 5.5, 11 Mb/s (clauses 15, 16).
+  k80211g,  // ERP, 2.4 GHz: ERP-OFDM 6..54 Mb/s and DSSS/CCK 1..11 Mb/s (clause 18), no protection.
 };
 
 // Plain values only; every field has the default ns-3 3.37 uses (see
@@ -46,17 +46,48 @@ struct MediumConfig {
   double shadowing_db_per_wall = 9;         // beta
   double shadowing_db_per_m = 0.4;          // gamma
   uint32_t rts_threshold_bytes = 0;         // MPDUs longer than this use RTS/CTS; 0: never.
-  uint32_t queue_limit_frames = 100;        // Per-station drop-tail transmit queue.
-  int short_retry_limit = 7;                // dot11ShortRetryLimit: attempts for short frames.
-  int long_retry_limit = 4;                 // dot11LongRetryLimit: attempts when RTS is used.
-  std::optional<int> cw_min;                // Override of the standard's CWmin (tests).
-  std::optional<int> cw_max;                // Override of the standard's CWmax (tests).
-  bool short_slot = false;                  // 802.11g only: 9 us slot instead of 20 us.
+  // Per-station drop-tail transmit queue, the frame in service included
+  // (ns-3 3.37 WifiMacQueue: MaxSize 500 packets, MaxDelay 500 ms; frames
+  // older than the delay are dropped when a frame arrives at a full queue).
+  uint32_t queue_limit_frames = 500;
+  TimeNs queue_max_delay_ns = 500 * kNsPerMs;  // 0: frames never expire.
+  // Rate of group-addressed (broadcast, multicast) DATA frames. Unset: the
+  // lowest basic rate (6 Mb/s for 11a, 1 Mb/s DSSS for 11b/11g), as ns-3.
+  std::optional<double> group_rate_mbps;
+  // 11b/11g DSSS: short PPDU format (96 us instead of 192 us) at 5.5 and 11
+  // Mb/s, as ns-3's WifiRemoteStationManager::SetShortPreambleEnabled.
+  bool short_preamble = false;
+  int short_retry_limit = 7;  // dot11ShortRetryLimit: attempts for short frames.
+  int long_retry_limit = 4;   // dot11LongRetryLimit: attempts when RTS is used.
+  std::optional<int> cw_min;  // Override of the standard's CWmin (tests).
+  std::optional<int> cw_max;  // Override of the standard's CWmax (tests).
+  bool short_slot = false;    // 802.11g only: 9 us slot instead of 20 us.
   // Frame capture (ns-3 SimpleFrameCaptureModel): while the preamble of the
   // frame being received is still in progress, switch to a new frame that is
   // this much stronger. Unset: no capture (ns-3's default).
   std::optional<double> capture_margin_db;
-  uint64_t seed = 1;  // Every random draw derives from this (per-station streams).
+  // Channel effects ns-3 users reach for; all off by default (docs/mac_phy_sim.md).
+  // Constant-speed propagation delay, distance / 299792458 m/s per receiver
+  // (ns-3 ConstantSpeedPropagationDelayModel, the Yans default).
+  bool propagation_delay = false;
+  // Nakagami-m fast fading, one draw per frame and receiver (ns-3
+  // NakagamiPropagationLossModel and its defaults): m0 below d1, m1 below d2,
+  // m2 beyond. Rayleigh fading: every m = 1.
+  bool nakagami_fading = false;
+  double nakagami_m0 = 1.5, nakagami_m1 = 0.75, nakagami_m2 = 0.75;
+  double nakagami_d1_m = 80, nakagami_d2_m = 200;
+  // Log-normal shadowing: a fixed zero-mean Gaussian loss (dB) per station
+  // pair, drawn from the seed; 0: off.
+  double lognormal_shadowing_sigma_db = 0;
+  // Data rate selection. kConstant: every station sends at its rate
+  // (rate_mbps or its StationRadio). kIdeal: per destination, the highest
+  // rate whose SNR for a bit error rate of ideal_ber is below the SNR the
+  // destination last measured on an acknowledged frame (ns-3's
+  // IdealWifiManager; starts at the lowest rate).
+  enum class RateControl : uint8_t { kConstant, kIdeal };
+  RateControl rate_control = RateControl::kConstant;
+  double ideal_ber = 1e-6;  // ns-3 IdealWifiManager's BerThreshold.
+  uint64_t seed = 1;        // Every random draw derives from this (per-station streams).
 };
 
 // Derived PHY/MAC constants of a config (what the medium actually uses).
@@ -65,6 +96,7 @@ struct PhyInfo {
   double noise_floor_dbm = 0;    // kTB over the channel bandwidth + noise figure.
   double reference_loss_db = 0;  // At 1 m.
   double ack_rate_mbps = 0;      // Control-response rate for the configured data rate.
+  double group_rate_mbps = 0;    // Rate of group-addressed DATA frames.
   TimeNs slot_ns = 0, sifs_ns = 0, difs_ns = 0, eifs_ns = 0;
   int cw_min = 0, cw_max = 0;
 };
@@ -88,6 +120,12 @@ struct Box {
 
 using StationId = int;  // Dense: 0 .. station_count()-1, in the order added.
 
+// Per-station radio settings; unset fields take the MediumConfig's.
+struct StationRadio {
+  std::optional<double> tx_power_dbm;  // [-30, 40]
+  std::optional<double> rate_mbps;     // A rate of the standard (kConstant rate control).
+};
+
 //---------------------------- Outputs: deliveries ---------------------------
 
 // A frame that reached a station's MAC intact (first copy; duplicates are
@@ -99,6 +137,7 @@ struct Delivery {
   TimeNs delivery_ns = 0;               // End of the PPDU at the receiver.
   double rx_power_dbm = 0;
   double sinr_db = 0;  // Lowest SINR over the frame.
+  friend bool operator==(const Delivery&, const Delivery&) = default;
 };
 
 //------------------------------ Outputs: trace ------------------------------
@@ -132,12 +171,23 @@ struct TxRecord {
   double rate_mbps = 0;
   MacAddress receiver;     // addr1 (broadcast for group frames).
   MacAddress transmitter;  // addr2 (absent on air for ACK/CTS; still filled).
-  // The exact MPDU as sent: 802.11 header, LLC/SNAP + payload for DATA, FCS.
-  std::vector<uint8_t> mpdu;
+  // DATA: the Ethernet frame carried, as submitted (shared with the queue, not copied); null
+  // for control frames. MpduBytes() gives the bytes on air.
+  std::shared_ptr<const std::vector<uint8_t>> ethernet_frame;
   std::vector<RxRecord> receptions;  // Every other station, by StationId.
 };
 
-enum class DropReason : uint8_t { kRetryLimit, kQueueFull };
+// The exact MPDU of a transmission as sent (IEEE 802.11-2016 9.2.4, 9.3): for DATA an IBSS
+// header (addr1 RA, addr2 TA, addr3 the stations' shared BSSID), RFC 1042 LLC/SNAP, the
+// Ethernet type and payload; ACK/CTS/RTS as their control frames; each with its CRC-32 FCS.
+// Built on demand (only a pcap needs the bytes): a function of the record's fields alone.
+std::vector<uint8_t> MpduBytes(const TxRecord& tx);
+
+enum class DropReason : uint8_t {
+  kRetryLimit,
+  kQueueFull,
+  kQueueExpired,  // Waited longer than queue_max_delay_ns (removed when the queue was full).
+};
 
 struct DropRecord {
   TimeNs time_ns = 0;
@@ -160,7 +210,8 @@ struct StationCounters {
   // Transmit side.
   uint64_t frames_submitted = 0;  // Accepted by SubmitFrame.
   uint64_t malformed = 0;         // Rejected by SubmitFrame (too short/long).
-  uint64_t queue_drops = 0;       // Arrived at a full queue.
+  uint64_t queue_drops = 0;       // Dropped by the queue: arrived full, or expired in it.
+  uint64_t queue_expired = 0;     // Of those, waited longer than queue_max_delay_ns.
   uint64_t data_tx = 0;           // DATA transmissions, retries included.
   uint64_t retries = 0;           // DATA transmissions with the Retry bit.
   uint64_t rts_tx = 0, cts_tx = 0, ack_tx = 0;
@@ -188,6 +239,9 @@ class Medium {
 
   // Adds a radio; returns its id (= number of stations before the call).
   StationId AddStation(const MacAddress& mac, const Vec3d& position_m);
+  // The same with its own tx power and/or data rate; throws Error naming the
+  // field if one is out of range or not a rate of the standard.
+  StationId AddStation(const MacAddress& mac, const Vec3d& position_m, const StationRadio& radio);
   int station_count() const;
 
   // Moves a station at virtual time max(at_ns, now_ns()). Frames already on

@@ -9,8 +9,6 @@ namespace {
 
 double DbmToMw(double dbm) { return std::pow(10.0, dbm / 10); }
 
-ModeEntry MakeMode(const PhyMode& mode) { return ModeEntry{mode, PerfectSinr(mode)}; }
-
 // SplitMix64 (Steele et al. 2014): decorrelated per-station seeds from one seed.
 uint64_t SplitMix64(uint64_t x) {
   x += 0x9E3779B97F4A7C15ull;
@@ -54,6 +52,12 @@ void Dispatch(State& s, const Event& e) {
       s.stations[e.station].nav_event_ns = -1;
       UpdateCca(s, e.station);
       return;
+    case EventType::kSignalStart:
+      OnSignalStart(s, static_cast<int>(e.aux >> 32), static_cast<int>(e.aux & 0xffffffffu));
+      return;
+    case EventType::kSignalEnd:
+      OnSignalEnd(s, static_cast<int>(e.aux >> 32), static_cast<int>(e.aux & 0xffffffffu));
+      return;
   }
 }
 
@@ -62,23 +66,20 @@ void Dispatch(State& s, const Event& e) {
 Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
     : config(config_in),
       phy(phy_in),
-      data_mode(MakeMode(ModeFor(config_in.standard, config_in.rate_mbps))),
-      control_mode(MakeMode(ModeFor(config_in.standard, phy_in.ack_rate_mbps))),
-      header_mode(MakeMode(HeaderModeFor(config_in.standard))),
       channel(phy_in.reference_loss_db, config_in.path_loss_exponent, config_in.shadowing,
               config_in.shadowing_db_per_wall, config_in.shadowing_db_per_m) {
   // Below the sensitivity a signal is not even tracked as interference.
-  channel.set_dead_link_loss_db(config.tx_power_dbm - config.rx_sensitivity_dbm);
+  // With fading, a link up to kFadingMarginDb weaker on average can still be
+  // drawn above it (transmission.cc), so its loss must stay exact.
+  max_tx_power_dbm = config.tx_power_dbm;
+  channel.set_dead_link_loss_db(config.tx_power_dbm - config.rx_sensitivity_dbm +
+                                (config.nakagami_fading ? kFadingMarginDb : 0));
+  channel.set_lognormal_shadowing(config.lognormal_shadowing_sigma_db,
+                                  SplitMix64(config.seed ^ 0x6c6f676e6f726d61ull));
   noise_mw = DbmToMw(phy.noise_floor_dbm);
   cca_mw = DbmToMw(config.cca_energy_detect_dbm);
-  tx_power_mw = DbmToMw(config.tx_power_dbm);
   preamble_snr_linear = std::pow(10.0, config.preamble_detect_snr_db / 10);
-  preamble_ns = PreambleAndHeaderNs(config.standard);
-  signal_extension_ns = SignalExtensionNs(config.standard);
-  ack_ns = PpduDurationNs(config.standard, phy.ack_rate_mbps, kAckBytes);
-  cts_ns = PpduDurationNs(config.standard, phy.ack_rate_mbps, kCtsBytes);
-  // ns-3's AckTimeout/CtsTimeout: SIFS + slot + PHY preamble and header.
-  timeout_ns = phy.sifs_ns + phy.slot_ns + preamble_ns;
+  BuildRates(*this);
 }
 
 Medium::Medium(const MediumConfig& config)
@@ -93,11 +94,43 @@ int Medium::station_count() const { return static_cast<int>(state_->stations.siz
 TimeNs Medium::now_ns() const { return state_->now_ns; }
 
 StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m) {
+  return AddStation(mac, position_m, StationRadio{});
+}
+
+StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
+                             const StationRadio& radio) {
   State& s = *state_;
+  const double tx_power_dbm = radio.tx_power_dbm.value_or(s.config.tx_power_dbm);
+  if (!(tx_power_dbm >= -30 && tx_power_dbm <= 40)) {
+    throw Error("station radio: tx_power_dbm " + std::to_string(tx_power_dbm) +
+                " out of range [-30, 40]");
+  }
+  const double rate_mbps = radio.rate_mbps.value_or(s.config.rate_mbps);
+  try {
+    ModeFor(s.config.standard, rate_mbps);
+  } catch (const Error& e) {
+    throw Error(std::string("station radio: ") + e.what());
+  }
+  if (tx_power_dbm > s.max_tx_power_dbm) {
+    // Links are "dead" below the sensitivity for the strongest transmitter.
+    s.max_tx_power_dbm = tx_power_dbm;
+    s.channel.set_dead_link_loss_db(tx_power_dbm - s.config.rx_sensitivity_dbm +
+                                    (s.config.nakagami_fading ? kFadingMarginDb : 0));
+    s.channel.InvalidateAll();
+  }
   const int id = static_cast<int>(s.stations.size());
   StationState& st = s.stations.emplace_back();
   st.mac = mac;
+  st.tx_power_dbm = tx_power_dbm;
+  st.tx_power_mw = DbmToMw(tx_power_dbm);
+  st.rate = &RateFor(s, rate_mbps);
   st.rng.seed(SplitMix64(s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));
+  // A stream of its own, so turning fading on leaves the other draws as they were.
+  st.fading_rng.seed(SplitMix64(~s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));
+  const double m[3] = {s.config.nakagami_m0, s.config.nakagami_m1, s.config.nakagami_m2};
+  for (int k = 0; k < 3; ++k) {
+    st.fading[k] = std::gamma_distribution<double>(m[k], 1 / m[k]);
+  }
   st.cw = s.phy.cw_min;
   st.idle_since_ns = s.now_ns;
   s.channel.AddStation(position_m);

@@ -23,10 +23,31 @@ namespace sitlnet::mac {
 
 using Bytes = std::shared_ptr<const std::vector<uint8_t>>;
 
-// A PHY mode plus the SINR above which its error rate is exactly zero.
+// With fading, links whose mean power is more than this under the RX
+// sensitivity are not drawn at all: a Gamma(m, 1/m) gain exceeds +16 dB
+// (39.8 x the mean) with probability erfc(sqrt(19.9)) = 2.5e-10 for the
+// smallest m allowed (0.5, where the gain is a squared normal), less for
+// larger m. Drawing them would double the cost of a 64-station broadcast.
+inline constexpr double kFadingMarginDb = 16;
+
+// A PHY mode with its PHY header, and the SINRs above which the error rates
+// of payload and header are exactly zero.
 struct ModeEntry {
   PhyMode mode;
   double perfect_sinr = 0;
+  PhyHeader header;
+  double header_perfect_sinr = 0;
+};
+
+// A data rate: its mode, the mode of the control responses to it (ACK, CTS;
+// also RTS frames sent ahead of it), their airtimes, and ns-3
+// IdealWifiManager's SNR threshold for it (linear).
+struct RateEntry {
+  ModeEntry data;
+  ModeEntry control;
+  TimeNs ack_ns = 0, cts_ns = 0;
+  double ideal_snr_threshold = 0;
+  bool basic = false;  // In the basic rate set (phy_mode.h).
 };
 
 // An MSDU in a station's queue or in service.
@@ -35,10 +56,11 @@ struct Frame {
   MacAddress destination;
   bool group = false;
   uint16_t sequence_number = 0;
-  int short_attempts = 0;         // RTS attempts, or DATA attempts without RTS.
-  int long_attempts = 0;          // DATA attempts after a CTS.
+  TimeNs enqueued_ns = 0;         // For queue_max_delay_ns.
   bool data_sent_before = false;  // Sets the Retry bit.
   bool use_rts = false;
+  const RateEntry* rate = nullptr;      // DATA rate of the current attempt (rate_control.cc).
+  const RateEntry* rts_rate = nullptr;  // RTS rate of the current attempt.
 };
 
 // What one receiver saw of one transmission.
@@ -47,7 +69,8 @@ struct RxEntry {
   double power_mw = 0;
   double power_dbm = 0;
   RxOutcome outcome = RxOutcome::kBelowSensitivity;
-  double sinr = 0;  // Linear: lowest SINR of a locked frame, else SNR (dB only on output).
+  double sinr = 0;      // Linear: lowest SINR of a locked frame, else SNR (dB only on output).
+  TimeNs delay_ns = 0;  // Propagation delay: the signal spans [start, end] + delay_ns here.
 };
 
 // A PPDU on the air.
@@ -62,8 +85,11 @@ struct Transmission {
   uint16_t sequence_number = 0;
   uint16_t duration_us = 0;
   MacAddress ra, ta;
+  double reported_snr = 0;  // ACK/CTS: SNR (linear) of the frame answered, as ns-3's SnrTag.
   Bytes ethernet;           // DATA only.
   std::vector<RxEntry> rx;  // Receivers above sensitivity, by station id.
+  int signals_pending = 0;  // Delayed receivers whose signal has not ended yet.
+  bool on_air = false;      // Between StartTransmission and OnTxEnd.
 };
 
 // The frame a station's PHY is locked on, with its SINR history so far.
@@ -82,7 +108,14 @@ enum class Exchange : uint8_t { kIdle, kWaitAck, kWaitCts };
 
 struct StationState {
   MacAddress mac;
+  double tx_power_dbm = 0, tx_power_mw = 0;
+  const RateEntry* rate = nullptr;  // Its constant data rate.
+  // kIdeal: last SNR (linear) each destination measured on our frames.
+  std::vector<std::pair<MacAddress, double>> ideal_snr;
   std::mt19937_64 rng;
+  std::mt19937_64 fading_rng;  // Only drawn from with nakagami_fading (runs without it unchanged).
+  // Gamma(m, 1/m) for m0, m1, m2, kept so the normal deviates they cache are used.
+  std::gamma_distribution<double> fading[3];
   StationCounters counters;
   // Transmit queue and the frame in service.
   std::deque<Frame> queue;
@@ -90,6 +123,11 @@ struct StationState {
   Frame current;
   uint16_t next_sequence_number = 0;
   int cw = 0;
+  // Station retry counts, SRC and LRC (IEEE 802.11-2016 10.3.4.4; ns-3's
+  // per-station SSRC/SLRC): they count failures until a success or a
+  // discard, across frames, so a frame that expired in the queue passes its
+  // count on to the next one.
+  int short_retry_count = 0, long_retry_count = 0;
   // Channel access (DCF).
   bool busy = false;
   TimeNs idle_since_ns = 0;
@@ -101,6 +139,7 @@ struct StationState {
   TimeNs access_at_ns = -1;    // Scheduled access, -1 if none (SetAccessAt).
   TimeNs nav_event_ns = -1;    // Pending kNavEnd event time, -1 if none.
   TimeNs nav_until_ns = 0;
+  TimeNs timeout_end_ns = -kNsPerS;  // Last ACK/CTS timeout that expired with nothing received.
   // PHY.
   int transmitting_tx = -1;
   int active_signals = 0;
@@ -114,6 +153,8 @@ struct StationState {
   FrameKind response_kind = FrameKind::kAck;
   MacAddress response_ra;
   uint16_t response_duration_us = 0;
+  const RateEntry* response_rate = nullptr;  // Rate of the frame being answered.
+  double response_snr = 0;
   std::vector<int> last_sequence_from;  // Per source station, -1: none (duplicates).
 };
 
@@ -132,9 +173,10 @@ struct Medium::State {
 
   MediumConfig config;
   PhyInfo phy;
-  ModeEntry data_mode, control_mode, header_mode;
-  double noise_mw = 0, cca_mw = 0, tx_power_mw = 0, preamble_snr_linear = 0;
-  TimeNs preamble_ns = 0, signal_extension_ns = 0, ack_ns = 0, cts_ns = 0, timeout_ns = 0;
+  std::vector<RateEntry> rates;  // Every rate of the standard, ascending; never resized.
+  const RateEntry* group_rate = nullptr;
+  double max_tx_power_dbm = 0;  // Over the config and every station.
+  double noise_mw = 0, cca_mw = 0, preamble_snr_linear = 0;
 
   Channel channel;
   Scheduler scheduler;
@@ -179,10 +221,21 @@ void OnLockedRxEnd(State& s, int station);  // Resolves a deferred timeout.
 void OnTimeout(State& s, int station, uint64_t generation);
 void OnRespond(State& s, int station);
 
+// ---- rate_control.cc
+void BuildRates(State& s);
+const RateEntry& RateFor(const State& s, double rate_mbps);
+// Picks the DATA (and RTS) rate of the current frame's next attempt.
+void ChooseRates(State& s, int station);
+// kIdeal: the destination measured `snr` (linear) on a frame of ours.
+void ReportSnr(State& s, int station, const MacAddress& destination, double snr);
+
 // ---- transmission.cc
 Transmission& StartTransmission(State& s, int source, FrameKind kind, const ModeEntry& mode,
                                 int psdu_bytes, const MacAddress& ra, uint16_t duration_us);
 void OnTxEnd(State& s, int tx_id);
+// With propagation_delay: signal entry `entry` of `tx_id` starts / ends at its receiver.
+void OnSignalStart(State& s, int tx_id, int entry);
+void OnSignalEnd(State& s, int tx_id, int entry);
 
 // ---- reception.cc
 void SignalArrives(State& s, int station, Transmission& tx, int entry_index);

@@ -68,4 +68,16 @@ void BuildControlMpdu(FrameKind kind, const MacAddress& ra, const MacAddress& ta
   PutFcs(out);
 }
 
+std::vector<uint8_t> MpduBytes(const TxRecord& tx) {
+  std::vector<uint8_t> mpdu;
+  if (tx.kind == FrameKind::kData) {
+    SITLNET_DEMAND(tx.ethernet_frame != nullptr && tx.ethernet_frame->size() >= 14);
+    BuildDataMpdu(tx.receiver, tx.transmitter, tx.duration_us, tx.sequence_number, tx.retry,
+                  *tx.ethernet_frame, &mpdu);
+  } else {
+    BuildControlMpdu(tx.kind, tx.receiver, tx.transmitter, tx.duration_us, &mpdu);
+  }
+  return mpdu;
+}
+
 }  // namespace sitlnet::mac

@@ -1,6 +1,7 @@
 #include "mac_phy_sim/phy_mode.h"
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace sitlnet::mac {
@@ -9,7 +10,23 @@ namespace {
 bool SameRate(double a, double b) { return std::fabs(a - b) < 1e-9; }
 
 std::string RateList(Standard standard) {
-  return standard == Standard::k80211b ? "1, 2, 5.5, 11" : "6, 9, 12, 18, 24, 36, 48, 54";
+  switch (standard) {
+    case Standard::k80211b:
+      return "1, 2, 5.5, 11";
+    case Standard::k80211g:
+      return "1, 2, 5.5, 11, 6, 9, 12, 18, 24, 36, 48, 54";
+    default:
+      return "6, 9, 12, 18, 24, 36, 48, 54";
+  }
+}
+
+// The DSSS/HR-DSSS mode of `rate_mbps` (clauses 15, 16), if it is one.
+std::optional<PhyMode> DsssMode(double rate_mbps) {
+  if (SameRate(rate_mbps, 1)) return PhyMode{1, Modulation::kDbpsk, 0, false};
+  if (SameRate(rate_mbps, 2)) return PhyMode{2, Modulation::kDqpsk, 0, false};
+  if (SameRate(rate_mbps, 5.5)) return PhyMode{5.5, Modulation::kCck55, 0, false};
+  if (SameRate(rate_mbps, 11)) return PhyMode{11, Modulation::kCck11, 0, false};
+  return std::nullopt;
 }
 
 // N_DBPS of an OFDM rate (Table 17-4): 4 data bits per symbol per Mb/s.
@@ -18,13 +35,11 @@ int DataBitsPerSymbol(double rate_mbps) { return static_cast<int>(std::lround(4 
 }  // namespace
 
 PhyMode ModeFor(Standard standard, double rate_mbps) {
-  if (standard == Standard::k80211b) {
-    // Clause 15 (1, 2 Mb/s) and 16 (5.5, 11 Mb/s CCK).
-    if (SameRate(rate_mbps, 1)) return {1, Modulation::kDbpsk, 0, false};
-    if (SameRate(rate_mbps, 2)) return {2, Modulation::kDqpsk, 0, false};
-    if (SameRate(rate_mbps, 5.5)) return {5.5, Modulation::kCck55, 0, false};
-    if (SameRate(rate_mbps, 11)) return {11, Modulation::kCck11, 0, false};
-  } else {
+  // 11b is DSSS/HR-DSSS only; an ERP (11g) PHY also has the DSSS rates (18.1.1).
+  if (standard != Standard::k80211a) {
+    if (const std::optional<PhyMode> dsss = DsssMode(rate_mbps)) return *dsss;
+  }
+  if (standard != Standard::k80211b) {
     // Table 17-4: modulation and coding rate of each OFDM rate.
     if (SameRate(rate_mbps, 6)) return {6, Modulation::kBpsk, 1, true};
     if (SameRate(rate_mbps, 9)) return {9, Modulation::kBpsk, 3, true};
@@ -39,46 +54,51 @@ PhyMode ModeFor(Standard standard, double rate_mbps) {
               RateList(standard) + ")");
 }
 
-PhyMode HeaderModeFor(Standard standard) {
-  return standard == Standard::k80211b ? ModeFor(standard, 1) : ModeFor(standard, 6);
-}
-
-int HeaderBits(Standard standard) { return standard == Standard::k80211b ? 48 : 24; }
-
-TimeNs PreambleAndHeaderNs(Standard standard) {
-  // 17.3.2: 16 us preamble + 4 us SIGNAL; 15.3.3: 144 us long preamble + 48 us header.
-  return (standard == Standard::k80211b ? 192 : 20) * kNsPerUs;
-}
-
-TimeNs SignalExtensionNs(Standard standard) {
-  return standard == Standard::k80211g ? 6 * kNsPerUs : 0;
+PhyHeader HeaderFor(Standard standard, const PhyMode& mode, bool short_preamble) {
+  PhyHeader header;
+  if (mode.ofdm) {
+    header.preamble_and_header_ns = 20 * kNsPerUs;  // 17.3.2: 16 us preamble + 4 us SIGNAL.
+    header.signal_extension_ns = standard == Standard::k80211g ? 6 * kNsPerUs : 0;
+    header.header_mode = ModeFor(Standard::k80211a, 6);
+    header.header_bits = 24;
+    return header;
+  }
+  const bool use_short = short_preamble && mode.rate_mbps > 2;  // ns-3: HR/DSSS only.
+  header.preamble_and_header_ns = (use_short ? 96 : 192) * kNsPerUs;
+  header.header_mode = *DsssMode(use_short ? 2 : 1);
+  header.header_bits = 48;
+  return header;
 }
 
 double ControlRateFor(Standard standard, double rate_mbps) {
-  ModeFor(standard, rate_mbps);  // Validates.
-  if (standard == Standard::k80211b) return rate_mbps >= 2 ? 2 : 1;
+  const PhyMode mode = ModeFor(standard, rate_mbps);  // Validates.
+  if (!mode.ofdm) return rate_mbps;                   // Every DSSS/HR-DSSS rate is basic.
   if (rate_mbps >= 24) return 24;
   if (rate_mbps >= 12) return 12;
   return 6;
 }
 
-double LowestBasicRate(Standard standard) { return standard == Standard::k80211b ? 1 : 6; }
+double LowestBasicRate(Standard standard) { return standard == Standard::k80211a ? 6 : 1; }
+
+TimeNs PpduDurationNs(const PhyMode& mode, const PhyHeader& header, int psdu_bytes) {
+  if (!mode.ofdm) {
+    // 15.4.4.2 / 16.3.4: LENGTH in microseconds, rounded up: 8*L/R with R in
+    // Mb/s; for 5.5 Mb/s, 16*L/11.
+    const int64_t numerator = 8LL * psdu_bytes * 10;
+    const int64_t rate_x10 = std::lround(mode.rate_mbps * 10);
+    const int64_t payload_us = (numerator + rate_x10 - 1) / rate_x10;
+    return header.preamble_and_header_ns + payload_us * kNsPerUs;
+  }
+  // 17.4.3: 16 SERVICE bits + 8 L + 6 tail bits in 4 us symbols of N_DBPS bits.
+  const int ndbps = DataBitsPerSymbol(mode.rate_mbps);
+  const int64_t bits = 16 + 8LL * psdu_bytes + 6;
+  const int64_t symbols = (bits + ndbps - 1) / ndbps;
+  return header.preamble_and_header_ns + symbols * 4 * kNsPerUs + header.signal_extension_ns;
+}
 
 TimeNs PpduDurationNs(Standard standard, double rate_mbps, int psdu_bytes) {
   const PhyMode mode = ModeFor(standard, rate_mbps);
-  if (!mode.ofdm) {
-    // 15.4.4.2 / 16.3.4: LENGTH in microseconds, rounded up; long preamble.
-    // 8*L/R with R in Mb/s; for 5.5 Mb/s, 16*L/11.
-    const int64_t numerator = 8LL * psdu_bytes * 10;
-    const int64_t rate_x10 = std::lround(rate_mbps * 10);
-    const int64_t payload_us = (numerator + rate_x10 - 1) / rate_x10;
-    return PreambleAndHeaderNs(standard) + payload_us * kNsPerUs;
-  }
-  // 17.4.3: 16 SERVICE bits + 8 L + 6 tail bits in 4 us symbols of N_DBPS bits.
-  const int ndbps = DataBitsPerSymbol(rate_mbps);
-  const int64_t bits = 16 + 8LL * psdu_bytes + 6;
-  const int64_t symbols = (bits + ndbps - 1) / ndbps;
-  return PreambleAndHeaderNs(standard) + symbols * 4 * kNsPerUs + SignalExtensionNs(standard);
+  return PpduDurationNs(mode, HeaderFor(standard, mode, /*short_preamble=*/false), psdu_bytes);
 }
 
 PhyInfo DerivePhyInfo(const MediumConfig& config) {
@@ -117,13 +137,29 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
   info.reference_loss_db =
       config.reference_loss_db.value_or(20 * std::log10(4 * M_PI * friis_hz / 3e8));
   info.ack_rate_mbps = ControlRateFor(config.standard, config.rate_mbps);
+  info.group_rate_mbps = config.group_rate_mbps.value_or(LowestBasicRate(config.standard));
+  try {
+    ModeFor(config.standard, info.group_rate_mbps);
+  } catch (const Error& e) {
+    throw Error(std::string("medium config: group_") + e.what());
+  }
+  demand(config.queue_max_delay_ns >= 0, "queue_max_delay_ns must be >= 0");
+  demand(!config.nakagami_fading ||
+             (config.nakagami_m0 >= 0.5 && config.nakagami_m1 >= 0.5 && config.nakagami_m2 >= 0.5),
+         "nakagami_m0/m1/m2 must be >= 0.5 (Nakagami's m)");
+  demand(config.nakagami_d1_m > 0 && config.nakagami_d2_m >= config.nakagami_d1_m,
+         "need 0 < nakagami_d1_m <= nakagami_d2_m");
+  demand(config.lognormal_shadowing_sigma_db >= 0 && config.lognormal_shadowing_sigma_db <= 30,
+         "lognormal_shadowing_sigma_db out of range [0, 30]");
   // aSlotTime, aSIFSTime: 17.4.4 (OFDM), 15.4.5 (DSSS), 18.4.5 (ERP).
   const int slot_us = a ? 9 : (b ? 20 : (config.short_slot ? 9 : 20));
   const int sifs_us = a ? 16 : 10;
   info.slot_ns = slot_us * kNsPerUs;
   info.sifs_ns = sifs_us * kNsPerUs;
   info.difs_ns = info.sifs_ns + 2 * info.slot_ns;  // 10.3.2.3.5
-  // EIFS = aSIFSTime + ACK at the lowest basic rate + DIFS (10.3.2.3.7).
+  // EIFS = aSIFSTime + ACK at the lowest basic rate + DIFS (10.3.2.3.7,
+  // Table 10-5): 44 us ACK for 11a, 304 us for 11b and 11g (ns-3's
+  // WifiPhy::GetAckTxTime; its 11g PHY is configured on top of the 11b one).
   info.eifs_ns = info.sifs_ns +
                  PpduDurationNs(config.standard, LowestBasicRate(config.standard), kAckBytes) +
                  info.difs_ns;

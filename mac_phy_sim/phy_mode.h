@@ -21,17 +21,37 @@ struct PhyMode {
 // The mode of `rate_mbps` in `standard`; throws Error if the standard lacks it.
 PhyMode ModeFor(Standard standard, double rate_mbps);
 
-// Mode of the PHY header (SIGNAL field / PLCP header): 6 Mb/s BPSK 1/2 for
-// OFDM, 1 Mb/s DBPSK for DSSS; and how many bits of it the error model sees.
-PhyMode HeaderModeFor(Standard standard);
-int HeaderBits(Standard standard);              // 24 (SIGNAL) or 48 (PLCP header).
-TimeNs PreambleAndHeaderNs(Standard standard);  // 20 us (OFDM) or 192 us (long DSSS).
-TimeNs SignalExtensionNs(Standard standard);    // 6 us for ERP-OFDM (18.3.2.4), else 0.
+// The PHY header of a PPDU: how long preamble + header last, the mode and
+// bit count the error model applies to the header, and the ERP signal
+// extension. OFDM: 16 us preamble + 4 us SIGNAL (24 bits, 6 Mb/s BPSK 1/2),
+// 17.3.2. DSSS long PPDU: 144 us preamble + 48 us PLCP header at 1 Mb/s
+// DBPSK (15.3.3); short PPDU: 72 us + 24 us with the 48-bit header at 2 Mb/s
+// DQPSK (16.2.2.3). ns-3 3.37 (GetPreambleForTransmission) uses the short
+// format only for the HR/DSSS rates 5.5 and 11 Mb/s, never at 1 or 2 Mb/s.
+struct PhyHeader {
+  TimeNs preamble_and_header_ns = 0;
+  TimeNs signal_extension_ns = 0;  // 6 us for ERP-OFDM (18.3.2.4), else 0.
+  PhyMode header_mode;
+  int header_bits = 0;
+};
+PhyHeader HeaderFor(Standard standard, const PhyMode& mode, bool short_preamble);
 
-// Highest basic rate not above `rate_mbps` (10.6.6.5.2): control responses
-// (ACK, CTS) and, here, RTS use it. Basic rates: 11a/g {6, 12, 24}, 11b {1, 2}.
+// Exact PPDU duration of `psdu_bytes` in `mode` with `header`.
+TimeNs PpduDurationNs(const PhyMode& mode, const PhyHeader& header, int psdu_bytes);
+
+// Control responses (ACK, CTS) and, here, RTS use the highest basic rate not
+// above the rate of the frame they answer (10.6.6.5.2), of an allowed
+// modulation class. The basic rate set is ns-3 3.37's for an ad hoc network:
+// every mandatory rate of the PHY (AdhocWifiMac adds them all through
+// WifiRemoteStationManager::AddAllSupportedModes): 11a {6, 12, 24}; 11b
+// {1, 2, 5.5, 11} (all four DSSS/HR-DSSS rates are mandatory, 16.1.1), so an
+// 11b ACK goes at the data rate; 11g {1, 2, 5.5, 11, 6, 12, 24}, and an ERP-OFDM
+// frame is answered at 6, 12 or 24, a DSSS frame at its own rate.
 double ControlRateFor(Standard standard, double rate_mbps);
-// Lowest basic rate (used for EIFS).
+// Lowest basic rate: group-addressed frames go at it by default (ns-3's
+// GetNonUnicastMode: the first basic mode), and EIFS uses an ACK at it.
+// 11a: 6 Mb/s; 11b and 11g: 1 Mb/s DSSS (ns-3's 11g PHY includes the DSSS
+// rates, and its EIFS uses a 304 us ACK, WifiPhy::Configure80211g).
 double LowestBasicRate(Standard standard);
 
 // Frame sizes on air (bytes, FCS included).

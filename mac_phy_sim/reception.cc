@@ -18,18 +18,22 @@ double ToDb(double linear) { return 10 * std::log10(linear); }
 // ns-3's PreambleDetectionDuration: the preamble detection model decides 4 us
 // after the start of a frame.
 constexpr TimeNs kPreambleDetectionNs = 4 * kNsPerUs;
+// ns-3's SimpleFrameCaptureModel: capture is possible up to CaptureWindow
+// (16 us) after the preamble was detected, whatever the PHY.
+constexpr TimeNs kCaptureWindowEndNs = kPreambleDetectionNs + 16 * kNsPerUs;
 
 // Success probability of [a, b) of the locked frame at constant `sinr`.
 double ChunkSuccess(const State& s, const Transmission& tx, TimeNs a, TimeNs b, double sinr) {
   double success = 1;
-  const TimeNs header_end = tx.start_ns + s.preamble_ns;
-  const TimeNs payload_end = tx.end_ns - s.signal_extension_ns;
+  const PhyHeader& header = tx.mode->header;
+  const TimeNs header_end = tx.start_ns + header.preamble_and_header_ns;
+  const TimeNs payload_end = tx.end_ns - header.signal_extension_ns;
   // PHY header: the SIGNAL / PLCP header bits, pro rata of the overlap.
   const TimeNs header_overlap = std::min(b, header_end) - std::max(a, tx.start_ns);
-  if (header_overlap > 0 && sinr < s.header_mode.perfect_sinr) {
+  if (header_overlap > 0 && sinr < tx.mode->header_perfect_sinr) {
     const double bits =
-        HeaderBits(s.config.standard) * static_cast<double>(header_overlap) / s.preamble_ns;
-    success *= ChunkSuccessRate(s.header_mode.mode, sinr, bits);
+        header.header_bits * static_cast<double>(header_overlap) / header.preamble_and_header_ns;
+    success *= ChunkSuccessRate(header.header_mode, sinr, bits);
   }
   const TimeNs payload_overlap = std::min(b, payload_end) - std::max(a, header_end);
   if (payload_overlap > 0 && sinr < tx.mode->perfect_sinr) {
@@ -46,8 +50,11 @@ void CloseChunk(State& s, StationState& st) {
   const double sinr = rx.power_mw / (s.noise_mw + rx.interference_mw);
   rx.min_sinr = std::min(rx.min_sinr, sinr);
   if (rx.success_probability > 0) {  // Already lost: later chunks cannot help.
+    // In the transmitter's time frame: the signal reached this receiver delay_ns late.
+    const Transmission& tx = s.transmissions[rx.tx];
+    const TimeNs delay_ns = tx.rx[rx.entry].delay_ns;
     rx.success_probability *=
-        ChunkSuccess(s, s.transmissions[rx.tx], rx.chunk_start_ns, s.now_ns, sinr);
+        ChunkSuccess(s, tx, rx.chunk_start_ns - delay_ns, s.now_ns - delay_ns, sinr);
   }
   rx.chunk_start_ns = s.now_ns;
 }
@@ -101,8 +108,8 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
       return;
     }
     const auto& capture = s.config.capture_margin_db;
-    if (capture && s.now_ns < st.rx.start_ns + s.preamble_ns &&
-        entry.power_dbm >= ToDb(st.rx.power_mw) + *capture) {
+    if (capture && s.now_ns <= st.rx.start_ns + kCaptureWindowEndNs &&
+        entry.power_dbm > ToDb(st.rx.power_mw) + *capture) {
       // Frame capture (ns-3 SimpleFrameCaptureModel): drop the weaker frame.
       Transmission& old_tx = s.transmissions[st.rx.tx];
       old_tx.rx[st.rx.entry].outcome = RxOutcome::kCollided;

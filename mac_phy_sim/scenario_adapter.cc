@@ -33,6 +33,22 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
   config.shadowing_db_per_m = radio.shadowing_db_per_m();
   config.rts_threshold_bytes = radio.rts_threshold_bytes();
   config.queue_limit_frames = radio.queue_limit_frames();
+  config.queue_max_delay_ns = static_cast<TimeNs>(radio.queue_max_delay_ms()) * kNsPerMs;
+  if (radio.has_group_rate_mbps()) config.group_rate_mbps = radio.group_rate_mbps();
+  config.short_slot = radio.short_slot();
+  config.short_preamble = radio.short_preamble();
+  if (radio.has_capture_margin_db()) config.capture_margin_db = radio.capture_margin_db();
+  config.propagation_delay = radio.propagation_delay();
+  config.nakagami_fading = radio.nakagami_fading();
+  config.nakagami_m0 = radio.nakagami_m0();
+  config.nakagami_m1 = radio.nakagami_m1();
+  config.nakagami_m2 = radio.nakagami_m2();
+  config.nakagami_d1_m = radio.nakagami_d1_m();
+  config.nakagami_d2_m = radio.nakagami_d2_m();
+  config.lognormal_shadowing_sigma_db = radio.lognormal_shadowing_sigma_db();
+  if (radio.rate_control() == proto::Radio::RATE_CONTROL_IDEAL) {
+    config.rate_control = MediumConfig::RateControl::kIdeal;
+  }
   config.seed = scenario.spec.timing().seed();
   return config;
 }
@@ -40,7 +56,10 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
 Medium MakeMediumFromScenario(const sitlnet::Scenario& scenario) {
   Medium medium(MediumConfigFromScenario(scenario));
   for (const RobotPlan& robot : scenario.robots) {
-    medium.AddStation(robot.wlan_mac, ToVec3(robot.spec.position_m()));
+    StationRadio radio;
+    if (robot.spec.has_tx_power_dbm()) radio.tx_power_dbm = robot.spec.tx_power_dbm();
+    if (robot.spec.has_rate_mbps()) radio.rate_mbps = robot.spec.rate_mbps();
+    medium.AddStation(robot.wlan_mac, ToVec3(robot.spec.position_m()), radio);
   }
   for (const proto::Obstacle& obstacle : scenario.spec.obstacle()) {
     medium.AddObstacle(

@@ -17,12 +17,14 @@
 namespace sitlnet::mac {
 
 enum class EventType : uint8_t {
-  kEnqueue,  // A submitted frame reaches its station's queue (aux: pending frame slot).
-  kMove,     // A position update takes effect (aux: pending move slot).
-  kTxEnd,    // A transmission leaves the air (aux: transmission id).
-  kTimeout,  // ACK/CTS timeout of `station` (aux: timeout generation).
-  kRespond,  // `station` sends its pending SIFS response (ACK, CTS, DATA after CTS).
-  kNavEnd,   // The NAV of `station` may have expired.
+  kEnqueue,      // A submitted frame reaches its station's queue (aux: pending frame slot).
+  kMove,         // A position update takes effect (aux: pending move slot).
+  kTxEnd,        // A transmission leaves the air (aux: transmission id).
+  kTimeout,      // ACK/CTS timeout of `station` (aux: timeout generation).
+  kRespond,      // `station` sends its pending SIFS response (ACK, CTS, DATA after CTS).
+  kNavEnd,       // The NAV of `station` may have expired.
+  kSignalStart,  // A delayed signal reaches its receiver (aux: tx id << 32 | entry index).
+  kSignalEnd,    // A delayed signal leaves its receiver (aux: as kSignalStart).
 };
 
 struct Event {

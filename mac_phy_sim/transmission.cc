@@ -1,9 +1,10 @@
-// Putting a PPDU on the air (power at every station from the channel cache)
-// and taking it off (end of reception everywhere, MAC reactions, trace).
+// Putting a PPDU on the air (power at every station from the channel cache,
+// optional Nakagami fading and propagation delay) and taking it off (end of
+// reception everywhere, MAC reactions, trace).
 #include <cmath>
+#include <random>
 
 #include "mac_phy_sim/medium_state.h"
-#include "mac_phy_sim/mpdu.h"
 
 namespace sitlnet::mac {
 namespace {
@@ -20,12 +21,7 @@ void TraceTransmission(State& s, const Transmission& tx) {
   record.rate_mbps = tx.mode->mode.rate_mbps;
   record.receiver = tx.ra;
   record.transmitter = tx.ta;
-  if (tx.kind == FrameKind::kData) {
-    BuildDataMpdu(tx.ra, tx.ta, tx.duration_us, tx.sequence_number, tx.retry, *tx.ethernet,
-                  &record.mpdu);
-  } else {
-    BuildControlMpdu(tx.kind, tx.ra, tx.ta, tx.duration_us, &record.mpdu);
-  }
+  if (tx.kind == FrameKind::kData) record.ethernet_frame = tx.ethernet;
   const int n = static_cast<int>(s.stations.size());
   record.receptions.reserve(n - 1);
   size_t next_entry = 0;
@@ -35,7 +31,7 @@ void TraceTransmission(State& s, const Transmission& tx) {
       const RxEntry& e = tx.rx[next_entry++];
       record.receptions.push_back({r, e.outcome, e.power_dbm, 10 * std::log10(e.sinr)});
     } else {
-      const double dbm = s.config.tx_power_dbm - s.channel.LossDb(tx.source, r);
+      const double dbm = s.stations[tx.source].tx_power_dbm - s.channel.LossDb(tx.source, r);
       record.receptions.push_back(
           {r, RxOutcome::kBelowSensitivity, dbm, dbm - s.phy.noise_floor_dbm});
     }
@@ -63,6 +59,51 @@ void CountReceiverOutcome(StationState& st, const Transmission& tx, const RxEntr
   }
 }
 
+// ns-3 ConstantSpeedPropagationDelayModel's default speed.
+constexpr double kSpeedOfLightMps = 299792458.0;
+
+double SquaredDistanceM2(const Channel& channel, int a, int b) {
+  const Vec3d& pa = channel.position(a);
+  const Vec3d& pb = channel.position(b);
+  const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
+  return dx * dx + dy * dy + dz * dz;
+}
+
+// ns-3 NakagamiPropagationLossModel: m by distance (d < d1: m0; d < d2: m1;
+// else m2). Returns which of the three.
+int NakagamiIndex(const MediumConfig& c, double squared_distance_m2) {
+  if (squared_distance_m2 < c.nakagami_d1_m * c.nakagami_d1_m) return 0;
+  return squared_distance_m2 < c.nakagami_d2_m * c.nakagami_d2_m ? 1 : 2;
+}
+
+// The receiver side of the end of signal `i` of `tx`: reception outcome, NAV,
+// CCA, MAC reactions.
+void EndAtReceiver(State& s, Transmission& tx, int i) {
+  const int r = tx.rx[i].station;
+  StationState& st = s.stations[r];
+  const bool was_locked = st.rx.tx == tx.id;
+  const bool decoded = SignalEnds(s, r, tx, i);
+  // Virtual carrier sense from any decoded frame addressed to someone else.
+  if (decoded && !(tx.ra == st.mac) && tx.duration_us > 0) {
+    SetNav(s, r, s.now_ns + tx.duration_us * kNsPerUs);
+  }
+  UpdateCca(s, r);
+  CountReceiverOutcome(st, tx, tx.rx[i]);
+  if (decoded) OnFrameReceived(s, r, tx, tx.rx[i]);
+  if (was_locked) OnLockedRxEnd(s, r);
+}
+
+// Everyone is done with `tx`: trace it and return it to the pool.
+void Release(State& s, Transmission& tx) {
+  if (s.trace_enabled) TraceTransmission(s, tx);
+  tx.ethernet.reset();
+  s.free_transmissions.push_back(tx.id);
+}
+
+uint64_t SignalAux(int tx_id, int entry) {
+  return (static_cast<uint64_t>(tx_id) << 32) | static_cast<uint32_t>(entry);
+}
+
 }  // namespace
 
 Transmission& StartTransmission(State& s, int source, FrameKind kind, const ModeEntry& mode,
@@ -81,7 +122,7 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   tx.kind = kind;
   tx.mode = &mode;
   tx.start_ns = s.now_ns;
-  tx.end_ns = s.now_ns + PpduDurationNs(s.config.standard, mode.mode.rate_mbps, psdu_bytes);
+  tx.end_ns = s.now_ns + PpduDurationNs(mode.mode, mode.header, psdu_bytes);
   tx.ra = ra;
   tx.ta = s.stations[source].mac;
   tx.duration_us = duration_us;
@@ -89,7 +130,10 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   tx.retry = false;
   tx.sequence_number = 0;
   tx.ethernet.reset();
+  tx.reported_snr = 0;
   tx.rx.clear();
+  tx.signals_pending = 0;
+  tx.on_air = true;
 
   StationState& src = s.stations[source];
   AbortReception(s, source);
@@ -99,17 +143,43 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   // reception, so the later transmission end dominates).
   src.use_eifs = false;
   UpdateCca(s, source);
+  const MediumConfig& config = s.config;
+  const bool fading = config.nakagami_fading;
+  const double floor_dbm = config.rx_sensitivity_dbm - (fading ? kFadingMarginDb : 0);
   const int n = static_cast<int>(s.stations.size());
   for (int r = 0; r < n; ++r) {
     if (r == source) continue;
-    const double dbm = s.config.tx_power_dbm - s.channel.LossDb(source, r);
-    if (dbm < s.config.rx_sensitivity_dbm) continue;
-    tx.rx.push_back(
-        {r, s.tx_power_mw * s.channel.GainLinear(source, r), dbm, RxOutcome::kBelowSensitivity, 0});
+    double dbm = src.tx_power_dbm - s.channel.LossDb(source, r);
+    if (dbm < floor_dbm) continue;
+    double mw = src.tx_power_mw * s.channel.GainLinear(source, r);
+    if (fading) {
+      // ns-3 draws the received power from Gamma(m, mean / m) per frame.
+      StationState& receiver = s.stations[r];
+      const double gain =
+          receiver.fading[NakagamiIndex(config, SquaredDistanceM2(s.channel, source, r))](
+              receiver.fading_rng);
+      mw *= gain;
+      dbm += 10 * std::log10(gain);
+      if (dbm < config.rx_sensitivity_dbm) continue;
+    }
+    const TimeNs delay_ns = config.propagation_delay
+                                ? std::llround(std::sqrt(SquaredDistanceM2(s.channel, source, r)) /
+                                               kSpeedOfLightMps * 1e9)
+                                : 0;
+    tx.rx.push_back({r, mw, dbm, RxOutcome::kBelowSensitivity, 0, delay_ns});
   }
   for (int i = 0; i < static_cast<int>(tx.rx.size()); ++i) {
-    SignalArrives(s, tx.rx[i].station, tx, i);
-    UpdateCca(s, tx.rx[i].station);
+    const RxEntry& entry = tx.rx[i];
+    if (entry.delay_ns == 0) {
+      SignalArrives(s, entry.station, tx, i);
+      UpdateCca(s, entry.station);
+      continue;
+    }
+    ++tx.signals_pending;
+    s.scheduler.Push(tx.start_ns + entry.delay_ns, EventType::kSignalStart, entry.station,
+                     SignalAux(id, i));
+    s.scheduler.Push(tx.end_ns + entry.delay_ns, EventType::kSignalEnd, entry.station,
+                     SignalAux(id, i));
   }
   s.scheduler.Push(tx.end_ns, EventType::kTxEnd, source, static_cast<uint64_t>(id));
   return tx;
@@ -117,26 +187,27 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
 
 void OnTxEnd(State& s, int tx_id) {
   Transmission& tx = s.transmissions[tx_id];
+  tx.on_air = false;
   s.stations[tx.source].transmitting_tx = -1;
   for (int i = 0; i < static_cast<int>(tx.rx.size()); ++i) {
-    const int r = tx.rx[i].station;
-    StationState& st = s.stations[r];
-    const bool was_locked = st.rx.tx == tx_id;
-    const bool decoded = SignalEnds(s, r, tx, i);
-    // Virtual carrier sense from any decoded frame addressed to someone else.
-    if (decoded && !(tx.ra == st.mac) && tx.duration_us > 0) {
-      SetNav(s, r, s.now_ns + tx.duration_us * kNsPerUs);
-    }
-    UpdateCca(s, r);
-    CountReceiverOutcome(st, tx, tx.rx[i]);
-    if (decoded) OnFrameReceived(s, r, tx, tx.rx[i]);
-    if (was_locked) OnLockedRxEnd(s, r);
+    if (tx.rx[i].delay_ns == 0) EndAtReceiver(s, tx, i);
   }
   UpdateCca(s, tx.source);
   OnOwnTxEnd(s, tx);
-  if (s.trace_enabled) TraceTransmission(s, tx);
-  tx.ethernet.reset();
-  s.free_transmissions.push_back(tx_id);
+  if (tx.signals_pending == 0) Release(s, tx);
+}
+
+void OnSignalStart(State& s, int tx_id, int entry) {
+  Transmission& tx = s.transmissions[tx_id];
+  const int r = tx.rx[entry].station;
+  SignalArrives(s, r, tx, entry);
+  UpdateCca(s, r);
+}
+
+void OnSignalEnd(State& s, int tx_id, int entry) {
+  Transmission& tx = s.transmissions[tx_id];
+  EndAtReceiver(s, tx, entry);
+  if (--tx.signals_pending == 0 && !tx.on_air) Release(s, tx);
 }
 
 }  // namespace sitlnet::mac

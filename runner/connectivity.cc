@@ -16,29 +16,37 @@ int Find(std::vector<int>& parent, int i) {
 
 }  // namespace
 
-std::vector<ConnectivitySample> ConnectivityOverTime(int robots,
-                                                     const std::vector<LinkEvent>& events,
-                                                     TimeNs window_ns, TimeNs sample_period_ns,
-                                                     TimeNs end_ns) {
+ConnectivityTracker::ConnectivityTracker(int robots, TimeNs window_ns, TimeNs sample_period_ns)
+    : robots_(robots),
+      window_ns_(window_ns),
+      sample_period_ns_(sample_period_ns),
+      next_sample_ns_(sample_period_ns),
+      last_heard_(size_t(robots) * robots, -1) {
   SITLNET_DEMAND(robots >= 0 && window_ns > 0 && sample_period_ns > 0);
-  // last_heard[i * robots + j]: latest delivery between i and j (either way).
-  std::vector<TimeNs> last_heard(size_t(robots) * robots, -1);
-  std::vector<ConnectivitySample> samples;
-  size_t next_event = 0;
-  for (TimeNs t = sample_period_ns; t <= end_ns; t += sample_period_ns) {
-    for (; next_event < events.size() && events[next_event].time_ns <= t; ++next_event) {
-      const LinkEvent& e = events[next_event];
-      if (e.from < 0 || e.to < 0 || e.from >= robots || e.to >= robots || e.from == e.to) continue;
-      const int a = std::min(e.from, e.to);
-      const int b = std::max(e.from, e.to);
-      last_heard[size_t(a) * robots + b] = e.time_ns;
-    }
-    std::vector<int> parent(robots);
+}
+
+void ConnectivityTracker::Heard(TimeNs time_ns, int from, int to) {
+  SampleUntilBefore(time_ns);
+  if (from < 0 || to < 0 || from >= robots_ || to >= robots_ || from == to) return;
+  const int a = std::min(from, to);
+  const int b = std::max(from, to);
+  last_heard_[size_t(a) * robots_ + b] = time_ns;
+}
+
+std::vector<ConnectivitySample> ConnectivityTracker::Finish(TimeNs end_ns) {
+  SampleUntilBefore(end_ns + 1);
+  return std::move(samples_);
+}
+
+void ConnectivityTracker::SampleUntilBefore(TimeNs time_ns) {
+  for (; next_sample_ns_ < time_ns; next_sample_ns_ += sample_period_ns_) {
+    const TimeNs t = next_sample_ns_;
+    std::vector<int> parent(robots_);
     std::iota(parent.begin(), parent.end(), 0);
-    for (int a = 0; a < robots; ++a) {
-      for (int b = a + 1; b < robots; ++b) {
-        const TimeNs heard = last_heard[size_t(a) * robots + b];
-        if (heard >= 0 && t - heard < window_ns) {
+    for (int a = 0; a < robots_; ++a) {
+      for (int b = a + 1; b < robots_; ++b) {
+        const TimeNs heard = last_heard_[size_t(a) * robots_ + b];
+        if (heard >= 0 && t - heard < window_ns_) {
           parent[std::max(Find(parent, a), Find(parent, b))] =
               std::min(Find(parent, a), Find(parent, b));
         }
@@ -46,14 +54,13 @@ std::vector<ConnectivitySample> ConnectivityOverTime(int robots,
     }
     ConnectivitySample sample;
     sample.time_ns = t;
-    sample.component_of.resize(robots);
-    for (int i = 0; i < robots; ++i) {
+    sample.component_of.resize(robots_);
+    for (int i = 0; i < robots_; ++i) {
       sample.component_of[i] = Find(parent, i);
       if (sample.component_of[i] == i) ++sample.components;
     }
-    samples.push_back(std::move(sample));
+    samples_.push_back(std::move(sample));
   }
-  return samples;
 }
 
 }  // namespace sitlnet::runner

@@ -12,11 +12,10 @@
 #include <fstream>
 
 #include "coordinator/coordinator.h"
-#include "coordinator/physics_connector.h"
+#include "network_side/network_side.h"
 #include "nns/nns.h"
-#include "runner/bridge_simulator.h"
+#include "physics_side/physics_side.h"
 #include "runner/outputs.h"
-#include "runner/remote_medium.h"
 #include "runner/run_monitor.h"
 #include "runner/runner.h"
 #include "runner/summary.h"
@@ -194,7 +193,7 @@ std::unique_ptr<coordinator::Connector> AcceptRemoteNetwork(const Scenario& scen
                scenario.name.c_str(), static_cast<long long>(options.remote_wait_ns / kNsPerS),
                listener.endpoint().ToString().c_str());
   coordinator::HandshakeExpectation expect;
-  expect.scenario_hash = MediumScenarioHash(scenario);
+  expect.scenario_hash = network_side::MediumScenarioHash(scenario);
   expect.iteration_ns = scenario.iteration_ns;
   coordinator::WaitLimits limits;
   limits.timeout_ns = options.remote_wait_ns;
@@ -252,7 +251,7 @@ RunReport RunScenario(const RunOptions& options) {
 
   // Wrapped at once, so that whatever fails from here on, the remote side
   // gets Stop with a reason rather than a closed connection.
-  std::unique_ptr<RemoteMedium> remote_owned;  // Until the bridge takes it.
+  std::unique_ptr<network_side::RemoteMedium> remote_owned;  // Until the bridge takes it.
   if (!options.listen.empty()) {
     std::unique_ptr<coordinator::Connector> connector;
     try {
@@ -267,7 +266,7 @@ RunReport RunScenario(const RunOptions& options) {
       report.exit_code = 130;
       return report;
     }
-    remote_owned = std::make_unique<RemoteMedium>(
+    remote_owned = std::make_unique<network_side::RemoteMedium>(
         scenario, std::move(connector), coordinator::CoordinatorOptions{}.answer_timeout_ns);
   }
 
@@ -290,7 +289,7 @@ RunReport RunScenario(const RunOptions& options) {
   physics::PhysicsServer physics_server(scenario, PhysicsOptionsFromEnvironment());
   tapbridge::BridgeOptions bridge_options;
   bridge_options.seed = scenario.spec.timing().seed();
-  RemoteMedium* remote_medium = nullptr;  // Owned by the bridge.
+  network_side::RemoteMedium* remote_medium = nullptr;  // Owned by the bridge.
   std::unique_ptr<tapbridge::MediumModel> medium;
   if (remote_owned) {
     remote_medium = remote_owned.get();
@@ -303,29 +302,27 @@ RunReport RunScenario(const RunOptions& options) {
 
   // The medium's view: pcap (virtual timestamps in lockstep, so that runs
   // are byte-identical; wall-clock dates in realtime) and the delivery log.
-  std::ofstream pcap(report.run_dir + "/medium.pcap", std::ios::binary);
-  pcap << tapbridge::PcapFileHeader();
+  LineFile pcap(report.run_dir + "/medium.pcap", "", 256, "pcap");
+  pcap.AppendRecord(tapbridge::PcapFileHeader());
   const TimeNs epoch_offset_ns = lockstep ? 0 : static_cast<TimeNs>(std::time(nullptr)) * kNsPerS;
   bridge.AddAirFrameObserver([&](const tapbridge::AirFrame& frame) {
-    pcap << tapbridge::EncodePcapRecord(frame, epoch_offset_ns);
+    pcap.AppendRecord(tapbridge::EncodePcapRecord(frame, epoch_offset_ns));
   });
   LineFile deliveries(report.run_dir + "/deliveries.csv", kDeliveryHeader);
-  // The same deliveries as link events, kept for the connectivity analysis at the end (in
-  // delivery order, which is time order).
-  std::vector<LinkEvent> link_events;
+  // The communication graph over time (connectivity.csv), fed as deliveries happen.
+  ConnectivityTracker connectivity(static_cast<int>(scenario.robots.size()), kConnectivityWindowNs,
+                                   kConnectivitySampleNs);
   bridge.AddDeliveryObserver([&](const tapbridge::Delivery& d) {
-    if (d.frame.size() < 12) return;
-    const int from = (d.frame[10] << 8) | d.frame[11];  // RobotMac(index) in the source MAC
-    link_events.push_back(LinkEvent{d.time_ns, from, d.station});
+    connectivity.Heard(d.delivery_ns, d.source, d.station);
     char line[128];
-    std::snprintf(line, sizeof line, "%lld,%d,%d,%.2f,%.2f", static_cast<long long>(d.time_ns),
-                  from, d.station, d.rx_power_dbm, d.sinr_db);
+    std::snprintf(line, sizeof line, "%lld,%d,%d,%.2f,%.2f", static_cast<long long>(d.delivery_ns),
+                  d.source, d.station, d.rx_power_dbm, d.sinr_db);
     deliveries.Append(line);
   });
 
   std::vector<RobotSlot> robots = StartImages(scenario, options, report.run_dir);
 
-  coordinator::RobotLockstepOptions robot_lockstep;
+  physics_side::RobotLockstepOptions robot_lockstep;
   robot_lockstep.enabled = lockstep;
   robot_lockstep.command_timeout_ns = scenario.spec.silent_robot_timeout_ms() * kNsPerMs;
   robot_lockstep.drop_silent =
@@ -334,10 +331,10 @@ RunReport RunScenario(const RunOptions& options) {
     physics_server.SetPeriodicStates(false);  // one state per iteration, from the gate
     WaitForRobotsToSpeak(scenario, robots, &physics_server);
   }
-  coordinator::PhysicsServerSimulator physics_sim(scenario, &physics_server, robot_lockstep);
+  physics_side::PhysicsServerSimulator physics_sim(scenario, &physics_server, robot_lockstep);
   RecordingPhysics recording(&physics_sim, &physics_server.world(),
                              report.run_dir + "/trajectories.csv", options.trajectory_period_ns);
-  BridgeSimulator bridge_sim(
+  network_side::BridgeSimulator bridge_sim(
       scenario, &bridge, lockstep ? coordinator::Pacing::kLockstep : coordinator::Pacing::kRealtime,
       scenario.spec.timing().realtime_factor());
   MonitoringNetwork monitoring(
@@ -402,15 +399,15 @@ RunReport RunScenario(const RunOptions& options) {
   getrusage(RUSAGE_CHILDREN, &usage);
   report.robots_cpu_s = cpu_s(usage);
   deliveries.Flush();
-  pcap.flush();
+  pcap.Flush();
 
   report.interrupted = result.interrupted;
   report.exit_code = !failure.empty() ? 1 : result.interrupted ? 130 : 0;
   if (!failure.empty()) std::fprintf(stderr, "sitlnet run: %s\n", failure.c_str());
   if (remote_medium) {
-    const MediumLinkStats& link = remote_medium->stats();
+    const network_side::MediumLinkStats& link = remote_medium->stats();
     report.medium_link = link;
-    const MediumLinkStats::Means mean = link.PerRoundTrip();
+    const network_side::MediumLinkStats::Means mean = link.PerRoundTrip();
     std::fprintf(stderr,
                  "sitlnet run: medium link to %s: %lld round trips (%lld quiet steps without), "
                  "mean %.1f us each (remote medium %.1f us, transport %.1f us), %.0f B out, "
@@ -424,7 +421,7 @@ RunReport RunScenario(const RunOptions& options) {
   const coordinator::MetricsSummary summary = metrics.Summarize();
   WriteSummaryAndPlots(scenario, report, summary,
                        std::max<int64_t>(result.iterations_done, summary.iterations), robots,
-                       bridge, physics_server, link_events, failure);
+                       bridge, physics_server, &connectivity, failure);
   if (remote_medium) {
     remote_medium->Stop(failure.empty() ? (result.interrupted ? "interrupted" : "run finished")
                                         : failure);

@@ -10,12 +10,13 @@
 #include <string>
 
 #include "common/common.h"
+#include "network_side/network_side.h"
 #include "scenario/scenario.h"
 
 namespace sitlnet::runner {
 
 struct RunOptions {
-  // The medium model on another host (runner/remote_medium.h): listen here
+  // The medium model on another host (network_side/network_side.h): listen here
   // (`host:port`, `unix:/path`) for its network connector (`sitlnet medium
   // FILE --connect`), waiting at most remote_wait_ns. Lockstep pacing only.
   std::string listen;
@@ -35,31 +36,6 @@ struct RunOptions {
   int realtime_priority = 10;
 };
 
-// The medium link of a run with --remote network (runner/remote_medium.h):
-// sums over its round trips, for the run's log, summary.json and
-// docs/performance.md.
-struct MediumLinkStats {
-  int64_t round_trips = 0;
-  TimeNs round_trip_ns = 0;   // START sent -> END received.
-  TimeNs remote_busy_ns = 0;  // The remote medium's own time (End.busy_ns).
-  int64_t request_bytes = 0;  // MediumRequest payloads sent.
-  int64_t reply_bytes = 0;    // MediumReply payloads received.
-  int64_t quiet_steps = 0;    // Network steps that needed no round trip.
-
-  // Means per round trip (0 round trips count as 1), for the log line and summary.json.
-  struct Means {
-    double round_trip_us = 0, remote_medium_us = 0, transport_us = 0;
-    double request_bytes = 0, reply_bytes = 0;
-  };
-  Means PerRoundTrip() const {
-    const double n = static_cast<double>(round_trips > 0 ? round_trips : 1);
-    const double us = n * kNsPerUs;
-    return {static_cast<double>(round_trip_ns) / us, static_cast<double>(remote_busy_ns) / us,
-            static_cast<double>(round_trip_ns - remote_busy_ns) / us,
-            static_cast<double>(request_bytes) / n, static_cast<double>(reply_bytes) / n};
-  }
-};
-
 struct RunReport {
   std::string run_dir;
   int exit_code = 0;  // 0 ok, 1 failure (robot failure by policy, error), 130 interrupted.
@@ -75,28 +51,13 @@ struct RunReport {
   // sitlnet's RSS from before exec.
   int64_t robot_max_rss_kib = 0;
   int64_t robot_median_rss_kib = 0;
-  std::optional<MediumLinkStats> medium_link;  // --remote network only.
+  std::optional<network_side::MediumLinkStats> medium_link;  // --remote network only.
 };
 
 // `scenario` with the overrides of `options` (duration_s, lockstep, seed, no_shadowing) applied
 // and validated again; source_path kept. `sitlnet medium --connect` applies the same ones, so that
 // both ends of a remote medium hash the same scenario.
 Scenario ApplyRunOverrides(const Scenario& scenario, const RunOptions& options);
-
-// `sitlnet medium --connect`: where the coordinator listens and the overrides its run applied.
-struct RemoteMediumOptions {
-  std::string coordinator_endpoint;  // HOST:PORT.
-  std::optional<uint64_t> seed;      // The run's --seed, if given.
-  bool no_shadowing = false;         // The run's --no-shadowing.
-  TimeNs connect_timeout_ns = 60 * kNsPerS;
-};
-
-// Runs only the 802.11 model of `scenario` as the network connector of a coordinator on another
-// host: connects (retrying while nothing listens, up to the timeout), proves with the scenario's
-// hash that both loaded the same scenario, serves every network step until the run ends or
-// SIGINT/SIGTERM, and returns why it stopped. Throws Error if the coordinator cannot be reached
-// or refuses the handshake.
-std::string ServeRemoteMedium(Scenario scenario, const RemoteMediumOptions& options);
 
 // Runs the scenario to the end of its duration (or until SIGINT/SIGTERM).
 // Throws Error for bad input found before anything was created; later

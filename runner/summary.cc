@@ -90,14 +90,12 @@ std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& 
 void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
                           const coordinator::MetricsSummary& metrics, int64_t iterations_done,
                           const std::vector<RobotSlot>& robots, tapbridge::BridgeCore& bridge,
-                          const physics::PhysicsServer& physics,
-                          const std::vector<LinkEvent>& link_events, const std::string& failure) {
+                          const physics::PhysicsServer& physics, ConnectivityTracker* connectivity,
+                          const std::string& failure) {
   const std::string& dir = report.run_dir;
   const int robot_count = static_cast<int>(scenario.robots.size());
   const TimeNs simulated_ns = iterations_done * scenario.iteration_ns;
-  const auto samples =
-      ConnectivityOverTime(robot_count, link_events, kConnectivityWindowNs, kConnectivitySampleNs,
-                           simulated_ns);
+  const auto samples = connectivity->Finish(simulated_ns);
   WriteConnectivityCsv(dir + "/connectivity.csv", samples, robot_count);
 
   std::vector<std::string> warnings;
@@ -126,7 +124,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
           ",\"robot_median_rss_kib\":" + std::to_string(report.robot_median_rss_kib) + "}";
   json += ",\"medium_link\":";
   if (const auto& link = report.medium_link) {
-    const MediumLinkStats::Means mean = link->PerRoundTrip();
+    const network_side::MediumLinkStats::Means mean = link->PerRoundTrip();
     json += "{\"round_trips\":" + std::to_string(link->round_trips) +
             ",\"quiet_steps\":" + std::to_string(link->quiet_steps) +
             ",\"round_trip_us_mean\":" + std::to_string(mean.round_trip_us) +

@@ -22,8 +22,8 @@ inline constexpr TimeNs kConnectivitySampleNs = 100 * kNsPerMs;
 void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
                           const coordinator::MetricsSummary& metrics, int64_t iterations_done,
                           const std::vector<RobotSlot>& robots, tapbridge::BridgeCore& bridge,
-                          const physics::PhysicsServer& physics,
-                          const std::vector<LinkEvent>& link_events, const std::string& failure);
+                          const physics::PhysicsServer& physics, ConnectivityTracker* connectivity,
+                          const std::string& failure);
 
 }  // namespace sitlnet::runner
 

@@ -33,6 +33,22 @@ bool InRange(double value, double low, double high) {
   return std::isfinite(value) && value >= low && value <= high;
 }
 
+// Fails unless `value` is finite and in [low, high]: "<who><field> <value> out of range [l, h]".
+void RequireInRange(const SourceLocator& at, std::initializer_list<SourceLocator::Step> path,
+                    const std::string& who, const char* field, double value, double low,
+                    double high) {
+  if (!InRange(value, low, high)) {
+    at.Fail(path,
+            who + field + " " + Num(value) + " out of range [" + Num(low) + ", " + Num(high) + "]");
+  }
+}
+
+// Largest values that keep every derived nanosecond count (and sums of them) far from int64's
+// end; nothing a scenario needs comes near them.
+constexpr int64_t kMaxDurationMs = 366LL * 24 * 3600 * 1000;  // a year of virtual time
+constexpr int64_t kMaxStepUs = 60LL * 1000 * 1000;            // a minute per step
+constexpr uint32_t kMaxLidarRays = 4096;
+
 void ValidateName(const SourceLocator& at, Scenario* scenario) {
   const std::string& name = scenario->spec.name();
   if (!IsValidName(name, kMaxScenarioNameLength, false)) {
@@ -68,6 +84,10 @@ void ValidateAirframes(const SourceLocator& at, const proto::Scenario& spec) {
         at.Fail({{"airframe", i}, {field}}, who + field + " " + Num(value) + " must be > 0");
       }
     }
+    RequireInRange(at, {{"airframe", i}, {"drag_coefficient"}}, who, "drag_coefficient",
+                   airframe.drag_coefficient(), 0, 1);
+    RequireInRange(at, {{"airframe", i}, {"linear_drag_n_s_per_m"}}, who, "linear_drag_n_s_per_m",
+                   airframe.linear_drag_n_s_per_m(), 0, 1e3);
   }
 }
 
@@ -87,34 +107,70 @@ void ValidateObstacles(const SourceLocator& at, const proto::Scenario& spec) {
     if (!box.has_size_m()) at.Fail({{"obstacle", i}}, who + "size_m is required");
     const double sizes[] = {box.size_m().x(), box.size_m().y(), box.size_m().z()};
     for (double size : sizes) {
-      if (!(std::isfinite(size) && size > 0)) {
-        at.Fail({{"obstacle", i}, {"size_m"}}, who + "every size_m component must be > 0");
+      if (!(std::isfinite(size) && size > 0 && size <= 1e5)) {
+        at.Fail({{"obstacle", i}, {"size_m"}}, who + "every size_m component must be in (0, 1e5]");
       }
     }
+    const double center[] = {box.center_m().x(), box.center_m().y(), box.center_m().z()};
+    for (double coordinate : center) {
+      if (!InRange(coordinate, -1e6, 1e6)) {
+        at.Fail({{"obstacle", i}, {"center_m"}}, who + "center_m must be finite, within 1e6 m");
+      }
+    }
+    RequireInRange(at, {{"obstacle", i}, {"yaw_deg"}}, who, "yaw_deg", box.yaw_deg(), -1e6, 1e6);
   }
 }
 
 bool IsValidRate(proto::Radio::Standard standard, double rate_mbps) {
   static const double kOfdm[] = {6, 9, 12, 18, 24, 36, 48, 54};
   static const double kDsss[] = {1, 2, 5.5, 11};
-  if (standard == proto::Radio::STANDARD_80211B) {
+  // An ERP (11g) PHY has the DSSS rates too (IEEE 802.11-2016 18.1.1).
+  if (standard != proto::Radio::STANDARD_80211A) {
     for (double rate : kDsss) {
       if (rate == rate_mbps) return true;
     }
-    return false;
   }
-  for (double rate : kOfdm) {
-    if (rate == rate_mbps) return true;
+  if (standard != proto::Radio::STANDARD_80211B) {
+    for (double rate : kOfdm) {
+      if (rate == rate_mbps) return true;
+    }
   }
   return false;
 }
+
+constexpr const char* kRateLists =
+    " (802.11a: 6 9 12 18 24 36 48 54; 802.11b: 1 2 5.5 11; 802.11g: both)";
 
 void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
   if (!IsValidRate(radio.standard(), radio.rate_mbps())) {
     at.Fail({{"radio"}, {"rate_mbps"}},
             "radio: rate_mbps " + Num(radio.rate_mbps()) + " is not a rate of " +
-                proto::Radio::Standard_Name(radio.standard()) +
-                " (802.11a/g: 6 9 12 18 24 36 48 54; 802.11b: 1 2 5.5 11)");
+                proto::Radio::Standard_Name(radio.standard()) + kRateLists);
+  }
+  if (radio.has_group_rate_mbps() && !IsValidRate(radio.standard(), radio.group_rate_mbps())) {
+    at.Fail({{"radio"}, {"group_rate_mbps"}},
+            "radio: group_rate_mbps " + Num(radio.group_rate_mbps()) + " is not a rate of " +
+                proto::Radio::Standard_Name(radio.standard()) + kRateLists);
+  }
+  if (radio.short_slot() && radio.standard() != proto::Radio::STANDARD_80211G) {
+    at.Fail({{"radio"}, {"short_slot"}}, "radio: short_slot applies to STANDARD_80211G only");
+  }
+  if (radio.nakagami_fading() &&
+      (radio.nakagami_m0() < 0.5 || radio.nakagami_m1() < 0.5 || radio.nakagami_m2() < 0.5)) {
+    at.Fail({{"radio"}, {"nakagami_m0"}}, "radio: nakagami_m0/m1/m2 must be >= 0.5");
+  }
+  if (!(radio.nakagami_d1_m() > 0 && radio.nakagami_d2_m() >= radio.nakagami_d1_m())) {
+    at.Fail({{"radio"}, {"nakagami_d1_m"}}, "radio: need 0 < nakagami_d1_m <= nakagami_d2_m");
+  }
+  if (!InRange(radio.lognormal_shadowing_sigma_db(), 0, 30)) {
+    at.Fail({{"radio"}, {"lognormal_shadowing_sigma_db"}},
+            "radio: lognormal_shadowing_sigma_db " + Num(radio.lognormal_shadowing_sigma_db()) +
+                " out of range [0, 30]");
+  }
+  if (radio.has_capture_margin_db() && !InRange(radio.capture_margin_db(), 0, 100)) {
+    at.Fail(
+        {{"radio"}, {"capture_margin_db"}},
+        "radio: capture_margin_db " + Num(radio.capture_margin_db()) + " out of range [0, 100]");
   }
   if (!InRange(radio.tx_power_dbm(), -10, 30)) {
     at.Fail({{"radio"}, {"tx_power_dbm"}},
@@ -134,6 +190,12 @@ void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
             "radio: shadowing_db_per_wall must be in [0, 200] and "
             "shadowing_db_per_m in [0, 100]");
   }
+  RequireInRange(at, {{"radio"}, {"noise_figure_db"}}, "radio: ", "noise_figure_db",
+                 radio.noise_figure_db(), 0, 50);
+  RequireInRange(at, {{"radio"}, {"rx_sensitivity_dbm"}}, "radio: ", "rx_sensitivity_dbm",
+                 radio.rx_sensitivity_dbm(), -200, 0);
+  RequireInRange(at, {{"radio"}, {"cca_energy_detect_dbm"}}, "radio: ", "cca_energy_detect_dbm",
+                 radio.cca_energy_detect_dbm(), -200, 0);
   if (radio.queue_limit_frames() < 1) {
     at.Fail({{"radio"}, {"queue_limit_frames"}}, "radio: queue_limit_frames must be >= 1");
   }
@@ -146,9 +208,11 @@ void ValidateTiming(const SourceLocator& at, Scenario* scenario) {
                                                       {"network_step_us", timing.network_step_us()},
                                                       {"duration_ms", timing.duration_ms()}};
   for (const auto& [field, value] : positive) {
-    if (value <= 0) {
+    const int64_t max = std::string(field) == "duration_ms" ? kMaxDurationMs : kMaxStepUs;
+    if (value <= 0 || value > max) {
       at.Fail({{"timing"}, {field}},
-              std::string("timing: ") + field + " " + std::to_string(value) + " must be > 0");
+              std::string("timing: ") + field + " " + std::to_string(value) +
+                  (value <= 0 ? " must be > 0" : " must be at most " + std::to_string(max)));
     }
   }
   const std::pair<const char*, int64_t> steps[] = {{"physics_step_us", timing.physics_step_us()},
@@ -297,7 +361,46 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
     const double position[] = {robot.position_m().x(), robot.position_m().y(),
                                robot.position_m().z()};
     for (double coordinate : position) {
-      if (!std::isfinite(coordinate)) at.Fail({{"robot", i}, {"position_m"}}, who + "non-finite");
+      if (!InRange(coordinate, -1e6, 1e6)) {
+        at.Fail({{"robot", i}, {"position_m"}}, who + "position_m must be finite, within 1e6 m");
+      }
+    }
+    RequireInRange(at, {{"robot", i}, {"yaw_deg"}}, who, "yaw_deg", robot.yaw_deg(), -1e6, 1e6);
+    RequireInRange(at, {{"robot", i}, {"state_rate_hz"}}, who, "state_rate_hz",
+                   robot.state_rate_hz(), 0.01, 1e5);
+    if (robot.command_timeout_ms() < 0 || robot.command_timeout_ms() > kMaxDurationMs) {
+      at.Fail({{"robot", i}, {"command_timeout_ms"}},
+              who + "command_timeout_ms must be in [0, " + std::to_string(kMaxDurationMs) + "]");
+    }
+    if (robot.ardupilot_json_port() > 65535) {
+      at.Fail({{"robot", i}, {"ardupilot_json_port"}},
+              who + "ardupilot_json_port must be <= 65535");
+    }
+    if (robot.lidar().rays() > kMaxLidarRays) {
+      at.Fail({{"robot", i}, {"lidar"}, {"rays"}},
+              who + "lidar rays " + std::to_string(robot.lidar().rays()) + " out of range [0, " +
+                  std::to_string(kMaxLidarRays) + "]");
+    }
+    RequireInRange(at, {{"robot", i}, {"lidar"}, {"max_range_m"}}, who, "lidar max_range_m",
+                   robot.lidar().max_range_m(), 0.01, 1e4);
+    RequireInRange(at, {{"robot", i}, {"lidar"}, {"fov_deg"}}, who, "lidar fov_deg",
+                   robot.lidar().fov_deg(), 0.01, 360);
+    const std::pair<const char*, double> imu[] = {
+        {"gyro_noise_rad_s", robot.imu().gyro_noise_rad_s()},
+        {"gyro_bias_rad_s", robot.imu().gyro_bias_rad_s()},
+        {"accel_noise_m_s2", robot.imu().accel_noise_m_s2()},
+        {"accel_bias_m_s2", robot.imu().accel_bias_m_s2()}};
+    for (const auto& [field, value] : imu) {
+      RequireInRange(at, {{"robot", i}, {"imu"}, {field}}, who + "imu ", field, value, 0, 1e3);
+    }
+    if (robot.has_tx_power_dbm() && !InRange(robot.tx_power_dbm(), -10, 30)) {
+      at.Fail({{"robot", i}, {"tx_power_dbm"}},
+              who + "tx_power_dbm " + Num(robot.tx_power_dbm()) + " out of range [-10, 30]");
+    }
+    if (robot.has_rate_mbps() && !IsValidRate(spec.radio().standard(), robot.rate_mbps())) {
+      at.Fail({{"robot", i}, {"rate_mbps"}},
+              who + "rate_mbps " + Num(robot.rate_mbps()) + " is not a rate of " +
+                  proto::Radio::Standard_Name(spec.radio().standard()) + kRateLists);
     }
     ValidateHilSensors(at, i, robot);
     if (!robot.airframe().empty() && FindAirframe(spec, robot.airframe()).name().empty()) {
@@ -338,8 +441,10 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
 
 void ValidateAndDerive(const SourceLocator& locator, Scenario* scenario) {
   ValidateName(locator, scenario);
-  if (scenario->spec.silent_robot_timeout_ms() <= 0) {
-    locator.Fail({{"silent_robot_timeout_ms"}}, "silent_robot_timeout_ms must be > 0");
+  if (scenario->spec.silent_robot_timeout_ms() <= 0 ||
+      scenario->spec.silent_robot_timeout_ms() > kMaxDurationMs) {
+    locator.Fail({{"silent_robot_timeout_ms"}},
+                 "silent_robot_timeout_ms must be in [1, " + std::to_string(kMaxDurationMs) + "]");
   }
   ValidateAirframes(locator, scenario->spec);
   ValidateObstacles(locator, scenario->spec);

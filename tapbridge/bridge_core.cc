@@ -121,14 +121,14 @@ struct BridgeCore::Impl {
       TapPort* port = ports[d.station].get();
       if (!port) continue;
       PortCounters& c = counters[d.station];
-      if (port->Write(d.frame) == 0) {
+      if (port->Write(d.ethernet_frame) == 0) {
         ++c.frames_written;
       } else {
         ++c.write_errors;
       }
       if (loop) {
         // Measured right after the write(): what a reader in the robot sees.
-        const TimeNs lateness_ns = MonotonicNowNs() - WallOf(d.time_ns);
+        const TimeNs lateness_ns = MonotonicNowNs() - WallOf(d.delivery_ns);
         interval_lateness.Add(lateness_ns);
         total_lateness.Add(lateness_ns);
       }

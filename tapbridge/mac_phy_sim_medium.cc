@@ -34,7 +34,7 @@ class MacPhySimMedium : public MediumModel {
   void AdvanceTo(TimeNs until_ns, std::vector<Delivery>* deliveries,
                  std::vector<AirFrame>* air) override {
     if (until_ns < medium_.now_ns()) until_ns = medium_.now_ns();
-    // Tracing copies every MPDU: on only while someone captures.
+    // Tracing records every transmission and its receptions: on only while someone captures.
     if (air != nullptr && !tracing_) {
       medium_.EnableTrace(true);
       tracing_ = true;
@@ -48,15 +48,14 @@ class MacPhySimMedium : public MediumModel {
     medium_.AdvanceTo(until_ns, &scratch_);
     for (mac::Delivery& d : scratch_) {
       if (!enabled_[d.station]) continue;
-      deliveries->push_back(Delivery{d.station, d.delivery_ns, std::move(d.ethernet_frame),
-                                     d.rx_power_dbm, d.sinr_db});
+      deliveries->push_back(std::move(d));
     }
     if (tracing_) {
       trace_.clear();
       medium_.DrainTrace(&trace_);
       if (air != nullptr) {
-        for (const mac::TraceEvent& event : trace_) {
-          if (event.tx) air->push_back(ToAirFrame(*event.tx));
+        for (mac::TraceEvent& event : trace_) {
+          if (event.tx) air->push_back(ToAirFrame(std::move(*event.tx)));
         }
       }
     }
@@ -106,37 +105,13 @@ class MacPhySimMedium : public MediumModel {
     return -1;
   }
 
-  AirFrame ToAirFrame(const mac::TxRecord& tx) const {
+  AirFrame ToAirFrame(mac::TxRecord&& tx) const {
     AirFrame f;
-    f.start_ns = tx.start_ns;
-    f.duration_ns = tx.end_ns - tx.start_ns;
-    f.transmitter = tx.source;
-    switch (tx.kind) {
-      case mac::FrameKind::kData:
-        f.kind = AirFrameKind::kData;
-        break;
-      case mac::FrameKind::kAck:
-        f.kind = AirFrameKind::kAck;
-        break;
-      case mac::FrameKind::kRts:
-        f.kind = AirFrameKind::kRts;
-        break;
-      case mac::FrameKind::kCts:
-        f.kind = AirFrameKind::kCts;
-        break;
-    }
-    f.retry = tx.retry;
-    f.rate_mbps = tx.rate_mbps;
     const mac::PhyInfo& phy = medium_.phy();
     f.channel_mhz = static_cast<int>(phy.frequency_mhz + 0.5);
     f.band_5ghz = phy.frequency_mhz > 4000;
     f.ofdm = medium_.config().standard != mac::Standard::k80211b;
     f.noise_dbm = phy.noise_floor_dbm;
-    f.duration_field_us = tx.duration_us;
-    f.sequence = tx.sequence_number;
-    f.receiver = tx.receiver;
-    f.sender = tx.transmitter;
-    f.mpdu = tx.mpdu;
     // Signal: at the addressed receiver; for group frames, the strongest.
     // Failed (bad FCS): the addressed receiver did not decode it; a group
     // frame that nobody decoded.
@@ -157,6 +132,8 @@ class MacPhySimMedium : public MediumModel {
     } else {
       f.signal_dbm = -100;
     }
+    f.tx = std::move(tx);
+    f.tx.receptions.clear();  // Summarised above; the pcap view does not need them.
     return f;
   }
 

@@ -12,7 +12,6 @@
 #include <cerrno>
 #include <climits>
 #include <cstdio>
-#include <ctime>
 
 #include "tapbridge/control_server.h"
 #include "tapbridge/pcap_fanout.h"
@@ -21,12 +20,6 @@ namespace sitlnet::tapbridge {
 namespace {
 
 std::string Us(TimeNs ns) { return std::to_string(ns / kNsPerUs) + " us"; }
-
-TimeNs RealtimeNowNs() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return TimeNs{ts.tv_sec} * kNsPerS + ts.tv_nsec;
-}
 
 void MakeDirectories(const std::string& path) {
   for (size_t at = 1; at != std::string::npos; at = path.find('/', at + 1)) {
@@ -102,7 +95,7 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
   EventLoop loop;
   clock::Timebase timebase(scenario.spec.timing().realtime_factor());
   timebase.Begin(MonotonicNowNs());
-  PcapFanout fanout(RealtimeNowNs() - (MonotonicNowNs() - timebase.wall_origin_ns()));
+  PcapFanout fanout(clock::CalendarNsOfWall(timebase.wall_origin_ns()));
   if (!options.pcap_path.empty()) fanout.OpenFile(options.pcap_path);
   core.AddAirFrameObserver([&fanout](const AirFrame& frame) { fanout.OnFrame(frame); });
   core.SetAirFrameCapture(fanout.active());

@@ -19,8 +19,9 @@ class RelayMedium : public MediumModel {
     for (size_t i = 0; i < macs_.size(); ++i) {
       if (static_cast<int>(i) == station || !enabled_[i]) continue;
       if (!destination.IsGroup() && !(macs_[i] == destination)) continue;
-      pending_.push_back(Delivery{static_cast<int>(i), at_ns,
-                                  std::vector<uint8_t>(ethernet.begin(), ethernet.end()), 0, 0});
+      pending_.push_back(Delivery{static_cast<int>(i), station,
+                                  std::vector<uint8_t>(ethernet.begin(), ethernet.end()), at_ns, 0,
+                                  0});
       ++counters_[i].delivered;
     }
   }
@@ -31,7 +32,7 @@ class RelayMedium : public MediumModel {
   }
   std::optional<TimeNs> NextEventNs() const override {
     if (pending_.empty()) return std::nullopt;
-    return pending_.front().time_ns;
+    return pending_.front().delivery_ns;
   }
   void SetPosition(int, double, double, double) override {}
   void SetStationEnabled(int station, bool enabled) override { enabled_[station] = enabled; }

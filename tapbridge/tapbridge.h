@@ -18,6 +18,7 @@
 
 #include "clock/clock.h"
 #include "common/common.h"
+#include "mac_phy_sim/mac_phy_sim.h"
 #include "scenario/scenario.h"
 
 namespace sitlnet::proto {
@@ -31,37 +32,21 @@ namespace sitlnet::tapbridge {
 // MakeMacPhySimMedium; MakeRelayMedium is the no-medium floor for benchmarks.
 
 // One frame handed to one station, as decided by the medium.
-struct Delivery {
-  int station = 0;             // Destination station (robot index).
-  TimeNs time_ns = 0;          // Virtual instant the frame is received (end of PPDU).
-  std::vector<uint8_t> frame;  // Ethernet frame (dst, src, ethertype, payload), no FCS.
-  double rx_power_dbm = 0;
-  double sinr_db = 0;
-};
+// A frame handed to a robot: the medium model's own record (mac_phy_sim/mac_phy_sim.h), whatever
+// the model (802.11, relay, remote). Stations are robot indices.
+using mac::Delivery;
 
-enum class AirFrameKind { kData, kAck, kRts, kCts };
-
-// One transmission on the air, for the pcap view.
+// One transmission on the air as the pcap shows it: the medium model's own record of it
+// (mac_phy_sim/mac_phy_sim.h TxRecord: timing, kind, addresses, the frame carried; its
+// `receptions` are not kept) and the radio view radiotap adds.
 struct AirFrame {
-  TimeNs start_ns = 0;  // Virtual instant the PPDU starts.
-  TimeNs duration_ns = 0;
-  int transmitter = 0;  // Station index.
-  AirFrameKind kind = AirFrameKind::kData;
-  bool retry = false;   // 802.11 retry bit (data frames sent again).
+  mac::TxRecord tx;
   bool failed = false;  // Collided or lost at its receiver(s): bad FCS in the pcap.
-  double rate_mbps = 0;
   int channel_mhz = 0;  // 0: the standard's default channel (5180 or 2412).
   bool band_5ghz = true;
   bool ofdm = true;       // False for 802.11b DSSS/CCK.
   double signal_dbm = 0;  // At the receiver (the addressed one, else the strongest).
   double noise_dbm = -93.97;
-  uint16_t duration_field_us = 0;  // The MAC header's Duration/ID (NAV).
-  uint16_t sequence = 0;           // 12-bit sequence number for data frames.
-  MacAddress receiver;             // RA: addr1 (DA for data frames).
-  MacAddress sender;               // TA: addr2 for data and RTS.
-  std::vector<uint8_t> ethernet;   // Data frames: the Ethernet frame carried.
-  // The MPDU with FCS as the medium sent it; empty: built from the fields above.
-  std::vector<uint8_t> mpdu;
 };
 
 // Medium counters of one station.

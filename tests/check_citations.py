@@ -64,6 +64,8 @@ def main():
                     continue
                 if name.startswith(FOREIGN_PREFIXES) or name.lower() == "readme.md" and "/" in name:
                     continue
+                if re.fullmatch(r"[A-Z_]+\.md", os.path.basename(name)) and name != "README.md":
+                    continue  # a placeholder in usage text, e.g. "--out FILE.md"
                 target = resolve(name, rel)
                 if target is None:
                     if "/" in name and not name.startswith("docs/"):

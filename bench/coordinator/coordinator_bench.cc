@@ -25,11 +25,14 @@
 #include <vector>
 
 #include "coordinator/coordinator.h"
-#include "coordinator/medium_connector.h"
-#include "coordinator/physics_connector.h"
+#include "network_side/network_side.h"
+#include "physics_side/physics_side.h"
 #include "coordinator/synthetic.h"
 
 namespace sitlnet::coordinator {
+
+using namespace network_side;  // NOLINT(google-build-using-namespace)
+using namespace physics_side;  // NOLINT(google-build-using-namespace)
 
 int RunCompressionBench();
 

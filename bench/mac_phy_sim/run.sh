@@ -7,8 +7,7 @@ set -euo pipefail
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$repo/build-bench}
 shift || true
-cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release \
-  -DSITLNET_MODULES="common;scenario;mac_phy_sim;bench" > /dev/null
+cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build "$build" -j2 --target mac_phy_sim_bench > /dev/null
 csv=$(mktemp)
 trap 'rm -f "$csv"' EXIT

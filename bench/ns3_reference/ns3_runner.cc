@@ -5,15 +5,20 @@
 #include "ns3_runner.h"
 
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <string>
 
 #include "ns3/core-module.h"
 #include "ns3/mobility-module.h"
 #include "ns3/network-module.h"
+#include "ns3/propagation-module.h"
 #include "ns3/wifi-module.h"
 
 namespace {
+
+using sitlnet::side_by_side::Case;
+using sitlnet::side_by_side::Standard;
 
 uint64_t g_rx_bytes = 0;
 double g_measure_from_s = 0, g_measure_to_s = 0;
@@ -23,73 +28,134 @@ void OnRx(ns3::Ptr<const ns3::Packet> packet, const ns3::Address&) {
   if (now > g_measure_from_s && now <= g_measure_to_s) g_rx_bytes += packet->GetSize();
 }
 
+bool IsDsss(double rate_mbps) {
+  return rate_mbps == 1 || rate_mbps == 2 || rate_mbps == 5.5 || rate_mbps == 11;
+}
+
+// ns-3's WifiMode names: DsssRate5_5Mbps, OfdmRate6Mbps, ErpOfdmRate54Mbps, ...
+std::string ModeName(Standard standard, double rate_mbps) {
+  if (IsDsss(rate_mbps)) {
+    return rate_mbps == 5.5 ? "DsssRate5_5Mbps"
+                            : "DsssRate" + std::to_string(static_cast<int>(rate_mbps)) + "Mbps";
+  }
+  const std::string prefix = standard == Standard::kG ? "ErpOfdmRate" : "OfdmRate";
+  return prefix + std::to_string(static_cast<int>(rate_mbps)) + "Mbps";
+}
+
 }  // namespace
 
-Ns3Outcome RunNs3Saturation(int n, double rate_mbps, double warmup_s, double measure_s,
-                            uint32_t run) {
+Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
   using namespace ns3;
   RngSeedManager::SetSeed(1);
   RngSeedManager::SetRun(run);
-  Config::SetDefault("ns3::WifiRemoteStationManager::MaxSsrc",
-                     UintegerValue(std::numeric_limits<uint32_t>::max()));
-  Config::SetDefault("ns3::WifiRemoteStationManager::MaxSlrc",
-                     UintegerValue(std::numeric_limits<uint32_t>::max()));
+  const uint32_t retries = c.unlimited_retries ? std::numeric_limits<uint32_t>::max() : 0;
+  if (retries != 0) {
+    Config::SetDefault("ns3::WifiRemoteStationManager::MaxSsrc", UintegerValue(retries));
+    Config::SetDefault("ns3::WifiRemoteStationManager::MaxSlrc", UintegerValue(retries));
+  } else {
+    Config::SetDefault("ns3::WifiRemoteStationManager::MaxSsrc", UintegerValue(7));
+    Config::SetDefault("ns3::WifiRemoteStationManager::MaxSlrc", UintegerValue(4));
+  }
+  WifiHelper wifi;
+  wifi.SetStandard(
+      c.standard == Standard::kA
+          ? WIFI_STANDARD_80211a
+          : (c.standard == Standard::kB ? WIFI_STANDARD_80211b : WIFI_STANDARD_80211g));
+  const UintegerValue rts_threshold(c.rts_threshold_bytes == 0 ? 65535 : c.rts_threshold_bytes);
+  if (c.ideal_rate) {
+    wifi.SetRemoteStationManager("ns3::IdealWifiManager", "RtsCtsThreshold", rts_threshold);
+  } else {
+    wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode",
+                                 StringValue(ModeName(c.standard, c.rate_mbps)), "ControlMode",
+                                 StringValue(ModeName(c.standard, radio.rts_rate_mbps)),
+                                 "RtsCtsThreshold", rts_threshold);
+  }
+  const sitlnet::side_by_side::Layout layout = sitlnet::side_by_side::MakeLayout(c);
+  const int n = static_cast<int>(layout.positions.size());
   NodeContainer nodes;
   nodes.Create(n);
-  WifiHelper wifi;
-  wifi.SetStandard(WIFI_STANDARD_80211a);
-  const std::string mode = "OfdmRate" + std::to_string(static_cast<int>(rate_mbps)) + "Mbps";
-  wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode", StringValue(mode),
-                               "ControlMode", StringValue(mode));
-  YansWifiChannelHelper channel = YansWifiChannelHelper::Default();
-  YansWifiPhyHelper phy;
-  phy.SetChannel(channel.Create());
-  phy.SetErrorRateModel("ns3::NistErrorRateModel");
-  WifiMacHelper mac;
-  mac.SetType("ns3::AdhocWifiMac");
-  NetDeviceContainer devices = wifi.Install(phy, mac, nodes);
-
   MobilityHelper mobility;
   Ptr<ListPositionAllocator> positions = CreateObject<ListPositionAllocator>();
-  for (int i = 0; i < n; ++i) positions->Add(Vector(0.001 * i, 0, 0));
+  for (const auto& p : layout.positions) positions->Add(Vector(p.x, p.y, p.z));
   mobility.SetPositionAllocator(positions);
   mobility.SetMobilityModel("ns3::ConstantPositionMobilityModel");
   mobility.Install(nodes);
 
+  Ptr<YansWifiChannel> channel = CreateObject<YansWifiChannel>();
+  channel->SetPropagationDelayModel(CreateObject<ConstantSpeedPropagationDelayModel>());
+  if (!radio.link_losses_db.empty()) {
+    Ptr<MatrixPropagationLossModel> matrix = CreateObject<MatrixPropagationLossModel>();
+    matrix->SetDefaultLoss(1000);
+    for (int a = 0; a < n; ++a) {
+      for (int b = a + 1; b < n; ++b) {
+        matrix->SetLoss(nodes.Get(a)->GetObject<MobilityModel>(),
+                        nodes.Get(b)->GetObject<MobilityModel>(),
+                        radio.link_losses_db[static_cast<size_t>(a) * n + b]);
+      }
+    }
+    channel->SetPropagationLossModel(matrix);
+  } else {
+    Ptr<LogDistancePropagationLossModel> log_distance =
+        CreateObject<LogDistancePropagationLossModel>();
+    log_distance->SetAttribute("Exponent", DoubleValue(3));
+    log_distance->SetAttribute("ReferenceLoss", DoubleValue(radio.reference_loss_db));
+    if (c.nakagami_m > 0) {
+      Ptr<NakagamiPropagationLossModel> nakagami = CreateObject<NakagamiPropagationLossModel>();
+      nakagami->SetAttribute("m0", DoubleValue(c.nakagami_m));
+      nakagami->SetAttribute("m1", DoubleValue(c.nakagami_m));
+      nakagami->SetAttribute("m2", DoubleValue(c.nakagami_m));
+      log_distance->SetNext(nakagami);
+    }
+    channel->SetPropagationLossModel(log_distance);
+  }
+  YansWifiPhyHelper phy;
+  phy.SetChannel(channel);
+  phy.SetErrorRateModel("ns3::NistErrorRateModel");
+  if (c.capture) phy.SetFrameCaptureModel("ns3::SimpleFrameCaptureModel");
+  WifiMacHelper mac;
+  mac.SetType("ns3::AdhocWifiMac");
+  NetDeviceContainer devices = wifi.Install(phy, mac, nodes);
+  if (c.short_slot) {
+    for (uint32_t i = 0; i < devices.GetN(); ++i) {
+      DynamicCast<WifiNetDevice>(devices.Get(i))->GetPhy()->SetSlot(MicroSeconds(9));
+    }
+  }
+
   PacketSocketHelper packet_socket;
   packet_socket.Install(nodes);
-  // Offer a packet every 100 us (or 1 ms at low rates): more than the medium carries.
-  const Time interval = MicroSeconds(rate_mbps >= 24 ? 100 : 1000);
-  for (int i = 0; i < n; ++i) {
-    const int to = (i + 1) % n;
+  const Time interval = NanoSeconds(sitlnet::side_by_side::OfferIntervalNs(c));
+  std::vector<bool> has_server(n, false);
+  int k = 0;
+  for (const auto& flow : layout.flows) {
     PacketSocketAddress remote;
-    remote.SetSingleDevice(devices.Get(i)->GetIfIndex());
-    remote.SetPhysicalAddress(devices.Get(to)->GetAddress());
+    remote.SetSingleDevice(devices.Get(flow.from)->GetIfIndex());
+    remote.SetPhysicalAddress(devices.Get(flow.to)->GetAddress());
     remote.SetProtocol(1);
     Ptr<PacketSocketClient> client = CreateObject<PacketSocketClient>();
     client->SetRemote(remote);
-    client->SetAttribute("PacketSize", UintegerValue(1500));
+    client->SetAttribute("PacketSize", UintegerValue(c.payload_bytes));
     client->SetAttribute("MaxPackets", UintegerValue(0));
     client->SetAttribute("Interval", TimeValue(interval));
-    client->SetStartTime(Seconds(0.001 * i));
-    nodes.Get(i)->AddApplication(client);
-
+    client->SetStartTime(NanoSeconds(sitlnet::side_by_side::OfferStartNs(k++)));
+    nodes.Get(flow.from)->AddApplication(client);
+    if (has_server[flow.to]) continue;
+    has_server[flow.to] = true;
     PacketSocketAddress local;
-    local.SetSingleDevice(devices.Get(to)->GetIfIndex());
+    local.SetSingleDevice(devices.Get(flow.to)->GetIfIndex());
     local.SetProtocol(1);
     Ptr<PacketSocketServer> server = CreateObject<PacketSocketServer>();
     server->SetLocal(local);
     server->TraceConnectWithoutContext("Rx", MakeCallback(&OnRx));
-    nodes.Get(to)->AddApplication(server);
+    nodes.Get(flow.to)->AddApplication(server);
   }
   g_rx_bytes = 0;
-  g_measure_from_s = warmup_s;
-  g_measure_to_s = warmup_s + measure_s;
-  Simulator::Stop(Seconds(warmup_s + measure_s));
+  g_measure_from_s = c.warmup_s;
+  g_measure_to_s = c.warmup_s + c.measure_s;
+  Simulator::Stop(Seconds(c.warmup_s + c.measure_s));
   const auto start = std::chrono::steady_clock::now();
   Simulator::Run();
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   Simulator::Destroy();
-  return {g_rx_bytes * 8.0 / measure_s / 1e6, wall};
+  return {g_rx_bytes * 8.0 / c.measure_s / 1e6, wall};
 }

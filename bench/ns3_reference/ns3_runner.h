@@ -4,16 +4,32 @@
 #define SITLNET_BENCH_NS3_REFERENCE_NS3_RUNNER_H_
 
 #include <cstdint>
+#include <vector>
+
+#include "mac_phy_sim/test/side_by_side_case.h"
 
 struct Ns3Outcome {
   double throughput_mbps = 0;
   double wall_s = 0;
 };
 
-// n saturated 802.11a stations in a ring (i -> i+1), 1500-byte packets, see
-// ns3_side_by_side.cc for the setup. Returns payload throughput over the
-// measured window and the wall time of Simulator::Run().
-Ns3Outcome RunNs3Saturation(int n, double rate_mbps, double warmup_s, double measure_s,
-                            uint32_t run);
+// What ns-3 needs from mac_phy_sim's configuration of the same cell, so both
+// use the same values: the loss at 1 m and the rate RTS frames go at
+// (ConstantRateWifiManager's ControlMode; ACK/CTS rates ns-3 derives itself).
+struct Ns3Radio {
+  double reference_loss_db = 46.6777;
+  double rts_rate_mbps = 6;
+  // With log-normal shadowing: mac_phy_sim's loss per station pair
+  // (row-major), given to ns-3's MatrixPropagationLossModel instead of the
+  // log-distance model, so both simulate the same realised links.
+  std::vector<double> link_losses_db;
+};
+
+// Runs cell `c` in ns-3 3.37 with RngRun `run`: ad hoc (non-QoS) 802.11a/b/g,
+// ConstantRateWifiManager, Yans channel (log-distance exponent 3, constant-
+// speed delay), NIST error model, packet sockets offering `payload_bytes`
+// packets faster than the medium carries them. Returns the payload
+// throughput over the measured window and the wall time of Simulator::Run().
+Ns3Outcome RunNs3Case(const sitlnet::side_by_side::Case& c, const Ns3Radio& radio, uint32_t run);
 
 #endif  // SITLNET_BENCH_NS3_REFERENCE_NS3_RUNNER_H_

@@ -1,76 +1,403 @@
 // SPDX-License-Identifier: GPL-2.0-only (links ns-3; see LICENSE in this folder)
 //
-// Runs the same saturation scenarios in ns-3 3.37 (Debian's libns3-dev) and
-// in mac_phy_sim, one after the other in one process, and prints throughput
-// and wall time for both as a Markdown table (docs/validation.md).
+// Runs the side-by-side matrix: every cell in ns-3 3.37 (Debian's libns3-dev)
+// and in mac_phy_sim, one after the other in one process, `seeds` runs each
+// (ns-3 RngRun 1..seeds, mac_phy_sim seed 1..seeds), and writes one CSV row
+// per cell (docs/ns3_matrix.csv; scripts' fast subset compares mac_phy_sim
+// against its ns-3 column). `table` turns such a CSV into the Markdown table
+// of docs/validation.md.
 //
-// ns-3 setup (as its Bianchi validation): 802.11a ad hoc (non-QoS), constant
-// rate, Yans channel with its defaults (log-distance, exponent 3, 46.6777 dB
-// at 1 m; constant-speed propagation delay), NIST error model (the model
-// mac_phy_sim implements), stations 1 mm apart, packet sockets offering
-// 1500-byte packets faster than the medium can carry them, retry limits never
-// reached. Ring: station i sends to i+1; measured over `measure` seconds
-// after 1 s of warm-up.
+// Usage: ns3_side_by_side matrix <out.csv> [seeds] [cell-id-substrings,...]
+//        ns3_side_by_side table <in.csv>
+//        ns3_side_by_side refresh <csv>   (recompute the mac_phy_sim columns)
+//        ns3_side_by_side speed           (n = 5, 20, 50 saturation, both, timed)
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <limits>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "mac_phy_sim/phy_mode.h"
 #include "mac_phy_sim/test/saturation_harness.h"
+#include "mac_phy_sim/test/side_by_side_csv.h"
 #include "ns3_runner.h"
 
 namespace {
 
-struct Outcome {
-  double throughput_mbps = 0;
-  double wall_s = 0;
-};
+using sitlnet::side_by_side::Case;
+using sitlnet::side_by_side::Row;
+using sitlnet::side_by_side::Standard;
+using sitlnet::side_by_side::Topology;
 
-Outcome RunMacPhySim(int n, double rate_mbps, double warmup_s, double measure_s, uint64_t seed) {
-  using namespace sitlnet::mac::testing;
-  SaturationSetup setup;
-  setup.stations = n;
-  setup.rate_mbps = rate_mbps;
-  setup.topology = Topology::kRing;
-  setup.warmup_ns = static_cast<int64_t>(warmup_s * 1e9);
-  setup.measure_ns = static_cast<int64_t>(measure_s * 1e9);
-  setup.seed = seed;
-  const auto start = std::chrono::steady_clock::now();
-  const SaturationResult result = RunSaturation(setup);
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return {result.throughput_mbps, wall};
+// Frames per seed a cell measures (ns-3's own Bianchi validation measures
+// 100 s; what the 1.5 % rule needs is enough frames: see docs/validation.md).
+constexpr double kFramesPerSeed = 6000;
+
+// Simulated time per frame of one saturated station, roughly (s): sizes the
+// measured window to kFramesPerSeed frames whatever the rate and payload.
+double FrameTimeS(const Case& c) {
+  const bool dsss = c.rate_mbps == 1 || c.rate_mbps == 2 || c.rate_mbps == 5.5 || c.rate_mbps == 11;
+  const double slot_us = c.standard == Standard::kA || c.short_slot ? 9 : 20;
+  const double data_us = (dsss ? 192 : 20) + 8.0 * (c.payload_bytes + 36) / c.rate_mbps;
+  const double ack_us = dsss ? 192 + 112 / std::min(c.rate_mbps, 11.0) : 44;
+  return (3 * slot_us + 10 + 7.5 * slot_us + data_us + 16 + ack_us) * 1e-6;
+}
+
+std::vector<Case> Cells() {
+  std::vector<Case> cells;
+  auto add = [&](Case c, const std::string& id, bool fast = false) {
+    c.id = id;
+    c.fast = fast;
+    c.warmup_s = 0.5;
+    const double frames = c.topology == Topology::kHidden || c.topology == Topology::kExposed
+                              ? 2 * kFramesPerSeed
+                              : kFramesPerSeed;
+    c.measure_s = std::ceil(frames * FrameTimeS(c) * 10) / 10;
+    cells.push_back(c);
+  };
+  auto sat = [](Standard s, double rate, int n, Topology t, int payload, bool short_slot = false) {
+    Case c;
+    c.standard = s;
+    c.rate_mbps = rate;
+    c.senders = n;
+    c.topology = t;
+    c.payload_bytes = payload;
+    c.short_slot = short_slot;
+    return c;
+  };
+  auto name = [](const Case& c) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s%s-%gM-n%d-%s-%dB", StandardName(c.standard),
+                  c.short_slot ? "s" : "", c.rate_mbps, c.senders, TopologyName(c.topology),
+                  c.payload_bytes);
+    return std::string(buf);
+  };
+  // Every rate of every standard, n = 5, ring, 1500-byte payloads.
+  for (double r : {6, 9, 12, 18, 24, 36, 48, 54}) {
+    for (bool short_slot : {false, true}) {
+      const Case g = sat(Standard::kG, r, 5, Topology::kRing, 1500, short_slot);
+      add(g, name(g), r == 54);
+    }
+    const Case a = sat(Standard::kA, r, 5, Topology::kRing, 1500);
+    add(a, name(a), r == 54);
+  }
+  for (double r : {1.0, 2.0, 5.5, 11.0}) {
+    const Case b = sat(Standard::kB, r, 5, Topology::kRing, 1500);
+    add(b, name(b), r == 11);
+  }
+  // Station count and topology.
+  const struct {
+    Standard s;
+    double r;
+    bool short_slot;
+  } kSweep[] = {{Standard::kA, 54, false}, {Standard::kB, 11, false}, {Standard::kG, 54, true}};
+  for (const auto& k : kSweep) {
+    for (int n : {1, 5, 10, 20, 50}) {
+      const Case c = sat(k.s, k.r, n, Topology::kSink, 1500, k.short_slot);
+      add(c, name(c), n == 10);
+    }
+    const Case ring = sat(k.s, k.r, 10, Topology::kRing, 1500, k.short_slot);
+    add(ring, name(ring));
+  }
+  const Case a6 = sat(Standard::kA, 6, 10, Topology::kSink, 1500);
+  add(a6, name(a6), true);
+  // Payload sizes.
+  for (int payload : {100, 500}) {
+    const struct {
+      Standard s;
+      double r;
+      bool short_slot;
+    } kSizes[] = {{Standard::kA, 6, false},
+                  {Standard::kA, 54, false},
+                  {Standard::kB, 1, false},
+                  {Standard::kB, 11, false},
+                  {Standard::kG, 54, true}};
+    for (const auto& k : kSizes) {
+      const Case c = sat(k.s, k.r, 5, Topology::kRing, payload, k.short_slot);
+      add(c, name(c), payload == 100 && k.r == 54);
+    }
+  }
+  // Hidden and exposed terminals: the standard's retry limits, 5 % rule.
+  auto geo = [](Standard s, double rate, Topology t, double near_m, double far_m, uint32_t rts,
+                bool capture) {
+    Case c;
+    c.standard = s;
+    c.rate_mbps = rate;
+    c.topology = t;
+    c.senders = 2;
+    c.near_m = near_m;
+    c.far_m = far_m;
+    c.rts_threshold_bytes = rts;
+    c.capture = capture;
+    c.unlimited_retries = false;
+    return c;
+  };
+  auto geo_name = [](const Case& c) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s-%gM-%s-%g-%g%s%s", StandardName(c.standard), c.rate_mbps,
+                  TopologyName(c.topology), c.near_m, c.far_m, c.rts_threshold_bytes ? "-rts" : "",
+                  c.capture ? "-capture" : "");
+    return std::string(buf);
+  };
+  for (uint32_t rts : {0u, 500u}) {
+    for (double d : {30.0, 40.0, 50.0}) {
+      const Case c = geo(Standard::kA, 6, Topology::kHidden, d, d, rts, false);
+      add(c, geo_name(c), d == 40);
+    }
+    for (double d : {60.0, 80.0}) {
+      const Case c = geo(Standard::kB, 11, Topology::kHidden, d, d, rts, false);
+      add(c, geo_name(c));
+    }
+    const Case e = geo(Standard::kA, 6, Topology::kExposed, 20, 40, rts, false);
+    add(e, geo_name(e), rts == 0);
+  }
+  for (bool capture : {false, true}) {
+    const Case c = geo(Standard::kA, 6, Topology::kHidden, 20, 40, 0, capture);
+    add(c, geo_name(c), capture);
+  }
+  // Channel effects: Rayleigh (m = 1) and Nakagami m = 1.5 fading on one
+  // link, near the edge of its rate; log-normal shadowing on a link and on
+  // the hidden pair (ns-3 given the same realised losses).
+  auto fading = [&](double rate, double distance_m, double m, double sigma_db, bool fast) {
+    Case c = geo(Standard::kA, rate, Topology::kLink, distance_m, 0, 0, false);
+    c.senders = 1;
+    c.nakagami_m = m;
+    c.lognormal_sigma_db = sigma_db;
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "a-%gM-link-%g%s%s", rate, distance_m,
+                  m > 0 ? (m == 1 ? "-rayleigh" : "-nakagami1.5") : "",
+                  sigma_db > 0 ? "-lognormal" : "");
+    add(c, buf, fast);
+  };
+  fading(6, 40, 1, 0, true);
+  fading(6, 70, 1, 0, false);
+  fading(54, 15, 1, 0, false);
+  fading(6, 70, 1.5, 0, false);
+  fading(24, 30, 0, 6, false);
+  // Rate adaptation: ns-3's IdealWifiManager against mac_phy_sim's on a
+  // distance sweep (one 11a link, the source offering for 54 Mb/s).
+  for (double distance_m : {5.0, 20.0, 30.0, 40.0, 45.0, 50.0}) {
+    Case c = geo(Standard::kA, 54, Topology::kLink, distance_m, 0, 0, false);
+    c.senders = 1;
+    c.ideal_rate = true;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "a-ideal-link-%g", distance_m);
+    add(c, buf, distance_m == 40);
+  }
+  Case shadowed = geo(Standard::kA, 6, Topology::kHidden, 40, 40, 0, false);
+  shadowed.lognormal_sigma_db = 6;
+  add(shadowed, geo_name(shadowed) + "-lognormal");
+  return cells;
+}
+
+// `filter`: comma-separated substrings of cell ids; empty: every cell.
+bool Selected(const std::string& id, const std::string& filter) {
+  if (filter.empty()) return true;
+  std::stringstream in(filter);
+  for (std::string part; std::getline(in, part, ',');) {
+    if (!part.empty() && id.find(part) != std::string::npos) return true;
+  }
+  return false;
+}
+
+std::string FormatG(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+struct Stats {
+  double mean = 0, sd = 0;
+};
+Stats Summarize(const std::vector<double>& v) {
+  Stats s;
+  for (double x : v) s.mean += x;
+  s.mean /= v.size();
+  for (double x : v) s.sd += (x - s.mean) * (x - s.mean);
+  s.sd = v.size() > 1 ? std::sqrt(s.sd / (v.size() - 1)) : 0;
+  return s;
+}
+
+int RunMatrix(const std::string& out_path, int seeds, const std::string& filter) {
+  std::ofstream out(out_path);
+  if (!out) {
+    std::fprintf(stderr, "cannot write %s\n", out_path.c_str());
+    return 1;
+  }
+  out << sitlnet::side_by_side::CsvHeader() << "\n";
+  int failed = 0, total = 0;
+  for (const Case& c : Cells()) {
+    if (!Selected(c.id, filter)) continue;
+    const sitlnet::mac::MediumConfig config = sitlnet::mac::testing::ConfigForCase(c, 1);
+    const sitlnet::mac::PhyInfo phy = sitlnet::mac::DerivePhyInfo(config);
+    Ns3Radio radio{phy.reference_loss_db, phy.ack_rate_mbps, {}};
+    std::vector<double> ns3, ours;
+    double ns3_wall = 0, ours_wall = 0;
+    for (int seed = 1; seed <= seeds; ++seed) {
+      if (c.lognormal_sigma_db > 0) {
+        radio.link_losses_db = sitlnet::mac::testing::LinkLossesDb(c, static_cast<uint64_t>(seed));
+      }
+      const Ns3Outcome n = RunNs3Case(c, radio, static_cast<uint32_t>(seed));
+      ns3.push_back(n.throughput_mbps);
+      ns3_wall += n.wall_s;
+      const auto start = std::chrono::steady_clock::now();
+      ours.push_back(
+          sitlnet::mac::testing::RunCase(c, static_cast<uint64_t>(seed)).throughput_mbps);
+      ours_wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    Row row;
+    row.c = c;
+    row.seeds = seeds;
+    const Stats sn = Summarize(ns3), so = Summarize(ours);
+    row.ns3_mean_mbps = sn.mean;
+    row.ns3_sd_mbps = sn.sd;
+    row.ours_mean_mbps = so.mean;
+    row.ours_sd_mbps = so.sd;
+    row.ns3_wall_s = ns3_wall;
+    row.ours_wall_s = ours_wall;
+    out << sitlnet::side_by_side::FormatRow(row) << "\n";
+    out.flush();
+    const bool pass = sitlnet::side_by_side::Passes(row);
+    ++total;
+    if (!pass) ++failed;
+    std::printf(
+        "%-36s ns-3 %8.4f (sd %.4f)  mac_phy_sim %8.4f (sd %.4f)  %+6.2f %%  %s  (%.1f s / %.2f "
+        "s)\n",
+        c.id.c_str(), sn.mean, sn.sd, so.mean, so.sd,
+        100 * sitlnet::side_by_side::RelativeError(row), pass ? "pass" : "FAIL", ns3_wall,
+        ours_wall);
+    std::fflush(stdout);
+  }
+  std::printf("%d passed, %d failed\n", total - failed, failed);
+  return 0;
+}
+
+// Recomputes the mac_phy_sim columns of every row of a CSV with the current
+// code (same cells, seeds and durations), keeping the ns-3 columns and the
+// '#' provenance lines.
+int Refresh(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> comments;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line[0] == '#') comments.push_back(line);
+  }
+  std::vector<Row> rows;
+  std::string error;
+  if (!sitlnet::side_by_side::ReadCsv(path, &rows, &error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 1;
+  }
+  std::ofstream out(path);
+  for (const std::string& line : comments) out << line << "\n";
+  const std::string note =
+      "# mac_phy_sim columns: ns3_side_by_side refresh, with the code of the commit that holds "
+      "this file";
+  bool noted = false;
+  for (const std::string& line : comments) noted |= line == note;
+  if (!noted) out << note << "\n";
+  out << sitlnet::side_by_side::CsvHeader() << "\n";
+  for (Row& row : rows) {
+    std::vector<double> ours;
+    const auto start = std::chrono::steady_clock::now();
+    for (int seed = 1; seed <= row.seeds; ++seed) {
+      ours.push_back(
+          sitlnet::mac::testing::RunCase(row.c, static_cast<uint64_t>(seed)).throughput_mbps);
+    }
+    row.ours_wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const Stats so = Summarize(ours);
+    row.ours_mean_mbps = so.mean;
+    row.ours_sd_mbps = so.sd;
+    out << sitlnet::side_by_side::FormatRow(row) << "\n";
+  }
+  return 0;
+}
+
+// Speed: ns-3's n-station 11a 54 Mb/s saturation cell (ring, 1 s warm-up +
+// 10 s, RngRun 1) and mac_phy_sim's medium on the same scenario with the
+// light driver (RunTopUpSaturation), one after the other in this process.
+int PrintSpeed() {
+  std::printf(
+      "| n | ns-3 simulated s per wall s | mac_phy_sim simulated s per wall s | speed-up |\n"
+      "| --- | --- | --- | --- |\n");
+  for (int n : {5, 20, 50}) {
+    Case c;
+    c.senders = n;
+    c.warmup_s = 1;
+    c.measure_s = 10;
+    const Ns3Outcome ns3 = RunNs3Case(c, Ns3Radio{46.6777, 24, {}}, 1);
+    const auto start = std::chrono::steady_clock::now();
+    sitlnet::mac::testing::RunTopUpSaturation(n, 11, 1);
+    const double ours_wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("| %d | %.3f | %.1f | %.0fx |\n", n, 11 / ns3.wall_s, 11 / ours_wall,
+                ns3.wall_s / ours_wall);
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+int PrintTable(const std::string& in_path) {
+  std::vector<Row> rows;
+  std::string error;
+  if (!sitlnet::side_by_side::ReadCsv(in_path, &rows, &error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 1;
+  }
+  std::printf(
+      "| cell | std | slot | rate Mb/s | n | topology | payload B | RTS | capture | geometry m | "
+      "channel | ns-3 Mb/s (sd) | mac_phy_sim Mb/s (sd) | error | rule | pass | ns-3 s | "
+      "mac_phy_sim s |\n"
+      "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | "
+      "--- | --- | --- |\n");
+  int passed = 0;
+  for (const Row& r : rows) {
+    const Case& c = r.c;
+    char geometry[64] = "1 mm apart";
+    if (c.topology == Topology::kHidden || c.topology == Topology::kExposed) {
+      std::snprintf(geometry, sizeof geometry, "%g / %g", c.near_m, c.far_m);
+    } else if (c.topology == Topology::kLink) {
+      std::snprintf(geometry, sizeof geometry, "%g", c.near_m);
+    }
+    std::string channel = c.ideal_rate ? "Ideal rate control" : "-";
+    if (c.nakagami_m > 0) channel = "Nakagami m " + FormatG(c.nakagami_m);
+    if (c.lognormal_sigma_db > 0) channel = "log-normal " + FormatG(c.lognormal_sigma_db) + " dB";
+    const bool pass = sitlnet::side_by_side::Passes(r);
+    passed += pass;
+    std::printf(
+        "| %s | %s | %s | %g | %d | %s | %d | %s | %s | %s | %s | %.4f (%.4f) | %.4f (%.4f) | "
+        "%+.2f %% | "
+        "%.1f %% | %s | %.1f | %.2f |\n",
+        c.id.c_str(), StandardName(c.standard),
+        c.standard == Standard::kG ? (c.short_slot ? "short" : "long") : "-", c.rate_mbps,
+        c.senders, TopologyName(c.topology), c.payload_bytes,
+        c.rts_threshold_bytes ? std::to_string(c.rts_threshold_bytes).c_str() : "off",
+        c.capture ? "on" : "off", geometry, channel.c_str(), r.ns3_mean_mbps, r.ns3_sd_mbps,
+        r.ours_mean_mbps, r.ours_sd_mbps, 100 * sitlnet::side_by_side::RelativeError(r),
+        100 * sitlnet::side_by_side::RuleFraction(c), pass ? "yes" : "**no**", r.ns3_wall_s,
+        r.ours_wall_s);
+  }
+  std::printf("\n%d of %zu cells pass.\n", passed, rows.size());
+  return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  const double measure_s = argc > 1 ? std::atof(argv[1]) : 10;
-  const double warmup_s = 1;
-  struct Case {
-    int n;
-    double rate_mbps;
-    double difs_table, eifs_table;  // docs/references.md#bianchi (0: not in the table)
-  };
-  const std::vector<Case> cases = {
-      {5, 6, 4.7087, 4.6899},     {10, 6, 4.3453, 4.3197},    {5, 24, 16.2470, 16.0836},
-      {10, 24, 15.1426, 14.9153}, {5, 54, 29.8324, 29.2861},  {10, 54, 28.1519, 27.3763},
-      {20, 54, 26.2925, 25.3325}, {50, 54, 23.5618, 22.4162},
-  };
-  std::printf(
-      "| rate Mb/s | n | Bianchi DIFS / EIFS table | ns-3 3.37 Mb/s | mac_phy_sim Mb/s |"
-      " ns-3 simulated s per wall s | mac_phy_sim simulated s per wall s | speed-up |\n"
-      "| --- | --- | --- | --- | --- | --- | --- | --- |\n");
-  for (const Case& c : cases) {
-    const Ns3Outcome ns3 = RunNs3Saturation(c.n, c.rate_mbps, warmup_s, measure_s, 1);
-    const Outcome ours = RunMacPhySim(c.n, c.rate_mbps, warmup_s, measure_s, 1);
-    const double total_s = warmup_s + measure_s;
-    std::printf("| %g | %d | %.4f / %.4f | %.4f | %.4f | %.3f | %.1f | %.0fx |\n", c.rate_mbps, c.n,
-                c.difs_table, c.eifs_table, ns3.throughput_mbps, ours.throughput_mbps,
-                total_s / ns3.wall_s, total_s / ours.wall_s, ns3.wall_s / ours.wall_s);
-    std::fflush(stdout);
+  const std::string mode = argc > 1 ? argv[1] : "";
+  if (mode == "matrix" && argc > 2) {
+    return RunMatrix(argv[2], argc > 3 ? std::atoi(argv[3]) : 5, argc > 4 ? argv[4] : "");
   }
-  return 0;
+  if (mode == "table" && argc > 2) return PrintTable(argv[2]);
+  if (mode == "refresh" && argc > 2) return Refresh(argv[2]);
+  if (mode == "speed") return PrintSpeed();
+  std::fprintf(stderr,
+               "usage: ns3_side_by_side matrix <out.csv> [seeds] [cell-id-substring]\n"
+               "       ns3_side_by_side table <in.csv>\n"
+               "       ns3_side_by_side refresh <csv>\n"
+               "       ns3_side_by_side speed\n");
+  return 2;
 }

@@ -2,13 +2,13 @@
 # End-to-end scale benchmark of `sitlnet run` (docs/performance.md, "End to end").
 #
 #   sudo bench/scale/run.sh [--build DIR] [--out DIR] [--plan "N:PACING:RUNS:SECONDS ..."]
-#                           [--no-ablation]
+#                           [--no-ablation] [--docs DIR]
 #
 # For every point of the plan: generates the flocking scenario for N robots
 # (gen_scenario.py), runs `sitlnet run` RUNS times with seeds 1..RUNS, one run
 # at a time, extracts one row per run into OUT/runs.csv (extract.py), then
 # writes the medians per point to docs/scale.csv and draws docs/img/scale_*.png
-# (plot.gp). Each run tears its scenario down itself; the large per-run files
+# (plot.gp); --docs DIR writes them to DIR/ and DIR/img/ instead (scripts/reproduce-paper). Each run tears its scenario down itself; the large per-run files
 # (pcap, deliveries, trajectories) are deleted after extraction. Then, unless
 # --no-ablation, ablation.sh (what the 64-robot lockstep run spends its time on).
 set -euo pipefail
@@ -22,13 +22,15 @@ out="/tmp/sitlnet-scale-$(date -u +%Y%m%d-%H%M%S)"
 plan="1:lockstep:5:60 4:lockstep:5:60 16:lockstep:5:60 32:lockstep:5:30 64:lockstep:3:20 128:lockstep:2:10
       1:realtime:4:20 4:realtime:4:20 16:realtime:4:20 32:realtime:4:20 64:realtime:3:20 128:realtime:2:10"
 ablation=1
+docs="$root/docs"
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --plan) plan=$2; shift 2 ;;
     --no-ablation) ablation=0; shift ;;
-    *) echo "usage: $0 [--build DIR] [--out DIR] [--plan \"N:PACING:RUNS:SECONDS ...\"] [--no-ablation]" >&2; exit 2 ;;
+    --docs) docs=$2; shift 2 ;;
+    *) echo "usage: $0 [--build DIR] [--out DIR] [--plan \"N:PACING:RUNS:SECONDS ...\"] [--no-ablation] [--docs DIR]" >&2; exit 2 ;;
   esac
 done
 sitlnet="$build/bin/sitlnet"
@@ -68,12 +70,12 @@ for run in $(seq 1 "$max_runs"); do
   done
 done
 cat /proc/loadavg >> "$out/machine.txt"
-"$here/medians.py" "$out/runs.csv" "$root/docs/scale.csv"
-cp "$out/runs.csv" "$root/docs/scale_runs.csv"
-mkdir -p "$root/docs/img"
-gnuplot -e "csv='$root/docs/scale.csv'; outdir='$root/docs/img'" "$here/plot.gp"
-echo "medians: $root/docs/scale.csv, runs: $root/docs/scale_runs.csv, plots: $root/docs/img/scale_*.png, raw: $out"
+mkdir -p "$docs/img"
+"$here/medians.py" "$out/runs.csv" "$docs/scale.csv"
+cp "$out/runs.csv" "$docs/scale_runs.csv"
+gnuplot -e "csv='$docs/scale.csv'; outdir='$docs/img'" "$here/plot.gp"
+echo "medians: $docs/scale.csv, runs: $docs/scale_runs.csv, plots: $docs/img/scale_*.png, raw: $out"
 if [ "$ablation" = 1 ]; then
   "$here/ablation.sh" --build "$build" --out "$out/ablation"
 fi
-"$here/table.py" "$root/docs/scale.csv" $([ "$ablation" = 1 ] && echo "$root/docs/scale_ablation.csv")
+"$here/table.py" "$docs/scale.csv" $([ "$ablation" = 1 ] && echo "$root/docs/scale_ablation.csv")

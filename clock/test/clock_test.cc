@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <ctime>
 #include <limits>
 #include <random>
 #include <vector>
@@ -80,6 +81,35 @@ TEST(Timebase, LongRunsSaturateInsteadOfOverflowing) {
   EXPECT_EQ(quarter.VirtualSpanOf(max), max / 4);
 }
 
+TEST(Timebase, InstantsSaturateLikeSpans) {
+  // Origins are CLOCK_MONOTONIC readings (here 1000 s of uptime). A wall instant beyond int64 is
+  // "never", not a wrapped-around negative instant that would release at once.
+  const TimeNs max = std::numeric_limits<TimeNs>::max();
+  const TimeNs min = std::numeric_limits<TimeNs>::min();
+  const TimeNs uptime = 1000 * kNsPerS;
+  Timebase one(1.0);
+  one.Begin(uptime);
+  EXPECT_EQ(one.WallOf(max - uptime), max);  // Exactly representable: no saturation needed.
+  EXPECT_EQ(one.WallOf(max), max);
+  // The longest run a scenario may ask for (366 days) at the slowest factor ends 1024 years of
+  // wall time later: never; and never late.
+  const TimeNs year_ns = 366LL * 24 * 3600 * kNsPerS;
+  Timebase slow(kMinRealtimeFactor);
+  slow.Begin(uptime);
+  EXPECT_EQ(slow.WallOf(year_ns), max);
+  EXPECT_EQ(slow.LagNs(year_ns, max - 1), 0);
+  EXPECT_EQ(slow.LagNs(0, max), max - uptime);
+  // Far before the origin, and an origin far back.
+  Timebase fast(kMaxRealtimeFactor);
+  fast.Begin(max);
+  EXPECT_EQ(fast.VirtualOf(min), min);
+  fast.Begin(min);
+  EXPECT_EQ(fast.WallOf(min), min);  // min + ceil(min / 1024)
+  EXPECT_EQ(fast.LagNs(min, max), max);
+  fast.BeginAt(max, min);  // min - ceil(max / 1024)
+  EXPECT_EQ(fast.wall_origin_ns(), min);
+}
+
 TEST(Timebase, BeginAtMakesTheGivenVirtualTimeNow) {
   for (double factor : {0.25, 1.0, 0.3}) {
     Timebase timebase(factor);
@@ -140,6 +170,17 @@ TEST(SleepUntilVirtual, SleepsUntilTheWallInstantOfTheVirtualTime) {
   EXPECT_TRUE(SleepUntilVirtual(timebase, 3 * kNsPerMs, wall));
   ASSERT_EQ(wall.slept_until.size(), 1u);
   EXPECT_EQ(wall.slept_until[0], 1000 + 12 * kNsPerMs);
+}
+
+TEST(CalendarNsOfWall, IsTheRealtimeClockAtThatMonotonicInstant) {
+  // Oracle: both clocks read here; they advance together (no one sets the host's time here).
+  timespec realtime{};
+  const TimeNs wall_now_ns = MonotonicNowNs();
+  clock_gettime(CLOCK_REALTIME, &realtime);
+  const TimeNs calendar_now_ns = TimeNs{realtime.tv_sec} * kNsPerS + realtime.tv_nsec;
+  const TimeNs origin_ns = wall_now_ns - 3 * kNsPerS;
+  EXPECT_NEAR(static_cast<double>(CalendarNsOfWall(origin_ns)),
+              static_cast<double>(calendar_now_ns - 3 * kNsPerS), 0.1 * kNsPerS);
 }
 
 }  // namespace

@@ -111,22 +111,6 @@ TEST(MediumTest, UnknownDestinationExhaustsShortRetryLimit) {
   EXPECT_EQ(drops, 1);
 }
 
-TEST(MediumTest, DropTailQueue) {
-  MediumConfig config;
-  config.queue_limit_frames = 2;
-  Medium medium(config);
-  const StationId a = medium.AddStation(RobotMac(0), {});
-  medium.AddStation(RobotMac(1), {1, 0, 0});
-  const auto frame = MakeEthernetFrame(RobotMac(1), RobotMac(0), 500);
-  for (int i = 0; i < 5; ++i) medium.SubmitFrame(a, frame, 0);
-  std::vector<Delivery> out;
-  medium.AdvanceTo(kNsPerS, &out);
-  // One in service, two queued, two dropped.
-  EXPECT_EQ(medium.counters(a).queue_drops, 2u);
-  EXPECT_EQ(out.size(), 3u);
-  EXPECT_EQ(medium.counters(a).frames_submitted, 5u);
-}
-
 TEST(MediumTest, TraceDescribesDataAndAck) {
   Medium medium(MediumConfig{});
   medium.AddStation(RobotMac(0), {});
@@ -141,7 +125,8 @@ TEST(MediumTest, TraceDescribesDataAndAck) {
   ASSERT_EQ(trace.size(), 2u);
   const TxRecord& data = *trace[0].tx;
   EXPECT_EQ(data.kind, FrameKind::kData);
-  EXPECT_EQ(data.mpdu.size(), frame.size() + 22);
+  EXPECT_EQ(MpduBytes(data).size(), frame.size() + 22);
+  EXPECT_EQ(*data.ethernet_frame, frame);
   EXPECT_EQ(data.end_ns - data.start_ns, PpduDurationNs(Standard::k80211a, 54, 1036));
   EXPECT_EQ(data.duration_us, 16 + 28);  // SIFS + ACK at 24 Mb/s.
   EXPECT_EQ(data.rate_mbps, 54);
@@ -155,7 +140,7 @@ TEST(MediumTest, TraceDescribesDataAndAck) {
   EXPECT_EQ(ack.source, 1);
   EXPECT_EQ(ack.start_ns, data.end_ns + 16 * kNsPerUs);
   EXPECT_EQ(ack.rate_mbps, 24);
-  EXPECT_EQ(ack.mpdu.size(), 14u);
+  EXPECT_EQ(MpduBytes(ack).size(), 14u);
   EXPECT_EQ(ack.receiver, RobotMac(0));
 }
 
@@ -192,7 +177,7 @@ std::string RunAndDescribe(uint64_t seed) {
     if (e.tx) {
       text << "T " << e.tx->start_ns << " " << e.tx->end_ns << " " << static_cast<int>(e.tx->kind)
            << " " << e.tx->retry << " " << e.tx->sequence_number << " ";
-      for (uint8_t b : e.tx->mpdu) text << static_cast<int>(b) << ",";
+      for (uint8_t b : MpduBytes(*e.tx)) text << static_cast<int>(b) << ",";
       for (const RxRecord& r : e.tx->receptions) {
         text << " " << r.station << ":" << static_cast<int>(r.outcome) << ":" << r.sinr_db;
       }
@@ -332,7 +317,7 @@ TEST(MediumTest, RtsCtsExchangeAndNav) {
   EXPECT_EQ(cts.end_ns + cts.duration_us * kNsPerUs, ack.end_ns);
   EXPECT_EQ(cts.start_ns, rts.end_ns + 16 * kNsPerUs);
   EXPECT_EQ(data.start_ns, cts.end_ns + 16 * kNsPerUs);
-  EXPECT_EQ(rts.mpdu.size(), 20u);
+  EXPECT_EQ(MpduBytes(rts).size(), 20u);
   EXPECT_EQ(rts.rate_mbps, 24);
   EXPECT_EQ(medium.counters(0).rts_tx, 1u);
   EXPECT_EQ(medium.counters(1).cts_tx, 1u);

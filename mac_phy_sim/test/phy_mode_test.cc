@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 namespace sitlnet::mac {
 namespace {
 
@@ -76,8 +78,66 @@ TEST(PhyModeTest, ControlRateIsHighestBasicRateNotAbove) {
   EXPECT_EQ(ControlRateFor(Standard::k80211a, 54), 24);
   EXPECT_EQ(ControlRateFor(Standard::k80211a, 18), 12);
   EXPECT_EQ(ControlRateFor(Standard::k80211a, 9), 6);
-  EXPECT_EQ(ControlRateFor(Standard::k80211b, 11), 2);
   EXPECT_EQ(ControlRateFor(Standard::k80211b, 1), 1);
+  EXPECT_EQ(ControlRateFor(Standard::k80211g, 54), 24);
+  EXPECT_EQ(ControlRateFor(Standard::k80211g, 9), 6);
+}
+
+TEST(PhyModeTest, EveryDsssRateIsBasicSoAnAckGoesAtTheDataRate) {
+  // All four DSSS/HR-DSSS rates are mandatory (IEEE 802.11-2016 16.1.1) and
+  // ns-3's ad hoc MAC makes every mandatory rate basic
+  // (WifiRemoteStationManager::AddAllSupportedModes), so an 11 Mb/s frame is
+  // answered at 11 Mb/s: a 203 us ACK instead of 248 us at 2 Mb/s.
+  EXPECT_EQ(ControlRateFor(Standard::k80211b, 11), 11);
+  EXPECT_EQ(ControlRateFor(Standard::k80211b, 5.5), 5.5);
+  EXPECT_EQ(ControlRateFor(Standard::k80211b, 2), 2);
+  EXPECT_EQ(ControlRateFor(Standard::k80211g, 11), 11);  // ERP PHY sending DSSS.
+  MediumConfig b;
+  b.standard = Standard::k80211b;
+  b.rate_mbps = 11;
+  EXPECT_EQ(DerivePhyInfo(b).ack_rate_mbps, 11);
+  EXPECT_EQ(PpduDurationNs(Standard::k80211b, 11, kAckBytes), 203 * kNsPerUs);
+}
+
+TEST(PhyModeTest, GroupFramesDefaultToTheLowestBasicRate) {
+  // ns-3 3.37 GetNonUnicastMode: the first basic mode (6 Mb/s OFDM; 1 Mb/s
+  // DSSS for 11b and for 11g, whose PHY includes the DSSS rates).
+  MediumConfig a;
+  EXPECT_EQ(DerivePhyInfo(a).group_rate_mbps, 6);
+  MediumConfig g;
+  g.standard = Standard::k80211g;
+  EXPECT_EQ(DerivePhyInfo(g).group_rate_mbps, 1);
+  g.group_rate_mbps = 24;
+  EXPECT_EQ(DerivePhyInfo(g).group_rate_mbps, 24);
+  a.group_rate_mbps = 11;  // Not an 11a rate: refused, naming the field.
+  try {
+    DerivePhyInfo(a);
+    FAIL() << "group_rate_mbps 11 accepted for 11a";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("group_rate_mbps"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PhyModeTest, ErpEifsUsesTheDsssAckTime) {
+  // ns-3 configures 11g on top of 11b, so EIFS = SIFS + 304 us + DIFS:
+  // 364 us with the long slot, 342 us with the short one.
+  MediumConfig g;
+  g.standard = Standard::k80211g;
+  EXPECT_EQ(DerivePhyInfo(g).eifs_ns, 364 * kNsPerUs);
+  g.short_slot = true;
+  EXPECT_EQ(DerivePhyInfo(g).eifs_ns, 342 * kNsPerUs);
+}
+
+TEST(PhyModeTest, ShortDsssPreambleOnlyAtHrDsssRates) {
+  // 16.2.2.3 short PPDU: 72 us preamble + 24 us header at 2 Mb/s; ns-3 uses
+  // it for 5.5 and 11 Mb/s only (GetPreambleForTransmission).
+  const PhyMode cck11 = ModeFor(Standard::k80211b, 11);
+  const PhyHeader short_header = HeaderFor(Standard::k80211b, cck11, true);
+  EXPECT_EQ(short_header.preamble_and_header_ns, 96 * kNsPerUs);
+  EXPECT_EQ(short_header.header_mode.rate_mbps, 2);
+  EXPECT_EQ(PpduDurationNs(cck11, short_header, 1536), (96 + 1118) * kNsPerUs);
+  const PhyMode dqpsk = ModeFor(Standard::k80211b, 2);
+  EXPECT_EQ(HeaderFor(Standard::k80211b, dqpsk, true).preamble_and_header_ns, 192 * kNsPerUs);
 }
 
 TEST(PhyModeTest, NoiseFloorAndReferenceLossDefaults) {

@@ -1,7 +1,8 @@
 // Saturated-traffic driver shared by the validation tests and the benchmark:
-// every sender's queue is topped up so it never runs empty, as in Bianchi's
-// model and ns-3's wifi-bianchi example (1500-byte payloads, i.e. 1514-byte
-// Ethernet frames, 1536-byte MPDUs).
+// every sender's source offers frames faster than the medium carries them,
+// exactly as the ns-3 side of the side-by-side does (side_by_side_case.h), so
+// its queue never runs empty, as in Bianchi's model (1500-byte payloads, i.e.
+// 1514-byte Ethernet frames, 1536-byte MPDUs).
 #ifndef SITLNET_MAC_PHY_SIM_TEST_SATURATION_HARNESS_H_
 #define SITLNET_MAC_PHY_SIM_TEST_SATURATION_HARNESS_H_
 
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "mac_phy_sim/mac_phy_sim.h"
+#include "mac_phy_sim/test/side_by_side_case.h"
 
 namespace sitlnet::mac::testing {
 
@@ -37,6 +39,26 @@ std::vector<uint8_t> MakeEthernetFrame(const MacAddress& to, const MacAddress& f
                                        int payload_bytes);
 
 SaturationResult RunSaturation(const SaturationSetup& setup);
+
+// Moves the transmissions of the medium's trace out (drops are left out).
+std::vector<TxRecord> DrainTransmissions(Medium& medium);
+
+// The medium's own cost: n saturated 802.11a 54 Mb/s stations 1 mm apart in
+// a ring (n = 1: to a receive-only station), 1500-byte payloads, retries
+// unlimited, with a light driver that keeps 16 frames queued per sender
+// (topped up every 2 ms) for `seconds` of virtual time. Returns the number
+// of transmissions (DATA, ACK). Used by the benchmarks' timing, not for
+// validation (RunCase offers traffic exactly as the ns-3 side does).
+uint64_t RunTopUpSaturation(int n, double seconds, uint64_t seed);
+
+// The medium configuration of a side-by-side cell (the ns-3 half configures
+// ns-3 from the same values: reference loss, control rate).
+MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed);
+// Loss (dB) between every pair of the cell's stations, row-major, as the
+// medium computes it for `seed` (log-normal shadowing included).
+std::vector<double> LinkLossesDb(const side_by_side::Case& c, uint64_t seed);
+// Runs a side-by-side cell: every flow of its layout saturated.
+SaturationResult RunCase(const side_by_side::Case& c, uint64_t seed);
 
 }  // namespace sitlnet::mac::testing
 

@@ -117,9 +117,9 @@ TEST(CollisionProbabilityTest, CloseToBianchiP) {
   // Bianchi's chain decrements the counter in every slot, including the one
   // in which a transmission starts, and assumes a constant, independent p;
   // the standard (and ns-3, and this model) resumes counting only after DIFS
-  // of idle medium, and colliders restart from their ACK timeout (SIFS + slot
-  // + 20 us after the frame) while the others resume after DIFS. This lowers
-  // p slightly: over six seeds 4.5-7 % below the model at n = 10, 3.5-5.5 %
+  // of idle medium, and colliders resume DIFS after their ACK timeout (SIFS +
+  // slot + 20 us after the frame) while the others resume DIFS after the
+  // frames. This lowers p slightly: 4-7 % below the model at n = 10, 3.5-6 %
   // at n = 5. Tolerance: 8 % relative.
   for (int n : {5, 10}) {
     SaturationSetup setup;

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
+
+#include "mac_phy_sim/test/saturation_harness.h"
 
 namespace sitlnet::mac {
 namespace {
@@ -23,10 +26,69 @@ TEST(ScenarioAdapterTest, BuildsStationsObstaclesAndRadio) {
   EXPECT_EQ(config.rts_threshold_bytes, 400u);
   EXPECT_EQ(config.seed, 9u);
   EXPECT_FALSE(config.reference_loss_db.has_value());
+  // ns-3 3.37's WifiMacQueue defaults; group frames at the lowest basic rate.
+  EXPECT_EQ(config.queue_limit_frames, 500u);
+  EXPECT_EQ(config.queue_max_delay_ns, 500 * kNsPerMs);
+  EXPECT_FALSE(config.group_rate_mbps.has_value());
+  EXPECT_FALSE(config.capture_margin_db.has_value());
   Medium medium = MakeMediumFromScenario(scenario);
   ASSERT_EQ(medium.station_count(), 2);
   // Friis at 2.4 GHz + 30 log10(30) + one 2 m box: 2 walls + 0.8 dB.
   EXPECT_NEAR(medium.LossDb(0, 1), 40.046 + 30 * std::log10(30.0) + 18.8, 1e-3);
+}
+
+TEST(ScenarioAdapterTest, MapsTheNs3FidelityOptions) {
+  const Scenario scenario = LoadScenarioText(R"(
+    name: "opts"
+    robot { name: "a" tx_power_dbm: 10 }
+    robot { name: "b" position_m { x: 5 } rate_mbps: 6 }
+    radio {
+      standard: STANDARD_80211G rate_mbps: 54 group_rate_mbps: 11 short_slot: true
+      short_preamble: true capture_margin_db: 5 queue_limit_frames: 50 queue_max_delay_ms: 0
+      propagation_delay: true nakagami_fading: true nakagami_m0: 1 nakagami_d2_m: 150
+      lognormal_shadowing_sigma_db: 4 rate_control: RATE_CONTROL_IDEAL
+    }
+  )",
+                                             "opts.textproto");
+  const MediumConfig config = MediumConfigFromScenario(scenario);
+  EXPECT_EQ(config.group_rate_mbps, 11);
+  EXPECT_TRUE(config.short_slot);
+  EXPECT_TRUE(config.short_preamble);
+  EXPECT_EQ(config.capture_margin_db, 5);
+  EXPECT_EQ(config.queue_limit_frames, 50u);
+  EXPECT_EQ(config.queue_max_delay_ns, 0);
+  EXPECT_EQ(Medium(config).phy().slot_ns, 9 * kNsPerUs);
+  EXPECT_TRUE(config.propagation_delay);
+  EXPECT_TRUE(config.nakagami_fading);
+  EXPECT_EQ(config.nakagami_m0, 1);
+  EXPECT_EQ(config.nakagami_m1, 0.75);  // ns-3's default.
+  EXPECT_EQ(config.nakagami_d2_m, 150);
+  EXPECT_EQ(config.lognormal_shadowing_sigma_db, 4);
+  EXPECT_EQ(config.rate_control, MediumConfig::RateControl::kIdeal);
+}
+
+TEST(ScenarioAdapterTest, RobotsHaveTheirOwnTxPowerAndRate) {
+  const Scenario scenario = LoadScenarioText(R"(
+    name: "own"
+    robot { name: "a" tx_power_dbm: 10 }
+    robot { name: "b" position_m { x: 5 } rate_mbps: 6 }
+  )",
+                                             "own.textproto");
+  Medium medium = MakeMediumFromScenario(scenario);
+  medium.EnableTrace(true);
+  medium.SubmitFrame(0, testing::MakeEthernetFrame(RobotMac(1), RobotMac(0), 100), 0);
+  medium.SubmitFrame(1, testing::MakeEthernetFrame(RobotMac(0), RobotMac(1), 100), 5 * kNsPerMs);
+  std::vector<Delivery> out;
+  medium.AdvanceTo(10 * kNsPerMs, &out);
+  ASSERT_EQ(out.size(), 2u);
+  // a at 10 dBm: b receives 10 - (46.6777 + 30 log10 5) dBm; b at the default 16.0206 dBm.
+  EXPECT_NEAR(out[0].rx_power_dbm, 10 - 46.6777 - 30 * std::log10(5.0), 1e-3);
+  EXPECT_NEAR(out[1].rx_power_dbm, 16.0206 - 46.6777 - 30 * std::log10(5.0), 1e-3);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  ASSERT_EQ(trace.size(), 4u);
+  EXPECT_EQ(trace[0].tx->rate_mbps, 54);  // a: the scenario's rate.
+  EXPECT_EQ(trace[2].tx->rate_mbps, 6);   // b: its own.
 }
 
 }  // namespace

@@ -14,8 +14,10 @@
 #include "physics_mujoco/client/physics_client.h"
 #include "robot_images/flocker/beacon_link.h"
 #include "robot_images/flocker/controller.h"
+#include "robot_images/flocker/flocker_options.h"
 #include "robot_images/flocker/flocking.h"
 #include "robot_images/flocker/neighbour_table.h"
+#include "robot_images/flocker/obstacle_points.h"
 #include "sitlnet/scenario.pb.h"
 
 namespace sitlnet::flocker {
@@ -24,84 +26,9 @@ namespace {
 volatile std::sig_atomic_t g_stop = 0;
 void OnSignal(int) { g_stop = 1; }
 
-struct Options {
-  Vec2 target_m{0, 0};
-  double altitude_m = 5;
-  double broadcast_hz = 10;
-  double neighbour_timeout_s = 2;  // tau
-  uint16_t beacon_port = 47000;
-  std::string device = "wlan0";
-  std::string airframe_text;  // proto Airframe in text format; empty: defaults
-  double lidar_fov_deg = 360;
-  double log_period_s = 1;
-  FlockingParams flocking;
-};
-
-constexpr char kUsage[] =
-    "usage: flocker [--target X,Y] [--altitude-m Z] [--broadcast-hz F] [--neighbour-timeout-s T]\n"
-    "               [--beacon-port P] [--device DEV] [--airframe TEXTPROTO] [--lidar-fov-deg D]\n"
-    "               [--log-period-s S] [--flock-speed-m-s V] [--attraction-gain G]\n"
-    "               [--attraction-range-m R] [--repulsion-range-m R]\n"
-    "Runs inside a robot namespace; needs SITLNET_PHYSICS_ADDR and SITLNET_ROBOT_INDEX.\n";
-
 [[noreturn]] void Die(const std::string& message) {
   std::fprintf(stderr, "flocker: %s\n", message.c_str());
   std::exit(2);
-}
-
-double ParseNumber(const char* flag, const char* text) {
-  char* end = nullptr;
-  const double value = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value)) {
-    Die(std::string(flag) + ": \"" + text + "\" is not a number");
-  }
-  return value;
-}
-
-Options ParseOptions(int argc, char** argv) {
-  Options options;
-  for (int i = 1; i < argc; ++i) {
-    const std::string flag = argv[i];
-    if (flag == "--help" || flag == "-h") {
-      std::fputs(kUsage, stdout);
-      std::exit(0);
-    }
-    if (i + 1 >= argc) Die(flag + " needs a value\n" + kUsage);
-    const char* value = argv[++i];
-    if (flag == "--target") {
-      double x, y;
-      if (std::sscanf(value, "%lf,%lf", &x, &y) != 2) Die("--target wants X,Y");
-      options.target_m = {x, y};
-    } else if (flag == "--altitude-m") {
-      options.altitude_m = ParseNumber("--altitude-m", value);
-    } else if (flag == "--broadcast-hz") {
-      options.broadcast_hz = ParseNumber("--broadcast-hz", value);
-      if (options.broadcast_hz <= 0) Die("--broadcast-hz must be > 0");
-    } else if (flag == "--neighbour-timeout-s") {
-      options.neighbour_timeout_s = ParseNumber("--neighbour-timeout-s", value);
-    } else if (flag == "--beacon-port") {
-      options.beacon_port = static_cast<uint16_t>(ParseNumber("--beacon-port", value));
-    } else if (flag == "--device") {
-      options.device = value;
-    } else if (flag == "--airframe") {
-      options.airframe_text = value;
-    } else if (flag == "--lidar-fov-deg") {
-      options.lidar_fov_deg = ParseNumber("--lidar-fov-deg", value);
-    } else if (flag == "--flock-speed-m-s") {
-      options.flocking.flock_speed_m_s = ParseNumber("--flock-speed-m-s", value);
-    } else if (flag == "--attraction-gain") {
-      options.flocking.attraction_gain = ParseNumber("--attraction-gain", value);
-    } else if (flag == "--attraction-range-m") {
-      options.flocking.attraction_range_m = ParseNumber("--attraction-range-m", value);
-    } else if (flag == "--repulsion-range-m") {
-      options.flocking.repulsion_range_m = ParseNumber("--repulsion-range-m", value);
-    } else if (flag == "--log-period-s") {
-      options.log_period_s = ParseNumber("--log-period-s", value);
-    } else {
-      Die("unknown flag " + flag + "\n" + kUsage);
-    }
-  }
-  return options;
 }
 
 AirframeParams ToParams(const proto::Airframe& a) {
@@ -131,21 +58,21 @@ double Yaw(const Eigen::Quaterniond& q) {
   return std::atan2(2 * (q.w() * q.z() + q.x() * q.y()), 1 - 2 * (q.y() * q.y() + q.z() * q.z()));
 }
 
-// Lidar hits as world-frame points (rays that hit nothing are skipped).
-std::vector<Vec2> ObstaclePoints(const proto::RobotState& s, double fov_deg, double yaw_rad) {
-  std::vector<Vec2> points;
+// The state's lidar ranges as a world-frame scan (rays are horizontal in the
+// body frame; the quad flies level enough that its yaw orients them).
+LidarScan ToScan(const proto::RobotState& s, double fov_deg, double yaw_rad) {
+  LidarScan scan;
   const int rays = s.lidar_range_m_size();
-  float max_range = 0;
-  for (float r : s.lidar_range_m()) max_range = std::max(max_range, r);
+  scan.origin_m = {s.position_m().x(), s.position_m().y()};
+  for (float r : s.lidar_range_m()) scan.max_range_m = std::max(scan.max_range_m, double(r));
+  // A ray reads max_range_m when it hit nothing; keep a margin for float rounding.
+  scan.max_range_m *= 0.999;
   const double fov_rad = fov_deg * M_PI / 180;
-  for (int i = 0; i < rays; ++i) {
-    const double range = s.lidar_range_m(i);
-    if (range >= max_range * 0.999) continue;
-    const double angle = yaw_rad + fov_rad * (double(i) / rays - 0.5);
-    points.emplace_back(s.position_m().x() + range * std::cos(angle),
-                        s.position_m().y() + range * std::sin(angle));
-  }
-  return points;
+  scan.first_ray_rad = yaw_rad - fov_rad / 2;
+  scan.ray_step_rad = rays > 0 ? fov_rad / rays : 0;
+  scan.wraps = fov_deg >= 360;
+  scan.ranges_m.assign(s.lidar_range_m().begin(), s.lidar_range_m().end());
+  return scan;
 }
 
 int Run(const Options& options) {
@@ -200,11 +127,13 @@ int Run(const Options& options) {
     const Vec2 velocity(vehicle.velocity_m_s.x(), vehicle.velocity_m_s.y());
     // Flock only once airborne, so the swarm does not drag robots along the ground.
     const bool airborne = vehicle.position_m.z() > 0.5 * options.altitude_m;
-    const Vec2 desired = airborne ? DesiredVelocity(flocking, position, velocity, neighbours,
-                                                    ObstaclePoints(state, options.lidar_fov_deg,
-                                                                   Yaw(vehicle.orientation)),
-                                                    options.target_m)
-                                  : Vec2::Zero();
+    const Vec2 desired =
+        airborne ? DesiredVelocity(flocking, position, velocity, neighbours,
+                                   NearestObstaclePoints(ToScan(state, options.lidar_fov_deg,
+                                                                Yaw(vehicle.orientation)),
+                                                         options.obstacle_gap_m),
+                                   options.target_m)
+                 : Vec2::Zero();
     const RotorSpeeds speeds =
         ComputeRotorSpeeds(params, gains, vehicle, desired, options.altitude_m, yaw_rad);
 

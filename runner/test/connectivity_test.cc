@@ -8,7 +8,9 @@ namespace {
 constexpr TimeNs kS = kNsPerS;
 
 TEST(ConnectivityTest, IsolatedRobotsAreTheirOwnComponents) {
-  const auto samples = ConnectivityOverTime(3, {{kS / 2, 0, 1}}, kS, kS, kS);
+  ConnectivityTracker tracker(3, kS, kS);
+  tracker.Heard(kS / 2, 0, 1);
+  const auto samples = tracker.Finish(kS);
   ASSERT_EQ(samples.size(), 1u);
   EXPECT_EQ(samples[0].components, 2);
   EXPECT_EQ(samples[0].component_of, (std::vector<int>{0, 0, 2}));
@@ -16,13 +18,13 @@ TEST(ConnectivityTest, IsolatedRobotsAreTheirOwnComponents) {
 
 TEST(ConnectivityTest, SplitsWhenLinksFallSilentAndReunites) {
   // Robots 0-1 and 2-3 talk all along; 1-2 only before 3 s and after 7 s.
-  std::vector<LinkEvent> events;
+  ConnectivityTracker tracker(4, 2 * kS, kS);
   for (TimeNs t = 0; t <= 10 * kS; t += kS / 10) {
-    events.push_back({t, 0, 1});
-    events.push_back({t, 3, 2});
-    if (t < 3 * kS || t > 7 * kS) events.push_back({t, 1, 2});
+    tracker.Heard(t, 0, 1);
+    tracker.Heard(t, 3, 2);
+    if (t < 3 * kS || t > 7 * kS) tracker.Heard(t, 1, 2);
   }
-  const auto samples = ConnectivityOverTime(4, events, 2 * kS, kS, 10 * kS);
+  const auto samples = tracker.Finish(10 * kS);
   ASSERT_EQ(samples.size(), 10u);
   EXPECT_EQ(samples[1].components, 1);  // t = 2 s
   EXPECT_EQ(samples[3].components, 1);  // t = 4 s: 1-2 last heard at 2.9 s, within 2 s
@@ -30,6 +32,17 @@ TEST(ConnectivityTest, SplitsWhenLinksFallSilentAndReunites) {
   EXPECT_EQ(samples[4].component_of, (std::vector<int>{0, 0, 2, 2}));
   EXPECT_EQ(samples[6].components, 2);  // t = 7 s
   EXPECT_EQ(samples[7].components, 1);  // t = 8 s: heard again since 7.1 s
+}
+
+TEST(ConnectivityTest, ADeliveryAtASampleInstantCountsForThatSample) {
+  ConnectivityTracker tracker(2, kS / 2, kS);
+  tracker.Heard(kS, 0, 1);  // At the first sample's instant: linked at t = 1 s.
+  tracker.Heard(3 * kS, 1, 0);
+  const auto samples = tracker.Finish(3 * kS);
+  ASSERT_EQ(samples.size(), 3u);
+  EXPECT_EQ(samples[0].components, 1);
+  EXPECT_EQ(samples[1].components, 2);  // 1 s of silence > the 0.5 s window
+  EXPECT_EQ(samples[2].components, 1);
 }
 
 }  // namespace

@@ -50,7 +50,8 @@ TEST(OutputsTest, GnuplotDrawsThreePngs) {
     metrics.Append("0,0,1,1,2,1,0.2,0");
     metrics.Append("1,10000000,1,1,2,1,0.3,0");
   }
-  WriteConnectivityCsv(dir + "/connectivity.csv", ConnectivityOverTime(2, {}, kNsPerS, kNsPerS, 3 * kNsPerS), 2);
+  WriteConnectivityCsv(dir + "/connectivity.csv",
+                       ConnectivityTracker(2, kNsPerS, kNsPerS).Finish(3 * kNsPerS), 2);
   std::vector<std::string> warnings;
   const auto pngs = DrawPlots(dir, scenario, "test", &warnings);
   ASSERT_TRUE(warnings.empty()) << warnings[0];

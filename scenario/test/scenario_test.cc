@@ -86,6 +86,12 @@ TEST(ScenarioTest, RejectsOutOfRangeRadio) {
                  "tx_power_dbm 40 out of range [-10, 30]");
   ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211B rate_mbps: 54 }\n",
                  "t.textproto:4:35", "not a rate of STANDARD_80211B");
+  ExpectRejected(std::string(kTwo) + "radio { group_rate_mbps: 11 }\n", "t.textproto:4:9",
+                 "group_rate_mbps 11 is not a rate of STANDARD_80211A");
+  ExpectRejected(std::string(kTwo) + "radio { short_slot: true }\n", "t.textproto:4:9",
+                 "short_slot applies to STANDARD_80211G only");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" rate_mbps: 11 }\n", "t.textproto:2:19",
+                 "robot \"a\": rate_mbps 11 is not a rate of STANDARD_80211A");
 }
 
 TEST(ScenarioTest, RejectsAddressesOutsideOrClashing) {
@@ -109,6 +115,29 @@ TEST(ScenarioTest, RejectsUnknownAirframeAndBadObstacle) {
                  "unknown airframe \"x9\"");
   ExpectRejected(std::string(kTwo) + "obstacle { size_m { x: 1 y: 0 z: 1 } }\n", "t.textproto:4:12",
                  "size_m");
+}
+
+// Every numeric field is finite and in range (an audit found NaN/inf, 4e9 lidar rays, negative
+// noise and overflowing durations accepted).
+TEST(ScenarioTest, RejectsNonFiniteAndOutOfRangeNumbers) {
+  const std::string two = kTwo;
+  ExpectRejected(two + "obstacle { size_m { x: 1 y: 1 z: 1 } center_m { x: nan } }\n",
+                 "t.textproto:4:38", "center_m must be finite");
+  ExpectRejected(two + "obstacle { size_m { x: inf y: 1 z: 1 } }\n", "t.textproto:4:12", "size_m");
+  ExpectRejected(two + "obstacle { size_m { x: 1 y: 1 z: 1 } yaw_deg: inf }\n", "t.textproto:4:38",
+                 "yaw_deg inf out of range");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" yaw_deg: nan }\n", "t.textproto:2:19",
+                 "yaw_deg nan out of range");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" lidar { rays: 4000000000 } }\n",
+                 "t.textproto:2:27", "lidar rays 4000000000 out of range");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" imu { gyro_noise_rad_s: -1 } }\n",
+                 "t.textproto:2:25", "imu gyro_noise_rad_s -1 out of range");
+  ExpectRejected(two + "timing { duration_ms: 9223372036854 }\n", "t.textproto:4:10",
+                 "duration_ms 9223372036854 must be at most");
+  ExpectRejected(two + "timing { realtime_factor: 1e-300 }\n", "t.textproto:4:10",
+                 "realtime_factor 1e-300 must be in");
+  ExpectRejected(two + "radio { noise_figure_db: nan }\n", "t.textproto:4:9",
+                 "noise_figure_db nan out of range");
 }
 
 TEST(ScenarioTest, HostRouteClashIsRefused) {

@@ -22,7 +22,8 @@ TEST(RelayMedium, UnicastToOwnerGroupToAllOthers) {
   medium->AdvanceTo(100, &out, nullptr);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].station, 2);
-  EXPECT_EQ(out[0].time_ns, 100);
+  EXPECT_EQ(out[0].delivery_ns, 100);
+  EXPECT_EQ(out[0].source, 0);
   out.clear();
   MacAddress broadcast{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
   medium->Submit(1, 200, Frame(broadcast, RobotMac(1)));

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <algorithm>
+#include <memory>
+
 #include "tapbridge/tapbridge.h"
 
 namespace sitlnet::tapbridge {
@@ -15,15 +18,20 @@ uint32_t Le32(const std::string& s, size_t at) {
   return v;
 }
 
+const std::vector<uint8_t> kEthernet = {0x02, 0, 0, 0, 0,    1,    0x02, 0,
+                                        0,    0, 0, 0, 0x08, 0x00, 0x45, 0x00};
+
 AirFrame DataFrame() {
   AirFrame f;
-  f.start_ns = 1'234'567'891;
-  f.rate_mbps = 54;
+  f.tx.start_ns = 1'234'567'891;
+  f.tx.rate_mbps = 54;
+  f.tx.sequence_number = 5;
+  f.tx.retry = true;
+  std::copy_n(kEthernet.begin(), 6, f.tx.receiver.bytes.begin());
+  std::copy_n(kEthernet.begin() + 6, 6, f.tx.transmitter.bytes.begin());
+  f.tx.ethernet_frame = std::make_shared<const std::vector<uint8_t>>(kEthernet);
   f.signal_dbm = -47.4;
   f.noise_dbm = -93.97;
-  f.sequence = 5;
-  f.retry = true;
-  f.ethernet = {0x02, 0, 0, 0, 0, 1, 0x02, 0, 0, 0, 0, 0, 0x08, 0x00, 0x45, 0x00};
   return f;
 }
 
@@ -53,8 +61,9 @@ TEST(PcapWriter, RadiotapFieldsAtTheirAlignedOffsets) {
 
 TEST(PcapWriter, DataFrameHeaderSnapAndFcs) {
   const std::vector<uint8_t> mpdu = Encode80211Mpdu(DataFrame());
-  // 24-byte header + 8 LLC/SNAP + 2 payload bytes + 4 FCS: Ethernet + 22 (docs/references.md#80211-timing).
-  ASSERT_EQ(mpdu.size(), DataFrame().ethernet.size() + 22);
+  // 24-byte header + 8 LLC/SNAP + 2 payload bytes + 4 FCS: Ethernet + 22
+  // (docs/references.md#80211-timing).
+  ASSERT_EQ(mpdu.size(), kEthernet.size() + 22);
   EXPECT_EQ(mpdu[0], 0x08);
   EXPECT_EQ(mpdu[1], 0x08);    // Retry
   EXPECT_EQ(mpdu[4 + 5], 1);   // addr1 = DA
@@ -80,11 +89,11 @@ TEST(PcapWriter, FailedFrameHasBadFcsFlagAndBadFcs) {
 
 TEST(PcapWriter, ControlFrameSizes) {
   AirFrame f;
-  f.kind = AirFrameKind::kAck;
+  f.tx.kind = mac::FrameKind::kAck;
   EXPECT_EQ(Encode80211Mpdu(f).size(), 14u);  // ACK 14 B (docs/references.md#80211-timing)
-  f.kind = AirFrameKind::kCts;
+  f.tx.kind = mac::FrameKind::kCts;
   EXPECT_EQ(Encode80211Mpdu(f).size(), 14u);
-  f.kind = AirFrameKind::kRts;
+  f.tx.kind = mac::FrameKind::kRts;
   EXPECT_EQ(Encode80211Mpdu(f).size(), 20u);  // RTS 20 B
 }
 

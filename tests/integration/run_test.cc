@@ -108,6 +108,28 @@ TEST(RunTest, ImageThatCannotStartIsNamedWithItsLogAndNothingIsLeft) {
   ExpectNothingLeft(scenario.name);
 }
 
+// A robot inherits no file of the run: the pcap, the CSVs and the run's other descriptors are
+// close-on-exec (an audit found medium.pcap open for writing in every robot).
+TEST(RunTest, RobotsInheritNoFileOfTheRun) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteScenario(
+      5,
+      "robot { name: \"a\" image: \"shell\" args: \"ls -l /proc/self/fd; sleep 30\" }\n"
+      "robot { name: \"b\" }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const CommandResult result =
+      SitlnetRun(scenario, out, {"--pacing", "realtime", "--duration", "1"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string listing = ReadAll(out + "/robots/a.log");
+  ASSERT_NE(listing.find("/proc/"), std::string::npos) << listing;  // ls ran and listed
+  for (const char* file : {"medium.pcap", "deliveries.csv", "trajectories.csv", "metrics.csv"}) {
+    EXPECT_EQ(listing.find(file), std::string::npos) << file << " is open in the robot:\n"
+                                                     << listing;
+  }
+  ExpectNothingLeft(scenario.name);
+}
+
 TEST(RunTest, RobotFailureMidRunFollowsThePolicy) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const std::string robots =

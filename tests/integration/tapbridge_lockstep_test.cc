@@ -79,7 +79,7 @@ std::vector<TimeNs> LockstepDeliveries(const Scenario& scenario, uint64_t seed,
   BridgeCore core(scenario, MakeMacPhySimMedium(scenario), options);
   core.AttachAll();
   std::vector<TimeNs> instants;
-  core.AddDeliveryObserver([&](const Delivery& d) { instants.push_back(d.time_ns); });
+  core.AddDeliveryObserver([&](const Delivery& d) { instants.push_back(d.delivery_ns); });
   const RobotPlan& robot_a = scenario.robots[0];
   const RobotPlan& robot_b = scenario.robots[1];
   EXPECT_TRUE(WaitUntilOperational(robot_a.netns) && WaitUntilOperational(robot_b.netns));

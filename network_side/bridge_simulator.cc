@@ -1,8 +1,8 @@
-#include "runner/bridge_simulator.h"
-
 #include <algorithm>
 
-namespace sitlnet::runner {
+#include "network_side/network_side.h"
+
+namespace sitlnet::network_side {
 
 BridgeSimulator::BridgeSimulator(const Scenario& scenario, tapbridge::BridgeCore* bridge,
                                  coordinator::Pacing pacing, double realtime_factor)
@@ -20,7 +20,7 @@ void BridgeSimulator::MoveStations(const proto::coord::Poses& poses) {
 }
 
 void BridgeSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End*,
-                                   coordinator::IterationContext&) {
+                                   IterationContext&) {
   MoveStations(start.poses());
   if (pacing_ == coordinator::Pacing::kLockstep) {
     for (TimeNs until = start.start_ns() + network_step_ns_; until <= start.end_ns();
@@ -47,4 +47,4 @@ void BridgeSimulator::RunIteration(const proto::coord::Start& start, proto::coor
   }
 }
 
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::network_side

@@ -1,18 +1,23 @@
-// Physics connectors over physics_mujoco: the pure World (tests, the
-// correctness check) and the PhysicsServer that also serves the robots'
-// ctl0 protocol (real runs). Each iteration advances N_phy = Δ/δ_phy steps
-// and reports every robot's pose at the iteration's end.
-#ifndef SITLNET_COORDINATOR_PHYSICS_CONNECTOR_H_
-#define SITLNET_COORDINATOR_PHYSICS_CONNECTOR_H_
+// sitlnet physics side: the robots' lock-step with MuJoCo physics, as the coordinator's physics
+// simulator. Over physics_mujoco: the pure World (tests, the correctness check) and the
+// PhysicsServer that also serves the robots' ctl0 protocol (real runs). Each iteration advances
+// N_phy = Δ/δ_phy steps and reports every robot's pose at the iteration's end. The coordinator
+// steps this side and the network side (network_side/) on its clock; neither knows the other.
+#ifndef SITLNET_PHYSICS_SIDE_PHYSICS_SIDE_H_
+#define SITLNET_PHYSICS_SIDE_PHYSICS_SIDE_H_
 
 #include <string>
 #include <vector>
 
+#include "common/common.h"
 #include "coordinator/connector.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "scenario/scenario.h"
 
-namespace sitlnet::coordinator {
+namespace sitlnet::physics_side {
+
+using coordinator::IterationContext;
+using coordinator::Simulator;
 
 // Appends every robot's position (ENU m) and orientation (w, x, y, z).
 void PosesFromWorld(const physics::World& world, proto::coord::Poses* poses);
@@ -62,6 +67,6 @@ class PhysicsServerSimulator final : public Simulator {
   std::vector<std::string> robot_names_;
 };
 
-}  // namespace sitlnet::coordinator
+}  // namespace sitlnet::physics_side
 
-#endif  // SITLNET_COORDINATOR_PHYSICS_CONNECTOR_H_
+#endif  // SITLNET_PHYSICS_SIDE_PHYSICS_SIDE_H_

@@ -10,11 +10,14 @@
 #include <thread>
 
 #include "coordinator/coordinator.h"
-#include "coordinator/physics_connector.h"
 #include "physics_mujoco/client/physics_client.h"
+#include "physics_side/physics_side.h"
 
-namespace sitlnet::coordinator {
+namespace sitlnet::physics_side {
 namespace {
+
+// These tests drive the coordinator directly.
+using namespace coordinator;  // NOLINT(google-build-using-namespace)
 
 uint16_t TestPort() { return static_cast<uint16_t>(40000 + 2 * (getpid() % 10000)); }
 
@@ -180,4 +183,4 @@ TEST(RobotLockstep, ASilentRobotCanBeDroppedWithItsMotorsCut) {
 }
 
 }  // namespace
-}  // namespace sitlnet::coordinator
+}  // namespace sitlnet::physics_side

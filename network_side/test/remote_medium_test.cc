@@ -2,16 +2,18 @@
 // the medium behind the link produces, call for call, what the same medium
 // produces in-process (the property that makes remote runs byte-identical;
 // tests/integration/remote_run_test.cc checks it end to end).
-#include "runner/remote_medium.h"
-
 #include <gtest/gtest.h>
 
 #include <thread>
 
 #include "coordinator/coordinator.h"
+#include "network_side/network_side.h"
 
-namespace sitlnet::runner {
+namespace sitlnet::network_side {
 namespace {
+
+// These tests drive the coordinator directly.
+using namespace coordinator;  // NOLINT(google-build-using-namespace)
 
 using coordinator::Channel;
 
@@ -50,13 +52,14 @@ struct Output {
 // frames; c moves into range half way.
 Output Drive(tapbridge::MediumModel& medium, const Scenario& s) {
   Output out;
-  std::vector<tapbridge::Delivery> deliveries;
+  std::vector<mac::Delivery> deliveries;
   std::vector<tapbridge::AirFrame> air;
   const auto collect = [&] {
-    for (const tapbridge::Delivery& d : deliveries) {
-      out.deliveries.push_back(std::to_string(d.station) + "," + std::to_string(d.time_ns) + "," +
-                               std::to_string(d.rx_power_dbm) + "," + std::to_string(d.sinr_db) +
-                               "," + std::string(d.frame.begin(), d.frame.end()));
+    for (const mac::Delivery& d : deliveries) {
+      out.deliveries.push_back(std::to_string(d.station) + "," + std::to_string(d.delivery_ns) +
+                               "," + std::to_string(d.rx_power_dbm) + "," +
+                               std::to_string(d.sinr_db) + "," +
+                               std::string(d.ethernet_frame.begin(), d.ethernet_frame.end()));
     }
     for (const tapbridge::AirFrame& frame : air) out.pcap += tapbridge::EncodePcapRecord(frame, 0);
     deliveries.clear();
@@ -88,7 +91,7 @@ TEST(RemoteMedium, ProducesCallForCallWhatTheMediumProducesInProcess) {
   const Scenario scenario = ThreeRobots();
   auto local = tapbridge::MakeMacPhySimMedium(scenario);
   const Output expected = Drive(*local, scenario);
-  ASSERT_GT(expected.deliveries.size(), 100u);  // Traffic crossed, c joined half way.
+  ASSERT_GT(expected.deliveries.size(), 100u);   // Traffic crossed, c joined half way.
   ASSERT_GT(expected.pcap.size(), 150u * 100u);  // Data frames and ACKs on the air.
 
   auto [coordinator_end, connector_end] = coordinator::SocketPair();
@@ -139,6 +142,39 @@ TEST(RemoteMedium, ScenarioHashIgnoresDurationAndPacingButNotTheSeed) {
   EXPECT_NE(MediumScenarioHash(base), MediumScenarioHash(ThreeRobots(8)));
 }
 
+// A frame crosses the link once, whoever needs it: its deliveries and its on-air record (for the
+// pcap) name the same entry of the reply's frames. Oracle: one 1500-byte unicast frame, answered
+// by an ACK; the reply is the frame plus small fixed-size records, not two copies of it.
+TEST(MediumLinkSimulator, SendsEachFrameOnceForItsDeliveriesAndItsAirRecord) {
+  const Scenario scenario = ThreeRobots();
+  MediumLinkSimulator simulator(scenario, tapbridge::MakeMacPhySimMedium(scenario));
+  struct NoContext : coordinator::IterationContext {
+    void CommandsCollected() override {}
+  } context;
+  const std::vector<uint8_t> frame = Frame(scenario, 0, scenario.robots[1].wlan_mac, 1500, 9);
+  proto::medium::MediumRequest request;
+  proto::medium::SubmitOp* submit = request.add_ops()->mutable_submit();
+  submit->set_station(0);
+  submit->set_ethernet(frame.data(), frame.size());
+  proto::medium::AdvanceOp* advance = request.add_ops()->mutable_advance();
+  advance->set_until_ns(5 * kNsPerMs);
+  advance->set_trace_air(true);
+  proto::coord::Start start;
+  proto::coord::End end;
+  start.set_payload(request.SerializeAsString());
+  simulator.RunIteration(start, &end, context);
+  proto::medium::MediumReply reply;
+  ASSERT_TRUE(reply.ParseFromString(end.payload()));
+  ASSERT_EQ(reply.deliveries_size(), 1);  // Unicast: b only.
+  ASSERT_EQ(reply.air_size(), 2);         // DATA, ACK.
+  ASSERT_EQ(reply.frames_size(), 1);
+  EXPECT_EQ(reply.frames(0), std::string(frame.begin(), frame.end()));
+  EXPECT_EQ(reply.deliveries(0).frame_index(), 0);
+  EXPECT_EQ(reply.air(0).frame_index(), 0);
+  EXPECT_EQ(reply.air(1).frame_index(), -1);
+  EXPECT_LT(end.payload().size(), frame.size() + 300);
+}
+
 TEST(MediumLinkSimulator, RefusesMalformedRequestsWithOneLine) {
   const Scenario scenario = ThreeRobots();
   MediumLinkSimulator simulator(scenario, tapbridge::MakeMacPhySimMedium(scenario));
@@ -171,4 +207,4 @@ TEST(MediumLinkSimulator, RefusesMalformedRequestsWithOneLine) {
 }
 
 }  // namespace
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::network_side

@@ -6,11 +6,10 @@
 #include <string>
 
 #include "coordinator/coordinator.h"
-#include "runner/remote_medium.h"
-#include "runner/runner.h"
+#include "network_side/network_side.h"
 #include "tapbridge/tapbridge.h"
 
-namespace sitlnet::runner {
+namespace sitlnet::network_side {
 namespace {
 
 std::string Seconds(TimeNs ns) {
@@ -21,13 +20,7 @@ std::string Seconds(TimeNs ns) {
 
 }  // namespace
 
-std::string ServeRemoteMedium(Scenario scenario, const RemoteMediumOptions& options) {
-  if (options.seed || options.no_shadowing) {  // As `sitlnet run` applies them.
-    RunOptions overrides;
-    overrides.seed = options.seed;
-    overrides.no_shadowing = options.no_shadowing;
-    scenario = ApplyRunOverrides(scenario, overrides);
-  }
+std::string ServeRemoteMedium(const Scenario& scenario, const RemoteMediumOptions& options) {
   const coordinator::Endpoint endpoint = coordinator::ParseEndpoint(options.coordinator_endpoint);
   std::fprintf(stderr, "sitlnet medium: %s: connecting to the coordinator at %s\n",
                scenario.name.c_str(), endpoint.ToString().c_str());
@@ -50,4 +43,4 @@ std::string ServeRemoteMedium(Scenario scenario, const RemoteMediumOptions& opti
   return coordinator::ServeCoordinator(channel, simulator, identity, 10 * kNsPerS, stop.fd());
 }
 
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::network_side

@@ -1,12 +1,14 @@
-#include "runner/remote_medium.h"
-
 #include <algorithm>
 #include <cstring>
+#include <functional>
 #include <limits>
+#include <memory>
+#include <span>
 
 #include "coordinator/coordinator.h"
+#include "network_side/network_side.h"
 
-namespace sitlnet::runner {
+namespace sitlnet::network_side {
 namespace {
 
 namespace pm = proto::medium;
@@ -21,48 +23,79 @@ MacAddress MacFrom(const std::string& bytes) {
   return mac;
 }
 
-void ToProto(const tapbridge::AirFrame& f, pm::AirFrame* out) {
-  out->set_start_ns(f.start_ns);
-  out->set_duration_ns(f.duration_ns);
-  out->set_transmitter(f.transmitter);
-  out->set_kind(static_cast<int32_t>(f.kind));
-  out->set_retry(f.retry);
+// Index of `frame` in reply->frames, appended unless one of the last few is the same bytes: the
+// receivers of one transmission get their copies one after the other and its air frame follows
+// the step's deliveries, so a short look back finds the frame without hashing every one.
+int SharedFrameIndex(std::span<const uint8_t> frame, pm::MediumReply* reply) {
+  constexpr int kLookBack = 16;
+  for (int i = reply->frames_size() - 1; i >= 0 && i >= reply->frames_size() - kLookBack; --i) {
+    const std::string& known = reply->frames(i);
+    if (known.size() == frame.size() && std::memcmp(known.data(), frame.data(), frame.size()) == 0)
+      return i;
+  }
+  reply->add_frames(frame.data(), frame.size());
+  return reply->frames_size() - 1;
+}
+
+void ToProto(const tapbridge::AirFrame& f, pm::MediumReply* reply) {
+  pm::AirFrame* out = reply->add_air();
+  const mac::TxRecord& tx = f.tx;
+  out->set_start_ns(tx.start_ns);
+  out->set_duration_ns(tx.end_ns - tx.start_ns);
+  out->set_transmitter(tx.source);
+  out->set_kind(static_cast<int32_t>(tx.kind));
+  out->set_retry(tx.retry);
   out->set_failed(f.failed);
-  out->set_rate_mbps(f.rate_mbps);
+  out->set_rate_mbps(tx.rate_mbps);
   out->set_channel_mhz(f.channel_mhz);
   out->set_band_5ghz(f.band_5ghz);
   out->set_ofdm(f.ofdm);
   out->set_signal_dbm(f.signal_dbm);
   out->set_noise_dbm(f.noise_dbm);
-  out->set_duration_field_us(f.duration_field_us);
-  out->set_sequence(f.sequence);
-  out->set_receiver(MacBytes(f.receiver));
-  out->set_sender(MacBytes(f.sender));
-  out->set_ethernet(f.ethernet.data(), f.ethernet.size());
-  out->set_mpdu(f.mpdu.data(), f.mpdu.size());
+  out->set_duration_field_us(tx.duration_us);
+  out->set_sequence(tx.sequence_number);
+  out->set_receiver(MacBytes(tx.receiver));
+  out->set_sender(MacBytes(tx.transmitter));
+  out->set_frame_index(tx.ethernet_frame ? SharedFrameIndex(*tx.ethernet_frame, reply) : -1);
 }
 
-tapbridge::AirFrame FromProto(const pm::AirFrame& p) {
+// Throws (naming the peer through `describe`) on an air frame that cannot be one: the peer is
+// another process and its reply is input.
+tapbridge::AirFrame FromProto(const pm::AirFrame& p, const pm::MediumReply& reply,
+                              const std::function<std::string()>& describe) {
   tapbridge::AirFrame f;
-  f.start_ns = p.start_ns();
-  f.duration_ns = p.duration_ns();
-  f.transmitter = p.transmitter();
-  f.kind = static_cast<tapbridge::AirFrameKind>(
-      std::clamp<int32_t>(p.kind(), 0, static_cast<int32_t>(tapbridge::AirFrameKind::kCts)));
-  f.retry = p.retry();
+  mac::TxRecord& tx = f.tx;
+  if (p.kind() < 0 || p.kind() > static_cast<int32_t>(mac::FrameKind::kCts) ||
+      p.duration_ns() < 0 || p.start_ns() > std::numeric_limits<TimeNs>::max() - p.duration_ns()) {
+    throw Error(describe() + ": medium reply has an air frame of kind " + std::to_string(p.kind()) +
+                " lasting " + std::to_string(p.duration_ns()) + " ns");
+  }
+  tx.start_ns = p.start_ns();
+  tx.end_ns = p.start_ns() + p.duration_ns();
+  tx.source = p.transmitter();
+  tx.kind = static_cast<mac::FrameKind>(p.kind());
+  tx.retry = p.retry();
+  tx.rate_mbps = p.rate_mbps();
+  tx.duration_us = static_cast<uint16_t>(p.duration_field_us());
+  tx.sequence_number = static_cast<uint16_t>(p.sequence());
+  tx.receiver = MacFrom(p.receiver());
+  tx.transmitter = MacFrom(p.sender());
+  if (tx.kind == mac::FrameKind::kData) {
+    const int i = p.frame_index();
+    if (i < 0 || i >= reply.frames_size() || reply.frames(i).size() < 14) {
+      throw Error(describe() + ": medium reply's data air frame names frame " + std::to_string(i) +
+                  " of " + std::to_string(reply.frames_size()) +
+                  " (an Ethernet frame of at least 14 bytes)");
+    }
+    tx.ethernet_frame = std::make_shared<const std::vector<uint8_t>>(reply.frames(i).begin(),
+                                                                     reply.frames(i).end());
+  }
   f.failed = p.failed();
-  f.rate_mbps = p.rate_mbps();
   f.channel_mhz = p.channel_mhz();
   f.band_5ghz = p.band_5ghz();
   f.ofdm = p.ofdm();
   f.signal_dbm = p.signal_dbm();
   f.noise_dbm = p.noise_dbm();
-  f.duration_field_us = static_cast<uint16_t>(p.duration_field_us());
-  f.sequence = static_cast<uint16_t>(p.sequence());
-  f.receiver = MacFrom(p.receiver());
-  f.sender = MacFrom(p.sender());
-  f.ethernet.assign(p.ethernet().begin(), p.ethernet().end());
-  f.mpdu.assign(p.mpdu().begin(), p.mpdu().end());
   return f;
 }
 
@@ -97,7 +130,7 @@ void RemoteMedium::Submit(int station, TimeNs at_ns, std::span<const uint8_t> et
   op->set_ethernet(ethernet.data(), ethernet.size());
 }
 
-void RemoteMedium::AdvanceTo(TimeNs until_ns, std::vector<tapbridge::Delivery>* deliveries,
+void RemoteMedium::AdvanceTo(TimeNs until_ns, std::vector<mac::Delivery>* deliveries,
                              std::vector<tapbridge::AirFrame>* air) {
   pm::AdvanceOp* op = NewOp()->mutable_advance();
   op->set_until_ns(until_ns);
@@ -129,12 +162,19 @@ void RemoteMedium::AdvanceTo(TimeNs until_ns, std::vector<tapbridge::Delivery>* 
       }
       frame = &reply_.frames(d.frame_index());
     }
-    deliveries->push_back(tapbridge::Delivery{d.station(), d.time_ns(),
-                                              std::vector<uint8_t>(frame->begin(), frame->end()),
-                                              d.rx_power_dbm(), d.sinr_db()});
+    deliveries->push_back(mac::Delivery{d.station(), d.source(),
+                                        std::vector<uint8_t>(frame->begin(), frame->end()),
+                                        d.time_ns(), d.rx_power_dbm(), d.sinr_db()});
   }
   if (air != nullptr) {
-    for (const pm::AirFrame& frame : reply_.air()) air->push_back(FromProto(frame));
+    for (const pm::AirFrame& frame : reply_.air()) {
+      try {
+        air->push_back(FromProto(frame, reply_, [this] { return Describe(); }));
+      } catch (const Error&) {
+        healthy_ = false;
+        throw;
+      }
+    }
   }
 }
 
@@ -232,7 +272,7 @@ MediumLinkSimulator::MediumLinkSimulator(const Scenario& scenario,
     : medium_(std::move(medium)), stations_(static_cast<int>(scenario.robots.size())) {}
 
 void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End* end,
-                                       coordinator::IterationContext&) {
+                                       IterationContext&) {
   if (!request_.ParseFromString(start.payload())) {
     throw Error("medium request " + std::to_string(start.iteration()) +
                 " is not a MediumRequest (is the coordinator a `sitlnet run --remote network`?)");
@@ -259,23 +299,16 @@ void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::
         air_.clear();
         medium_->AdvanceTo(op.advance().until_ns(), &deliveries_,
                            op.advance().trace_air() ? &air_ : nullptr);
-        for (const tapbridge::Delivery& d : deliveries_) {
+        for (const mac::Delivery& d : deliveries_) {
           pm::Delivery* out = reply_.add_deliveries();
           out->set_station(d.station);
-          out->set_time_ns(d.time_ns);
-          // The receivers of one transmission get their copies one after
-          // the other: compare with the last frame only.
-          const std::string* last =
-              reply_.frames_size() ? &reply_.frames(reply_.frames_size() - 1) : nullptr;
-          if (!last || last->size() != d.frame.size() ||
-              std::memcmp(d.frame.data(), last->data(), d.frame.size()) != 0) {
-            reply_.add_frames(d.frame.data(), d.frame.size());
-          }
-          out->set_frame_index(reply_.frames_size() - 1);
+          out->set_source(d.source);
+          out->set_time_ns(d.delivery_ns);
+          out->set_frame_index(SharedFrameIndex(d.ethernet_frame, &reply_));
           out->set_rx_power_dbm(d.rx_power_dbm);
           out->set_sinr_db(d.sinr_db);
         }
-        for (const tapbridge::AirFrame& frame : air_) ToProto(frame, reply_.add_air());
+        for (const tapbridge::AirFrame& frame : air_) ToProto(frame, &reply_);
         break;
       case pm::MediumOp::kPosition:
         medium_->SetPosition(station_ok(op.position().station()), op.position().x_m(),
@@ -300,4 +333,4 @@ void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::
   reply_.SerializeToString(end->mutable_payload());
 }
 
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::network_side

@@ -8,12 +8,15 @@
 #include <thread>
 
 #include "coordinator/coordinator.h"
-#include "coordinator/medium_connector.h"
 #include "coordinator/synthetic.h"
 #include "mac_phy_sim/scenario_adapter.h"
+#include "network_side/network_side.h"
 
-namespace sitlnet::coordinator {
+namespace sitlnet::network_side {
 namespace {
+
+// These tests drive the coordinator directly.
+using namespace coordinator;  // NOLINT(google-build-using-namespace)
 
 constexpr int kRobots = 8;
 constexpr int64_t kIterations = 100;  // 1 s of virtual time.
@@ -44,7 +47,7 @@ SyntheticOptions PhysicsOptions(const Scenario& s) {
 
 // Co-simulation: synthetic physics in-process, the medium as a connector on
 // its own thread behind a Unix socket (the socket path, not a shortcut).
-std::vector<DeliveryRecord> CoSimulate(const Scenario& scenario) {
+std::vector<mac::Delivery> CoSimulate(const Scenario& scenario) {
   const std::string path = "/tmp/sitlnet-corr-" + std::to_string(getpid()) + ".sock";
   Listener listener(ParseEndpoint("unix:" + path));
   const uint64_t hash = ScenarioHash(scenario);
@@ -82,7 +85,7 @@ std::vector<DeliveryRecord> CoSimulate(const Scenario& scenario) {
 // submitted, then to the iteration's end. No δ_net stepping: the
 // co-simulation's steps (frames of a step queued ahead, AdvanceTo at each
 // step end) must not change anything either.
-std::vector<DeliveryRecord> MediumAlone(const Scenario& scenario) {
+std::vector<mac::Delivery> MediumAlone(const Scenario& scenario) {
   mac::Medium medium = mac::MakeMediumFromScenario(scenario);
   PeriodicBroadcast traffic(kRobots, 10 * kNsPerMs, 1400);
   std::vector<TimedFrame> frames;
@@ -107,17 +110,13 @@ std::vector<DeliveryRecord> MediumAlone(const Scenario& scenario) {
     }
     medium.AdvanceTo(end, &deliveries);
   }
-  std::vector<DeliveryRecord> records;
-  for (const mac::Delivery& d : deliveries) {
-    records.push_back({d.delivery_ns, d.station, d.source, d.ethernet_frame});
-  }
-  return records;
+  return deliveries;
 }
 
 TEST(MediumCorrectness, CoSimulatedDeliveriesEqualTheMediumAlone) {
   const Scenario scenario = TestScenario(1);
-  const std::vector<DeliveryRecord> cosim = CoSimulate(scenario);
-  const std::vector<DeliveryRecord> alone = MediumAlone(scenario);
+  const std::vector<mac::Delivery> cosim = CoSimulate(scenario);
+  const std::vector<mac::Delivery> alone = MediumAlone(scenario);
   // Sanity: the load is high enough that not every frame reaches everyone.
   const size_t offered = static_cast<size_t>(kRobots) * (kRobots - 1) * 100;
   ASSERT_GT(cosim.size(), 100u);
@@ -131,12 +130,12 @@ TEST(MediumCorrectness, CoSimulatedDeliveriesEqualTheMediumAlone) {
 }
 
 TEST(MediumReproducibility, TwoLockstepRunsAreIdenticalAndTheSeedMatters) {
-  const std::vector<DeliveryRecord> first = CoSimulate(TestScenario(1));
-  const std::vector<DeliveryRecord> second = CoSimulate(TestScenario(1));
+  const std::vector<mac::Delivery> first = CoSimulate(TestScenario(1));
+  const std::vector<mac::Delivery> second = CoSimulate(TestScenario(1));
   EXPECT_TRUE(first == second);
-  const std::vector<DeliveryRecord> other_seed = CoSimulate(TestScenario(2));
+  const std::vector<mac::Delivery> other_seed = CoSimulate(TestScenario(2));
   EXPECT_FALSE(first == other_seed) << "seed 2 gave the same deliveries as seed 1";
 }
 
 }  // namespace
-}  // namespace sitlnet::coordinator
+}  // namespace sitlnet::network_side

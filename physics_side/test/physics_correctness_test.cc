@@ -10,11 +10,15 @@
 #include <thread>
 
 #include "coordinator/coordinator.h"
-#include "coordinator/medium_connector.h"
-#include "coordinator/physics_connector.h"
+#include "network_side/network_side.h"
+#include "physics_side/physics_side.h"
 
-namespace sitlnet::coordinator {
+namespace sitlnet::physics_side {
 namespace {
+
+// These tests drive the coordinator directly.
+using namespace coordinator;   // NOLINT(google-build-using-namespace)
+using namespace network_side;  // NOLINT(google-build-using-namespace)
 
 constexpr int kRobots = 4;
 constexpr int64_t kIterations = 200;  // 2 s of flight, 2000 physics steps.
@@ -151,7 +155,7 @@ TEST(PhysicsCorrectness, CoSimulatedTrajectoriesAreBitIdenticalToPhysicsAlone) {
 // medium's random draws (and only those: physics does not depend on them).
 struct RunOutputs {
   Trajectory trajectory;
-  std::vector<DeliveryRecord> deliveries;
+  std::vector<mac::Delivery> deliveries;
 };
 
 RunOutputs RunBothOverSockets(const Scenario& scenario) {
@@ -219,4 +223,4 @@ TEST(Reproducibility, TwoLockstepRunsGiveIdenticalTrajectoriesAndDeliveries) {
 }
 
 }  // namespace
-}  // namespace sitlnet::coordinator
+}  // namespace sitlnet::physics_side

@@ -1,11 +1,10 @@
-#include "coordinator/medium_connector.h"
-
 #include <algorithm>
 #include <functional>
 
 #include "mac_phy_sim/scenario_adapter.h"
+#include "network_side/network_side.h"
 
-namespace sitlnet::coordinator {
+namespace sitlnet::network_side {
 
 PeriodicBroadcast::PeriodicBroadcast(int robots, TimeNs period_ns, int payload_bytes)
     : robots_(robots), period_ns_(period_ns), payload_bytes_(payload_bytes) {
@@ -52,10 +51,9 @@ namespace {
 void ApplyPoses(const proto::coord::Poses& poses, TimeNs at_ns, mac::Medium* medium) {
   const int n = std::min(medium->station_count(), poses.position_m_size() / 3);
   for (int i = 0; i < n; ++i) {
-    medium->SetStationPosition(i,
-                               Vec3d{poses.position_m(3 * i), poses.position_m(3 * i + 1),
-                                         poses.position_m(3 * i + 2)},
-                               at_ns);
+    medium->SetStationPosition(
+        i, Vec3d{poses.position_m(3 * i), poses.position_m(3 * i + 1), poses.position_m(3 * i + 2)},
+        at_ns);
   }
 }
 
@@ -70,10 +68,8 @@ void StepMedium(mac::Medium* medium, FrameSource* source, TimeNs t, TimeNs step_
   medium->AdvanceTo(t + step_ns, deliveries);
 }
 
-void Record(const std::vector<mac::Delivery>& in, std::vector<DeliveryRecord>* out) {
-  for (const mac::Delivery& d : in) {
-    out->push_back({d.delivery_ns, d.station, d.source, d.ethernet_frame});
-  }
+void Record(const std::vector<mac::Delivery>& in, std::vector<mac::Delivery>* out) {
+  out->insert(out->end(), in.begin(), in.end());
 }
 
 }  // namespace
@@ -89,4 +85,4 @@ void MediumSimulator::RunIteration(const proto::coord::Start& start, proto::coor
   }
 }
 
-}  // namespace sitlnet::coordinator
+}  // namespace sitlnet::network_side

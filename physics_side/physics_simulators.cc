@@ -1,8 +1,8 @@
-#include "coordinator/physics_connector.h"
-
 #include <cstdio>
 
-namespace sitlnet::coordinator {
+#include "physics_side/physics_side.h"
+
+namespace sitlnet::physics_side {
 
 void PosesFromWorld(const physics::World& world, proto::coord::Poses* poses) {
   for (int i = 0; i < world.robot_count(); ++i) {
@@ -87,4 +87,4 @@ void PhysicsServerSimulator::RunIteration(const proto::coord::Start& start, prot
   PosesFromWorld(server_.world(), end->mutable_poses());
 }
 
-}  // namespace sitlnet::coordinator
+}  // namespace sitlnet::physics_side

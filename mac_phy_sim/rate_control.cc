@@ -1,0 +1,115 @@
+// Rate selection: the table of rates of the standard with their control
+// responses, the per-station constant rate, and ns-3 3.37's IdealWifiManager
+// (per destination, the highest rate whose SNR threshold for ideal_ber is
+// below the SNR the destination last measured on an acknowledged frame of
+// ours; RTS at the highest basic rate whose threshold is below it).
+#include <cmath>
+
+#include "mac_phy_sim/error_rate.h"
+#include "mac_phy_sim/medium_state.h"
+
+namespace sitlnet::mac {
+namespace {
+
+ModeEntry MakeMode(const MediumConfig& config, double rate_mbps) {
+  const PhyMode mode = ModeFor(config.standard, rate_mbps);
+  const PhyHeader header = HeaderFor(config.standard, mode, config.short_preamble);
+  return ModeEntry{mode, PerfectSinr(mode), header, PerfectSinr(header.header_mode)};
+}
+
+// ns-3 ErrorRateModel::CalculateSnr: the SNR (linear) at which one bit fails
+// with probability `ber`, by bisection over [1e-25, 1e25] down to 2e-12 (at
+// most 200 halvings: far above the threshold the spacing of doubles is wider
+// than 2e-12, so ns-3's loop would not end there).
+double SnrForBer(const PhyMode& mode, double ber) {
+  double low = 1e-25, high = 1e25;
+  for (int i = 0; i < 200 && high - low > 2e-12; ++i) {
+    const double middle = low + (high - low) / 2;
+    if (1 - ChunkSuccessRate(mode, middle, 1) > ber) {
+      low = middle;
+    } else {
+      high = middle;
+    }
+  }
+  return low;
+}
+
+double LastSnr(const StationState& st, const MacAddress& destination) {
+  for (const auto& [mac, snr] : st.ideal_snr) {
+    if (mac == destination) return snr;
+  }
+  return 0;  // ns-3: m_lastSnrObserved starts at 0, so the lowest rate.
+}
+
+}  // namespace
+
+void BuildRates(State& s) {
+  static constexpr double kAll[] = {1, 2, 5.5, 6, 9, 11, 12, 18, 24, 36, 48, 54};
+  for (double rate : kAll) {
+    try {
+      ModeFor(s.config.standard, rate);
+    } catch (const Error&) {
+      continue;  // Not a rate of this standard.
+    }
+    RateEntry entry;
+    entry.data = MakeMode(s.config, rate);
+    entry.control = MakeMode(s.config, ControlRateFor(s.config.standard, rate));
+    entry.ack_ns = PpduDurationNs(entry.control.mode, entry.control.header, kAckBytes);
+    entry.cts_ns = PpduDurationNs(entry.control.mode, entry.control.header, kCtsBytes);
+    if (s.config.rate_control == MediumConfig::RateControl::kIdeal) {
+      entry.ideal_snr_threshold = SnrForBer(entry.data.mode, s.config.ideal_ber);
+    }
+    entry.basic = ControlRateFor(s.config.standard, rate) == rate;
+    s.rates.push_back(entry);
+  }
+  s.group_rate = &RateFor(s, s.phy.group_rate_mbps);
+}
+
+const RateEntry& RateFor(const State& s, double rate_mbps) {
+  for (const RateEntry& entry : s.rates) {
+    if (std::fabs(entry.data.mode.rate_mbps - rate_mbps) < 1e-9) return entry;
+  }
+  SITLNET_DEMAND(false && "rate not in the table");
+  return s.rates.front();
+}
+
+void ChooseRates(State& s, int station) {
+  StationState& st = s.stations[station];
+  Frame& f = st.current;
+  if (f.group) {
+    f.rate = f.rts_rate = s.group_rate;
+    return;
+  }
+  if (s.config.rate_control == MediumConfig::RateControl::kConstant) {
+    f.rate = f.rts_rate = st.rate;
+    return;
+  }
+  const double snr = LastSnr(st, f.destination);
+  f.rate = &s.rates.front();
+  f.rts_rate = nullptr;
+  for (const RateEntry& entry : s.rates) {
+    if (entry.ideal_snr_threshold < snr &&
+        entry.data.mode.rate_mbps > f.rate->data.mode.rate_mbps) {
+      f.rate = &entry;
+    }
+    if (entry.basic && entry.ideal_snr_threshold < snr &&
+        (f.rts_rate == nullptr || entry.ideal_snr_threshold > f.rts_rate->ideal_snr_threshold)) {
+      f.rts_rate = &entry;
+    }
+  }
+  if (f.rts_rate == nullptr) f.rts_rate = &s.rates.front();  // ns-3: the default mode.
+}
+
+void ReportSnr(State& s, int station, const MacAddress& destination, double snr) {
+  if (s.config.rate_control != MediumConfig::RateControl::kIdeal) return;
+  StationState& st = s.stations[station];
+  for (auto& [mac, last] : st.ideal_snr) {
+    if (mac == destination) {
+      last = snr;
+      return;
+    }
+  }
+  st.ideal_snr.emplace_back(destination, snr);
+}
+
+}  // namespace sitlnet::mac

@@ -1,0 +1,123 @@
+// One cell of the ns-3 side-by-side matrix (bench/ns3_reference/) and its
+// geometry: which stations exist, where, and which of them send saturated
+// traffic to whom. Plain C++17 and the standard library only, because the
+// ns-3 half of the benchmark is compiled as C++17 and includes it too.
+#ifndef SITLNET_MAC_PHY_SIM_TEST_SIDE_BY_SIDE_CASE_H_
+#define SITLNET_MAC_PHY_SIM_TEST_SIDE_BY_SIDE_CASE_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sitlnet::side_by_side {
+
+enum class Standard { kA, kB, kG };
+enum class Topology {
+  kRing,     // `senders` stations 1 mm apart, i sends to i + 1 (ns-3's Bianchi validation).
+  kSink,     // `senders` stations 1 mm apart send to one more, receive-only station.
+  kHidden,   // A -> B <- C on a line: A-B `near_m`, B-C `far_m`; A and C out of each other's range.
+  kExposed,  // B <- A   C -> D: A-C `far_m` (they hear each other), A-B = C-D = `near_m`.
+  kLink,     // One sender, one receiver `near_m` away (for fading and shadowing cells).
+};
+
+struct Case {
+  std::string id;  // Unique, stable: names the CSV row.
+  Standard standard = Standard::kA;
+  bool short_slot = false;  // 11g only.
+  double rate_mbps = 54;
+  int senders = 5;
+  Topology topology = Topology::kRing;
+  int payload_bytes = 1500;          // Ethernet/packet payload; MPDU = payload + 36 bytes.
+  uint32_t rts_threshold_bytes = 0;  // 0: no RTS/CTS.
+  bool capture = false;              // SimpleFrameCaptureModel, 5 dB margin.
+  double nakagami_m = 0;             // Nakagami fading with this m at every distance; 0: off.
+  double lognormal_sigma_db = 0;     // Log-normal shadowing per link; 0: off.
+  bool ideal_rate = false;           // Rate control: ns-3's IdealWifiManager (rate_mbps unused).
+  double near_m = 0, far_m = 0;      // Hidden/exposed geometry.
+  double warmup_s = 1, measure_s = 10;
+  // Bianchi's assumption for saturation (CW stays at CWmax); otherwise the
+  // standard's 7 / 4 attempts.
+  bool unlimited_retries = true;
+  bool fast = false;  // Part of the subset scripts/test checks against the CSV.
+};
+
+struct Point {
+  double x = 0, y = 0, z = 0;
+};
+struct Flow {
+  int from = 0, to = 0;
+};
+struct Layout {
+  std::vector<Point> positions;
+  std::vector<Flow> flows;
+};
+
+inline Layout MakeLayout(const Case& c) {
+  Layout layout;
+  switch (c.topology) {
+    case Topology::kRing:
+      for (int i = 0; i < c.senders; ++i) {
+        layout.positions.push_back({0.001 * i, 0, 0});
+        layout.flows.push_back({i, (i + 1) % c.senders});
+      }
+      break;
+    case Topology::kSink:
+      for (int i = 0; i <= c.senders; ++i) layout.positions.push_back({0.001 * i, 0, 0});
+      for (int i = 1; i <= c.senders; ++i) layout.flows.push_back({i, 0});
+      break;
+    case Topology::kHidden:
+      layout.positions = {{0, 0, 0}, {c.near_m, 0, 0}, {c.near_m + c.far_m, 0, 0}};
+      layout.flows = {{0, 1}, {2, 1}};
+      break;
+    case Topology::kExposed:
+      layout.positions = {
+          {0, 0, 0}, {-c.near_m, 0, 0}, {c.far_m, 0, 0}, {c.far_m + c.near_m, 0, 0}};
+      layout.flows = {{0, 1}, {2, 3}};
+      break;
+    case Topology::kLink:
+      layout.positions = {{0, 0, 0}, {c.near_m, 0, 0}};
+      layout.flows = {{0, 1}};
+      break;
+  }
+  return layout;
+}
+
+// The traffic both simulators offer: every flow's source queues one packet
+// per interval, starting 1 ms after the previous flow's (ns-3's
+// PacketSocketClient as the side-by-side configures it). The interval is half
+// the time one station alone needs per frame (DIFS + mean backoff + DATA +
+// SIFS + ACK, roughly), so every queue stays full: the medium, not the
+// source, sets the throughput. Queues then hold 500 frames and frames expire
+// after 500 ms (ns-3's WifiMacQueue defaults), as in ns-3.
+inline int64_t OfferIntervalNs(const Case& c) {
+  const bool dsss = c.rate_mbps == 1 || c.rate_mbps == 2 || c.rate_mbps == 5.5 || c.rate_mbps == 11;
+  const double slot_us = c.standard == Standard::kA || c.short_slot ? 9 : 20;
+  const double bits = 8.0 * (c.payload_bytes + 36);
+  const double data_us = (dsss ? 192 : 20) + bits / c.rate_mbps;
+  const double cycle_us = 50 + 7.5 * slot_us + data_us + 250;
+  return static_cast<int64_t>(cycle_us * 1000 / 2);
+}
+inline int64_t OfferStartNs(int flow_index) { return 1000000LL * flow_index; }
+
+inline const char* StandardName(Standard s) {
+  return s == Standard::kA ? "a" : (s == Standard::kB ? "b" : "g");
+}
+inline const char* TopologyName(Topology t) {
+  switch (t) {
+    case Topology::kRing:
+      return "ring";
+    case Topology::kSink:
+      return "sink";
+    case Topology::kHidden:
+      return "hidden";
+    case Topology::kExposed:
+      return "exposed";
+    case Topology::kLink:
+      return "link";
+  }
+  return "?";
+}
+
+}  // namespace sitlnet::side_by_side
+
+#endif  // SITLNET_MAC_PHY_SIM_TEST_SIDE_BY_SIDE_CASE_H_

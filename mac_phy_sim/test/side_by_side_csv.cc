@@ -1,0 +1,124 @@
+#include "mac_phy_sim/test/side_by_side_csv.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace sitlnet::side_by_side {
+namespace {
+
+constexpr const char* kColumns =
+    "id,standard,short_slot,rate_mbps,senders,topology,payload_bytes,rts_threshold_bytes,capture,"
+    "near_m,far_m,nakagami_m,lognormal_sigma_db,ideal_rate,warmup_s,measure_s,unlimited_retries,"
+    "fast,seeds,"
+    "ns3_mean_mbps,ns3_sd_mbps,"
+    "ours_mean_mbps,ours_sd_mbps,ns3_wall_s,ours_wall_s";
+
+bool ParseStandard(const std::string& s, Standard* out) {
+  if (s == "a")
+    *out = Standard::kA;
+  else if (s == "b")
+    *out = Standard::kB;
+  else if (s == "g")
+    *out = Standard::kG;
+  else
+    return false;
+  return true;
+}
+
+bool ParseTopology(const std::string& s, Topology* out) {
+  for (Topology t :
+       {Topology::kRing, Topology::kSink, Topology::kHidden, Topology::kExposed, Topology::kLink}) {
+    if (s == TopologyName(t)) {
+      *out = t;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool ParseLine(const std::string& line, Row* row) {
+  std::vector<std::string> f;
+  std::stringstream in(line);
+  for (std::string cell; std::getline(in, cell, ',');) f.push_back(cell);
+  if (f.size() != 25) return false;
+  try {
+    Case& c = row->c;
+    c.id = f[0];
+    if (!ParseStandard(f[1], &c.standard) || !ParseTopology(f[5], &c.topology)) return false;
+    c.short_slot = f[2] == "1";
+    c.rate_mbps = std::stod(f[3]);
+    c.senders = std::stoi(f[4]);
+    c.payload_bytes = std::stoi(f[6]);
+    c.rts_threshold_bytes = static_cast<uint32_t>(std::stoul(f[7]));
+    c.capture = f[8] == "1";
+    c.near_m = std::stod(f[9]);
+    c.far_m = std::stod(f[10]);
+    c.nakagami_m = std::stod(f[11]);
+    c.lognormal_sigma_db = std::stod(f[12]);
+    c.ideal_rate = f[13] == "1";
+    c.warmup_s = std::stod(f[14]);
+    c.measure_s = std::stod(f[15]);
+    c.unlimited_retries = f[16] == "1";
+    c.fast = f[17] == "1";
+    row->seeds = std::stoi(f[18]);
+    row->ns3_mean_mbps = std::stod(f[19]);
+    row->ns3_sd_mbps = std::stod(f[20]);
+    row->ours_mean_mbps = std::stod(f[21]);
+    row->ours_sd_mbps = std::stod(f[22]);
+    row->ns3_wall_s = std::stod(f[23]);
+    row->ours_wall_s = std::stod(f[24]);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::string CsvHeader() { return kColumns; }
+
+std::string FormatRow(const Row& r) {
+  const Case& c = r.c;
+  char buf[512];
+  std::snprintf(
+      buf, sizeof buf,
+      "%s,%s,%d,%g,%d,%s,%d,%u,%d,%g,%g,%g,%g,%d,%g,%g,%d,%d,%d,%.6f,%.6f,%.6f,%.6f,%.3f,%.3f",
+      c.id.c_str(), StandardName(c.standard), c.short_slot ? 1 : 0, c.rate_mbps, c.senders,
+      TopologyName(c.topology), c.payload_bytes, c.rts_threshold_bytes, c.capture ? 1 : 0, c.near_m,
+      c.far_m, c.nakagami_m, c.lognormal_sigma_db, c.ideal_rate ? 1 : 0, c.warmup_s, c.measure_s,
+      c.unlimited_retries ? 1 : 0, c.fast ? 1 : 0, r.seeds, r.ns3_mean_mbps, r.ns3_sd_mbps,
+      r.ours_mean_mbps, r.ours_sd_mbps, r.ns3_wall_s, r.ours_wall_s);
+  return buf;
+}
+
+bool ReadCsv(const std::string& path, std::vector<Row>* rows, std::string* error) {
+  std::ifstream in(path);
+  if (!in) {
+    *error = path + ": cannot open";
+    return false;
+  }
+  int line_number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_number;
+    if (line.empty() || line[0] == '#' || line == kColumns) continue;
+    Row row;
+    if (!ParseLine(line, &row)) {
+      *error = path + ":" + std::to_string(line_number) + ": not a row of " + kColumns;
+      return false;
+    }
+    rows->push_back(row);
+  }
+  return true;
+}
+
+double RuleFraction(const Case& c) {
+  return c.topology == Topology::kRing || c.topology == Topology::kSink ? 0.015 : 0.05;
+}
+
+double RelativeError(const Row& r) { return r.ours_mean_mbps / r.ns3_mean_mbps - 1; }
+
+bool Passes(const Row& r) { return std::fabs(RelativeError(r)) <= RuleFraction(r.c); }
+
+}  // namespace sitlnet::side_by_side
