@@ -3,6 +3,7 @@
 #include <cmath>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "clock/clock.h"
 
@@ -274,6 +275,70 @@ void ValidateAddresses(const SourceLocator& at, Scenario* scenario) {
   }
 }
 
+void ValidateGeodeticOrigin(const SourceLocator& at, const proto::Scenario& spec) {
+  if (!spec.has_geodetic_origin()) return;
+  const proto::GeodeticOrigin& origin = spec.geodetic_origin();
+  const auto check = [&](const char* field, double value, double low, double high,
+                         const char* why) {
+    // Open at the poles: the ENU frame's east and north are undefined there.
+    if (!InRange(value, low, high)) {
+      at.Fail({{"geodetic_origin"}, {field}},
+              std::string("geodetic_origin: ") + field + " " + Num(value) + " out of range " + why);
+    }
+  };
+  check("latitude_deg", origin.latitude_deg(), -89.9, 89.9,
+        "[-89.9, 89.9] (east and north are undefined at the poles)");
+  check("longitude_deg", origin.longitude_deg(), -180, 180, "[-180, 180]");
+  // The ISA formula the barometer uses holds in the troposphere, below 11 km: 2 km above the
+  // highest origin are left for flight.
+  check("altitude_m", origin.altitude_m(), -1000, 9000,
+        "[-1000, 9000] (the barometer's ISA troposphere ends at 11 km)");
+  if ((origin.has_latitude_deg() || origin.has_longitude_deg()) && !origin.has_magnetic_field()) {
+    at.Fail(
+        {{"geodetic_origin"}},
+        "geodetic_origin: a latitude/longitude other than the default needs magnetic_field "
+        "(declination_deg, inclination_deg, intensity_gauss of the World Magnetic Model there)");
+  }
+  const proto::MagneticField& field = origin.magnetic_field();
+  const auto check_field = [&](const char* name, double value, double low, double high,
+                               const char* range) {
+    if (!InRange(value, low, high)) {
+      at.Fail({{"geodetic_origin"}, {"magnetic_field"}, {name}},
+              std::string("geodetic_origin: magnetic_field ") + name + " " + Num(value) +
+                  " out of range " + range);
+    }
+  };
+  check_field("declination_deg", field.declination_deg(), -180, 180, "[-180, 180]");
+  check_field("inclination_deg", field.inclination_deg(), -90, 90, "[-90, 90]");
+  // WMM2025 at sea level, 2026.0, over a 1-degree grid: 0.2205 to 0.6694 gauss.
+  check_field("intensity_gauss", field.intensity_gauss(), 0.1, 1, "[0.1, 1]");
+}
+
+// GPS, barometer and magnetometer figures of robot `i`.
+void ValidateHilSensors(const SourceLocator& at, int i, const proto::Robot& robot) {
+  const std::string who = "robot \"" + robot.name() + "\": ";
+  if (!InRange(robot.gps().rate_hz(), 0.1, 1000)) {
+    at.Fail({{"robot", i}, {"gps"}, {"rate_hz"}},
+            who + "gps rate_hz " + Num(robot.gps().rate_hz()) + " out of range [0.1, 1000]");
+  }
+  const std::tuple<const char*, const char*, double> noises[] = {
+      {"gps", "horizontal_noise_m", robot.gps().horizontal_noise_m()},
+      {"gps", "vertical_noise_m", robot.gps().vertical_noise_m()},
+      {"gps", "velocity_noise_m_s", robot.gps().velocity_noise_m_s()},
+      {"barometer", "noise_pa", robot.barometer().noise_pa()},
+      {"magnetometer", "noise_gauss", robot.magnetometer().noise_gauss()}};
+  for (const auto& [block, field, value] : noises) {
+    if (!InRange(value, 0, 1e6)) {
+      at.Fail({{"robot", i}, {block}, {field}},
+              who + block + " " + field + " " + Num(value) + " must be finite and >= 0");
+    }
+  }
+  if (robot.gps().satellites() > 254) {
+    at.Fail({{"robot", i}, {"gps"}, {"satellites"}},
+            who + "gps satellites must be <= 254 (255 means unknown in HIL_GPS)");
+  }
+}
+
 void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
   const proto::Scenario& spec = scenario->spec;
   if (spec.robot_size() == 0) at.Fail({}, "a scenario needs at least one robot");
@@ -337,6 +402,7 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
               who + "rate_mbps " + Num(robot.rate_mbps()) + " is not a rate of " +
                   proto::Radio::Standard_Name(spec.radio().standard()) + kRateLists);
     }
+    ValidateHilSensors(at, i, robot);
     if (!robot.airframe().empty() && FindAirframe(spec, robot.airframe()).name().empty()) {
       at.Fail({{"robot", i}, {"airframe"}}, who + "unknown airframe \"" + robot.airframe() + "\"");
     }
@@ -384,6 +450,7 @@ void ValidateAndDerive(const SourceLocator& locator, Scenario* scenario) {
   ValidateObstacles(locator, scenario->spec);
   ValidateRadio(locator, scenario->spec.radio());
   ValidateTiming(locator, scenario);
+  ValidateGeodeticOrigin(locator, scenario->spec);
   ValidateAddresses(locator, scenario);
   ValidateAndDeriveRobots(locator, scenario);
 }

@@ -171,5 +171,38 @@ TEST(ScenarioTest, MissingFileNamesThePath) {
       Error);
 }
 
+TEST(ScenarioTest, GeodeticOriginDefaultsAndRanges) {
+  const Scenario plain = LoadScenarioText(kTwo, "t.textproto");
+  EXPECT_DOUBLE_EQ(plain.spec.geodetic_origin().latitude_deg(), 47.397742);
+  EXPECT_DOUBLE_EQ(plain.spec.geodetic_origin().magnetic_field().intensity_gauss(), 0.483637);
+  // Line 4 column 36: the offending field inside the block.
+  ExpectRejected(std::string(kTwo) +
+                     "geodetic_origin { magnetic_field {} latitude_deg: 91 longitude_deg: 0 }\n",
+                 "t.textproto:4:37", "latitude_deg 91 out of range");
+  ExpectRejected(std::string(kTwo) + "geodetic_origin { altitude_m: 12000 }\n", "t.textproto:4:19",
+                 "altitude_m 12000 out of range");
+  // Another place without its magnetic field: refused rather than given Zurich's.
+  ExpectRejected(std::string(kTwo) + "geodetic_origin { latitude_deg: 10 }\n", "t.textproto:4:1",
+                 "needs magnetic_field");
+  ExpectRejected(std::string(kTwo) + "geodetic_origin { magnetic_field { intensity_gauss: 5 } }\n",
+                 "t.textproto:4:36", "intensity_gauss 5 out of range");
+  const Scenario moved = LoadScenarioText(
+      std::string(kTwo) +
+          "geodetic_origin { latitude_deg: -33.9 longitude_deg: 151.2 altitude_m: 20\n"
+          "  magnetic_field { declination_deg: 12.9 inclination_deg: -64.4 "
+          "intensity_gauss: 0.575 } }\n",
+      "t.textproto");
+  EXPECT_DOUBLE_EQ(moved.spec.geodetic_origin().magnetic_field().inclination_deg(), -64.4);
+}
+
+TEST(ScenarioTest, RejectsBadHilSensorFigures) {
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" gps { rate_hz: 0 } }\n",
+                 "t.textproto:2:", "gps rate_hz 0 out of range");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" barometer { noise_pa: -1 } }\n",
+                 "t.textproto:2:", "barometer noise_pa -1 must be finite and >= 0");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" gps { satellites: 255 } }\n",
+                 "t.textproto:2:", "satellites must be <= 254");
+}
+
 }  // namespace
 }  // namespace sitlnet
