@@ -64,15 +64,15 @@ BoxCrossing CrossBox(const Box& box, const Vec3d& a, const Vec3d& b) {
   return CrossPreparedBox(PrepareBox(box), a, b);
 }
 
-Channel::Channel(double reference_loss_db, double exponent, bool shadowing, double db_per_wall,
-                 double db_per_m)
+RadioChannel::RadioChannel(double reference_loss_db, double exponent, bool shadowing,
+                           double db_per_wall, double db_per_m)
     : reference_loss_db_(reference_loss_db),
       exponent_(exponent),
       shadowing_(shadowing),
       db_per_wall_(db_per_wall),
       db_per_m_(db_per_m) {}
 
-int Channel::AddStation(const Vec3d& position_m) {
+int RadioChannel::AddStation(const Vec3d& position_m) {
   const int index = static_cast<int>(positions_.size());
   positions_.push_back(position_m);
   moved_epoch_.push_back(++epoch_);
@@ -86,27 +86,27 @@ int Channel::AddStation(const Vec3d& position_m) {
   return index;
 }
 
-void Channel::SetPosition(int station, const Vec3d& position_m) {
+void RadioChannel::SetPosition(int station, const Vec3d& position_m) {
   const Vec3d& old = positions_[station];
   if (old.x == position_m.x && old.y == position_m.y && old.z == position_m.z) return;
   positions_[station] = position_m;
   moved_epoch_[station] = ++epoch_;
 }
 
-void Channel::AddObstacle(const Box& box) {
+void RadioChannel::AddObstacle(const Box& box) {
   boxes_.push_back(PrepareBox(box));
   visit_stamp_.push_back(0);
   grid_stale_ = true;
   obstacles_epoch_ = ++epoch_;
 }
 
-double Channel::PathLossDb(double distance_m) const {
+double RadioChannel::PathLossDb(double distance_m) const {
   // ns-3 LogDistancePropagationLossModel: the reference loss at or below d0 = 1 m.
   if (distance_m <= 1.0) return reference_loss_db_;
   return reference_loss_db_ + 10 * exponent_ * std::log10(distance_m);
 }
 
-void Channel::Recompute(int a, int b) {
+void RadioChannel::Recompute(int a, int b) {
   const double loss = a == b ? 0.0 : ComputeLoss(a, b);
   const double gain = std::pow(10.0, -loss / 10);
   for (const size_t index :
@@ -117,7 +117,7 @@ void Channel::Recompute(int a, int b) {
   }
 }
 
-double Channel::LognormalDb(int a, int b) const {
+double RadioChannel::LognormalDb(int a, int b) const {
   if (lognormal_sigma_db_ <= 0) return 0;
   // Two uniforms from SplitMix64 (Steele et al. 2014) of the seed and the
   // unordered pair, then Box-Muller.
@@ -135,7 +135,7 @@ double Channel::LognormalDb(int a, int b) const {
   return lognormal_sigma_db_ * std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
 }
 
-double Channel::ComputeLoss(int a, int b) {
+double RadioChannel::ComputeLoss(int a, int b) {
   const Vec3d& pa = positions_[a];
   const Vec3d& pb = positions_[b];
   const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
@@ -147,7 +147,7 @@ double Channel::ComputeLoss(int a, int b) {
   return loss;
 }
 
-void Channel::RebuildGrid() {
+void RadioChannel::RebuildGrid() {
   grid_stale_ = false;
   double x0 = std::numeric_limits<double>::infinity(), y0 = x0;
   double x1 = -x0, y1 = -x0;
@@ -180,7 +180,7 @@ void Channel::RebuildGrid() {
   }
 }
 
-double Channel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_db) {
+double RadioChannel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_db) {
   if (boxes_.empty()) return 0;
   if (grid_stale_) RebuildGrid();
   if (++stamp_ == 0) {  // Wrapped: reset stamps so none looks visited.

@@ -1,4 +1,4 @@
-// Channel: log-distance path loss plus obstacle shadowing after Sommer et al.,
+// RadioChannel: log-distance path loss plus obstacle shadowing after Sommer et al.,
 // "A Computationally Inexpensive Empirical Model of IEEE 802.11p Radio
 // Shadowing in Urban Environments", WONS 2011: L_obs = beta * walls crossed +
 // gamma * metres inside, per box. Loss per station pair is cached and
@@ -36,10 +36,10 @@ struct PreparedBox {
 PreparedBox PrepareBox(const Box& box);
 BoxCrossing CrossPreparedBox(const PreparedBox& box, const Vec3d& a, const Vec3d& b);
 
-class Channel {
+class RadioChannel {
  public:
-  Channel(double reference_loss_db, double exponent, bool shadowing, double db_per_wall,
-          double db_per_m);
+  RadioChannel(double reference_loss_db, double exponent, bool shadowing, double db_per_wall,
+               double db_per_m);
 
   int AddStation(const Vec3d& position_m);  // Returns its index.
   void SetPosition(int station, const Vec3d& position_m);

@@ -12,11 +12,11 @@ namespace {
 
 uint16_t Micros(TimeNs ns) { return static_cast<uint16_t>((ns + kNsPerUs - 1) / kNsPerUs); }
 
-int DataPsduBytes(const Frame& frame) {
+int DataPsduBytes(const QueuedFrame& frame) {
   return MpduBytesForEthernet(static_cast<int>(frame.ethernet->size()));
 }
 
-TimeNs DataDurationNs(const Frame& frame) {
+TimeNs DataDurationNs(const QueuedFrame& frame) {
   return PpduDurationNs(frame.rate->data.mode, frame.rate->data.header, DataPsduBytes(frame));
 }
 
@@ -56,7 +56,7 @@ void ExchangeFailed(State& s, int station) {
   st.exchange = Exchange::kIdle;
   st.timeout_waits_for_rx = false;
   ++st.counters.tx_failures;
-  Frame& f = st.current;
+  QueuedFrame& f = st.current;
   // Station retry counts (10.3.4.4): SRC for RTS and short DATA, LRC for DATA
   // after a CTS; at the limit the frame in service is discarded.
   const bool data_after_cts = !was_cts && f.use_rts;
@@ -89,7 +89,7 @@ void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& r
 
 void SendData(State& s, int station) {
   StationState& st = s.stations[station];
-  Frame& f = st.current;
+  QueuedFrame& f = st.current;
   const uint16_t duration = f.group ? 0 : Micros(s.phy.sifs_ns + f.rate->ack_ns);
   Transmission& tx = StartTransmission(s, station, FrameKind::kData, f.rate->data, DataPsduBytes(f),
                                        f.destination, duration);
@@ -111,8 +111,8 @@ void DropExpired(State& s, int station, bool include_current) {
   StationState& st = s.stations[station];
   const TimeNs max_delay = s.config.queue_max_delay_ns;
   if (max_delay <= 0) return;
-  auto expired = [&](const Frame& f) { return f.enqueued_ns + max_delay <= s.now_ns; };
-  auto drop = [&](const Frame& f) {
+  auto expired = [&](const QueuedFrame& f) { return f.enqueued_ns + max_delay <= s.now_ns; };
+  auto drop = [&](const QueuedFrame& f) {
     ++st.counters.queue_drops;
     ++st.counters.queue_expired;
     TraceDrop(s, station, DropReason::kQueueExpired, f.destination, f.sequence_number,
@@ -143,7 +143,7 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
     TraceDrop(s, station, DropReason::kQueueFull, destination, 0, ethernet->size());
     return;
   }
-  Frame frame;
+  QueuedFrame frame;
   std::copy_n(ethernet->begin(), 6, frame.destination.bytes.begin());
   frame.group = frame.destination.IsGroup();
   frame.ethernet = std::move(ethernet);
@@ -166,7 +166,7 @@ void StartCurrentFrame(State& s, int station) {
     StartBackoff(s, station);
     return;
   }
-  Frame& f = st.current;
+  QueuedFrame& f = st.current;
   ChooseRates(s, station);
   if (!f.use_rts) {
     SendData(s, station);

@@ -51,7 +51,7 @@ struct RateEntry {
 };
 
 // An MSDU in a station's queue or in service.
-struct Frame {
+struct QueuedFrame {
   Bytes ethernet;
   MacAddress destination;
   bool group = false;
@@ -118,9 +118,9 @@ struct StationState {
   std::gamma_distribution<double> fading[3];
   StationCounters counters;
   // Transmit queue and the frame in service.
-  std::deque<Frame> queue;
+  std::deque<QueuedFrame> queue;
   bool has_current = false;
-  Frame current;
+  QueuedFrame current;
   uint16_t next_sequence_number = 0;
   int cw = 0;
   // Station retry counts, SRC and LRC (IEEE 802.11-2016 10.3.4.4; ns-3's
@@ -178,7 +178,7 @@ struct Medium::State {
   double max_tx_power_dbm = 0;  // Over the config and every station.
   double noise_mw = 0, cca_mw = 0, preamble_snr_linear = 0;
 
-  Channel channel;
+  RadioChannel channel;
   Scheduler scheduler;
   TimeNs now_ns = 0;
   std::vector<StationState> stations;

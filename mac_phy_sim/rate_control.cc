@@ -75,7 +75,7 @@ const RateEntry& RateFor(const State& s, double rate_mbps) {
 
 void ChooseRates(State& s, int station) {
   StationState& st = s.stations[station];
-  Frame& f = st.current;
+  QueuedFrame& f = st.current;
   if (f.group) {
     f.rate = f.rts_rate = s.group_rate;
     return;

@@ -62,7 +62,7 @@ void CountReceiverOutcome(StationState& st, const Transmission& tx, const RxEntr
 // ns-3 ConstantSpeedPropagationDelayModel's default speed.
 constexpr double kSpeedOfLightMps = 299792458.0;
 
-double SquaredDistanceM2(const Channel& channel, int a, int b) {
+double SquaredDistanceM2(const RadioChannel& channel, int a, int b) {
   const Vec3d& pa = channel.position(a);
   const Vec3d& pb = channel.position(b);
   const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;

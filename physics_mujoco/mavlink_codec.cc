@@ -76,7 +76,7 @@ void FrameParser::Reset() {
   start_ = 0;
 }
 
-bool FrameParser::Next(Frame* frame) {
+bool FrameParser::Next(ReceivedFrame* frame) {
   while (start_ < buffer_.size()) {
     const uint8_t* p = buffer_.data() + start_;
     const size_t available = buffer_.size() - start_;

@@ -53,7 +53,7 @@ void AppendFrame(uint32_t id, const uint8_t* payload, const Header& header,
                  std::vector<uint8_t>* out);
 
 // A received frame, its payload zero-filled to the message's max_length.
-struct Frame {
+struct ReceivedFrame {
   uint32_t message_id = 0;
   Header header;
   std::array<uint8_t, kMaxPayloadBytes> payload{};
@@ -78,7 +78,7 @@ class FrameParser {
  public:
   void Push(const uint8_t* data, size_t size);
   // Takes the next valid frame, if a whole one has arrived.
-  bool Next(Frame* frame);
+  bool Next(ReceivedFrame* frame);
   void Reset();
   const ParserCounters& counters() const { return counters_; }
 

@@ -35,7 +35,7 @@ class Writer {
 // Reads fields one after the other from a frame's (zero-filled) payload.
 class Reader {
  public:
-  explicit Reader(const Frame& frame) : payload_(frame.payload) {}
+  explicit Reader(const ReceivedFrame& frame) : payload_(frame.payload) {}
   template <typename T>
   Reader& operator()(T& value) {
     if constexpr (std::is_arithmetic_v<T>) {
@@ -90,7 +90,7 @@ Payload PackFields(const Message& message) {
 }
 
 template <typename Message>
-bool UnpackFields(const Frame& frame, Message* message) {
+bool UnpackFields(const ReceivedFrame& frame, Message* message) {
   if (frame.message_id != IdOf(*message)) return false;
   Reader reader(frame);
   Fields(reader, *message);
@@ -105,13 +105,13 @@ Payload Pack(const HilSensor& message) { return PackFields(message); }
 Payload Pack(const HilGps& message) { return PackFields(message); }
 Payload Pack(const HilStateQuaternion& message) { return PackFields(message); }
 
-bool Unpack(const Frame& frame, Heartbeat* message) { return UnpackFields(frame, message); }
-bool Unpack(const Frame& frame, HilActuatorControls* message) {
+bool Unpack(const ReceivedFrame& frame, Heartbeat* message) { return UnpackFields(frame, message); }
+bool Unpack(const ReceivedFrame& frame, HilActuatorControls* message) {
   return UnpackFields(frame, message);
 }
-bool Unpack(const Frame& frame, HilSensor* message) { return UnpackFields(frame, message); }
-bool Unpack(const Frame& frame, HilGps* message) { return UnpackFields(frame, message); }
-bool Unpack(const Frame& frame, HilStateQuaternion* message) {
+bool Unpack(const ReceivedFrame& frame, HilSensor* message) { return UnpackFields(frame, message); }
+bool Unpack(const ReceivedFrame& frame, HilGps* message) { return UnpackFields(frame, message); }
+bool Unpack(const ReceivedFrame& frame, HilStateQuaternion* message) {
   return UnpackFields(frame, message);
 }
 

@@ -79,11 +79,11 @@ Payload Pack(const HilGps& message);
 Payload Pack(const HilStateQuaternion& message);
 
 // Decodes a frame of the matching id; false for another id.
-bool Unpack(const Frame& frame, Heartbeat* message);
-bool Unpack(const Frame& frame, HilActuatorControls* message);
-bool Unpack(const Frame& frame, HilSensor* message);
-bool Unpack(const Frame& frame, HilGps* message);
-bool Unpack(const Frame& frame, HilStateQuaternion* message);
+bool Unpack(const ReceivedFrame& frame, Heartbeat* message);
+bool Unpack(const ReceivedFrame& frame, HilActuatorControls* message);
+bool Unpack(const ReceivedFrame& frame, HilSensor* message);
+bool Unpack(const ReceivedFrame& frame, HilGps* message);
+bool Unpack(const ReceivedFrame& frame, HilStateQuaternion* message);
 
 // Message id of each type, for AppendFrame.
 constexpr uint32_t IdOf(const Heartbeat&) { return kHeartbeatId; }

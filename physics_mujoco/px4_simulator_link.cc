@@ -114,13 +114,13 @@ Px4SimulatorLink::Event Px4SimulatorLink::Poll() {
     if (n < 0 && errno == EINTR) continue;
     break;
   }
-  mavlink::Frame frame;
+  mavlink::ReceivedFrame frame;
   while (parser_.Next(&frame)) Take(frame);
   Flush();
   return event;
 }
 
-void Px4SimulatorLink::Take(const mavlink::Frame& frame) {
+void Px4SimulatorLink::Take(const mavlink::ReceivedFrame& frame) {
   mavlink::HilActuatorControls controls;
   mavlink::Heartbeat heartbeat;
   if (mavlink::Unpack(frame, &controls)) {

@@ -80,7 +80,7 @@ class Px4SimulatorLink {
 
  private:
   void Disconnect();
-  void Take(const mavlink::Frame& frame);
+  void Take(const mavlink::ReceivedFrame& frame);
   void Flush();
   template <typename Message>
   void Append(const Message& message);

@@ -1,4 +1,5 @@
-// Path loss and Sommer et al. obstacle shadowing (docs/references.md#radio-defaults, #obstacle-shadowing).
+// Path loss and Sommer et al. obstacle shadowing (docs/references.md#radio-defaults,
+// #obstacle-shadowing).
 #include "mac_phy_sim/channel.h"
 
 #include <gtest/gtest.h>
@@ -15,14 +16,14 @@ TEST(ChannelTest, BoxAcrossThePathCosts26Db) {
   const BoxCrossing c = CrossBox(box, {0, 0, 0}, {100, 0, 0});
   EXPECT_EQ(c.walls, 2);
   EXPECT_NEAR(c.inside_m, 20, 1e-9);
-  Channel channel(46.6777, 3, true, 9, 0.4);
+  RadioChannel channel(46.6777, 3, true, 9, 0.4);
   channel.AddObstacle(box);
   EXPECT_NEAR(channel.ShadowingDb({0, 0, 0}, {100, 0, 0}), 26, 1e-9);
 }
 
 TEST(ChannelTest, TransmitterInsideTheBoxCosts13Db) {
   // From the centre of that box: 1 wall + 10 m inside = 13 dB.
-  Channel channel(46.6777, 3, true, 9, 0.4);
+  RadioChannel channel(46.6777, 3, true, 9, 0.4);
   channel.AddObstacle(Box{{50, 0, 0}, {20, 10, 10}, 0});
   EXPECT_NEAR(channel.ShadowingDb({50, 0, 0}, {100, 0, 0}), 13, 1e-9);
 }
@@ -39,7 +40,7 @@ TEST(ChannelTest, YawedBoxUsesItsOwnAxes) {
 }
 
 TEST(ChannelTest, LogDistanceLoss) {
-  Channel channel(46.6777, 3, true, 9, 0.4);
+  RadioChannel channel(46.6777, 3, true, 9, 0.4);
   EXPECT_NEAR(channel.PathLossDb(0.001), 46.6777, 1e-9);  // ns-3: reference loss below 1 m.
   EXPECT_NEAR(channel.PathLossDb(10), 46.6777 + 30, 1e-9);
   EXPECT_NEAR(channel.PathLossDb(100), 46.6777 + 60, 1e-9);
@@ -50,7 +51,7 @@ TEST(ChannelTest, GridAgreesWithBruteForce) {
   // every box finds, for random segments including ones outside the grid.
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> pos(-200, 200), size(1, 30), yaw(0, 180);
-  Channel channel(46.6777, 3, true, 9, 0.4);
+  RadioChannel channel(46.6777, 3, true, 9, 0.4);
   std::vector<Box> boxes;
   for (int i = 0; i < 1000; ++i) {
     boxes.push_back(Box{{pos(rng), pos(rng), 0}, {size(rng), size(rng), 20}, yaw(rng)});
@@ -69,7 +70,7 @@ TEST(ChannelTest, GridAgreesWithBruteForce) {
 }
 
 TEST(ChannelTest, CacheRecomputesOnlyMovedStations) {
-  Channel channel(40, 2, true, 9, 0.4);
+  RadioChannel channel(40, 2, true, 9, 0.4);
   const int a = channel.AddStation({0, 0, 0});
   const int b = channel.AddStation({10, 0, 0});
   const int c = channel.AddStation({0, 10, 0});

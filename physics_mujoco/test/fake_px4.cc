@@ -35,8 +35,8 @@ void FakePx4::SendControls(uint64_t time_usec, float throttle, bool armed) {
   Write(bytes);
 }
 
-mavlink::Frame FakePx4::Receive(uint32_t id) {
-  mavlink::Frame frame;
+mavlink::ReceivedFrame FakePx4::Receive(uint32_t id) {
+  mavlink::ReceivedFrame frame;
   for (;;) {
     while (parser_.Next(&frame)) {
       if (frame.message_id == id) return frame;

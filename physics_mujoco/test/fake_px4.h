@@ -23,7 +23,7 @@ class FakePx4 {
   // A HIL_ACTUATOR_CONTROLS with all four motors at `throttle`, lock-step flag set.
   void SendControls(uint64_t time_usec, float throttle, bool armed);
   // Reads until a frame of message `id` arrives (waiting on the socket, 5 s at most).
-  mavlink::Frame Receive(uint32_t id);
+  mavlink::ReceivedFrame Receive(uint32_t id);
   // Every byte received so far (Receive keeps them).
   const std::vector<uint8_t>& received() const { return received_; }
 

@@ -198,7 +198,7 @@ TEST(MavlinkCodecTest, TrailingZerosAreTruncatedAndRestored) {
   EXPECT_EQ(bytes.size(), kHeaderV2Bytes + 61 + kChecksumBytes);
   FrameParser parser;
   parser.Push(bytes.data(), bytes.size());
-  Frame frame;
+  ReceivedFrame frame;
   ASSERT_TRUE(parser.Next(&frame));
   HilSensor back;
   ASSERT_TRUE(Unpack(frame, &back));
@@ -231,10 +231,10 @@ TEST(MavlinkCodecTest, ParserSkipsGarbageCorruptionUnknownAndMavlink1) {
 
   // Byte by byte: framing must not depend on how TCP splits the stream.
   FrameParser parser;
-  std::vector<Frame> frames;
+  std::vector<ReceivedFrame> frames;
   for (uint8_t byte : stream) {
     parser.Push(&byte, 1);
-    Frame frame;
+    ReceivedFrame frame;
     while (parser.Next(&frame)) frames.push_back(frame);
   }
   ASSERT_EQ(frames.size(), 1u);
@@ -263,7 +263,7 @@ TEST(MavlinkCodecTest, CorruptedFrameCostsNoFollowingFrame) {
   stream.insert(stream.end(), good.begin(), good.end());
   FrameParser parser;
   parser.Push(stream.data(), stream.size());
-  Frame frame;
+  ReceivedFrame frame;
   ASSERT_TRUE(parser.Next(&frame));
   EXPECT_EQ(frame.header.sequence, 2);
   EXPECT_FALSE(parser.Next(&frame));

@@ -275,8 +275,8 @@ TEST_F(MavlinkNodeTest, SitlnetDecodesWhatNodeMavlinkEncodes) {
   }
   mavlink::FrameParser parser;
   parser.Push(stream.data(), stream.size());
-  std::vector<mavlink::Frame> frames;
-  mavlink::Frame frame;
+  std::vector<mavlink::ReceivedFrame> frames;
+  mavlink::ReceivedFrame frame;
   while (parser.Next(&frame)) frames.push_back(frame);
   ASSERT_EQ(frames.size(), 3u) << out;
   EXPECT_EQ(parser.counters().bad_crc, 0u);
