@@ -45,7 +45,14 @@ struct LinkSettings {
   bool ipv6_silent = false;         // addrgenmode none (must precede link-up).
   bool multicast_off = false;       // Clear IFF_MULTICAST.
   bool ipv4_no_forwarding = false;  // Per-interface forwarding=0, proxy_arp=0.
+  // ARP answers only for this device's own address (arp_ignore=1, arp_announce=2) and strict
+  // reverse-path filtering (rp_filter=1): what a robot may discover through its ctl0.
+  bool ipv4_own_address_only = false;
 };
+// Never accept IPv6 router advertisements on device `name` of the calling thread's namespace
+// (/proc/sys/net/ipv6/conf/<name>/accept_ra = 0; IPv6 devconf is read-only over netlink).
+// A host without IPv6 has nothing to refuse. Throws Error naming `what` if it cannot be set.
+void RefuseRouterAdvertisements(const std::string& name, const std::string& what);
 // `what` names the device and robot for error messages.
 void ConfigureLink(const RouteSocket& sock, int ifindex, const LinkSettings& settings,
                    const std::string& what);

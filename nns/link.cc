@@ -1,5 +1,6 @@
 // Links, addresses and routes over NETLINK_ROUTE with libnl-route-3.
 #include <arpa/inet.h>
+#include <fcntl.h>
 #include <linux/if_link.h>
 #include <linux/ip.h>
 #include <net/if.h>
@@ -11,7 +12,9 @@
 #include <netlink/route/link/veth.h>
 #include <netlink/route/nexthop.h>
 #include <netlink/route/route.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cstring>
 #include <memory>
 
@@ -91,6 +94,13 @@ void ConfigureLink(const RouteSocket& sock, int ifindex, const LinkSettings& set
     // device are never routed on, whatever net.ipv4.ip_forward says.
     rtnl_link_inet_set_conf(changes.get(), IPV4_DEVCONF_FORWARDING, 0);
     rtnl_link_inet_set_conf(changes.get(), IPV4_DEVCONF_PROXY_ARP, 0);
+  }
+  if (settings.ipv4_own_address_only) {
+    // Linux answers ARP for any local address on any interface (weak host model): a robot
+    // would learn how to reach every address of the host through its ctl0 (audit finding 3).
+    rtnl_link_inet_set_conf(changes.get(), IPV4_DEVCONF_ARP_IGNORE, 1);
+    rtnl_link_inet_set_conf(changes.get(), IPV4_DEVCONF_ARP_ANNOUNCE, 2);
+    rtnl_link_inet_set_conf(changes.get(), IPV4_DEVCONF_RP_FILTER, 1);
   }
   Change(sock, ifindex, changes.get(), what);
 }
@@ -205,6 +215,20 @@ std::vector<LinkInfo> DumpLinks(const RouteSocket& sock) {
     result.push_back(std::move(info));
   }
   return result;
+}
+
+void RefuseRouterAdvertisements(const std::string& name, const std::string& what) {
+  const std::string path = "/proc/sys/net/ipv6/conf/" + name + "/accept_ra";
+  if (access("/proc/sys/net/ipv6", F_OK) != 0) return;  // No IPv6 on this host.
+  const int fd = open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  const bool written = fd >= 0 && write(fd, "0", 1) == 1;
+  const int err = errno;
+  if (fd >= 0) close(fd);
+  if (!written) {
+    throw Error(SystemErrorMessage(what + ": refuse IPv6 router advertisements (write \"" + path +
+                                       "\": a robot could install routes in this namespace)",
+                                   err));
+  }
 }
 
 }  // namespace internal

@@ -121,7 +121,9 @@ void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket
   root_settings.ipv6_silent = silent;
   root_settings.ipv4_no_forwarding = true;
   root_settings.multicast_off = true;
+  root_settings.ipv4_own_address_only = true;
   internal::ConfigureLink(root, root_side, root_settings, who + ": " + robot.root_veth);
+  internal::RefuseRouterAdvertisements(robot.root_veth, who + ": " + robot.root_veth);
   internal::AddIpv4Address(root, root_side, robot.ctl_root_address, kCtlPrefixLength,
                            who + ": " + robot.root_veth);
   internal::SetLinkUp(root, root_side, who + ": " + robot.root_veth);

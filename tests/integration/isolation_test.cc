@@ -130,6 +130,21 @@ TEST(IsolationTest, RobotReachesNeitherTheHostsNetworksNorAnotherRobotsCtl0) {
   // root namespace, so a root service bound to the wildcard address answers there (Linux's
   // weak host model). Services that must stay private bind to specific addresses.
   EXPECT_EQ(ConnectFrom(a.netns, a.ctl_root_address, wildcard.port), 0);
+
+  // The root-side veth: ARP only for its own address, strict reverse path, no IPv6 router
+  // advertisements (audit findings 3 and 12: a robot could otherwise learn the host's other
+  // addresses, or install IPv6 routes in the root namespace).
+  const auto sysctl = [](const std::string& path) {
+    std::string value;
+    std::ifstream("/proc/sys/net/" + path) >> value;
+    return value;
+  };
+  EXPECT_EQ(sysctl("ipv4/conf/" + a.root_veth + "/arp_ignore"), "1");
+  EXPECT_EQ(sysctl("ipv4/conf/" + a.root_veth + "/arp_announce"), "2");
+  EXPECT_EQ(sysctl("ipv4/conf/" + a.root_veth + "/rp_filter"), "1");
+  if (access("/proc/sys/net/ipv6", F_OK) == 0) {
+    EXPECT_EQ(sysctl("ipv6/conf/" + a.root_veth + "/accept_ra"), "0");
+  }
 }
 
 TEST(IsolationTest, ForeignMotorCommandsAreDroppedAndCountedEvenWithARouteAdded) {
@@ -173,6 +188,20 @@ TEST(IsolationTest, ForeignMotorCommandsAreDroppedAndCountedEvenWithARouteAdded)
   // because its source is not b's ctl0 address, and counts it.
   ASSERT_EQ(
       RunCommand(InNetns(a.netns, {"ip", "route", "add", route_to_b, "dev", "ctl0"})).exit_code, 0);
+  // Audit finding 3: a's root-side veth answers ARP only for its own address (arp_ignore=1), so
+  // the route alone reaches nothing: b's address is never resolved (it was, before).
+  const auto ping = RunCommand(
+      InNetns(a.netns, {"ping", "-n", "-c", "1", "-W", "3", FormatIpv4(b.ctl_root_address)}));
+  EXPECT_NE(ping.exit_code, 0) << ping.out;
+  // Root in the robot can still write the veth's MAC in by hand, and Linux accepts a packet for
+  // any local address on any interface (weak host model, docs/security.md): the datagram
+  // arrives, and the server drops it because its source is not b's ctl0 address, and counts it.
+  std::string veth_mac;
+  std::ifstream("/sys/class/net/" + a.root_veth + "/address") >> veth_mac;
+  ASSERT_EQ(RunCommand(InNetns(a.netns, {"ip", "neigh", "replace", FormatIpv4(b.ctl_root_address),
+                                         "lladdr", veth_mac, "dev", "ctl0", "nud", "permanent"}))
+                .exit_code,
+            0);
   EXPECT_EQ(send_from_a(), 0);
   const TimeNs deadline = MonotonicNowNs() + 5 * kNsPerS;
   while (server.counters(1).dropped_foreign_source == 0 && MonotonicNowNs() < deadline) {
