@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
 """Writes docs/paper.md from what scripts/reproduce-paper measured.
 
-Usage: write_md.py WORK_DIR OUT.md IMG_PREFIX
+Usage: write_md.py WORK_DIR MARKDOWN_PATH IMG_PREFIX
 WORK_DIR holds: fig6/seed<N>/<variant>.json (fig6.py), scale.csv (bench/scale
 medians), delta.csv (delta_ms,overhead_share), correctness.csv
 (check,what,verdict), run.txt (key=value lines: mode, command, started,
 seconds, machine, ...). IMG_PREFIX: the images' path as written in the
-markdown (relative to OUT.md). Exits 1 if a verdict failed.
+markdown (relative to MARKDOWN_PATH). Exits 1 if a verdict failed.
 """
 import csv
 import glob
