@@ -74,7 +74,8 @@ std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& 
   json += ",\"log\":" + (robot.process ? Quote(robot.process->log_path()) : "null");
   json += ",\"medium\":{\"sent\":" + std::to_string(medium.sent) +
           ",\"delivered\":" + std::to_string(medium.delivered) +
-          ",\"queue_drops\":" + std::to_string(medium.queue_drops) + ",\"lost\":" + lost +
+          ",\"queue_drops\":" + std::to_string(medium.queue_drops) +
+          ",\"queue_expired\":" + std::to_string(medium.queue_expired) + ",\"lost\":" + lost +
           ",\"other\":" + other + ",\"oversize_dropped\":" + std::to_string(port.oversize_dropped) +
           ",\"unknown_source_dropped\":" + std::to_string(port.unknown_source_dropped) + "}";
   json += ",\"physics\":{\"commands_accepted\":" + std::to_string(phys.commands_accepted) +

@@ -83,6 +83,7 @@ class MacPhySimMedium : public MediumModel {
     out.sent = c.frames_submitted;
     out.delivered = c.rx_delivered;
     out.queue_drops = c.queue_drops;
+    out.queue_expired = c.queue_expired;
     out.lost = {{"retry_limit", c.lost_retry_limit},
                 {"malformed", c.malformed},
                 {"rx_collided", c.rx_collided},

@@ -25,6 +25,7 @@ void MediumCountersToProto(const MediumCounters& counters, proto::StationCounter
   out->set_sent(counters.sent);
   out->set_delivered(counters.delivered);
   out->set_queue_drops(counters.queue_drops);
+  out->set_queue_expired(counters.queue_expired);
   AddCounts(counters.lost, out->mutable_lost());
   AddCounts(counters.other, out->mutable_other());
 }
@@ -34,6 +35,7 @@ MediumCounters MediumCountersFromProto(const proto::StationCounters& in) {
   counters.sent = in.sent();
   counters.delivered = in.delivered();
   counters.queue_drops = in.queue_drops();
+  counters.queue_expired = in.queue_expired();
   ReadCounts(in.lost(), &counters.lost);
   ReadCounts(in.other(), &counters.other);
   return counters;

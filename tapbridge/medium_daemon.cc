@@ -34,7 +34,8 @@ std::string CountersLine(const BridgeCore& core, int robot) {
   std::string line = "robot " + core.scenario().robots[robot].name +
                      (p.attached ? "" : " (detached)") + ": sent " + std::to_string(m.sent) +
                      " delivered " + std::to_string(m.delivered) + " queue_drops " +
-                     std::to_string(m.queue_drops);
+                     std::to_string(m.queue_drops) + " queue_expired " +
+                     std::to_string(m.queue_expired);
   for (const auto& [reason, count] : m.lost) {
     if (count) line += " lost_" + reason + " " + std::to_string(count);
   }

@@ -51,9 +51,10 @@ struct AirFrame {
 
 // Medium counters of one station.
 struct MediumCounters {
-  uint64_t sent = 0;         // Frames accepted from the station into its queue.
-  uint64_t delivered = 0;    // Frames handed to this station as a receiver.
-  uint64_t queue_drops = 0;  // Dropped because the station's queue was full.
+  uint64_t sent = 0;           // Frames accepted from the station into its queue.
+  uint64_t delivered = 0;      // Frames handed to this station as a receiver.
+  uint64_t queue_drops = 0;    // Dropped by the station's queue: arrived full, or expired in it.
+  uint64_t queue_expired = 0;  // Of queue_drops, waited longer than the queue's maximum delay.
   std::vector<std::pair<std::string, uint64_t>> lost;   // By reason, e.g. "retry_limit".
   std::vector<std::pair<std::string, uint64_t>> other;  // Model details (retries, ACKs sent).
 };
