@@ -1,6 +1,7 @@
 // Image manifests: loading, validation and placeholder expansion.
 #include <sys/stat.h>
 
+#include "robot_images/internal.h"
 #include "robot_images/robot_images.h"
 #include "scenario/scenario.h"
 
@@ -12,8 +13,12 @@ bool IsFile(const std::string& path) {
   return stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
 }
 
-// Expands every ${NAME} of `text`; throws for an unknown NAME.
-std::string Expand(const std::string& text, const Image& image, const LaunchContext& context) {
+}  // namespace
+
+namespace internal {
+
+std::string ExpandPlaceholders(const std::string& text, const Image& image,
+                               const LaunchContext& context) {
   std::string out;
   size_t i = 0;
   while (i < text.size()) {
@@ -51,7 +56,9 @@ std::string Expand(const std::string& text, const Image& image, const LaunchCont
   return out;
 }
 
-}  // namespace
+}  // namespace internal
+
+using internal::ExpandPlaceholders;
 
 Image LoadImage(const std::string& images_root, const std::string& name) {
   Image image;
@@ -71,6 +78,7 @@ Image LoadImage(const std::string& images_root, const std::string& name) {
       throw Error(image.manifest_path + ": env name \"" + env.name() + "\" is not valid");
     }
   }
+  internal::CheckSandboxFields(image);
   return image;
 }
 
@@ -80,7 +88,7 @@ std::vector<std::string> ExpandCommand(const Image& image, const LaunchContext& 
     if (element == "${ARGS}") {
       argv.insert(argv.end(), context.robot_args.begin(), context.robot_args.end());
     } else {
-      argv.push_back(Expand(element, image, context));
+      argv.push_back(ExpandPlaceholders(element, image, context));
     }
   }
   return argv;
@@ -89,14 +97,14 @@ std::vector<std::string> ExpandCommand(const Image& image, const LaunchContext& 
 std::vector<std::string> ExpandEnv(const Image& image, const LaunchContext& context) {
   std::vector<std::string> env;
   for (const auto& variable : image.manifest.env()) {
-    env.push_back(variable.name() + "=" + Expand(variable.value(), image, context));
+    env.push_back(variable.name() + "=" + ExpandPlaceholders(variable.value(), image, context));
   }
   return env;
 }
 
 void CheckFiles(const Image& image, const LaunchContext& context) {
   for (const std::string& file : image.manifest.files()) {
-    const std::string path = Expand(file, image, context);
+    const std::string path = ExpandPlaceholders(file, image, context);
     if (!IsFile(path)) {
       throw Error("robot \"" + context.robot + "\": image \"" + image.manifest.name() +
                   "\" needs " + path + ", which does not exist");

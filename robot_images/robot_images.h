@@ -47,8 +47,9 @@ void CheckFiles(const Image& image, const LaunchContext& context);
 
 //------------------------------- Processes ----------------------------------
 
-// One robot's running image: `sitlnet exec --scenario S ROBOT -- argv...`
-// with stdout and stderr appended to `log_path`. Not copyable.
+// One robot's running image: `sitlnet exec --scenario S ROBOT -- [bwrap ... --] [setpriv ...
+// --] argv...` with stdout and stderr appended to `log_path`: in the robot's network namespace,
+// confined by the manifest's sandbox (docs/security.md). Not copyable.
 class RobotProcess {
  public:
   // Starts the process; throws Error naming the robot on failure to fork.
@@ -72,15 +73,24 @@ class RobotProcess {
   // True once the manifest's ready_log_line is in the log (or there is none).
   bool IsReady() const;
 
-  // SIGTERM, then SIGKILL after `grace_ns`; waits for the exit. Idempotent.
+  // SIGTERM to the image's command, then SIGKILL after `grace_ns` (to the sandbox, which ends
+  // every process of the robot); waits for the exit. Idempotent.
   void Stop(TimeNs grace_ns = 2 * kNsPerS);
 
  private:
+  pid_t CommandPid();
+  pid_t SandboxInit();
+  void WaitSandboxGone();
+
   std::string robot_;
   std::string log_path_;
   std::string ready_line_;
+  bool sandboxed_ = false;
   pid_t pid_ = -1;
   int pidfd_ = -1;
+  int info_fd_ = -1;     // bubblewrap's --info-fd, until read.
+  pid_t init_pid_ = -1;  // The sandbox's init (PID 1 inside), in our PID namespace.
+  int init_pidfd_ = -1;
   std::optional<int> exit_status_;
 };
 

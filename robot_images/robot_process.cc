@@ -1,8 +1,6 @@
 // Robot processes: `sitlnet exec` of an image, logged, stopped by pid.
 #include <fcntl.h>
-#include <linux/capability.h>
 #include <poll.h>
-#include <pwd.h>
 #include <signal.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
@@ -14,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "robot_images/internal.h"
 #include "robot_images/robot_images.h"
 
 namespace sitlnet::images {
@@ -25,35 +24,28 @@ int ShellStatus(int wait_status) {
   return 255;
 }
 
+// The first pid listed in /proc/PID/task/PID/children, or -1.
+pid_t FirstChild(pid_t pid) {
+  const std::string path =
+      "/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) + "/children";
+  std::ifstream children(path);
+  pid_t child = -1;
+  if (!(children >> child)) return -1;
+  return child;
+}
+
 }  // namespace
 
 RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
                            const std::string& sitlnet_exe, const std::string& log_path)
-    : robot_(context.robot), log_path_(log_path), ready_line_(image.manifest.ready_log_line()) {
+    : robot_(context.robot),
+      log_path_(log_path),
+      ready_line_(image.manifest.ready_log_line()),
+      sandboxed_(image.manifest.sandbox() == proto::ImageManifest::CONFINED) {
   std::vector<std::string> args = {sitlnet_exe,      "exec",        "--scenario",
                                    context.scenario, context.robot, "--"};
-  if (!image.manifest.user().empty()) {
-    // util-linux's setpriv drops to the user inside the namespace, unmodified. The group is
-    // the user's primary group by number: Debian's "nobody" has group "nogroup", so
-    // --regid=<user name> fails there.
-    const passwd* user = getpwnam(image.manifest.user().c_str());
-    if (user == nullptr) {
-      throw Error("robot \"" + robot_ + "\": image user \"" + image.manifest.user() +
-                  "\" does not exist on this host (" + image.manifest_path + ")");
-    }
-    // Checked here rather than left to setpriv, whose "setresuid failed" would only reach the
-    // robot's log (docs/security.md: a run under only CAP_NET_ADMIN + CAP_SYS_ADMIN).
-    if (!HasEffectiveCapability(CAP_SETUID) || !HasEffectiveCapability(CAP_SETGID)) {
-      throw Error("robot \"" + robot_ + "\": image user \"" + image.manifest.user() + "\" (" +
-                  image.manifest_path +
-                  ") needs CAP_SETUID and CAP_SETGID to switch user: run as root, or remove "
-                  "`user` from the manifest");
-    }
-    for (const char* arg : {"setpriv", "--init-groups", "--reset-env"}) args.push_back(arg);
-    args.push_back("--reuid=" + std::to_string(user->pw_uid));
-    args.push_back("--regid=" + std::to_string(user->pw_gid));
-    args.push_back("--");
-  }
+  const std::vector<std::string> prefix = internal::ConfinementPrefix(image, context);
+  args.insert(args.end(), prefix.begin(), prefix.end());
   const std::vector<std::string> command = ExpandCommand(image, context);
   args.insert(args.end(), command.begin(), command.end());
   const std::vector<std::string> env = ExpandEnv(image, context);
@@ -61,6 +53,13 @@ RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
   const int log_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   if (log_fd < 0)
     throw Error(SystemErrorMessage("robot \"" + robot_ + "\": open log " + log_path, errno));
+  // bubblewrap writes the pid of the sandbox's init here (--info-fd), read in SandboxInit().
+  int info_pipe[2] = {-1, -1};
+  if (sandboxed_ && pipe2(info_pipe, O_CLOEXEC) != 0) {
+    const int err = errno;
+    close(log_fd);
+    throw Error(SystemErrorMessage("robot \"" + robot_ + "\": pipe", err));
+  }
   std::vector<char*> argv;
   for (std::string& arg : args) argv.push_back(arg.data());
   argv.push_back(nullptr);
@@ -69,6 +68,9 @@ RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
   if (pid_ < 0) {
     const int err = errno;
     close(log_fd);
+    for (int fd : info_pipe) {
+      if (fd >= 0) close(fd);
+    }
     throw Error(SystemErrorMessage("robot \"" + robot_ + "\": fork", err));
   }
   if (pid_ == 0) {
@@ -82,6 +84,15 @@ RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
     dup2(log_fd, STDERR_FILENO);
     const int null_fd = open("/dev/null", O_RDONLY);
     if (null_fd >= 0) dup2(null_fd, STDIN_FILENO);
+    if (sandboxed_) {
+      // Inherited through `sitlnet exec` by bubblewrap; dup2 clears close-on-exec, except on
+      // the same number.
+      if (info_pipe[1] == internal::kSandboxInfoFd) {
+        fcntl(info_pipe[1], F_SETFD, 0);
+      } else {
+        dup2(info_pipe[1], internal::kSandboxInfoFd);
+      }
+    }
     for (const std::string& variable : env) putenv(const_cast<char*>(variable.c_str()));
     execv(argv[0], argv.data());
     dprintf(STDERR_FILENO, "sitlnet: robot \"%s\": run %s: %s\n", robot_.c_str(), argv[0],
@@ -89,19 +100,48 @@ RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
     _exit(127);
   }
   close(log_fd);
+  if (sandboxed_) {
+    close(info_pipe[1]);
+    info_fd_ = info_pipe[0];
+  }
   pidfd_ = static_cast<int>(syscall(SYS_pidfd_open, pid_, 0));
 }
 
 RobotProcess::~RobotProcess() {
   Stop();
-  if (pidfd_ >= 0) close(pidfd_);
+  for (int fd : {pidfd_, info_fd_, init_pidfd_}) {
+    if (fd >= 0) close(fd);
+  }
+}
+
+pid_t RobotProcess::SandboxInit() {
+  if (info_fd_ >= 0) {
+    // Blocks until bubblewrap has set the sandbox up (milliseconds), or reads EOF if it failed.
+    init_pid_ = internal::ReadSandboxInitPid(info_fd_);
+    close(info_fd_);
+    info_fd_ = -1;
+    if (init_pid_ > 0) init_pidfd_ = static_cast<int>(syscall(SYS_pidfd_open, init_pid_, 0));
+  }
+  return init_pid_;
+}
+
+void RobotProcess::WaitSandboxGone() {
+  // bubblewrap exits as soon as the command has, while the sandbox's init may still be ending
+  // the robot's other processes (killed with it, --die-with-parent). When the init has exited,
+  // the kernel has reaped every process of its PID namespace.
+  if (SandboxInit() <= 0 || init_pidfd_ < 0) return;
+  pollfd gone{init_pidfd_, POLLIN, 0};
+  poll(&gone, 1, static_cast<int>(internal::kSandboxEndTimeoutNs / kNsPerMs));
 }
 
 std::optional<int> RobotProcess::PollExit() {
   if (exit_status_ || pid_ <= 0) return exit_status_;
   int status = 0;
   const pid_t done = waitpid(pid_, &status, WNOHANG);
-  if (done == pid_) exit_status_ = ShellStatus(status);
+  if (done == pid_) {
+    exit_status_ = ShellStatus(status);
+    WaitSandboxGone();
+  }
   return exit_status_;
 }
 
@@ -120,12 +160,25 @@ bool RobotProcess::IsReady() const {
   return text.str().find(ready_line_) != std::string::npos;
 }
 
+pid_t RobotProcess::CommandPid() {
+  if (!sandboxed_) return pid_;
+  // bubblewrap forwards no signal, and a SIGTERM to it ends the sandbox with SIGKILL
+  // (--die-with-parent) before the software could shut down. The image's command is the only
+  // child of the sandbox's init.
+  const pid_t init = SandboxInit();
+  const pid_t command = init > 0 ? FirstChild(init) : -1;
+  return command > 0 ? command : pid_;
+}
+
 void RobotProcess::Stop(TimeNs grace_ns) {
   if (pid_ <= 0 || PollExit()) return;
-  kill(pid_, SIGTERM);
+  kill(CommandPid(), SIGTERM);
   if (!WaitExit(grace_ns)) kill(pid_, SIGKILL);
   int status = 0;
-  if (!exit_status_ && waitpid(pid_, &status, 0) == pid_) exit_status_ = ShellStatus(status);
+  if (!exit_status_ && waitpid(pid_, &status, 0) == pid_) {
+    exit_status_ = ShellStatus(status);
+    WaitSandboxGone();
+  }
 }
 
 }  // namespace sitlnet::images

@@ -81,6 +81,13 @@ std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& o
     one_line.SetSingleLineMode(true);
     one_line.PrintToString(plan.airframe, &context.airframe_text);
     images::CheckFiles(image, context);
+    if (image.manifest.sandbox() == proto::ImageManifest::NONE) {
+      std::fprintf(stderr,
+                   "sitlnet run: warning: robot \"%s\": image \"%s\" runs without a sandbox "
+                   "(sandbox: NONE in %s): it shares the host's files, processes and privileges "
+                   "(docs/security.md)\n",
+                   plan.name.c_str(), image.manifest.name().c_str(), image.manifest_path.c_str());
+    }
     slot.process = std::make_unique<images::RobotProcess>(
         image, context, options.sitlnet_exe, run_dir + "/robots/" + plan.name + ".log");
     slot.image = image;

@@ -25,7 +25,7 @@ LaunchContext Context() {
 }
 
 TEST(ImageTest, ShippedImagesLoad) {
-  for (const char* name : {"flocker", "iperf", "shell"}) {
+  for (const char* name : {"flocker", "iperf", "shell", "attacker"}) {
     const Image image = LoadImage(ImagesRoot(), name);
     EXPECT_EQ(image.manifest.name(), name);
   }
@@ -63,6 +63,38 @@ TEST(ImageTest, BadManifestsAreRejectedWithTheirPlace) {
     EXPECT_EQ(std::string(error.what()).rfind(path + ":2:", 0), 0u) << error.what();
   }
   EXPECT_THROW(LoadImage(ImagesRoot(), "no_such_image"), Error);
+}
+
+// Each refusal names the manifest and the field; what the sandbox does at run time is attacked
+// in tests/integration/isolation_test.cc (AttackerImage*).
+TEST(ImageTest, SandboxFieldsThatReachBeyondTheRobotAreRefused) {
+  const std::string path = ::testing::TempDir() + "/sandbox_image.textproto";
+  const auto refusal = [&](const std::string& fields) -> std::string {
+    std::ofstream(path) << "name: \"x\"\ncommand: \"/bin/true\"\n" << fields;
+    try {
+      LoadImage("", path);
+    } catch (const Error& error) {
+      return error.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(refusal("capabilities: \"CAP_NET_ADMIN\" capabilities: \"CAP_NET_RAW\""), "");
+  EXPECT_EQ(refusal("writable: \"/srv/logs\" hidden: \"${IMAGE_DIR}/secret\""), "");
+  EXPECT_EQ(refusal("sandbox: NONE user: \"nobody\" capabilities: \"CAP_NET_RAW\""), "");
+  for (const char* reaching :
+       {"CAP_SYS_ADMIN", "CAP_DAC_OVERRIDE", "CAP_SYS_PTRACE", "net_admin"}) {
+    const std::string error = refusal(std::string("capabilities: \"") + reaching + "\"");
+    EXPECT_EQ(error.rfind(path + ": capabilities: \"" + reaching + "\" is not one", 0), 0u)
+        << error;
+  }
+  EXPECT_EQ(
+      refusal("writable: \"logs\"").rfind(path + ": writable: \"logs\" is not an absolute", 0), 0u);
+  EXPECT_EQ(refusal("sandbox: NONE writable: \"/srv\"").rfind(path + ": writable and hidden", 0),
+            0u);
+  EXPECT_EQ(
+      refusal("sandbox: NONE capabilities: \"CAP_NET_RAW\"").rfind(path + ": capabilities:", 0),
+      0u);
+  std::remove(path.c_str());
 }
 
 TEST(RobotProcessTest, ExitStatusIsReported) {

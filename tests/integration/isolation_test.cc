@@ -16,7 +16,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <csignal>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -310,7 +312,11 @@ TEST(IsolationTest, RobotImageWithUserNobodyRunsAsUid65534) {
   const std::string ping = integration_test::PingWithoutFileCapabilities() + " -n -c 1 -W 5 " +
                            FormatIpv4(t.scenario.robots[0].ctl_root_address) +
                            " >/dev/null && echo ping-ok";
-  std::ofstream(manifest) << "name: \"whoami\"\nuser: \"nobody\"\n"
+  // The sandbox's /tmp is its own: the folder of the copy is bound in.
+  const std::string ping_dir = integration_test::PingWithoutFileCapabilities().substr(
+      0, integration_test::PingWithoutFileCapabilities().rfind('/'));
+  std::ofstream(manifest) << "name: \"whoami\"\nuser: \"nobody\"\nwritable: \"" << ping_dir
+                          << "\"\n"
                              "command: \"/bin/sh\" command: \"-c\" command: \"id -u; id -g; "
                           << ping << "\"\n";
   const images::Image image = images::LoadImage("", manifest);
@@ -364,6 +370,107 @@ TEST(IsolationTest, ImageWithUserNeedsCapSetuidAndSaysSo) {
                        ") needs CAP_SETUID and CAP_SETGID to switch user: run as root, or "
                        "remove `user` from the manifest");
   std::remove(manifest.c_str());
+}
+
+// The attacker image (robot_images/attacker, issue 17) tries each way out of a robot while the
+// medium daemon serves its control socket. Each attempt prints "attack NAME: blocked|ESCAPED";
+// "survive_teardown" leaves a process named sv-<scenario> that must die with the robot.
+struct AttackOutcome {
+  std::map<std::string, bool> escaped;  // attack name -> escaped?
+  bool survivor_alive = false;
+  std::string log;
+};
+
+// Pids of the processes whose name (comm) is `name`.
+std::vector<pid_t> ProcessesNamed(const std::string& name) {
+  std::vector<pid_t> pids;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+    const std::string pid = entry.path().filename();
+    if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream comm(entry.path() / "comm");
+    std::string text;
+    if (std::getline(comm, text) && text == name) pids.push_back(std::stoi(pid));
+  }
+  return pids;
+}
+
+AttackOutcome RunAttacker(const std::string& sandbox_line) {
+  const auto t = MakeScenario("iso", 4, 2);
+  DownGuard down(t.scenario.name);
+  nns::Up(t.scenario);
+  Child medium({SitlnetBinary(), "medium", t.path});
+  EXPECT_TRUE(medium.WaitForOutput(true, "control socket", 20 * kNsPerS)) << medium.err();
+
+  const std::string dir = ::testing::TempDir() + "/attacker-" + std::to_string(getpid());
+  std::filesystem::create_directories(dir);
+  const std::string manifest = dir + "/image.textproto";
+  std::ifstream shipped(integration_test::SourceDir() + "/robot_images/attacker/image.textproto");
+  std::ofstream(manifest) << shipped.rdbuf() << sandbox_line << "\n";
+  std::filesystem::copy_file(integration_test::SourceDir() + "/robot_images/attacker/attack.py",
+                             dir + "/attack.py", std::filesystem::copy_options::overwrite_existing);
+  const images::Image image = images::LoadImage("", manifest);
+  images::LaunchContext context;
+  context.scenario = t.scenario.name;
+  context.robot = "r1";
+  AttackOutcome outcome;
+  const std::string log = dir + "/attacker.log";
+  {
+    images::RobotProcess process(image, context, SitlnetBinary(), log);
+    const auto status = process.WaitExit(60 * kNsPerS);
+    EXPECT_TRUE(status && *status == 0) << "attacker status " << status.value_or(-1);
+  }
+  // Right after the robot ended: a process that outlived it is found, named, and killed here.
+  const std::vector<pid_t> survivors = ProcessesNamed("sv-" + t.scenario.name);
+  outcome.survivor_alive = !survivors.empty();
+  for (pid_t pid : survivors) kill(pid, SIGKILL);
+
+  std::ifstream in(log);
+  outcome.log.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  std::istringstream lines(outcome.log);
+  for (std::string line; std::getline(lines, line);) {
+    const size_t colon = line.find(':');
+    if (line.rfind("attack ", 0) != 0 || colon == std::string::npos) continue;
+    const std::string verdict = line.substr(colon + 2, line.find(' ', colon + 2) - colon - 2);
+    if (verdict == "blocked" || verdict == "ESCAPED") {
+      outcome.escaped[line.substr(7, colon - 7)] = verdict == "ESCAPED";
+    }
+  }
+  EXPECT_NE(outcome.log.find("attacks done"), std::string::npos) << outcome.log;
+  kill(medium.pid(), SIGTERM);
+  EXPECT_EQ(medium.Wait(10 * kNsPerS), 0) << medium.err();
+  std::filesystem::remove_all(dir);
+  return outcome;
+}
+
+const std::vector<std::string> kAttacks = {
+    "host_processes",        "enter_other_namespace",  "read_state_file",
+    "list_robot_namespaces", "connect_control_socket", "write_run_folder",
+    "write_host_file",       "write_host_sysctl",      "mount_filesystem",
+    "route_via_ctl0",        "spoof_ctl0_address",     "raw_sockets"};
+
+TEST(IsolationTest, AttackerImageEscapesNothingInTheDefaultSandbox) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const AttackOutcome outcome = RunAttacker("");
+  for (const std::string& attack : kAttacks) {
+    ASSERT_TRUE(outcome.escaped.count(attack)) << attack << " did not run\n" << outcome.log;
+    EXPECT_FALSE(outcome.escaped.at(attack)) << attack << "\n" << outcome.log;
+  }
+  EXPECT_FALSE(outcome.survivor_alive) << "a robot's process outlived the robot";
+}
+
+// The same attacks without the sandbox: they are real (the root and the two-capability passes
+// alike give a root robot these), which is what the sandbox takes away.
+TEST(IsolationTest, AttackerImageEscapesWithSandboxNone) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const AttackOutcome outcome = RunAttacker("sandbox: NONE");
+  for (const std::string& attack :
+       {"host_processes", "enter_other_namespace", "read_state_file", "list_robot_namespaces",
+        "connect_control_socket", "write_run_folder", "mount_filesystem", "route_via_ctl0",
+        "spoof_ctl0_address"}) {
+    ASSERT_TRUE(outcome.escaped.count(attack)) << attack << " did not run\n" << outcome.log;
+    EXPECT_TRUE(outcome.escaped.at(attack)) << attack << "\n" << outcome.log;
+  }
+  EXPECT_TRUE(outcome.survivor_alive);
 }
 
 }  // namespace

@@ -286,19 +286,26 @@ TEST(RunTest, ImageNotReadyInTimeIsAFailure) {
 
 // Realtime pacing: sitlnet's own threads ask for SCHED_FIFO 10 (a busy host otherwise delays the
 // loop by milliseconds, docs/performance.md); the robot's software must not inherit it. The
-// image reports its own policy and its parent's (the `sitlnet run` process) with chrt.
+// image reports its own policy and its parent's (the `sitlnet run` process) with chrt. It runs
+// without the sandbox, whose PID namespace would hide the parent, and says so in a warning.
 TEST(RunTest, RealtimeRunIsFifoButItsImagesAreNot) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  const RunScenario scenario =
-      WriteScenario(8,
-                    "robot { name: \"a\" image: \"shell\" "
-                    "args: \"echo self; chrt -p $$; echo parent; chrt -p $PPID; exec sleep 60\" }\n"
-                    "robot { name: \"b\" }\n",
-                    "timing { duration_ms: 2000 pacing: PACING_REALTIME }\n");
+  const std::string manifest =
+      WriteManifest("unconfined", "command: [\"/bin/sh\", \"-c\", \"${ARGS}\"]\nsandbox: NONE\n");
+  const RunScenario scenario = WriteScenario(
+      8,
+      "robot { name: \"a\" image: \"" + manifest +
+          "\" "
+          "args: \"echo self; chrt -p $$; echo parent; chrt -p $PPID; exec sleep 60\" }\n"
+          "robot { name: \"b\" }\n",
+      "timing { duration_ms: 2000 pacing: PACING_REALTIME }\n");
   DownGuard guard(scenario.name);
   const std::string out = TempDir() + "/" + scenario.name + "-out";
   const CommandResult result = SitlnetRun(scenario, out, {});
   ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.err.find("warning: robot \"a\": image \"unconfined\" runs without a sandbox"),
+            std::string::npos)
+      << result.err;
   const std::string log = ReadAll(out + "/robots/a.log");
   const size_t parent = log.find("parent");
   ASSERT_NE(parent, std::string::npos) << log;

@@ -1,0 +1,39 @@
+// Shared between the files of robot_images; not part of its public header.
+#ifndef SITLNET_ROBOT_IMAGES_INTERNAL_H_
+#define SITLNET_ROBOT_IMAGES_INTERNAL_H_
+
+#include <sys/types.h>
+
+#include <string>
+#include <vector>
+
+#include "robot_images/robot_images.h"
+
+namespace sitlnet::images::internal {
+
+// The descriptor on which bubblewrap writes its JSON info (--info-fd) in the robot's process.
+constexpr int kSandboxInfoFd = 3;
+// How long a robot's other processes may take to end once its command has (they are SIGKILLed).
+constexpr TimeNs kSandboxEndTimeoutNs = 5 * kNsPerS;
+
+// The "child-pid" of bubblewrap's JSON info read from `fd` (blocking until written or closed),
+// or -1.
+pid_t ReadSandboxInitPid(int fd);
+
+// Expands every ${NAME} of `text`; throws Error naming the manifest for an unknown NAME.
+std::string ExpandPlaceholders(const std::string& text, const Image& image,
+                               const LaunchContext& context);
+
+// Throws Error "manifest: field: rule" for sandbox fields a robot must not have (a capability
+// that reaches beyond the robot's namespaces, a relative path).
+void CheckSandboxFields(const Image& image);
+
+// The argv prefix that confines the image and switches its user (bubblewrap, then util-linux
+// setpriv for `user`), to be followed by the image's own command. Empty when the image has
+// neither a sandbox nor a user. Throws Error naming the robot when a tool or privilege it needs
+// is missing.
+std::vector<std::string> ConfinementPrefix(const Image& image, const LaunchContext& context);
+
+}  // namespace sitlnet::images::internal
+
+#endif  // SITLNET_ROBOT_IMAGES_INTERNAL_H_
