@@ -77,8 +77,14 @@ class RobotProcess {
   // every process of the robot); waits for the exit. Idempotent.
   void Stop(TimeNs grace_ns = 2 * kNsPerS);
 
- private:
+  // SIGTERM to the image's command without waiting (Stop() later), to stop many at once.
+  void RequestStop();
+
+  // The image's command: pid() itself without a sandbox, else the command bubblewrap started
+  // (pid() is bubblewrap's, which forwards no signal). pid() if it cannot be found (yet).
   pid_t CommandPid();
+
+ private:
   pid_t SandboxInit();
   void WaitSandboxGone();
 

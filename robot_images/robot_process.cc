@@ -132,6 +132,8 @@ void RobotProcess::WaitSandboxGone() {
   if (SandboxInit() <= 0 || init_pidfd_ < 0) return;
   pollfd gone{init_pidfd_, POLLIN, 0};
   poll(&gone, 1, static_cast<int>(internal::kSandboxEndTimeoutNs / kNsPerMs));
+  // Reaped here when this process is the subreaper it was reparented to (`sitlnet run`).
+  waitpid(init_pid_, nullptr, WNOHANG);
 }
 
 std::optional<int> RobotProcess::PollExit() {
@@ -168,6 +170,10 @@ pid_t RobotProcess::CommandPid() {
   const pid_t init = SandboxInit();
   const pid_t command = init > 0 ? FirstChild(init) : -1;
   return command > 0 ? command : pid_;
+}
+
+void RobotProcess::RequestStop() {
+  if (pid_ > 0 && !PollExit()) kill(CommandPid(), SIGTERM);
 }
 
 void RobotProcess::Stop(TimeNs grace_ns) {

@@ -2,6 +2,7 @@
 #include <google/protobuf/text_format.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 
@@ -247,7 +248,10 @@ RunReport RunScenario(const RunOptions& options) {
   }
   nns::RequirePrivileges();
   nns::RefuseIfInUse(scenario.name);  // Before the run folder: a refused run leaves nothing.
-  coordinator::StopSignal stop;       // Ctrl-C from here on stops in order.
+  // A sandboxed robot's init outlives bubblewrap by a moment (docs/security.md); as the
+  // subreaper, this process reaps it, so its CPU time (the image's) is in RUSAGE_CHILDREN.
+  prctl(PR_SET_CHILD_SUBREAPER, 1);
+  coordinator::StopSignal stop;  // Ctrl-C from here on stops in order.
   MakeDirs(report.run_dir + "/robots");
   {
     std::string text;
@@ -391,8 +395,9 @@ RunReport RunScenario(const RunOptions& options) {
   std::vector<int64_t> rss_kib;
   for (RobotSlot& robot : robots) {
     if (robot.process && !robot.exit_status && !robot.process->PollExit()) {
-      if (const int64_t peak = PeakRssKib(robot.process->pid()); peak > 0) rss_kib.push_back(peak);
-      kill(robot.process->pid(), SIGTERM);
+      const int64_t peak = PeakRssKib(robot.process->CommandPid());
+      if (peak > 0) rss_kib.push_back(peak);
+      robot.process->RequestStop();
     }
   }
   if (!rss_kib.empty()) {
