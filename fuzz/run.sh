@@ -17,8 +17,20 @@ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSITLNET_FUZZ=ON \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   >"/tmp/sitlnet-build-fuzz.configure.log" 2>&1 || { cat "/tmp/sitlnet-build-fuzz.configure.log" >&2; exit 1; }
 mkdir -p "$build"
-cmake --build "$build" -j2 --target "${targets[@]}" >"$build/build.log" 2>&1 ||
+cmake --build "$build" -j2 --target ubsan_canary_fuzz "${targets[@]}" >"$build/build.log" 2>&1 ||
   { tail -50 "$build/build.log" >&2; exit 1; }
+
+# Undefined behaviour must fail a run, not print and pass: the canary overflows an int on "UB".
+canary=$(mktemp -d)
+trap 'rm -rf "$canary"' EXIT
+printf 'UB' >"$canary/input"
+if "$build/fuzz/ubsan_canary_fuzz" "$canary/input" >"$canary/log" 2>&1 ||
+    ! grep -q 'runtime error: signed integer overflow' "$canary/log"; then
+  echo "fuzz: a UBSan report did not fail the run (build flags?):" >&2
+  cat "$canary/log" >&2
+  exit 1
+fi
+echo "fuzz: ubsan_canary_fuzz fails on undefined behaviour, as it must"
 
 failed=()
 for target in "${targets[@]}"; do
