@@ -7,6 +7,7 @@
 #include <linux/capability.h>
 #include <netinet/in.h>
 #include <poll.h>
+#include <pwd.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
@@ -317,7 +318,10 @@ TEST(IsolationTest, RobotImageWithUserNobodyRunsAsUid65534) {
       0, integration_test::PingWithoutFileCapabilities().rfind('/'));
   std::ofstream(manifest) << "name: \"whoami\"\nuser: \"nobody\"\nwritable: \"" << ping_dir
                           << "\"\n"
+                             "env { name: \"FROM_MANIFEST\" value: \"kept\" }\n"
                              "command: \"/bin/sh\" command: \"-c\" command: \"id -u; id -g; "
+                             "echo index=$SITLNET_ROBOT_INDEX manifest=$FROM_MANIFEST home=$HOME; "
+                             "grep NoNewPrivs /proc/self/status; "
                           << ping << "\"\n";
   const images::Image image = images::LoadImage("", manifest);
   images::LaunchContext context;
@@ -333,7 +337,12 @@ TEST(IsolationTest, RobotImageWithUserNobodyRunsAsUid65534) {
   }
   std::ifstream in(log);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_EQ(text, "65534\n65534\nping-ok\n");
+  // Issue 17, finding 2: `user` used to clear the environment (the flocker died with
+  // "SITLNET_ROBOT_INDEX is not set") and left no_new_privs off.
+  const passwd* nobody = getpwnam("nobody");
+  ASSERT_NE(nobody, nullptr);
+  EXPECT_EQ(text, "65534\n65534\nindex=0 manifest=kept home=" + std::string(nobody->pw_dir) +
+                      "\nNoNewPrivs:\t1\nping-ok\n");
   std::remove(log.c_str());
   std::remove(manifest.c_str());
 }
