@@ -75,6 +75,14 @@ std::string RequestRealtimePriority(int priority);
 // Lowering needs no privilege.
 void ResetToNormalScheduling();
 
+//------------------------------ Resource limits -----------------------------
+
+// Raises the soft open-file limit (RLIMIT_NOFILE) to at least `needed`, and the hard limit too
+// when that is below (needs CAP_SYS_RESOURCE). Debian's default soft limit, 1024, is near what
+// 250 robots take. Returns the soft limit now in force; throws Error "<what> needs N open
+// files, above the hard limit of H ..." when it cannot be raised far enough.
+uint64_t RaiseOpenFileLimit(uint64_t needed, std::string_view what);
+
 //--------------------------------- Files ------------------------------------
 
 // A file of a run (CSV, logs, the pcap) appended as whole lines or records: buffered, written
@@ -90,7 +98,7 @@ class LineFile {
   ~LineFile();  // Flushes; a write error is printed, not thrown.
   LineFile(const LineFile&) = delete;
   LineFile& operator=(const LineFile&) = delete;
-  void Append(std::string_view line);  // Without the newline.
+  void Append(std::string_view line);         // Without the newline.
   void AppendRecord(std::string_view bytes);  // Binary, written as is.
   // Throws Error naming the file if write(2) fails (disk full); the lines
   // written before stay whole.

@@ -251,6 +251,12 @@ RunReport RunScenario(const RunOptions& options) {
   // A sandboxed robot's init outlives bubblewrap by a moment (docs/security.md); as the
   // subreaper, this process reaps it, so its CPU time (the image's) is in RUSAGE_CHILDREN.
   prctl(PR_SET_CHILD_SUBREAPER, 1);
+  // Per robot: its TAP, physics socket, log, pidfds and the medium's and bridge's own; 64 for
+  // the rest (outputs, sockets, pipes). Debian's default soft limit (1024) ran out near 250.
+  constexpr uint64_t kOpenFilesPerRobot = 8;
+  constexpr uint64_t kOpenFilesBase = 64;
+  RaiseOpenFileLimit(kOpenFilesBase + kOpenFilesPerRobot * scenario.robots.size(),
+                     "a run of " + std::to_string(scenario.robots.size()) + " robots");
   coordinator::StopSignal stop;  // Ctrl-C from here on stops in order.
   MakeDirs(report.run_dir + "/robots");
   {

@@ -65,8 +65,8 @@ TEST(StateTest, RobotLinesMustNameThePlansNamespaceAndVeth) {
   const std::string head = "scenario alpha\nphysics_port 9600\n";
   const std::string addresses = " 10.0.0.1 10.0.0.2 10.0.0.3\n";
   EXPECT_NO_THROW(ParseState(head + "robot 0 a alpha-a alpha-c0" + addresses, "s"));
-  for (const std::string& forged : {"robot 0 a alpha-a docker0", "robot 0 a other-a alpha-c0",
-                                    "robot 1 a alpha-a alpha-c0", "robot -1 a alpha-a alpha-c-1"}) {
+  for (const char* forged : {"robot 0 a alpha-a docker0", "robot 0 a other-a alpha-c0",
+                             "robot 1 a alpha-a alpha-c0", "robot -1 a alpha-a alpha-c-1"}) {
     EXPECT_THROW(ParseState(head + forged + addresses, "s"), Error) << forged;
   }
   EXPECT_THROW(ParseState("robot 0 a alpha-a alpha-c0" + addresses + head, "s"), Error)

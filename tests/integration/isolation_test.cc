@@ -472,10 +472,9 @@ TEST(IsolationTest, AttackerImageEscapesNothingInTheDefaultSandbox) {
 TEST(IsolationTest, AttackerImageEscapesWithSandboxNone) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const AttackOutcome outcome = RunAttacker("sandbox: NONE");
-  for (const std::string& attack :
-       {"host_processes", "enter_other_namespace", "read_state_file", "list_robot_namespaces",
-        "connect_control_socket", "write_run_folder", "mount_filesystem", "route_via_ctl0",
-        "spoof_ctl0_address"}) {
+  for (const char* attack : {"host_processes", "enter_other_namespace", "read_state_file",
+                             "list_robot_namespaces", "connect_control_socket", "write_run_folder",
+                             "mount_filesystem", "route_via_ctl0", "spoof_ctl0_address"}) {
     ASSERT_TRUE(outcome.escaped.count(attack)) << attack << " did not run\n" << outcome.log;
     EXPECT_TRUE(outcome.escaped.at(attack)) << attack << "\n" << outcome.log;
   }
