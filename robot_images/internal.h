@@ -30,9 +30,20 @@ void CheckSandboxFields(const Image& image);
 
 // The argv prefix that confines the image and switches its user (bubblewrap, then util-linux
 // setpriv for `user`), to be followed by the image's own command. Empty when the image has
-// neither a sandbox nor a user. Throws Error naming the robot when a tool or privilege it needs
-// is missing.
-std::vector<std::string> ConfinementPrefix(const Image& image, const LaunchContext& context);
+// neither a sandbox nor a user. `command_env` ("NAME=value") is set by bubblewrap for the
+// command only. Throws Error naming the robot when a tool or privilege it needs is missing.
+std::vector<std::string> ConfinementPrefix(const Image& image, const LaunchContext& context,
+                                           const std::vector<std::string>& command_env = {});
+
+// Whether the image's processes read the dilated clock (the manifest's `time`, by default when
+// the run is realtime-paced at a factor other than 1).
+bool UsesDilatedTime(const Image& image, const LaunchContext& context);
+
+// The environment that dilates the image's clock (libfaketime's LD_PRELOAD and FAKETIME), empty
+// for WALL. Throws Error naming the robot for a statically linked `command[0]`, lockstep
+// pacing, or a missing libfaketime; warns for a Go program.
+std::vector<std::string> DilatedTimeEnvironment(const Image& image, const LaunchContext& context,
+                                                const std::vector<std::string>& command);
 
 }  // namespace sitlnet::images::internal
 

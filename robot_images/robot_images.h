@@ -35,6 +35,8 @@ struct LaunchContext {
   int robot_index = 0;                  // ${ROBOT_INDEX}
   std::vector<std::string> robot_args;  // "${ARGS}"
   std::string airframe_text;            // ${AIRFRAME}: the robot's Airframe, text format
+  // Virtual seconds per wall second of a realtime-paced run; 0 in lockstep (no fixed factor).
+  double realtime_factor = 1.0;
 };
 
 // The image's argv with placeholders expanded; throws Error naming the

@@ -44,11 +44,18 @@ RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
       sandboxed_(image.manifest.sandbox() == proto::ImageManifest::CONFINED) {
   std::vector<std::string> args = {sitlnet_exe,      "exec",        "--scenario",
                                    context.scenario, context.robot, "--"};
-  const std::vector<std::string> prefix = internal::ConfinementPrefix(image, context);
-  args.insert(args.end(), prefix.begin(), prefix.end());
   const std::vector<std::string> command = ExpandCommand(image, context);
+  std::vector<std::string> env = ExpandEnv(image, context);
+  // Only for the image's command: in the sandbox bubblewrap sets it, so that sitlnet exec and
+  // bubblewrap run on the host's clock and keep no libfaketime state in the host's /dev/shm.
+  std::vector<std::string> time_env = internal::DilatedTimeEnvironment(image, context, command);
+  if (!sandboxed_) {
+    env.insert(env.end(), time_env.begin(), time_env.end());  // After the manifest's env.
+    time_env.clear();
+  }
+  const std::vector<std::string> prefix = internal::ConfinementPrefix(image, context, time_env);
+  args.insert(args.end(), prefix.begin(), prefix.end());
   args.insert(args.end(), command.begin(), command.end());
-  const std::vector<std::string> env = ExpandEnv(image, context);
 
   const int log_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   if (log_fd < 0)

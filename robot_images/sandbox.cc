@@ -30,13 +30,21 @@ constexpr std::array<std::string_view, 9> kAllowedCapabilities = {
     "CAP_KILL",      "CAP_SETUID",  "CAP_SETGID",           "CAP_SYS_NICE"};
 
 // What the OCI runtimes hide from or make read-only in a container's /proc and /sys (the
-// masked and read-only paths of the default container spec of containerd and Moby): kernel
+// masked and read-only paths of Moby's default container spec, docs/references.md#sandbox): kernel
 // memory, keyrings, timer and scheduler internals, and the knobs that act on the whole host
 // (sysctl, sysrq, IRQ affinity). A root process without capabilities may still write a file
 // that root owns, so these must not be writable. Only the paths that exist are touched.
-constexpr std::array<std::string_view, 9> kMaskedPaths = {
-    "/proc/acpi",       "/proc/asound",      "/proc/kcore", "/proc/keys",   "/proc/latency_stats",
-    "/proc/timer_list", "/proc/sched_debug", "/proc/scsi",  "/sys/firmware"};
+constexpr std::array<std::string_view, 11> kMaskedPaths = {"/proc/acpi",
+                                                           "/proc/asound",
+                                                           "/proc/kcore",
+                                                           "/proc/keys",
+                                                           "/proc/latency_stats",
+                                                           "/proc/timer_list",
+                                                           "/proc/timer_stats",
+                                                           "/proc/sched_debug",
+                                                           "/proc/scsi",
+                                                           "/sys/firmware",
+                                                           "/sys/devices/virtual/powercap"};
 constexpr std::array<std::string_view, 5> kReadOnlyProcPaths = {
     "/proc/bus", "/proc/fs", "/proc/irq", "/proc/sys", "/proc/sysrq-trigger"};
 
@@ -95,7 +103,8 @@ void Bind(const char* how, const std::string& path, std::vector<std::string>* ar
 }
 
 std::vector<std::string> BubblewrapArgs(const Image& image, const LaunchContext& context,
-                                        const passwd* user) {
+                                        const passwd* user,
+                                        const std::vector<std::string>& command_env) {
   const proto::ImageManifest& manifest = image.manifest;
   // --die-with-parent: the sandbox ends with `sitlnet run`, even when it is killed. The PID
   // namespace ends every process of the robot with its first one, also those that forked away
@@ -138,6 +147,10 @@ std::vector<std::string> BubblewrapArgs(const Image& image, const LaunchContext&
     args.insert(args.end(), {"--cap-add", "CAP_SETUID", "--cap-add", "CAP_SETGID"});
     args.insert(args.end(), {"--setenv", "HOME", user->pw_dir, "--setenv", "USER", user->pw_name,
                              "--setenv", "LOGNAME", user->pw_name});
+  }
+  for (const std::string& variable : command_env) {
+    const size_t equals = variable.find('=');
+    args.insert(args.end(), {"--setenv", variable.substr(0, equals), variable.substr(equals + 1)});
   }
   args.push_back("--");
   return args;
@@ -218,7 +231,8 @@ void CheckSandboxFields(const Image& image) {
   }
 }
 
-std::vector<std::string> ConfinementPrefix(const Image& image, const LaunchContext& context) {
+std::vector<std::string> ConfinementPrefix(const Image& image, const LaunchContext& context,
+                                           const std::vector<std::string>& command_env) {
   const proto::ImageManifest& manifest = image.manifest;
   const passwd* user = nullptr;
   if (!manifest.user().empty()) {
@@ -244,7 +258,7 @@ std::vector<std::string> ConfinementPrefix(const Image& image, const LaunchConte
                   "or `sandbox: NONE` in " +
                   image.manifest_path + ")");
     }
-    prefix = BubblewrapArgs(image, context, user);
+    prefix = BubblewrapArgs(image, context, user, command_env);
   }
   if (user != nullptr) {
     const std::vector<std::string> setpriv = SetprivArgs(image, *user);

@@ -78,6 +78,9 @@ std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& o
     context.robot = plan.name;
     context.robot_index = plan.index;
     context.robot_args.assign(plan.spec.args().begin(), plan.spec.args().end());
+    context.realtime_factor = scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP
+                                  ? 0
+                                  : scenario.spec.timing().realtime_factor();
     google::protobuf::TextFormat::Printer one_line;
     one_line.SetSingleLineMode(true);
     one_line.PrintToString(plan.airframe, &context.airframe_text);

@@ -1,9 +1,12 @@
 #include "robot_images/robot_images.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
+
+#include "robot_images/internal.h"
 
 namespace sitlnet::images {
 namespace {
@@ -95,6 +98,44 @@ TEST(ImageTest, SandboxFieldsThatReachBeyondTheRobotAreRefused) {
       refusal("sandbox: NONE capabilities: \"CAP_NET_RAW\"").rfind(path + ": capabilities:", 0),
       0u);
   std::remove(path.c_str());
+}
+
+// Issue 18: which images read the dilated clock, and what sets it up. What it does to real
+// programs is measured in tests/integration/run_test.cc (DilatedTime*).
+TEST(ImageTest, DilatedTimeIsTheDefaultAwayFromFactorOneAndRefusesWhatItCannotDilate) {
+  Image image = LoadImage(ImagesRoot(), "shell");
+  LaunchContext context = Context();
+  const std::vector<std::string> sh = {"/bin/sh", "-c", "true"};
+  context.realtime_factor = 1.0;
+  EXPECT_TRUE(internal::DilatedTimeEnvironment(image, context, sh).empty());
+  context.realtime_factor = 0;  // Lockstep.
+  EXPECT_TRUE(internal::DilatedTimeEnvironment(image, context, sh).empty());
+  context.realtime_factor = 0.25;
+  const std::vector<std::string> env = internal::DilatedTimeEnvironment(image, context, sh);
+  ASSERT_EQ(env.size(), 3u);
+  EXPECT_EQ(env[0].rfind("LD_PRELOAD=/usr/lib/", 0), 0u) << env[0];
+  EXPECT_NE(env[0].find("/faketime/libfaketimeMT.so.1"), std::string::npos) << env[0];
+  EXPECT_EQ(env[1], "FAKETIME=+0 x0.25");  // libfaketime's README: offset, then speed.
+  EXPECT_EQ(env[2], "FAKETIME_DONT_RESET=1");
+  image.manifest.set_time(proto::ImageManifest::WALL);
+  EXPECT_TRUE(internal::DilatedTimeEnvironment(image, context, sh).empty());
+  image.manifest.set_time(proto::ImageManifest::DILATED);
+  context.realtime_factor = 0;
+  const auto refusal = [&](const std::vector<std::string>& command) -> std::string {
+    try {
+      internal::DilatedTimeEnvironment(image, context, command);
+    } catch (const Error& error) {
+      return error.what();
+    }
+    return "";
+  };
+  EXPECT_NE(refusal(sh).find("needs realtime pacing"), std::string::npos);
+  context.realtime_factor = 2;
+  // Debian's ldconfig is a static-pie program: a preloaded library never loads into it.
+  if (access("/sbin/ldconfig", X_OK) == 0) {
+    EXPECT_NE(refusal({"/sbin/ldconfig"}).find("/sbin/ldconfig is statically linked"),
+              std::string::npos);
+  }
 }
 
 TEST(RobotProcessTest, ExitStatusIsReported) {
