@@ -37,7 +37,11 @@ struct LaunchContext {
   std::string airframe_text;            // ${AIRFRAME}: the robot's Airframe, text format
   // Virtual seconds per wall second of a realtime-paced run; 0 in lockstep (no fixed factor).
   double realtime_factor = 1.0;
+  // A descriptor of the run that the command receives as kPassedFd (the shared virtual time of
+  // the /clock publisher); -1: none. Every other descriptor of the run stays out.
+  int passed_fd = -1;
 };
+inline constexpr int kPassedFd = 4;
 
 // The image's argv with placeholders expanded; throws Error naming the
 // manifest and the unknown placeholder.

@@ -91,15 +91,19 @@ RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
     dup2(log_fd, STDERR_FILENO);
     const int null_fd = open("/dev/null", O_RDONLY);
     if (null_fd >= 0) dup2(null_fd, STDIN_FILENO);
-    if (sandboxed_) {
-      // Inherited through `sitlnet exec` by bubblewrap; dup2 clears close-on-exec, except on
-      // the same number.
-      if (info_pipe[1] == internal::kSandboxInfoFd) {
-        fcntl(info_pipe[1], F_SETFD, 0);
+    // Inherited through `sitlnet exec` by bubblewrap and the command; dup2 clears close-on-exec,
+    // except on the same number.
+    const auto pass = [](int fd, int as) {
+      if (fd == as) {
+        fcntl(fd, F_SETFD, 0);
       } else {
-        dup2(info_pipe[1], internal::kSandboxInfoFd);
+        dup2(fd, as);
       }
-    }
+    };
+    // Moved above both numbers first, so that neither dup2 can overwrite the other's source.
+    const int passed = context.passed_fd >= 0 ? fcntl(context.passed_fd, F_DUPFD, 16) : -1;
+    if (sandboxed_) pass(info_pipe[1], internal::kSandboxInfoFd);
+    if (passed >= 0) pass(passed, kPassedFd);
     for (const std::string& variable : env) putenv(const_cast<char*>(variable.c_str()));
     execv(argv[0], argv.data());
     dprintf(STDERR_FILENO, "sitlnet: robot \"%s\": run %s: %s\n", robot_.c_str(), argv[0],

@@ -11,6 +11,8 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
+#include <memory>
+#include <optional>
 
 #include "coordinator/coordinator.h"
 #include "network_side/network_side.h"
@@ -113,6 +115,51 @@ std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& o
     }
   }
   return robots;
+}
+
+// Timing.ros2_clock_hz > 0: one /clock publisher per robot (ros2_clock/), started like an image
+// (sandboxed, in the robot's namespace, log <run>/robots/<robot>.ros2_clock.log) and handed the
+// run's shared virtual time as descriptor images::kPassedFd.
+std::vector<std::unique_ptr<images::RobotProcess>> StartClockPublishers(
+    const Scenario& scenario, const RunOptions& options, const std::string& run_dir,
+    const ros2_clock::SharedVirtualTime& shared) {
+  std::vector<std::unique_ptr<images::RobotProcess>> publishers;
+  const proto::Timing& timing = scenario.spec.timing();
+  if (timing.ros2_clock_hz() == 0) return publishers;
+  const std::string bin_dir = options.sitlnet_exe.substr(0, options.sitlnet_exe.rfind('/'));
+  const bool lockstep = timing.pacing() == proto::Timing::PACING_LOCKSTEP;
+  // The shared time moves once per iteration: polling twice per iteration's wall time is
+  // enough in realtime; in lockstep an iteration's wall time is not known, 1 ms it is.
+  const int64_t poll_us =
+      lockstep
+          ? 1000
+          : std::max<int64_t>(
+                100, static_cast<int64_t>(timing.iteration_us() / timing.realtime_factor() / 2));
+  images::Image image;
+  image.dir = bin_dir;
+  image.manifest_path = "(built in: timing.ros2_clock_hz)";
+  image.manifest.set_name("ros2_clock");
+  for (const std::string& arg : {bin_dir + "/ros2_clock_publisher", std::string("--time-fd"),
+                                 std::to_string(images::kPassedFd), std::string("--rate-hz"),
+                                 std::to_string(timing.ros2_clock_hz()), std::string("--poll-us"),
+                                 std::to_string(poll_us)}) {
+    image.manifest.add_command(arg);
+  }
+  image.manifest.add_files(bin_dir + "/ros2_clock_publisher");
+  image.manifest.set_time(proto::ImageManifest::WALL);
+  image.manifest.set_ready_log_line("ros2_clock_publisher: /clock");
+  for (const RobotPlan& plan : scenario.robots) {
+    images::LaunchContext context;
+    context.sitlnet_bin_dir = bin_dir;
+    context.scenario = scenario.name;
+    context.robot = plan.name;
+    context.robot_index = plan.index;
+    context.passed_fd = shared.fd();
+    images::CheckFiles(image, context);
+    publishers.push_back(std::make_unique<images::RobotProcess>(
+        image, context, options.sitlnet_exe, run_dir + "/robots/" + plan.name + ".ros2_clock.log"));
+  }
+  return publishers;
 }
 
 // Lockstep: every robot with an image must have announced itself (a first
@@ -344,6 +391,13 @@ RunReport RunScenario(const RunOptions& options) {
   });
 
   std::vector<RobotSlot> robots = StartImages(scenario, options, report.run_dir);
+  std::optional<ros2_clock::SharedVirtualTime> shared_time;
+  if (scenario.spec.timing().ros2_clock_hz() > 0) {
+    shared_time.emplace(ros2_clock::SharedVirtualTime::Create());
+  }
+  std::vector<std::unique_ptr<images::RobotProcess>> clock_publishers =
+      shared_time ? StartClockPublishers(scenario, options, report.run_dir, *shared_time)
+                  : std::vector<std::unique_ptr<images::RobotProcess>>{};
 
   physics_side::RobotLockstepOptions robot_lockstep;
   robot_lockstep.enabled = lockstep;
@@ -357,6 +411,7 @@ RunReport RunScenario(const RunOptions& options) {
   physics_side::PhysicsServerSimulator physics_sim(scenario, &physics_server, robot_lockstep);
   RecordingPhysics recording(&physics_sim, &physics_server.world(),
                              report.run_dir + "/trajectories.csv", options.trajectory_period_ns);
+  if (shared_time) recording.ShareTimeWith(&*shared_time);
   network_side::BridgeSimulator bridge_sim(
       scenario, &bridge, lockstep ? coordinator::Pacing::kLockstep : coordinator::Pacing::kRealtime,
       scenario.spec.timing().realtime_factor());
@@ -417,6 +472,8 @@ RunReport RunScenario(const RunOptions& options) {
   for (RobotSlot& robot : robots) {
     if (robot.process && !robot.exit_status) robot.process->Stop();
   }
+  for (auto& publisher : clock_publishers) publisher->RequestStop();
+  clock_publishers.clear();  // Stop() each: it ends at SIGTERM.
   report.stop_ns = MonotonicNowNs() - loop_end_ns;
   // Every image is reaped by now and nothing else was a child yet (gnuplot
   // runs later), so the children's usage is the robots'.

@@ -36,6 +36,7 @@ void RecordingPhysics::RunIteration(const proto::coord::Start& start, proto::coo
                                     coordinator::IterationContext& context) {
   if (start.start_ns() == 0) Record(0);
   inner_.RunIteration(start, end, context);
+  if (shared_time_ != nullptr) shared_time_->Store(start.end_ns());
   if (start.end_ns() >= next_sample_ns_ + period_ns_) {
     Record(start.end_ns());
     next_sample_ns_ = start.end_ns();

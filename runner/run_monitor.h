@@ -12,6 +12,7 @@
 #include "coordinator/connector.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "robot_images/robot_images.h"
+#include "ros2_clock/ros2_clock.h"
 #include "tapbridge/tapbridge.h"
 
 namespace sitlnet::runner {
@@ -24,6 +25,9 @@ class RecordingPhysics final : public coordinator::Simulator {
   proto::coord::Poses InitialPoses() override { return inner_.InitialPoses(); }
   void RunIteration(const proto::coord::Start& start, proto::coord::End* end,
                     coordinator::IterationContext& context) override;
+  // Each iteration's end time, once the physics has reached it, goes there too (the robots'
+  // /clock publishers read it).
+  void ShareTimeWith(ros2_clock::SharedVirtualTime* shared) { shared_time_ = shared; }
   void Flush() { csv_.Flush(); }
 
  private:
@@ -33,6 +37,7 @@ class RecordingPhysics final : public coordinator::Simulator {
   LineFile csv_;
   TimeNs period_ns_;
   TimeNs next_sample_ns_ = 0;
+  ros2_clock::SharedVirtualTime* shared_time_ = nullptr;
 };
 
 // A robot image's process and what became of it.

@@ -69,6 +69,7 @@ Scenario LoadScenarioText(std::string_view text, const std::string& source_name)
 inline constexpr int kMaxScenarioNameLength = 10;
 inline constexpr int kMaxRobots = 1000;
 inline constexpr int kMaxRobotNameLength = 32;
+inline constexpr double kMaxRos2ClockHz = 1000;  // Timing.ros2_clock_hz
 
 // Parses protobuf text format into `message` (also used for image manifests).
 // Throws Error "source:line:col: <protobuf's message>" on the first error.

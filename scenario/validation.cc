@@ -227,6 +227,13 @@ void ValidateTiming(const SourceLocator& at, Scenario* scenario) {
   if (const std::string why = clock::CheckRealtimeFactor(timing.realtime_factor()); !why.empty()) {
     at.Fail({{"timing"}, {"realtime_factor"}}, "timing: " + why);
   }
+  // 0: off; at most 1 kHz of virtual time (ROS 2 simulators publish /clock at 100 Hz to 1 kHz).
+  if (!(timing.ros2_clock_hz() == 0 ||
+        (timing.ros2_clock_hz() > 0 && timing.ros2_clock_hz() <= kMaxRos2ClockHz))) {
+    at.Fail({{"timing"}, {"ros2_clock_hz"}},
+            "timing: ros2_clock_hz " + std::to_string(timing.ros2_clock_hz()) +
+                " must be 0 (off) or in (0, " + std::to_string(kMaxRos2ClockHz) + "]");
+  }
   scenario->iteration_ns = timing.iteration_us() * kNsPerUs;
   scenario->physics_step_ns = timing.physics_step_us() * kNsPerUs;
   scenario->network_step_ns = timing.network_step_us() * kNsPerUs;

@@ -136,6 +136,10 @@ TEST(ScenarioTest, RejectsNonFiniteAndOutOfRangeNumbers) {
                  "duration_ms 9223372036854 must be at most");
   ExpectRejected(two + "timing { realtime_factor: 1e-300 }\n", "t.textproto:4:10",
                  "realtime_factor 1e-300 must be in");
+  ExpectRejected(two + "timing { ros2_clock_hz: 5000 }\n", "t.textproto:4:10",
+                 "ros2_clock_hz 5000.000000 must be 0 (off) or in (0, 1000");
+  ExpectRejected(two + "timing { ros2_clock_hz: nan }\n", "t.textproto:4:10",
+                 "ros2_clock_hz nan must be 0 (off)");
   ExpectRejected(two + "radio { noise_figure_db: nan }\n", "t.textproto:4:9",
                  "noise_figure_db nan out of range");
 }

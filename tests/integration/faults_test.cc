@@ -53,9 +53,8 @@ FaultScenario WriteScenario(int slot, const std::vector<std::string>& robot_bloc
   return s;
 }
 
-// Pids of the processes inside the scenario's robot namespaces (`ip netns pids`, an observer).
-// Every process in the robots' namespaces: per robot, bubblewrap, its sandbox's init and the
-// image's processes (docs/security.md).
+// Pids of every process in the scenario's robot namespaces (`ip netns pids`, an observer): per
+// robot, bubblewrap, its sandbox's init and the image's processes (docs/security.md).
 std::vector<pid_t> RobotProcesses(const FaultScenario& s) {
   std::vector<pid_t> pids;
   for (const std::string& robot : s.robots) {
@@ -94,26 +93,6 @@ void ExpectNothingLeft(const FaultScenario& s) {
   // No `sitlnet run` of this scenario is left (pgrep as an observer).
   const CommandResult pgrep = RunCommand({"pgrep", "-f", "--", s.path});
   EXPECT_EQ(pgrep.out, "") << "left running: " << pgrep.out;
-}
-
-// Waits (inotify on the folder, no sleeps) until `done()` holds or the timeout passes.
-bool WaitForFiles(const std::string& dir, const std::function<bool()>& done, TimeNs timeout_ns) {
-  const int fd = inotify_init1(IN_CLOEXEC | IN_NONBLOCK);
-  inotify_add_watch(fd, dir.c_str(), IN_MODIFY | IN_CREATE | IN_CLOSE_WRITE);
-  const TimeNs deadline = MonotonicNowNs() + timeout_ns;
-  bool ok = done();
-  while (!ok && MonotonicNowNs() < deadline) {
-    pollfd p{fd, POLLIN, 0};
-    // The timeout only bounds a missed event (files created before the watch).
-    if (poll(&p, 1, 200) > 0) {
-      char buffer[4096];
-      while (read(fd, buffer, sizeof buffer) > 0) {
-      }
-    }
-    ok = done();
-  }
-  close(fd);
-  return ok;
 }
 
 // Every line of a CSV is whole: the file ends with a newline and each line has the header's

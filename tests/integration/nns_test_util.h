@@ -27,6 +27,7 @@ using integration_test::RunCommand;
 using integration_test::RunWithoutCapabilities;
 using integration_test::SitlnetBinary;
 using integration_test::TempDir;
+using integration_test::WaitForFiles;
 
 // Skips the test (fails under CI=true) when namespaces cannot be created.
 #define SITLNET_REQUIRE_NNS_PRIVILEGES()                                         \

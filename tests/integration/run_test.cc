@@ -395,6 +395,88 @@ TEST(RunTest, DilatedTimeAtAQuarterKeepsPingAndIperf3InVirtualTime) {
   RunCommand({"rm", "-rf", out});
 }
 
+// Issue 18: ROS 2's /clock in a robot, received by a Cyclone DDS subscriber with the same IDL and
+// QoS as ROS 2's time source (ros2_clock_echo), in both pacings; its times are the run's virtual
+// time (multiples of the 10 ms iteration, 20 ms apart at 50 Hz when nothing is skipped), and no
+// DDS packet goes over the simulated radio.
+std::vector<TimeNs> ClockTimes(const std::string& echo_output) {
+  std::vector<TimeNs> times;
+  std::istringstream lines(echo_output);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("clock ", 0) != 0) continue;
+    const size_t dot = line.find('.');
+    times.push_back(std::stoll(line.substr(6, dot - 6)) * kNsPerS +
+                    std::stoll(line.substr(dot + 1)));
+  }
+  return times;
+}
+
+void ExpectVirtualClock(const std::vector<TimeNs>& times, TimeNs duration_ns, bool every_tick) {
+  ASSERT_EQ(times.size(), 20u);
+  for (size_t i = 0; i < times.size(); ++i) {
+    EXPECT_EQ(times[i] % (10 * kNsPerMs), 0) << times[i];  // An iteration's end.
+    EXPECT_LE(times[i], duration_ns);
+    if (i == 0) continue;
+    EXPECT_GT(times[i], times[i - 1]);
+    if (every_tick) EXPECT_EQ(times[i] - times[i - 1], 20 * kNsPerMs) << i;
+  }
+}
+
+TEST(RunTest, Ros2ClockReachesARobotOnItsLoopbackInBothPacings) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const std::string echo =
+      SitlnetBinary().substr(0, SitlnetBinary().rfind('/')) + "/ros2_clock_echo";
+  // Realtime: the subscriber is the robot's image.
+  const std::string manifest =
+      WriteManifest("clock_echo", "command: [\"" + echo + "\", \"--count\", \"20\"]\n");
+  const RunScenario realtime =
+      WriteScenario(12,
+                    "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } image: \"" + manifest +
+                        "\" }\n"
+                        "robot { name: \"b\" position_m { x: 5 y: 0 z: 0.2 } }\n",
+                    "timing { duration_ms: 3000 ros2_clock_hz: 50 }\n");
+  {
+    DownGuard guard(realtime.name);
+    const std::string out = TempDir() + "/" + realtime.name + "-out";
+    const CommandResult result = SitlnetRun(realtime, out, {});
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    const std::string log = ReadAll(out + "/robots/a.log");
+    ExpectVirtualClock(ClockTimes(log), 3 * kNsPerS, /*every_tick=*/true);
+    const CommandResult rtps = RunCommand(
+        {"tshark", "-r", out + "/medium.pcap", "-Y", "rtps", "-T", "fields", "-e", "frame.number"},
+        60 * kNsPerS);
+    EXPECT_EQ(rtps.exit_code, 0) << rtps.err;
+    EXPECT_EQ(rtps.out, "") << "DDS on the radio";
+    ExpectNothingLeft(realtime.name);
+    RunCommand({"rm", "-rf", out});
+  }
+  // Lockstep: robots without images need not speak, so the run starts at once; the subscriber
+  // joins robot b from outside (`sitlnet exec`) while the run goes on, then the run is stopped.
+  const RunScenario lockstep =
+      WriteScenario(13,
+                    "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } }\n"
+                    "robot { name: \"b\" position_m { x: 5 y: 0 z: 0.2 } }\n",
+                    "timing { duration_ms: 600000 pacing: PACING_LOCKSTEP ros2_clock_hz: 50 }\n");
+  DownGuard guard(lockstep.name);
+  const std::string out = TempDir() + "/" + lockstep.name + "-out";
+  RunCommand({"mkdir", "-p", out + "/robots"});
+  Child run({SitlnetBinary(), "run", lockstep.path, "--out", out, "--no-progress"});
+  const std::string publisher_log = out + "/robots/b.ros2_clock.log";
+  ASSERT_TRUE(WaitForFiles(
+      out + "/robots",
+      [&] { return ReadAll(publisher_log).find("/clock at") != std::string::npos; }, 60 * kNsPerS))
+      << run.err();
+  const CommandResult received = RunCommand(
+      {SitlnetBinary(), "exec", "--scenario", lockstep.name, "b", "--", echo, "--count", "20"},
+      60 * kNsPerS);
+  EXPECT_EQ(received.exit_code, 0) << received.err;
+  ExpectVirtualClock(ClockTimes(received.out), 600 * kNsPerS, /*every_tick=*/false);
+  kill(run.pid(), SIGINT);  // Ctrl-C: the run stops in order.
+  EXPECT_EQ(run.Wait(60 * kNsPerS), 130) << run.err();
+  ExpectNothingLeft(lockstep.name);
+  RunCommand({"rm", "-rf", out});
+}
+
 // Realtime pacing: sitlnet's own threads ask for SCHED_FIFO 10 (a busy host otherwise delays the
 // loop by milliseconds, docs/performance.md); the robot's software must not inherit it. The
 // image reports its own policy and its parent's (the `sitlnet run` process) with chrt. It runs

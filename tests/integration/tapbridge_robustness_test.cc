@@ -206,7 +206,8 @@ TEST(TapbridgeBadInput, MissingWlan0IsReportedNotRecreated) {
   SITLNET_REQUIRE_ROOT();
   MediumScenario scenario("nwl", 2, kTwo);
   ASSERT_EQ(RunCommand({"ip", "-n", scenario.Netns("b"), "link", "delete", "wlan0"}).exit_code, 0);
-  const CommandResult daemon = RunCommand({SitlnetBinary(), "medium", scenario.path()}, 10 * kNsPerS);
+  const CommandResult daemon =
+      RunCommand({SitlnetBinary(), "medium", scenario.path()}, 10 * kNsPerS);
   EXPECT_NE(daemon.exit_code, 0);
   EXPECT_EQ(Lines(daemon.err), 1) << daemon.err;
   EXPECT_NE(daemon.err.find("robot b"), std::string::npos) << daemon.err;
@@ -245,7 +246,8 @@ TEST(TapbridgeDaemon, SchedFifoWithCapSysNiceElseOneWarningAndNormalPriority) {
   const CommandResult chrt = RunCommand({"chrt", "-p", std::to_string(scenario.daemon()->pid())});
   ASSERT_EQ(chrt.exit_code, 0) << chrt.err;
   const std::string log = scenario.StopDaemon();
-  const std::string warning = "SCHED_FIFO priority 10 refused (needs CAP_SYS_NICE or RLIMIT_RTPRIO)";
+  const std::string warning =
+      "SCHED_FIFO priority 10 refused (needs CAP_SYS_NICE or RLIMIT_RTPRIO)";
   if (integration_test::HasCapability(CAP_SYS_NICE)) {
     EXPECT_NE(chrt.out.find("policy: SCHED_FIFO"), std::string::npos) << chrt.out;
     EXPECT_NE(chrt.out.find("priority: 10"), std::string::npos) << chrt.out;

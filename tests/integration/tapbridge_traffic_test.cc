@@ -40,7 +40,8 @@ std::pair<TimeNs, TimeNs> PingRtt(const std::string& out) {
 // idle medium, immediate access) and at most DIFS + CWmin slots of backoff +
 // airtime. On top, each of the two deliveries may be written up to 200 µs late
 // (the bridge's p99 target) and the kernels turn the echo around. ns-3's
-// TapBridge shows 0.673 ms here (docs/references.md#ns3-tapbridge, its average); our median must beat it.
+// TapBridge shows 0.673 ms here (docs/references.md#ns3-tapbridge, its average); our median must
+// beat it.
 TEST(TapbridgeTraffic, PingRttMatchesAirtimeAndDcf) {
   SITLNET_REQUIRE_ROOT();
   MediumScenario scenario("png", 0, TwoRobots(54));
@@ -60,7 +61,8 @@ TEST(TapbridgeTraffic, PingRttMatchesAirtimeAndDcf) {
               median_ns / 1e6, static_cast<long>(airtime_ns), summary.c_str());
   EXPECT_GE(min_ns, 2 * airtime_ns) << "faster than the air allows: frames bypass the medium";
   EXPECT_LE(median_ns, 2 * (worst_medium_ns + bridge_allowance_ns)) << ping.out;
-  EXPECT_LT(median_ns, 673 * kNsPerUs) << "not better than ns-3 TapBridge (docs/references.md#ns3-tapbridge)";
+  EXPECT_LT(median_ns, 673 * kNsPerUs)
+      << "not better than ns-3 TapBridge (docs/references.md#ns3-tapbridge)";
 }
 
 // Receiver-side interval goodputs (Kbits/sec) from iperf3's text output,

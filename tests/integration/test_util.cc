@@ -4,6 +4,7 @@
 #include <linux/capability.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/inotify.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
@@ -247,6 +248,25 @@ std::string PingWithoutFileCapabilities() {
     }
   } copy;
   return copy.path;
+}
+
+bool WaitForFiles(const std::string& dir, const std::function<bool()>& done, TimeNs timeout_ns) {
+  const int fd = inotify_init1(IN_CLOEXEC | IN_NONBLOCK);
+  inotify_add_watch(fd, dir.c_str(), IN_MODIFY | IN_CREATE | IN_CLOSE_WRITE);
+  const TimeNs deadline = MonotonicNowNs() + timeout_ns;
+  bool ok = done();
+  while (!ok && MonotonicNowNs() < deadline) {
+    pollfd p{fd, POLLIN, 0};
+    // The timeout only bounds a missed event (files created before the watch).
+    if (poll(&p, 1, 200) > 0) {
+      char buffer[4096];
+      while (read(fd, buffer, sizeof buffer) > 0) {
+      }
+    }
+    ok = done();
+  }
+  close(fd);
+  return ok;
 }
 
 }  // namespace sitlnet::integration_test

@@ -86,6 +86,9 @@ class Child {
   std::string err_;
 };
 
+// Waits (inotify on the folder, no sleeps) until `done()` holds or the timeout passes.
+bool WaitForFiles(const std::string& dir, const std::function<bool()>& done, TimeNs timeout_ns);
+
 // Runs argv to completion (killed after timeout_ns), capturing its output.
 CommandResult RunCommand(const std::vector<std::string>& argv, TimeNs timeout_ns = 30 * kNsPerS,
                          const std::vector<std::string>& env = {});
