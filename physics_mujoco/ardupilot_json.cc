@@ -36,7 +36,7 @@ std::optional<ServoPacket> ParseServoPacket(const void* data, size_t size) {
   }
   packet.frame_rate_hz = Le16(bytes + 2);
   packet.frame_count = Le32(bytes + 4);
-  if (packet.frame_rate_hz == 0) return std::nullopt;
+  if (packet.frame_rate_hz < kMinJsonFrameRateHz) return std::nullopt;
   for (int i = 0; i < packet.channels; ++i) packet.pwm_us[i] = Le16(bytes + 8 + 2 * i);
   return packet;
 }

@@ -24,7 +24,13 @@ struct ServoPacket {
   std::array<uint16_t, 32> pwm_us{};
 };
 
-// Little-endian decoding. nullopt: wrong magic, wrong size for the magic, or frame_rate 0.
+// The lowest frame rate accepted. Each new frame advances physics by 1/frame_rate on the shared
+// physics thread, so a robot claiming 1 Hz would cost 1000 steps (at 1 ms) per packet and
+// stall every other robot (issue 17, finding 9); 50 Hz bounds a frame to 20 ms of physics.
+inline constexpr uint16_t kMinJsonFrameRateHz = 50;
+
+// Little-endian decoding. nullopt: wrong magic, wrong size for the magic, or frame_rate below
+// kMinJsonFrameRateHz.
 std::optional<ServoPacket> ParseServoPacket(const void* data, size_t size);
 
 // What a frame_count means relative to the previous one (readme: it increments per frame, is

@@ -9,8 +9,8 @@
 
 #include "clock/clock.h"
 #include "physics_mujoco/ardupilot_json.h"
-#include "physics_mujoco/robot_codec.h"
 #include "physics_mujoco/physics_mujoco.h"
+#include "physics_mujoco/robot_codec.h"
 #include "physics_mujoco/udp_socket.h"
 
 namespace sitlnet::physics {

@@ -30,7 +30,8 @@ void AddNoise(std::mt19937_64* engine, double sigma, const Vec3d& bias, Vec3d* v
 }  // namespace
 
 ImuNoise::ImuNoise(const proto::Imu& spec, uint64_t scenario_seed, int robot_index) : spec_(spec) {
-  // One stream per robot, derived from the scenario seed (docs/architecture.md: one seeded stream per robot, no hidden global stream).
+  // One stream per robot, derived from the scenario seed (docs/architecture.md: one seeded stream
+  // per robot, no hidden global stream).
   std::seed_seq seed{static_cast<uint32_t>(scenario_seed),
                      static_cast<uint32_t>(scenario_seed >> 32), static_cast<uint32_t>(robot_index),
                      0x1a4b5u /* "IMU" stream tag */};

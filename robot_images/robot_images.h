@@ -70,10 +70,12 @@ class RobotProcess {
   const std::string& log_path() const { return log_path_; }
 
   // Non-blocking: the exit status (as a shell shows it: 128+N for signal N)
-  // if the process has ended, else nullopt.
+  // if the process has ended, else nullopt. Under the sandbox the robot's other processes may
+  // still be ending then; WaitExit and Stop wait for them too.
   std::optional<int> PollExit();
 
-  // Waits up to `timeout_ns` for the process to end; its status, or nullopt.
+  // Waits up to `timeout_ns` for the process, and under the sandbox every process of the
+  // robot, to end; its status, or nullopt.
   std::optional<int> WaitExit(TimeNs timeout_ns);
 
   // True once the manifest's ready_log_line is in the log (or there is none).
@@ -92,7 +94,9 @@ class RobotProcess {
 
  private:
   pid_t SandboxInit();
-  void WaitSandboxGone();
+  void Terminate();    // SIGTERM to the command, or KillSandbox() if it has not started.
+  void KillSandbox();  // SIGKILL to the sandbox's init (its whole PID namespace) and pid().
+  void WaitSandboxGone(TimeNs timeout_ns);
 
   std::string robot_;
   std::string log_path_;

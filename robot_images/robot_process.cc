@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -136,15 +137,15 @@ pid_t RobotProcess::SandboxInit() {
   return init_pid_;
 }
 
-void RobotProcess::WaitSandboxGone() {
+void RobotProcess::WaitSandboxGone(TimeNs timeout_ns) {
   // bubblewrap exits as soon as the command has, while the sandbox's init may still be ending
   // the robot's other processes (killed with it, --die-with-parent). When the init has exited,
   // the kernel has reaped every process of its PID namespace.
   if (SandboxInit() <= 0 || init_pidfd_ < 0) return;
   pollfd gone{init_pidfd_, POLLIN, 0};
-  poll(&gone, 1, static_cast<int>(internal::kSandboxEndTimeoutNs / kNsPerMs));
+  poll(&gone, 1, static_cast<int>(timeout_ns / kNsPerMs));
   // Reaped here when this process is the subreaper it was reparented to (`sitlnet run`).
-  waitpid(init_pid_, nullptr, WNOHANG);
+  if (gone.revents & POLLIN) waitpid(init_pid_, nullptr, WNOHANG);
 }
 
 std::optional<int> RobotProcess::PollExit() {
@@ -153,16 +154,21 @@ std::optional<int> RobotProcess::PollExit() {
   const pid_t done = waitpid(pid_, &status, WNOHANG);
   if (done == pid_) {
     exit_status_ = ShellStatus(status);
-    WaitSandboxGone();
+    WaitSandboxGone(0);  // Reaped if already gone; never waits here (the run's loop calls this).
   }
   return exit_status_;
 }
 
 std::optional<int> RobotProcess::WaitExit(TimeNs timeout_ns) {
-  if (PollExit() || pidfd_ < 0) return exit_status_;
-  pollfd wait{pidfd_, POLLIN, 0};
-  poll(&wait, 1, static_cast<int>(timeout_ns / kNsPerMs));
-  return PollExit();
+  const TimeNs deadline_ns = MonotonicNowNs() + timeout_ns;
+  if (!PollExit() && pidfd_ >= 0) {
+    pollfd wait{pidfd_, POLLIN, 0};
+    poll(&wait, 1, static_cast<int>(timeout_ns / kNsPerMs));
+    PollExit();
+  }
+  // Exited: the rest of the robot's processes too, within what is left of the timeout.
+  if (exit_status_) WaitSandboxGone(std::max<TimeNs>(0, deadline_ns - MonotonicNowNs()));
+  return exit_status_;
 }
 
 bool RobotProcess::IsReady() const {
@@ -175,27 +181,48 @@ bool RobotProcess::IsReady() const {
 
 pid_t RobotProcess::CommandPid() {
   if (!sandboxed_) return pid_;
-  // bubblewrap forwards no signal, and a SIGTERM to it ends the sandbox with SIGKILL
-  // (--die-with-parent) before the software could shut down. The image's command is the only
-  // child of the sandbox's init.
+  // The image's command is the only child of the sandbox's init; none yet while bubblewrap is
+  // still setting the sandbox up (it can take seconds when hundreds start on a busy host).
   const pid_t init = SandboxInit();
   const pid_t command = init > 0 ? FirstChild(init) : -1;
   return command > 0 ? command : pid_;
 }
 
+void RobotProcess::Terminate() {
+  const pid_t command = CommandPid();
+  // bubblewrap forwards no signal, so the command gets SIGTERM itself. With no command yet there
+  // is nothing to shut down gracefully: the sandbox is killed, init first, because until its
+  // setup is done the init does not die with bubblewrap (its parent-death signal is armed at
+  // the end of the setup): killing only bubblewrap left such sandboxes running.
+  if (sandboxed_ && command == pid_) {
+    KillSandbox();
+  } else {
+    kill(command, SIGTERM);
+  }
+}
+
+void RobotProcess::KillSandbox() {
+  // Through the pidfd, never a reused pid; the kernel then ends every process of the PID
+  // namespace.
+  if (SandboxInit() > 0 && init_pidfd_ >= 0) {
+    syscall(SYS_pidfd_send_signal, init_pidfd_, SIGKILL, nullptr, 0);
+  }
+  kill(pid_, SIGKILL);
+}
+
 void RobotProcess::RequestStop() {
-  if (pid_ > 0 && !PollExit()) kill(CommandPid(), SIGTERM);
+  if (pid_ > 0 && !PollExit()) Terminate();
 }
 
 void RobotProcess::Stop(TimeNs grace_ns) {
-  if (pid_ <= 0 || PollExit()) return;
-  kill(CommandPid(), SIGTERM);
-  if (!WaitExit(grace_ns)) kill(pid_, SIGKILL);
-  int status = 0;
-  if (!exit_status_ && waitpid(pid_, &status, 0) == pid_) {
-    exit_status_ = ShellStatus(status);
-    WaitSandboxGone();
+  if (pid_ <= 0) return;
+  if (!PollExit()) {
+    Terminate();
+    if (!WaitExit(grace_ns)) KillSandbox();
+    int status = 0;
+    if (!exit_status_ && waitpid(pid_, &status, 0) == pid_) exit_status_ = ShellStatus(status);
   }
+  WaitSandboxGone(internal::kSandboxEndTimeoutNs);
 }
 
 }  // namespace sitlnet::images

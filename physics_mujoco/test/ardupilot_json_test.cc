@@ -181,13 +181,17 @@ TEST_F(ArduPilotJsonTest, BadPacketsAreDroppedAndCounted) {
   client_.Send(bad_magic);
   client_.Send(ServoPacket16(1000, 1, 1000).substr(0, 39));
   client_.Send(ServoPacket16(0, 1, 1000));  // frame_rate 0
+  // Issue 17, finding 9: 1 Hz would advance 1000 physics steps in one packet; below 50 Hz is
+  // refused (it used to be accepted and stepped).
+  client_.Send(ServoPacket16(1, 1, 1000));
+  client_.Send(ServoPacket16(kMinJsonFrameRateHz - 1, 1, 1000));
   JsonClient stranger("127.77.0.9");
   stranger.Send(ServoPacket16(1000, 1, 1000));
   const TimeNs deadline = MonotonicNowNs() + 5 * kNsPerS;
-  while (server_.counters(0).json_dropped < 4 && MonotonicNowNs() < deadline) {
+  while (server_.counters(0).json_dropped < 6 && MonotonicNowNs() < deadline) {
     if (WaitReadable(server_.wait_fd(), 100)) server_.Poll();
   }
-  EXPECT_EQ(server_.counters(0).json_dropped, 4u);
+  EXPECT_EQ(server_.counters(0).json_dropped, 6u);
   EXPECT_EQ(server_.world().steps(0), 0);
   EXPECT_FALSE(Exchange(ServoPacket16(1000, 1, 1000)).empty());
 }

@@ -381,6 +381,36 @@ TEST(IsolationTest, ImageWithUserNeedsCapSetuidAndSaysSo) {
   std::remove(manifest.c_str());
 }
 
+// A robot stopped at once, while bubblewrap may still be setting its sandbox up (no command
+// yet; with hundreds of robots on a busy host that takes seconds, so a short run ends before
+// some sandboxes are ready): nothing of it may outlive Stop(). A SIGTERM to bubblewrap alone
+// left the sandbox's init, whose parent-death signal is armed only after the setup, running
+// with its command (found with 256 robots).
+TEST(IsolationTest, RobotStoppedWhileItsSandboxIsSetUpLeavesNoProcess) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const auto t = MakeScenario("iso", 5, 1);
+  DownGuard down(t.scenario.name);
+  nns::Up(t.scenario);
+  const images::Image image =
+      images::LoadImage(integration_test::SourceDir() + "/robot_images", "shell");
+  images::LaunchContext context;
+  context.scenario = t.scenario.name;
+  context.robot = "r1";
+  context.robot_args = {"exec sleep 60"};
+  const std::string log = ::testing::TempDir() + "/iso-setup-" + std::to_string(getpid()) + ".log";
+  for (int attempt = 0; attempt < 5; ++attempt) {
+    {
+      images::RobotProcess process(image, context, SitlnetBinary(), log);
+      process.Stop();
+    }
+    const std::vector<nns::ProcessInfo> left = nns::ProcessesInNetns(t.scenario.robots[0].netns);
+    for (const nns::ProcessInfo& process : left) kill(process.pid, SIGKILL);
+    EXPECT_TRUE(left.empty()) << left.size() << " processes outlived the robot, e.g. "
+                              << left.front().command;
+  }
+  std::remove(log.c_str());
+}
+
 // The attacker image (robot_images/attacker, issue 17) tries each way out of a robot while the
 // medium daemon serves its control socket. Each attempt prints "attack NAME: blocked|ESCAPED";
 // "survive_teardown" leaves a process named sv-<scenario> that must die with the robot.
