@@ -51,28 +51,48 @@ std::string ObstaclePolygon(const proto::Obstacle& box, int id) {
   return text.str();
 }
 
-// Runs gnuplot on `script` (its messages go to `log_path`); empty string on
-// success, else the reason.
-std::string RunGnuplot(const std::string& script_path, const std::string& log_path) {
+// Runs gnuplot in `run_dir` on `script`, fed through a pipe (its messages go to `log_path`);
+// empty string on success, else the reason. No file is read and no path is written into the
+// script: a run folder named with a quote cannot inject gnuplot commands (such as system()),
+// and nothing in the folder can be swapped in between writing and reading (issue 17, finding 7).
+std::string RunGnuplot(const std::string& script, const std::string& run_dir,
+                       const std::string& log_path) {
+  int to_gnuplot[2];
+  if (pipe2(to_gnuplot, O_CLOEXEC) != 0) return SystemErrorMessage("pipe to gnuplot", errno);
   const pid_t pid = fork();
-  if (pid < 0) return SystemErrorMessage("fork gnuplot", errno);
+  if (pid < 0) {
+    const int err = errno;
+    close(to_gnuplot[0]);
+    close(to_gnuplot[1]);
+    return SystemErrorMessage("fork gnuplot", err);
+  }
   if (pid == 0) {
     ResetToNormalScheduling();
     const int null_fd = open("/dev/null", O_RDWR);
-    const int log_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(null_fd, STDIN_FILENO);
+    const int log_fd =
+        open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+    dup2(to_gnuplot[0], STDIN_FILENO);
     dup2(log_fd >= 0 ? log_fd : null_fd, STDOUT_FILENO);
     dup2(log_fd >= 0 ? log_fd : null_fd, STDERR_FILENO);
-    execlp("gnuplot", "gnuplot", script_path.c_str(), nullptr);
+    if (chdir(run_dir.c_str()) != 0) _exit(126);
+    execlp("gnuplot", "gnuplot", "-", nullptr);
     _exit(127);
   }
+  close(to_gnuplot[0]);
+  for (size_t done = 0; done < script.size();) {
+    const ssize_t n = write(to_gnuplot[1], script.data() + done, script.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // gnuplot is gone: its status says why.
+    done += static_cast<size_t>(n);
+  }
+  close(to_gnuplot[1]);
   int status = 0;
   waitpid(pid, &status, 0);
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
   if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
     return "gnuplot not found (apt-get install gnuplot-nox; scripts/setup does)";
   }
-  return "gnuplot failed on " + script_path + " (see " + log_path + ")";
+  return "gnuplot failed on the plots of " + run_dir + " (see " + log_path + ")";
 }
 
 }  // namespace
@@ -81,9 +101,10 @@ std::vector<std::string> DrawPlots(const std::string& run_dir, const Scenario& s
                                    const std::string& title, std::vector<std::string>* warnings) {
   const int robots = static_cast<int>(scenario.robots.size());
   std::ostringstream script;
+  // Relative paths: gnuplot runs in the run folder (RunGnuplot), and so does a user who runs
+  // plots.gnuplot again from there.
   script << "set datafile separator ','\n"
-         << "set terminal pngcairo size 900,700 font 'sans,10'\n"
-         << "cd '" << run_dir << "'\n";
+         << "set terminal pngcairo size 900,700 font 'sans,10'\n";
   // Top view.
   script << "set output 'trajectories.png'\nset title '" << title
          << ": trajectories (top view)'\nset xlabel 'x (m, east)'\nset ylabel 'y (m, north)'\n"
@@ -108,9 +129,17 @@ std::vector<std::string> DrawPlots(const std::string& run_dir, const Scenario& s
          << "set xlabel 'simulated time (s)'\nset ylabel 'STF'\nset key\n"
          << "plot 'metrics.csv' every ::1 using ($2/1e9):7 with lines title 'STF', 1 with lines "
             "dt 2 title 'real time'\n";
-  const std::string script_path = run_dir + "/plots.gnuplot";
-  std::ofstream(script_path) << script.str();
-  const std::string failure = RunGnuplot(script_path, run_dir + "/plots.log");
+  // A copy for the user (gnuplot itself reads the pipe), not following a link planted there.
+  const int copy = open((run_dir + "/plots.gnuplot").c_str(),
+                        O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (copy >= 0) {
+    const std::string text = script.str();
+    if (write(copy, text.data(), text.size()) != static_cast<ssize_t>(text.size())) {
+      warnings->push_back("could not write " + run_dir + "/plots.gnuplot");
+    }
+    close(copy);
+  }
+  const std::string failure = RunGnuplot(script.str(), run_dir, run_dir + "/plots.log");
   if (!failure.empty()) {
     warnings->push_back(failure);
     return {};

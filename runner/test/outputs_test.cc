@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 
 namespace sitlnet::runner {
@@ -26,8 +28,15 @@ TEST(OutputsTest, PoseRowsAreOneCsvLineEach) {
             std::count(kTrajectoryHeader, kTrajectoryHeader + sizeof kTrajectoryHeader, ','));
 }
 
-TEST(OutputsTest, GnuplotDrawsThreePngs) {
-  const std::string dir = ::testing::TempDir() + "/outputs_test_plots";
+// The run folder's name is the user's (--out) and may hold a quote: it must not become gnuplot
+// commands. Named `<base>/q'; system 'touch INJECTED'; cd 'q`, the folder used to turn the
+// script's `cd '<folder>'` into a shell command run in <base>/q (issue 17, finding 7).
+TEST(OutputsTest, GnuplotDrawsThreePngsAndTheFolderNameIsNoCommand) {
+  const std::string base = ::testing::TempDir() + "/outputs_test_plots";
+  std::filesystem::remove_all(base);
+  mkdir(base.c_str(), 0755);
+  mkdir((base + "/q").c_str(), 0755);
+  const std::string dir = base + "/q'; system 'touch INJECTED'; cd 'q";
   mkdir(dir.c_str(), 0755);
   const Scenario scenario = LoadScenarioText(
       "name: \"p\"\nrobot { name: \"a\" }\nrobot { name: \"b\" }\n"
@@ -57,6 +66,8 @@ TEST(OutputsTest, GnuplotDrawsThreePngs) {
   ASSERT_TRUE(warnings.empty()) << warnings[0];
   ASSERT_EQ(pngs.size(), 3u);
   for (const std::string& png : pngs) EXPECT_TRUE(IsPng(png)) << png;
+  EXPECT_NE(access((base + "/q/INJECTED").c_str(), F_OK), 0) << "the folder name ran a command";
+  std::filesystem::remove_all(base);
 }
 
 }  // namespace
