@@ -2,9 +2,10 @@
 """Fails when a file of the repository cites a document that is not in the repository.
 
 Checks every tracked text file for mentions of Markdown files: a citation of the developers'
-private notes (reference.md, design.md, anything under a shared/ folder) is an error; a
-docs/NAME.md, or a bare NAME.md that is not another project's path, must exist in docs/ (or at
-the root); an anchor (NAME.md#anchor) must be a heading of that file (GitHub's slug rule).
+private notes (kept outside the repository; PRIVATE below lists their names) is an error; a
+Markdown file under docs/, or a bare Markdown name that is not another project's path, must
+exist in docs/ (or at the root); an anchor after "#" must be a heading of that file (GitHub's
+slug rule).
 Usage: tests/check_citations.py [repository root]; exit 1 and one line per problem on failure.
 """
 import os
@@ -65,7 +66,7 @@ def main():
                 if name.startswith(FOREIGN_PREFIXES) or name.lower() == "readme.md" and "/" in name:
                     continue
                 if re.fullmatch(r"[A-Z_]+\.md", os.path.basename(name)) and name != "README.md":
-                    continue  # a placeholder in usage text, e.g. "--out FILE.md"
+                    continue  # an upper-case placeholder in usage text, not a document
                 target = resolve(name, rel)
                 if target is None:
                     if "/" in name and not name.startswith("docs/"):
