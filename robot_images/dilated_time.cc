@@ -6,7 +6,6 @@
 #include <unistd.h>
 
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <string_view>
 
@@ -17,20 +16,6 @@ namespace {
 
 // libfaketime's thread-safe build (iperf3 and DDS programs are multi-threaded).
 constexpr const char* kLibfaketime = SITLNET_LIBFAKETIME_PATH;
-
-// The absolute path of `program` as execvp would find it, or "" if it is not found.
-std::string ResolveProgram(const std::string& program) {
-  if (program.find('/') != std::string::npos) return program;
-  const char* path = std::getenv("PATH");
-  std::string_view rest = path != nullptr ? path : "/usr/bin:/bin";
-  while (true) {
-    const size_t colon = rest.find(':');
-    const std::string candidate = std::string(rest.substr(0, colon)) + "/" + program;
-    if (access(candidate.c_str(), X_OK) == 0) return candidate;
-    if (colon == std::string_view::npos) return "";
-    rest.remove_prefix(colon + 1);
-  }
-}
 
 enum class Linkage { kDynamic, kStatic, kGo, kUnknown };
 
@@ -99,7 +84,7 @@ std::vector<std::string> DilatedTimeEnvironment(const Image& image, const Launch
     throw Error(robot + " runs in dilated time, which needs libfaketime (" + kLibfaketime +
                 ": apt-get install libfaketime; or time: WALL in " + image.manifest_path + ")");
   }
-  const std::string program = ResolveProgram(command.at(0));
+  const std::string program = FindProgram(command.at(0));
   switch (LinkageOf(program)) {
     case Linkage::kStatic:
       throw Error(robot + ": " + program +

@@ -20,6 +20,10 @@ constexpr TimeNs kSandboxEndTimeoutNs = 5 * kNsPerS;
 // or -1.
 pid_t ReadSandboxInitPid(int fd);
 
+// Where execvp finds `program`: itself if it holds a '/', else the first executable of that
+// name on $PATH, or "" if there is none.
+std::string FindProgram(const std::string& program);
+
 // Expands every ${NAME} of `text`; throws Error naming the manifest for an unknown NAME.
 std::string ExpandPlaceholders(const std::string& text, const Image& image,
                                const LaunchContext& context);

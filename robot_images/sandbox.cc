@@ -55,18 +55,6 @@ bool Exists(const std::string& path, bool* is_dir = nullptr) {
   return true;
 }
 
-bool InPath(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  std::string_view rest = path != nullptr ? path : "/usr/bin:/bin";
-  while (true) {
-    const size_t colon = rest.find(':');
-    const std::string dir(rest.substr(0, colon));
-    if (!dir.empty() && access((dir + "/" + program).c_str(), X_OK) == 0) return true;
-    if (colon == std::string_view::npos) return false;
-    rest.remove_prefix(colon + 1);
-  }
-}
-
 // "CAP_NET_RAW" -> "net_raw", setpriv's spelling.
 std::string SetprivCapabilityName(const std::string& name) {
   std::string out = name.substr(4);
@@ -86,13 +74,29 @@ void Hide(const std::string& path, std::vector<std::string>* args) {
   }
 }
 
+// The folders the sandbox replaces with empty ones of its own; everything else of the host is
+// there, read-only, through `--ro-bind / /`.
+constexpr std::array<std::string_view, 3> kPrivateFolders = {"/run", "/tmp", "/var/tmp"};
+
+bool IsWithin(const std::string& path, std::string_view folder) {
+  return path.size() > folder.size() && path.compare(0, folder.size(), folder) == 0 &&
+         path[folder.size()] == '/';
+}
+
+bool IsInPrivateFolder(const std::string& path) {
+  return std::any_of(kPrivateFolders.begin(), kPrivateFolders.end(),
+                     [&](std::string_view folder) { return IsWithin(path, folder); });
+}
+
 // Binds host `path` at the same place (`how`: --bind or --ro-bind). bubblewrap creates the
 // missing parents of the target (in the private /tmp, say) with mode 0700, which a robot's
-// `user` could not cross: each parent gets its host mode instead.
+// `user` could not cross: each parent inside a private folder gets its host mode instead
+// (parents elsewhere exist already).
 void Bind(const char* how, const std::string& path, std::vector<std::string>* args) {
   for (size_t slash = path.find('/', 1); slash != std::string::npos;
        slash = path.find('/', slash + 1)) {
     const std::string parent = path.substr(0, slash);
+    if (!IsInPrivateFolder(parent)) continue;
     struct stat info {};
     if (stat(parent.c_str(), &info) != 0) continue;
     char mode[8];
@@ -130,10 +134,13 @@ std::vector<std::string> BubblewrapArgs(const Image& image, const LaunchContext&
     }
     Bind("--bind", host_path, &args);
   }
-  // The image's own files stay visible where they are, also in a private folder (/tmp).
-  Bind("--ro-bind", std::filesystem::absolute(image.dir).lexically_normal().string(), &args);
-  for (const std::string& path : manifest.files()) {
-    Bind("--ro-bind", ExpandPlaceholders(path, image, context), &args);
+  // The image's own files stay visible where they are, also in a private folder (/tmp): bound
+  // in only there, and a file only when its folder is not bound already.
+  const std::string image_dir = std::filesystem::absolute(image.dir).lexically_normal().string();
+  if (IsInPrivateFolder(image_dir)) Bind("--ro-bind", image_dir, &args);
+  for (const std::string& file : manifest.files()) {
+    const std::string path = ExpandPlaceholders(file, image, context);
+    if (IsInPrivateFolder(path) && !IsWithin(path, image_dir)) Bind("--ro-bind", path, &args);
   }
   for (const std::string& path : manifest.hidden()) {
     Hide(ExpandPlaceholders(path, image, context), &args);
@@ -177,6 +184,21 @@ std::vector<std::string> SetprivArgs(const Image& image, const passwd& user) {
 }
 
 }  // namespace
+
+std::string FindProgram(const std::string& program) {
+  if (program.find('/') != std::string::npos) return program;
+  const char* path = std::getenv("PATH");
+  std::string_view rest = path != nullptr ? path : "/usr/bin:/bin";
+  while (true) {
+    const size_t colon = rest.find(':');
+    const std::string dir(rest.substr(0, colon));
+    if (!dir.empty() && access((dir + "/" + program).c_str(), X_OK) == 0) {
+      return dir + "/" + program;
+    }
+    if (colon == std::string_view::npos) return "";
+    rest.remove_prefix(colon + 1);
+  }
+}
 
 pid_t ReadSandboxInitPid(int fd) {
   std::string json;
@@ -252,7 +274,7 @@ std::vector<std::string> ConfinementPrefix(const Image& image, const LaunchConte
   }
   std::vector<std::string> prefix;
   if (manifest.sandbox() == proto::ImageManifest::CONFINED) {
-    if (!InPath("bwrap")) {
+    if (FindProgram("bwrap").empty()) {
       throw Error("robot \"" + context.robot + "\": image \"" + manifest.name() +
                   "\" runs in a sandbox, which needs bubblewrap (apt-get install bubblewrap; "
                   "or `sandbox: NONE` in " +

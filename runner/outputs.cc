@@ -129,15 +129,14 @@ std::vector<std::string> DrawPlots(const std::string& run_dir, const Scenario& s
          << "set xlabel 'simulated time (s)'\nset ylabel 'STF'\nset key\n"
          << "plot 'metrics.csv' every ::1 using ($2/1e9):7 with lines title 'STF', 1 with lines "
             "dt 2 title 'real time'\n";
-  // A copy for the user (gnuplot itself reads the pipe), not following a link planted there.
-  const int copy = open((run_dir + "/plots.gnuplot").c_str(),
-                        O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (copy >= 0) {
-    const std::string text = script.str();
-    if (write(copy, text.data(), text.size()) != static_cast<ssize_t>(text.size())) {
-      warnings->push_back("could not write " + run_dir + "/plots.gnuplot");
-    }
-    close(copy);
+  // A copy for the user (gnuplot itself reads the pipe); LineFile does not follow a link
+  // planted at its path.
+  try {
+    LineFile copy(run_dir + "/plots.gnuplot", "", 1, "gnuplot script");
+    copy.AppendRecord(script.str());
+    copy.Flush();
+  } catch (const Error& error) {
+    warnings->push_back(error.what());
   }
   const std::string failure = RunGnuplot(script.str(), run_dir, run_dir + "/plots.log");
   if (!failure.empty()) {

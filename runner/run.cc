@@ -65,20 +65,31 @@ class DownOnExit {
 
 // Starts every robot's image; throws Error naming the robot and its log if
 // one cannot start or exits at once.
+// Folder of the sitlnet binary (${SITLNET_BIN}; the flocker and ros2_clock programs are there).
+std::string BinDir(const RunOptions& options) {
+  return options.sitlnet_exe.substr(0, options.sitlnet_exe.rfind('/'));
+}
+
+// What every process started in robot `plan` is told of its place.
+images::LaunchContext RobotContext(const Scenario& scenario, const RunOptions& options,
+                                   const RobotPlan& plan) {
+  images::LaunchContext context;
+  context.sitlnet_bin_dir = BinDir(options);
+  context.scenario = scenario.name;
+  context.robot = plan.name;
+  context.robot_index = plan.index;
+  return context;
+}
+
 std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& options,
                                    const std::string& run_dir) {
   std::vector<RobotSlot> robots(scenario.robots.size());
-  const std::string bin_dir = options.sitlnet_exe.substr(0, options.sitlnet_exe.rfind('/'));
   for (const RobotPlan& plan : scenario.robots) {
     RobotSlot& slot = robots[plan.index];
     slot.name = plan.name;
     if (plan.spec.image().empty()) continue;
     const images::Image image = images::LoadImage(options.images_root, plan.spec.image());
-    images::LaunchContext context;
-    context.sitlnet_bin_dir = bin_dir;
-    context.scenario = scenario.name;
-    context.robot = plan.name;
-    context.robot_index = plan.index;
+    images::LaunchContext context = RobotContext(scenario, options, plan);
     context.robot_args.assign(plan.spec.args().begin(), plan.spec.args().end());
     context.realtime_factor = scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP
                                   ? 0
@@ -126,7 +137,7 @@ std::vector<std::unique_ptr<images::RobotProcess>> StartClockPublishers(
   std::vector<std::unique_ptr<images::RobotProcess>> publishers;
   const proto::Timing& timing = scenario.spec.timing();
   if (timing.ros2_clock_hz() == 0) return publishers;
-  const std::string bin_dir = options.sitlnet_exe.substr(0, options.sitlnet_exe.rfind('/'));
+  const std::string bin_dir = BinDir(options);
   const bool lockstep = timing.pacing() == proto::Timing::PACING_LOCKSTEP;
   // The shared time moves once per iteration: polling twice per iteration's wall time is
   // enough in realtime; in lockstep an iteration's wall time is not known, 1 ms it is.
@@ -149,11 +160,7 @@ std::vector<std::unique_ptr<images::RobotProcess>> StartClockPublishers(
   image.manifest.set_time(proto::ImageManifest::WALL);
   image.manifest.set_ready_log_line("ros2_clock_publisher: /clock");
   for (const RobotPlan& plan : scenario.robots) {
-    images::LaunchContext context;
-    context.sitlnet_bin_dir = bin_dir;
-    context.scenario = scenario.name;
-    context.robot = plan.name;
-    context.robot_index = plan.index;
+    images::LaunchContext context = RobotContext(scenario, options, plan);
     context.passed_fd = shared.fd();
     images::CheckFiles(image, context);
     publishers.push_back(std::make_unique<images::RobotProcess>(
