@@ -1,14 +1,26 @@
-# sitlnet in a container: Debian 12, the project's own setup, then its tests.
-#   docker build -t sitlnet .
-#   docker run --rm --cap-add NET_ADMIN --cap-add SYS_ADMIN --device /dev/net/tun \
-#     --security-opt apparmor=unconfined sitlnet
-# NET_ADMIN creates TAP/veth devices and addresses; SYS_ADMIN is needed for
-# unshare/setns and the /run/netns bind mounts; /dev/net/tun for the TAPs.
-FROM debian:12
+# sitlnet in a container: Debian 12, the project's own setup and build, then its tests.
+#   docker build -t sitlnet .            (podman build works the same)
+#   docker run --rm --cap-drop ALL --cap-add NET_ADMIN --cap-add SYS_ADMIN \
+#     --device /dev/net/tun -e SITLNET_MIN_CAPS=1 sitlnet
+# NET_ADMIN creates the namespaces' veth and TAP devices and their addresses; SYS_ADMIN
+# enters namespaces (setns), mounts /run/netns and the robots' sandboxes; /dev/net/tun is
+# where TAPs come from. SITLNET_MIN_CAPS=1 says that no other capability is there, so a
+# check that needs one skips and says so. scripts/container-test builds and runs this with
+# podman or docker; docs/containers.md says why each option is there.
+# BASE: the Debian 12 image to start from; scripts/container-test passes one it made with
+# debootstrap where no registry is reachable.
+ARG BASE=debian:12
+FROM ${BASE}
 ENV DEBIAN_FRONTEND=noninteractive
-RUN apt-get update -qq && apt-get install -y -qq --no-install-recommends sudo ca-certificates \
-    && rm -rf /var/lib/apt/lists/*
+# npm trusts the system's certificate authorities too (a local one included).
+ENV NODE_EXTRA_CA_CERTS=/etc/ssl/certs/ca-certificates.crt
 WORKDIR /src/sitlnet
+# The packages first, in a layer of their own: a change to the sources does not install
+# them again.
+COPY scripts/setup scripts/setup
+COPY tests/node_mavlink/package.json tests/node_mavlink/package-lock.json tests/node_mavlink/
+RUN apt-get update -qq && apt-get install -y -qq --no-install-recommends ca-certificates >/dev/null \
+    && scripts/setup --no-build
 COPY . .
 RUN scripts/setup
 ENV CI=true

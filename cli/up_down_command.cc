@@ -49,9 +49,13 @@ std::optional<int> HoldAfterRobots() {
 }
 
 void PrintReport(const std::string& name, const nns::DownReport& report) {
-  std::printf("down %s: %d namespaces, %d links removed; %d processes terminated, %d killed\n",
+  std::printf("down %s: %d namespaces, %d links removed; %d processes terminated, %d killed",
               name.c_str(), report.namespaces_removed, report.links_removed,
               report.processes_terminated, report.processes_killed);
+  if (report.containers_removed > 0) {
+    std::printf("; %d containers removed", report.containers_removed);
+  }
+  std::printf("\n");
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace sitlnet {
 
@@ -82,6 +83,13 @@ void ResetToNormalScheduling();
 // 250 robots take. Returns the soft limit now in force; throws Error "<what> needs N open
 // files, above the hard limit of H ..." when it cannot be raised far enough.
 uint64_t RaiseOpenFileLimit(uint64_t needed, std::string_view what);
+
+//-------------------------------- Programs ----------------------------------
+
+// Runs `argv` (argv[0] a path or a name on $PATH) to its end with stdin, stdout and stderr on
+// /dev/null, at normal scheduling priority; its exit status (128+N for signal N), or -1 when it
+// could not be started.
+int RunProgramQuietly(const std::vector<std::string>& argv);
 
 //--------------------------------- Files ------------------------------------
 

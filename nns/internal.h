@@ -5,6 +5,7 @@
 #include <sys/types.h>
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "nns/nns.h"
@@ -49,6 +50,10 @@ struct LinkSettings {
   // reverse-path filtering (rp_filter=1): what a robot may discover through its ctl0.
   bool ipv4_own_address_only = false;
 };
+// Writes `value` to `path`, a network sysctl under /proc/sys/net, for the calling thread's
+// namespace; where /proc/sys is mounted read-only (a container) through a child that remounts
+// it writable in a mount namespace of its own. 0, or the errno.
+int WriteNetSysctl(const std::string& path, std::string_view value);
 // Never accept IPv6 router advertisements on device `name` of the calling thread's namespace
 // (/proc/sys/net/ipv6/conf/<name>/accept_ra = 0; IPv6 devconf is read-only over netlink).
 // A host without IPv6 has nothing to refuse. Throws Error naming `what` if it cannot be set.
@@ -100,8 +105,8 @@ void CreateNetnsAndEnter(const std::string& name);
 
 // Sets net.ipv4.ping_group_range to "0 2147483647" in the CALLING THREAD's namespace (what
 // systemd sets on a host): every user may open ICMP datagram sockets (ping(8) falls back to
-// them), so ping and robot software need no CAP_NET_RAW there. Best effort: false when
-// /proc/sys is read-only (a container without --privileged) or absent.
+// them), so ping and robot software need no CAP_NET_RAW there (WriteNetSysctl). Best effort:
+// false when /proc/sys is absent or cannot be written.
 bool AllowUnprivilegedPing();
 
 // Namespace identity (st_dev, st_ino) of a namespace file.
@@ -146,6 +151,9 @@ void WriteState(const ScenarioState& state);  // Atomic (write + rename).
 // Records the calling process as the scenario's daemon `role` (<role>.pid: pid and start time).
 void WritePidFile(const std::string& scenario, const std::string& role);
 void RemoveState(const std::string& scenario);
+// Removes every container registered for the scenario (ContainerRegistration) with its engine,
+// by exact name, and its registration; throws Error naming the first that could not be removed.
+void RemoveRegisteredContainers(const std::string& scenario, DownReport* report);
 
 }  // namespace sitlnet::nns::internal
 

@@ -220,11 +220,7 @@ std::vector<LinkInfo> DumpLinks(const RouteSocket& sock) {
 void RefuseRouterAdvertisements(const std::string& name, const std::string& what) {
   const std::string path = "/proc/sys/net/ipv6/conf/" + name + "/accept_ra";
   if (access("/proc/sys/net/ipv6", F_OK) != 0) return;  // No IPv6 on this host.
-  const int fd = open(path.c_str(), O_WRONLY | O_CLOEXEC);
-  const bool written = fd >= 0 && write(fd, "0", 1) == 1;
-  const int err = errno;
-  if (fd >= 0) close(fd);
-  if (!written) {
+  if (const int err = WriteNetSysctl(path, "0"); err != 0) {
     throw Error(SystemErrorMessage(what + ": refuse IPv6 router advertisements (write \"" + path +
                                        "\": a robot could install routes in this namespace)",
                                    err));

@@ -89,13 +89,7 @@ bool AllowUnprivilegedPing() {
   // /proc/sys/net follows the calling thread's namespace (current->nsproxy), so this writes the
   // robot's copy; the root namespace keeps its own value. Needs no capability beyond being the
   // file's owner (uid 0): gids are checked against this process's user namespace.
-  const int fd = open("/proc/sys/net/ipv4/ping_group_range", O_WRONLY | O_CLOEXEC);
-  if (fd < 0) return false;
-  static constexpr char kAllGroups[] = "0 2147483647";
-  const bool written =
-      write(fd, kAllGroups, sizeof kAllGroups - 1) == static_cast<ssize_t>(sizeof kAllGroups - 1);
-  close(fd);
-  return written;
+  return WriteNetSysctl("/proc/sys/net/ipv4/ping_group_range", "0 2147483647") == 0;
 }
 
 bool StatNs(const std::string& path, NsId* id) {

@@ -172,6 +172,23 @@ class DaemonRegistration {
   std::string path_;
 };
 
+// A container of the scenario (an OCI robot image, docs/containers.md) recorded as
+// /run/sitlnet/<scenario>/container.<name> (holding the engine's path) for as long as this
+// object lives, so that Down() removes it by its exact name with that engine, also after the
+// process that started it was killed. Throws Error if the scenario is not up, or for an engine
+// other than podman or a name that is not a container name of sitlnet's ("sitlnet-...").
+class ContainerRegistration {
+ public:
+  ContainerRegistration(const std::string& scenario, const std::string& engine_exe,
+                        const std::string& name);
+  ~ContainerRegistration();
+  ContainerRegistration(const ContainerRegistration&) = delete;
+  ContainerRegistration& operator=(const ContainerRegistration&) = delete;
+
+ private:
+  std::string path_;
+};
+
 //-------------------------------- Up / down ---------------------------------
 
 struct UpOptions {
@@ -197,12 +214,14 @@ struct DownReport {
   int links_removed = 0;
   int processes_terminated = 0;  // Exited after SIGTERM.
   int processes_killed = 0;      // Needed SIGKILL.
+  int containers_removed = 0;    // Registered containers (ContainerRegistration) removed.
 };
 
 // Tears scenario `name` down from its state file: SIGTERM then SIGKILL its
 // registered daemons (DaemonRegistration) and every process in its namespaces (bounded wait on
-// pidfds), unmount and remove the namespaces, delete the root-side veths by exact name, remove the
-// state. Idempotent; a scenario without a state file is a no-op.
+// pidfds), remove its registered containers (ContainerRegistration), unmount and remove the
+// namespaces, delete the root-side veths by exact name, remove the state. Idempotent; a scenario
+// without a state file is a no-op.
 DownReport Down(const std::string& name);
 // Down for every scenario in ListScenarios().
 DownReport DownAll();

@@ -84,7 +84,7 @@ void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket
     // Born inside the namespace (docs/references.md#linux): no move, no name clash.
     internal::CreatePersistentTap("wlan0", who + ": create TAP wlan0");
     // Unmodified ping and robot software without CAP_NET_RAW (docs/security.md). Best effort:
-    // a read-only /proc/sys leaves the kernel default, where ping needs CAP_NET_RAW.
+    // without a /proc/sys the kernel default stays, where ping needs CAP_NET_RAW.
     internal::AllowUnprivilegedPing();
   }
 

@@ -70,14 +70,12 @@ Image LoadImage(const std::string& images_root, const std::string& name) {
   image.dir = slash == std::string::npos ? "." : image.manifest_path.substr(0, slash);
   ParseTextProtoOrThrow(ReadFileOrThrow(image.manifest_path, "image manifest"), image.manifest_path,
                         &image.manifest);
-  if (image.manifest.command_size() == 0) {
-    throw Error(image.manifest_path + ": image \"" + name + "\" has no command");
-  }
   for (const auto& env : image.manifest.env()) {
     if (env.name().empty() || env.name().find('=') != std::string::npos) {
       throw Error(image.manifest_path + ": env name \"" + env.name() + "\" is not valid");
     }
   }
+  internal::CheckContainerFields(image);
   internal::CheckSandboxFields(image);
   return image;
 }

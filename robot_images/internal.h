@@ -49,6 +49,20 @@ bool UsesDilatedTime(const Image& image, const LaunchContext& context);
 std::vector<std::string> DilatedTimeEnvironment(const Image& image, const LaunchContext& context,
                                                 const std::vector<std::string>& command);
 
+// Throws Error "manifest: field: ..." for a manifest with neither command nor container_image,
+// or a container image with fields that are for host programs (sandbox: NONE, hidden, time:
+// DILATED).
+void CheckContainerFields(const Image& image);
+
+// `podman run ... IMAGE command...` for an image with container_image: in the robot's network
+// namespace, every capability dropped but the manifest's, no_new_privs, the robot's SITLNET_*
+// and the manifest's `env` (expanded, "NAME=value"), removed when it ends. Throws Error naming
+// the robot when the run would dilate its clock.
+std::vector<std::string> ContainerRunArgs(const Image& image, const LaunchContext& context,
+                                          const ContainerTarget& target,
+                                          const std::vector<std::string>& command,
+                                          const std::vector<std::string>& env);
+
 }  // namespace sitlnet::images::internal
 
 #endif  // SITLNET_ROBOT_IMAGES_INTERNAL_H_

@@ -29,10 +29,13 @@ Image LoadImage(const std::string& images_root, const std::string& name);
 
 // What placeholders expand to for one robot.
 struct LaunchContext {
-  std::string sitlnet_bin_dir;          // ${SITLNET_BIN}
-  std::string scenario;                 // ${SCENARIO}
-  std::string robot;                    // ${ROBOT}
-  int robot_index = 0;                  // ${ROBOT_INDEX}
+  std::string sitlnet_bin_dir;  // ${SITLNET_BIN}
+  std::string scenario;         // ${SCENARIO}
+  std::string robot;            // ${ROBOT}
+  int robot_index = 0;          // ${ROBOT_INDEX}
+  // "a.b.c.d:port" of the robot's physics server (SITLNET_PHYSICS_ADDR of a container image,
+  // which is not started through `sitlnet exec`); empty: none is given.
+  std::string physics_address;
   std::vector<std::string> robot_args;  // "${ARGS}"
   std::string airframe_text;            // ${AIRFRAME}: the robot's Airframe, text format
   // Virtual seconds per wall second of a realtime-paced run; 0 in lockstep (no fixed factor).
@@ -51,11 +54,22 @@ std::vector<std::string> ExpandEnv(const Image& image, const LaunchContext& cont
 // Throws Error "robot "r": image "x" needs file F, which does not exist".
 void CheckFiles(const Image& image, const LaunchContext& context);
 
+// An image that names an OCI container image (the manifest's `container_image`): the engine
+// that runs it and the container's name, "sitlnet-<robot's namespace>" (docs/containers.md).
+struct ContainerTarget {
+  std::string engine_exe;  // podman's path
+  std::string name;
+};
+// nullopt for a host program; throws Error naming the robot when podman is not installed.
+std::optional<ContainerTarget> ContainerTargetOf(const Image& image, const LaunchContext& context);
+
 //------------------------------- Processes ----------------------------------
 
 // One robot's running image: `sitlnet exec --scenario S ROBOT -- [bwrap ... --] [setpriv ...
 // --] argv...` with stdout and stderr appended to `log_path`: in the robot's network namespace,
-// confined by the manifest's sandbox (docs/security.md). Not copyable.
+// confined by the manifest's sandbox (docs/security.md). A container image is `podman run ...
+// --network ns:<robot's namespace> IMAGE [command...]` instead, attached: podman forwards
+// signals to the container and removes it when it ends. Not copyable.
 class RobotProcess {
  public:
   // Starts the process; throws Error naming the robot on failure to fork.
@@ -94,8 +108,10 @@ class RobotProcess {
 
  private:
   pid_t SandboxInit();
-  void Terminate();    // SIGTERM to the command, or KillSandbox() if it has not started.
-  void KillSandbox();  // SIGKILL to the sandbox's init (its whole PID namespace) and pid().
+  void Terminate();  // SIGTERM to the command, or KillSandbox() if it has not started.
+  // SIGKILL to the sandbox's init (its whole PID namespace), or the container removed by force;
+  // and SIGKILL to pid().
+  void KillSandbox();
   void WaitSandboxGone(TimeNs timeout_ns);
 
   std::string robot_;
@@ -108,6 +124,7 @@ class RobotProcess {
   pid_t init_pid_ = -1;  // The sandbox's init (PID 1 inside), in our PID namespace.
   int init_pidfd_ = -1;
   std::optional<int> exit_status_;
+  std::optional<ContainerTarget> container_;
 };
 
 }  // namespace sitlnet::images

@@ -42,21 +42,28 @@ RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
     : robot_(context.robot),
       log_path_(log_path),
       ready_line_(image.manifest.ready_log_line()),
-      sandboxed_(image.manifest.sandbox() == proto::ImageManifest::CONFINED) {
+      container_(ContainerTargetOf(image, context)) {
+  // A container is confined by its engine, not by bubblewrap.
+  sandboxed_ = !container_ && image.manifest.sandbox() == proto::ImageManifest::CONFINED;
   std::vector<std::string> args = {sitlnet_exe,      "exec",        "--scenario",
                                    context.scenario, context.robot, "--"};
   const std::vector<std::string> command = ExpandCommand(image, context);
   std::vector<std::string> env = ExpandEnv(image, context);
-  // Only for the image's command: in the sandbox bubblewrap sets it, so that sitlnet exec and
-  // bubblewrap run on the host's clock and keep no libfaketime state in the host's /dev/shm.
-  std::vector<std::string> time_env = internal::DilatedTimeEnvironment(image, context, command);
-  if (!sandboxed_) {
-    env.insert(env.end(), time_env.begin(), time_env.end());  // After the manifest's env.
-    time_env.clear();
+  if (container_) {
+    args = internal::ContainerRunArgs(image, context, *container_, command, env);
+    env.clear();  // In the container (--env), not in podman's own environment.
+  } else {
+    // Only for the image's command: in the sandbox bubblewrap sets it, so that sitlnet exec and
+    // bubblewrap run on the host's clock and keep no libfaketime state in the host's /dev/shm.
+    std::vector<std::string> time_env = internal::DilatedTimeEnvironment(image, context, command);
+    if (!sandboxed_) {
+      env.insert(env.end(), time_env.begin(), time_env.end());  // After the manifest's env.
+      time_env.clear();
+    }
+    const std::vector<std::string> prefix = internal::ConfinementPrefix(image, context, time_env);
+    args.insert(args.end(), prefix.begin(), prefix.end());
+    args.insert(args.end(), command.begin(), command.end());
   }
-  const std::vector<std::string> prefix = internal::ConfinementPrefix(image, context, time_env);
-  args.insert(args.end(), prefix.begin(), prefix.end());
-  args.insert(args.end(), command.begin(), command.end());
 
   const int log_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   if (log_fd < 0)
@@ -202,6 +209,12 @@ void RobotProcess::Terminate() {
 }
 
 void RobotProcess::KillSandbox() {
+  // podman run does not take its container with it when killed: the engine removes it (and
+  // kills what is left in it) by name.
+  if (container_) {
+    RunProgramQuietly(
+        {container_->engine_exe, "rm", "--force", "--ignore", "--time", "0", container_->name});
+  }
   // Through the pidfd, never a reused pid; the kernel then ends every process of the PID
   // namespace.
   if (SandboxInit() > 0 && init_pidfd_ >= 0) {

@@ -78,6 +78,8 @@ images::LaunchContext RobotContext(const Scenario& scenario, const RunOptions& o
   context.scenario = scenario.name;
   context.robot = plan.name;
   context.robot_index = plan.index;
+  context.physics_address = FormatIpv4(plan.ctl_root_address) + ":" +
+                            std::to_string(scenario.spec.addresses().physics_port());
   return context;
 }
 
@@ -104,6 +106,12 @@ std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& o
                    "(sandbox: NONE in %s): it shares the host's files, processes and privileges "
                    "(docs/security.md)\n",
                    plan.name.c_str(), image.manifest.name().c_str(), image.manifest_path.c_str());
+    }
+    // Recorded before it exists: `down` removes it by name even if this run is killed while
+    // podman creates it.
+    if (const auto container = images::ContainerTargetOf(image, context)) {
+      slot.container = std::make_unique<nns::ContainerRegistration>(
+          scenario.name, container->engine_exe, container->name);
     }
     slot.process = std::make_unique<images::RobotProcess>(
         image, context, options.sitlnet_exe, run_dir + "/robots/" + plan.name + ".log");

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "coordinator/connector.h"
+#include "nns/nns.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "robot_images/robot_images.h"
 #include "ros2_clock/ros2_clock.h"
@@ -43,6 +44,8 @@ class RecordingPhysics final : public coordinator::Simulator {
 // A robot image's process and what became of it.
 struct RobotSlot {
   std::string name;
+  // A container image's registration for `down` (docs/containers.md); outlives `process`.
+  std::unique_ptr<nns::ContainerRegistration> container;
   std::unique_ptr<images::RobotProcess> process;  // Null: no image.
   std::optional<int> exit_status;
   TimeNs exited_at_ns = 0;  // Virtual time the exit was noticed.

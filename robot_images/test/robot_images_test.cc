@@ -100,6 +100,77 @@ TEST(ImageTest, SandboxFieldsThatReachBeyondTheRobotAreRefused) {
   std::remove(path.c_str());
 }
 
+// Issue 16: a manifest may name an OCI container image instead of a program; fields meant for
+// host programs are refused naming the manifest. What podman makes of the arguments is tested
+// with real containers in tests/integration/container_image_test.cc.
+TEST(ImageTest, ContainerImagesNeedNoCommandAndRefuseHostOnlyFields) {
+  const std::string path = ::testing::TempDir() + "/container_image.textproto";
+  const auto refusal = [&](const std::string& fields) -> std::string {
+    std::ofstream(path) << "name: \"x\"\n" << fields;
+    try {
+      LoadImage("", path);
+    } catch (const Error& error) {
+      return error.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(refusal("container_image: \"localhost/px4:1\""), "");
+  EXPECT_EQ(refusal("container_image: \"px4\" command: \"px4\" writable: \"/srv\" "
+                    "capabilities: \"CAP_NET_RAW\" time: WALL"),
+            "");
+  EXPECT_EQ(
+      refusal("env { name: \"A\" value: \"b\" }").rfind(path + ": image \"x\" has no command", 0),
+      0u);
+  for (const char* field : {"sandbox: NONE", "hidden: \"/etc\"", "time: DILATED"}) {
+    const std::string error = refusal(std::string("container_image: \"px4\" ") + field);
+    EXPECT_EQ(error.rfind(path + ": ", 0), 0u) << error;
+    EXPECT_NE(error.find("not for a container image"), std::string::npos) << error;
+  }
+  EXPECT_NE(refusal("container_image: \"--privileged\"").find("not an image name"),
+            std::string::npos);
+  EXPECT_NE(refusal("container_image: \"px4\" capabilities: \"CAP_SYS_ADMIN\"")
+                .find("capabilities: \"CAP_SYS_ADMIN\" is not one"),
+            std::string::npos);
+  std::remove(path.c_str());
+}
+
+// The robot's place reaches the container as it reaches a host program; its clock cannot be
+// dilated.
+TEST(ImageTest, ContainerRunJoinsTheRobotsNamespaceWithItsEnvironment) {
+  const std::string path = ::testing::TempDir() + "/container_run.textproto";
+  std::ofstream(path)
+      << "name: \"px4\"\ncontainer_image: \"localhost/px4:1\"\n"
+         "command: [\"px4\", \"${ARGS}\"]\nenv { name: \"K\" value: \"${ROBOT}\" }\n";
+  const Image image = LoadImage("", path);
+  LaunchContext context = Context();
+  context.physics_address = "10.0.0.1:5600";
+  const ContainerTarget target{"/usr/bin/podman", "sitlnet-demo-uav2"};
+  const std::vector<std::string> args = internal::ContainerRunArgs(
+      image, context, target, ExpandCommand(image, context), ExpandEnv(image, context));
+  const auto has_pair = [&](const std::string& option, const std::string& value) {
+    for (size_t i = 0; i + 1 < args.size(); ++i) {
+      if (args[i] == option && args[i + 1] == value) return true;
+    }
+    return false;
+  };
+  EXPECT_EQ(args[0], "/usr/bin/podman");
+  EXPECT_TRUE(has_pair("--network", "ns:/run/netns/demo-uav2"));
+  EXPECT_TRUE(has_pair("--name", "sitlnet-demo-uav2"));
+  EXPECT_TRUE(has_pair("--cap-drop", "ALL"));
+  EXPECT_TRUE(has_pair("--pull", "never"));
+  for (const char* variable :
+       {"SITLNET_SCENARIO=demo", "SITLNET_ROBOT=uav2", "SITLNET_ROBOT_INDEX=1",
+        "SITLNET_PHYSICS_ADDR=10.0.0.1:5600", "K=uav2"}) {
+    EXPECT_TRUE(has_pair("--env", variable)) << variable;
+  }
+  // The image, then its command: podman reads no option after the image's name.
+  const std::vector<std::string> tail(args.end() - 4, args.end());
+  EXPECT_EQ(tail, (std::vector<std::string>{"localhost/px4:1", "px4", "--target", "120,0"}));
+  context.realtime_factor = 0.5;
+  EXPECT_THROW(internal::ContainerRunArgs(image, context, target, {}, {}), Error);
+  std::remove(path.c_str());
+}
+
 // Issue 18: which images read the dilated clock, and what sets it up. What it does to real
 // programs is measured in tests/integration/run_test.cc (DilatedTime*).
 TEST(ImageTest, DilatedTimeIsTheDefaultAwayFromFactorOneAndRefusesWhatItCannotDilate) {
