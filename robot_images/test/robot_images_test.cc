@@ -27,6 +27,17 @@ LaunchContext Context() {
   return context;
 }
 
+// What LoadImage says of a manifest file `path` holding `text`; "" when it loads.
+std::string LoadError(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+  try {
+    LoadImage("", path);
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "";
+}
+
 TEST(ImageTest, ShippedImagesLoad) {
   for (const char* name : {"flocker", "iperf", "shell", "attacker"}) {
     const Image image = LoadImage(ImagesRoot(), name);
@@ -72,14 +83,8 @@ TEST(ImageTest, BadManifestsAreRejectedWithTheirPlace) {
 // in tests/integration/isolation_test.cc (AttackerImage*).
 TEST(ImageTest, SandboxFieldsThatReachBeyondTheRobotAreRefused) {
   const std::string path = ::testing::TempDir() + "/sandbox_image.textproto";
-  const auto refusal = [&](const std::string& fields) -> std::string {
-    std::ofstream(path) << "name: \"x\"\ncommand: \"/bin/true\"\n" << fields;
-    try {
-      LoadImage("", path);
-    } catch (const Error& error) {
-      return error.what();
-    }
-    return "";
+  const auto refusal = [&](const std::string& fields) {
+    return LoadError(path, "name: \"x\"\ncommand: \"/bin/true\"\n" + fields);
   };
   EXPECT_EQ(refusal("capabilities: \"CAP_NET_ADMIN\" capabilities: \"CAP_NET_RAW\""), "");
   EXPECT_EQ(refusal("writable: \"/srv/logs\" hidden: \"${IMAGE_DIR}/secret\""), "");
@@ -105,14 +110,8 @@ TEST(ImageTest, SandboxFieldsThatReachBeyondTheRobotAreRefused) {
 // with real containers in tests/integration/container_image_test.cc.
 TEST(ImageTest, ContainerImagesNeedNoCommandAndRefuseHostOnlyFields) {
   const std::string path = ::testing::TempDir() + "/container_image.textproto";
-  const auto refusal = [&](const std::string& fields) -> std::string {
-    std::ofstream(path) << "name: \"x\"\n" << fields;
-    try {
-      LoadImage("", path);
-    } catch (const Error& error) {
-      return error.what();
-    }
-    return "";
+  const auto refusal = [&](const std::string& fields) {
+    return LoadError(path, "name: \"x\"\n" + fields);
   };
   EXPECT_EQ(refusal("container_image: \"localhost/px4:1\""), "");
   EXPECT_EQ(refusal("container_image: \"px4\" command: \"px4\" writable: \"/srv\" "

@@ -109,12 +109,6 @@ Scenario WriteScenario(int slot, const std::string& robots, const std::string& e
   return s;
 }
 
-std::string WriteManifest(const std::string& name, const std::string& body) {
-  const std::string path = TempDir() + "/" + name + ".textproto";
-  std::ofstream(path) << "name: \"" << name << "\"\n" << body;
-  return path;
-}
-
 // The containers podman knows for `scenario` (label set by sitlnet), running or not.
 std::string ContainersOf(const std::string& scenario) {
   return RunCommand({"podman", "ps", "--all", "--quiet", "--filter",
@@ -137,7 +131,7 @@ void ExpectNothingLeft(const Scenario& scenario, const std::vector<std::string>&
 
 TEST(ContainerImageTest, Iperf3AndPingInContainersCrossTheMedium) {
   SITLNET_REQUIRE_CONTAINER_IMAGES();
-  const std::string manifest = WriteManifest(
+  const std::string manifest = WriteImageManifest(
       "container_net", "container_image: \"" + Images().net + "\"\ncommand: \"${ARGS}\"\n");
   // a is .1 and b .2 of the scenario's wlan subnet (robots in order).
   const std::string server = WlanPrefix(0) + "1";
@@ -183,10 +177,10 @@ TEST(ContainerImageTest, Iperf3AndPingInContainersCrossTheMedium) {
 TEST(ContainerImageTest, FlockerInAContainerFliesExactlyAsOnTheHost) {
   SITLNET_REQUIRE_CONTAINER_IMAGES();
   const std::string manifest =
-      WriteManifest("container_flocker", "container_image: \"" + Images().flocker +
-                                             "\"\ncommand: [\"flocker\", \"--airframe\", "
-                                             "\"${AIRFRAME}\", \"${ARGS}\"]\nready_log_line: "
-                                             "\"t=\"\n");
+      WriteImageManifest("container_flocker", "container_image: \"" + Images().flocker +
+                                                  "\"\ncommand: [\"flocker\", \"--airframe\", "
+                                                  "\"${AIRFRAME}\", \"${ARGS}\"]\nready_log_line: "
+                                                  "\"t=\"\n");
   const auto robots = [](const std::string& image) {
     return "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } image: \"" + image +
            "\" args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n"
@@ -220,7 +214,7 @@ TEST(ContainerImageTest, FlockerInAContainerFliesExactlyAsOnTheHost) {
 // `sitlnet down` removes them by name.
 TEST(ContainerImageTest, DownRemovesTheContainersOfAKilledRun) {
   SITLNET_REQUIRE_CONTAINER_IMAGES();
-  const std::string manifest = WriteManifest(
+  const std::string manifest = WriteImageManifest(
       "container_sleeper", "container_image: \"" + Images().net +
                                "\"\ncommand: [\"sh\", \"-c\", \"echo up; exec sleep 600\"]\n");
   const Scenario scenario =

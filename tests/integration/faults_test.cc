@@ -146,13 +146,6 @@ std::string TestBinaryDir() {
   return path.substr(0, path.rfind('/'));
 }
 
-std::string WriteManifest(const std::string& name, const std::string& body) {
-  const std::string path =
-      TempDir() + "/faults_" + name + "_" + std::to_string(getpid()) + ".textproto";
-  std::ofstream(path) << "name: \"" << name << "\"\n" << body;
-  return path;
-}
-
 TEST(FaultsTest, RunKilledWithSigkillLeavesWholeOutputsAndDownRemovesEverything) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const std::string flocker = "image: \"flocker\" args: [\"--target\", \"40,0\"]";
@@ -242,9 +235,9 @@ TEST(FaultsTest, RobotKilledWithSigkillIsReportedAndTheRunContinues) {
 TEST(FaultsTest, RobotThatStopsAnsweringInLockstepStopsTheRunNamingIt) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const std::string silent = TestBinaryDir() + "/silent_robot";
-  const std::string mute = WriteManifest("mute", "command: [\"" + silent + "\", \"20\"]\n");
+  const std::string mute = WriteImageManifest("mute", "command: [\"" + silent + "\", \"20\"]\n");
   const std::string chatty =
-      WriteManifest("chatty", "command: [\"" + silent + "\", \"1000000\"]\n");
+      WriteImageManifest("chatty", "command: [\"" + silent + "\", \"1000000\"]\n");
   const FaultScenario s = WriteScenario(2, {"image: \"" + chatty + "\"", "image: \"" + mute + "\""},
                                         "timing { duration_ms: 30000 }\n");
   DownGuard guard(s.name);

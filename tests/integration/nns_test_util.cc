@@ -125,4 +125,10 @@ bool StateExists(const std::string& scenario) {
   return stat((std::string(kStateDir) + "/" + scenario).c_str(), &st) == 0;
 }
 
+std::string WriteImageManifest(const std::string& name, const std::string& body) {
+  const std::string path = TempDir() + "/image_" + name + ".textproto";
+  std::ofstream(path) << "name: \"" << name << "\"\n" << body;
+  return path;
+}
+
 }  // namespace sitlnet::nns::testing

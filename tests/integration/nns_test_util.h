@@ -82,6 +82,10 @@ std::string UdpRoundTrip(const std::string& netns, Ipv4 robot_address);
 bool LinkExistsInRoot(const std::string& name);
 bool StateExists(const std::string& scenario);
 
+// Writes an image manifest `name: "<name>"` + `body` (text format) into this process's TempDir()
+// and returns its path, for a scenario's `image:`.
+std::string WriteImageManifest(const std::string& name, const std::string& body);
+
 }  // namespace sitlnet::nns::testing
 
 #endif  // SITLNET_TESTS_INTEGRATION_NNS_TEST_UTIL_H_

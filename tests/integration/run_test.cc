@@ -233,19 +233,12 @@ TEST(DaemonTest, DownStopsTheScenariosMediumAndPhysicsDaemons) {
 namespace sitlnet::nns::testing {
 namespace {
 
-std::string WriteManifest(const std::string& name, const std::string& body) {
-  const std::string path =
-      TempDir() + "/run_test_" + name + "_" + std::to_string(getpid()) + ".textproto";
-  std::ofstream(path) << "name: \"" << name << "\"\n" << body;
-  return path;
-}
-
 TEST(RunTest, RestartPolicyRestartsAFailingImageUpToItsLimit) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const std::string manifest =
-      WriteManifest("flaky",
-                    "command: [\"/bin/sh\", \"-c\", \"echo started; sleep 0.5; exit 4\"]\n"
-                    "restart: RESTART_ON_FAILURE\nmax_restarts: 2\n");
+      WriteImageManifest("flaky",
+                         "command: [\"/bin/sh\", \"-c\", \"echo started; sleep 0.5; exit 4\"]\n"
+                         "restart: RESTART_ON_FAILURE\nmax_restarts: 2\n");
   const RunScenario scenario =
       WriteScenario(6, "robot { name: \"a\" image: \"" + manifest + "\" }\nrobot { name: \"b\" }\n",
                     "timing { duration_ms: 4000 }\n");
@@ -269,7 +262,7 @@ TEST(RunTest, RestartPolicyRestartsAFailingImageUpToItsLimit) {
 
 TEST(RunTest, ImageNotReadyInTimeIsAFailure) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  const std::string manifest = WriteManifest(
+  const std::string manifest = WriteImageManifest(
       "mute",
       "command: [\"/bin/sleep\", \"30\"]\nready_log_line: \"READY\"\nready_timeout_ms: 500\n");
   const RunScenario scenario =
@@ -428,7 +421,7 @@ TEST(RunTest, Ros2ClockReachesARobotOnItsLoopbackInBothPacings) {
       SitlnetBinary().substr(0, SitlnetBinary().rfind('/')) + "/ros2_clock_echo";
   // Realtime: the subscriber is the robot's image.
   const std::string manifest =
-      WriteManifest("clock_echo", "command: [\"" + echo + "\", \"--count\", \"20\"]\n");
+      WriteImageManifest("clock_echo", "command: [\"" + echo + "\", \"--count\", \"20\"]\n");
   const RunScenario realtime =
       WriteScenario(12,
                     "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } image: \"" + manifest +
@@ -483,8 +476,8 @@ TEST(RunTest, Ros2ClockReachesARobotOnItsLoopbackInBothPacings) {
 // without the sandbox, whose PID namespace would hide the parent, and says so in a warning.
 TEST(RunTest, RealtimeRunIsFifoButItsImagesAreNot) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  const std::string manifest =
-      WriteManifest("unconfined", "command: [\"/bin/sh\", \"-c\", \"${ARGS}\"]\nsandbox: NONE\n");
+  const std::string manifest = WriteImageManifest(
+      "unconfined", "command: [\"/bin/sh\", \"-c\", \"${ARGS}\"]\nsandbox: NONE\n");
   const RunScenario scenario = WriteScenario(
       8,
       "robot { name: \"a\" image: \"" + manifest +
