@@ -43,9 +43,23 @@ def resolve(name, citing_file):
     return os.path.join(ROOT, name) if os.path.exists(os.path.join(ROOT, name)) else None
 
 
+def source_files():
+    """The tracked files; in a copy without git's data (a container build), every file but the
+    build folders, run outputs and npm packages (what .dockerignore leaves out)."""
+    listing = subprocess.run(["git", "-C", ROOT, "ls-files"], capture_output=True, text=True)
+    if listing.returncode == 0:
+        return listing.stdout.split()
+    files = []
+    for folder, subfolders, names in os.walk(ROOT):
+        rel = os.path.relpath(folder, ROOT)
+        subfolders[:] = [d for d in subfolders if not (
+            (rel == "." and (d.startswith("build") or d in ("runs", ".git"))) or d == "node_modules")]
+        files += [os.path.normpath(os.path.join(rel, name)) for name in names]
+    return files
+
+
 def main():
-    files = subprocess.run(["git", "-C", ROOT, "ls-files"], capture_output=True, text=True,
-                           check=True).stdout.split()
+    files = source_files()
     problems = []
     for rel in files:
         if rel == "tests/check_citations.py" or rel.endswith((".png", ".svg", ".csv", ".pcap")):

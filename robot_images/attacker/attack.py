@@ -175,17 +175,26 @@ def raw_sockets():
 
 def survive_teardown():
     name = f"sv-{SCENARIO}"[:15]
+    # The survivor says when it bears its name: until then the harness could not find it, and
+    # this robot must not end before (on a busy host the grandchild may run late).
+    named_read, named_write = os.pipe()
     if os.fork() == 0:
         os.setsid()
         if os.fork() == 0:
+            os.close(named_read)
             libc.unshare(CLONE_NEWPID | CLONE_NEWNS)  # Refused in the sandbox; tried anyway.
             libc.prctl(PR_SET_NAME, name.encode(), 0, 0, 0)
+            os.write(named_write, b"n")
+            os.close(named_write)
             devnull = os.open("/dev/null", os.O_RDWR)
             for fd in (0, 1, 2):
                 os.dup2(devnull, fd)
             while True:
                 os.pause()
         os._exit(0)
+    os.close(named_write)
+    os.read(named_read, 1)
+    os.close(named_read)
     os.wait()
     print(f"attack survive_teardown: left process {name}", flush=True)
 
