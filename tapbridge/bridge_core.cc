@@ -24,6 +24,11 @@ namespace sitlnet::tapbridge {
 namespace {
 
 constexpr size_t kReadBufferBytes = 65536 + 64;  // Largest TAP frame (64 KB MTU) fits.
+// Frames read from one robot's TAP per wake-up (realtime) or per step (lockstep); the rest wait in
+// the TAP's queue for the next turn, after the other robots': a robot that writes as fast as the
+// bridge reads cannot hold the loop (audit finding 16, docs/tapbridge.md). 256 frames in a 10 ms
+// step is 25 600 frames/s per robot, about ten times what 802.11a carries at 54 Mbit/s.
+constexpr size_t kMaxFramesPerRobotPerTurn = 256;
 
 // Lateness histogram: 1 µs buckets up to 100 ms, the last bucket open-ended.
 // Fixed memory, O(1) per delivery, percentiles to the microsecond.
@@ -166,7 +171,10 @@ struct BridgeCore::Impl {
   }
 
   void DrainRealtime(int robot) {
-    while (TapPort* port = ports[robot].get()) {
+    // epoll is level-triggered: what is left is read on the next wake-up.
+    for (size_t turn = 0; turn < kMaxFramesPerRobotPerTurn; ++turn) {
+      TapPort* port = ports[robot].get();
+      if (port == nullptr) return;
       const ssize_t n = port->Read(buffer);
       if (n == 0) return;
       if (n < 0) {
@@ -364,7 +372,7 @@ void BridgeCore::StepLockstep(TimeNs until_ns) {
     TapPort* port = impl_->ports[robot].get();
     if (!port) continue;
     std::vector<std::vector<uint8_t>> frames;
-    for (;;) {
+    while (frames.size() < kMaxFramesPerRobotPerTurn) {
       const ssize_t n = port->Read(impl_->buffer);
       if (n == 0) break;
       if (n < 0) {

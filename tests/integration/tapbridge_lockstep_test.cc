@@ -120,6 +120,38 @@ TEST(TapbridgeLockstep, DeliveriesWrittenWithinTheStepAndReproducible) {
   EXPECT_NE(first, other) << "the seed places the frames within the step";
 }
 
+// Audit finding 16: a robot cannot hold the bridge by writing frames as fast as it reads them.
+// Robot a queues 1000 frames on its TAP and b three before one step: the step reads at most the
+// budget (256) from a, and b's three all the same; a's rest waits in its TAP's queue (none lost)
+// and is read in the steps that follow.
+TEST(TapbridgeLockstep, AFloodingRobotIsReadAtMostTheBudgetPerStep) {
+  SITLNET_REQUIRE_ROOT();
+  MediumScenario up("fld", 2,
+                    "robot { name: \"a\" position_m { x: 0 y: 0 z: 1 } }\n"
+                    "robot { name: \"b\" position_m { x: 10 y: 0 z: 1 } }\n"
+                    "timing { pacing: PACING_LOCKSTEP }\n");
+  const Scenario scenario = LoadScenarioFile(up.path());
+  BridgeCore core(scenario, MakeMacPhySimMedium(scenario), BridgeOptions{});
+  core.AttachAll();
+  const RobotPlan& robot_a = scenario.robots[0];
+  const RobotPlan& robot_b = scenario.robots[1];
+  ASSERT_TRUE(WaitUntilOperational(robot_a.netns) && WaitUntilOperational(robot_b.netns));
+  const int a = UdpSocketIn(robot_a.netns, robot_a.wlan_address);
+  const int b = UdpSocketIn(robot_b.netns, robot_b.wlan_address);
+  constexpr int kFlood = 1000;
+  for (int k = 0; k < kFlood; ++k) {
+    ASSERT_TRUE(SendTo(a, robot_b.wlan_address, 1)) << k << ": " << std::strerror(errno);
+  }
+  for (int k = 0; k < 3; ++k) ASSERT_TRUE(SendTo(b, robot_a.wlan_address, 2));
+  core.StepLockstep(10 * kNsPerMs);
+  EXPECT_EQ(core.port_counters(0).frames_read, 256u);
+  EXPECT_EQ(core.port_counters(1).frames_read, 3u);
+  for (TimeNs until_ms = 20; until_ms <= 40; until_ms += 10) core.StepLockstep(until_ms * kNsPerMs);
+  EXPECT_EQ(core.port_counters(0).frames_read, static_cast<uint64_t>(kFlood));
+  close(a);
+  close(b);
+}
+
 // IPv6 link-local unicast and all-nodes multicast cross the medium.
 TEST(TapbridgeTraffic, Ipv6LinkLocalUnicastAndMulticast) {
   SITLNET_REQUIRE_ROOT();
