@@ -29,8 +29,15 @@ UdpSocket UdpSocket::Bind(Ipv4 address, uint16_t port, bool freebind, const std:
   }
   const sockaddr_in sa = MakeSockaddr(address, port);
   if (bind(fd, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0) {
-    throw Error(SystemErrorMessage(
-        what + ": bind UDP " + FormatIpv4(address) + ":" + std::to_string(port), errno));
+    const int err = errno;
+    const std::string endpoint = FormatIpv4(address) + ":" + std::to_string(port);
+    // Any local user can hold the port first (IP_FREEBIND needs no privilege): say how to find
+    // the holder (docs/security.md, finding 10).
+    const std::string hint =
+        err == EADDRINUSE
+            ? " (another process holds it: ss -uanp 'sport = :" + std::to_string(port) + "')"
+            : "";
+    throw Error(SystemErrorMessage(what + ": bind UDP " + endpoint, err) + hint);
   }
   return sock;
 }

@@ -1,8 +1,11 @@
 // `sitlnet run` end to end with real namespaces, MuJoCo, the medium and the
 // flocker image: lockstep reproducibility, robot failures, Ctrl-C, teardown.
+#include <arpa/inet.h>
 #include <linux/capability.h>
+#include <netinet/in.h>
 #include <signal.h>
 #include <sys/mount.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -305,6 +308,36 @@ TEST(RunTest, AFullDiskFailsTheRunNamingTheFile) {
   EXPECT_NE(result.err.find("sitlnet run: write "), std::string::npos) << result.err;
   EXPECT_NE(result.err.find(disk + "/out/"), std::string::npos) << result.err;
   EXPECT_NE(result.err.find("No space left on device"), std::string::npos) << result.err;
+  ExpectNothingLeft(scenario.name);
+}
+
+// Audit finding 10 (open): any local user may bind the robots' physics address first. The run
+// then stops at start with one line naming the robot, the address and how to find the holder,
+// and leaves nothing behind.
+TEST(RunTest, APreBoundPhysicsPortIsNamedAndNothingIsLeft) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteScenario(15, kTwoFlockers, "timing { duration_ms: 1000 }\n");
+  DownGuard guard(scenario.name);
+  // Robot a's physics address: the root side (.1) of its ctl0 /30, default port 9500.
+  const std::string address = "10.235." + std::to_string(getpid() % 250) + ".1";
+  const int holder = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  const int one = 1;
+  ASSERT_EQ(setsockopt(holder, IPPROTO_IP, IP_FREEBIND, &one, sizeof one), 0);
+  sockaddr_in at{};
+  at.sin_family = AF_INET;
+  at.sin_port = htons(9500);
+  ASSERT_EQ(inet_pton(AF_INET, address.c_str(), &at.sin_addr), 1);
+  ASSERT_EQ(bind(holder, reinterpret_cast<const sockaddr*>(&at), sizeof at), 0)
+      << std::strerror(errno);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const CommandResult result = SitlnetRun(scenario, out, {"--pacing", "lockstep"});
+  close(holder);
+  EXPECT_EQ(result.exit_code, 2) << result.err;
+  EXPECT_NE(result.err.find("robot \"a\": bind UDP " + address +
+                            ":9500: Address already in use (another process holds it: ss -uanp "
+                            "'sport = :9500')"),
+            std::string::npos)
+      << result.err;
   ExpectNothingLeft(scenario.name);
 }
 
