@@ -44,10 +44,7 @@ bool IsContainerName(const std::string& name) {
 ContainerRegistration::ContainerRegistration(const std::string& scenario,
                                              const std::string& engine_exe, const std::string& name)
     : path_(ScenarioDir(scenario) + "/" + std::string(kPrefix) + name) {
-  if (access(ScenarioDir(scenario).c_str(), F_OK) != 0) {
-    throw Error("scenario \"" + scenario + "\" is not up (no " + ScenarioDir(scenario) +
-                "); run sitlnet up first");
-  }
+  internal::RequireScenarioUp(scenario);
   if (!IsEngine(engine_exe)) {
     throw Error("container \"" + name + "\": engine \"" + engine_exe +
                 "\" is not podman given by its absolute path");

@@ -46,12 +46,20 @@ void WritePidFile(const std::string& scenario, const std::string& role) {
 
 }  // namespace internal
 
-DaemonRegistration::DaemonRegistration(const std::string& scenario, const std::string& role)
-    : path_(PidFilePath(scenario, role)) {
+namespace internal {
+
+void RequireScenarioUp(const std::string& scenario) {
   const std::string dir = std::string(kStateDir) + "/" + scenario;
   if (access(dir.c_str(), F_OK) != 0) {
     throw Error("scenario \"" + scenario + "\" is not up (no " + dir + "); run sitlnet up first");
   }
+}
+
+}  // namespace internal
+
+DaemonRegistration::DaemonRegistration(const std::string& scenario, const std::string& role)
+    : path_(PidFilePath(scenario, role)) {
+  internal::RequireScenarioUp(scenario);
   internal::WritePidFile(scenario, role);
 }
 

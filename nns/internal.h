@@ -148,6 +148,9 @@ DownReport DownLocked(const std::string& name);
 // Link group of the scenario's root-side veths, derived from its name.
 uint32_t LinkGroupForScenario(const std::string& scenario);
 void WriteState(const ScenarioState& state);  // Atomic (write + rename).
+// Throws Error "scenario "x" is not up (no <dir>); run sitlnet up first" without its state
+// directory.
+void RequireScenarioUp(const std::string& scenario);
 // Records the calling process as the scenario's daemon `role` (<role>.pid: pid and start time).
 void WritePidFile(const std::string& scenario, const std::string& role);
 void RemoveState(const std::string& scenario);
