@@ -16,6 +16,8 @@ namespace {
 
 // libfaketime's thread-safe build (iperf3 and DDS programs are multi-threaded).
 constexpr const char* kLibfaketime = SITLNET_LIBFAKETIME_PATH;
+// Scales the socket timeouts libfaketime leaves alone (socket_timeouts/).
+constexpr const char* kSocketTimeouts = SITLNET_SOCKET_TIMEOUTS_PATH;
 
 enum class Linkage { kDynamic, kStatic, kGo, kUnknown };
 
@@ -84,6 +86,10 @@ std::vector<std::string> DilatedTimeEnvironment(const Image& image, const Launch
     throw Error(robot + " runs in dilated time, which needs libfaketime (" + kLibfaketime +
                 ": apt-get install libfaketime; or time: WALL in " + image.manifest_path + ")");
   }
+  if (access(kSocketTimeouts, R_OK) != 0) {
+    throw Error(robot + " runs in dilated time, which needs " + kSocketTimeouts +
+                " (built with sitlnet: cmake --build build)");
+  }
   const std::string program = FindProgram(command.at(0));
   switch (LinkageOf(program)) {
     case Linkage::kStatic:
@@ -101,13 +107,14 @@ std::vector<std::string> DilatedTimeEnvironment(const Image& image, const Launch
   }
   char factor[32];
   std::snprintf(factor, sizeof factor, "%.17g", context.realtime_factor);
-  std::string preload = kLibfaketime;
+  std::string preload = std::string(kLibfaketime) + ":" + kSocketTimeouts;
   for (const auto& variable : image.manifest.env()) {
     if (variable.name() == "LD_PRELOAD") preload += ":" + variable.value();
   }
   std::vector<std::string> env = {"LD_PRELOAD=" + preload,
                                   // The host's calendar time at start, then f times as fast.
-                                  std::string("FAKETIME=+0 x") + factor};
+                                  std::string("FAKETIME=+0 x") + factor,
+                                  std::string("SITLNET_TIME_FACTOR=") + factor};
   // Children continue their parent's clock instead of restarting it (libfaketime keeps the
   // shared state in /dev/shm, which is the sandbox's own: nothing is left on the host).
   if (image.manifest.sandbox() == proto::ImageManifest::CONFINED) {

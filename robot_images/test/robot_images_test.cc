@@ -1,6 +1,10 @@
 #include "robot_images/robot_images.h"
 
+#include <dlfcn.h>
 #include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/syscall.h>
+#include <sys/time.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -10,6 +14,8 @@
 
 namespace sitlnet::images {
 namespace {
+
+constexpr const char* kSocketTimeoutsModule = SITLNET_SOCKET_TIMEOUTS_PATH;
 
 std::string ImagesRoot() {
   const char* dir = std::getenv("SITLNET_SOURCE_DIR");
@@ -182,11 +188,12 @@ TEST(ImageTest, DilatedTimeIsTheDefaultAwayFromFactorOneAndRefusesWhatItCannotDi
   EXPECT_TRUE(internal::DilatedTimeEnvironment(image, context, sh).empty());
   context.realtime_factor = 0.25;
   const std::vector<std::string> env = internal::DilatedTimeEnvironment(image, context, sh);
-  ASSERT_EQ(env.size(), 3u);
-  EXPECT_EQ(env[0].rfind("LD_PRELOAD=/usr/lib/", 0), 0u) << env[0];
-  EXPECT_NE(env[0].find("/faketime/libfaketimeMT.so.1"), std::string::npos) << env[0];
+  ASSERT_EQ(env.size(), 4u);
+  EXPECT_EQ(env[0], std::string("LD_PRELOAD=/usr/lib/") + CMAKE_LIBRARY_ARCHITECTURE +
+                        "/faketime/libfaketimeMT.so.1:" + kSocketTimeoutsModule);
   EXPECT_EQ(env[1], "FAKETIME=+0 x0.25");  // libfaketime's README: offset, then speed.
-  EXPECT_EQ(env[2], "FAKETIME_DONT_RESET=1");
+  EXPECT_EQ(env[2], "SITLNET_TIME_FACTOR=0.25");
+  EXPECT_EQ(env[3], "FAKETIME_DONT_RESET=1");
   image.manifest.set_time(proto::ImageManifest::WALL);
   EXPECT_TRUE(internal::DilatedTimeEnvironment(image, context, sh).empty());
   image.manifest.set_time(proto::ImageManifest::DILATED);
@@ -206,6 +213,58 @@ TEST(ImageTest, DilatedTimeIsTheDefaultAwayFromFactorOneAndRefusesWhatItCannotDi
     EXPECT_NE(refusal({"/sbin/ldconfig"}).find("/sbin/ldconfig is statically linked"),
               std::string::npos);
   }
+}
+
+// The companion of libfaketime: a socket timeout the program sets in its dilated seconds reaches
+// the kernel in host seconds (divided by the factor), and reads back as the program set it. The
+// module's own setsockopt/getsockopt are called (dlsym on its handle); the kernel's value is
+// read with the raw system call, around both.
+TEST(ImageTest, SocketTimeoutsAreScaledToHostTimeByTheFactor) {
+  ASSERT_EQ(setenv("SITLNET_TIME_FACTOR", "2", 1), 0);
+  void* module = dlopen(kSocketTimeoutsModule, RTLD_NOW | RTLD_LOCAL);
+  ASSERT_NE(module, nullptr) << dlerror();
+  using Set = int (*)(int, int, int, const void*, socklen_t);
+  using Get = int (*)(int, int, int, void*, socklen_t*);
+  const auto shim_set = reinterpret_cast<Set>(dlsym(module, "setsockopt"));
+  const auto shim_get = reinterpret_cast<Get>(dlsym(module, "getsockopt"));
+  ASSERT_NE(shim_set, nullptr);
+  ASSERT_NE(shim_get, nullptr);
+  const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(fd, 0);
+  const auto kernel_us = [fd](int name) {
+    timeval value{};
+    socklen_t length = sizeof value;
+    EXPECT_EQ(syscall(SYS_getsockopt, fd, SOL_SOCKET, name, &value, &length), 0);
+    return int64_t{value.tv_sec} * 1000000 + value.tv_usec;
+  };
+  const auto set_us = [&](int name, int64_t us) {
+    const timeval value{static_cast<time_t>(us / 1000000), static_cast<suseconds_t>(us % 1000000)};
+    return shim_set(fd, SOL_SOCKET, name, &value, sizeof value);
+  };
+  ASSERT_EQ(set_us(SO_RCVTIMEO, 200000), 0);  // iputils ping -i 0.2
+  EXPECT_EQ(kernel_us(SO_RCVTIMEO), 100000);  // 0.2 virtual s at 2 virtual s per host s
+  timeval read_back{};
+  socklen_t length = sizeof read_back;
+  ASSERT_EQ(shim_get(fd, SOL_SOCKET, SO_RCVTIMEO, &read_back, &length), 0);
+  EXPECT_EQ(read_back.tv_sec, 0);
+  EXPECT_EQ(read_back.tv_usec, 200000);
+  // (The kernel keeps timeouts in jiffies: these values are whole jiffies at HZ 100 to 1000.)
+  ASSERT_EQ(set_us(SO_SNDTIMEO, 3000000), 0);
+  EXPECT_EQ(kernel_us(SO_SNDTIMEO), 1500000);
+  ASSERT_EQ(set_us(SO_RCVTIMEO, 1), 0);
+  EXPECT_GT(kernel_us(SO_RCVTIMEO), 0);  // A timeout never becomes "none" (0).
+  ASSERT_EQ(set_us(SO_RCVTIMEO, 0), 0);
+  EXPECT_EQ(kernel_us(SO_RCVTIMEO), 0);  // "None" stays none.
+  // Other options pass unchanged.
+  const int buffer_bytes = 65536;
+  ASSERT_EQ(shim_set(fd, SOL_SOCKET, SO_RCVBUF, &buffer_bytes, sizeof buffer_bytes), 0);
+  int kernel_buffer_bytes = 0;
+  socklen_t int_length = sizeof kernel_buffer_bytes;
+  ASSERT_EQ(getsockopt(fd, SOL_SOCKET, SO_RCVBUF, &kernel_buffer_bytes, &int_length), 0);
+  EXPECT_EQ(kernel_buffer_bytes, 2 * buffer_bytes);  // socket(7): the kernel doubles it.
+  close(fd);
+  dlclose(module);
+  unsetenv("SITLNET_TIME_FACTOR");
 }
 
 TEST(RobotProcessTest, ExitStatusIsReported) {
