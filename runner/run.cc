@@ -19,6 +19,7 @@
 #include "nns/nns.h"
 #include "physics_side/physics_side.h"
 #include "runner/outputs.h"
+#include "runner/run_folder.h"
 #include "runner/run_monitor.h"
 #include "runner/runner.h"
 #include "runner/summary.h"
@@ -35,16 +36,6 @@ std::string DefaultRunDir(const std::string& scenario_name) {
   const std::time_t now = std::time(nullptr);
   std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::gmtime(&now));
   return "runs/" + scenario_name + "-" + stamp;
-}
-
-void MakeDirs(const std::string& path) {
-  for (size_t slash = path.find('/', 1);; slash = path.find('/', slash + 1)) {
-    const std::string prefix = path.substr(0, slash);
-    if (mkdir(prefix.c_str(), 0755) != 0 && errno != EEXIST) {
-      throw Error(SystemErrorMessage("create run folder \"" + prefix + "\"", errno));
-    }
-    if (slash == std::string::npos) break;
-  }
 }
 
 // Tears the scenario down however the run ends.
@@ -329,13 +320,14 @@ RunReport RunScenario(const RunOptions& options) {
   RaiseOpenFileLimit(kOpenFilesBase + kOpenFilesPerRobot * scenario.robots.size(),
                      "a run of " + std::to_string(scenario.robots.size()) + " robots");
   coordinator::StopSignal stop;  // Ctrl-C from here on stops in order.
-  MakeDirs(report.run_dir + "/robots");
+  MakeRunFolder(report.run_dir);
   {
     std::string text;
     google::protobuf::TextFormat::PrintToString(scenario.spec, &text);
-    std::ofstream(report.run_dir + "/scenario.textproto")
-        << "# Effective scenario of this run (from " << scenario.source_path << ")\n"
-        << text;
+    LineFile(report.run_dir + "/scenario.textproto",
+             "# Effective scenario of this run (from " + scenario.source_path + ")", 1,
+             "effective scenario")
+        .AppendRecord(text);
   }
 
   // Wrapped at once, so that whatever fails from here on, the remote side

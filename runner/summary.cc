@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 
 #include "runner/connectivity.h"
 #include "runner/outputs.h"
@@ -143,7 +142,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
   json += "],\"plots\":[";
   for (size_t i = 0; i < plots.size(); ++i) json += (i ? "," : "") + Quote(plots[i]);
   json += "]}\n";
-  std::ofstream(dir + "/summary.json") << json;
+  LineFile(dir + "/summary.json", "", 1, "summary").AppendRecord(json);
 
   std::fprintf(stderr, "sitlnet run: %s (%.1f s simulated, %s)\n", dir.c_str(),
                static_cast<double>(simulated_ns) / kNsPerS, metrics.ToText().c_str());

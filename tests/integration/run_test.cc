@@ -344,6 +344,41 @@ TEST(RunTest, APreBoundPhysicsPortIsNamedAndNothingIsLeft) {
   ExpectNothingLeft(scenario.name);
 }
 
+// Audit finding 7: `sitlnet run` (root) writes only into a run folder it made or one that is the
+// user's own and no one else can write; a link, someone else's folder or a world-writable one
+// is refused in one line, before anything is written or set up, and the link's target stays
+// untouched. (Before: any existing folder was used, a link followed.)
+TEST(RunTest, ARunFolderThatIsALinkOrOthersCanWriteIsRefusedAndNothingIsWritten) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteScenario(15, kTwoFlockers, "timing { duration_ms: 500 }\n");
+  DownGuard guard(scenario.name);
+  const std::string base = TempDir() + "/" + scenario.name + "-folders";
+  const std::string victim = base + "/victim";
+  ASSERT_EQ(RunCommand({"mkdir", "-p", victim}).exit_code, 0);
+  ASSERT_EQ(symlink(victim.c_str(), (base + "/link").c_str()), 0) << std::strerror(errno);
+  ASSERT_EQ(mkdir((base + "/shared").c_str(), 0777), 0);
+  ASSERT_EQ(chmod((base + "/shared").c_str(), 0777), 0);  // Past the umask.
+  const auto refused = [&](const std::string& out, const std::string& why) {
+    const CommandResult result = SitlnetRun(scenario, out, {"--pacing", "lockstep"});
+    EXPECT_EQ(result.exit_code, 2) << result.err;
+    const std::string named = out.back() == '/' ? out.substr(0, out.size() - 1) : out;
+    EXPECT_NE(result.err.find("run folder \"" + named + "\" " + why), std::string::npos)
+        << result.err;
+    ExpectNothingLeft(scenario.name);
+  };
+  refused(base + "/link", "is a symbolic link");
+  refused(base + "/link/", "is a symbolic link");
+  EXPECT_EQ(RunCommand({"find", victim, "-mindepth", "1"}).out, "") << "written through the link";
+  refused(base + "/shared", "can be written by others");
+  EXPECT_EQ(RunCommand({"find", base + "/shared", "-mindepth", "1"}).out, "");
+  // Someone else's folder (nobody's), when this process may give one away (CAP_CHOWN).
+  ASSERT_EQ(mkdir((base + "/theirs").c_str(), 0755), 0);
+  if (chown((base + "/theirs").c_str(), 65534, 65534) == 0) {
+    refused(base + "/theirs", "belongs to user 65534");
+  }
+  RunCommand({"rm", "-rf", base});
+}
+
 TEST(RunTest, OpenFileLimitIsRaisedToWhatTheRobotsNeed) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   std::string robots;
