@@ -81,13 +81,8 @@ class World {
   TimeNs time_ns(int robot) const;
   int64_t steps(int robot) const;
 
-  // Advances every robot that is not frame-driven by `steps` physics steps.
+  // Advances every robot by `steps` physics steps: one clock for the whole world.
   void Advance(int steps);
-  // Advances one robot only (ArduPilot's frame-driven lock-step).
-  void AdvanceRobot(int robot, int steps);
-  // A frame-driven robot is skipped by Advance() and stepped with AdvanceRobot().
-  void SetFrameDriven(int robot, bool frame_driven);
-  bool frame_driven(int robot) const;
 
   // Target rotor speeds, reached through the first-order motor lag. Clamped to
   // [0, max_rotor_speed_rad_s].
@@ -104,7 +99,7 @@ class World {
   void Lidar(int robot, std::vector<float>* ranges_m) const;
   // Sets the linear velocity (world ENU): initial conditions for tests and scripted starts.
   void SetVelocity(int robot, const Vec3d& velocity_m_s);
-  // Back to the start pose, motors stopped, time 0.
+  // Back to the start pose, motors stopped; its time goes on (the world has one clock).
   void ResetRobot(int robot);
 
   const proto::Airframe& airframe(int robot) const;
@@ -134,7 +129,7 @@ struct RobotCounters {
   uint64_t dropped_after_drop = 0;      // Commands of a robot dropped from the lock-step.
   uint64_t send_errors = 0;
   // ArduPilot JSON endpoint.
-  uint64_t json_frames = 0;    // New frames (each advanced physics by 1/frame_rate).
+  uint64_t json_frames = 0;    // New frames (each answered at its end: 1/frame_rate later).
   uint64_t json_resends = 0;   // Repeated frame_count: last reply sent again.
   uint64_t json_restarts = 0;  // Smaller frame_count: robot reset.
   uint64_t json_missed_frames = 0;
@@ -158,11 +153,23 @@ class PhysicsServer {
   PhysicsServer(const PhysicsServer&) = delete;
   PhysicsServer& operator=(const PhysicsServer&) = delete;
 
-  // Handles every packet waiting on every socket (non-blocking). JSON frames step their robot.
+  // Handles every packet waiting on every socket (non-blocking).
   void Poll();
-  // Poll(), then advances the world-clocked robots by `steps`, sending each subscribed robot
-  // its RobotState at its state rate and cutting motors of robots silent past their timeout.
+  // Poll(), then advances the world by `steps`, sending each subscribed robot its RobotState at
+  // its state rate, each ArduPilot robot the reply to its frame when the clock reaches the
+  // frame's end, and cutting motors of robots silent past their timeout. With the frame gate
+  // on, the clock does not pass an ArduPilot robot's last reply before its next frame arrived.
   void Advance(int steps);
+
+  // The frame gate (lockstep pacing; docs/protocols.md): Advance() waits up to `timeout_ns` of
+  // wall time for every ArduPilot robot that has sent a frame (and is not dropped) to answer its
+  // last reply; 0 (default, realtime pacing): the clock never waits for them.
+  void SetFrameGate(TimeNs timeout_ns);
+  // True if some robot has an ArduPilot JSON endpoint.
+  bool has_frame_gated_robots() const;
+  // ArduPilot robots that missed the frame gate's timeout since the last call (each once until
+  // it sends a frame again), for the caller's on_silent_robot policy.
+  std::vector<int> TakeSilentRobots();
 
   // Lock-step (docs/protocols.md, lock-step): sends every subscribed, world-clocked robot its
   // RobotState now (on top of the periodic ones).

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <limits>
 
 #include "clock/clock.h"
 #include "physics_mujoco/ardupilot_json.h"
@@ -43,12 +44,18 @@ struct Endpoint {
   TimeNs state_period_ns = 0;
   TimeNs next_state_ns = 0;
   TimeNs timeout_ns = 0;  // 0: failsafe off
-  // ArduPilot JSON.
+  // ArduPilot JSON (docs/protocols.md): a frame asks for the state at its end; the reply waits
+  // until the world's clock has reached that time.
   FrameTracker tracker;
   std::string last_json;
+  sockaddr_in json_reply{};
   uint16_t json_rate_hz = 0;
   int64_t json_base_steps = 0;
   int64_t json_frames = 0;
+  bool json_joined = false;   // Sent a frame: the frame gate waits for its next one.
+  bool json_pending = false;  // A frame's reply is due at json_due_steps.
+  int64_t json_due_steps = 0;
+  bool json_silent = false;  // Missed the frame gate's timeout; not waited for again until it sends.
   RobotCounters counters;
 };
 
@@ -127,32 +134,94 @@ struct PhysicsServer::Impl {
     uint64_t missed = 0;
     const FrameAction action = ep.tracker.OnFrame(packet->frame_count, &missed);
     if (action == FrameAction::kResend) {
+      // SITL repeats a frame whose reply it has not seen: the reply already sent goes again; one
+      // not yet due will go when it is.
       ++ep.counters.json_resends;
-      if (!ep.last_json.empty()) Send(ep, ep.json, ep.last_json, from);
+      if (!ep.json_pending && !ep.last_json.empty()) Send(ep, ep.json, ep.last_json, from);
       return;
     }
     if (action == FrameAction::kRestart) {
+      // SITL restarted: the vehicle starts over where it began, at the world's current time,
+      // and the robot rejoins the lock-step if it had been dropped.
       ++ep.counters.json_restarts;
       world.ResetRobot(ep.robot);
       ep.json_rate_hz = 0;
+      ep.dropped = false;
+      ep.motors_cut = false;
+    }
+    if (ep.dropped) {
+      ++ep.counters.dropped_after_drop;
+      return;
     }
     ++ep.counters.json_frames;
     ep.counters.json_missed_frames += missed;
     world.SetRotorTarget(ep.robot, PwmToRotorSpeeds(*packet, ep.max_speed_rad_s));
+    const int64_t now_steps = world.steps(ep.robot);
     if (packet->frame_rate_hz != ep.json_rate_hz) {  // new rate: count frames from here
       ep.json_rate_hz = packet->frame_rate_hz;
-      ep.json_base_steps = world.steps(ep.robot);
+      ep.json_base_steps = now_steps;
       ep.json_frames = 0;
     }
     ++ep.json_frames;
     // Frame n ends at n / frame_rate: whole physics steps, the remainder carried (exact over
     // many frames when 1/frame_rate is not a multiple of the step).
-    const int64_t target_steps =
+    int64_t due_steps =
         ep.json_base_steps + clock::TickTimeNs(ep.json_frames, ep.json_rate_hz) / world.step_ns();
-    world.AdvanceRobot(ep.robot, static_cast<int>(target_steps - world.steps(ep.robot)));
+    if (due_steps < now_steps) {
+      // Late (realtime pacing, SITL slower than the clock): frames count from now on.
+      ep.json_base_steps += now_steps - due_steps;
+      due_steps = now_steps;
+    }
+    ep.json_due_steps = due_steps;
+    ep.json_pending = true;
+    ep.json_joined = true;
+    ep.json_silent = false;
+    ep.json_reply = from;
+    ReplyJsonIfDue(ep);
+  }
+
+  // Sends the state of a pending frame once the world's clock has reached the frame's end.
+  void ReplyJsonIfDue(Endpoint& ep) {
+    if (!ep.json_pending || world.steps(ep.robot) < ep.json_due_steps) return;
+    ep.json_pending = false;
     ep.last_json =
         FormatJsonState(world.time_ns(ep.robot), world.Pose(ep.robot), world.Imu(ep.robot));
-    Send(ep, ep.json, ep.last_json, from);
+    Send(ep, ep.json, ep.last_json, ep.json_reply);
+  }
+
+  // The frame gate (lockstep pacing): before the clock moves on, every ArduPilot robot that
+  // has joined (and is not dropped) must have sent the frame answering its last reply. Waits up
+  // to frame_gate_timeout_ns of wall time; robots still silent then are recorded for the
+  // caller's policy and not waited for again until they send a frame.
+  void WaitForJsonFrames() {
+    const auto waiting_for = [this](const Endpoint& ep) {
+      return ep.json.fd() >= 0 && ep.json_joined && !ep.json_pending && !ep.dropped &&
+             !ep.json_silent;
+    };
+    const TimeNs deadline_ns = MonotonicNowNs() + frame_gate_timeout_ns;
+    for (;;) {
+      if (std::none_of(endpoints.begin(), endpoints.end(), waiting_for)) return;
+      const TimeNs left_ns = deadline_ns - MonotonicNowNs();
+      if (left_ns <= 0) {
+        for (Endpoint& ep : endpoints) {
+          if (!waiting_for(ep)) continue;
+          ep.json_silent = true;
+          silent_robots.push_back(ep.robot);
+        }
+        return;
+      }
+      pollfd fd{epoll_fd, POLLIN, 0};
+      const timespec wait{static_cast<time_t>(left_ns / kNsPerS),
+                          static_cast<long>(left_ns % kNsPerS)};
+      ppoll(&fd, 1, &wait, nullptr);
+      Poll();
+    }
+  }
+
+  int StepsUntilJsonReply(const Endpoint& ep) const {
+    if (!ep.json_pending) return std::numeric_limits<int>::max();
+    return static_cast<int>(std::clamp<int64_t>(ep.json_due_steps - world.steps(ep.robot), 1,
+                                                std::numeric_limits<int>::max()));
   }
 
   void Send(Endpoint& ep, const UdpSocket& sock, const std::string& bytes, const sockaddr_in& to) {
@@ -225,9 +294,7 @@ struct PhysicsServer::Impl {
 
   bool periodic_states = true;
 
-  bool InLockStep(const Endpoint& ep) const {
-    return ep.subscribed && !ep.dropped && !world.frame_driven(ep.robot);
-  }
+  bool InLockStep(const Endpoint& ep) const { return ep.subscribed && !ep.dropped; }
 
   std::vector<int> CollectCommands(TimeNs timeout_ns) {
     const TimeNs deadline_ns = MonotonicNowNs() + timeout_ns;
@@ -253,17 +320,23 @@ struct PhysicsServer::Impl {
   void Advance(int steps) {
     Poll();
     for (int remaining = steps; remaining > 0;) {
+      if (frame_gate_timeout_ns > 0) WaitForJsonFrames();
       int chunk = remaining;
       for (const Endpoint& ep : endpoints) {
-        if (!world.frame_driven(ep.robot)) chunk = std::min(chunk, StepsUntilEvent(ep));
+        chunk = std::min({chunk, StepsUntilEvent(ep), StepsUntilJsonReply(ep)});
       }
       world.Advance(chunk);
       remaining -= chunk;
       for (Endpoint& ep : endpoints) {
-        if (!world.frame_driven(ep.robot)) Service(ep);
+        Service(ep);
+        ReplyJsonIfDue(ep);
       }
     }
   }
+
+  TimeNs frame_gate_timeout_ns = 0;  // 0: the clock never waits for ArduPilot frames
+  std::vector<int> silent_robots;
+  bool has_json_robots = false;
 };
 
 PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& options)
@@ -297,7 +370,7 @@ PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& opti
           UdpSocket::Bind(plan.ctl_root_address, static_cast<uint16_t>(spec.ardupilot_json_port()),
                           true, who + " (ArduPilot JSON)");
       impl_->Watch(ep.json.fd(), 2 * uint64_t(plan.index) + 1);
-      impl_->world.SetFrameDriven(plan.index, true);
+      impl_->has_json_robots = true;
     }
   }
 }
@@ -312,6 +385,7 @@ void PhysicsServer::DropFromLockstep(int robot) {
   if (ep.dropped) return;
   ep.dropped = true;
   ep.motors_cut = true;
+  ep.json_pending = false;  // An ArduPilot robot gets no more replies until SITL restarts.
   impl_->world.SetRotorTarget(robot, RotorSpeeds{});  // as an ESC failsafe: spin down
   ++ep.counters.failsafe_cuts;
 }
@@ -327,6 +401,15 @@ std::vector<int> PhysicsServer::CollectCommands(TimeNs timeout_ns) {
   return impl_->CollectCommands(timeout_ns);
 }
 void PhysicsServer::Advance(int steps) { impl_->Advance(steps); }
+void PhysicsServer::SetFrameGate(TimeNs timeout_ns) {
+  impl_->frame_gate_timeout_ns = std::max<TimeNs>(0, timeout_ns);
+}
+bool PhysicsServer::has_frame_gated_robots() const { return impl_->has_json_robots; }
+std::vector<int> PhysicsServer::TakeSilentRobots() {
+  std::vector<int> silent;
+  silent.swap(impl_->silent_robots);
+  return silent;
+}
 int PhysicsServer::wait_fd() const { return impl_->epoll_fd; }
 World& PhysicsServer::world() { return impl_->world; }
 const World& PhysicsServer::world() const { return impl_->world; }

@@ -60,7 +60,6 @@ struct RobotSlot {
   RotorSpeeds target{};
   RotorSpeeds speeds{};
   int64_t steps = 0;
-  bool frame_driven = false;
   double linear_drag_n_s_per_m = 0;
   ImuNoise imu_noise;
   int64_t model_switches = 0;
@@ -116,7 +115,6 @@ struct World::Impl {
   int models_compiled = 0;
   std::vector<std::unique_ptr<RobotSlot>> robots;
   StepPool pool;
-  std::vector<RobotSlot*> active;  // scratch: robots stepped by Advance
 
   explicit Impl(int threads) : pool(std::max(1, threads)) {}
 
@@ -203,7 +201,8 @@ struct World::Impl {
     PlaceModel(slot);
   }
 
-  void PlaceAtStart(RobotSlot* slot) {
+  // `steps`: the robot's time afterwards (0 at construction; a reset keeps the world's clock).
+  void PlaceAtStart(RobotSlot* slot, int64_t steps) {
     // A fresh mjData on the `all` model, then the start tile's model.
     slot->model = slot->airframe->all.get();
     slot->on_all = true;
@@ -224,7 +223,7 @@ struct World::Impl {
     mj_forward(m, d);
     slot->target = {};
     slot->speeds = {};
-    slot->steps = 0;
+    slot->steps = steps;
     PlaceModel(slot);
   }
 };
@@ -273,11 +272,10 @@ World::World(const Scenario& scenario, const WorldOptions& options)
                       {},
                       {},
                       0,
-                      false,
                       plan.airframe.linear_drag_n_s_per_m(),
                       ImuNoise(plan.spec.imu(), scenario.spec.timing().seed(), plan.index),
                       0});
-    impl.PlaceAtStart(slot.get());
+    impl.PlaceAtStart(slot.get(), 0);
     impl.robots.push_back(std::move(slot));
   }
 }
@@ -290,12 +288,8 @@ TimeNs World::time_ns(int robot) const { return impl_->Robot(robot).steps * step
 int64_t World::steps(int robot) const { return impl_->Robot(robot).steps; }
 
 void World::Advance(int steps) {
-  auto& active = impl_->active;
-  active.clear();
-  for (auto& slot : impl_->robots) {
-    if (!slot->frame_driven) active.push_back(slot.get());
-  }
-  const int n = static_cast<int>(active.size());
+  auto& robots = impl_->robots;
+  const int n = static_cast<int>(robots.size());
   // Contiguous chunks, one per thread: each robot's steps run back to back on one core
   // (its mjData stays in that core's cache); no synchronization between steps.
   const int chunks = std::min(n, impl_->pool.threads());
@@ -303,20 +297,10 @@ void World::Advance(int steps) {
     const int begin = n * chunk / chunks;
     const int end = n * (chunk + 1) / chunks;
     for (int i = begin; i < end; ++i) {
-      for (int s = 0; s < steps; ++s) impl_->Step(active[i], s == steps - 1);
+      for (int s = 0; s < steps; ++s) impl_->Step(robots[i].get(), s == steps - 1);
     }
   });
 }
-
-void World::AdvanceRobot(int robot, int steps) {
-  RobotSlot& slot = impl_->Robot(robot);
-  for (int s = 0; s < steps; ++s) impl_->Step(&slot, s == steps - 1);
-}
-
-void World::SetFrameDriven(int robot, bool frame_driven) {
-  impl_->Robot(robot).frame_driven = frame_driven;
-}
-bool World::frame_driven(int robot) const { return impl_->Robot(robot).frame_driven; }
 
 void World::SetRotorTarget(int robot, const RotorSpeeds& target_rad_s) {
   RobotSlot& slot = impl_->Robot(robot);
@@ -379,7 +363,10 @@ void World::SetVelocity(int robot, const Vec3d& velocity_m_s) {
   impl_->PlaceModel(&slot);  // a speed past the limit needs the model with every obstacle
 }
 
-void World::ResetRobot(int robot) { impl_->PlaceAtStart(&impl_->Robot(robot)); }
+void World::ResetRobot(int robot) {
+  RobotSlot& slot = impl_->Robot(robot);
+  impl_->PlaceAtStart(&slot, slot.steps);
+}
 
 const proto::Airframe& World::airframe(int robot) const {
   return impl_->Robot(robot).plan->airframe;

@@ -61,6 +61,12 @@ class PhysicsServerSimulator final : public Simulator {
                     IterationContext& context) override;
 
  private:
+  // The scenario's on_silent_robot policy for robots that missed the lock-step's timeout:
+  // dropped (one line each) or the run stops (Error naming them): they did not answer `what`
+  // `with` what they should have sent.
+  void ApplySilentRobotPolicy(const std::vector<int>& silent, const std::string& what,
+                              const std::string& with, const proto::coord::Start& start);
+
   physics::PhysicsServer& server_;
   int steps_;
   RobotLockstepOptions lockstep_;

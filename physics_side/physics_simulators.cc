@@ -54,36 +54,50 @@ proto::coord::Poses PhysicsServerSimulator::InitialPoses() {
   return poses;
 }
 
+void PhysicsServerSimulator::ApplySilentRobotPolicy(const std::vector<int>& silent,
+                                                    const std::string& what,
+                                                    const std::string& with,
+                                                    const proto::coord::Start& start) {
+  if (silent.empty()) return;
+  if (lockstep_.drop_silent) {
+    for (int robot : silent) {
+      server_.DropFromLockstep(robot);
+      std::fprintf(stderr,
+                   "sitlnet: robot '%s' did not answer %s of iteration %llu within %lld ms: "
+                   "dropped from the run, motors cut\n",
+                   robot_names_.at(robot).c_str(), what.c_str(),
+                   static_cast<unsigned long long>(start.iteration()),
+                   static_cast<long long>(lockstep_.command_timeout_ns / kNsPerMs));
+    }
+    return;
+  }
+  std::string names;
+  for (int robot : silent) names += (names.empty() ? "'" : ", '") + robot_names_.at(robot) + "'";
+  throw Error(std::string(silent.size() == 1 ? "robot " : "robots ") + names +
+              " did not answer " + what + " of iteration " + std::to_string(start.iteration()) +
+              " (virtual " + std::to_string(start.start_ns() / kNsPerMs) + " ms) " + with +
+              " within " +
+              std::to_string(lockstep_.command_timeout_ns / kNsPerMs) + " ms");
+}
+
 void PhysicsServerSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End* end,
                                           IterationContext& context) {
   CheckSpan(start, server_.world(), steps_);
+  // ArduPilot robots exchange frames with the clock inside the iteration, and their radio
+  // traffic of the iteration must all be in their TAPs before the network drains them: with
+  // them, the network runs after physics (END opens its gate) instead of beside it.
+  const bool gate_after_physics = server_.has_frame_gated_robots();
   if (lockstep_.enabled) {
     server_.SendStates();
-    const std::vector<int> missing = server_.CollectCommands(lockstep_.command_timeout_ns);
-    if (!missing.empty() && lockstep_.drop_silent) {
-      for (int robot : missing) {
-        server_.DropFromLockstep(robot);
-        std::fprintf(stderr,
-                     "sitlnet: robot '%s' did not answer the state of iteration %llu within %lld "
-                     "ms: dropped from the run, motors cut\n",
-                     robot_names_.at(robot).c_str(),
-                     static_cast<unsigned long long>(start.iteration()),
-                     static_cast<long long>(lockstep_.command_timeout_ns / kNsPerMs));
-      }
-    } else if (!missing.empty()) {
-      std::string names;
-      for (int robot : missing) {
-        names += (names.empty() ? "'" : ", '") + robot_names_.at(robot) + "'";
-      }
-      throw Error(std::string(missing.size() == 1 ? "robot " : "robots ") + names +
-                  " did not answer the state of iteration " + std::to_string(start.iteration()) +
-                  " (virtual " + std::to_string(start.start_ns() / kNsPerMs) +
-                  " ms) with a command within " +
-                  std::to_string(lockstep_.command_timeout_ns / kNsPerMs) + " ms");
-    }
-    context.CommandsCollected();
+    ApplySilentRobotPolicy(server_.CollectCommands(lockstep_.command_timeout_ns),
+                           "the state", "with a command", start);
+    if (!gate_after_physics) context.CommandsCollected();
   }
   server_.Advance(steps_);
+  if (lockstep_.enabled) {
+    ApplySilentRobotPolicy(server_.TakeSilentRobots(), "its JSON reply", "with a servo frame",
+                           start);
+  }
   PosesFromWorld(server_.world(), end->mutable_poses());
 }
 

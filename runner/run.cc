@@ -184,14 +184,16 @@ void WaitForRobotsToSpeak(const Scenario& scenario, const std::vector<RobotSlot>
     server->Poll();
     std::string silent;
     for (const RobotPlan& plan : scenario.robots) {
-      if (robots[plan.index].process && server->counters(plan.index).commands_accepted == 0) {
+      const physics::RobotCounters& counters = server->counters(plan.index);
+      if (robots[plan.index].process && counters.commands_accepted == 0 &&
+          counters.json_frames == 0) {
         silent += (silent.empty() ? "" : ", ") + plan.name;
       }
     }
     if (silent.empty()) return;
     const TimeNs now = MonotonicNowNs();
     if (now >= deadline) {
-      throw Error("lockstep: robots " + silent + " sent no MotorCommand within " +
+      throw Error("lockstep: robots " + silent + " sent no MotorCommand (or servo frame) within " +
                   std::to_string(allowed_ns / kNsPerMs) +
                   " ms of starting (see their logs in robots/)");
     }
@@ -419,6 +421,7 @@ RunReport RunScenario(const RunOptions& options) {
       scenario.spec.on_silent_robot() == proto::Scenario::SILENT_ROBOT_DROP;
   if (lockstep) {
     physics_server.SetPeriodicStates(false);  // one state per iteration, from the gate
+    physics_server.SetFrameGate(robot_lockstep.command_timeout_ns);
     WaitForRobotsToSpeak(scenario, robots, &physics_server);
   }
   physics_side::PhysicsServerSimulator physics_sim(scenario, &physics_server, robot_lockstep);

@@ -1,5 +1,7 @@
 // ArduPilot JSON SITL backend, exercised by a client written from ArduPilot's protocol
-// description (libraries/SITL/examples/JSON/readme.md), over UDP on loopback.
+// description (libraries/SITL/examples/JSON/readme.md), over UDP on loopback. The client plays
+// ArduPilot: it sends a servo frame and waits for the reply, whose timestamp is its clock; the
+// server replies when the world's clock reaches the frame's end (docs/protocols.md).
 #include "physics_mujoco/ardupilot_json.h"
 
 #include <arpa/inet.h>
@@ -7,9 +9,12 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "physics_mujoco/physics_mujoco.h"
@@ -68,18 +73,34 @@ class JsonClient {
     sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&server_),
            sizeof server_);
   }
-  // One reply, or "" after 2 s.
-  std::string Receive() {
-    if (!WaitReadable(fd_, 2000)) return "";
+  // One reply, or "" after `timeout_ms`.
+  std::string Receive(int timeout_ms = 2000) {
+    if (!WaitReadable(fd_, timeout_ms)) return "";
     char buffer[2048];
     const ssize_t n = recv(fd_, buffer, sizeof buffer, 0);
     return n > 0 ? std::string(buffer, n) : "";
   }
+  int fd() const { return fd_; }
 
  private:
   int fd_;
   sockaddr_in server_{};
 };
+
+// Sends one packet and returns its reply, driving the server on this thread as a clock would:
+// the packet is handled, then the world advances a step at a time until the reply is out (at
+// most `max_steps`; "" if none came).
+std::string Exchange(PhysicsServer& server, JsonClient& client, const std::string& packet,
+                     int max_steps = 100) {
+  client.Send(packet);
+  if (!WaitReadable(server.wait_fd(), 2000)) return "";
+  server.Poll();
+  for (int step = 0; step <= max_steps; ++step) {
+    if (WaitReadable(client.fd(), 0)) return client.Receive();
+    server.Advance(1);
+  }
+  return "";
+}
 
 class ArduPilotJsonTest : public ::testing::Test {
  protected:
@@ -89,12 +110,8 @@ class ArduPilotJsonTest : public ::testing::Test {
                                std::to_string(TestJsonPort()) + " }")),
         server_(scenario_) {}
 
-  // Sends one packet and returns the reply, handling it on this thread.
   std::string Exchange(const std::string& packet) {
-    client_.Send(packet);
-    if (!WaitReadable(server_.wait_fd(), 2000)) return "";
-    server_.Poll();
-    return client_.Receive();
+    return physics::Exchange(server_, client_, packet);
   }
 
   Scenario scenario_;
@@ -128,12 +145,13 @@ TEST_F(ArduPilotJsonTest, RepeatedFrameCountResendsWithoutAdvancing) {
   EXPECT_EQ(server_.counters(0).json_missed_frames, 2u);
 }
 
-TEST_F(ArduPilotJsonTest, SmallerFrameCountRestartsTheVehicle) {
+TEST_F(ArduPilotJsonTest, SmallerFrameCountRestartsTheVehicleAndTheClockGoesOn) {
   for (uint32_t frame = 100; frame < 400; ++frame) Exchange(ServoPacket16(1000, frame, 1000));
   EXPECT_LT(server_.world().Pose(0).position_m.z, 10 - 0.1);  // fell with motors off
   const std::string reply = Exchange(ServoPacket16(1000, 1, 1000));
   EXPECT_EQ(server_.counters(0).json_restarts, 1u);
-  EXPECT_DOUBLE_EQ(Field(reply, "timestamp")[0], 0.001);
+  // The world has one clock: the restarted vehicle's first frame ends one step after now.
+  EXPECT_DOUBLE_EQ(Field(reply, "timestamp")[0], 0.301);
   // Back at the start: ENU (1, 2, 10) is NED (2, 1, -10), minus one step of fall.
   const auto position = Field(reply, "position");
   ASSERT_EQ(position.size(), 3u);
@@ -165,10 +183,8 @@ TEST(ArduPilotJsonRestTest, AccelBodyReadsMinusGAtRestOnTheGround) {
   JsonClient client("127.77.0.2");
   std::string reply;
   for (uint32_t frame = 1; frame <= 500; ++frame) {
-    client.Send(ServoPacket16(1000, frame, 1000));
-    ASSERT_TRUE(WaitReadable(server.wait_fd(), 2000));
-    server.Poll();
-    reply = client.Receive();
+    reply = Exchange(server, client, ServoPacket16(1000, frame, 1000));
+    ASSERT_FALSE(reply.empty());
   }
   // readme: accel_body reads about (0, 0, -9.81) at rest (FRD: gravity's reaction is up = -z).
   EXPECT_NEAR(Field(reply, "accel_body")[2], -9.81, 0.01);
@@ -194,6 +210,117 @@ TEST_F(ArduPilotJsonTest, BadPacketsAreDroppedAndCounted) {
   EXPECT_EQ(server_.counters(0).json_dropped, 6u);
   EXPECT_EQ(server_.world().steps(0), 0);
   EXPECT_FALSE(Exchange(ServoPacket16(1000, 1, 1000)).empty());
+}
+
+// ArduPilot in the world's clock (issue 14): in lockstep pacing the frame gate holds the clock
+// at each reply until the frame answering it has come, so every reply leaves exactly at its
+// frame's end, whatever the client's (wall) speed, and the ArduPilot robot and a native robot
+// beside it share one clock. Without the gate the world runs past replies that have not been
+// answered: frames arrive late and the replies' times leave the 400 Hz grid.
+TEST(ArduPilotJsonGateTest, TheClockWaitsForEachFrameAndRepliesLeaveAtTheirFramesEnd) {
+  const Scenario scenario = MakeScenario(
+      "robot { name: \"a\" position_m { z: 10 } ardupilot_json_port: " +
+      std::to_string(TestJsonPort()) + " }\nrobot { name: \"b\" position_m { x: 5 z: 10 } }");
+  PhysicsServer server(scenario);
+  server.SetFrameGate(5 * kNsPerS);
+  JsonClient client("127.77.0.2");
+  constexpr int kFrames = 400;  // 1 s at 400 Hz
+  std::vector<double> reply_times_s;
+  std::thread ardupilot([&] {
+    client.Send(ServoPacket16(400, 1, 1600));
+    for (uint32_t frame = 2; frame <= kFrames + 1; ++frame) {
+      const std::string reply = client.Receive(10000);
+      if (reply.empty()) return;
+      reply_times_s.push_back(Field(reply, "timestamp")[0]);
+      client.Send(ServoPacket16(400, frame, 1600));
+    }
+  });
+  // The clock starts once the autopilot has spoken (as `sitlnet run` waits for it).
+  while (server.counters(0).json_frames == 0) {
+    if (WaitReadable(server.wait_fd(), 10000)) server.Poll();
+  }
+  for (int iteration = 0; iteration < 100; ++iteration) server.Advance(10);  // 1 s
+  ardupilot.join();
+  server.Poll();  // Its last frame, sent before it ended.
+  EXPECT_TRUE(server.TakeSilentRobots().empty());
+  ASSERT_EQ(reply_times_s.size(), static_cast<size_t>(kFrames));
+  for (int n = 1; n <= kFrames; ++n) {
+    // Frame n ends at n * 2.5 ms, in whole 1 ms steps with the remainder carried (2, 5, 7, ...).
+    EXPECT_NEAR(reply_times_s[n - 1], std::floor(n * 2.5) / 1000, 1e-12) << "frame " << n;
+  }
+  EXPECT_EQ(server.world().steps(0), 1000);
+  EXPECT_EQ(server.world().steps(1), 1000);
+  EXPECT_EQ(server.counters(0).json_frames, static_cast<uint64_t>(kFrames + 1));
+  EXPECT_EQ(server.counters(0).json_resends, 0u);
+}
+
+// A silent autopilot (lockstep): after the gate's timeout the clock goes on without it and it is
+// reported once, for the scenario's policy; dropped, its frames are refused until SITL restarts
+// (a smaller frame_count), which puts the vehicle back at its start in the lock-step again.
+TEST(ArduPilotJsonGateTest, ASilentAutopilotIsReportedOnceAndARestartRejoins) {
+  const Scenario scenario =
+      MakeScenario("robot { name: \"a\" position_m { x: 1 z: 10 } ardupilot_json_port: " +
+                   std::to_string(TestJsonPort()) + " }");
+  PhysicsServer server(scenario);
+  server.SetFrameGate(50 * kNsPerMs);
+  JsonClient client("127.77.0.2");
+  ASSERT_FALSE(Exchange(server, client, ServoPacket16(1000, 1, 1500)).empty());  // then silent
+  server.Advance(10);
+  EXPECT_EQ(server.TakeSilentRobots(), std::vector<int>{0});
+  server.Advance(10);  // Not waited for again.
+  EXPECT_TRUE(server.TakeSilentRobots().empty());
+  EXPECT_EQ(server.world().steps(0), 21);
+  server.DropFromLockstep(0);  // on_silent_robot: SILENT_ROBOT_DROP
+  EXPECT_EQ(server.world().rotor_target(0)[0], 0);
+  client.Send(ServoPacket16(1000, 2, 1500));
+  const TimeNs deadline = MonotonicNowNs() + 5 * kNsPerS;
+  while (server.counters(0).dropped_after_drop == 0 && MonotonicNowNs() < deadline) {
+    if (WaitReadable(server.wait_fd(), 100)) server.Poll();
+  }
+  EXPECT_EQ(server.counters(0).dropped_after_drop, 1u);
+  server.Advance(5);
+  EXPECT_TRUE(client.Receive(0).empty());  // No reply while dropped.
+  const std::string reply = Exchange(server, client, ServoPacket16(1000, 1, 1500));
+  ASSERT_FALSE(reply.empty());
+  EXPECT_EQ(server.counters(0).json_restarts, 1u);
+  EXPECT_DOUBLE_EQ(Field(reply, "timestamp")[0], 0.027);  // 26 steps, then its first frame
+  EXPECT_NEAR(Field(reply, "position")[1], 1, 1e-9);      // back at its start (NED east)
+  EXPECT_GT(server.world().rotor_target(0)[0], 0);
+  server.Advance(10);  // In the lock-step again: its next frame is waited for.
+  EXPECT_EQ(server.TakeSilentRobots(), std::vector<int>{0});
+}
+
+// Realtime pacing: the clock follows the wall clock and never waits; a reply leaves when the
+// clock reaches its frame's end, so no reply arrives before its time on the wall clock.
+TEST(ArduPilotJsonGateTest, InRealtimeNoReplyArrivesBeforeItsTime) {
+  const Scenario scenario =
+      MakeScenario("robot { name: \"a\" position_m { z: 10 } ardupilot_json_port: " +
+                   std::to_string(TestJsonPort()) + " }");
+  PhysicsServer server(scenario);
+  JsonClient client("127.77.0.2");
+  std::atomic<bool> stop{false};
+  std::vector<std::pair<TimeNs, double>> received;  // (wall ns since start, timestamp s)
+  const TimeNs start_ns = MonotonicNowNs();
+  std::thread ardupilot([&] {
+    client.Send(ServoPacket16(200, 1, 1500));
+    for (uint32_t frame = 2; frame <= 60; ++frame) {
+      const std::string reply = client.Receive(2000);
+      if (reply.empty()) break;
+      received.emplace_back(MonotonicNowNs() - start_ns, Field(reply, "timestamp")[0]);
+      client.Send(ServoPacket16(200, frame, 1500));
+    }
+    stop = true;
+  });
+  RunRealtime(&server, 1.0, 2 * kNsPerS, stop);
+  ardupilot.join();
+  ASSERT_GE(received.size(), 50u);
+  double last_s = 0;
+  for (const auto& [wall_ns, timestamp_s] : received) {
+    // RunRealtime's clock starts after start_ns: virtual time t is never before wall t.
+    EXPECT_GE(static_cast<double>(wall_ns) / kNsPerS, timestamp_s) << timestamp_s;
+    EXPECT_GT(timestamp_s, last_s);
+    last_s = timestamp_s;
+  }
 }
 
 TEST(ArduPilotJsonCodecTest, PwmMapsLinearlyToRotorSpeed) {
