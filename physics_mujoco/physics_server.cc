@@ -319,6 +319,11 @@ struct PhysicsServer::Impl {
 
   void Advance(int steps) {
     Poll();
+    // With the frame gate (lockstep), a reply due at the end of the previous Advance leaves now,
+    // at the start of this one: what the autopilot does in answer (its next frame, its radio
+    // traffic) then falls in this iteration, whose network part drains its TAP after physics,
+    // instead of racing the previous iteration's.
+    for (Endpoint& ep : endpoints) ReplyJsonIfDue(ep);
     for (int remaining = steps; remaining > 0;) {
       if (frame_gate_timeout_ns > 0) WaitForJsonFrames();
       int chunk = remaining;
@@ -327,9 +332,10 @@ struct PhysicsServer::Impl {
       }
       world.Advance(chunk);
       remaining -= chunk;
+      const bool defer_replies = remaining == 0 && frame_gate_timeout_ns > 0;
       for (Endpoint& ep : endpoints) {
         Service(ep);
-        ReplyJsonIfDue(ep);
+        if (!defer_replies) ReplyJsonIfDue(ep);
       }
     }
   }
