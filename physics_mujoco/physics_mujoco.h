@@ -117,6 +117,8 @@ class World {
 
 //------------------------------ Protocol server -----------------------------
 
+struct Px4LinkCounters;  // px4_simulator_link.h
+
 // Per-robot counters; every dropped packet is counted in exactly one drop counter.
 struct RobotCounters {
   uint64_t commands_accepted = 0;
@@ -157,19 +159,25 @@ class PhysicsServer {
   void Poll();
   // Poll(), then advances the world by `steps`, sending each subscribed robot its RobotState at
   // its state rate, each ArduPilot robot the reply to its frame when the clock reaches the
-  // frame's end, and cutting motors of robots silent past their timeout. With the frame gate
-  // on, the clock does not pass an ArduPilot robot's last reply before its next frame arrived.
+  // frame's end, each connected PX4 robot its sensor messages every sensor period, and cutting
+  // motors of robots silent past their timeout. With the frame gate on, the clock does not pass
+  // an autopilot's last reply or HIL_SENSOR before its answer arrived.
   void Advance(int steps);
 
   // The frame gate (lockstep pacing; docs/protocols.md): Advance() waits up to `timeout_ns` of
   // wall time for every ArduPilot robot that has sent a frame (and is not dropped) to answer its
   // last reply; 0 (default, realtime pacing): the clock never waits for them.
   void SetFrameGate(TimeNs timeout_ns);
-  // True if some robot has an ArduPilot JSON endpoint.
+  // True if some robot has an ArduPilot JSON endpoint or a PX4 simulator link.
   bool has_frame_gated_robots() const;
-  // ArduPilot robots that missed the frame gate's timeout since the last call (each once until
-  // it sends a frame again), for the caller's on_silent_robot policy.
+  // Autopilots (ArduPilot, PX4) that missed the frame gate's timeout since the last call (each
+  // once until it answers again), for the caller's on_silent_robot policy.
   std::vector<int> TakeSilentRobots();
+  // The robot's software has made itself known: a native command, an ArduPilot frame or a PX4
+  // connection.
+  bool spoke(int robot) const;
+  // The PX4 link's counters of a robot with px4_sim_port, else null.
+  const Px4LinkCounters* px4_counters(int robot) const;
 
   // Lock-step (docs/protocols.md, lock-step): sends every subscribed, world-clocked robot its
   // RobotState now (on top of the periodic ones).

@@ -7,10 +7,14 @@
 #include <cerrno>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <optional>
 
 #include "clock/clock.h"
 #include "physics_mujoco/ardupilot_json.h"
+#include "physics_mujoco/geodetic.h"
 #include "physics_mujoco/physics_mujoco.h"
+#include "physics_mujoco/px4_robot.h"
 #include "physics_mujoco/robot_codec.h"
 #include "physics_mujoco/udp_socket.h"
 
@@ -55,7 +59,12 @@ struct Endpoint {
   bool json_joined = false;   // Sent a frame: the frame gate waits for its next one.
   bool json_pending = false;  // A frame's reply is due at json_due_steps.
   int64_t json_due_steps = 0;
-  bool json_silent = false;  // Missed the frame gate's timeout; not waited for again until it sends.
+  bool json_silent =
+      false;  // Missed the frame gate's timeout; not waited for again until it sends.
+  // PX4 simulator interface (docs/autopilots.md); null when the robot has none.
+  std::unique_ptr<Px4Robot> px4;
+  int px4_watched_fd = -1;  // The link's connection in the epoll set.
+  bool px4_silent = false;  // As json_silent.
   RobotCounters counters;
 };
 
@@ -69,6 +78,8 @@ struct PhysicsServer::Impl {
   proto::RobotState state;  // reused buffers
   std::string wire;
   std::vector<float> lidar;
+
+  std::optional<GeodeticFrame> geodetic;  // For PX4 robots' GPS.
 
   Impl(const Scenario& s, const ServerOptions& options) : scenario(s), world(s, options.world) {}
   ~Impl() {
@@ -189,14 +200,21 @@ struct PhysicsServer::Impl {
     Send(ep, ep.json, ep.last_json, ep.json_reply);
   }
 
-  // The frame gate (lockstep pacing): before the clock moves on, every ArduPilot robot that
-  // has joined (and is not dropped) must have sent the frame answering its last reply. Waits up
-  // to frame_gate_timeout_ns of wall time; robots still silent then are recorded for the
-  // caller's policy and not waited for again until they send a frame.
-  void WaitForJsonFrames() {
+  // The frame gate (lockstep pacing): before the clock moves on, every autopilot that has
+  // joined (and is not dropped) must have answered its last message: an ArduPilot robot with
+  // the frame answering its last reply, a PX4 robot in lock-step with the motor outputs
+  // answering its last HIL_SENSOR. Waits up to frame_gate_timeout_ns of wall time; robots still
+  // silent then are recorded for the caller's policy and not waited for again until they answer.
+  bool AwaitedJson(const Endpoint& ep) const {
+    return ep.json.fd() >= 0 && ep.json_joined && !ep.json_pending && !ep.dropped &&
+           !ep.json_silent;
+  }
+  bool AwaitedPx4(const Endpoint& ep) const {
+    return ep.px4 && !ep.dropped && !ep.px4_silent && ep.px4->link().awaiting_answer();
+  }
+  void WaitForAutopilots() {
     const auto waiting_for = [this](const Endpoint& ep) {
-      return ep.json.fd() >= 0 && ep.json_joined && !ep.json_pending && !ep.dropped &&
-             !ep.json_silent;
+      return AwaitedJson(ep) || AwaitedPx4(ep);
     };
     const TimeNs deadline_ns = MonotonicNowNs() + frame_gate_timeout_ns;
     for (;;) {
@@ -204,9 +222,14 @@ struct PhysicsServer::Impl {
       const TimeNs left_ns = deadline_ns - MonotonicNowNs();
       if (left_ns <= 0) {
         for (Endpoint& ep : endpoints) {
-          if (!waiting_for(ep)) continue;
-          ep.json_silent = true;
-          silent_robots.push_back(ep.robot);
+          if (AwaitedJson(ep)) ep.json_silent = true;
+          if (AwaitedPx4(ep)) ep.px4_silent = true;
+          if (ep.json_silent || ep.px4_silent) {
+            if (std::find(silent_robots.begin(), silent_robots.end(), ep.robot) ==
+                silent_robots.end()) {
+              silent_robots.push_back(ep.robot);
+            }
+          }
         }
         return;
       }
@@ -216,6 +239,36 @@ struct PhysicsServer::Impl {
       ppoll(&fd, 1, &wait, nullptr);
       Poll();
     }
+  }
+
+  // Takes what PX4 sent: a new connection (PX4 restarted: the robot is back at its start and
+  // rejoins the lock-step), its latest motor outputs (ignored while the robot is dropped).
+  void PollPx4(Endpoint& ep) {
+    if (ep.px4->PollLink(&world)) {
+      ep.dropped = false;
+      ep.motors_cut = false;
+      ep.px4_silent = false;
+    }
+    const Px4SimulatorLink& link = ep.px4->link();
+    if (link.connection_fd() >= 0 && link.connection_fd() != ep.px4_watched_fd) {
+      ep.px4_watched_fd = link.connection_fd();
+      Watch(ep.px4_watched_fd, 2 * endpoints.size() + ep.robot);
+    }
+    if (link.answered_last_sensor()) ep.px4_silent = false;  // Answering again.
+    if (!ep.dropped) world.SetRotorTarget(ep.robot, link.command().rotor_speeds_rad_s);
+  }
+
+  // Sends a PX4 robot's sensor messages when due (at the world's current time).
+  void SendPx4SensorsIfDue(Endpoint& ep) {
+    if (ep.px4) ep.px4->Step(&world, world.time_ns(ep.robot));
+  }
+
+  int StepsUntilPx4Sensor(const Endpoint& ep) const {
+    if (!ep.px4 || !ep.px4->link().connected()) return std::numeric_limits<int>::max();
+    const TimeNs step = world.step_ns();
+    const TimeNs left = ep.px4->next_sensor_ns() - world.time_ns(ep.robot);
+    return static_cast<int>(
+        std::clamp<TimeNs>((left + step - 1) / step, 1, std::numeric_limits<int>::max()));
   }
 
   int StepsUntilJsonReply(const Endpoint& ep) const {
@@ -253,7 +306,12 @@ struct PhysicsServer::Impl {
       const int n = epoll_wait(epoll_fd, events, 64, 0);
       if (n <= 0) return;
       for (int i = 0; i < n; ++i) {
-        Drain(endpoints[events[i].data.u64 / 2], events[i].data.u64 % 2 == 1);
+        const uint64_t key = events[i].data.u64;
+        if (key >= 2 * endpoints.size()) {
+          PollPx4(endpoints[key - 2 * endpoints.size()]);
+        } else {
+          Drain(endpoints[key / 2], key % 2 == 1);
+        }
       }
       if (n < 64) return;
     }
@@ -323,26 +381,32 @@ struct PhysicsServer::Impl {
     // at the start of this one: what the autopilot does in answer (its next frame, its radio
     // traffic) then falls in this iteration, whose network part drains its TAP after physics,
     // instead of racing the previous iteration's.
-    for (Endpoint& ep : endpoints) ReplyJsonIfDue(ep);
+    for (Endpoint& ep : endpoints) {
+      ReplyJsonIfDue(ep);
+      SendPx4SensorsIfDue(ep);
+    }
     for (int remaining = steps; remaining > 0;) {
-      if (frame_gate_timeout_ns > 0) WaitForJsonFrames();
+      if (frame_gate_timeout_ns > 0) WaitForAutopilots();
       int chunk = remaining;
       for (const Endpoint& ep : endpoints) {
-        chunk = std::min({chunk, StepsUntilEvent(ep), StepsUntilJsonReply(ep)});
+        chunk = std::min(
+            {chunk, StepsUntilEvent(ep), StepsUntilJsonReply(ep), StepsUntilPx4Sensor(ep)});
       }
       world.Advance(chunk);
       remaining -= chunk;
       const bool defer_replies = remaining == 0 && frame_gate_timeout_ns > 0;
       for (Endpoint& ep : endpoints) {
         Service(ep);
-        if (!defer_replies) ReplyJsonIfDue(ep);
+        if (defer_replies) continue;
+        ReplyJsonIfDue(ep);
+        SendPx4SensorsIfDue(ep);
       }
     }
   }
 
   TimeNs frame_gate_timeout_ns = 0;  // 0: the clock never waits for ArduPilot frames
   std::vector<int> silent_robots;
-  bool has_json_robots = false;
+  bool has_json_robots = false;  // ArduPilot or PX4 robots: the frame gate applies
 };
 
 PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& options)
@@ -371,6 +435,17 @@ PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& opti
     ep.timeout_ns = spec.command_timeout_ms() * kNsPerMs;
     ep.native = UdpSocket::Bind(plan.ctl_root_address, static_cast<uint16_t>(port), true, who);
     impl_->Watch(ep.native.fd(), 2 * uint64_t(plan.index));
+    if (spec.px4_sim_port() != 0) {
+      if (spec.px4_sim_port() > 65535 || spec.px4_sim_port() == port ||
+          spec.px4_sim_port() == spec.ardupilot_json_port()) {
+        throw Error(who + ": px4_sim_port must be in [1, 65535] and differ from physics_port");
+      }
+      if (!impl_->geodetic) impl_->geodetic.emplace(scenario.spec.geodetic_origin());
+      ep.px4 = std::make_unique<Px4Robot>(
+          scenario, plan.index, static_cast<uint16_t>(spec.px4_sim_port()), &*impl_->geodetic);
+      impl_->Watch(ep.px4->link().listen_fd(), 2 * scenario.robots.size() + plan.index);
+      impl_->has_json_robots = true;
+    }
     if (spec.ardupilot_json_port() != 0) {
       ep.json =
           UdpSocket::Bind(plan.ctl_root_address, static_cast<uint16_t>(spec.ardupilot_json_port()),
@@ -411,6 +486,17 @@ void PhysicsServer::SetFrameGate(TimeNs timeout_ns) {
   impl_->frame_gate_timeout_ns = std::max<TimeNs>(0, timeout_ns);
 }
 bool PhysicsServer::has_frame_gated_robots() const { return impl_->has_json_robots; }
+bool PhysicsServer::spoke(int robot) const {
+  SITLNET_DEMAND(robot >= 0 && robot < static_cast<int>(impl_->endpoints.size()));
+  const auto& ep = impl_->endpoints[robot];
+  return ep.counters.commands_accepted > 0 || ep.counters.json_frames > 0 ||
+         (ep.px4 && ep.px4->link().counters().connections > 0);
+}
+const Px4LinkCounters* PhysicsServer::px4_counters(int robot) const {
+  SITLNET_DEMAND(robot >= 0 && robot < static_cast<int>(impl_->endpoints.size()));
+  const auto& ep = impl_->endpoints[robot];
+  return ep.px4 ? &ep.px4->link().counters() : nullptr;
+}
 std::vector<int> PhysicsServer::TakeSilentRobots() {
   std::vector<int> silent;
   silent.swap(impl_->silent_robots);

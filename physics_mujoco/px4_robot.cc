@@ -18,13 +18,13 @@ Px4Robot::Px4Robot(const Scenario& scenario, int robot, uint16_t port, const Geo
   SITLNET_DEMAND(options_.sensor_period_ns > 0);
 }
 
-void Px4Robot::PollLink(World* world) {
-  if (link_.Poll() == Px4SimulatorLink::Event::kReconnected) {
-    // A restarted PX4 expects a vehicle at rest at its start: the robot starts over, with the
-    // same sensor noise as the first time.
-    world->ResetRobot(robot_);
-    sensors_.Reset();
-  }
+bool Px4Robot::PollLink(World* world) {
+  if (link_.Poll() != Px4SimulatorLink::Event::kReconnected) return false;
+  // A restarted PX4 expects a vehicle at rest at its start: the robot starts over (the clock
+  // goes on), with the same sensor noise as the first time.
+  world->ResetRobot(robot_);
+  sensors_.Reset();
+  return true;
 }
 
 bool Px4Robot::Step(World* world, TimeNs time_ns) {

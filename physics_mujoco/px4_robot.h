@@ -30,14 +30,17 @@ class Px4Robot {
   bool Step(World* world, TimeNs time_ns);
   // Takes what PX4 sent and sets the robot's rotor targets from PX4's latest command.
   void ApplyCommand(World* world);
+  // Takes what PX4 sent (accepting a new connection; resetting the robot if PX4 reconnected).
+  // Returns true if it reconnected.
+  bool PollLink(World* world);
+  // Virtual time of the next sensor message (the grid 0, period, 2 period, ...).
+  TimeNs next_sensor_ns() const { return next_sensor_ns_; }
 
   Px4SimulatorLink& link() { return link_; }
   const Px4SimulatorLink& link() const { return link_; }
   int robot() const { return robot_; }
 
  private:
-  void PollLink(World* world);
-
   int robot_;
   const proto::Robot* spec_;
   Px4RobotOptions options_;

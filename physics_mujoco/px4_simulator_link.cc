@@ -83,6 +83,7 @@ void Px4SimulatorLink::Disconnect() {
   outgoing_.clear();
   command_ = Px4Command();  // Motors stop, as PX4's outputs do when it dies.
   sensor_sent_ = false;
+  controls_since_connect_ = false;
   next_heartbeat_usec_ = 0;
 }
 
@@ -132,11 +133,17 @@ void Px4SimulatorLink::Take(const mavlink::ReceivedFrame& frame) {
     command_ = {*speeds, (controls.mode & mavlink::kModeFlagSafetyArmed) != 0, controls.time_usec,
                 (controls.flags & mavlink::kActuatorFlagLockstep) != 0};
     ++counters_.actuator_controls;
+    controls_since_connect_ = true;
   } else if (mavlink::Unpack(frame, &heartbeat)) {
     ++counters_.heartbeats_received;
   } else {
     ++counters_.ignored;
   }
+}
+
+bool Px4SimulatorLink::awaiting_answer() const {
+  return connection_fd_ >= 0 && sensor_sent_ && !answered_last_sensor() &&
+         !(controls_since_connect_ && !command_.lockstep);
 }
 
 bool Px4SimulatorLink::answered_last_sensor() const {

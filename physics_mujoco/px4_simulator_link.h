@@ -65,6 +65,10 @@ class Px4SimulatorLink {
   const Px4Command& command() const { return command_; }
   // True once a HIL_ACTUATOR_CONTROLS answers the last HIL_SENSOR sent (same time_usec).
   bool answered_last_sensor() const;
+  // A lock-step driver should wait for PX4's answer: a HIL_SENSOR went out on this connection
+  // and is not answered yet, and PX4 has not said it runs without lock-step (its controls'
+  // lock-step flag; PX4 is taken to run in lock-step until its first controls say otherwise).
+  bool awaiting_answer() const;
 
   // Sends one HIL_SENSOR (and HIL_GPS if `gps`, HIL_STATE_QUATERNION if `ground_truth`, both may
   // be null) stamped as given by the caller, and a HEARTBEAT when one is due (every second of
@@ -95,6 +99,7 @@ class Px4SimulatorLink {
   Px4Command command_;
   uint64_t last_sensor_usec_ = 0;
   bool sensor_sent_ = false;
+  bool controls_since_connect_ = false;
   uint64_t next_heartbeat_usec_ = 0;
   uint8_t sequence_ = 0;
   std::vector<uint8_t> outgoing_;  // Not yet accepted by the kernel.

@@ -184,16 +184,15 @@ void WaitForRobotsToSpeak(const Scenario& scenario, const std::vector<RobotSlot>
     server->Poll();
     std::string silent;
     for (const RobotPlan& plan : scenario.robots) {
-      const physics::RobotCounters& counters = server->counters(plan.index);
-      if (robots[plan.index].process && counters.commands_accepted == 0 &&
-          counters.json_frames == 0) {
+      if (robots[plan.index].process && !server->spoke(plan.index)) {
         silent += (silent.empty() ? "" : ", ") + plan.name;
       }
     }
     if (silent.empty()) return;
     const TimeNs now = MonotonicNowNs();
     if (now >= deadline) {
-      throw Error("lockstep: robots " + silent + " sent no MotorCommand (or servo frame) within " +
+      throw Error("lockstep: robots " + silent +
+                  " sent no MotorCommand (nor servo frame, nor PX4 connection) within " +
                   std::to_string(allowed_ns / kNsPerMs) +
                   " ms of starting (see their logs in robots/)");
     }

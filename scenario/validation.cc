@@ -383,6 +383,13 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
       at.Fail({{"robot", i}, {"ardupilot_json_port"}},
               who + "ardupilot_json_port must be <= 65535");
     }
+    if (robot.px4_sim_port() > 65535) {
+      at.Fail({{"robot", i}, {"px4_sim_port"}}, who + "px4_sim_port must be <= 65535");
+    }
+    if (robot.px4_sim_port() != 0 && robot.ardupilot_json_port() != 0) {
+      at.Fail({{"robot", i}, {"px4_sim_port"}},
+              who + "has both ardupilot_json_port and px4_sim_port: one autopilot per robot");
+    }
     if (robot.lidar().rays() > kMaxLidarRays) {
       at.Fail({{"robot", i}, {"lidar"}, {"rays"}},
               who + "lidar rays " + std::to_string(robot.lidar().rays()) + " out of range [0, " +

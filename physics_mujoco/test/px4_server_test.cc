@@ -1,0 +1,96 @@
+// PX4 robots in the PhysicsServer (issue 14, item 2): the server sends each connected PX4 its
+// HIL_SENSOR every 4 ms of the world's clock and, with the frame gate (lockstep pacing), does not
+// move the clock past a HIL_SENSOR before PX4's HIL_ACTUATOR_CONTROLS answering it arrived, as
+// PX4's lock-step with Gazebo works. A fake PX4 (test/fake_px4.h) plays PX4's side.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "physics_mujoco/mavlink_messages.h"
+#include "physics_mujoco/physics_mujoco.h"
+#include "physics_mujoco/px4_simulator_link.h"
+#include "physics_mujoco/test/fake_px4.h"
+#include "physics_mujoco/test/test_scenarios.h"
+
+namespace sitlnet::physics {
+namespace {
+
+using testing::FakePx4;
+using testing::MakeScenario;
+using testing::TestJsonPort;
+using testing::WaitReadable;
+
+class Px4ServerTest : public ::testing::Test {
+ protected:
+  Scenario scenario_ = MakeScenario(
+      "robot { name: \"px4\" position_m { x: 1 z: 0.2 } px4_sim_port: " +
+      std::to_string(TestJsonPort()) + " }\nrobot { name: \"b\" position_m { x: 5 z: 0.2 } }");
+  PhysicsServer server_{scenario_};
+
+  // A fake PX4 connected and seen by the server (as `sitlnet run` waits for it).
+  std::unique_ptr<FakePx4> Connect() {
+    auto px4 = std::make_unique<FakePx4>(scenario_.robots[0].ctl_root_address, TestJsonPort());
+    const uint64_t before = server_.px4_counters(0)->connections;
+    while (server_.px4_counters(0)->connections == before) {
+      if (WaitReadable(server_.wait_fd(), 5000)) server_.Poll();
+    }
+    return px4;
+  }
+};
+
+TEST_F(Px4ServerTest, TheClockWaitsForEachAnswerAndSensorsFollowTheWorldsClock) {
+  server_.SetFrameGate(5 * kNsPerS);
+  std::unique_ptr<FakePx4> px4 = Connect();
+  constexpr int kSensors = 250;  // 1 s at 250 Hz
+  std::vector<uint64_t> sensor_usec;
+  std::thread autopilot([&] {
+    for (int i = 0; i < kSensors; ++i) {
+      mavlink::HilSensor sensor;
+      if (!mavlink::Unpack(px4->Receive(mavlink::kHilSensorId), &sensor)) return;
+      sensor_usec.push_back(sensor.time_usec);
+      px4->SendControls(sensor.time_usec, 0.8f, true);
+    }
+  });
+  bool every_sensor_answered = true;
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    server_.Advance(10);
+    // Each sensor sent in the iteration was answered before the clock moved past it.
+    const Px4LinkCounters& counters = *server_.px4_counters(0);
+    every_sensor_answered &= counters.actuator_controls == counters.sensors_sent;
+  }
+  autopilot.join();
+  EXPECT_TRUE(every_sensor_answered);
+  EXPECT_TRUE(server_.TakeSilentRobots().empty());
+  ASSERT_EQ(sensor_usec.size(), static_cast<size_t>(kSensors));
+  for (int k = 0; k < kSensors; ++k) EXPECT_EQ(sensor_usec[k], 4000u * k) << k;
+  EXPECT_EQ(server_.world().steps(0), 1000);
+  EXPECT_EQ(server_.world().steps(1), 1000);
+  EXPECT_GT(server_.world().Pose(0).position_m.z, 1);  // 0.8 throttle lifts it
+  // PX4 restarts: the robot is back at its start while the clock goes on, and PX4 gets the
+  // sensors of the current time.
+  std::unique_ptr<FakePx4> restarted = Connect();
+  EXPECT_EQ(server_.px4_counters(0)->reconnections, 1u);
+  EXPECT_DOUBLE_EQ(server_.world().Pose(0).position_m.z, 0.2);
+  server_.Advance(0);  // The next iteration's start: the sensor due at 1 s leaves.
+  mavlink::HilSensor sensor;
+  ASSERT_TRUE(mavlink::Unpack(restarted->Receive(mavlink::kHilSensorId), &sensor));
+  EXPECT_EQ(sensor.time_usec, 1000000u);
+}
+
+TEST_F(Px4ServerTest, ASilentPx4IsReportedOnceAndNotWaitedForAgain) {
+  server_.SetFrameGate(50 * kNsPerMs);
+  std::unique_ptr<FakePx4> px4 = Connect();  // Connected, never answers.
+  server_.Advance(10);
+  EXPECT_EQ(server_.TakeSilentRobots(), std::vector<int>{0});
+  const TimeNs begin_ns = MonotonicNowNs();
+  server_.Advance(10);
+  EXPECT_LT(MonotonicNowNs() - begin_ns, 50 * kNsPerMs);  // Not waited for again.
+  EXPECT_TRUE(server_.TakeSilentRobots().empty());
+  EXPECT_EQ(server_.world().steps(0), 20);
+}
+
+}  // namespace
+}  // namespace sitlnet::physics
