@@ -117,7 +117,19 @@ class World {
 
 //------------------------------ Protocol server -----------------------------
 
-struct Px4LinkCounters;  // px4_simulator_link.h
+// A PX4 robot's link, summed over its connections (docs/autopilots.md).
+struct Px4Counters {
+  uint64_t connections = 0;
+  uint64_t reconnections = 0;
+  uint64_t sensors_sent = 0;
+  uint64_t gps_sent = 0;
+  uint64_t actuator_controls = 0;
+  uint64_t heartbeats_received = 0;
+  uint64_t ignored = 0;        // Valid messages sitlnet does not act on.
+  uint64_t dropped = 0;        // Bad CRC or length, unknown, MAVLink 1, non-finite outputs.
+  uint64_t bytes_skipped = 0;  // Bytes that began no frame.
+  uint64_t send_errors = 0;
+};
 
 // Per-robot counters; every dropped packet is counted in exactly one drop counter.
 struct RobotCounters {
@@ -176,8 +188,8 @@ class PhysicsServer {
   // The robot's software has made itself known: a native command, an ArduPilot frame or a PX4
   // connection.
   bool spoke(int robot) const;
-  // The PX4 link's counters of a robot with px4_sim_port, else null.
-  const Px4LinkCounters* px4_counters(int robot) const;
+  // The PX4 link's counters of a robot with px4_sim_port.
+  std::optional<Px4Counters> px4_counters(int robot) const;
 
   // Lock-step (docs/protocols.md, lock-step): sends every subscribed, world-clocked robot its
   // RobotState now (on top of the periodic ones).

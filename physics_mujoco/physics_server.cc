@@ -492,10 +492,25 @@ bool PhysicsServer::spoke(int robot) const {
   return ep.counters.commands_accepted > 0 || ep.counters.json_frames > 0 ||
          (ep.px4 && ep.px4->link().counters().connections > 0);
 }
-const Px4LinkCounters* PhysicsServer::px4_counters(int robot) const {
+std::optional<Px4Counters> PhysicsServer::px4_counters(int robot) const {
   SITLNET_DEMAND(robot >= 0 && robot < static_cast<int>(impl_->endpoints.size()));
   const auto& ep = impl_->endpoints[robot];
-  return ep.px4 ? &ep.px4->link().counters() : nullptr;
+  if (!ep.px4) return std::nullopt;
+  const Px4LinkCounters& link = ep.px4->link().counters();
+  const mavlink::ParserCounters& parser = link.parser;
+  Px4Counters counters;
+  counters.connections = link.connections;
+  counters.reconnections = link.reconnections;
+  counters.sensors_sent = link.sensors_sent;
+  counters.gps_sent = link.gps_sent;
+  counters.actuator_controls = link.actuator_controls;
+  counters.heartbeats_received = link.heartbeats_received;
+  counters.ignored = link.ignored;
+  counters.dropped = link.dropped_invalid + parser.bad_crc + parser.bad_length +
+                     parser.unknown_messages + parser.mavlink1_frames;
+  counters.bytes_skipped = parser.bytes_skipped;
+  counters.send_errors = link.send_errors;
+  return counters;
 }
 std::vector<int> PhysicsServer::TakeSilentRobots() {
   std::vector<int> silent;

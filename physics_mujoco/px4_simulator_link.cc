@@ -142,8 +142,8 @@ void Px4SimulatorLink::Take(const mavlink::ReceivedFrame& frame) {
 }
 
 bool Px4SimulatorLink::awaiting_answer() const {
-  return connection_fd_ >= 0 && sensor_sent_ && !answered_last_sensor() &&
-         !(controls_since_connect_ && !command_.lockstep);
+  return connection_fd_ >= 0 && controls_since_connect_ && command_.lockstep && sensor_sent_ &&
+         !answered_last_sensor();
 }
 
 bool Px4SimulatorLink::answered_last_sensor() const {

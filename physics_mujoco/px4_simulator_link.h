@@ -65,9 +65,10 @@ class Px4SimulatorLink {
   const Px4Command& command() const { return command_; }
   // True once a HIL_ACTUATOR_CONTROLS answers the last HIL_SENSOR sent (same time_usec).
   bool answered_last_sensor() const;
-  // A lock-step driver should wait for PX4's answer: a HIL_SENSOR went out on this connection
-  // and is not answered yet, and PX4 has not said it runs without lock-step (its controls'
-  // lock-step flag; PX4 is taken to run in lock-step until its first controls say otherwise).
+  // A lock-step driver should wait for PX4's answer: PX4 answered on this connection before,
+  // in lock-step (its controls' flag), and the last HIL_SENSOR is not answered yet. As PX4's
+  // Gazebo interface does, nothing is awaited before PX4's first controls (PX4 boots on the
+  // first sensor messages without answering them).
   bool awaiting_answer() const;
 
   // Sends one HIL_SENSOR (and HIL_GPS if `gps`, HIL_STATE_QUATERNION if `ground_truth`, both may

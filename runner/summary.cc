@@ -81,7 +81,26 @@ std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& 
           ",\"states_sent\":" + std::to_string(phys.states_sent) + ",\"dropped\":" +
           std::to_string(phys.dropped_malformed + phys.dropped_invalid + phys.dropped_wrong_robot +
                          phys.dropped_foreign_source) +
-          ",\"failsafe_cuts\":" + std::to_string(phys.failsafe_cuts) + "}}";
+          ",\"failsafe_cuts\":" + std::to_string(phys.failsafe_cuts) +
+          ",\"json_frames\":" + std::to_string(phys.json_frames) +
+          ",\"json_resends\":" + std::to_string(phys.json_resends) +
+          ",\"json_restarts\":" + std::to_string(phys.json_restarts) +
+          ",\"json_missed_frames\":" + std::to_string(phys.json_missed_frames) +
+          ",\"json_dropped\":" + std::to_string(phys.json_dropped) + ",\"px4\":";
+  if (const std::optional<physics::Px4Counters> px4 = physics.px4_counters(index)) {
+    json += "{\"connections\":" + std::to_string(px4->connections) +
+            ",\"sensors_sent\":" + std::to_string(px4->sensors_sent) +
+            ",\"gps_sent\":" + std::to_string(px4->gps_sent) +
+            ",\"actuator_controls\":" + std::to_string(px4->actuator_controls) +
+            ",\"heartbeats_received\":" + std::to_string(px4->heartbeats_received) +
+            ",\"ignored\":" + std::to_string(px4->ignored) +
+            ",\"dropped\":" + std::to_string(px4->dropped) +
+            ",\"bytes_skipped\":" + std::to_string(px4->bytes_skipped) +
+            ",\"send_errors\":" + std::to_string(px4->send_errors) + "}";
+  } else {
+    json += "null";
+  }
+  json += "}}";
   return json;
 }
 

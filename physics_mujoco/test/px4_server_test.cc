@@ -54,11 +54,17 @@ TEST_F(Px4ServerTest, TheClockWaitsForEachAnswerAndSensorsFollowTheWorldsClock) 
       px4->SendControls(sensor.time_usec, 0.8f, true);
     }
   });
+  // PX4 is awaited once it has answered (as with Gazebo): the sensor of time 0 goes out at the
+  // first iteration's start, and its answer comes before the clock moves.
+  server_.Advance(0);
+  while (server_.px4_counters(0)->actuator_controls == 0) {
+    if (WaitReadable(server_.wait_fd(), 5000)) server_.Poll();
+  }
   bool every_sensor_answered = true;
   for (int iteration = 0; iteration < 100; ++iteration) {
     server_.Advance(10);
     // Each sensor sent in the iteration was answered before the clock moved past it.
-    const Px4LinkCounters& counters = *server_.px4_counters(0);
+    const Px4Counters counters = *server_.px4_counters(0);
     every_sensor_answered &= counters.actuator_controls == counters.sensors_sent;
   }
   autopilot.join();
@@ -82,7 +88,14 @@ TEST_F(Px4ServerTest, TheClockWaitsForEachAnswerAndSensorsFollowTheWorldsClock) 
 
 TEST_F(Px4ServerTest, ASilentPx4IsReportedOnceAndNotWaitedForAgain) {
   server_.SetFrameGate(50 * kNsPerMs);
-  std::unique_ptr<FakePx4> px4 = Connect();  // Connected, never answers.
+  std::unique_ptr<FakePx4> px4 = Connect();
+  server_.Advance(0);  // The sensor of time 0: answered, then PX4 falls silent.
+  mavlink::HilSensor sensor;
+  ASSERT_TRUE(mavlink::Unpack(px4->Receive(mavlink::kHilSensorId), &sensor));
+  px4->SendControls(sensor.time_usec, 0.5f, true);
+  while (server_.px4_counters(0)->actuator_controls == 0) {
+    if (WaitReadable(server_.wait_fd(), 5000)) server_.Poll();
+  }
   server_.Advance(10);
   EXPECT_EQ(server_.TakeSilentRobots(), std::vector<int>{0});
   const TimeNs begin_ns = MonotonicNowNs();
