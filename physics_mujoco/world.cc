@@ -191,6 +191,10 @@ struct World::Impl {
   // One physics step of one robot: motor lag, rotor wrench from the current attitude, mj_step.
   // `sensors`: evaluate the accelerometer (the last step before anyone can read it).
   void Step(RobotSlot* slot, bool sensors) {
+    if (slot->plan->spec.ground_station()) {  // No physics: it stays where it is.
+      ++slot->steps;
+      return;
+    }
     const AirframeModels& am = *slot->airframe;
     am.rotors.StepMotors(slot->target, &slot->speeds);
     ApplyRotorWrench(am.rotors, slot->speeds, slot->linear_drag_n_s_per_m, slot->model->body,

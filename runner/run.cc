@@ -184,7 +184,8 @@ void WaitForRobotsToSpeak(const Scenario& scenario, const std::vector<RobotSlot>
     server->Poll();
     std::string silent;
     for (const RobotPlan& plan : scenario.robots) {
-      if (robots[plan.index].process && !server->spoke(plan.index)) {
+      // A ground station's software has no physics to speak to.
+      if (robots[plan.index].process && !plan.spec.ground_station() && !server->spoke(plan.index)) {
         silent += (silent.empty() ? "" : ", ") + plan.name;
       }
     }

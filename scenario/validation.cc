@@ -386,6 +386,10 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
     if (robot.px4_sim_port() > 65535) {
       at.Fail({{"robot", i}, {"px4_sim_port"}}, who + "px4_sim_port must be <= 65535");
     }
+    if (robot.ground_station() && (robot.px4_sim_port() != 0 || robot.ardupilot_json_port() != 0)) {
+      at.Fail({{"robot", i}, {"ground_station"}},
+              who + "is a ground station: it has no physics for an autopilot to fly");
+    }
     if (robot.px4_sim_port() != 0 && robot.ardupilot_json_port() != 0) {
       at.Fail({{"robot", i}, {"px4_sim_port"}},
               who + "has both ardupilot_json_port and px4_sim_port: one autopilot per robot");

@@ -53,6 +53,22 @@ TEST(WorldTest, CrazyflieSizedAirframeHoversToo) {
   EXPECT_NEAR(world.Pose(0).position_m.z, 1, 0.01);
 }
 
+// A ground station has no physics: in the air without thrust it does not fall, its motors do
+// nothing, and its clock is the world's.
+TEST(WorldTest, AGroundStationStaysWhereItIsWhileTheClockRuns) {
+  const Scenario scenario =
+      MakeScenario("robot { name: \"gcs\" position_m { x: 3 y: 4 z: 10 } ground_station: true }\n"
+                   "robot { name: \"a\" position_m { z: 10 } }");
+  World world(scenario);
+  world.SetRotorSpeeds(0, {2000, 2000, 2000, 2000});
+  world.Advance(500);
+  EXPECT_EQ(world.steps(0), 500);
+  EXPECT_EQ(world.Pose(0).position_m.x, 3);
+  EXPECT_EQ(world.Pose(0).position_m.y, 4);
+  EXPECT_EQ(world.Pose(0).position_m.z, 10);
+  EXPECT_LT(world.Pose(1).position_m.z, 10 - 1);  // The robot beside it fell.
+}
+
 TEST(WorldTest, FreeFallMatchesHalfGTSquaredWithinOneMillimetre) {
   const Scenario scenario = MakeScenario("robot { name: \"a\" position_m { z: 20 } }");
   World world(scenario);

@@ -214,6 +214,8 @@ TEST(ScenarioTest, RejectsBadAutopilotPorts) {
   ExpectRejected(
       "name: \"t\"\nrobot { name: \"a\" px4_sim_port: 4560 ardupilot_json_port: 9002 }\n",
       "t.textproto:2:", "has both ardupilot_json_port and px4_sim_port");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" ground_station: true px4_sim_port: 4560 }\n",
+                 "t.textproto:2:", "is a ground station: it has no physics");
 }
 
 }  // namespace

@@ -3,14 +3,17 @@
 #include <arpa/inet.h>
 #include <linux/capability.h>
 #include <netinet/in.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/mount.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +21,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <thread>
 
 #include "tests/integration/nns_test_util.h"
 
@@ -706,6 +710,87 @@ TEST(RunTest, ASilentArduPilotRobotStopsTheLockstepRunNamingIt) {
       << result.err;
   ExpectNothingLeft(scenario.name);
   RunCommand({"rm", "-rf", out});
+}
+
+// Issue 14, item 4: a ground station node (no physics: it stays where it is) receives an
+// autopilot's telemetry over the simulated radio, and the shipped gcs_relay recipe brings it to a
+// program on the host through a Unix datagram socket in a host folder (here the test itself, in
+// place of the host-side socat and the GCS), with no route between the node and the host
+// (NnsUpTest.ThreeRobotsHaveTheSpecifiedDevicesAddressesAndRoutes checks that a node has no
+// default route, as every robot).
+TEST(RunTest, AGroundStationRelaysTelemetryToTheHostWithoutARoute) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const std::string wlan =
+      "10." + std::to_string(240 + 13) + "." + std::to_string(getpid() % 250) + ".";
+  const std::string folder = TempDir() + "/gcs";
+  ASSERT_EQ(RunCommand({"mkdir", "-p", folder}).exit_code, 0);
+  // The shipped manifest, its host folder replaced by the test's.
+  std::string manifest =
+      ReadAll(integration_test::SourceDir() + "/robot_images/gcs_relay/image.textproto");
+  for (size_t at; (at = manifest.find("/run/sitlnet-gcs")) != std::string::npos;) {
+    manifest.replace(at, 16, folder);
+  }
+  const std::string manifest_path = TempDir() + "/gcs_relay.textproto";
+  std::ofstream(manifest_path) << manifest;
+  const int host = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+  ASSERT_GE(host, 0);
+  sockaddr_un at{};
+  at.sun_family = AF_UNIX;
+  const std::string socket_path = folder + "/mavlink.sock";
+  std::snprintf(at.sun_path, sizeof at.sun_path, "%s", socket_path.c_str());
+  ASSERT_EQ(bind(host, reinterpret_cast<const sockaddr*>(&at), sizeof at), 0)
+      << std::strerror(errno);
+  const RunScenario scenario = WriteScenario(
+      13,
+      "robot { name: \"ap\" position_m { x: 0 y: 0 z: 0.2 } image: \"test_autopilot\" "
+      "ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", \"--telemetry\", \"" +
+          wlan + "2:14550\"] }\n" + "robot { name: \"gcs\" position_m { x: 20 y: 0 z: 2 } " +
+          "ground_station: true image: \"" + manifest_path + "\" }\n",
+      "timing { duration_ms: 4000 pacing: PACING_REALTIME }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  // Read while the run goes on, as a GCS does (a Unix datagram queue holds only ~10 datagrams;
+  // the relay waits when it is full).
+  std::atomic<bool> run_over{false};
+  std::vector<std::string> relayed;
+  std::thread gcs([&] {
+    char buffer[512];
+    while (!run_over) {
+      pollfd readable{host, POLLIN, 0};
+      if (poll(&readable, 1, 100) != 1) continue;
+      const ssize_t n = recv(host, buffer, sizeof buffer, 0);
+      if (n > 0) relayed.emplace_back(buffer, n);
+    }
+  });
+  const CommandResult result = SitlnetRun(scenario, out, {});
+  run_over = true;
+  gcs.join();
+  close(host);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  for (const std::string& datagram : relayed) {
+    EXPECT_EQ(datagram.rfind("test_autopilot t=", 0), 0u) << datagram;
+  }
+  // 10 Hz over 4 s (realtime pacing: a GCS is watched by a person), less the relay's start-up
+  // (socat starts with the node's image, and nothing waits for it).
+  EXPECT_GE(relayed.size(), 30u) << ReadAll(out + "/robots/gcs.log");
+  EXPECT_GE(CapturedTimes(out, "udp.dstport == 14550 && ip.dst == " + wlan + "2").size(), 39u);
+  // No physics: the node never moved (robot 1 in trajectories.csv).
+  std::istringstream rows(ReadAll(out + "/trajectories.csv"));
+  int rows_of_gcs = 0;
+  for (std::string row; std::getline(rows, row);) {
+    double t = 0, x = 0, y = 0, z = 0;
+    int robot = -1;
+    if (std::sscanf(row.c_str(), "%lf,%d,%lf,%lf,%lf", &t, &robot, &x, &y, &z) != 5 || robot != 1) {
+      continue;
+    }
+    EXPECT_EQ(x, 20);
+    EXPECT_EQ(y, 0);
+    EXPECT_EQ(z, 2);
+    ++rows_of_gcs;
+  }
+  EXPECT_GE(rows_of_gcs, 40);
+  ExpectNothingLeft(scenario.name);
+  RunCommand({"rm", "-rf", out, folder, manifest_path});
 }
 
 // Issue 18: ROS 2's /clock in a robot, received by a Cyclone DDS subscriber with the same IDL and
