@@ -63,6 +63,7 @@ struct RobotSlot {
   double linear_drag_n_s_per_m = 0;
   ImuNoise imu_noise;
   int64_t model_switches = 0;
+  bool fixed = false;  // A ground station: no physics.
 };
 
 template <typename T>
@@ -191,7 +192,7 @@ struct World::Impl {
   // One physics step of one robot: motor lag, rotor wrench from the current attitude, mj_step.
   // `sensors`: evaluate the accelerometer (the last step before anyone can read it).
   void Step(RobotSlot* slot, bool sensors) {
-    if (slot->plan->spec.ground_station()) {  // No physics: it stays where it is.
+    if (slot->fixed) {  // A ground station: no physics, it stays where it is.
       ++slot->steps;
       return;
     }
@@ -279,6 +280,7 @@ World::World(const Scenario& scenario, const WorldOptions& options)
                       plan.airframe.linear_drag_n_s_per_m(),
                       ImuNoise(plan.spec.imu(), scenario.spec.timing().seed(), plan.index),
                       0});
+    slot->fixed = plan.spec.ground_station();
     impl.PlaceAtStart(slot.get(), 0);
     impl.robots.push_back(std::move(slot));
   }

@@ -134,9 +134,10 @@ TEST(WorldTest, TheScenarioChoosesTheIntegratorAndOptionsOverrideIt) {
   const Scenario rk4 = MakeScenario(robot, "physics_integrator: INTEGRATOR_RK4");
   const double exact_m = 20 - kG / 2;         // after 1 s of free fall
   const double euler_lag_m = kG * 0.001 / 2;  // g t dt / 2
+  const Scenario default_scenario = MakeScenario(robot);  // A World keeps its scenario's address.
   World from_scenario(euler);
   World overridden(euler, WorldOptions{Integrator::kRk4, 1});
-  World default_rk4(MakeScenario(robot));
+  World default_rk4(default_scenario);
   World rk4_overridden(rk4, WorldOptions{Integrator::kEuler, 1});
   for (World* world : {&from_scenario, &overridden, &default_rk4, &rk4_overridden}) {
     world->Advance(1000);
