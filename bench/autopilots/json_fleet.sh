@@ -37,8 +37,12 @@ for run in $(seq 1 "$runs"); do
     for kind in json flocker; do
       scenario "$kind" "$n" "$out/s.textproto"
       rm -rf "$out/run"
-      "$build/bin/sitlnet" run "$out/s.textproto" --out "$out/run" --no-progress > "$out/log" 2>&1 ||
-        { echo "run failed: $(tail -3 "$out/log")" >&2; exit 1; }
+      if ! "$build/bin/sitlnet" run "$out/s.textproto" --out "$out/run" --no-progress > "$out/log" 2>&1; then
+        echo "run failed ($kind, $n robots): $(tail -3 "$out/log")" >&2
+        failed=$(grep -o 'robot "r[0-9]*"' "$out/log" | head -1 | cut -d'"' -f2)
+        [ -n "$failed" ] && { echo "robots/$failed.log:" >&2; cat "$out/run/robots/$failed.log" >&2; }
+        exit 1
+      fi
       python3 - "$out/run/summary.json" "$kind" "$n" "$run" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
