@@ -121,7 +121,9 @@ TEST(ChannelEffectsTest, DelayUnderHalfANanosecondChangesNothing) {
   ASSERT_EQ(traces[0].size(), traces[1].size());
   for (size_t i = 0; i < traces[0].size(); ++i) {
     ASSERT_EQ(traces[0][i].tx.has_value(), traces[1][i].tx.has_value());
-    if (traces[0][i].tx) EXPECT_EQ(traces[0][i].tx->start_ns, traces[1][i].tx->start_ns) << i;
+    if (traces[0][i].tx) {
+      EXPECT_EQ(traces[0][i].tx->start_ns, traces[1][i].tx->start_ns) << i;
+    }
   }
 }
 

@@ -816,7 +816,9 @@ void ExpectVirtualClock(const std::vector<TimeNs>& times, TimeNs duration_ns, bo
     EXPECT_LE(times[i], duration_ns);
     if (i == 0) continue;
     EXPECT_GT(times[i], times[i - 1]);
-    if (every_tick) EXPECT_EQ(times[i] - times[i - 1], 20 * kNsPerMs) << i;
+    if (every_tick) {
+      EXPECT_EQ(times[i] - times[i - 1], 20 * kNsPerMs) << i;
+    }
   }
 }
 
