@@ -418,14 +418,15 @@ TEST(RunTest, OpenFileLimitIsRaisedToWhatTheRobotsNeed) {
 }
 
 // Times (and UDP lengths, when asked) of the frames of a run's medium.pcap that match a tshark
-// display filter. The capture's timestamps are virtual time.
+// display filter, first transmissions only (the capture has every MAC retry of a frame too). The
+// capture's timestamps are virtual time.
 std::vector<double> CapturedTimes(const std::string& out, const std::string& filter,
                                   std::vector<int>* udp_lengths = nullptr,
                                   std::vector<std::string>* sources = nullptr) {
-  const CommandResult tshark =
-      RunCommand({"tshark", "-r", out + "/medium.pcap", "-Y", filter, "-T", "fields", "-e",
-                  "frame.time_epoch", "-e", "udp.length", "-e", "ipv6.src"},
-                 60 * kNsPerS);
+  const CommandResult tshark = RunCommand(
+      {"tshark", "-r", out + "/medium.pcap", "-Y", "(" + filter + ") && wlan.fc.retry == 0", "-T",
+       "fields", "-e", "frame.time_epoch", "-e", "udp.length", "-e", "ipv6.src"},
+      60 * kNsPerS);
   EXPECT_EQ(tshark.exit_code, 0) << tshark.err;
   std::vector<double> times;
   std::istringstream lines(tshark.out);
@@ -660,11 +661,11 @@ TEST(RunTest, ArduPilotRobotsFlyInTheCoordinatorsClockAndTwoRunsAreByteIdentical
   EXPECT_NEAR(end_position[2], 5, 0.5) << "altitude at " << end_s << " s";
   EXPECT_GT(end_position[0], 10) << "towards the waypoint (15, 0)";
   // Telemetry: enters the medium in the iteration (10 ms) of the autopilot time it carries.
-  const CommandResult telemetry =
-      RunCommand({"tshark", "-r", out + "1/medium.pcap", "-Y",
-                  "udp.dstport == 14550 && ip.src == " + wlan + "1", "-T", "fields", "-e",
-                  "frame.time_epoch", "-e", "data.text", "-o", "data.show_as_text:TRUE"},
-                 60 * kNsPerS);
+  const CommandResult telemetry = RunCommand(
+      {"tshark", "-r", out + "1/medium.pcap", "-Y",
+       "udp.dstport == 14550 && wlan.fc.retry == 0 && ip.src == " + wlan + "1", "-T", "fields",
+       "-e", "frame.time_epoch", "-e", "data.text", "-o", "data.show_as_text:TRUE"},
+      60 * kNsPerS);
   ASSERT_EQ(telemetry.exit_code, 0) << telemetry.err;
   std::istringstream datagrams(telemetry.out);
   int telemetry_frames = 0;
