@@ -59,8 +59,8 @@ struct Endpoint {
   bool json_joined = false;   // Sent a frame: the frame gate waits for its next one.
   bool json_pending = false;  // A frame's reply is due at json_due_steps.
   int64_t json_due_steps = 0;
-  bool json_silent =
-      false;  // Missed the frame gate's timeout; not waited for again until it sends.
+  // Missed the frame gate's timeout: not waited for again until it sends a frame.
+  bool json_silent = false;
   // PX4 simulator interface (docs/autopilots.md); null when the robot has none.
   std::unique_ptr<Px4Robot> px4;
   int px4_watched_fd = -1;  // The link's connection in the epoll set.
@@ -222,14 +222,10 @@ struct PhysicsServer::Impl {
       const TimeNs left_ns = deadline_ns - MonotonicNowNs();
       if (left_ns <= 0) {
         for (Endpoint& ep : endpoints) {
+          if (!waiting_for(ep)) continue;  // Answered, or reported silent before.
           if (AwaitedJson(ep)) ep.json_silent = true;
           if (AwaitedPx4(ep)) ep.px4_silent = true;
-          if (ep.json_silent || ep.px4_silent) {
-            if (std::find(silent_robots.begin(), silent_robots.end(), ep.robot) ==
-                silent_robots.end()) {
-              silent_robots.push_back(ep.robot);
-            }
-          }
+          silent_robots.push_back(ep.robot);
         }
         return;
       }

@@ -59,14 +59,17 @@ std::vector<double> Field(const std::string& json, const std::string& key) {
 
 class JsonClient {
  public:
-  explicit JsonClient(const char* from) : fd_(socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0)) {
+  // From robot `from`'s ctl0 address to its server's (`to`; robot i's are 127.77.0.(4i+2) and
+  // 127.77.0.(4i+1)).
+  explicit JsonClient(const char* from, const char* to = "127.77.0.1")
+      : fd_(socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0)) {
     sockaddr_in local{};
     local.sin_family = AF_INET;
     inet_pton(AF_INET, from, &local.sin_addr);
     EXPECT_EQ(bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local), 0);
     server_.sin_family = AF_INET;
     server_.sin_port = htons(TestJsonPort());
-    inet_pton(AF_INET, "127.77.0.1", &server_.sin_addr);
+    inet_pton(AF_INET, to, &server_.sin_addr);
   }
   ~JsonClient() { close(fd_); }
   void Send(const std::string& bytes) {
@@ -293,6 +296,37 @@ TEST(ArduPilotJsonGateTest, ASilentAutopilotIsReportedOnceAndARestartRejoins) {
   EXPECT_GT(server.world().rotor_target(0)[0], 0);
   server.Advance(10);  // In the lock-step again: its next frame is waited for.
   EXPECT_EQ(server.TakeSilentRobots(), std::vector<int>{0});
+}
+
+// Two silent autopilots, one after the other: each is reported once, the first not again when
+// the second times out.
+TEST(ArduPilotJsonGateTest, EachSilentAutopilotIsReportedOnlyOnce) {
+  const std::string port = std::to_string(TestJsonPort());
+  const Scenario scenario = MakeScenario(
+      "robot { name: \"a\" position_m { z: 10 } ardupilot_json_port: " + port +
+      " }\nrobot { name: \"b\" position_m { x: 5 z: 10 } ardupilot_json_port: " + port + " }");
+  PhysicsServer server(scenario);
+  JsonClient a("127.77.0.2");
+  JsonClient b("127.77.0.6", "127.77.0.5");
+  ASSERT_FALSE(Exchange(server, a, ServoPacket16(1000, 1, 1500)).empty());
+  b.Send(ServoPacket16(1000, 1, 1500));
+  for (int tries = 0; server.counters(1).json_frames == 0 && tries < 50; ++tries) {
+    if (WaitReadable(server.wait_fd(), 100)) server.Poll();
+  }
+  ASSERT_EQ(server.counters(1).json_frames, 1u);
+  server.SetFrameGate(50 * kNsPerMs);
+  // a is silent; b answers each reply until it falls silent too.
+  std::thread b_answers([&] {
+    for (uint32_t frame = 2; frame <= 20; ++frame) {
+      if (b.Receive(5000).empty()) return;
+      b.Send(ServoPacket16(1000, frame, 1500));
+    }
+  });
+  server.Advance(10);
+  EXPECT_EQ(server.TakeSilentRobots(), std::vector<int>{0});
+  server.Advance(30);  // b answers 19 frames, then misses the gate.
+  b_answers.join();
+  EXPECT_EQ(server.TakeSilentRobots(), std::vector<int>{1});
 }
 
 // Realtime pacing: the clock follows the wall clock and never waits; a reply leaves when the
