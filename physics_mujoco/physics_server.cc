@@ -259,6 +259,12 @@ struct PhysicsServer::Impl {
     if (ep.px4) ep.px4->Step(&world, world.time_ns(ep.robot));
   }
 
+  // What an autopilot is due at the world's current time: an ArduPilot reply, PX4's sensors.
+  void ServeAutopilot(Endpoint& ep) {
+    ReplyJsonIfDue(ep);
+    SendPx4SensorsIfDue(ep);
+  }
+
   int StepsUntilPx4Sensor(const Endpoint& ep) const {
     if (!ep.px4 || !ep.px4->link().connected()) return std::numeric_limits<int>::max();
     const TimeNs step = world.step_ns();
@@ -377,10 +383,7 @@ struct PhysicsServer::Impl {
     // at the start of this one: what the autopilot does in answer (its next frame, its radio
     // traffic) then falls in this iteration, whose network part drains its TAP after physics,
     // instead of racing the previous iteration's.
-    for (Endpoint& ep : endpoints) {
-      ReplyJsonIfDue(ep);
-      SendPx4SensorsIfDue(ep);
-    }
+    for (Endpoint& ep : endpoints) ServeAutopilot(ep);
     for (int remaining = steps; remaining > 0;) {
       if (frame_gate_timeout_ns > 0) WaitForAutopilots();
       int chunk = remaining;
@@ -393,16 +396,14 @@ struct PhysicsServer::Impl {
       const bool defer_replies = remaining == 0 && frame_gate_timeout_ns > 0;
       for (Endpoint& ep : endpoints) {
         Service(ep);
-        if (defer_replies) continue;
-        ReplyJsonIfDue(ep);
-        SendPx4SensorsIfDue(ep);
+        if (!defer_replies) ServeAutopilot(ep);
       }
     }
   }
 
   TimeNs frame_gate_timeout_ns = 0;  // 0: the clock never waits for ArduPilot frames
   std::vector<int> silent_robots;
-  bool has_json_robots = false;  // ArduPilot or PX4 robots: the frame gate applies
+  bool has_autopilots = false;  // ArduPilot or PX4 robots: the frame gate applies
 };
 
 PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& options)
@@ -440,14 +441,14 @@ PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& opti
       ep.px4 = std::make_unique<Px4Robot>(
           scenario, plan.index, static_cast<uint16_t>(spec.px4_sim_port()), &*impl_->geodetic);
       impl_->Watch(ep.px4->link().listen_fd(), 2 * scenario.robots.size() + plan.index);
-      impl_->has_json_robots = true;
+      impl_->has_autopilots = true;
     }
     if (spec.ardupilot_json_port() != 0) {
       ep.json =
           UdpSocket::Bind(plan.ctl_root_address, static_cast<uint16_t>(spec.ardupilot_json_port()),
                           true, who + " (ArduPilot JSON)");
       impl_->Watch(ep.json.fd(), 2 * uint64_t(plan.index) + 1);
-      impl_->has_json_robots = true;
+      impl_->has_autopilots = true;
     }
   }
 }
@@ -481,7 +482,7 @@ void PhysicsServer::Advance(int steps) { impl_->Advance(steps); }
 void PhysicsServer::SetFrameGate(TimeNs timeout_ns) {
   impl_->frame_gate_timeout_ns = std::max<TimeNs>(0, timeout_ns);
 }
-bool PhysicsServer::has_frame_gated_robots() const { return impl_->has_json_robots; }
+bool PhysicsServer::has_frame_gated_robots() const { return impl_->has_autopilots; }
 bool PhysicsServer::spoke(int robot) const {
   SITLNET_DEMAND(robot >= 0 && robot < static_cast<int>(impl_->endpoints.size()));
   const auto& ep = impl_->endpoints[robot];
