@@ -63,7 +63,9 @@ struct Endpoint {
   bool json_silent = false;
   // PX4 simulator interface (docs/autopilots.md); null when the robot has none.
   std::unique_ptr<Px4Robot> px4;
-  int px4_watched_fd = -1;  // The link's connection in the epoll set.
+  // The link's connection in the epoll set, by its number among the link's connections: a new
+  // connection can reuse the closed one's fd number (and a closed fd leaves the set by itself).
+  uint64_t px4_watched_connection = 0;
   bool px4_silent = false;  // As json_silent.
   RobotCounters counters;
 };
@@ -246,9 +248,9 @@ struct PhysicsServer::Impl {
       ep.px4_silent = false;
     }
     const Px4SimulatorLink& link = ep.px4->link();
-    if (link.connection_fd() >= 0 && link.connection_fd() != ep.px4_watched_fd) {
-      ep.px4_watched_fd = link.connection_fd();
-      Watch(ep.px4_watched_fd, 2 * endpoints.size() + ep.robot);
+    if (link.connection_fd() >= 0 && link.counters().connections != ep.px4_watched_connection) {
+      ep.px4_watched_connection = link.counters().connections;
+      Watch(link.connection_fd(), 2 * endpoints.size() + ep.robot);
     }
     if (link.answered_last_sensor()) ep.px4_silent = false;  // Answering again.
     if (!ep.dropped) world.SetRotorTarget(ep.robot, link.command().rotor_speeds_rad_s);

@@ -3,7 +3,7 @@
 #ifndef SITLNET_PHYSICS_MUJOCO_PX4_MESSAGES_H_
 #define SITLNET_PHYSICS_MUJOCO_PX4_MESSAGES_H_
 
-#include "physics_mujoco/mavlink_messages.h"
+#include "mavlink/mavlink.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "physics_mujoco/sensor_models.h"
 

@@ -76,6 +76,7 @@ const Px4LinkCounters& Px4SimulatorLink::counters() const {
 
 void Px4SimulatorLink::Disconnect() {
   if (connection_fd_ < 0) return;
+  lost_in_lockstep_ = controls_since_connect_ && command_.lockstep;
   CloseFd(&connection_fd_);
   ++counters_.disconnections;
   Add(&parser_before_, parser_.counters());
@@ -96,6 +97,7 @@ Px4SimulatorLink::Event Px4SimulatorLink::Poll() {
     const bool replacing =
         connection_fd_ >= 0 || event != Event::kNone || counters_.connections > 0;
     Disconnect();
+    lost_in_lockstep_ = false;
     connection_fd_ = fd;
     const int one = 1;
     setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);  // as PX4 sets on its side
@@ -142,6 +144,7 @@ void Px4SimulatorLink::Take(const mavlink::ReceivedFrame& frame) {
 }
 
 bool Px4SimulatorLink::awaiting_answer() const {
+  if (lost_in_lockstep_) return true;
   return connection_fd_ >= 0 && controls_since_connect_ && command_.lockstep && sensor_sent_ &&
          !answered_last_sensor();
 }

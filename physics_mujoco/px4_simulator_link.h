@@ -9,8 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "physics_mujoco/mavlink_codec.h"
-#include "physics_mujoco/mavlink_messages.h"
+#include "mavlink/mavlink.h"
 #include "physics_mujoco/physics_mujoco.h"
 
 namespace sitlnet::physics {
@@ -68,7 +67,8 @@ class Px4SimulatorLink {
   // A lock-step driver should wait for PX4's answer: PX4 answered on this connection before,
   // in lock-step (its controls' flag), and the last HIL_SENSOR is not answered yet. As PX4's
   // Gazebo interface does, nothing is awaited before PX4's first controls (PX4 boots on the
-  // first sensor messages without answering them).
+  // first sensor messages without answering them). A connection in lock-step that closed (PX4
+  // died) is awaited too, until PX4 connects again: the driver's silent-autopilot policy applies.
   bool awaiting_answer() const;
 
   // Sends one HIL_SENSOR (and HIL_GPS if `gps`, HIL_STATE_QUATERNION if `ground_truth`, both may
@@ -101,6 +101,7 @@ class Px4SimulatorLink {
   uint64_t last_sensor_usec_ = 0;
   bool sensor_sent_ = false;
   bool controls_since_connect_ = false;
+  bool lost_in_lockstep_ = false;  // The last connection closed while in lock-step.
   uint64_t next_heartbeat_usec_ = 0;
   uint8_t sequence_ = 0;
   std::vector<uint8_t> outgoing_;  // Not yet accepted by the kernel.

@@ -73,10 +73,9 @@ void PhysicsServerSimulator::ApplySilentRobotPolicy(const std::vector<int>& sile
   }
   std::string names;
   for (int robot : silent) names += (names.empty() ? "'" : ", '") + robot_names_.at(robot) + "'";
-  throw Error(std::string(silent.size() == 1 ? "robot " : "robots ") + names +
-              " did not answer " + what + " of iteration " + std::to_string(start.iteration()) +
-              " (virtual " + std::to_string(start.start_ns() / kNsPerMs) + " ms) " + with +
-              " within " +
+  throw Error(std::string(silent.size() == 1 ? "robot " : "robots ") + names + " did not answer " +
+              what + " of iteration " + std::to_string(start.iteration()) + " (virtual " +
+              std::to_string(start.start_ns() / kNsPerMs) + " ms) " + with + " within " +
               std::to_string(lockstep_.command_timeout_ns / kNsPerMs) + " ms");
 }
 
@@ -89,14 +88,20 @@ void PhysicsServerSimulator::RunIteration(const proto::coord::Start& start, prot
   const bool gate_after_physics = server_.has_frame_gated_robots();
   if (lockstep_.enabled) {
     server_.SendStates();
-    ApplySilentRobotPolicy(server_.CollectCommands(lockstep_.command_timeout_ns),
-                           "the state", "with a command", start);
+    ApplySilentRobotPolicy(server_.CollectCommands(lockstep_.command_timeout_ns), "the state",
+                           "with a command", start);
     if (!gate_after_physics) context.CommandsCollected();
   }
   server_.Advance(steps_);
   if (lockstep_.enabled) {
-    ApplySilentRobotPolicy(server_.TakeSilentRobots(), "its JSON reply", "with a servo frame",
-                           start);
+    // Each autopilot named with its own protocol's words; ArduPilot's first (one Error names
+    // the robots of one protocol).
+    std::vector<int> json, px4;
+    for (int robot : server_.TakeSilentRobots()) {
+      (server_.px4_counters(robot) ? px4 : json).push_back(robot);
+    }
+    ApplySilentRobotPolicy(json, "its JSON reply", "with a servo frame", start);
+    ApplySilentRobotPolicy(px4, "its HIL_SENSOR", "with HIL_ACTUATOR_CONTROLS", start);
   }
   PosesFromWorld(server_.world(), end->mutable_poses());
 }

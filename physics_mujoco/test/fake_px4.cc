@@ -6,7 +6,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "physics_mujoco/mavlink_messages.h"
+#include "mavlink/mavlink.h"
 #include "physics_mujoco/udp_socket.h"
 
 namespace sitlnet::physics::testing {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "common/common.h"
-#include "physics_mujoco/mavlink_codec.h"
+#include "mavlink/mavlink.h"
 
 namespace sitlnet::physics::testing {
 

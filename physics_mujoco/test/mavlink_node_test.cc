@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "physics_mujoco/mavlink_messages.h"
+#include "mavlink/mavlink.h"
 #include "physics_mujoco/px4_simulator_link.h"
 #include "physics_mujoco/test/fake_px4.h"
 

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 #include <poll.h>
 
-#include "physics_mujoco/mavlink_messages.h"
+#include "mavlink/mavlink.h"
 #include "physics_mujoco/test/fake_px4.h"
 #include "physics_mujoco/test/test_scenarios.h"
 

@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-#include "physics_mujoco/mavlink_messages.h"
+#include "mavlink/mavlink.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "physics_mujoco/px4_simulator_link.h"
 #include "physics_mujoco/test/fake_px4.h"
@@ -103,6 +103,53 @@ TEST_F(Px4ServerTest, ASilentPx4IsReportedOnceAndNotWaitedForAgain) {
   EXPECT_LT(MonotonicNowNs() - begin_ns, 50 * kNsPerMs);  // Not waited for again.
   EXPECT_TRUE(server_.TakeSilentRobots().empty());
   EXPECT_EQ(server_.world().steps(0), 20);
+}
+
+// PX4 dies in lock-step (its connection closes): the clock waits for it as for a silent PX4 and
+// reports it once (the caller's on_silent_robot then stops the run or drops the robot); PX4
+// started again connects, and the robot, back at its start, is in the lock-step again.
+TEST_F(Px4ServerTest, APx4ThatDiesIsReportedSilentAndRejoinsWhenItConnectsAgain) {
+  server_.SetFrameGate(50 * kNsPerMs);
+  auto px4 = Connect();
+  server_.Advance(0);
+  mavlink::HilSensor sensor;
+  ASSERT_TRUE(mavlink::Unpack(px4->Receive(mavlink::kHilSensorId), &sensor));
+  px4->SendControls(sensor.time_usec, 0.5f, true);
+  while (server_.px4_counters(0)->actuator_controls == 0) {
+    if (WaitReadable(server_.wait_fd(), 5000)) server_.Poll();
+  }
+  px4.reset();  // PX4 dies.
+  const TimeNs begin_ns = MonotonicNowNs();
+  server_.Advance(10);
+  EXPECT_GE(MonotonicNowNs() - begin_ns, 50 * kNsPerMs);  // Waited for, up to the timeout.
+  EXPECT_EQ(server_.TakeSilentRobots(), std::vector<int>{0});
+  server_.Advance(10);
+  EXPECT_TRUE(server_.TakeSilentRobots().empty());  // Reported once.
+  // PX4 again (its connection may get the dead one's fd number): answers every sensor from now
+  // on, and the clock waits for each answer.
+  px4 = Connect();
+  EXPECT_DOUBLE_EQ(server_.world().Pose(0).position_m.z, 0.2);
+  std::thread autopilot([&] {
+    for (int i = 0; i < 23; ++i) {  // 20, 24, ..., 108 ms
+      mavlink::HilSensor next;
+      if (!mavlink::Unpack(px4->Receive(mavlink::kHilSensorId), &next)) return;
+      px4->SendControls(next.time_usec, 0.8f, true);
+    }
+  });
+  server_.Advance(0);
+  ASSERT_TRUE(WaitReadable(server_.wait_fd(), 5000)) << "the answer is not seen";
+  while (server_.px4_counters(0)->actuator_controls < 2) {
+    if (WaitReadable(server_.wait_fd(), 5000)) server_.Poll();
+  }
+  bool every_sensor_answered = true;
+  for (int iteration = 0; iteration < 9; ++iteration) {
+    server_.Advance(10);
+    const Px4Counters counters = *server_.px4_counters(0);
+    every_sensor_answered &= counters.actuator_controls == counters.sensors_sent;
+  }
+  autopilot.join();
+  EXPECT_TRUE(every_sensor_answered);
+  EXPECT_TRUE(server_.TakeSilentRobots().empty());
 }
 
 }  // namespace

@@ -1,11 +1,11 @@
-#include "physics_mujoco/mavlink_messages.h"
-
 #include <bit>
 #include <concepts>
 #include <cstring>
 #include <type_traits>
 
-namespace sitlnet::physics::mavlink {
+#include "mavlink/mavlink.h"
+
+namespace sitlnet::mavlink {
 namespace {
 
 // The host is little-endian (x86-64, aarch64) like MAVLink's payloads; a big-endian port fails
@@ -60,6 +60,10 @@ template <typename V, Is<Heartbeat> M>
 void Fields(V& v, M& m) {
   v(m.custom_mode)(m.type)(m.autopilot)(m.base_mode)(m.system_status)(m.mavlink_version);
 }
+template <typename V, Is<GlobalPositionInt> M>
+void Fields(V& v, M& m) {
+  v(m.time_boot_ms)(m.lat)(m.lon)(m.alt)(m.relative_alt)(m.vx)(m.vy)(m.vz)(m.hdg);
+}
 template <typename V, Is<HilActuatorControls> M>
 void Fields(V& v, M& m) {
   v(m.time_usec)(m.flags)(m.controls)(m.mode);
@@ -100,12 +104,16 @@ bool UnpackFields(const ReceivedFrame& frame, Message* message) {
 }  // namespace
 
 Payload Pack(const Heartbeat& message) { return PackFields(message); }
+Payload Pack(const GlobalPositionInt& message) { return PackFields(message); }
 Payload Pack(const HilActuatorControls& message) { return PackFields(message); }
 Payload Pack(const HilSensor& message) { return PackFields(message); }
 Payload Pack(const HilGps& message) { return PackFields(message); }
 Payload Pack(const HilStateQuaternion& message) { return PackFields(message); }
 
 bool Unpack(const ReceivedFrame& frame, Heartbeat* message) { return UnpackFields(frame, message); }
+bool Unpack(const ReceivedFrame& frame, GlobalPositionInt* message) {
+  return UnpackFields(frame, message);
+}
 bool Unpack(const ReceivedFrame& frame, HilActuatorControls* message) {
   return UnpackFields(frame, message);
 }
@@ -115,4 +123,4 @@ bool Unpack(const ReceivedFrame& frame, HilStateQuaternion* message) {
   return UnpackFields(frame, message);
 }
 
-}  // namespace sitlnet::physics::mavlink
+}  // namespace sitlnet::mavlink

@@ -1,15 +1,13 @@
 // MAVLink 2 framing against the CRC catalogue, common.xml's field lists and hand-made streams.
-#include "physics_mujoco/mavlink_codec.h"
-
 #include <gtest/gtest.h>
 
 #include <map>
 #include <string>
 #include <vector>
 
-#include "physics_mujoco/mavlink_messages.h"
+#include "mavlink/mavlink.h"
 
-namespace sitlnet::physics::mavlink {
+namespace sitlnet::mavlink {
 namespace {
 
 TEST(MavlinkCrcTest, CheckValueOfTheCatalogue) {
@@ -73,6 +71,18 @@ TEST(MavlinkCodecTest, CrcExtraAndLengthsFollowFromCommonXml) {
         {"uint32_t", "custom_mode"},
         {"uint8_t", "system_status"},
         {"uint8_t", "mavlink_version"}},
+       0},
+      {kGlobalPositionIntId,
+       "GLOBAL_POSITION_INT",
+       {{"uint32_t", "time_boot_ms"},
+        {"int32_t", "lat"},
+        {"int32_t", "lon"},
+        {"int32_t", "alt"},
+        {"int32_t", "relative_alt"},
+        {"int16_t", "vx"},
+        {"int16_t", "vy"},
+        {"int16_t", "vz"},
+        {"uint16_t", "hdg"}},
        0},
       {kCommandLongId,
        "COMMAND_LONG",
@@ -271,4 +281,4 @@ TEST(MavlinkCodecTest, CorruptedFrameCostsNoFollowingFrame) {
 }
 
 }  // namespace
-}  // namespace sitlnet::physics::mavlink
+}  // namespace sitlnet::mavlink

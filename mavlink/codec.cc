@@ -1,21 +1,18 @@
-#include "physics_mujoco/mavlink_codec.h"
-
 #include <algorithm>
 #include <cstring>
 
 #include "common/common.h"
+#include "mavlink/mavlink.h"
 
-namespace sitlnet::physics::mavlink {
+namespace sitlnet::mavlink {
 namespace {
 
 // CRC_EXTRA and lengths: computed from common.xml / minimal.xml by MAVLink's rule
-// (docs/references.md#mavlink); mavlink_codec_test.cc derives them again from the field lists.
+// (docs/references.md#mavlink); mavlink/test/codec_test.cc derives them again from the field lists.
 constexpr MessageInfo kMessages[] = {
-    {kHeartbeatId, 50, 9, 9},
-    {kCommandLongId, 152, 33, 33},
-    {kHilActuatorControlsId, 47, 81, 81},
-    {kHilSensorId, 108, 64, 65},
-    {kHilGpsId, 124, 36, 39},
+    {kHeartbeatId, 50, 9, 9},           {kGlobalPositionIntId, 104, 28, 28},
+    {kCommandLongId, 152, 33, 33},      {kHilActuatorControlsId, 47, 81, 81},
+    {kHilSensorId, 108, 64, 65},        {kHilGpsId, 124, 36, 39},
     {kHilStateQuaternionId, 4, 64, 64},
 };
 
@@ -132,4 +129,4 @@ bool FrameParser::Next(ReceivedFrame* frame) {
   return false;
 }
 
-}  // namespace sitlnet::physics::mavlink
+}  // namespace sitlnet::mavlink

@@ -1,0 +1,386 @@
+// Autopilots in `sitlnet run` (issue 14, docs/autopilots.md): sitlnet's test autopilot speaking
+// ArduPilot's JSON protocol and PX4's simulator MAVLink, in the coordinator's clock, its
+// telemetry to a ground station over the simulated radio checked with node-mavlink (an
+// implementation sitlnet did not write), a silent autopilot, and the ground-station relay.
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <array>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "tests/integration/run_test_util.h"
+
+namespace sitlnet::nns::testing {
+namespace {
+
+// "reply N t=S pos=X,Y,Z" lines of a test autopilot's --log-replies: (t, simulator's position).
+std::vector<std::pair<double, std::array<double, 3>>> AutopilotReplies(const std::string& log) {
+  std::vector<std::pair<double, std::array<double, 3>>> replies;
+  std::istringstream lines(log);
+  for (std::string line; std::getline(lines, line);) {
+    unsigned long long n = 0;
+    double t = 0;
+    std::array<double, 3> p{};
+    if (std::sscanf(line.c_str(), "reply %llu t=%lf pos=%lf,%lf,%lf", &n, &t, &p[0], &p[1],
+                    &p[2]) == 5) {
+      replies.emplace_back(t, p);
+    }
+  }
+  return replies;
+}
+
+// Every row of `robot` in trajectories.csv (time_s,robot,x_m,y_m,z_m,..., every 100 ms) after
+// t = 0 that falls on a reply is the reply's position within `tolerance_m`. Returns how many.
+int CompareTrajectory(const std::string& csv, int robot,
+                      const std::vector<std::pair<double, std::array<double, 3>>>& replies,
+                      double reply_period_s, double first_reply_s, double tolerance_m) {
+  std::istringstream rows(csv);
+  int compared = 0;
+  for (std::string row; std::getline(rows, row);) {
+    double t = 0, x = 0, y = 0, z = 0;
+    int r = -1;
+    if (std::sscanf(row.c_str(), "%lf,%d,%lf,%lf,%lf", &t, &r, &x, &y, &z) != 5 || r != robot ||
+        t == 0) {
+      continue;
+    }
+    const long n = std::lround((t - first_reply_s) / reply_period_s);
+    if (n < 0 || n >= static_cast<long>(replies.size())) continue;  // The run's end: no reply.
+    EXPECT_NEAR(replies[n].first, t, 1e-9) << "robot " << robot;
+    EXPECT_NEAR(replies[n].second[0], x, tolerance_m) << "robot " << robot << " at " << t;
+    EXPECT_NEAR(replies[n].second[1], y, tolerance_m) << "robot " << robot << " at " << t;
+    EXPECT_NEAR(replies[n].second[2], z, tolerance_m) << "robot " << robot << " at " << t;
+    ++compared;
+  }
+  return compared;
+}
+
+std::string NodeMavlinkDir() { return integration_test::SourceDir() + "/tests/node_mavlink"; }
+
+// Why node-mavlink cannot run here, or "" if it can (scripts/setup installs it).
+std::string NodeMavlinkMissing() {
+  if (std::system("node --version >/dev/null 2>&1") != 0) return "node is not installed";
+  if (!std::filesystem::exists(NodeMavlinkDir() + "/node_modules/node-mavlink/package.json")) {
+    return "node-mavlink is not installed in " + NodeMavlinkDir() + "/node_modules";
+  }
+  return "";
+}
+
+// A MAVLink message as node-mavlink decoded it, with the on-air time of its datagram.
+struct DecodedMessage {
+  double on_air_s = 0;
+  std::map<std::string, std::string> fields;  // "id", "name", "sysid", field names ...
+};
+
+// The UDP payloads of the capture's first transmissions matching `filter` (not ICMP errors that
+// quote them), each one MAVLink message, decoded by node-mavlink (tests/node_mavlink/decode.cjs,
+// CRC and CRC_EXTRA checked). `counts`: its "COUNTS valid=.. invalid=.. unknown=.." line.
+std::vector<DecodedMessage> DecodeTelemetry(const std::string& out, const std::string& filter,
+                                            std::string* counts) {
+  const CommandResult tshark = RunCommand({"tshark", "-r", out + "/medium.pcap", "-Y",
+                                           "(" + filter + ") && wlan.fc.retry == 0 && !icmp", "-T",
+                                           "fields", "-e", "frame.time_epoch", "-e", "data.data"},
+                                          60 * kNsPerS);
+  EXPECT_EQ(tshark.exit_code, 0) << tshark.err;
+  std::vector<double> times;
+  std::string bytes;
+  std::istringstream lines(tshark.out);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream fields(line);
+    double time = 0;
+    std::string hex;
+    fields >> time >> hex;
+    times.push_back(time);
+    for (size_t i = 0; i + 1 < hex.size(); i += 2) {
+      bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+    }
+  }
+  const std::string stream = out + "/telemetry.bin";
+  std::ofstream(stream, std::ios::binary) << bytes;
+  const CommandResult node = RunCommand(
+      {"sh", "-c", "node \"$0/decode.cjs\" < \"$1\"", NodeMavlinkDir(), stream}, 60 * kNsPerS);
+  EXPECT_EQ(node.exit_code, 0) << node.err;
+  std::vector<DecodedMessage> messages;
+  std::istringstream decoded(node.out);
+  for (std::string line; std::getline(decoded, line);) {
+    std::istringstream words(line);
+    std::string kind;
+    words >> kind;
+    if (kind == "COUNTS") {
+      *counts = line;
+      continue;
+    }
+    DecodedMessage message;
+    words >> message.fields["id"] >> message.fields["name"];
+    for (std::string word; words >> word;) {
+      const size_t eq = word.find('=');
+      message.fields[word.substr(0, eq)] = word.substr(eq + 1);
+    }
+    messages.push_back(std::move(message));
+  }
+  // One message per datagram: the n-th decoded is the n-th captured.
+  EXPECT_EQ(messages.size(), times.size());
+  for (size_t i = 0; i < std::min(messages.size(), times.size()); ++i) {
+    messages[i].on_air_s = times[i];
+  }
+  return messages;
+}
+
+// Issue 14, items 1, 2, 4 and 5 end to end: three ArduPilot robots and three PX4 robots (the
+// test autopilot speaking each protocol as the autopilot does), a native flocker and a ground
+// station, in lockstep pacing:
+// - each ArduPilot reply's timestamp is its frame's end on the 400 Hz grid (2.5 ms); each PX4
+//   HIL_SENSOR's is on PX4's 4 ms grid from 0: the clock waited for every answer and released
+//   every message when it reached that time;
+// - the positions the medium uses (trajectories.csv, the poses the coordinator passes on) are
+//   the autopilots' at the same virtual time (PX4's ground truth to its degE7 resolution);
+// - every autopilot's MAVLink telemetry (HEARTBEAT, GLOBAL_POSITION_INT) reaches the ground
+//   station over the medium, decoded by node-mavlink with no invalid frame, and enters the
+//   medium in the iteration of the time it carries;
+// - two runs with the same seed are byte-identical (trajectories, capture, deliveries);
+// - each autopilot climbs to 5 m and flies towards its waypoint from its protocol alone.
+TEST(RunTest, ArduPilotAndPx4RobotsFlyInTheCoordinatorsClockAndTwoRunsAreByteIdentical) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  if (const std::string missing = NodeMavlinkMissing(); !missing.empty()) {
+    if (std::getenv("CI") != nullptr && std::string(std::getenv("CI")) == "true") {
+      FAIL() << missing << " (scripts/setup installs it)";
+    }
+    GTEST_SKIP() << missing << " (scripts/setup installs it)";
+  }
+  const std::string wlan = WlanPrefix(12);
+  const std::string station = wlan + "8";  // robot 7
+  // The station listens on 14550 from before the run's start, as a GCS does: a port without a
+  // listener would answer with ICMP errors, whose rate limit follows the host's clock.
+  const std::string sink = TempDir() + "/gcs_sink.textproto";
+  std::ofstream(sink) << "name: \"gcs_sink\"\ncommand: \"/bin/sh\"\ncommand: \"-c\"\n"
+                         "command: \"exec socat -d -d -u UDP4-RECV:14550 OPEN:/dev/null\"\n"
+                         "ready_log_line: \"starting data transfer loop\"\n";
+  std::string robots;
+  for (int i = 0; i < 6; ++i) {
+    const bool px4 = i >= 3;
+    const double y = 4.0 * i;
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "robot { name: \"%s%d\" position_m { x: 0 y: %g z: 0.2 } image: "
+                  "\"test_autopilot\" %s args: [\"%s\", \"%s\", \"--telemetry\", \"%s:14550\", "
+                  "\"--log-replies\", \"--altitude-m\", \"5\", \"--waypoint\", \"15,%g\"] }\n",
+                  px4 ? "px" : "ap", i % 3 + 1, y,
+                  px4 ? "px4_sim_port: 4560" : "ardupilot_json_port: 9002",
+                  px4 ? "--px4-port" : "--json-port", px4 ? "4560" : "9002", station.c_str(), y);
+    robots += text;
+  }
+  robots +=
+      "robot { name: \"f\" position_m { x: -6 y: 0 z: 0.2 } image: \"flocker\" "
+      "args: [\"--target\", \"-40,0\"] lidar { rays: 8 } }\n"
+      "robot { name: \"gcs\" position_m { x: 6 y: 10 z: 2 } ground_station: true image: \"" +
+      sink + "\" }\n";
+  const RunScenario scenario =
+      WriteScenario(12, robots, "timing { duration_ms: 8000 pacing: PACING_LOCKSTEP }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const CommandResult first = SitlnetRun(scenario, out + "1", {"--seed", "4"});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const CommandResult second = SitlnetRun(scenario, out + "2", {"--seed", "4"});
+  ASSERT_EQ(second.exit_code, 0) << second.err;
+  for (const char* file : {"trajectories.csv", "medium.pcap", "deliveries.csv"}) {
+    EXPECT_EQ(RunCommand({"cmp", out + "1/" + file, out + "2/" + file}).exit_code, 0) << file;
+  }
+  const std::string trajectories = ReadAll(out + "1/trajectories.csv");
+  for (int i = 0; i < 6; ++i) {
+    const bool px4 = i >= 3;
+    const std::string name = std::string(px4 ? "px" : "ap") + std::to_string(i % 3 + 1);
+    const auto replies = AutopilotReplies(ReadAll(out + "1/robots/" + name + ".log"));
+    // 8 s; the message due at the run's very end would leave at the next iteration's start.
+    // ArduPilot's replies end its frames (first at 2.5 ms); PX4's first HIL_SENSOR is at 0.
+    const double period_s = px4 ? 0.004 : 0.0025;
+    const double first_s = px4 ? 0 : 0.0025;
+    ASSERT_EQ(replies.size(), px4 ? 2000u : 3199u) << name;
+    for (size_t n = 0; n < replies.size(); ++n) {
+      // ArduPilot's frame ends fall on whole physics steps (1 ms): 2, 5, 7, 10 ms, ...
+      const double expected_s = px4 ? n * period_s : std::floor((n + 1) * 2.5) / 1000;
+      ASSERT_NEAR(replies[n].first, expected_s, 1e-9) << name << " reply " << n;
+    }
+    // PX4's ground truth is in degE7 (1.1 cm of latitude) and mm.
+    EXPECT_EQ(CompareTrajectory(trajectories, i, replies, period_s, first_s, px4 ? 0.01 : 1e-3), 79)
+        << name;
+    const auto& [end_s, end_position] = replies.back();
+    EXPECT_NEAR(end_position[2], 5, 0.5) << name << ": altitude at " << end_s << " s";
+    EXPECT_GT(end_position[0], 7) << name << ": towards its waypoint (15, " << 4 * i << ")";
+    EXPECT_NEAR(end_position[1], 4 * i, 0.5) << name;
+  }
+  // Telemetry to the station: HEARTBEAT each second, GLOBAL_POSITION_INT at 10 Hz of each
+  // autopilot's clock (MAVLink system id: robot index + 1), each entering the medium in the
+  // iteration (10 ms) of the time it carries.
+  std::string counts;
+  const std::vector<DecodedMessage> telemetry =
+      DecodeTelemetry(out + "1", "udp.dstport == 14550 && ip.dst == " + station, &counts);
+  EXPECT_NE(counts.find("invalid=0 unknown=0"), std::string::npos) << counts;
+  std::map<std::string, int> heartbeats, positions;
+  for (const DecodedMessage& message : telemetry) {
+    const std::string& system = message.fields.at("sysid");
+    if (message.fields.at("name") == "HEARTBEAT") {
+      ++heartbeats[system];
+      continue;
+    }
+    ASSERT_EQ(message.fields.at("name"), "GLOBAL_POSITION_INT");
+    ++positions[system];
+    const double autopilot_s = std::stod(message.fields.at("time_boot_ms")) / 1000;
+    const double iteration_start_s = std::floor(autopilot_s * 100 + 1e-9) / 100;
+    EXPECT_GE(message.on_air_s, iteration_start_s) << "system " << system << " at " << autopilot_s;
+    EXPECT_LT(message.on_air_s, iteration_start_s + 0.01)
+        << "system " << system << " at " << autopilot_s;
+  }
+  for (int system = 1; system <= 6; ++system) {
+    EXPECT_EQ(heartbeats[std::to_string(system)], 8) << "system " << system;
+    EXPECT_GE(positions[std::to_string(system)], 75) << "system " << system;
+  }
+  // The last position report of each autopilot: 5 m above home, as the flight log says.
+  for (auto it = telemetry.rbegin(); it != telemetry.rend(); ++it) {
+    if (it->fields.at("name") != "GLOBAL_POSITION_INT") continue;
+    EXPECT_NEAR(std::stod(it->fields.at("relative_alt")), 5000, 500) << it->fields.at("sysid");
+    break;
+  }
+  // deliveries.csv: the station (robot 7) received each autopilot's telemetry over the medium.
+  const CommandResult delivered =
+      RunCommand({"awk", "-F,",
+                  "$3 == 7 && $2 <= 5 {n[$2]++} END {for (i = 0; i < 6; i++) "
+                  "printf \"%d \", n[i] + 0}",
+                  out + "1/deliveries.csv"});
+  std::istringstream counts_by_robot(delivered.out);
+  for (int robot = 0; robot < 6; ++robot) {
+    int n = 0;
+    counts_by_robot >> n;
+    EXPECT_GE(n, 80) << "to the station from robot " << robot;
+  }
+  ExpectNothingLeft(scenario.name);
+  RunCommand({"rm", "-rf", out + "1", out + "2", sink});
+}
+
+// Issue 14: an autopilot that stops answering (here it exits after 1 s of its clock) stops a
+// lockstep run after the silent-robot timeout, naming it in its protocol's words, and nothing is
+// left (the scenario's default on_silent_robot; SILENT_ROBOT_DROP cuts its motors instead, as
+// for native robots). ArduPilot's protocol, then PX4's.
+TEST(RunTest, ASilentAutopilotStopsTheLockstepRunNamingIt) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const struct {
+    std::string port_field, args, message;
+  } autopilots[] = {
+      {"ardupilot_json_port: 9002", "\"--json-port\", \"9002\"",
+       "robot 'ap' did not answer its JSON reply of iteration 100 (virtual 1000 ms) with a servo "
+       "frame within 300 ms"},
+      {"px4_sim_port: 4560", "\"--px4-port\", \"4560\"",
+       "robot 'ap' did not answer its HIL_SENSOR of iteration 100 (virtual 1000 ms) with "
+       "HIL_ACTUATOR_CONTROLS within 300 ms"},
+  };
+  for (const auto& autopilot : autopilots) {
+    const RunScenario scenario = WriteScenario(
+        12,
+        "robot { name: \"ap\" position_m { x: 0 y: 0 z: 0.2 } image: \"test_autopilot\" " +
+            autopilot.port_field + " args: [" + autopilot.args + ", \"--stop-after-s\", \"1\"] }\n",
+        "timing { duration_ms: 5000 pacing: PACING_LOCKSTEP }\nsilent_robot_timeout_ms: 300\n");
+    DownGuard guard(scenario.name);
+    const std::string out = TempDir() + "/" + scenario.name + "-out";
+    const CommandResult result = SitlnetRun(scenario, out, {});
+    EXPECT_EQ(result.exit_code, 1) << result.err;
+    EXPECT_NE(result.err.find(autopilot.message), std::string::npos) << result.err;
+    ExpectNothingLeft(scenario.name);
+    RunCommand({"rm", "-rf", out});
+  }
+}
+
+// Issue 14, item 4: a ground station node (no physics: it stays where it is) receives an
+// autopilot's telemetry over the simulated radio, and the shipped gcs_relay recipe brings it to a
+// program on the host through a Unix datagram socket in a host folder (here the test itself, in
+// place of the host-side socat and the GCS), with no route between the node and the host
+// (NnsUpTest.ThreeRobotsHaveTheSpecifiedDevicesAddressesAndRoutes checks that a node has no
+// default route, as every robot).
+TEST(RunTest, AGroundStationRelaysTelemetryToTheHostWithoutARoute) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const std::string wlan = WlanPrefix(13);
+  const std::string folder = TempDir() + "/gcs";
+  ASSERT_EQ(RunCommand({"mkdir", "-p", folder}).exit_code, 0);
+  // The shipped manifest, its host folder replaced by the test's.
+  std::string manifest =
+      ReadAll(integration_test::SourceDir() + "/robot_images/gcs_relay/image.textproto");
+  for (size_t at; (at = manifest.find("/run/sitlnet-gcs")) != std::string::npos;) {
+    manifest.replace(at, 16, folder);
+  }
+  const std::string manifest_path = TempDir() + "/gcs_relay.textproto";
+  std::ofstream(manifest_path) << manifest;
+  const int host = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+  ASSERT_GE(host, 0);
+  sockaddr_un at{};
+  at.sun_family = AF_UNIX;
+  const std::string socket_path = folder + "/mavlink.sock";
+  std::snprintf(at.sun_path, sizeof at.sun_path, "%s", socket_path.c_str());
+  ASSERT_EQ(bind(host, reinterpret_cast<const sockaddr*>(&at), sizeof at), 0)
+      << std::strerror(errno);
+  const RunScenario scenario = WriteScenario(
+      13,
+      "robot { name: \"ap\" position_m { x: 0 y: 0 z: 0.2 } image: \"test_autopilot\" "
+      "ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", \"--telemetry\", \"" +
+          wlan + "2:14550\"] }\n" + "robot { name: \"gcs\" position_m { x: 20 y: 0 z: 2 } " +
+          "ground_station: true image: \"" + manifest_path + "\" }\n",
+      "timing { duration_ms: 4000 pacing: PACING_REALTIME }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  // Read while the run goes on, as a GCS does (a Unix datagram queue holds only ~10 datagrams;
+  // the relay waits when it is full).
+  std::atomic<bool> run_over{false};
+  std::vector<std::string> relayed;
+  std::thread gcs([&] {
+    char buffer[512];
+    while (!run_over) {
+      pollfd readable{host, POLLIN, 0};
+      if (poll(&readable, 1, 100) != 1) continue;
+      const ssize_t n = recv(host, buffer, sizeof buffer, 0);
+      if (n > 0) relayed.emplace_back(buffer, n);
+    }
+  });
+  const CommandResult result = SitlnetRun(scenario, out, {});
+  run_over = true;
+  gcs.join();
+  close(host);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  for (const std::string& datagram : relayed) {  // MAVLink 2, HEARTBEAT or GLOBAL_POSITION_INT
+    ASSERT_GE(datagram.size(), 12u);
+    EXPECT_EQ(static_cast<uint8_t>(datagram[0]), 0xFD);
+    EXPECT_TRUE(datagram[7] == 0 || datagram[7] == 33) << static_cast<int>(datagram[7]);
+  }
+  // 10 Hz over 4 s (realtime pacing: a GCS is watched by a person), less the relay's start-up
+  // (socat starts with the node's image, and nothing waits for it).
+  EXPECT_GE(relayed.size(), 30u) << ReadAll(out + "/robots/gcs.log");
+  EXPECT_GE(CapturedTimes(out, "udp.dstport == 14550 && ip.dst == " + wlan + "2").size(), 43u);
+  // No physics: the node never moved (robot 1 in trajectories.csv).
+  std::istringstream rows(ReadAll(out + "/trajectories.csv"));
+  int rows_of_gcs = 0;
+  for (std::string row; std::getline(rows, row);) {
+    double t = 0, x = 0, y = 0, z = 0;
+    int robot = -1;
+    if (std::sscanf(row.c_str(), "%lf,%d,%lf,%lf,%lf", &t, &robot, &x, &y, &z) != 5 || robot != 1) {
+      continue;
+    }
+    EXPECT_EQ(x, 20);
+    EXPECT_EQ(y, 0);
+    EXPECT_EQ(z, 2);
+    ++rows_of_gcs;
+  }
+  EXPECT_GE(rows_of_gcs, 40);
+  ExpectNothingLeft(scenario.name);
+  RunCommand({"rm", "-rf", out, folder, manifest_path});
+}
+
+}  // namespace
+}  // namespace sitlnet::nns::testing

@@ -1,0 +1,71 @@
+#include "tests/integration/run_test_util.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+namespace sitlnet::nns::testing {
+
+RunScenario WriteScenario(int slot, const std::string& robots, const std::string& extra,
+                          const std::string& address_fields) {
+  const unsigned pid = static_cast<unsigned>(getpid());
+  RunScenario s;
+  s.name = "ru" + std::to_string(pid % 10000) + std::to_string(slot);
+  const std::string third = std::to_string(pid % 250);
+  s.path = TempDir() + "/" + s.name + ".textproto";
+  std::ofstream(s.path) << "name: \"" << s.name << "\"\n"
+                        << robots << "addresses { wlan_subnet: \"10." << 240 + slot << "." << third
+                        << ".0/24\" ctl_subnet: \"10." << 220 + slot << "." << third << ".0/24\" "
+                        << address_fields << " }\n"
+                        << extra;
+  return s;
+}
+
+std::string WlanPrefix(int slot) {
+  return "10." + std::to_string(240 + slot) + "." + std::to_string(getpid() % 250) + ".";
+}
+
+CommandResult SitlnetRun(const RunScenario& scenario, const std::string& out,
+                         std::vector<std::string> extra_args) {
+  std::vector<std::string> argv = {SitlnetBinary(), "run", scenario.path,
+                                   "--out",         out,   "--no-progress"};
+  argv.insert(argv.end(), extra_args.begin(), extra_args.end());
+  return RunCommand(argv, 300 * kNsPerS);
+}
+
+void ExpectNothingLeft(const std::string& name) {
+  EXPECT_FALSE(StateExists(name)) << name;
+  const std::vector<std::string> up = ListScenarios();
+  EXPECT_EQ(std::find(up.begin(), up.end(), name), up.end()) << name;
+  for (const char* robot : {"a", "b"}) {
+    EXPECT_FALSE(NetnsExists(name + "-" + robot)) << name << "-" << robot;
+  }
+  EXPECT_FALSE(LinkExistsInRoot(name + "-c0"));
+}
+
+std::vector<double> CapturedTimes(const std::string& out, const std::string& filter,
+                                  std::vector<int>* udp_lengths,
+                                  std::vector<std::string>* sources) {
+  const CommandResult tshark = RunCommand(
+      {"tshark", "-r", out + "/medium.pcap", "-Y", "(" + filter + ") && wlan.fc.retry == 0", "-T",
+       "fields", "-e", "frame.time_epoch", "-e", "udp.length", "-e", "ipv6.src"},
+      60 * kNsPerS);
+  EXPECT_EQ(tshark.exit_code, 0) << tshark.err;
+  std::vector<double> times;
+  std::istringstream lines(tshark.out);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream fields(line);
+    double time = 0;
+    int length = 0;
+    std::string source;
+    fields >> time >> length >> source;
+    times.push_back(time);
+    if (udp_lengths != nullptr) udp_lengths->push_back(length);
+    if (sources != nullptr) sources->push_back(source);
+  }
+  return times;
+}
+
+}  // namespace sitlnet::nns::testing

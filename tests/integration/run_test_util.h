@@ -1,0 +1,40 @@
+// Helpers of the `sitlnet run` integration tests (run_test.cc, autopilot_run_test.cc): scenarios
+// on subnets of their own, a run, what a run must leave behind, and the capture's frames.
+#ifndef SITLNET_TESTS_INTEGRATION_RUN_TEST_UTIL_H_
+#define SITLNET_TESTS_INTEGRATION_RUN_TEST_UTIL_H_
+
+#include <string>
+#include <vector>
+
+#include "tests/integration/nns_test_util.h"
+
+namespace sitlnet::nns::testing {
+
+// A scenario named "ru<pid%10000><slot>" on subnets of its own (wlan 10.<240+slot>.<pid%250>.0/24,
+// ctl 10.<220+slot>.<pid%250>.0/24); `robots` is the robot blocks' text, `extra` more top-level
+// fields, `address_fields` more fields of the addresses block (e.g. "ipv6: IPV6_LINK_LOCAL").
+struct RunScenario {
+  std::string name;
+  std::string path;
+};
+RunScenario WriteScenario(int slot, const std::string& robots, const std::string& extra = "",
+                          const std::string& address_fields = "");
+// The first three octets of a slot's wlan subnet, with the trailing dot: "10.252.17.".
+std::string WlanPrefix(int slot);
+
+// `sitlnet run SCENARIO --out OUT --no-progress EXTRA...`, 300 s at most.
+CommandResult SitlnetRun(const RunScenario& scenario, const std::string& out,
+                         std::vector<std::string> extra_args);
+
+// No state, no namespace of robots "a" and "b", no ctl link of the scenario is left.
+void ExpectNothingLeft(const std::string& name);
+
+// On-air times (s) of first transmissions (no MAC retries) in OUT/medium.pcap matching the
+// tshark display `filter`; with their UDP lengths and IPv6 sources if asked.
+std::vector<double> CapturedTimes(const std::string& out, const std::string& filter,
+                                  std::vector<int>* udp_lengths = nullptr,
+                                  std::vector<std::string>* sources = nullptr);
+
+}  // namespace sitlnet::nns::testing
+
+#endif  // SITLNET_TESTS_INTEGRATION_RUN_TEST_UTIL_H_
