@@ -109,6 +109,7 @@ RunResult RunCoordinator(Connector& physics, Connector& network,
   proto::coord::End net_end;
 
   pacer.Begin(wall_clock.NowNs());
+  if (options.timebase_out != nullptr) *options.timebase_out = pacer.timebase();
   for (int64_t k = 0; k < options.iterations; ++k) {
     const uint64_t iteration = static_cast<uint64_t>(k);
     for (proto::coord::Start* start : {&phy_start, &net_start}) {

@@ -47,6 +47,9 @@ struct CoordinatorOptions {
   // (at most one warning per wall second).
   TimeNs lag_warning_ns = 10 * kNsPerMs;
   clock::WallClock* wall_clock = nullptr;  // nullptr: clock::DefaultWallClock().
+  // Receives the run's timebase (virtual time 0's wall instant) before iteration 0 starts, for
+  // a simulator that paces parts of its work on the same wall clock. May be null.
+  clock::Timebase* timebase_out = nullptr;
   int interrupt_fd = -1;                    // StopSignal::fd(); -1: none.
   MetricsCsvWriter* metrics_csv = nullptr;  // May be null.
   MetricsCollector* metrics = nullptr;      // May be null.

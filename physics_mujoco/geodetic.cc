@@ -1,4 +1,4 @@
-#include "physics_mujoco/geodetic.h"
+#include "physics_mujoco/physics_mujoco.h"
 
 #include <GeographicLib/AzimuthalEquidistant.hpp>
 

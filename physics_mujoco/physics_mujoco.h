@@ -16,6 +16,7 @@
 #include <optional>
 #include <vector>
 
+#include "clock/clock.h"
 #include "common/common.h"
 #include "scenario/scenario.h"
 
@@ -39,6 +40,33 @@ struct RobotPose {
   Quat orientation;
   Vec3d velocity_m_s;            // World frame.
   Vec3d angular_velocity_rad_s;  // Body frame.
+};
+
+// The scenario's local ENU frame on the WGS-84 ellipsoid (docs/autopilots.md, "Geodetic origin").
+// A place on Earth: WGS-84 latitude and longitude, altitude above mean sea level.
+struct GeodeticPoint {
+  double latitude_deg = 0;   // North positive.
+  double longitude_deg = 0;  // East positive, in [-180, 180].
+  double altitude_m = 0;
+};
+
+// Maps world ENU positions (metres from the scenario's origin) to geodetic coordinates and back.
+// Horizontally by the azimuthal equidistant projection on the WGS-84 ellipsoid centred at the
+// origin (GeographicLib, C. F. F. Karney, "Algorithms for geodesics", J. Geodesy 87, 2013): the
+// point (x, y) lies at geodesic distance hypot(x, y) from the origin, at azimuth atan2(x, y)
+// from north, exact to the nanometre. Vertically, altitude = origin altitude + z: the flat
+// simulated ground follows the ellipsoid (geoid height ignored). Cheap to copy.
+class GeodeticFrame {
+ public:
+  explicit GeodeticFrame(const proto::GeodeticOrigin& origin);
+
+  GeodeticPoint ToGeodetic(const Vec3d& enu_m) const;
+  // Inverse of ToGeodetic (to the nanometre within 1000 km of the origin).
+  Vec3d ToEnu(const GeodeticPoint& point) const;
+  const GeodeticPoint& origin() const { return origin_; }
+
+ private:
+  GeodeticPoint origin_;
 };
 
 // One IMU sample in the body frame (FLU), noise and bias included.
@@ -182,6 +210,14 @@ class PhysicsServer {
   void SetFrameGate(TimeNs timeout_ns);
   // True if some robot has an ArduPilot JSON endpoint or a PX4 simulator link.
   bool has_frame_gated_robots() const;
+  // Realtime pacing (docs/autopilots.md, "Time"): with a timebase (not owned; nullptr: off),
+  // Advance() sends what an autopilot is due (an ArduPilot reply, PX4's sensors) no earlier than
+  // the wall instant of its virtual time, sleeping until then, and while an autopilot's answer
+  // is awaited the world does not run ahead of the wall clock (it waits for the answer up to
+  // the wall instant of its next step, then steps once). autopilot_hold_ns: the wall time spent
+  // holding replies.
+  void HoldAutopilotsToWallClock(const clock::Timebase* timebase);
+  TimeNs autopilot_hold_ns() const;
   // Autopilots (ArduPilot, PX4) that missed the frame gate's timeout since the last call (each
   // once until it answers again), for the caller's on_silent_robot policy.
   std::vector<int> TakeSilentRobots();

@@ -12,7 +12,6 @@
 
 #include "clock/clock.h"
 #include "physics_mujoco/ardupilot_json.h"
-#include "physics_mujoco/geodetic.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "physics_mujoco/px4_robot.h"
 #include "physics_mujoco/robot_codec.h"
@@ -214,29 +213,43 @@ struct PhysicsServer::Impl {
   bool AwaitedPx4(const Endpoint& ep) const {
     return ep.px4 && !ep.dropped && !ep.px4_silent && ep.px4->link().awaiting_answer();
   }
-  void WaitForAutopilots() {
-    const auto waiting_for = [this](const Endpoint& ep) {
-      return AwaitedJson(ep) || AwaitedPx4(ep);
-    };
-    const TimeNs deadline_ns = MonotonicNowNs() + frame_gate_timeout_ns;
+  // Polls until no endpoint satisfies `waiting_for` (true) or the wall clock reaches
+  // `deadline_ns` (false).
+  template <typename Predicate>
+  bool AwaitAnswers(TimeNs deadline_ns, Predicate waiting_for) {
     for (;;) {
-      if (std::none_of(endpoints.begin(), endpoints.end(), waiting_for)) return;
+      if (std::none_of(endpoints.begin(), endpoints.end(), waiting_for)) return true;
       const TimeNs left_ns = deadline_ns - MonotonicNowNs();
-      if (left_ns <= 0) {
-        for (Endpoint& ep : endpoints) {
-          if (!waiting_for(ep)) continue;  // Answered, or reported silent before.
-          if (AwaitedJson(ep)) ep.json_silent = true;
-          if (AwaitedPx4(ep)) ep.px4_silent = true;
-          silent_robots.push_back(ep.robot);
-        }
-        return;
-      }
+      if (left_ns <= 0) return false;
       pollfd fd{epoll_fd, POLLIN, 0};
       const timespec wait{static_cast<time_t>(left_ns / kNsPerS),
                           static_cast<long>(left_ns % kNsPerS)};
       ppoll(&fd, 1, &wait, nullptr);
       Poll();
     }
+  }
+  void WaitForAutopilots() {
+    const auto waiting_for = [this](const Endpoint& ep) {
+      return AwaitedJson(ep) || AwaitedPx4(ep);
+    };
+    if (AwaitAnswers(MonotonicNowNs() + frame_gate_timeout_ns, waiting_for)) return;
+    for (Endpoint& ep : endpoints) {
+      if (!waiting_for(ep)) continue;  // Answered, or reported silent before.
+      if (AwaitedJson(ep)) ep.json_silent = true;
+      if (AwaitedPx4(ep)) ep.px4_silent = true;
+      silent_robots.push_back(ep.robot);
+    }
+  }
+
+  // Realtime hold: the world does not run ahead of the wall clock while an autopilot's answer
+  // (an ArduPilot frame, PX4's controls) is awaited; it waits for the answer up to the wall
+  // instant of its next step. False if some answer has not come by then.
+  bool AwaitAnswersOnWallClock() {
+    return AwaitAnswers(
+        realtime->WallOf(world.time_ns(0) + world.step_ns()), [](const Endpoint& ep) {
+          const bool json = ep.json.fd() >= 0 && ep.json_joined && !ep.json_pending && !ep.dropped;
+          return json || (ep.px4 && !ep.dropped && ep.px4->link().awaiting_answer());
+        });
   }
 
   // Takes what PX4 sent: a new connection (PX4 restarted: the robot is back at its start and
@@ -379,16 +392,45 @@ struct PhysicsServer::Impl {
     }
   }
 
+  // What an autopilot is due now (a reply, PX4's sensors).
+  bool AutopilotDue(const Endpoint& ep) const {
+    const bool json = ep.json_pending && world.steps(ep.robot) >= ep.json_due_steps;
+    const bool px4 =
+        ep.px4 && ep.px4->link().connected() && world.time_ns(ep.robot) >= ep.px4->next_sensor_ns();
+    return json || px4;
+  }
+
+  // Realtime pacing: what autopilots are due now leaves at the wall instant of the world's
+  // virtual time, not earlier (the physics computes an iteration ahead of the wall clock).
+  void HoldForWallClock() {
+    if (realtime == nullptr || world.robot_count() == 0) return;
+    if (std::none_of(endpoints.begin(), endpoints.end(),
+                     [this](const Endpoint& ep) { return AutopilotDue(ep); })) {
+      return;
+    }
+    const TimeNs wall_ns = realtime->WallOf(world.time_ns(0));
+    const TimeNs now_ns = MonotonicNowNs();
+    if (wall_ns > now_ns) {
+      held_ns += wall_ns - now_ns;
+      clock::SystemWallClock().SleepUntilNs(wall_ns);
+    }
+  }
+
   void Advance(int steps) {
     Poll();
     // With the frame gate (lockstep), a reply due at the end of the previous Advance leaves now,
     // at the start of this one: what the autopilot does in answer (its next frame, its radio
     // traffic) then falls in this iteration, whose network part drains its TAP after physics,
     // instead of racing the previous iteration's.
+    HoldForWallClock();
     for (Endpoint& ep : endpoints) ServeAutopilot(ep);
     for (int remaining = steps; remaining > 0;) {
-      if (frame_gate_timeout_ns > 0) WaitForAutopilots();
       int chunk = remaining;
+      if (frame_gate_timeout_ns > 0) {
+        WaitForAutopilots();
+      } else if (realtime != nullptr && world.robot_count() > 0 && !AwaitAnswersOnWallClock()) {
+        chunk = 1;  // Not answered yet: the world follows the wall clock a step at a time.
+      }
       for (const Endpoint& ep : endpoints) {
         chunk = std::min(
             {chunk, StepsUntilEvent(ep), StepsUntilJsonReply(ep), StepsUntilPx4Sensor(ep)});
@@ -396,6 +438,7 @@ struct PhysicsServer::Impl {
       world.Advance(chunk);
       remaining -= chunk;
       const bool defer_replies = remaining == 0 && frame_gate_timeout_ns > 0;
+      if (!defer_replies) HoldForWallClock();
       for (Endpoint& ep : endpoints) {
         Service(ep);
         if (!defer_replies) ServeAutopilot(ep);
@@ -403,7 +446,9 @@ struct PhysicsServer::Impl {
     }
   }
 
-  TimeNs frame_gate_timeout_ns = 0;  // 0: the clock never waits for ArduPilot frames
+  TimeNs frame_gate_timeout_ns = 0;           // 0: the clock never waits for ArduPilot frames
+  const clock::Timebase* realtime = nullptr;  // Set: autopilots are served on the wall clock.
+  TimeNs held_ns = 0;                         // Wall time spent holding them.
   std::vector<int> silent_robots;
   bool has_autopilots = false;  // ArduPilot or PX4 robots: the frame gate applies
 };
@@ -485,6 +530,10 @@ void PhysicsServer::SetFrameGate(TimeNs timeout_ns) {
   impl_->frame_gate_timeout_ns = std::max<TimeNs>(0, timeout_ns);
 }
 bool PhysicsServer::has_frame_gated_robots() const { return impl_->has_autopilots; }
+void PhysicsServer::HoldAutopilotsToWallClock(const clock::Timebase* timebase) {
+  impl_->realtime = timebase;
+}
+TimeNs PhysicsServer::autopilot_hold_ns() const { return impl_->held_ns; }
 bool PhysicsServer::spoke(int robot) const {
   SITLNET_DEMAND(robot >= 0 && robot < static_cast<int>(impl_->endpoints.size()));
   const auto& ep = impl_->endpoints[robot];

@@ -4,7 +4,7 @@
 #ifndef SITLNET_PHYSICS_MUJOCO_PX4_ROBOT_H_
 #define SITLNET_PHYSICS_MUJOCO_PX4_ROBOT_H_
 
-#include "physics_mujoco/geodetic.h"
+#include "physics_mujoco/physics_mujoco.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "physics_mujoco/px4_simulator_link.h"
 #include "physics_mujoco/sensor_models.h"

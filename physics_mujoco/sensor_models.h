@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <random>
 
-#include "physics_mujoco/geodetic.h"
+#include "physics_mujoco/physics_mujoco.h"
 #include "physics_mujoco/physics_mujoco.h"
 
 namespace sitlnet::physics {

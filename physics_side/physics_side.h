@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "clock/clock.h"
 #include "common/common.h"
 #include "coordinator/connector.h"
 #include "physics_mujoco/physics_mujoco.h"
@@ -47,6 +48,10 @@ struct RobotLockstepOptions {
   // A robot past the timeout is dropped (PhysicsServer::DropFromLockstep:
   // motors cut, the run goes on) instead of stopping the run.
   bool drop_silent = false;
+  // Realtime pacing (not with `enabled`): the run's timebase (CoordinatorOptions::timebase_out,
+  // filled before iteration 0); what autopilots are due leaves at the wall instant of its
+  // virtual time (PhysicsServer::HoldAutopilotsToWallClock). Null: not held.
+  const clock::Timebase* autopilot_timebase = nullptr;
 };
 
 // Steps a PhysicsServer (not owned): robots get their RobotState and their

@@ -46,6 +46,9 @@ PhysicsServerSimulator::PhysicsServerSimulator(const Scenario& scenario,
                                                RobotLockstepOptions lockstep)
     : server_(*server), steps_(scenario.physics_steps_per_iteration), lockstep_(lockstep) {
   for (const RobotPlan& robot : scenario.robots) robot_names_.push_back(robot.name);
+  if (lockstep_.autopilot_timebase != nullptr && server_.has_frame_gated_robots()) {
+    server_.HoldAutopilotsToWallClock(lockstep_.autopilot_timebase);
+  }
 }
 
 proto::coord::Poses PhysicsServerSimulator::InitialPoses() {

@@ -12,10 +12,12 @@
 namespace sitlnet::runner {
 
 std::string FormatPoseRow(const PoseRow& r) {
-  char line[320];
-  std::snprintf(line, sizeof line, "%.3f,%d,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f",
-                static_cast<double>(r.time_ns) / kNsPerS, r.robot, r.x_m, r.y_m, r.z_m, r.qw, r.qx,
-                r.qy, r.qz, r.vx_m_s, r.vy_m_s, r.vz_m_s);
+  // Degrees to 1e-8 (about a millimetre), like the metres beside them (0.1 mm).
+  char line[384];
+  std::snprintf(
+      line, sizeof line, "%.3f,%d,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f,%.8f,%.8f,%.4f",
+      static_cast<double>(r.time_ns) / kNsPerS, r.robot, r.x_m, r.y_m, r.z_m, r.qw, r.qx, r.qy,
+      r.qz, r.vx_m_s, r.vy_m_s, r.vz_m_s, r.latitude_deg, r.longitude_deg, r.altitude_m);
   return line;
 }
 

@@ -20,9 +20,12 @@ struct PoseRow {
   double x_m = 0, y_m = 0, z_m = 0;
   double qw = 1, qx = 0, qy = 0, qz = 0;
   double vx_m_s = 0, vy_m_s = 0, vz_m_s = 0;
+  // The position on Earth (the scenario's geodetic_origin): WGS-84, altitude above sea level.
+  double latitude_deg = 0, longitude_deg = 0, altitude_m = 0;
 };
 inline constexpr char kTrajectoryHeader[] =
-    "time_s,robot,x_m,y_m,z_m,qw,qx,qy,qz,vx_m_s,vy_m_s,vz_m_s";
+    "time_s,robot,x_m,y_m,z_m,qw,qx,qy,qz,vx_m_s,vy_m_s,vz_m_s,latitude_deg,longitude_deg,"
+    "altitude_m";
 std::string FormatPoseRow(const PoseRow& row);
 
 inline constexpr char kDeliveryHeader[] = "time_ns,from,to,rx_power_dbm,sinr_db";

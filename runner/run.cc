@@ -416,6 +416,8 @@ RunReport RunScenario(const RunOptions& options) {
 
   physics_side::RobotLockstepOptions robot_lockstep;
   robot_lockstep.enabled = lockstep;
+  clock::Timebase run_timebase(scenario.spec.timing().realtime_factor());
+  if (!lockstep) robot_lockstep.autopilot_timebase = &run_timebase;
   robot_lockstep.command_timeout_ns = scenario.spec.silent_robot_timeout_ms() * kNsPerMs;
   robot_lockstep.drop_silent =
       scenario.spec.on_silent_robot() == proto::Scenario::SILENT_ROBOT_DROP;
@@ -426,6 +428,7 @@ RunReport RunScenario(const RunOptions& options) {
   }
   physics_side::PhysicsServerSimulator physics_sim(scenario, &physics_server, robot_lockstep);
   RecordingPhysics recording(&physics_sim, &physics_server.world(),
+                             physics::GeodeticFrame(scenario.spec.geodetic_origin()),
                              report.run_dir + "/trajectories.csv", options.trajectory_period_ns);
   if (shared_time) recording.ShareTimeWith(&*shared_time);
   network_side::BridgeSimulator bridge_sim(
@@ -442,6 +445,7 @@ RunReport RunScenario(const RunOptions& options) {
       "network", coordinator::Role::kNetwork, &monitoring, coordinator::Threading::kCallerThread);
 
   coordinator::CoordinatorOptions run_options = coordinator::OptionsFromScenario(scenario);
+  run_options.timebase_out = &run_timebase;
   coordinator::MetricsCsvWriter metrics_csv(report.run_dir + "/metrics.csv");
   coordinator::MetricsCollector metrics;
   run_options.metrics_csv = &metrics_csv;

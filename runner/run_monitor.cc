@@ -9,8 +9,13 @@
 namespace sitlnet::runner {
 
 RecordingPhysics::RecordingPhysics(coordinator::Simulator* inner, const physics::World* world,
-                                   const std::string& csv_path, TimeNs period_ns)
-    : inner_(*inner), world_(*world), csv_(csv_path, kTrajectoryHeader), period_ns_(period_ns) {}
+                                   const physics::GeodeticFrame& frame, const std::string& csv_path,
+                                   TimeNs period_ns)
+    : inner_(*inner),
+      world_(*world),
+      frame_(frame),
+      csv_(csv_path, kTrajectoryHeader),
+      period_ns_(period_ns) {}
 
 void RecordingPhysics::Record(TimeNs time_ns) {
   for (int i = 0; i < world_.robot_count(); ++i) {
@@ -28,6 +33,10 @@ void RecordingPhysics::Record(TimeNs time_ns) {
     row.vx_m_s = pose.velocity_m_s.x;
     row.vy_m_s = pose.velocity_m_s.y;
     row.vz_m_s = pose.velocity_m_s.z;
+    const physics::GeodeticPoint where = frame_.ToGeodetic(pose.position_m);
+    row.latitude_deg = where.latitude_deg;
+    row.longitude_deg = where.longitude_deg;
+    row.altitude_m = where.altitude_m;
     csv_.Append(FormatPoseRow(row));
   }
 }

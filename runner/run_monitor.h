@@ -21,8 +21,10 @@ namespace sitlnet::runner {
 // Physics simulator + trajectories.csv every `period_ns` of virtual time.
 class RecordingPhysics final : public coordinator::Simulator {
  public:
+  // `frame`: the scenario's geodetic frame, for the rows' latitude, longitude and altitude.
   RecordingPhysics(coordinator::Simulator* inner, const physics::World* world,
-                   const std::string& csv_path, TimeNs period_ns);
+                   const physics::GeodeticFrame& frame, const std::string& csv_path,
+                   TimeNs period_ns);
   proto::coord::Poses InitialPoses() override { return inner_.InitialPoses(); }
   void RunIteration(const proto::coord::Start& start, proto::coord::End* end,
                     coordinator::IterationContext& context) override;
@@ -35,6 +37,7 @@ class RecordingPhysics final : public coordinator::Simulator {
   void Record(TimeNs time_ns);
   coordinator::Simulator& inner_;
   const physics::World& world_;
+  physics::GeodeticFrame frame_;
   LineFile csv_;
   TimeNs period_ns_;
   TimeNs next_sample_ns_ = 0;

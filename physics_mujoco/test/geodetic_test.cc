@@ -1,5 +1,5 @@
 // GeodeticFrame against published WGS-84 figures and hand-computed radii of curvature.
-#include "physics_mujoco/geodetic.h"
+#include "physics_mujoco/physics_mujoco.h"
 
 #include <gtest/gtest.h>
 

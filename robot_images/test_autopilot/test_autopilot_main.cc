@@ -15,7 +15,8 @@
 // --arm-after-s: as an autopilot waits for its estimator before it arms. In PX4's protocol the
 //   answers before PX4's first are not awaited (docs/autopilots.md), so nothing the autopilot
 //   does before it arms should move the vehicle.
-// --log-replies: one line per observation: "reply N t=S pos=X,Y,Z" (the simulator's truth).
+// --log-replies: one line per observation: "reply N t=S pos=X,Y,Z wall_ns=W" (the simulator's
+//   truth; W: CLOCK_MONOTONIC when the observation was taken).
 // --stop-after-s: exits once its clock has passed S (a crashed autopilot, for tests).
 // MAVLink system id: SITLNET_ROBOT_INDEX + 1.
 #include <arpa/inet.h>
@@ -23,6 +24,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <memory>
 #include <string>
 
@@ -159,9 +161,11 @@ int Run(const Options& options) {
     if (telemetry) telemetry->Update(observation, armed);
     if (options.log_replies) {
       const Eigen::Vector3d& p = observation.true_position_m;
-      std::printf("reply %llu t=%.6f pos=%.6f,%.6f,%.6f\n",
+      timespec now{};
+      clock_gettime(CLOCK_MONOTONIC, &now);
+      std::printf("reply %llu t=%.6f pos=%.6f,%.6f,%.6f wall_ns=%lld\n",
                   static_cast<unsigned long long>(observations), observation.time_s, p.x(), p.y(),
-                  p.z());
+                  p.z(), static_cast<long long>(now.tv_sec) * 1000000000LL + now.tv_nsec);
     }
     link->Answer(motors, armed);
   }
