@@ -128,6 +128,14 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
   json += ",\"pacing\":" + Quote(proto::Timing::Pacing_Name(scenario.spec.timing().pacing()));
   json += ",\"seed\":" + std::to_string(scenario.spec.timing().seed());
   json += ",\"shadowing\":" + std::string(scenario.spec.radio().shadowing() ? "true" : "false");
+  // Where the world's origin is on Earth (trajectories.csv's latitude and longitude).
+  const proto::GeodeticOrigin& origin = scenario.spec.geodetic_origin();
+  char geodetic[160];
+  std::snprintf(geodetic, sizeof geodetic,
+                ",\"geodetic_origin\":{\"latitude_deg\":%.9g,\"longitude_deg\":%.9g,"
+                "\"altitude_m\":%.9g}",
+                origin.latitude_deg(), origin.longitude_deg(), origin.altitude_m());
+  json += geodetic;
   json += ",\"duration_s\":" + Seconds(scenario.duration_ns);
   json += ",\"simulated_s\":" + Seconds(simulated_ns);
   json += ",\"interrupted\":" + std::string(report.interrupted ? "true" : "false");

@@ -275,6 +275,10 @@ TEST(RunTest, ArduPilotAndPx4RobotsFlyInTheCoordinatorsClockAndTwoRunsAreByteIde
     ++located;
   }
   EXPECT_GE(located, 3 * 75);
+  EXPECT_NE(ReadAll(out + "1/summary.json")
+                .find("\"geodetic_origin\":{\"latitude_deg\":47.397742,\"longitude_deg\":8.545594,"
+                      "\"altitude_m\":488}"),
+            std::string::npos);
   for (int system = 1; system <= 6; ++system) {
     EXPECT_EQ(heartbeats[std::to_string(system)], 8) << "system " << system;
     EXPECT_GE(positions[std::to_string(system)], 75) << "system " << system;

@@ -1,11 +1,13 @@
 #!/bin/bash
-# Lockstep cost of ArduPilot robots in the coordinator's clock (issue 14; docs/performance.md,
-# "Autopilots"): fleets of N test_autopilot robots (ArduPilot's JSON protocol at 400 Hz, each
-# climbing to 10 m and flying to a waypoint, telemetry at 10 Hz on the radio), and for comparison
-# the same N flockers (native protocol, one state per 10 ms iteration). Per run: STF (wall time
-# per virtual time of the loop) and, for the autopilots, the wall cost per JSON frame.
+# Lockstep cost of autopilots in the coordinator's clock (issue 14; docs/performance.md,
+# "Autopilots"): fleets of N test_autopilot robots, each climbing to 10 m and flying to a
+# waypoint with MAVLink telemetry at 10 Hz on the radio, speaking ArduPilot's JSON protocol
+# (400 Hz frames) or PX4's simulator MAVLink (250 Hz HIL_SENSOR), and for comparison the same N
+# flockers (native protocol, one state per 10 ms iteration). Per run: STF (wall time per virtual
+# time of the loop) and, for the autopilots, the wall cost per frame (JSON frame or HIL_SENSOR
+# answered).
 #
-#   sudo bench/autopilots/json_fleet.sh [BUILD=build] [SECONDS=10] [RUNS=3] [SIZES="4 16 64"]
+#   sudo bench/autopilots/fleet.sh [BUILD=build] [SECONDS=10] [RUNS=3] [SIZES="4 16 64"]
 set -euo pipefail
 build=${1:-build} seconds=${2:-10} runs=${3:-3} sizes=${4:-"4 16 64"}
 out=$(mktemp -d /tmp/sitlnet-autopilots-XXXXXX)
@@ -24,6 +26,10 @@ with open(path, "w") as f:
             f.write(f'robot {{ name: "r{i}" position_m {{ x: {x} y: {y} z: 0.2 }} ardupilot_json_port: 9002 '
                     f'image: "test_autopilot" args: ["--json-port", "9002", "--waypoint", "{x + 20},{y}", '
                     f'"--telemetry", "10.66.255.255:14550"] }}\n')
+        elif kind == "px4":
+            f.write(f'robot {{ name: "r{i}" position_m {{ x: {x} y: {y} z: 0.2 }} px4_sim_port: 4560 '
+                    f'image: "test_autopilot" args: ["--px4-port", "4560", "--waypoint", "{x + 20},{y}", '
+                    f'"--telemetry", "10.66.255.255:14550"] }}\n')
         else:
             f.write(f'robot {{ name: "r{i}" position_m {{ x: {x} y: {y} z: 0.2 }} image: "flocker" '
                     f'args: ["--target", "{x + 1000},{y}"] }}\n')
@@ -34,7 +40,7 @@ PY
 echo "kind,robots,run,stf_mean,loop_s,frames,us_per_frame"
 for run in $(seq 1 "$runs"); do
   for n in $sizes; do
-    for kind in json flocker; do
+    for kind in json px4 flocker; do
       scenario "$kind" "$n" "$out/s.textproto"
       rm -rf "$out/run"
       if ! "$build/bin/sitlnet" run "$out/s.textproto" --out "$out/run" --no-progress > "$out/log" 2>&1; then
@@ -47,7 +53,13 @@ for run in $(seq 1 "$runs"); do
 import json, sys
 s = json.load(open(sys.argv[1]))
 kind, n, run = sys.argv[2], int(sys.argv[3]), sys.argv[4]
-frames = sum(r["physics"].get("json_frames", 0) for r in s["robots"]) if kind == "json" else 0
+def frames_of(r):
+    if kind == "json":
+        return r["physics"].get("json_frames", 0)
+    if kind == "px4":
+        return (r["physics"].get("px4") or {}).get("actuator_controls", 0)
+    return 0
+frames = sum(frames_of(r) for r in s["robots"])
 loop_s = s["resources"]["loop_s"]
 per_frame = f"{loop_s / frames * 1e6:.2f}" if frames else ""
 print(f'{kind},{n},{run},{s["metrics"]["stf"]["mean"]:.4f},{loop_s:.3f},{frames},{per_frame}')
