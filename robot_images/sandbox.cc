@@ -125,6 +125,16 @@ std::vector<std::string> BubblewrapArgs(const Image& image, const LaunchContext&
     const std::string host_path(path);
     if (Exists(host_path)) args.insert(args.end(), {"--ro-bind", host_path, host_path});
   }
+  // The image's own files stay visible where they are, also in a private folder (/tmp): bound
+  // in only there, and a file only when its folder is not bound already.
+  const std::string image_dir = std::filesystem::absolute(image.dir).lexically_normal().string();
+  if (IsInPrivateFolder(image_dir)) Bind("--ro-bind", image_dir, &args);
+  for (const std::string& file : manifest.files()) {
+    const std::string path = ExpandPlaceholders(file, image, context);
+    if (IsInPrivateFolder(path) && !IsWithin(path, image_dir)) Bind("--ro-bind", path, &args);
+  }
+  // Writable paths after the image's read-only ones: bubblewrap mounts in order, and a writable
+  // folder inside the image's folder (or beside its manifest) must stay writable.
   for (const std::string& path : manifest.writable()) {
     const std::string host_path = ExpandPlaceholders(path, image, context);
     if (!Exists(host_path)) {
@@ -133,14 +143,6 @@ std::vector<std::string> BubblewrapArgs(const Image& image, const LaunchContext&
                   ")");
     }
     Bind("--bind", host_path, &args);
-  }
-  // The image's own files stay visible where they are, also in a private folder (/tmp): bound
-  // in only there, and a file only when its folder is not bound already.
-  const std::string image_dir = std::filesystem::absolute(image.dir).lexically_normal().string();
-  if (IsInPrivateFolder(image_dir)) Bind("--ro-bind", image_dir, &args);
-  for (const std::string& file : manifest.files()) {
-    const std::string path = ExpandPlaceholders(file, image, context);
-    if (IsInPrivateFolder(path) && !IsWithin(path, image_dir)) Bind("--ro-bind", path, &args);
   }
   for (const std::string& path : manifest.hidden()) {
     Hide(ExpandPlaceholders(path, image, context), &args);

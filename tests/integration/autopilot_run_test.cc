@@ -385,6 +385,60 @@ TEST(RunTest, ASilentAutopilotStopsTheLockstepRunNamingIt) {
   }
 }
 
+// Issue 14, item 5: an autopilot killed mid-run and started again, in lockstep pacing with
+// on_silent_robot: SILENT_ROBOT_DROP. PX4 (the test autopilot, crashing once after 2 s of its
+// clock, exit status 3) is dropped after the silent-robot timeout (motors cut), the image's
+// restart policy starts it again, its new connection puts the robot back at its start and into
+// the lock-step, and it flies to its altitude again.
+TEST(RunTest, AKilledPx4IsDroppedAndARestartedOneFliesAgainFromTheStart) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const std::string folder = TempDir() + "/crash_once";
+  ASSERT_EQ(RunCommand({"mkdir", "-p", folder}).exit_code, 0);
+  const std::string fly =
+      "${SITLNET_BIN}/test_autopilot --px4-port 4560 --altitude-m 5 --log-replies";
+  const std::string manifest = WriteImageManifest(
+      "crashing_px4", "command: [\"/bin/sh\", \"-c\", \"if mkdir " + folder + "/crashed; then " +
+                          fly + " --stop-after-s 2; exit 3; fi; exec " + fly +
+                          "\"]\nfiles: \"${SITLNET_BIN}/test_autopilot\"\nwritable: \"" + folder +
+                          "\"\nrestart: RESTART_ON_FAILURE\nmax_restarts: 1\n");
+  const RunScenario scenario =
+      WriteScenario(15,
+                    "robot { name: \"px\" position_m { x: 0 y: 0 z: 0.2 } px4_sim_port: 4560 "
+                    "image: \"" +
+                        manifest + "\" }\n",
+                    "timing { duration_ms: 8000 pacing: PACING_LOCKSTEP }\n"
+                    "silent_robot_timeout_ms: 300\non_silent_robot: SILENT_ROBOT_DROP\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const CommandResult result = SitlnetRun(scenario, out, {});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.err.find("robot 'px' did not answer its HIL_SENSOR of iteration 200 within "
+                            "300 ms: dropped from the run, motors cut"),
+            std::string::npos)
+      << result.err;
+  EXPECT_NE(result.err.find("restarting robot \"px\" (1 of at most 1)"), std::string::npos)
+      << result.err;
+  const std::string summary = ReadAll(out + "/summary.json");
+  EXPECT_NE(summary.find("\"px4\":{\"connections\":2,"), std::string::npos) << summary;
+  // The flight log of both instances: the first stops at 2 s, the second starts later at the
+  // clock's time, from the start pose, and climbs to 5 m again.
+  const auto replies = AutopilotReplies(ReadAll(out + "/robots/px.log"));
+  ASSERT_FALSE(replies.empty());
+  // The second instance's first message: after a gap (the timeout, the restart) in the log.
+  size_t restart = 1;
+  while (restart < replies.size() && replies[restart].first - replies[restart - 1].first < 0.1) {
+    ++restart;
+  }
+  ASSERT_LT(restart, replies.size()) << "no second instance in the log";
+  EXPECT_NEAR(replies[restart - 1].first, 1.996, 1e-9);  // The first answered its last at 1.996 s.
+  EXPECT_GT(replies[restart - 1].second[2], 1) << "the first instance had taken off";
+  EXPECT_GT(replies[restart].first, 2.2);  // After the silent-robot timeout and the restart.
+  EXPECT_NEAR(replies[restart].second[2], 0.2, 0.01) << "back at its start pose";
+  EXPECT_NEAR(replies.back().second[2], 5, 0.5) << "flying again at " << replies.back().first;
+  ExpectNothingLeft(scenario.name);
+  RunCommand({"rm", "-rf", out, folder, manifest});
+}
+
 // Issue 14, item 4: a ground station node (no physics: it stays where it is) receives an
 // autopilot's telemetry over the simulated radio, and the shipped gcs_relay recipe brings it to a
 // program on the host through a Unix datagram socket in a host folder (here the test itself, in

@@ -348,6 +348,35 @@ TEST(IsolationTest, RobotImageWithUserNobodyRunsAsUid65534) {
   std::remove(manifest.c_str());
 }
 
+// A `writable` folder inside the folder of the image's manifest stays writable: bubblewrap
+// mounts in order, and the image's folder (bound read-only because it is in the sandbox's
+// private /tmp) used to be bound after it, over it ("Read-only file system").
+TEST(IsolationTest, AWritableFolderBesideTheManifestIsWritable) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const auto t = MakeScenario("iso", 3, 1);
+  DownGuard down(t.scenario.name);
+  nns::Up(t.scenario);
+  const std::string dir = ::testing::TempDir() + "/iso-writable-" + std::to_string(getpid());
+  const std::string folder = dir + "/out";
+  ASSERT_EQ(RunCommand({"mkdir", "-p", folder}).exit_code, 0);
+  const std::string manifest = dir + "/image.textproto";
+  std::ofstream(manifest) << "name: \"writer\"\nwritable: \"" << folder
+                          << "\"\ncommand: \"/bin/sh\" command: \"-c\" command: \"echo written > "
+                          << folder << "/file\"\n";
+  const images::Image image = images::LoadImage("", manifest);
+  images::LaunchContext context;
+  context.scenario = t.scenario.name;
+  context.robot = "r1";
+  {
+    images::RobotProcess process(image, context, SitlnetBinary(), dir + "/writer.log");
+    const auto status = process.WaitExit(20 * kNsPerS);
+    ASSERT_TRUE(status);
+    EXPECT_EQ(*status, 0) << integration_test::ReadAll(dir + "/writer.log");
+  }
+  EXPECT_EQ(integration_test::ReadAll(folder + "/file"), "written\n");
+  RunCommand({"rm", "-rf", dir});
+}
+
 // Without CAP_SETUID/CAP_SETGID (a container given only NET_ADMIN + SYS_ADMIN) an image with
 // `user` is refused up front with one line naming the robot, the manifest and the capabilities,
 // not left to fail inside the robot's log. Runs in both passes: with the capabilities, this
