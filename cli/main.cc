@@ -15,7 +15,8 @@ struct Command {
 
 // One line per command; keep in the order a user meets them.
 constexpr Command kCommands[] = {
-    {"run", sitlnet::cli::RunRunCommand, "fly a scenario: robots, medium, physics, images, outputs"},
+    {"run", sitlnet::cli::RunRunCommand,
+     "fly a scenario: robots, medium, physics, images, outputs"},
     {"up", sitlnet::cli::RunUpCommand, "create the robots of a scenario (namespaces, devices)"},
     {"exec", sitlnet::cli::RunExecCommand, "run a program inside a robot's namespace"},
     {"status", sitlnet::cli::RunStatusCommand, "show robots, devices and processes"},

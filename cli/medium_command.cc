@@ -22,7 +22,7 @@ constexpr const char* kMediumHelp =
     "usage: sitlnet medium SCENARIO [--pcap FILE] [--stats-interval-ms N] [--rt-priority P]\n"
     "                              [--spin-us N] [--relay]\n"
     "       sitlnet medium SCENARIO --connect HOST:PORT [--seed N] [--no-shadowing]\n"
-    "                              [--connect-timeout S]\n"
+    "                              [--connect-timeout S] [--secret-file PATH]\n"
     "\n"
     "Runs the simulated 802.11 medium between the robots of SCENARIO (a scenario\n"
     "file, or the name of a scenario that is up): attaches every robot's wlan0,\n"
@@ -47,6 +47,10 @@ constexpr const char* kMediumHelp =
     "loaded the same SCENARIO file (give the run's --seed and --no-shadowing\n"
     "too), serves every network step until the run ends, and exits 0; the\n"
     "pcap and counters are written in the run folder on the robots' host.\n"
+    "--secret-file PATH: the shared secret both ends prove they hold (the same\n"
+    "file as the run's --secret-file; owner-only, 16 to 4096 bytes; needed when\n"
+    "the run listens on an address other hosts can reach; docs/coordinator.md,\n"
+    "\"Authentication\").\n"
     "\n"
     "exit codes: 0 stopped by a signal (--connect: the run ended), 1 failed\n"
     "(scenario not up, daemon already running; --connect: coordinator\n"
@@ -67,6 +71,7 @@ int RunMediumCommand(int argc, char** argv) {
   bool no_shadowing = false;
   bool daemon_option = false;  // One that only the local daemon uses.
   TimeNs connect_timeout_ns = 60 * kNsPerS;
+  std::string secret_file;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const auto number = [&](const std::string& text) {
@@ -93,6 +98,8 @@ int RunMediumCommand(int argc, char** argv) {
       }
     } else if (arg == "--no-shadowing") {
       no_shadowing = true;
+    } else if (arg == "--secret-file" && i + 1 < argc) {
+      secret_file = argv[++i];
     } else if (arg == "--connect-timeout" && i + 1 < argc) {
       const double seconds = number(argv[++i]);
       // Bounded: seconds x 1e9 must fit the int64 nanoseconds added to the clock.
@@ -125,13 +132,13 @@ int RunMediumCommand(int argc, char** argv) {
     std::fputs(kMediumHelp, stderr);
     return kExitUsage;
   }
-  if (connect.empty() ? (seed || no_shadowing) : daemon_option) {
+  if (connect.empty() ? (seed || no_shadowing || !secret_file.empty()) : daemon_option) {
     std::fprintf(stderr,
                  connect.empty()
-                     ? "sitlnet medium: --seed and --no-shadowing go with --connect (the local "
-                       "daemon uses the scenario's)\n"
-                     : "sitlnet medium: --connect takes only --seed, --no-shadowing and "
-                       "--connect-timeout (the pcap is written by the run)\n");
+                     ? "sitlnet medium: --seed, --no-shadowing and --secret-file go with --connect "
+                       "(the local daemon uses the scenario's)\n"
+                     : "sitlnet medium: --connect takes only --seed, --no-shadowing, "
+                       "--connect-timeout and --secret-file (the pcap is written by the run)\n");
     return kExitUsage;
   }
   Scenario scenario;
@@ -148,6 +155,7 @@ int RunMediumCommand(int argc, char** argv) {
       network_side::RemoteMediumOptions remote;
       remote.coordinator_endpoint = connect;
       remote.connect_timeout_ns = connect_timeout_ns;
+      remote.secret_file = secret_file;
       const std::string reason =
           network_side::ServeRemoteMedium(runner::ApplyRunOverrides(scenario, overrides), remote);
       std::fprintf(stderr, "sitlnet medium: %s: stopped: %s\n", scenario.name.c_str(),

@@ -16,7 +16,8 @@ namespace {
 constexpr const char* kRunHelp =
     "usage: sitlnet run SCENARIO [--out DIR] [--duration S] [--pacing realtime|lockstep]\n"
     "                   [--seed N] [--no-shadowing] [--no-progress] [--rt-priority P]\n"
-    "                   [--listen HOST:PORT --remote network [--remote-timeout S]]\n"
+    "                   [--listen HOST:PORT --remote network [--remote-timeout S]\n"
+    "                    [--secret-file PATH]]\n"
     "\n"
     "Brings SCENARIO up, starts the simulated 802.11 medium, the MuJoCo physics,\n"
     "every robot's image and the coordinator, runs for the scenario's duration\n"
@@ -40,8 +41,12 @@ constexpr const char* kRunHelp =
     "      (0.0.0.0:7100; port 0 picks one, printed; or unix:/path), wait for\n"
     "      `sitlnet medium SCENARIO --connect THIS_HOST:PORT` there (same scenario\n"
     "      file, same --seed and --no-shadowing), then run; the robots' TAPs and\n"
-    "      physics stay here. Lockstep pacing only. No authentication: a trusted\n"
-    "      network or an SSH tunnel (docs/coordinator.md).\n"
+    "      physics stay here. Lockstep pacing only.\n"
+    "  --secret-file PATH  the shared secret both ends prove they hold before\n"
+    "      anything else (the same file as `sitlnet medium --connect`'s; owner-only,\n"
+    "      16 to 4096 bytes: head -c 32 /dev/urandom > PATH; chmod 600 PATH);\n"
+    "      required unless --listen is a loopback address or unix:. It does not\n"
+    "      encrypt: on an untrusted network, add an SSH tunnel (docs/coordinator.md).\n"
     "  --remote-timeout S  longest wait for it to connect (default 60)\n"
     "\n"
     "exit codes: 0 ok, 1 failure (a robot failed with on_robot_failure STOP, a\n"
@@ -116,6 +121,8 @@ int RunRunCommand(int argc, char** argv) {
       options.realtime_priority = static_cast<int>(priority);
     } else if (arg == "--listen") {
       options.listen = value();
+    } else if (arg == "--secret-file") {
+      options.secret_file = value();
     } else if (arg == "--remote") {
       remote = value();
       if (remote != "network") {
@@ -152,6 +159,10 @@ int RunRunCommand(int argc, char** argv) {
   }
   if (options.listen.empty() != remote.empty()) {
     std::fprintf(stderr, "sitlnet run: --listen and --remote network go together\n");
+    return kExitUsage;
+  }
+  if (!options.secret_file.empty() && options.listen.empty()) {
+    std::fprintf(stderr, "sitlnet run: --secret-file goes with --listen\n");
     return kExitUsage;
   }
   options.sitlnet_exe = SelfExe();

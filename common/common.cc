@@ -1,6 +1,7 @@
 #include "common/common.h"
 
 #include <arpa/inet.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -77,6 +78,12 @@ MacAddress RobotMac(int index) {
   MacAddress mac{{0x02, 0x00, 0x00, 0x00, static_cast<uint8_t>((index >> 8) & 0xff),
                   static_cast<uint8_t>(index & 0xff)}};
   return mac;
+}
+
+bool IsInvokingUser(unsigned owner) {
+  if (owner == geteuid()) return true;
+  const char* sudo_uid = std::getenv("SUDO_UID");
+  return geteuid() == 0 && sudo_uid != nullptr && std::to_string(owner) == sudo_uid;
 }
 
 }  // namespace sitlnet

@@ -35,6 +35,10 @@ class Error : public std::runtime_error {
 // "<what>: <strerror(err)>", iproute2 style.
 std::string SystemErrorMessage(std::string_view what, int err);
 
+// True if `owner` is the user this process works for: its effective user, or under sudo (root,
+// SUDO_UID set) the user who ran sudo. Files of that user are the user's own to trust.
+bool IsInvokingUser(unsigned owner);
+
 //----------------------------------- Time -----------------------------------
 
 // Virtual and wall time are integer nanoseconds everywhere.

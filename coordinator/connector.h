@@ -59,6 +59,9 @@ struct ConnectorIdentity {
   std::string name;
   Role role = Role::kPhysics;
   uint64_t scenario_hash = 0;
+  // The shared secret (LoadSecretFile); empty: no authentication. With one, the coordinator
+  // must prove it holds the same before the connector goes on, and the connector proves it too.
+  std::string secret;
 };
 std::string ServeCoordinator(Channel& channel, Simulator& simulator,
                              const ConnectorIdentity& identity, TimeNs handshake_timeout_ns,
@@ -124,6 +127,9 @@ struct HandshakeExpectation {
   // If set, a connector of the other role is refused with an Error naming
   // both roles (a coordinator that waits for one remote side only).
   std::optional<Role> role;
+  // The shared secret (LoadSecretFile); empty: none. With one, a connector that does not prove
+  // it holds the same secret is a stray connection: sent Error, not accepted, not fatal.
+  std::string secret;
 };
 
 // Accepts connections on `listener` until one physics and one network

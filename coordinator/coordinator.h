@@ -16,6 +16,7 @@
 #include <string>
 
 #include "common/common.h"
+#include "coordinator/authentication.h"
 #include "coordinator/connector.h"
 #include "coordinator/metrics.h"
 #include "coordinator/pacing.h"

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "coordinator/authentication.h"
 #include "coordinator/connector.h"
 
 namespace sitlnet::coordinator {
@@ -27,6 +28,10 @@ const char* KindName(CoordinatorMessage::KindCase kind) {
       return "Hello";
     case CoordinatorMessage::kWelcome:
       return "Welcome";
+    case CoordinatorMessage::kChallenge:
+      return "Challenge";
+    case CoordinatorMessage::kProof:
+      return "Proof";
     case CoordinatorMessage::kStart:
       return "Start";
     case CoordinatorMessage::kEnd:
@@ -174,6 +179,45 @@ void SendErrorQuietly(Channel& channel, const std::string& message) {
   }
 }
 
+// The coordinator's side of the shared-secret handshake: Challenge (its nonce and proof), then
+// the connector's Proof. A connector that cannot prove the secret is a stray connection.
+void Authenticate(Channel& channel, const std::string& secret, const std::string& their_nonce,
+                  const std::string& who, TimeNs deadline_ns, int interrupt_fd) {
+  std::string failure;
+  if (secret.empty()) {
+    failure = who +
+              " wants to authenticate with a shared secret, but this coordinator has none "
+              "(--secret-file)";
+  } else if (their_nonce.size() != kNonceBytes) {
+    failure = who +
+              " did not authenticate: this coordinator needs the shared secret "
+              "(--secret-file on both ends)";
+  }
+  if (failure.empty()) {
+    const std::string nonce = RandomNonce();
+    CoordinatorMessage challenge;
+    challenge.mutable_challenge()->set_nonce(nonce);
+    challenge.mutable_challenge()->set_proof(
+        ProofOf(secret, "sitlnet coordinator", their_nonce, nonce));
+    CoordinatorMessage proof;
+    try {
+      channel.Send(challenge, deadline_ns);
+      if (!channel.Receive(&proof, deadline_ns, interrupt_fd)) {
+        throw StrayConnectionError(who + ": interrupted while authenticating");
+      }
+    } catch (const TransportError& e) {
+      throw StrayConnectionError(who + ": authenticating: " + e.what());
+    }
+    if (!proof.has_proof() || !SameProof(proof.proof().proof(), ProofOf(secret, "sitlnet connector",
+                                                                        nonce, their_nonce))) {
+      failure = who + " failed to prove the shared secret (a different --secret-file?)";
+    }
+  }
+  if (failure.empty()) return;
+  SendErrorQuietly(channel, failure);
+  throw StrayConnectionError(failure);
+}
+
 }  // namespace
 
 std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpectation& expect,
@@ -196,6 +240,10 @@ std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpec
   const proto::coord::Hello& h = hello.hello();
   const Role role = h.role() == proto::coord::ROLE_NETWORK ? Role::kNetwork : Role::kPhysics;
   const std::string who = RoleName(role) + " connector '" + h.connector_name() + "'";
+  // Authentication first: a peer without the secret learns nothing of the run.
+  if (!expect.secret.empty() || !h.nonce().empty()) {
+    Authenticate(channel, expect.secret, h.nonce(), who, hello_deadline_ns, limits.interrupt_fd);
+  }
   std::string refusal;
   if (h.role() != proto::coord::ROLE_PHYSICS && h.role() != proto::coord::ROLE_NETWORK) {
     refusal = "connector '" + h.connector_name() + "' has no role (physics or network)";
@@ -323,15 +371,42 @@ std::string ServeCoordinator(Channel& channel, Simulator& simulator,
                                                   : proto::coord::ROLE_NETWORK);
   hello->set_connector_name(identity.name);
   *hello->mutable_initial_poses() = simulator.InitialPoses();
+  const std::string nonce = identity.secret.empty() ? std::string() : RandomNonce();
+  hello->set_nonce(nonce);
   const TimeNs deadline = MonotonicNowNs() + handshake_timeout_ns;
   CoordinatorMessage in;
+  bool authenticated = false;
   try {
     channel.Send(out, deadline);
     if (!channel.Receive(&in, deadline, interrupt_fd)) return "interrupted";
+    if (in.has_challenge() && !identity.secret.empty()) {
+      // The coordinator proves the secret first: a connector tells nothing to an impostor.
+      const proto::coord::Challenge& challenge = in.challenge();
+      if (!SameProof(challenge.proof(),
+                     ProofOf(identity.secret, "sitlnet coordinator", nonce, challenge.nonce()))) {
+        throw Error(
+            "the coordinator failed to prove the shared secret (a different "
+            "--secret-file, or not sitlnet's coordinator)");
+      }
+      CoordinatorMessage proof;
+      proof.mutable_proof()->set_proof(
+          ProofOf(identity.secret, "sitlnet connector", challenge.nonce(), nonce));
+      channel.Send(proof, deadline);
+      authenticated = true;
+      if (!channel.Receive(&in, deadline, interrupt_fd)) return "interrupted";
+    }
   } catch (const TransportError& e) {
     throw Error("handshake with the coordinator: " + std::string(e.what()));
   }
   if (in.has_error()) throw Error("the coordinator refused: " + in.error().message());
+  if (in.has_challenge()) {
+    throw Error(
+        "the coordinator asks for a shared secret: give --secret-file (docs/coordinator.md)");
+  }
+  if (!identity.secret.empty() && !authenticated) {
+    throw Error(
+        "the coordinator did not authenticate: it has no --secret-file, this connector does");
+  }
   if (!in.has_welcome()) {
     throw Error(std::string("handshake with the coordinator: expected Welcome, got ") +
                 KindName(in.kind_case()));

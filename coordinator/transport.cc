@@ -1,5 +1,6 @@
 #include "coordinator/transport.h"
 
+#include <arpa/inet.h>
 #include <fcntl.h>
 #include <netdb.h>
 #include <netinet/in.h>
@@ -99,6 +100,18 @@ void Fd::Reset() {
 
 std::string Endpoint::ToString() const {
   return kind == Kind::kUnix ? "unix:" + path : host + ":" + std::to_string(port);
+}
+
+bool IsLocalOnly(const Endpoint& endpoint) {
+  if (endpoint.kind == Endpoint::Kind::kUnix) return true;
+  if (endpoint.host == "localhost") return true;
+  in_addr v4{};
+  if (inet_pton(AF_INET, endpoint.host.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+  in6_addr v6{};
+  std::string host = endpoint.host;
+  if (host.size() > 2 && host.front() == '[' && host.back() == ']')
+    host = host.substr(1, host.size() - 2);
+  return inet_pton(AF_INET6, host.c_str(), &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
 }
 
 Endpoint ParseEndpoint(std::string_view text) {

@@ -48,6 +48,9 @@ struct Endpoint {
 };
 // Throws Error naming `text` if it is neither form.
 Endpoint ParseEndpoint(std::string_view text);
+// True if only this host can connect to `endpoint`: a Unix socket, or TCP on a loopback
+// address (127.0.0.0/8, ::1, "localhost").
+bool IsLocalOnly(const Endpoint& endpoint);
 
 // Why a transport call failed; the message says it in words.
 class TransportError : public Error {

@@ -213,6 +213,10 @@ class RemoteMedium final : public tapbridge::MediumModel {
   mutable bool counters_stale_ = true;
   mutable std::vector<tapbridge::MediumCounters> counters_;
   MediumLinkStats stats_;
+  // Bounds on what the peer may deliver (issue 17, finding 4): copies left of the frames sent
+  // (one per other station each), and the longest frame sent.
+  int64_t delivery_budget_ = 0;
+  size_t longest_submitted_bytes_ = 0;
 };
 
 // The other host's side: replays each START's recorded calls on `medium`.
@@ -235,6 +239,7 @@ class MediumLinkSimulator final : public Simulator {
 struct RemoteMediumOptions {
   std::string coordinator_endpoint;  // HOST:PORT.
   TimeNs connect_timeout_ns = 60 * kNsPerS;
+  std::string secret_file;  // The shared secret (docs/coordinator.md, "Authentication"); or none.
 };
 
 // Runs only the 802.11 model of `scenario` (with the run's overrides already applied, as

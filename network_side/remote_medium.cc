@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -70,6 +71,16 @@ tapbridge::AirFrame FromProto(const pm::AirFrame& p, const pm::MediumReply& repl
     throw Error(describe() + ": medium reply has an air frame of kind " + std::to_string(p.kind()) +
                 " lasting " + std::to_string(p.duration_ns()) + " ns");
   }
+  // Radio values become radiotap fields (whole dBm, 500 kb/s units): finite and in range.
+  const auto in_range = [](double value, double low, double high) {
+    return std::isfinite(value) && value >= low && value <= high;
+  };
+  if (!in_range(p.signal_dbm(), -200, 100) || !in_range(p.noise_dbm(), -200, 100) ||
+      !in_range(p.rate_mbps(), 0, 10000)) {
+    throw Error(describe() +
+                ": medium reply has an air frame with signal, noise or rate out of "
+                "range");
+  }
   tx.start_ns = p.start_ns();
   tx.end_ns = p.start_ns() + p.duration_ns();
   tx.source = p.transmitter();
@@ -124,6 +135,10 @@ RemoteMedium::~RemoteMedium() { Stop("the run ended early (see the coordinator's
 
 void RemoteMedium::Submit(int station, TimeNs at_ns, std::span<const uint8_t> ethernet) {
   submit_pending_ = true;
+  // What the peer may deliver of it: one copy to every other station, at most, and no frame
+  // longer than the longest the robots sent.
+  delivery_budget_ += std::max(1, stations_ - 1);
+  longest_submitted_bytes_ = std::max(longest_submitted_bytes_, ethernet.size());
   pm::SubmitOp* op = NewOp()->mutable_submit();
   op->set_station(station);
   op->set_at_ns(at_ns);
@@ -149,18 +164,42 @@ void RemoteMedium::AdvanceTo(TimeNs until_ns, std::vector<mac::Delivery>* delive
     ++stats_.quiet_steps;
     return;
   }
+  const TimeNs previous_until_ns = last_sent_until_ns_;
   last_sent_until_ns_ = until_ns;
   Exchange(/*want_counters=*/false);
+  // The peer's reply is input (issue 17, finding 4): a delivery it cannot have made ends the
+  // link, naming it, before anything of it reaches a robot.
+  const auto refuse = [this](const std::string& what) {
+    healthy_ = false;
+    throw Error(Describe() + ": medium reply " + what);
+  };
   for (const pm::Delivery& d : reply_.deliveries()) {
-    if (d.station() < 0 || d.station() >= stations_) continue;
+    if (d.station() < 0 || d.station() >= stations_) {
+      refuse("delivers to station " + std::to_string(d.station()) + " of " +
+             std::to_string(stations_));
+    }
+    if (d.time_ns() < previous_until_ns || d.time_ns() > until_ns) {
+      refuse("delivers at " + std::to_string(d.time_ns()) + " ns, outside the step [" +
+             std::to_string(previous_until_ns) + ", " + std::to_string(until_ns) + "] ns");
+    }
+    if (!std::isfinite(d.rx_power_dbm()) || !std::isfinite(d.sinr_db())) {
+      refuse("delivers with a received power or SINR that is not a number");
+    }
+    if (--delivery_budget_ < 0) {
+      refuse("delivers more frames than the robots sent could make (one per other station)");
+    }
     const std::string* frame = &d.frame();
     if (frame->empty()) {
       if (d.frame_index() < 0 || d.frame_index() >= reply_.frames_size()) {
-        healthy_ = false;
-        throw Error(Describe() + ": medium reply names frame " + std::to_string(d.frame_index()) +
-                    " of " + std::to_string(reply_.frames_size()));
+        refuse("names frame " + std::to_string(d.frame_index()) + " of " +
+               std::to_string(reply_.frames_size()));
       }
       frame = &reply_.frames(d.frame_index());
+    }
+    if (frame->size() > longest_submitted_bytes_) {
+      refuse("delivers a frame of " + std::to_string(frame->size()) +
+             " bytes, longer than any the robots sent (" +
+             std::to_string(longest_submitted_bytes_) + ")");
     }
     deliveries->push_back(mac::Delivery{d.station(), d.source(),
                                         std::vector<uint8_t>(frame->begin(), frame->end()),

@@ -22,6 +22,9 @@ std::string Seconds(TimeNs ns) {
 
 std::string ServeRemoteMedium(const Scenario& scenario, const RemoteMediumOptions& options) {
   const coordinator::Endpoint endpoint = coordinator::ParseEndpoint(options.coordinator_endpoint);
+  const std::string secret = options.secret_file.empty()
+                                 ? std::string()
+                                 : coordinator::LoadSecretFile(options.secret_file);
   std::fprintf(stderr, "sitlnet medium: %s: connecting to the coordinator at %s\n",
                scenario.name.c_str(), endpoint.ToString().c_str());
   coordinator::Fd socket;
@@ -38,8 +41,9 @@ std::string ServeRemoteMedium(const Scenario& scenario, const RemoteMediumOption
   MediumLinkSimulator simulator(scenario, tapbridge::MakeMacPhySimMedium(scenario));
   char host[256] = "localhost";
   gethostname(host, sizeof host - 1);
-  const coordinator::ConnectorIdentity identity{
-      std::string("medium@") + host, coordinator::Role::kNetwork, MediumScenarioHash(scenario)};
+  const coordinator::ConnectorIdentity identity{std::string("medium@") + host,
+                                                coordinator::Role::kNetwork,
+                                                MediumScenarioHash(scenario), secret};
   return coordinator::ServeCoordinator(channel, simulator, identity, 10 * kNsPerS, stop.fd());
 }
 

@@ -258,7 +258,16 @@ physics::ServerOptions PhysicsOptionsFromEnvironment() {
 std::unique_ptr<coordinator::Connector> AcceptRemoteNetwork(const Scenario& scenario,
                                                             const RunOptions& options,
                                                             int interrupt_fd) {
-  coordinator::Listener listener(coordinator::ParseEndpoint(options.listen));
+  const coordinator::Endpoint endpoint = coordinator::ParseEndpoint(options.listen);
+  if (options.secret_file.empty() && !coordinator::IsLocalOnly(endpoint)) {
+    throw Error("--listen " + options.listen +
+                " can be reached from other hosts: give --secret-file PATH, the same file as "
+                "`sitlnet medium --connect`'s (docs/coordinator.md, \"Authentication\")");
+  }
+  const std::string secret = options.secret_file.empty()
+                                 ? std::string()
+                                 : coordinator::LoadSecretFile(options.secret_file);
+  coordinator::Listener listener(endpoint);
   std::fprintf(stderr,
                "sitlnet run: %s: waiting %lld s for the network connector on %s "
                "(sitlnet medium FILE --connect HOST:PORT)\n",
@@ -267,6 +276,7 @@ std::unique_ptr<coordinator::Connector> AcceptRemoteNetwork(const Scenario& scen
   coordinator::HandshakeExpectation expect;
   expect.scenario_hash = network_side::MediumScenarioHash(scenario);
   expect.iteration_ns = scenario.iteration_ns;
+  expect.secret = secret;
   coordinator::WaitLimits limits;
   limits.timeout_ns = options.remote_wait_ns;
   limits.deadline_ns = MonotonicNowNs() + options.remote_wait_ns;

@@ -27,14 +27,6 @@ void MakeParents(const std::string& path) {
   }
 }
 
-// The user the run works for: this process's, or under sudo the one who ran sudo (a folder
-// they made before is theirs to reuse; they could write it anyway).
-bool IsRunUser(uid_t owner) {
-  if (owner == geteuid()) return true;
-  const char* sudo_uid = std::getenv("SUDO_UID");
-  return geteuid() == 0 && sudo_uid != nullptr && std::to_string(owner) == sudo_uid;
-}
-
 // Makes `path` (mode 0755), or accepts it if it exists as a folder of this user that no one
 // else can write. Throws Error naming the folder and what is wrong with it.
 void MakeOwnedFolder(const std::string& path) {
@@ -49,7 +41,7 @@ void MakeOwnedFolder(const std::string& path) {
     throw Error(refused + "is a symbolic link: give the folder itself (--out)");
   }
   if (!S_ISDIR(info.st_mode)) throw Error(refused + "exists and is not a folder");
-  if (!IsRunUser(info.st_uid)) {
+  if (!IsInvokingUser(info.st_uid)) {
     throw Error(refused + "belongs to user " + std::to_string(info.st_uid) + ", not to " +
                 std::to_string(geteuid()) +
                 " who runs sitlnet: another user could replace its files with links; choose "

@@ -21,6 +21,9 @@ struct RunOptions {
   // FILE --connect`), waiting at most remote_wait_ns. Lockstep pacing only.
   std::string listen;
   TimeNs remote_wait_ns = 60 * kNsPerS;
+  // The shared secret both ends prove (docs/coordinator.md, "Authentication"); required when
+  // `listen` is reachable from other hosts (coordinator::IsLocalOnly).
+  std::string secret_file;
   std::string scenario_path;
   std::string out_dir;                           // Empty: runs/<scenario>-<UTC date-time>.
   std::optional<double> duration_s;              // Overrides timing.duration_ms.

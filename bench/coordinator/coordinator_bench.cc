@@ -25,9 +25,9 @@
 #include <vector>
 
 #include "coordinator/coordinator.h"
+#include "coordinator/synthetic.h"
 #include "network_side/network_side.h"
 #include "physics_side/physics_side.h"
-#include "coordinator/synthetic.h"
 
 namespace sitlnet::coordinator {
 
@@ -105,8 +105,8 @@ struct BenchPhysics {
 
 int Serve(const std::string& role, const std::string& endpoint, int robots, int net_step_us) {
   const Scenario scenario = BenchScenario(robots, net_step_us);
-  const ConnectorIdentity identity{role, role == "physics" ? Role::kPhysics : Role::kNetwork,
-                                   ScenarioHash(scenario)};
+  const ConnectorIdentity identity{
+      role, role == "physics" ? Role::kPhysics : Role::kNetwork, ScenarioHash(scenario), {}};
   Channel channel(Connect(ParseEndpoint(endpoint), MonotonicNowNs() + 10 * kNsPerS));
   channel.set_spin_ns(SpinNs());
   if (identity.role == Role::kPhysics) {
@@ -173,7 +173,8 @@ Row RunOne(const std::string& transport, int robots, int net_step_us, int64_t it
     WaitLimits limits;
     limits.timeout_ns = 10 * kNsPerS;
     limits.deadline_ns = MonotonicNowNs() + limits.timeout_ns;
-    HandshakeExpectation expect{ScenarioHash(scenario), scenario.iteration_ns, false, std::nullopt};
+    HandshakeExpectation expect{
+        ScenarioHash(scenario), scenario.iteration_ns, false, std::nullopt, {}};
     if (hybrid) {
       BenchPhysics physics_sim(scenario);
       auto physics = MakeInProcessConnector("physics", Role::kPhysics, physics_sim.get(),

@@ -53,8 +53,8 @@ void RunOverSockets(const std::string& where, bool lockstep_robots = false) {
   Listener listener(ParseEndpoint(where));
   SyntheticPhysics physics_sim(Robots(3));
   SyntheticNetwork network_sim(Robots(3));
-  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash});
-  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash});
+  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash, {}});
+  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash, {}});
   AcceptedConnectors connectors = AcceptConnectors(listener, Expect(), Within(5 * kNsPerS));
   ASSERT_TRUE(connectors.physics && connectors.network);
   EXPECT_EQ(connectors.physics->Describe(), "physics connector 'phys0'");
@@ -172,7 +172,7 @@ TEST(Coordinator, LockstepRobotsStartsNetworkAfterCommandsCollected) {
   OrderedPhysics physics_sim(&collected);
   CheckingNetwork network_sim(&collected);
   Listener listener(ParseEndpoint("unix:/tmp/sitlnet-coord-ls-" + std::to_string(getpid())));
-  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash});
+  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash, {}});
   auto network =
       MakeInProcessConnector("net0", Role::kNetwork, &network_sim, Threading::kOwnThread);
   HandshakeExpectation expect = Expect();

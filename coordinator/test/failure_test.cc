@@ -34,8 +34,8 @@ TEST(Coordinator, TimeoutNamesTheStuckConnectorAndIteration) {
   std::promise<void> release;
   StuckPhysics physics_sim(3, release.get_future().share());
   SyntheticNetwork network_sim(Robots(0));
-  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash});
-  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash});
+  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash, {}});
+  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash, {}});
   AcceptedConnectors c = AcceptConnectors(listener, Expect(), Within(5 * kNsPerS));
   CoordinatorOptions options = Lockstep(10);
   options.answer_timeout_ns = 300 * kNsPerMs;
@@ -69,13 +69,13 @@ TEST(Coordinator, CrashedConnectorProcessIsReportedByName) {
     } crashing;
     try {
       Channel channel(Connect(listener.endpoint(), MonotonicNowNs() + 5 * kNsPerS));
-      ServeCoordinator(channel, crashing, {"net0", Role::kNetwork, kHash}, 5 * kNsPerS);
+      ServeCoordinator(channel, crashing, {"net0", Role::kNetwork, kHash, {}}, 5 * kNsPerS);
     } catch (...) {
     }
     _exit(0);
   }
   SyntheticPhysics physics_sim(Robots(1));
-  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash});
+  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash, {}});
   AcceptedConnectors c = AcceptConnectors(listener, Expect(), Within(5 * kNsPerS));
   try {
     RunCoordinator(*c.physics, *c.network, Lockstep(10));
@@ -94,8 +94,8 @@ TEST(Coordinator, SimulatorErrorIsForwardedWithTheConnectorName) {
   Listener listener(ParseEndpoint("127.0.0.1:0"));
   SyntheticPhysics physics_sim(Robots(2));
   SyntheticNetwork network_sim(Robots(5));  // Expects 5 robots, gets 2: throws.
-  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash});
-  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash});
+  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash, {}});
+  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash, {}});
   AcceptedConnectors c = AcceptConnectors(listener, Expect(), Within(5 * kNsPerS));
   try {
     RunCoordinator(*c.physics, *c.network, Lockstep(10));
@@ -129,8 +129,8 @@ TEST(Coordinator, SigintStopsInOrderAndFlushesWholeRows) {
   Listener listener(ParseEndpoint("unix:" + csv + ".sock"));
   InterruptingPhysics physics_sim(7, &stop);
   SyntheticNetwork network_sim(Robots(0));
-  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash});
-  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash});
+  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash, {}});
+  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash, {}});
   AcceptedConnectors c = AcceptConnectors(listener, Expect(), Within(5 * kNsPerS));
   RunResult result;
   {

@@ -14,7 +14,7 @@ using namespace test_support;  // NOLINT: test helpers.
 TEST(Coordinator, HandshakeRefusesAnotherScenarioAndSaysSoToBothSides) {
   Listener listener(ParseEndpoint("127.0.0.1:0"));
   SyntheticPhysics physics_sim(Robots(1));
-  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash + 1});
+  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash + 1, {}});
   const std::string expected =
       "physics connector 'phys0' loaded a different scenario: hash 0x51170e7000000002, the "
       "coordinator's is 0x51170e7000000001";
@@ -37,8 +37,8 @@ TEST(Coordinator, StrayConnectionsAreIgnoredAndTheConnectorsStillAccepted) {
   closer.Reset();
   SyntheticPhysics physics_sim(Robots(1));
   SyntheticNetwork network_sim(Robots(1));
-  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash});
-  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash});
+  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash, {}});
+  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash, {}});
   AcceptedConnectors c = AcceptConnectors(listener, Expect(), Within(5 * kNsPerS));
   ASSERT_TRUE(c.physics && c.network);
   EXPECT_EQ(RunCoordinator(*c.physics, *c.network, Lockstep(5)).iterations_done, 5);
@@ -80,8 +80,8 @@ TEST(Coordinator, SecondConnectorOfARoleIsRefusedByName) {
   Listener listener(ParseEndpoint("unix:/tmp/sitlnet-coord-dup-" + std::to_string(getpid())));
   SyntheticPhysics first_sim(Robots(1));
   SyntheticPhysics second_sim(Robots(1));
-  ConnectorThread first(listener.endpoint(), &first_sim, {"phys0", Role::kPhysics, kHash});
-  ConnectorThread second(listener.endpoint(), &second_sim, {"phys1", Role::kPhysics, kHash});
+  ConnectorThread first(listener.endpoint(), &first_sim, {"phys0", Role::kPhysics, kHash, {}});
+  ConnectorThread second(listener.endpoint(), &second_sim, {"phys1", Role::kPhysics, kHash, {}});
   try {
     AcceptConnectors(listener, Expect(), Within(5 * kNsPerS));
     FAIL();
@@ -101,7 +101,7 @@ TEST(Coordinator, SecondConnectorOfARoleIsRefusedByName) {
 TEST(Coordinator, MissingConnectorTimesOutNamingTheRole) {
   Listener listener(ParseEndpoint("127.0.0.1:0"));
   SyntheticNetwork network_sim(Robots(1));
-  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash});
+  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash, {}});
   try {
     AcceptConnectors(listener, Expect(), Within(200 * kNsPerMs));
     FAIL();
@@ -120,7 +120,7 @@ TEST(Coordinator, AcceptConnectorOfRoleRefusesTheOtherRoleAndSkipsStrays) {
   Fd stray = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
   stray.Reset();
   SyntheticPhysics physics_sim(Robots(1));
-  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash});
+  ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash, {}});
   const std::string expected =
       "physics connector 'phys0' connected, but this coordinator waits for a network connector";
   try {
@@ -133,7 +133,7 @@ TEST(Coordinator, AcceptConnectorOfRoleRefusesTheOtherRoleAndSkipsStrays) {
   EXPECT_EQ(phys.error(), "the coordinator refused: " + expected);
 
   SyntheticNetwork network_sim(Robots(1));
-  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash});
+  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash, {}});
   auto network = AcceptConnectorOfRole(listener, Role::kNetwork, Expect(), Within(5 * kNsPerS));
   ASSERT_TRUE(network);
   EXPECT_EQ(network->Describe(), "network connector 'net0'");

@@ -58,7 +58,7 @@ std::vector<mac::Delivery> CoSimulate(const Scenario& scenario) {
   std::thread connector([&] {
     try {
       Channel channel(Connect(listener.endpoint(), MonotonicNowNs() + 5 * kNsPerS));
-      ServeCoordinator(channel, medium, {"medium", Role::kNetwork, hash}, 5 * kNsPerS);
+      ServeCoordinator(channel, medium, {"medium", Role::kNetwork, hash, {}}, 5 * kNsPerS);
     } catch (const Error& e) {
       connector_error = e.what();
     }
@@ -69,7 +69,7 @@ std::vector<mac::Delivery> CoSimulate(const Scenario& scenario) {
   WaitLimits limits;
   limits.timeout_ns = 5 * kNsPerS;
   limits.deadline_ns = MonotonicNowNs() + limits.timeout_ns;
-  HandshakeExpectation expect{hash, scenario.iteration_ns, false, std::nullopt};
+  HandshakeExpectation expect{hash, scenario.iteration_ns, false, std::nullopt, {}};
   auto network = AcceptConnector(Channel(listener.Accept(limits.deadline_ns)), expect, limits);
   CoordinatorOptions options = OptionsFromScenario(scenario);
   EXPECT_EQ(options.pacing, Pacing::kLockstep);

@@ -4,6 +4,8 @@
 // tests/integration/remote_run_test.cc checks it end to end).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <functional>
 #include <thread>
 
 #include "coordinator/coordinator.h"
@@ -101,7 +103,8 @@ TEST(RemoteMedium, ProducesCallForCallWhatTheMediumProducesInProcess) {
     MediumLinkSimulator simulator(scenario, tapbridge::MakeMacPhySimMedium(scenario));
     reason = coordinator::ServeCoordinator(
         channel, simulator,
-        {"medium@test", coordinator::Role::kNetwork, MediumScenarioHash(scenario)}, 5 * kNsPerS);
+        {"medium@test", coordinator::Role::kNetwork, MediumScenarioHash(scenario), {}},
+        5 * kNsPerS);
   });
   coordinator::HandshakeExpectation expect;
   expect.scenario_hash = MediumScenarioHash(scenario);
@@ -131,6 +134,114 @@ TEST(RemoteMedium, ProducesCallForCallWhatTheMediumProducesInProcess) {
   remote.Stop("done");
   server.join();
   EXPECT_EQ(reason, "done");
+}
+
+// A medium peer that answers every request with the reply `craft` makes (issue 17, finding 4:
+// the peer's reply is input).
+class HostileMedium final : public coordinator::Simulator {
+ public:
+  explicit HostileMedium(std::function<void(proto::medium::MediumReply*)> craft)
+      : craft_(std::move(craft)) {}
+  void RunIteration(const proto::coord::Start&, proto::coord::End* end,
+                    coordinator::IterationContext&) override {
+    proto::medium::MediumReply reply;
+    craft_(&reply);
+    reply.SerializeToString(end->mutable_payload());
+  }
+
+ private:
+  std::function<void(proto::medium::MediumReply*)> craft_;
+};
+
+// Submits one 100-byte broadcast from robot a at 1 ms and advances to the step's end (2 ms)
+// through a RemoteMedium whose peer is `craft`'s; returns the Error's text ("" if none).
+std::string AttackWith(std::function<void(proto::medium::MediumReply*)> craft) {
+  const Scenario scenario = ThreeRobots();
+  auto [coordinator_end, connector_end] = coordinator::SocketPair();
+  std::thread server([&, fd = std::move(connector_end)]() mutable {
+    Channel channel(std::move(fd));
+    HostileMedium hostile(craft);
+    try {
+      coordinator::ServeCoordinator(
+          channel, hostile,
+          {"hostile", coordinator::Role::kNetwork, MediumScenarioHash(scenario), {}}, 5 * kNsPerS);
+    } catch (const Error&) {
+    }
+  });
+  coordinator::HandshakeExpectation expect;
+  expect.scenario_hash = MediumScenarioHash(scenario);
+  expect.iteration_ns = scenario.iteration_ns;
+  coordinator::WaitLimits limits{MonotonicNowNs() + 5 * kNsPerS, 5 * kNsPerS, -1};
+  std::string error;
+  {
+    RemoteMedium remote(
+        scenario, coordinator::AcceptConnector(Channel(std::move(coordinator_end)), expect, limits),
+        5 * kNsPerS);
+    const MacAddress broadcast{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
+    std::vector<mac::Delivery> deliveries;
+    std::vector<tapbridge::AirFrame> air;
+    remote.AdvanceTo(kNsPerMs, &deliveries, &air);
+    remote.Submit(0, kNsPerMs, Frame(scenario, 0, broadcast, 100, 1));
+    try {
+      remote.AdvanceTo(2 * kNsPerMs, &deliveries, &air);
+    } catch (const Error& e) {
+      error = e.what();
+    }
+    if (error.empty()) {
+      EXPECT_EQ(deliveries.size(), 2u);
+    }
+    remote.Stop("done");
+  }
+  server.join();
+  return error;
+}
+
+TEST(RemoteMedium, RepliesAHonestMediumCannotMakeEndTheLinkNamingWhy) {
+  const std::vector<uint8_t> sent =
+      Frame(ThreeRobots(), 0, MacAddress{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}}, 100, 1);
+  const std::string frame(sent.begin(), sent.end());
+  const auto deliver = [&](proto::medium::MediumReply* reply, int station, TimeNs at_ns) {
+    proto::medium::Delivery* d = reply->add_deliveries();
+    d->set_station(station);
+    d->set_time_ns(at_ns);
+    d->set_frame(frame);
+    d->set_rx_power_dbm(-60);
+    d->set_sinr_db(30);
+    return d;
+  };
+  // What the broadcast can give: one copy to each of the two other robots, in the step.
+  EXPECT_EQ(AttackWith([&](proto::medium::MediumReply* r) {
+              deliver(r, 1, 1500 * kNsPerUs);
+              deliver(r, 2, 1500 * kNsPerUs);
+            }),
+            "");
+  const auto attack = [&](std::function<void(proto::medium::MediumReply*)> craft) {
+    const std::string error = AttackWith(craft);
+    EXPECT_EQ(error.rfind("network connector 'hostile': medium reply ", 0), 0u) << error;
+    return error.substr(error.find("medium reply ") + 13);
+  };
+  EXPECT_EQ(attack([&](proto::medium::MediumReply* r) { deliver(r, 3, 1500 * kNsPerUs); }),
+            "delivers to station 3 of 3");
+  EXPECT_EQ(attack([&](proto::medium::MediumReply* r) { deliver(r, 1, 3 * kNsPerMs); }),
+            "delivers at 3000000 ns, outside the step [0, 2000000] ns");
+  EXPECT_EQ(attack([&](proto::medium::MediumReply* r) {
+              deliver(r, 1, 1500 * kNsPerUs)->set_rx_power_dbm(std::nan(""));
+            }),
+            "delivers with a received power or SINR that is not a number");
+  // A few bytes of reply asking for many copies of one frame (the copies used to be made).
+  EXPECT_EQ(attack([&](proto::medium::MediumReply* r) {
+              r->add_frames(frame);
+              for (int i = 0; i < 1000; ++i) {
+                proto::medium::Delivery* d = deliver(r, 1, 1500 * kNsPerUs);
+                d->clear_frame();
+                d->set_frame_index(0);
+              }
+            }),
+            "delivers more frames than the robots sent could make (one per other station)");
+  EXPECT_EQ(attack([&](proto::medium::MediumReply* r) {
+              deliver(r, 1, 1500 * kNsPerUs)->set_frame(std::string(5000, 'x'));
+            }),
+            "delivers a frame of 5000 bytes, longer than any the robots sent (114)");
 }
 
 TEST(RemoteMedium, ScenarioHashIgnoresDurationAndPacingButNotTheSeed) {

@@ -101,7 +101,7 @@ TEST(PhysicsCorrectness, CoSimulatedTrajectoriesAreBitIdenticalToPhysicsAlone) {
   std::thread connector([&] {
     try {
       Channel channel(Connect(listener.endpoint(), MonotonicNowNs() + 5 * kNsPerS));
-      ServeCoordinator(channel, physics_sim, {"mujoco", Role::kPhysics, hash}, 5 * kNsPerS);
+      ServeCoordinator(channel, physics_sim, {"mujoco", Role::kPhysics, hash, {}}, 5 * kNsPerS);
     } catch (const Error& e) {
       connector_error = e.what();
     }
@@ -114,7 +114,7 @@ TEST(PhysicsCorrectness, CoSimulatedTrajectoriesAreBitIdenticalToPhysicsAlone) {
   limits.timeout_ns = 10 * kNsPerS;
   limits.deadline_ns = MonotonicNowNs() + limits.timeout_ns;
   auto physics = AcceptConnector(Channel(listener.Accept(limits.deadline_ns)),
-                                 {hash, scenario.iteration_ns, false, std::nullopt}, limits);
+                                 {hash, scenario.iteration_ns, false, std::nullopt, {}}, limits);
   const CoordinatorOptions options = OptionsFromScenario(scenario);
   ASSERT_EQ(options.iterations, kIterations);
   EXPECT_EQ(RunCoordinator(*physics, *network, options).iterations_done, kIterations);
@@ -177,13 +177,13 @@ RunOutputs RunBothOverSockets(const Scenario& scenario) {
       errors += e.what();
     }
   };
-  std::thread phys(serve, &physics_sim, ConnectorIdentity{"mujoco", Role::kPhysics, hash});
-  std::thread net(serve, &medium, ConnectorIdentity{"medium", Role::kNetwork, hash});
+  std::thread phys(serve, &physics_sim, ConnectorIdentity{"mujoco", Role::kPhysics, hash, {}});
+  std::thread net(serve, &medium, ConnectorIdentity{"medium", Role::kNetwork, hash, {}});
   WaitLimits limits;
   limits.timeout_ns = 10 * kNsPerS;
   limits.deadline_ns = MonotonicNowNs() + limits.timeout_ns;
   AcceptedConnectors c =
-      AcceptConnectors(listener, {hash, scenario.iteration_ns, false, std::nullopt}, limits);
+      AcceptConnectors(listener, {hash, scenario.iteration_ns, false, std::nullopt, {}}, limits);
   RunCoordinator(*c.physics, *c.network, OptionsFromScenario(scenario));
   c = {};
   phys.join();

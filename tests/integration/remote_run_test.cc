@@ -6,6 +6,7 @@
 #include <netinet/in.h>
 #include <signal.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -159,6 +160,58 @@ TEST(RemoteRunTest, MediumKilledMidRunStopsTheRunWithItsNameAndLeavesNothing) {
   EXPECT_NE(errors[0].find("'medium@"), std::string::npos) << errors[0];
   EXPECT_NE(errors[0].find("connector crashed or exited"), std::string::npos) << errors[0];
   ExpectNothingLeft(scenario.name);
+}
+
+// Issue 17, finding 4: the remote medium peer is authenticated with a shared secret. A medium
+// with another secret or none is refused (the run warns and goes on waiting), the one with the
+// secret runs; a run that listens where other hosts can reach it needs a secret.
+TEST(RemoteRunTest, ASharedSecretKeepsOutMediaWithoutItAndLetsTheRightOneIn) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RemoteScenario scenario = WriteScenario(4);
+  DownGuard guard(scenario.name);
+  const std::string key = TempDir() + "/" + scenario.name + ".key";
+  const std::string other_key = TempDir() + "/" + scenario.name + ".other.key";
+  std::ofstream(key) << "a shared secret of at least 16 bytes";
+  std::ofstream(other_key) << "another secret, also 16 bytes or more";
+  ASSERT_EQ(chmod(key.c_str(), 0600), 0);
+  ASSERT_EQ(chmod(other_key.c_str(), 0600), 0);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+
+  const CommandResult open_run =
+      RunCommand(RunArgs(scenario, out, {"--listen", "0.0.0.0:0", "--remote", "network"}));
+  EXPECT_NE(open_run.exit_code, 0);
+  EXPECT_NE(open_run.err.find("--listen 0.0.0.0:0 can be reached from other hosts: give "
+                              "--secret-file PATH"),
+            std::string::npos)
+      << open_run.err;
+  ExpectNothingLeft(scenario.name);
+
+  Child run(RunArgs(scenario, out,
+                    {"--listen", "127.0.0.1:0", "--remote", "network", "--secret-file", key}));
+  const std::string port = StartListeningRun(run);
+  ASSERT_FALSE(port.empty()) << run.err();
+  const std::vector<std::string> medium = {SitlnetBinary(), "medium", scenario.path, "--connect",
+                                           "127.0.0.1:" + port};
+  std::vector<std::string> with_other = medium;
+  with_other.insert(with_other.end(), {"--secret-file", other_key});
+  const CommandResult other = RunCommand(with_other, kRunTimeoutNs);
+  EXPECT_EQ(other.exit_code, 1) << other.err;
+  EXPECT_NE(other.err.find("the coordinator failed to prove the shared secret"), std::string::npos)
+      << other.err;
+  const CommandResult none = RunCommand(medium, kRunTimeoutNs);
+  EXPECT_EQ(none.exit_code, 1) << none.err;
+  EXPECT_NE(none.err.find("did not authenticate: this coordinator needs the shared secret"),
+            std::string::npos)
+      << none.err;
+  std::vector<std::string> with_key = medium;
+  with_key.insert(with_key.end(), {"--secret-file", key});
+  const CommandResult right = RunCommand(with_key, kRunTimeoutNs);
+  EXPECT_EQ(right.exit_code, 0) << right.err;
+  ASSERT_EQ(run.Wait(kRunTimeoutNs), 0) << run.err();
+  EXPECT_EQ(LinesStartingWith(run.err(), "sitlnet: warning: ignored a connection").size(), 2u)
+      << run.err();
+  ExpectNothingLeft(scenario.name);
+  RunCommand({"rm", "-rf", out, key, other_key});
 }
 
 TEST(RemoteRunTest, UnreachableCoordinatorAndRealtimePacingAreOneLineErrors) {

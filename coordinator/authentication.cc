@@ -1,0 +1,84 @@
+#include "coordinator/authentication.h"
+
+#include <fcntl.h>
+#include <openssl/crypto.h>
+#include <openssl/evp.h>
+#include <openssl/hmac.h>
+#include <sys/random.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "common/common.h"
+
+namespace sitlnet::coordinator {
+
+std::string LoadSecretFile(const std::string& path) {
+  const std::string who = "secret file " + path;
+  const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+  if (fd < 0) throw Error(SystemErrorMessage(who, errno));
+  struct stat info {};
+  std::string secret;
+  std::string problem;
+  if (fstat(fd, &info) != 0) {
+    problem = SystemErrorMessage(who, errno);
+  } else if (!S_ISREG(info.st_mode)) {
+    problem = who + ": not a regular file";
+  } else if (!IsInvokingUser(info.st_uid)) {
+    problem =
+        who + ": owned by uid " + std::to_string(info.st_uid) + ", not by the user running sitlnet";
+  } else if ((info.st_mode & 077) != 0) {
+    char mode[8];
+    std::snprintf(mode, sizeof mode, "%04o", info.st_mode & 07777);
+    problem = who + ": mode " + mode + " lets others read or write it (chmod 600 " + path + ")";
+  } else {
+    char buffer[kMaxSecretBytes + 1];
+    ssize_t n;
+    while ((n = read(fd, buffer, sizeof buffer)) > 0 && secret.size() <= kMaxSecretBytes) {
+      secret.append(buffer, static_cast<size_t>(n));
+    }
+    if (n < 0) problem = SystemErrorMessage(who, errno);
+  }
+  close(fd);
+  if (problem.empty() && (secret.size() < kMinSecretBytes || secret.size() > kMaxSecretBytes)) {
+    problem = who + ": " + std::to_string(secret.size()) + " bytes, expected " +
+              std::to_string(kMinSecretBytes) + " to " + std::to_string(kMaxSecretBytes) +
+              " (make one: head -c 32 /dev/urandom > " + path + "; chmod 600 " + path + ")";
+  }
+  if (!problem.empty()) throw Error(problem);
+  return secret;
+}
+
+std::string RandomNonce() {
+  std::string nonce(kNonceBytes, '\0');
+  size_t filled = 0;
+  while (filled < nonce.size()) {
+    const ssize_t n = getrandom(nonce.data() + filled, nonce.size() - filled, 0);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw Error(SystemErrorMessage("getrandom", errno));
+    filled += static_cast<size_t>(n);
+  }
+  return nonce;
+}
+
+std::string ProofOf(const std::string& secret, const std::string& label, const std::string& first,
+                    const std::string& second) {
+  std::string message = label;
+  message.push_back('\0');
+  message += first;
+  message += second;
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  SITLNET_DEMAND(HMAC(EVP_sha256(), secret.data(), static_cast<int>(secret.size()),
+                      reinterpret_cast<const unsigned char*>(message.data()), message.size(),
+                      digest, &length) != nullptr);
+  return std::string(reinterpret_cast<const char*>(digest), length);
+}
+
+bool SameProof(const std::string& a, const std::string& b) {
+  return a.size() == b.size() && CRYPTO_memcmp(a.data(), b.data(), a.size()) == 0;
+}
+
+}  // namespace sitlnet::coordinator
