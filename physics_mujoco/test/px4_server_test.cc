@@ -39,6 +39,31 @@ class Px4ServerTest : public ::testing::Test {
     }
     return px4;
   }
+
+  // PX4's lock-step from a thread: answers `sensors` HIL_SENSORs with `throttle`, keeping their
+  // times. Join before reading them.
+  std::thread Answer(FakePx4* px4, int sensors, float throttle, std::vector<uint64_t>* times) {
+    return std::thread([=] {
+      for (int i = 0; i < sensors; ++i) {
+        mavlink::HilSensor sensor;
+        if (!mavlink::Unpack(px4->Receive(mavlink::kHilSensorId), &sensor)) return;
+        times->push_back(sensor.time_usec);
+        px4->SendControls(sensor.time_usec, throttle, true);
+      }
+    });
+  }
+
+  // Steps `iterations` iterations of 10 steps; true if every sensor sent in each was answered
+  // before the clock moved past it.
+  bool EverySensorAnsweredIn(int iterations) {
+    bool answered = true;
+    for (int iteration = 0; iteration < iterations; ++iteration) {
+      server_.Advance(10);
+      const Px4Counters counters = *server_.px4_counters(0);
+      answered &= counters.actuator_controls == counters.sensors_sent;
+    }
+    return answered;
+  }
 };
 
 TEST_F(Px4ServerTest, TheClockWaitsForEachAnswerAndSensorsFollowTheWorldsClock) {
@@ -46,27 +71,14 @@ TEST_F(Px4ServerTest, TheClockWaitsForEachAnswerAndSensorsFollowTheWorldsClock) 
   std::unique_ptr<FakePx4> px4 = Connect();
   constexpr int kSensors = 250;  // 1 s at 250 Hz
   std::vector<uint64_t> sensor_usec;
-  std::thread autopilot([&] {
-    for (int i = 0; i < kSensors; ++i) {
-      mavlink::HilSensor sensor;
-      if (!mavlink::Unpack(px4->Receive(mavlink::kHilSensorId), &sensor)) return;
-      sensor_usec.push_back(sensor.time_usec);
-      px4->SendControls(sensor.time_usec, 0.8f, true);
-    }
-  });
+  std::thread autopilot = Answer(px4.get(), kSensors, 0.8f, &sensor_usec);
   // PX4 is awaited once it has answered (as with Gazebo): the sensor of time 0 goes out at the
   // first iteration's start, and its answer comes before the clock moves.
   server_.Advance(0);
   while (server_.px4_counters(0)->actuator_controls == 0) {
     if (WaitReadable(server_.wait_fd(), 5000)) server_.Poll();
   }
-  bool every_sensor_answered = true;
-  for (int iteration = 0; iteration < 100; ++iteration) {
-    server_.Advance(10);
-    // Each sensor sent in the iteration was answered before the clock moved past it.
-    const Px4Counters counters = *server_.px4_counters(0);
-    every_sensor_answered &= counters.actuator_controls == counters.sensors_sent;
-  }
+  const bool every_sensor_answered = EverySensorAnsweredIn(100);
   autopilot.join();
   EXPECT_TRUE(every_sensor_answered);
   EXPECT_TRUE(server_.TakeSilentRobots().empty());
@@ -129,27 +141,18 @@ TEST_F(Px4ServerTest, APx4ThatDiesIsReportedSilentAndRejoinsWhenItConnectsAgain)
   // on, and the clock waits for each answer.
   px4 = Connect();
   EXPECT_DOUBLE_EQ(server_.world().Pose(0).position_m.z, 0.2);
-  std::thread autopilot([&] {
-    for (int i = 0; i < 23; ++i) {  // 20, 24, ..., 108 ms
-      mavlink::HilSensor next;
-      if (!mavlink::Unpack(px4->Receive(mavlink::kHilSensorId), &next)) return;
-      px4->SendControls(next.time_usec, 0.8f, true);
-    }
-  });
+  std::vector<uint64_t> sensor_usec;
+  std::thread autopilot = Answer(px4.get(), 23, 0.8f, &sensor_usec);  // 20, 24, ..., 108 ms
   server_.Advance(0);
   ASSERT_TRUE(WaitReadable(server_.wait_fd(), 5000)) << "the answer is not seen";
   while (server_.px4_counters(0)->actuator_controls < 2) {
     if (WaitReadable(server_.wait_fd(), 5000)) server_.Poll();
   }
-  bool every_sensor_answered = true;
-  for (int iteration = 0; iteration < 9; ++iteration) {
-    server_.Advance(10);
-    const Px4Counters counters = *server_.px4_counters(0);
-    every_sensor_answered &= counters.actuator_controls == counters.sensors_sent;
-  }
+  const bool every_sensor_answered = EverySensorAnsweredIn(9);
   autopilot.join();
   EXPECT_TRUE(every_sensor_answered);
   EXPECT_TRUE(server_.TakeSilentRobots().empty());
+  EXPECT_EQ(sensor_usec.front(), 20000u);
 }
 
 }  // namespace
