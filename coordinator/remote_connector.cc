@@ -239,14 +239,19 @@ std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpec
   }
   const proto::coord::Hello& h = hello.hello();
   const Role role = h.role() == proto::coord::ROLE_NETWORK ? Role::kNetwork : Role::kPhysics;
-  const std::string who = RoleName(role) + " connector '" + h.connector_name() + "'";
+  // The name is the peer's, maybe a stranger's: printable ASCII only, 64 bytes at most.
+  std::string name = h.connector_name().substr(0, 64);
+  for (char& c : name) {
+    if (c < 0x20 || c > 0x7e) c = '?';
+  }
+  const std::string who = RoleName(role) + " connector '" + name + "'";
   // Authentication first: a peer without the secret learns nothing of the run.
   if (!expect.secret.empty() || !h.nonce().empty()) {
     Authenticate(channel, expect.secret, h.nonce(), who, hello_deadline_ns, limits.interrupt_fd);
   }
   std::string refusal;
   if (h.role() != proto::coord::ROLE_PHYSICS && h.role() != proto::coord::ROLE_NETWORK) {
-    refusal = "connector '" + h.connector_name() + "' has no role (physics or network)";
+    refusal = "connector '" + name + "' has no role (physics or network)";
   } else if (h.protocol_version() != kProtocolVersion) {
     refusal = who + " speaks protocol version " + std::to_string(h.protocol_version()) +
               ", the coordinator " + std::to_string(kProtocolVersion);
@@ -271,8 +276,7 @@ std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpec
     throw Error(who + ": sending Welcome: " + e.what());
   }
   proto::coord::Poses poses = h.initial_poses();
-  return std::make_unique<RemoteConnector>(h.connector_name(), role, std::move(channel),
-                                           std::move(poses));
+  return std::make_unique<RemoteConnector>(name, role, std::move(channel), std::move(poses));
 }
 
 AcceptedConnectors AcceptConnectors(Listener& listener, const HandshakeExpectation& expect,
@@ -382,7 +386,8 @@ std::string ServeCoordinator(Channel& channel, Simulator& simulator,
     if (in.has_challenge() && !identity.secret.empty()) {
       // The coordinator proves the secret first: a connector tells nothing to an impostor.
       const proto::coord::Challenge& challenge = in.challenge();
-      if (!SameProof(challenge.proof(),
+      if (challenge.nonce().size() != kNonceBytes ||
+          !SameProof(challenge.proof(),
                      ProofOf(identity.secret, "sitlnet coordinator", nonce, challenge.nonce()))) {
         throw Error(
             "the coordinator failed to prove the shared secret (a different "

@@ -217,6 +217,10 @@ class RemoteMedium final : public tapbridge::MediumModel {
   // (one per other station each), and the longest frame sent.
   int64_t delivery_budget_ = 0;
   size_t longest_submitted_bytes_ = 0;
+  // Air frames (pcap records) the peer may report per frame sent: the data frame and its
+  // retries (802.11's long retry limit is 7), each with its ACK, RTS and CTS, with room to spare.
+  static constexpr int64_t kAirFramesPerFrameSent = 64;
+  int64_t air_budget_ = 0;
 };
 
 // The other host's side: replays each START's recorded calls on `medium`.

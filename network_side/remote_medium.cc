@@ -62,7 +62,10 @@ void ToProto(const tapbridge::AirFrame& f, pm::MediumReply* reply) {
 
 // Throws (naming the peer through `describe`) on an air frame that cannot be one: the peer is
 // another process and its reply is input.
+// `frames`: the reply's Ethernet frames, each decoded once and shared by the air frames that
+// name it (a reply cannot make one copy per air frame).
 tapbridge::AirFrame FromProto(const pm::AirFrame& p, const pm::MediumReply& reply,
+                              std::vector<std::shared_ptr<const std::vector<uint8_t>>>* frames,
                               const std::function<std::string()>& describe) {
   tapbridge::AirFrame f;
   mac::TxRecord& tx = f.tx;
@@ -98,8 +101,12 @@ tapbridge::AirFrame FromProto(const pm::AirFrame& p, const pm::MediumReply& repl
                   " of " + std::to_string(reply.frames_size()) +
                   " (an Ethernet frame of at least 14 bytes)");
     }
-    tx.ethernet_frame = std::make_shared<const std::vector<uint8_t>>(reply.frames(i).begin(),
-                                                                     reply.frames(i).end());
+    frames->resize(reply.frames_size());
+    if (!(*frames)[i]) {
+      (*frames)[i] = std::make_shared<const std::vector<uint8_t>>(reply.frames(i).begin(),
+                                                                  reply.frames(i).end());
+    }
+    tx.ethernet_frame = (*frames)[i];
   }
   f.failed = p.failed();
   f.channel_mhz = p.channel_mhz();
@@ -138,6 +145,7 @@ void RemoteMedium::Submit(int station, TimeNs at_ns, std::span<const uint8_t> et
   // What the peer may deliver of it: one copy to every other station, at most, and no frame
   // longer than the longest the robots sent.
   delivery_budget_ += std::max(1, stations_ - 1);
+  air_budget_ += kAirFramesPerFrameSent;
   longest_submitted_bytes_ = std::max(longest_submitted_bytes_, ethernet.size());
   pm::SubmitOp* op = NewOp()->mutable_submit();
   op->set_station(station);
@@ -206,9 +214,26 @@ void RemoteMedium::AdvanceTo(TimeNs until_ns, std::vector<mac::Delivery>* delive
                                         d.time_ns(), d.rx_power_dbm(), d.sinr_db()});
   }
   if (air != nullptr) {
+    std::vector<std::shared_ptr<const std::vector<uint8_t>>> frames;
     for (const pm::AirFrame& frame : reply_.air()) {
+      if (frame.transmitter() < 0 || frame.transmitter() >= stations_) {
+        refuse("has an air frame from station " + std::to_string(frame.transmitter()) + " of " +
+               std::to_string(stations_));
+      }
+      // A frame on the air can have begun steps before (12 ms for 1500 bytes at 1 Mb/s).
+      if (frame.start_ns() < previous_until_ns - kNsPerS || frame.start_ns() > until_ns) {
+        refuse("has an air frame at " + std::to_string(frame.start_ns()) + " ns, outside the step");
+      }
+      if (--air_budget_ < 0) {
+        refuse("has more air frames than the robots' frames could make (" +
+               std::to_string(kAirFramesPerFrameSent) + " each)");
+      }
+      if (frame.frame_index() >= 0 && frame.frame_index() < reply_.frames_size() &&
+          reply_.frames(frame.frame_index()).size() > longest_submitted_bytes_) {
+        refuse("has an air frame longer than any the robots sent");
+      }
       try {
-        air->push_back(FromProto(frame, reply_, [this] { return Describe(); }));
+        air->push_back(FromProto(frame, reply_, &frames, [this] { return Describe(); }));
       } catch (const Error&) {
         healthy_ = false;
         throw;

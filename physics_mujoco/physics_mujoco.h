@@ -214,10 +214,8 @@ class PhysicsServer {
   // Advance() sends what an autopilot is due (an ArduPilot reply, PX4's sensors) no earlier than
   // the wall instant of its virtual time, sleeping until then, and while an autopilot's answer
   // is awaited the world does not run ahead of the wall clock (it waits for the answer up to
-  // the wall instant of its next step, then steps once). autopilot_hold_ns: the wall time spent
-  // holding replies.
+  // the wall instant of its next step, then steps once). The timebase must be on CLOCK_MONOTONIC.
   void HoldAutopilotsToWallClock(const clock::Timebase* timebase);
-  TimeNs autopilot_hold_ns() const;
   // Autopilots (ArduPilot, PX4) that missed the frame gate's timeout since the last call (each
   // once until it answers again), for the caller's on_silent_robot policy.
   std::vector<int> TakeSilentRobots();

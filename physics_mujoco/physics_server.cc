@@ -408,12 +408,9 @@ struct PhysicsServer::Impl {
                      [this](const Endpoint& ep) { return AutopilotDue(ep); })) {
       return;
     }
+    // The coordinator's timebase is on CLOCK_MONOTONIC (clock::SystemWallClock), as here.
     const TimeNs wall_ns = realtime->WallOf(world.time_ns(0));
-    const TimeNs now_ns = MonotonicNowNs();
-    if (wall_ns > now_ns) {
-      held_ns += wall_ns - now_ns;
-      clock::SystemWallClock().SleepUntilNs(wall_ns);
-    }
+    if (wall_ns > MonotonicNowNs()) clock::SystemWallClock().SleepUntilNs(wall_ns);
   }
 
   void Advance(int steps) {
@@ -448,7 +445,6 @@ struct PhysicsServer::Impl {
 
   TimeNs frame_gate_timeout_ns = 0;           // 0: the clock never waits for ArduPilot frames
   const clock::Timebase* realtime = nullptr;  // Set: autopilots are served on the wall clock.
-  TimeNs held_ns = 0;                         // Wall time spent holding them.
   std::vector<int> silent_robots;
   bool has_autopilots = false;  // ArduPilot or PX4 robots: the frame gate applies
 };
@@ -533,7 +529,6 @@ bool PhysicsServer::has_frame_gated_robots() const { return impl_->has_autopilot
 void PhysicsServer::HoldAutopilotsToWallClock(const clock::Timebase* timebase) {
   impl_->realtime = timebase;
 }
-TimeNs PhysicsServer::autopilot_hold_ns() const { return impl_->held_ns; }
 bool PhysicsServer::spoke(int robot) const {
   SITLNET_DEMAND(robot >= 0 && robot < static_cast<int>(impl_->endpoints.size()));
   const auto& ep = impl_->endpoints[robot];

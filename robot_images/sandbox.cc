@@ -126,15 +126,19 @@ std::vector<std::string> BubblewrapArgs(const Image& image, const LaunchContext&
     if (Exists(host_path)) args.insert(args.end(), {"--ro-bind", host_path, host_path});
   }
   // The image's own files stay visible where they are, also in a private folder (/tmp): bound
-  // in only there, and a file only when its folder is not bound already.
+  // in only there, read-only, and a file only when its folder is not bound already; writable
+  // paths read-write. bubblewrap mounts in order, a later mount over an earlier one: parents
+  // first, so that a writable folder inside the image's folder stays writable and an image
+  // folder inside a writable one stays read-only.
+  std::vector<std::pair<const char*, std::string>> binds;
   const std::string image_dir = std::filesystem::absolute(image.dir).lexically_normal().string();
-  if (IsInPrivateFolder(image_dir)) Bind("--ro-bind", image_dir, &args);
+  if (IsInPrivateFolder(image_dir)) binds.emplace_back("--ro-bind", image_dir);
   for (const std::string& file : manifest.files()) {
     const std::string path = ExpandPlaceholders(file, image, context);
-    if (IsInPrivateFolder(path) && !IsWithin(path, image_dir)) Bind("--ro-bind", path, &args);
+    if (IsInPrivateFolder(path) && !IsWithin(path, image_dir)) {
+      binds.emplace_back("--ro-bind", std::filesystem::path(path).lexically_normal().string());
+    }
   }
-  // Writable paths after the image's read-only ones: bubblewrap mounts in order, and a writable
-  // folder inside the image's folder (or beside its manifest) must stay writable.
   for (const std::string& path : manifest.writable()) {
     const std::string host_path = ExpandPlaceholders(path, image, context);
     if (!Exists(host_path)) {
@@ -142,8 +146,13 @@ std::vector<std::string> BubblewrapArgs(const Image& image, const LaunchContext&
                   "\" writable path " + host_path + " does not exist (" + image.manifest_path +
                   ")");
     }
-    Bind("--bind", host_path, &args);
+    binds.emplace_back("--bind", std::filesystem::path(host_path).lexically_normal().string());
   }
+  std::stable_sort(binds.begin(), binds.end(), [](const auto& a, const auto& b) {
+    return std::count(a.second.begin(), a.second.end(), '/') <
+           std::count(b.second.begin(), b.second.end(), '/');
+  });
+  for (const auto& [how, path] : binds) Bind(how, path, &args);
   for (const std::string& path : manifest.hidden()) {
     Hide(ExpandPlaceholders(path, image, context), &args);
   }

@@ -196,7 +196,7 @@ std::string AttackWith(std::function<void(proto::medium::MediumReply*)> craft) {
   return error;
 }
 
-TEST(RemoteMedium, RepliesAHonestMediumCannotMakeEndTheLinkNamingWhy) {
+TEST(RemoteMedium, RepliesAnHonestMediumCannotMakeEndTheLinkNamingWhy) {
   const std::vector<uint8_t> sent =
       Frame(ThreeRobots(), 0, MacAddress{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}}, 100, 1);
   const std::string frame(sent.begin(), sent.end());
@@ -242,6 +242,28 @@ TEST(RemoteMedium, RepliesAHonestMediumCannotMakeEndTheLinkNamingWhy) {
               deliver(r, 1, 1500 * kNsPerUs)->set_frame(std::string(5000, 'x'));
             }),
             "delivers a frame of 5000 bytes, longer than any the robots sent (114)");
+  // Air frames (pcap records): from a station that does not exist, and a reply of a few kB
+  // naming one frame a thousand times.
+  const auto air = [&](proto::medium::MediumReply* reply, int transmitter) {
+    proto::medium::AirFrame* a = reply->add_air();
+    a->set_start_ns(1 * kNsPerMs);
+    a->set_duration_ns(200 * kNsPerUs);
+    a->set_transmitter(transmitter);
+    a->set_rate_mbps(6);
+    a->set_signal_dbm(-60);
+    a->set_noise_dbm(-95);
+    a->set_frame_index(0);
+  };
+  EXPECT_EQ(attack([&](proto::medium::MediumReply* r) {
+              r->add_frames(frame);
+              air(r, 7);
+            }),
+            "has an air frame from station 7 of 3");
+  EXPECT_EQ(attack([&](proto::medium::MediumReply* r) {
+              r->add_frames(frame);
+              for (int i = 0; i < 1000; ++i) air(r, 0);
+            }),
+            "has more air frames than the robots' frames could make (64 each)");
 }
 
 TEST(RemoteMedium, ScenarioHashIgnoresDurationAndPacingButNotTheSeed) {

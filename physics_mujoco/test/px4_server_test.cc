@@ -34,16 +34,27 @@ class Px4ServerTest : public ::testing::Test {
   std::unique_ptr<FakePx4> Connect() {
     auto px4 = std::make_unique<FakePx4>(scenario_.robots[0].ctl_root_address, TestJsonPort());
     const uint64_t before = server_.px4_counters(0)->connections;
-    while (server_.px4_counters(0)->connections == before) {
-      if (WaitReadable(server_.wait_fd(), 5000)) server_.Poll();
-    }
+    EXPECT_TRUE(PollUntil([&] { return server_.px4_counters(0)->connections > before; }))
+        << "the connection is not seen";
     return px4;
   }
 
   // PX4's lock-step from a thread: answers `sensors` HIL_SENSORs with `throttle`, keeping their
   // times. Join before reading them.
-  std::thread Answer(FakePx4* px4, int sensors, float throttle, std::vector<uint64_t>* times) {
-    return std::thread([=] {
+  // Polls the server until `done`, for 10 s at most (false then).
+  template <typename Done>
+  bool PollUntil(Done done) {
+    const TimeNs deadline_ns = MonotonicNowNs() + 10 * kNsPerS;
+    while (!done()) {
+      if (MonotonicNowNs() > deadline_ns) return false;
+      if (WaitReadable(server_.wait_fd(), 100)) server_.Poll();
+    }
+    return true;
+  }
+
+  // jthread: joined also when an ASSERT leaves the test early.
+  std::jthread Answer(FakePx4* px4, int sensors, float throttle, std::vector<uint64_t>* times) {
+    return std::jthread([=] {
       for (int i = 0; i < sensors; ++i) {
         mavlink::HilSensor sensor;
         if (!mavlink::Unpack(px4->Receive(mavlink::kHilSensorId), &sensor)) return;
@@ -71,13 +82,11 @@ TEST_F(Px4ServerTest, TheClockWaitsForEachAnswerAndSensorsFollowTheWorldsClock) 
   std::unique_ptr<FakePx4> px4 = Connect();
   constexpr int kSensors = 250;  // 1 s at 250 Hz
   std::vector<uint64_t> sensor_usec;
-  std::thread autopilot = Answer(px4.get(), kSensors, 0.8f, &sensor_usec);
+  std::jthread autopilot = Answer(px4.get(), kSensors, 0.8f, &sensor_usec);
   // PX4 is awaited once it has answered (as with Gazebo): the sensor of time 0 goes out at the
   // first iteration's start, and its answer comes before the clock moves.
   server_.Advance(0);
-  while (server_.px4_counters(0)->actuator_controls == 0) {
-    if (WaitReadable(server_.wait_fd(), 5000)) server_.Poll();
-  }
+  ASSERT_TRUE(PollUntil([&] { return server_.px4_counters(0)->actuator_controls > 0; }));
   const bool every_sensor_answered = EverySensorAnsweredIn(100);
   autopilot.join();
   EXPECT_TRUE(every_sensor_answered);
@@ -105,9 +114,7 @@ TEST_F(Px4ServerTest, ASilentPx4IsReportedOnceAndNotWaitedForAgain) {
   mavlink::HilSensor sensor;
   ASSERT_TRUE(mavlink::Unpack(px4->Receive(mavlink::kHilSensorId), &sensor));
   px4->SendControls(sensor.time_usec, 0.5f, true);
-  while (server_.px4_counters(0)->actuator_controls == 0) {
-    if (WaitReadable(server_.wait_fd(), 5000)) server_.Poll();
-  }
+  ASSERT_TRUE(PollUntil([&] { return server_.px4_counters(0)->actuator_controls > 0; }));
   server_.Advance(10);
   EXPECT_EQ(server_.TakeSilentRobots(), std::vector<int>{0});
   const TimeNs begin_ns = MonotonicNowNs();
@@ -127,9 +134,7 @@ TEST_F(Px4ServerTest, APx4ThatDiesIsReportedSilentAndRejoinsWhenItConnectsAgain)
   mavlink::HilSensor sensor;
   ASSERT_TRUE(mavlink::Unpack(px4->Receive(mavlink::kHilSensorId), &sensor));
   px4->SendControls(sensor.time_usec, 0.5f, true);
-  while (server_.px4_counters(0)->actuator_controls == 0) {
-    if (WaitReadable(server_.wait_fd(), 5000)) server_.Poll();
-  }
+  ASSERT_TRUE(PollUntil([&] { return server_.px4_counters(0)->actuator_controls > 0; }));
   px4.reset();  // PX4 dies.
   const TimeNs begin_ns = MonotonicNowNs();
   server_.Advance(10);
@@ -142,12 +147,10 @@ TEST_F(Px4ServerTest, APx4ThatDiesIsReportedSilentAndRejoinsWhenItConnectsAgain)
   px4 = Connect();
   EXPECT_DOUBLE_EQ(server_.world().Pose(0).position_m.z, 0.2);
   std::vector<uint64_t> sensor_usec;
-  std::thread autopilot = Answer(px4.get(), 23, 0.8f, &sensor_usec);  // 20, 24, ..., 108 ms
+  std::jthread autopilot = Answer(px4.get(), 23, 0.8f, &sensor_usec);  // 20, 24, ..., 108 ms
   server_.Advance(0);
-  ASSERT_TRUE(WaitReadable(server_.wait_fd(), 5000)) << "the answer is not seen";
-  while (server_.px4_counters(0)->actuator_controls < 2) {
-    if (WaitReadable(server_.wait_fd(), 5000)) server_.Poll();
-  }
+  ASSERT_TRUE(PollUntil([&] { return server_.px4_counters(0)->actuator_controls >= 2; }))
+      << "the answer is not seen";
   const bool every_sensor_answered = EverySensorAnsweredIn(9);
   autopilot.join();
   EXPECT_TRUE(every_sensor_answered);

@@ -157,8 +157,10 @@ int Run(const Options& options) {
     }
     armed = armed || (observation.ready_to_arm && observation.time_s >= options.arm_after_s);
     const MotorOutputs motors = armed ? pilot.Fly(observation.state) : MotorOutputs{};
-    // Before the answer: in lockstep pacing the datagrams enter the medium in this iteration.
-    if (telemetry) telemetry->Update(observation, armed);
+    // From arming on (before it, PX4's protocol leaves the timing of the first answers to the
+    // host: docs/autopilots.md), and before the answer: in lockstep pacing the datagrams enter
+    // the medium in this iteration.
+    if (telemetry && armed) telemetry->Update(observation, armed);
     if (options.log_replies) {
       const Eigen::Vector3d& p = observation.true_position_m;
       timespec now{};

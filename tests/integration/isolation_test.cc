@@ -350,8 +350,9 @@ TEST(IsolationTest, RobotImageWithUserNobodyRunsAsUid65534) {
 
 // A `writable` folder inside the folder of the image's manifest stays writable: bubblewrap
 // mounts in order, and the image's folder (bound read-only because it is in the sandbox's
-// private /tmp) used to be bound after it, over it ("Read-only file system").
-TEST(IsolationTest, AWritableFolderBesideTheManifestIsWritable) {
+// private /tmp) used to be bound after it, over it ("Read-only file system"); and an image's
+// folder inside a writable folder stays read-only.
+TEST(IsolationTest, WritableAndImageFoldersNestEitherWay) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const auto t = MakeScenario("iso", 3, 1);
   DownGuard down(t.scenario.name);
@@ -374,6 +375,24 @@ TEST(IsolationTest, AWritableFolderBesideTheManifestIsWritable) {
     EXPECT_EQ(*status, 0) << integration_test::ReadAll(dir + "/writer.log");
   }
   EXPECT_EQ(integration_test::ReadAll(folder + "/file"), "written\n");
+  // And the other way round: an image whose folder is inside a writable folder cannot write its
+  // own files (a robot must not rewrite the program it runs).
+  const std::string outer = dir + "/outer";
+  const std::string inner = outer + "/image";
+  ASSERT_EQ(RunCommand({"mkdir", "-p", inner}).exit_code, 0);
+  const std::string inner_manifest = inner + "/image.textproto";
+  std::ofstream(inner_manifest) << "name: \"rewriter\"\nwritable: \"" << outer
+                                << "\"\ncommand: \"/bin/sh\" command: \"-c\" command: \"echo ok > "
+                                << outer << "/beside; echo evil > " << inner_manifest << "\"\n";
+  const images::Image rewriter = images::LoadImage("", inner_manifest);
+  {
+    images::RobotProcess process(rewriter, context, SitlnetBinary(), dir + "/rewriter.log");
+    const auto status = process.WaitExit(20 * kNsPerS);
+    ASSERT_TRUE(status);
+    EXPECT_NE(*status, 0) << integration_test::ReadAll(dir + "/rewriter.log");
+  }
+  EXPECT_EQ(integration_test::ReadAll(outer + "/beside"), "ok\n");
+  EXPECT_EQ(integration_test::ReadAll(inner_manifest).rfind("name: \"rewriter\"", 0), 0u);
   RunCommand({"rm", "-rf", dir});
 }
 
