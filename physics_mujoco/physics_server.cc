@@ -206,13 +206,18 @@ struct PhysicsServer::Impl {
   // the frame answering its last reply, a PX4 robot in lock-step with the motor outputs
   // answering its last HIL_SENSOR. Waits up to frame_gate_timeout_ns of wall time; robots still
   // silent then are recorded for the caller's policy and not waited for again until they answer.
+  // An answer is outstanding: an ArduPilot frame for its last reply, PX4's controls for its last
+  // HIL_SENSOR (the robot not dropped). The frame gate waits only for those not reported silent.
+  static bool JsonAnswerOutstanding(const Endpoint& ep) {
+    return ep.json.fd() >= 0 && ep.json_joined && !ep.json_pending && !ep.dropped;
+  }
+  static bool Px4AnswerOutstanding(const Endpoint& ep) {
+    return ep.px4 && !ep.dropped && ep.px4->link().awaiting_answer();
+  }
   bool AwaitedJson(const Endpoint& ep) const {
-    return ep.json.fd() >= 0 && ep.json_joined && !ep.json_pending && !ep.dropped &&
-           !ep.json_silent;
+    return JsonAnswerOutstanding(ep) && !ep.json_silent;
   }
-  bool AwaitedPx4(const Endpoint& ep) const {
-    return ep.px4 && !ep.dropped && !ep.px4_silent && ep.px4->link().awaiting_answer();
-  }
+  bool AwaitedPx4(const Endpoint& ep) const { return Px4AnswerOutstanding(ep) && !ep.px4_silent; }
   // Polls until no endpoint satisfies `waiting_for` (true) or the wall clock reaches
   // `deadline_ns` (false).
   template <typename Predicate>
@@ -246,10 +251,8 @@ struct PhysicsServer::Impl {
   // instant of its next step. False if some answer has not come by then.
   bool AwaitAnswersOnWallClock() {
     return AwaitAnswers(
-        realtime->WallOf(world.time_ns(0) + world.step_ns()), [](const Endpoint& ep) {
-          const bool json = ep.json.fd() >= 0 && ep.json_joined && !ep.json_pending && !ep.dropped;
-          return json || (ep.px4 && !ep.dropped && ep.px4->link().awaiting_answer());
-        });
+        realtime->WallOf(world.time_ns(0) + world.step_ns()),
+        [](const Endpoint& ep) { return JsonAnswerOutstanding(ep) || Px4AnswerOutstanding(ep); });
   }
 
   // Takes what PX4 sent: a new connection (PX4 restarted: the robot is back at its start and
