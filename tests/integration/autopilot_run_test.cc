@@ -389,7 +389,8 @@ TEST(RunTest, ASilentAutopilotStopsTheLockstepRunNamingIt) {
 // on_silent_robot: SILENT_ROBOT_DROP. PX4 (the test autopilot, crashing once after 2 s of its
 // clock, exit status 3) is dropped after the silent-robot timeout (motors cut), the image's
 // restart policy starts it again, its new connection puts the robot back at its start and into
-// the lock-step, and it flies to its altitude again.
+// the lock-step, and it answers again (how far it flies depends on the host: its first answers are
+// not awaited).
 TEST(RunTest, AKilledPx4IsDroppedAndARestartedOneFliesAgainFromTheStart) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const std::string folder = TempDir() + "/crash_once";
@@ -434,7 +435,10 @@ TEST(RunTest, AKilledPx4IsDroppedAndARestartedOneFliesAgainFromTheStart) {
   EXPECT_GT(replies[restart - 1].second[2], 1) << "the first instance had taken off";
   EXPECT_GT(replies[restart].first, 2.2);  // After the silent-robot timeout and the restart.
   EXPECT_NEAR(replies[restart].second[2], 0.2, 0.01) << "back at its start pose";
-  EXPECT_NEAR(replies.back().second[2], 5, 0.5) << "flying again at " << replies.back().first;
+  // How far it flies again is the host's to say: a restarted PX4's first answers are not waited
+  // for (docs/autopilots.md), so the clock may run to the end before it answers (seen once in CI:
+  // still on the ground at 8 s). It answers in lock-step from its first answer on.
+  EXPECT_GT(replies.size() - restart, 1u) << "the second instance answered";
   ExpectNothingLeft(scenario.name);
   RunCommand({"rm", "-rf", out, folder, manifest});
 }
