@@ -157,6 +157,15 @@ void RemoveState(const std::string& scenario);
 // Removes every container registered for the scenario (ContainerRegistration) with its engine,
 // by exact name, and its registration; throws Error naming the first that could not be removed.
 void RemoveRegisteredContainers(const std::string& scenario, DownReport* report);
+// The scenario's nftables table on the root side of its ctl0 links (ctl_filter.cc): a robot
+// reaches only its own ctl0's root address, on the physics server's ports for it, and ping.
+// AddCtlFilter throws Error naming the scenario and nft's message.
+bool CtlFilterExists(const std::string& scenario);
+void AddCtlFilter(const Scenario& scenario);
+void RemoveCtlFilter(const std::string& scenario);  // If there is one.
+// Kills what is left in the scenario's robots' cgroups and removes their folders (RobotCgroup);
+// the number of robots' v2 cgroups removed.
+int RemoveScenarioCgroups(const std::string& scenario);
 
 }  // namespace sitlnet::nns::internal
 

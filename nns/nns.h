@@ -7,6 +7,7 @@
 #include <sys/types.h>
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -189,6 +190,72 @@ class ContainerRegistration {
   std::string path_;
 };
 
+//-------------------------------- Cgroups -----------------------------------
+
+// Limits of a robot's cgroup (an image manifest's `limits`); 0: none.
+struct CgroupLimits {
+  int64_t memory_max_bytes = 0;  // RAM (and no swap beyond it).
+  int64_t pids_max = 0;          // Processes and threads.
+  double cpu_max_cores = 0;      // CPU time per wall second, in cores.
+};
+
+// What a robot's cgroup measured of all its processes, past and present.
+struct CgroupUsage {
+  TimeNs cpu_ns = -1;              // User and system CPU time; -1: not accounted.
+  int64_t memory_peak_bytes = -1;  // Peak memory (with the page cache it caused); -1: not here.
+};
+
+struct CgroupMounts;  // Where the cgroup file systems are mounted (cgroup.cc).
+
+// A robot's cgroup, <mount>/sitlnet/<scenario>/<robot>, for as long as this object lives
+// (docs/security.md, "Resource limits"). cgroup v2 holds the membership, the CPU time and the
+// kill; memory (always, for its peak), pids and cpu (for a limit) are used in v2 if the host
+// offers them there, else in their v1 hierarchies. The robot's process joins it before it runs
+// the image by writing "0" to each of join_fds() (async-signal-safe, between fork and exec), so
+// its whole process tree is in it. Without cgroup2 or with a read-only cgroup file system (in
+// some containers) it is unavailable: unavailable() says why, and nothing is accounted. Throws
+// Error naming the robot and the field when a limit cannot be applied (also when unavailable).
+// The destructor kills what is left in it and removes its folders.
+class RobotCgroup {
+ public:
+  RobotCgroup(const std::string& scenario, const std::string& robot,
+              const CgroupLimits& limits = {});
+  ~RobotCgroup();
+  RobotCgroup(const RobotCgroup&) = delete;
+  RobotCgroup& operator=(const RobotCgroup&) = delete;
+
+  // Why there is no cgroup ("" when there is one).
+  const std::string& unavailable() const { return unavailable_; }
+  // cgroup.procs of each folder, open for writing, close-on-exec; empty when unavailable.
+  std::vector<int> join_fds() const;
+  CgroupUsage Usage() const;
+  // SIGKILL to every process in it (cgroup.kill), and waits until none is left (up to 5 s);
+  // false if some still are. Robots that double-fork, change session or namespace are in it.
+  bool KillAll();
+
+ private:
+  struct V1Folder {
+    std::string mount;
+    std::string dir;
+  };
+  // Everything after the v2 folder: controllers, v1 folders, limits, join_fds_.
+  void SetUp(const CgroupMounts& mounts, const CgroupLimits& limits);
+  void Remove();  // The robot's folders, then the scenario's and sitlnet's if empty.
+  std::vector<std::string> Folders() const;
+  // The folder whose files control `controller` (and whether it is v2's), "" if none.
+  std::string ControllerFolder(const std::string& controller, bool* v2) const;
+  void ApplyLimits(const CgroupLimits& limits);
+
+  std::string scenario_;
+  std::string robot_;
+  std::string unavailable_;
+  std::string v2_mount_;
+  std::string v2_dir_;
+  std::vector<std::string> v2_controllers_;
+  std::map<std::string, V1Folder> v1_;  // Controller -> its v1 folder.
+  std::vector<UniqueFd> join_fds_;
+};
+
 //-------------------------------- Up / down ---------------------------------
 
 struct UpOptions {
@@ -215,11 +282,13 @@ struct DownReport {
   int processes_terminated = 0;  // Exited after SIGTERM.
   int processes_killed = 0;      // Needed SIGKILL.
   int containers_removed = 0;    // Registered containers (ContainerRegistration) removed.
+  int cgroups_removed = 0;       // Robots' cgroups (RobotCgroup) killed and removed.
 };
 
 // Tears scenario `name` down from its state file: SIGTERM then SIGKILL its
 // registered daemons (DaemonRegistration) and every process in its namespaces (bounded wait on
-// pidfds), remove its registered containers (ContainerRegistration), unmount and remove the
+// pidfds), remove its registered containers (ContainerRegistration) and its robots' cgroups
+// (RobotCgroup: what is in them killed), unmount and remove the
 // namespaces, delete the root-side veths by exact name, remove the state. Idempotent; a scenario
 // without a state file is a no-op.
 DownReport Down(const std::string& name);

@@ -132,6 +132,8 @@ DownReport internal::DownLocked(const std::string& name) {
   // 1. The scenario's containers, by name with their engine: podman and its conmon are in the
   // root namespace, only the containers' processes in the robots'.
   internal::RemoveRegisteredContainers(name, &report);
+  // 1b. The robots' cgroups: every process a robot started, wherever it moved since.
+  report.cgroups_removed += internal::RemoveScenarioCgroups(name);
   // 2. Processes, all namespaces of the scenario in one /proc scan per round.
   std::vector<internal::NsId> namespaces;
   for (const OwnedRobot& robot : state->robots) {
@@ -148,6 +150,8 @@ DownReport internal::DownLocked(const std::string& name) {
   // One batched delete of the scenario's link group when the group holds
   // only our veths (measured: 64 links in 37 ms instead of 1.5 s one by one),
   // then by exact name for anything left.
+  // The filter of the scenario's ctl0 links goes with them.
+  internal::RemoveCtlFilter(name);
   internal::RouteSocket root;
   const uint32_t group = internal::LinkGroupForScenario(name);
   std::set<std::string> ours;

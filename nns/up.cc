@@ -40,6 +40,11 @@ void RefuseForeignObjects(const Scenario& scenario, const RouteSocket& root) {
                   ") or rename the scenario" + hint);
     }
   }
+  if (internal::CtlFilterExists(scenario.name)) {
+    throw Error("nftables table \"inet sitlnet-" + scenario.name + "\" exists but scenario \"" +
+                scenario.name + "\" did not create it: remove it (nft delete table inet sitlnet-" +
+                scenario.name + ") or rename the scenario" + hint);
+  }
 }
 
 // The common case of a route clash: another scenario that is up uses the
@@ -197,6 +202,8 @@ void Up(const Scenario& scenario, const UpOptions& options) {
   internal::WriteState(StateFromScenario(scenario));
   try {
     if (options.register_caller_as_run) internal::WritePidFile(scenario.name, "run");
+    // Before the first veth: no moment in which a robot reaches more than its physics ports.
+    internal::AddCtlFilter(scenario);
     UpAllRobots(scenario, options);
   } catch (...) {
     try {

@@ -1,6 +1,8 @@
 // Image manifests: loading, validation and placeholder expansion.
 #include <sys/stat.h>
 
+#include <cmath>
+
 #include "robot_images/internal.h"
 #include "robot_images/robot_images.h"
 #include "scenario/scenario.h"
@@ -60,6 +62,30 @@ std::string ExpandPlaceholders(const std::string& text, const Image& image,
 
 using internal::ExpandPlaceholders;
 
+namespace {
+
+// Throws Error "manifest: limits.field: rule" for a limit that no cgroup could hold.
+void CheckLimits(const Image& image) {
+  if (!image.manifest.has_limits()) return;
+  const proto::ImageManifest::Limits& limits = image.manifest.limits();
+  const auto refuse = [&](const std::string& field, const std::string& rule) {
+    throw Error(image.manifest_path + ": limits." + field + ": " + rule);
+  };
+  if (!image.manifest.container_image().empty()) {
+    refuse("*", "for host programs; a container image is limited by its engine");
+  }
+  if (!std::isfinite(limits.cpu_max_cores()) || limits.cpu_max_cores() < 0 ||
+      limits.cpu_max_cores() > 1024) {
+    refuse("cpu_max_cores", "must be a number of cores from 0 (no limit) to 1024");
+  }
+  if (limits.has_cpu_max_cores() && limits.cpu_max_cores() > 0 && limits.cpu_max_cores() < 0.01) {
+    refuse("cpu_max_cores", "must be at least 0.01 (1 ms of CPU time per 100 ms)");
+  }
+  if (limits.memory_max_mib() > 1024 * 1024) refuse("memory_max_mib", "must be at most 1 TiB");
+}
+
+}  // namespace
+
 Image LoadImage(const std::string& images_root, const std::string& name) {
   Image image;
   image.manifest_path = IsFile(name) ? name : images_root + "/" + name + "/image.textproto";
@@ -77,6 +103,7 @@ Image LoadImage(const std::string& images_root, const std::string& name) {
   }
   internal::CheckContainerFields(image);
   internal::CheckSandboxFields(image);
+  CheckLimits(image);
   return image;
 }
 

@@ -43,6 +43,9 @@ struct LaunchContext {
   // A descriptor of the run that the command receives as kPassedFd (the shared virtual time of
   // the /clock publisher); -1: none. Every other descriptor of the run stays out.
   int passed_fd = -1;
+  // cgroup.procs files (open for writing) the robot's process joins before it runs anything, so
+  // that all its processes are in the robot's cgroup (nns::RobotCgroup); none: no cgroup.
+  std::vector<int> cgroup_join_fds;
 };
 inline constexpr int kPassedFd = 4;
 

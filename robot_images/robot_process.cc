@@ -97,6 +97,16 @@ RobotProcess::RobotProcess(const Image& image, const LaunchContext& context,
     ResetToNormalScheduling();
     dup2(log_fd, STDOUT_FILENO);
     dup2(log_fd, STDERR_FILENO);
+    // Into the robot's cgroup before anything of the robot runs (after the scheduling reset: a
+    // realtime process may not join a cgroup whose CPU is limited). A robot outside it would be
+    // neither limited nor killed with it, so it does not start.
+    for (int fd : context.cgroup_join_fds) {
+      if (write(fd, "0", 1) != 1) {
+        dprintf(STDERR_FILENO, "sitlnet: robot \"%s\": join its cgroup: %s\n", robot_.c_str(),
+                std::strerror(errno));
+        _exit(126);
+      }
+    }
     const int null_fd = open("/dev/null", O_RDONLY);
     if (null_fd >= 0) dup2(null_fd, STDIN_FILENO);
     // Inherited through `sitlnet exec` by bubblewrap and the command; dup2 clears close-on-exec,

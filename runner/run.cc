@@ -74,9 +74,33 @@ images::LaunchContext RobotContext(const Scenario& scenario, const RunOptions& o
   return context;
 }
 
+// The robot's cgroup with its image's limits, or null (said once per run) when the host offers
+// none and the image asks for no limit; throws Error naming the robot for a limit that cannot be
+// applied.
+std::unique_ptr<nns::RobotCgroup> MakeCgroup(const Scenario& scenario, const std::string& robot,
+                                             const images::Image& image, bool* warned) {
+  const proto::ImageManifest::Limits& limits = image.manifest.limits();
+  nns::CgroupLimits cgroup_limits;
+  cgroup_limits.memory_max_bytes = static_cast<int64_t>(limits.memory_max_mib()) << 20;
+  cgroup_limits.pids_max = limits.pids_max();
+  cgroup_limits.cpu_max_cores = limits.cpu_max_cores();
+  auto cgroup = std::make_unique<nns::RobotCgroup>(scenario.name, robot, cgroup_limits);
+  if (cgroup->unavailable().empty()) return cgroup;
+  if (!*warned) {
+    std::fprintf(stderr,
+                 "sitlnet run: warning: the robots run without a cgroup (%s): their CPU time and "
+                 "memory are not accounted, and a robot's process that leaves its sandbox's "
+                 "namespaces may outlive it (docs/security.md)\n",
+                 cgroup->unavailable().c_str());
+    *warned = true;
+  }
+  return nullptr;
+}
+
 std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& options,
                                    const std::string& run_dir) {
   std::vector<RobotSlot> robots(scenario.robots.size());
+  bool warned_no_cgroup = false;
   for (const RobotPlan& plan : scenario.robots) {
     RobotSlot& slot = robots[plan.index];
     slot.name = plan.name;
@@ -103,6 +127,9 @@ std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& o
     if (const auto container = images::ContainerTargetOf(image, context)) {
       slot.container = std::make_unique<nns::ContainerRegistration>(
           scenario.name, container->engine_exe, container->name);
+    } else {
+      slot.cgroup = MakeCgroup(scenario, plan.name, image, &warned_no_cgroup);
+      if (slot.cgroup) context.cgroup_join_fds = slot.cgroup->join_fds();
     }
     slot.process = std::make_unique<images::RobotProcess>(
         image, context, options.sitlnet_exe, run_dir + "/robots/" + plan.name + ".log");
@@ -501,6 +528,12 @@ RunReport RunScenario(const RunOptions& options) {
   }
   for (RobotSlot& robot : robots) {
     if (robot.process && !robot.exit_status) robot.process->Stop();
+    // Whatever the robot left behind (a process that left its session or namespaces) is in its
+    // cgroup: killed, then what all of them used is read.
+    if (robot.cgroup) {
+      robot.cgroup->KillAll();
+      robot.usage = robot.cgroup->Usage();
+    }
   }
   for (auto& publisher : clock_publishers) publisher->RequestStop();
   clock_publishers.clear();  // Stop() each: it ends at SIGTERM.

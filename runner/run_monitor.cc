@@ -122,6 +122,8 @@ void MonitoringNetwork::HandleFailure(RobotSlot& robot, const std::string& what,
                  robot.name.c_str(), robot.restarts, manifest.max_restarts());
     const std::string log_path = robot.process->log_path();
     robot.process.reset();  // reaped already; stops it if not
+    // What the failed image left behind (a daemon it forked) goes with it, not into the restart.
+    if (robot.cgroup) robot.cgroup->KillAll();
     robot.process = std::make_unique<images::RobotProcess>(robot.image, robot.context,
                                                            robot.sitlnet_exe, log_path);
     robot.exit_status.reset();

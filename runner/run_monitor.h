@@ -49,6 +49,10 @@ struct RobotSlot {
   std::string name;
   // A container image's registration for `down` (docs/containers.md); outlives `process`.
   std::unique_ptr<nns::ContainerRegistration> container;
+  // The image's cgroup (host programs); outlives `process`. Null: none (no image, a container
+  // image, or the host offers none).
+  std::unique_ptr<nns::RobotCgroup> cgroup;
+  std::optional<nns::CgroupUsage> usage;          // Read once its processes are gone.
   std::unique_ptr<images::RobotProcess> process;  // Null: no image.
   std::optional<int> exit_status;
   TimeNs exited_at_ns = 0;  // Virtual time the exit was noticed.

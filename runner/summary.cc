@@ -71,6 +71,17 @@ std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& 
   json += ",\"exit_status\":" +
           (robot.exit_status ? std::to_string(*robot.exit_status) : std::string("null"));
   json += ",\"log\":" + (robot.process ? Quote(robot.process->log_path()) : "null");
+  // What its cgroup measured of every process it ran (null without one; docs/run.md).
+  json += ",\"cgroup\":";
+  if (robot.usage) {
+    const auto measured = [](int64_t value, double unit) {
+      return value < 0 ? std::string("null") : std::to_string(static_cast<double>(value) / unit);
+    };
+    json += "{\"cpu_s\":" + measured(robot.usage->cpu_ns, 1e9) +
+            ",\"memory_peak_mib\":" + measured(robot.usage->memory_peak_bytes, 1 << 20) + "}";
+  } else {
+    json += "null";
+  }
   json += ",\"medium\":{\"sent\":" + std::to_string(medium.sent) +
           ",\"delivered\":" + std::to_string(medium.delivered) +
           ",\"queue_drops\":" + std::to_string(medium.queue_drops) +

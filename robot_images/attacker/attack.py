@@ -12,6 +12,7 @@ import os
 import socket
 import subprocess
 import sys
+import time
 
 CLONE_NEWNS = 0x00020000
 CLONE_NEWPID = 0x20000000
@@ -158,6 +159,70 @@ def ip_change(name, add, delete):
         report(name, False, result.stderr.strip() or f"ip exit {result.returncode}")
 
 
+def reach_host_via_ctl0():
+    """Another host address through ctl0, with the neighbour table written by hand (which needs
+    CAP_NET_ADMIN): the next robot's ctl0 root side, a local address of the host. A TCP connection
+    there that is refused (nothing listens) or accepted reached the host; a timeout did not."""
+    own = os.environ.get("SITLNET_PHYSICS_ADDR", "").split(":")[0]
+    if not own:
+        report("reach_host_via_ctl0", False, "no SITLNET_PHYSICS_ADDR")
+        return
+    octets = own.split(".")
+    target = ".".join(octets[:3] + [str(int(octets[3]) + 4)])
+    # The root side's MAC, learnt by ARP for a datagram to its own address (any port).
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as udp:
+        udp.sendto(b"x", (own, 9))
+    neighbour = []
+    for _ in range(20):
+        neighbour = subprocess.run(["ip", "neigh", "show", own, "dev", "ctl0"],
+                                   capture_output=True, text=True).stdout.split()
+        if "lladdr" in neighbour:
+            break
+        time.sleep(0.1)
+    if "lladdr" not in neighbour:
+        report("reach_host_via_ctl0", False, f"no MAC learnt for {own}")
+        return
+    mac = neighbour[neighbour.index("lladdr") + 1]
+    changes = [["route", "add", f"{target}/32", "dev", "ctl0"],
+               ["neigh", "replace", target, "lladdr", mac, "dev", "ctl0", "nud", "permanent"]]
+    for change in changes:
+        result = subprocess.run(["ip"] + change, capture_output=True, text=True)
+        if result.returncode != 0:
+            report("reach_host_via_ctl0", False, f"ip {change[0]}: {result.stderr.strip()}")
+            return
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as tcp:
+        tcp.settimeout(2)
+        try:
+            tcp.connect((target, 9))
+            outcome = (True, f"connected to {target}:9")
+        except ConnectionRefusedError:
+            outcome = (True, f"{target}:9 answered (refused)")
+        except OSError as error:
+            outcome = (False, f"{target}:9: {error.strerror or 'timed out'}")
+    subprocess.run(["ip", "route", "del", f"{target}/32", "dev", "ctl0"], capture_output=True)
+    report("reach_host_via_ctl0", *outcome)
+
+
+def leave_cgroup():
+    """Moves a child into the root cgroup of each hierarchy it can see, out of the robot's (whose
+    limits, accounting and kill then no longer reach it)."""
+    import glob
+
+    targets = sorted(glob.glob("/sys/fs/cgroup/cgroup.procs") +
+                     glob.glob("/sys/fs/cgroup/*/cgroup.procs"))
+
+    def move(path):
+        with open(path, "w") as handle:
+            handle.write("0")
+        return True
+
+    for path in targets:
+        if in_child(lambda: move(path)):
+            report("leave_cgroup", True, f"joined {path}")
+            return
+    report("leave_cgroup", False, f"{len(targets)} cgroup.procs files, none took the process")
+
+
 def raw_sockets():
     opened = []
     for family, kind, protocol, what in (
@@ -214,6 +279,8 @@ def main():
     ip_change("spoof_ctl0_address", ["address", "add", "192.0.2.77/32", "dev", "ctl0"],
               ["address", "del", "192.0.2.77/32", "dev", "ctl0"])
     raw_sockets()
+    reach_host_via_ctl0()
+    leave_cgroup()
     survive_teardown()
     print("attacks done", flush=True)
     return 0

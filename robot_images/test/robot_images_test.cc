@@ -45,8 +45,8 @@ std::string LoadError(const std::string& path, const std::string& text) {
 }
 
 TEST(ImageTest, ShippedImagesLoad) {
-  for (const char* name : {"flocker", "iperf", "shell", "attacker", "babel", "test_autopilot",
-                           "arducopter", "px4"}) {
+  for (const char* name :
+       {"flocker", "iperf", "shell", "attacker", "babel", "test_autopilot", "arducopter", "px4"}) {
     const Image image = LoadImage(ImagesRoot(), name);
     EXPECT_EQ(image.manifest.name(), name);
   }
@@ -109,6 +109,30 @@ TEST(ImageTest, SandboxFieldsThatReachBeyondTheRobotAreRefused) {
   EXPECT_EQ(
       refusal("sandbox: NONE capabilities: \"CAP_NET_RAW\"").rfind(path + ": capabilities:", 0),
       0u);
+  std::remove(path.c_str());
+}
+
+// Issue 17: limits a cgroup cannot hold are refused naming the manifest and the field.
+TEST(ImageTest, LimitsOutsideWhatACgroupHoldsAreRefused) {
+  const std::string path = ::testing::TempDir() + "/limits_image.textproto";
+  const auto refusal = [&](const std::string& fields) {
+    return LoadError(path, "name: \"x\"\n" + fields);
+  };
+  EXPECT_EQ(refusal("command: \"/bin/true\" limits { memory_max_mib: 64 pids_max: 16 "
+                    "cpu_max_cores: 0.5 }"),
+            "");
+  EXPECT_EQ(refusal("command: \"/bin/true\" limits { cpu_max_cores: 0 }"), "");
+  for (const char* cores : {"nan", "inf", "-1", "2000", "0.001"}) {
+    const std::string error =
+        refusal(std::string("command: \"/bin/true\" limits { cpu_max_cores: ") + cores + " }");
+    EXPECT_EQ(error.rfind(path + ": limits.cpu_max_cores: must be", 0), 0u) << cores << error;
+  }
+  EXPECT_EQ(refusal("command: \"/bin/true\" limits { memory_max_mib: 2000000 }")
+                .rfind(path + ": limits.memory_max_mib: must be", 0),
+            0u);
+  EXPECT_NE(refusal("container_image: \"px4\" limits { pids_max: 8 }")
+                .find("a container image is limited by its engine"),
+            std::string::npos);
   std::remove(path.c_str());
 }
 

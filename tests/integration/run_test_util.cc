@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -43,6 +44,17 @@ void ExpectNothingLeft(const std::string& name) {
     EXPECT_FALSE(NetnsExists(name + "-" + robot)) << name << "-" << robot;
   }
   EXPECT_FALSE(LinkExistsInRoot(name + "-c0"));
+  // No cgroup folder of the scenario in any hierarchy (/sys/fs/cgroup itself for cgroup v2 alone,
+  // or its subfolders: unified, memory, pids, ...).
+  std::error_code error;
+  std::vector<std::filesystem::path> mounts = {"/sys/fs/cgroup"};
+  for (const auto& entry : std::filesystem::directory_iterator("/sys/fs/cgroup", error)) {
+    if (entry.is_directory(error)) mounts.push_back(entry.path());
+  }
+  for (const std::filesystem::path& mount : mounts) {
+    EXPECT_FALSE(std::filesystem::exists(mount / "sitlnet" / name, error))
+        << mount / "sitlnet" / name;
+  }
 }
 
 std::vector<double> CapturedTimes(const std::string& out, const std::string& filter,
