@@ -82,6 +82,14 @@ void AddCtlFilter(const Scenario& scenario) {
           "accept",
       "add rule " + table + " from_robots iifname . ip daddr @own icmp type echo-request accept",
       "add rule " + table + " from_robots counter drop",
+      // The physics traffic itself (each robot's commands in, states out, hundreds per
+      // second) skips conntrack, which would otherwise track every one of these flows.
+      "add chain " + table + " untracked_in { type filter hook prerouting priority raw; }",
+      "add rule " + table + " untracked_in iifname . ip daddr . meta l4proto . th dport " +
+          "@allowed notrack",
+      "add chain " + table + " untracked_out { type filter hook output priority raw; }",
+      "add rule " + table + " untracked_out oifname . ip saddr . meta l4proto . th sport " +
+          "@allowed notrack",
       "add chain " + table +
           " input { type filter hook input priority filter - 10; policy accept; }",
       "add rule " + table + " input iifname @robots jump from_robots",
