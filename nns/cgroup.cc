@@ -147,11 +147,11 @@ bool KillV2Cgroup(const std::string& dir, TimeNs timeout_ns) {
 // rmdir that counts a folder that is not there as removed.
 bool RemoveFolder(const std::string& path) { return rmdir(path.c_str()) == 0 || errno == ENOENT; }
 
-// Removes the scenario's (and, if then empty, sitlnet's) folder of a hierarchy mounted at
-// `mount`; folders another robot or scenario still uses stay.
+// Removes the scenario's folder of a hierarchy mounted at `mount` if no robot of it uses it any
+// more. sitlnet's own folder above stays: another scenario's run may be making its folder in it
+// at this moment, and would find it gone.
 void RemoveParents(const std::string& mount, const std::string& scenario) {
-  const std::string top = mount + "/" + kTopFolder;
-  if (RemoveFolder(top + "/" + scenario)) rmdir(top.c_str());
+  RemoveFolder(mount + "/" + kTopFolder + "/" + scenario);
 }
 
 }  // namespace

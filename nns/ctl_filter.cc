@@ -87,9 +87,13 @@ void AddCtlFilter(const Scenario& scenario) {
       "add chain " + table + " untracked_in { type filter hook prerouting priority raw; }",
       "add rule " + table + " untracked_in iifname . ip daddr . meta l4proto . th dport " +
           "@allowed notrack",
+      // Nor are a robot's pings to its own root address (one conntrack entry per ICMP id
+      // would let a robot fill the host's conntrack table).
+      "add rule " + table + " untracked_in iifname . ip daddr @own icmp type echo-request notrack",
       "add chain " + table + " untracked_out { type filter hook output priority raw; }",
       "add rule " + table + " untracked_out oifname . ip saddr . meta l4proto . th sport " +
           "@allowed notrack",
+      "add rule " + table + " untracked_out oifname . ip saddr @own icmp type echo-reply notrack",
       "add chain " + table +
           " input { type filter hook input priority filter - 10; policy accept; }",
       "add rule " + table + " input iifname @robots jump from_robots",

@@ -182,6 +182,7 @@ DownReport DownAll() {
     total.processes_terminated += one.processes_terminated;
     total.processes_killed += one.processes_killed;
     total.containers_removed += one.containers_removed;
+    total.cgroups_removed += one.cgroups_removed;
   }
   return total;
 }

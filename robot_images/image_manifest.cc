@@ -82,6 +82,8 @@ void CheckLimits(const Image& image) {
     refuse("cpu_max_cores", "must be at least 0.01 (1 ms of CPU time per 100 ms)");
   }
   if (limits.memory_max_mib() > 1024 * 1024) refuse("memory_max_mib", "must be at most 1 TiB");
+  // The kernel's own ceiling (PID_MAX_LIMIT on 64-bit): pids.max refuses more.
+  if (limits.pids_max() > 4 * 1024 * 1024) refuse("pids_max", "must be at most 4194304");
 }
 
 }  // namespace

@@ -86,6 +86,8 @@ void MonitoringNetwork::CheckRobots(TimeNs now_ns) {
     robot.exit_status = robot.process->PollExit();
     if (!robot.exit_status) continue;
     robot.exited_at_ns = now_ns;
+    // What it left running (a daemon it forked) ends with it, restarted or not.
+    if (robot.cgroup) robot.cgroup->KillAll();
     const int status = *robot.exit_status;
     FinishProgress();
     std::fprintf(stderr, "sitlnet run: robot \"%s\" exited with status %d at t=%.2f s (log: %s)\n",

@@ -130,6 +130,9 @@ TEST(ImageTest, LimitsOutsideWhatACgroupHoldsAreRefused) {
   EXPECT_EQ(refusal("command: \"/bin/true\" limits { memory_max_mib: 2000000 }")
                 .rfind(path + ": limits.memory_max_mib: must be", 0),
             0u);
+  EXPECT_EQ(refusal("command: \"/bin/true\" limits { pids_max: 5000000 }")
+                .rfind(path + ": limits.pids_max: must be", 0),
+            0u);
   EXPECT_NE(refusal("container_image: \"px4\" limits { pids_max: 8 }")
                 .find("a container image is limited by its engine"),
             std::string::npos);

@@ -219,6 +219,7 @@ TEST(CgroupTest, ImageLimitsHoldAMemoryHogAForkBombAndABusyLoop) {
       LoggedValue(log("e"), "core_share"), LoggedValue(log("f"), "core_share"));
   // 48 MiB: Python (about 10 MiB) and 8 MiB blocks; the kernel's OOM killer ends it after at most
   // 40 MiB of them. Without the limit it holds all 256 MiB.
+  EXPECT_GE(LoggedValue(log("a"), "allocated"), 8) << log("a");  // It ran, then was stopped.
   EXPECT_LE(LoggedValue(log("a"), "allocated"), 40) << log("a");
   EXPECT_EQ(LoggedValue(log("b"), "allocated"), 256) << log("b");
   // 12 processes in the robot: bubblewrap's two, the shell, Python and at most 8 children.
@@ -229,6 +230,7 @@ TEST(CgroupTest, ImageLimitsHoldAMemoryHogAForkBombAndABusyLoop) {
   // A tenth of a core, measured over 15 periods of 100 ms (one more may fall in, and the
   // scheduler's slices round); unlimited, the loop has most of a core even beside the rest of
   // the run on two cores.
+  EXPECT_GT(LoggedValue(log("e"), "core_share"), 0) << log("e");  // It finished its 1.5 s.
   EXPECT_LE(LoggedValue(log("e"), "core_share"), 0.15) << log("e");
   EXPECT_GE(LoggedValue(log("f"), "core_share"), 0.3) << log("f");
   ExpectNothingLeft(scenario.name);
@@ -243,10 +245,11 @@ TEST(CgroupTest, AProcessThatLeftItsRobotsSessionAndNamespaceDiesWithTheRun) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const std::string marker = "4000." + std::to_string(getpid());
   const std::string unconfined = ShellManifest("unconfined", "sandbox: NONE");
-  const RunScenario scenario = WriteScenario(
-      8, Robot("a", unconfined,
-               "setsid unshare --net sleep " + marker + " </dev/null >/dev/null 2>&1 & sleep 60") +
-             "robot { name: \"b\" }\n");
+  const RunScenario scenario =
+      WriteScenario(8, Robot("a", unconfined,
+                             "setsid unshare --net sleep " + marker +
+                                 " </dev/null >/dev/null 2>&1 & echo survivor $!; sleep 60") +
+                           "robot { name: \"b\" }\n");
   DownGuard guard(scenario.name);
   const std::string out = TempDir() + "/" + scenario.name + "-out";
   const CommandResult result =
@@ -261,6 +264,8 @@ TEST(CgroupTest, AProcessThatLeftItsRobotsSessionAndNamespaceDiesWithTheRun) {
       survivors.push_back(std::stoi(name));
   }
   for (pid_t pid : survivors) kill(pid, SIGKILL);
+  // It was started (the shell printed its pid) before the run ended.
+  EXPECT_NE(ReadAll(out + "/robots/a.log").find("survivor "), std::string::npos);
   if (const std::string why = NoCgroupHere(); !why.empty()) {
     ExpectNothingLeft(scenario.name);
     std::remove(unconfined.c_str());
