@@ -73,7 +73,8 @@ std::string ShellManifest(const std::string& name, const std::string& extra) {
 
 // Why this process cannot make a cgroup in the cgroup2 file system, "" if it can: found here
 // independently of sitlnet (a read-only one in a container; one whose root folder is mode 555
-// without CAP_DAC_OVERRIDE, as in the two-capability pass on a hybrid host). sitlnet then runs
+// without CAP_DAC_OVERRIDE, as in the two-capability pass on a hybrid host, unless sitlnet's
+// folder was made there before, by root). sitlnet then runs
 // robots without a cgroup (docs/security.md, "Resource limits").
 std::string NoCgroupHere() {
   std::ifstream mounts("/proc/self/mounts");
@@ -82,7 +83,12 @@ std::string NoCgroupHere() {
     std::string source, point, type;
     fields >> source >> point >> type;
     if (type != "cgroup2") continue;
-    const std::string probe = point + "/sitlnet-probe-" + std::to_string(getpid());
+    // Where sitlnet makes its folders: in <mount>/sitlnet, which stays once made.
+    const std::string top = point + "/sitlnet";
+    if (mkdir(top.c_str(), 0755) != 0 && errno != EEXIST) {
+      return "mkdir " + top + ": " + std::strerror(errno);
+    }
+    const std::string probe = top + "/probe-" + std::to_string(getpid());
     if (mkdir(probe.c_str(), 0755) != 0) return "mkdir " + probe + ": " + std::strerror(errno);
     rmdir(probe.c_str());
     return "";
