@@ -1,9 +1,11 @@
 #include "coordinator/authentication.h"
 
 #include <fcntl.h>
+#include <openssl/core_names.h>
 #include <openssl/crypto.h>
 #include <openssl/evp.h>
 #include <openssl/hmac.h>
+#include <openssl/params.h>
 #include <sys/random.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -79,6 +81,53 @@ std::string ProofOf(const std::string& secret, const std::string& label, const s
 
 bool SameProof(const std::string& a, const std::string& b) {
   return a.size() == b.size() && CRYPTO_memcmp(a.data(), b.data(), a.size()) == 0;
+}
+
+SessionKeys DeriveSessionKeys(const std::string& secret, const std::string& coordinator_nonce,
+                              const std::string& connector_nonce) {
+  return {ProofOf(secret, "sitlnet session coordinator to connector", coordinator_nonce,
+                  connector_nonce),
+          ProofOf(secret, "sitlnet session connector to coordinator", coordinator_nonce,
+                  connector_nonce)};
+}
+
+// The key is set once; each tag re-initializes the state with it (EVP_MAC_init with a null key
+// keeps the previous one), which spares a key schedule per message.
+struct MessageTagger::Mac {
+  EVP_MAC* algorithm = nullptr;
+  EVP_MAC_CTX* context = nullptr;
+  ~Mac() {
+    EVP_MAC_CTX_free(context);
+    EVP_MAC_free(algorithm);
+  }
+};
+
+MessageTagger::MessageTagger(const std::string& key) : mac_(std::make_unique<Mac>()) {
+  SITLNET_DEMAND(!key.empty());
+  mac_->algorithm = EVP_MAC_fetch(nullptr, "HMAC", nullptr);
+  SITLNET_DEMAND(mac_->algorithm != nullptr);
+  mac_->context = EVP_MAC_CTX_new(mac_->algorithm);
+  SITLNET_DEMAND(mac_->context != nullptr);
+  char digest[] = "SHA256";
+  const OSSL_PARAM params[] = {OSSL_PARAM_construct_utf8_string(OSSL_MAC_PARAM_DIGEST, digest, 0),
+                               OSSL_PARAM_END};
+  SITLNET_DEMAND(EVP_MAC_init(mac_->context, reinterpret_cast<const unsigned char*>(key.data()),
+                              key.size(), params) == 1);
+}
+
+MessageTagger::~MessageTagger() = default;
+
+void MessageTagger::TagNext(std::string_view frame, unsigned char* tag) {
+  unsigned char sequence[8];
+  for (int i = 0; i < 8; ++i) sequence[i] = static_cast<unsigned char>(count_ >> (8 * i));
+  size_t length = 0;
+  SITLNET_DEMAND(EVP_MAC_init(mac_->context, nullptr, 0, nullptr) == 1);
+  SITLNET_DEMAND(EVP_MAC_update(mac_->context, sequence, sizeof sequence) == 1);
+  SITLNET_DEMAND(EVP_MAC_update(mac_->context, reinterpret_cast<const unsigned char*>(frame.data()),
+                                frame.size()) == 1);
+  SITLNET_DEMAND(EVP_MAC_final(mac_->context, tag, &length, kMessageTagBytes) == 1);
+  SITLNET_DEMAND(length == kMessageTagBytes);
+  ++count_;
 }
 
 }  // namespace sitlnet::coordinator

@@ -1,12 +1,16 @@
 // Mutual authentication of a connector and the coordinator with a shared secret
 // (docs/coordinator.md, "Authentication"): each side proves it holds the secret with an
-// HMAC-SHA256 (OpenSSL's libcrypto) over both sides' random nonces, without sending it. It
-// authenticates the ends of a connection when it opens; it does not encrypt or protect the
-// messages that follow from an attacker on the path (docs/security.md).
+// HMAC-SHA256 (OpenSSL's libcrypto) over both sides' random nonces, without sending it; then every
+// message of the connection carries a tag under a key derived from the secret and both nonces, so
+// an attacker on the path who relayed the handshake cannot change, add, drop, repeat or reorder
+// what follows. Nothing is encrypted (docs/security.md).
 #ifndef SITLNET_COORDINATOR_AUTHENTICATION_H_
 #define SITLNET_COORDINATOR_AUTHENTICATION_H_
 
+#include <cstdint>
+#include <memory>
 #include <string>
+#include <string_view>
 
 namespace sitlnet::coordinator {
 
@@ -29,6 +33,39 @@ std::string ProofOf(const std::string& secret, const std::string& label, const s
 
 // Constant-time equality of two proofs.
 bool SameProof(const std::string& a, const std::string& b);
+
+// The keys that tag the messages after the handshake, one per direction:
+// HMAC-SHA256(secret, "sitlnet session <direction>" || 0 || coordinator's nonce || connector's
+// nonce). Fresh nonces make them new for every connection, so a message of another connection
+// never verifies; two directions, so a message cannot be sent back to its sender.
+struct SessionKeys {
+  std::string coordinator_to_connector;
+  std::string connector_to_coordinator;
+};
+SessionKeys DeriveSessionKeys(const std::string& secret, const std::string& coordinator_nonce,
+                              const std::string& connector_nonce);
+
+inline constexpr size_t kMessageTagBytes = 32;
+
+// Tags the messages of one direction: HMAC-SHA256(key, sequence number as 8 bytes little-endian
+// || the message's frame). The sequence numbers count the direction's messages from 0, so a
+// message dropped, repeated or moved by someone on the path shifts them and stops verifying.
+class MessageTagger {
+ public:
+  explicit MessageTagger(const std::string& key);
+  ~MessageTagger();
+  MessageTagger(const MessageTagger&) = delete;
+  MessageTagger& operator=(const MessageTagger&) = delete;
+  // The tag of the next message (`frame`), kMessageTagBytes written to `tag`; counts it.
+  void TagNext(std::string_view frame, unsigned char* tag);
+  // Messages tagged so far: the next one's sequence number.
+  uint64_t count() const { return count_; }
+
+ private:
+  struct Mac;  // OpenSSL's HMAC state, keyed once (authentication.cc).
+  std::unique_ptr<Mac> mac_;
+  uint64_t count_ = 0;
+};
 
 }  // namespace sitlnet::coordinator
 

@@ -1,7 +1,18 @@
 // Socket side of connectors: the coordinator's RemoteConnector, its
 // handshake, and ServeCoordinator() that runs inside a connector process.
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <exception>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <vector>
 
 #include "coordinator/authentication.h"
 #include "coordinator/connector.h"
@@ -211,6 +222,10 @@ void Authenticate(Channel& channel, const std::string& secret, const std::string
     if (!proof.has_proof() || !SameProof(proof.proof().proof(), ProofOf(secret, "sitlnet connector",
                                                                         nonce, their_nonce))) {
       failure = who + " failed to prove the shared secret (a different --secret-file?)";
+    } else {
+      // Everything after the proof is tagged: the handshake binds the rest of the connection.
+      const SessionKeys keys = DeriveSessionKeys(secret, nonce, their_nonce);
+      channel.AuthenticateMessages(keys.coordinator_to_connector, keys.connector_to_coordinator);
     }
   }
   if (failure.empty()) return;
@@ -279,45 +294,188 @@ std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpec
   return std::make_unique<RemoteConnector>(name, role, std::move(channel), std::move(poses));
 }
 
+namespace {
+
+// The handshakes of accepted connections, each on a thread of its own, so that a connection that
+// says nothing, or stops half-way, holds back no other: each still ends at its own Hello deadline
+// (kHelloTimeoutNs). At most kMaxConcurrentHandshakes run at once; a connection beyond them is
+// closed at once, with a warning.
+class ConcurrentHandshakes {
+ public:
+  struct Outcome {
+    std::unique_ptr<Connector> connector;  // Accepted; or null, and one of:
+    std::string stray;                     // a stray connection's warning,
+    std::exception_ptr refusal;            // a refused connector's Error, to pass on.
+  };
+  static constexpr size_t kMaxConcurrentHandshakes = 16;
+
+  ConcurrentHandshakes(const HandshakeExpectation& expect, const WaitLimits& limits,
+                       FrameCodecOptions codec, TimeNs spin_ns)
+      : expect_(expect),
+        limits_(limits),
+        codec_(codec),
+        spin_ns_(spin_ns),
+        cancel_(eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK)),
+        ready_(eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK)) {
+    if (!cancel_.valid() || !ready_.valid()) throw Error(SystemErrorMessage("eventfd", errno));
+    limits_.interrupt_fd = cancel_.get();  // The caller watches its own interrupt.
+  }
+  // Ends the handshakes still under way (their connections are closed) and waits for them.
+  ~ConcurrentHandshakes() {
+    Notify(cancel_.get());
+    for (auto& [id, thread] : threads_) thread.join();
+  }
+  ConcurrentHandshakes(const ConcurrentHandshakes&) = delete;
+  ConcurrentHandshakes& operator=(const ConcurrentHandshakes&) = delete;
+
+  // Readable when an outcome is waiting for TakeFinished.
+  int ready_fd() const { return ready_.get(); }
+
+  // False (the connection closed) if kMaxConcurrentHandshakes are under way.
+  bool Start(Fd fd) {
+    std::lock_guard lock(mutex_);
+    if (threads_.size() - done_.size() >= kMaxConcurrentHandshakes) return false;
+    const uint64_t id = next_id_++;
+    threads_.emplace(id, std::thread([this, id, fd = std::move(fd)]() mutable {
+                       Outcome outcome;
+                       try {
+                         Channel channel(std::move(fd), codec_);
+                         channel.set_spin_ns(spin_ns_);
+                         outcome.connector = AcceptConnector(std::move(channel), expect_, limits_);
+                       } catch (const StrayConnectionError& e) {
+                         outcome.stray = e.what();
+                       } catch (...) {
+                         outcome.refusal = std::current_exception();
+                       }
+                       std::lock_guard lock(mutex_);
+                       if (outcome.connector || !outcome.stray.empty() || outcome.refusal) {
+                         finished_.push_back(std::move(outcome));
+                       }
+                       done_.push_back(id);
+                       Notify(ready_.get());
+                     }));
+    return true;
+  }
+
+  std::vector<Outcome> TakeFinished() {
+    uint64_t count = 0;
+    while (read(ready_.get(), &count, sizeof count) < 0 && errno == EINTR) {
+    }
+    std::vector<Outcome> outcomes;
+    std::vector<uint64_t> done;
+    {
+      std::lock_guard lock(mutex_);
+      outcomes.swap(finished_);
+      done.swap(done_);
+    }
+    for (uint64_t id : done) {  // Their threads have returned or are about to.
+      auto thread = threads_.find(id);
+      thread->second.join();
+      threads_.erase(thread);
+    }
+    return outcomes;
+  }
+
+ private:
+  static void Notify(int fd) {
+    const uint64_t one = 1;
+    while (write(fd, &one, sizeof one) < 0 && errno == EINTR) {
+    }
+  }
+
+  const HandshakeExpectation expect_;
+  WaitLimits limits_;
+  const FrameCodecOptions codec_;
+  const TimeNs spin_ns_;
+  Fd cancel_;
+  Fd ready_;
+  std::mutex mutex_;
+  std::map<uint64_t, std::thread> threads_;  // Joined by TakeFinished once done, or at the end.
+  std::vector<uint64_t> done_;               // Threads that returned, not yet joined.
+  std::vector<Outcome> finished_;
+  uint64_t next_id_ = 0;
+};
+
+void WarnIgnored(const Listener& listener, const std::string& why) {
+  std::fprintf(stderr, "sitlnet: warning: ignored a connection on %s: %s\n",
+               listener.endpoint().ToString().c_str(), why.c_str());
+}
+
+// Accepts connections on `listener`, their handshakes side by side, and hands each accepted
+// connector to `take` until it returns true. Stray connections are logged and skipped. Returns
+// false if limits.interrupt_fd fired; throws a handshake's refusal, or Error "no <missing()>
+// connector connected to ... within ..." at the deadline.
+bool AcceptUntil(Listener& listener, const HandshakeExpectation& expect, const WaitLimits& limits,
+                 FrameCodecOptions codec, TimeNs spin_ns,
+                 const std::function<bool(std::unique_ptr<Connector>)>& take,
+                 const std::function<std::string()>& missing) {
+  ConcurrentHandshakes handshakes(expect, limits, codec, spin_ns);
+  for (;;) {
+    pollfd fds[3] = {{listener.fd(), POLLIN, 0},
+                     {handshakes.ready_fd(), POLLIN, 0},
+                     {limits.interrupt_fd, POLLIN, 0}};
+    const TimeNs now = MonotonicNowNs();
+    if (limits.deadline_ns != kNoDeadline && now >= limits.deadline_ns) {
+      throw Error("no " + missing() + " connector connected to " + listener.endpoint().ToString() +
+                  " within " + Ms(limits.timeout_ns));
+    }
+    const int timeout_ms =
+        limits.deadline_ns == kNoDeadline
+            ? -1
+            : static_cast<int>(std::min<TimeNs>(
+                  (limits.deadline_ns - now + kNsPerMs - 1) / kNsPerMs, INT32_MAX));
+    if (poll(fds, limits.interrupt_fd >= 0 ? 3 : 2, timeout_ms) < 0) {
+      if (errno == EINTR) continue;
+      throw Error(SystemErrorMessage("poll on " + listener.endpoint().ToString(), errno));
+    }
+    if (limits.interrupt_fd >= 0 && (fds[2].revents & POLLIN)) return false;
+    if (fds[1].revents & POLLIN) {
+      for (ConcurrentHandshakes::Outcome& outcome : handshakes.TakeFinished()) {
+        if (outcome.refusal) std::rethrow_exception(outcome.refusal);
+        if (!outcome.stray.empty()) WarnIgnored(listener, outcome.stray);
+        if (outcome.connector && take(std::move(outcome.connector))) return true;
+      }
+    }
+    if (fds[0].revents & POLLIN) {
+      Fd fd;
+      try {
+        fd = listener.Accept(MonotonicNowNs(), -1);
+      } catch (const TransportError& e) {
+        if (e.kind() != TransportError::Kind::kTimeout) throw;
+        continue;  // The connection went away before accept.
+      }
+      if (!handshakes.Start(std::move(fd))) {
+        WarnIgnored(listener, std::to_string(ConcurrentHandshakes::kMaxConcurrentHandshakes) +
+                                  " handshakes are already under way");
+      }
+    }
+  }
+}
+
+}  // namespace
+
 AcceptedConnectors AcceptConnectors(Listener& listener, const HandshakeExpectation& expect,
                                     const WaitLimits& limits, FrameCodecOptions codec,
                                     TimeNs spin_ns) {
   AcceptedConnectors accepted;
-  while (!accepted.physics || !accepted.network) {
-    Fd fd;
-    try {
-      fd = listener.Accept(limits.deadline_ns, limits.interrupt_fd);
-    } catch (const TransportError& e) {
-      const std::string missing = !accepted.physics && !accepted.network ? "physics and network"
-                                  : !accepted.physics                    ? "physics"
-                                                                         : "network";
-      if (e.kind() == TransportError::Kind::kTimeout) {
-        throw Error("no " + missing + " connector connected to " + listener.endpoint().ToString() +
-                    " within " + Ms(limits.timeout_ns));
-      }
-      throw;
-    }
-    if (!fd.valid()) return accepted;  // Interrupted.
-    Channel channel(std::move(fd), codec);
-    channel.set_spin_ns(spin_ns);
-    std::unique_ptr<Connector> connector;
-    try {
-      connector = AcceptConnector(std::move(channel), expect, limits);
-    } catch (const StrayConnectionError& e) {
-      std::fprintf(stderr, "sitlnet: warning: ignored a connection on %s: %s\n",
-                   listener.endpoint().ToString().c_str(), e.what());
-      continue;
-    }
-    if (!connector) return accepted;
-    auto& slot = connector->role() == Role::kPhysics ? accepted.physics : accepted.network;
-    if (slot) {
-      const std::string what =
-          "a second " + connector->Describe() + " connected; already have " + slot->Describe();
-      connector->Stop(what);
-      throw Error(what);
-    }
-    slot = std::move(connector);
-  }
+  AcceptUntil(
+      listener, expect, limits, codec, spin_ns,
+      [&](std::unique_ptr<Connector> connector) {
+        auto& slot = connector->role() == Role::kPhysics ? accepted.physics : accepted.network;
+        if (slot) {
+          const std::string what =
+              "a second " + connector->Describe() + " connected; already have " + slot->Describe();
+          connector->Stop(what);
+          throw Error(what);
+        }
+        slot = std::move(connector);
+        return accepted.physics && accepted.network;
+      },
+      [&] {
+        return !accepted.physics && !accepted.network ? "physics and network"
+               : !accepted.physics                    ? "physics"
+                                                      : "network";
+      });
   return accepted;
 }
 
@@ -325,25 +483,15 @@ std::unique_ptr<Connector> AcceptConnectorOfRole(Listener& listener, Role role,
                                                  HandshakeExpectation expect,
                                                  const WaitLimits& limits) {
   expect.role = role;
-  for (;;) {
-    Fd fd;
-    try {
-      fd = listener.Accept(limits.deadline_ns, limits.interrupt_fd);
-    } catch (const TransportError& e) {
-      if (e.kind() == TransportError::Kind::kTimeout) {
-        throw Error("no " + RoleName(role) + " connector connected to " +
-                    listener.endpoint().ToString() + " within " + Ms(limits.timeout_ns));
-      }
-      throw;
-    }
-    if (!fd.valid()) return nullptr;  // Interrupted.
-    try {
-      return AcceptConnector(Channel(std::move(fd)), expect, limits);
-    } catch (const StrayConnectionError& e) {
-      std::fprintf(stderr, "sitlnet: warning: ignored a connection on %s: %s\n",
-                   listener.endpoint().ToString().c_str(), e.what());
-    }
-  }
+  std::unique_ptr<Connector> accepted;
+  AcceptUntil(
+      listener, expect, limits, {}, 0,
+      [&](std::unique_ptr<Connector> connector) {
+        accepted = std::move(connector);
+        return true;
+      },
+      [&] { return RoleName(role); });
+  return accepted;
 }
 
 //----------------------------- Connector process ----------------------------
@@ -397,6 +545,8 @@ std::string ServeCoordinator(Channel& channel, Simulator& simulator,
       proof.mutable_proof()->set_proof(
           ProofOf(identity.secret, "sitlnet connector", challenge.nonce(), nonce));
       channel.Send(proof, deadline);
+      const SessionKeys keys = DeriveSessionKeys(identity.secret, challenge.nonce(), nonce);
+      channel.AuthenticateMessages(keys.connector_to_coordinator, keys.coordinator_to_connector);
       authenticated = true;
       if (!channel.Receive(&in, deadline, interrupt_fd)) return "interrupted";
     }

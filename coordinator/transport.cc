@@ -178,9 +178,22 @@ bool Channel::Wait(short events, TimeNs deadline_ns, int interrupt_fd, const cha
   }
 }
 
+void Channel::AuthenticateMessages(const std::string& send_key, const std::string& receive_key) {
+  send_tagger_ = std::make_unique<MessageTagger>(send_key);
+  receive_tagger_ = std::make_unique<MessageTagger>(receive_key);
+}
+
 void Channel::Send(const proto::coord::CoordinatorMessage& message, TimeNs deadline_ns) {
-  const std::string_view frame = encoder_.Encode(message);
+  std::string_view frame = encoder_.Encode(message);
   if (encoder_.last_encoding() == FrameEncoding::kZlib) ++compressed_frames_sent_;
+  if (send_tagger_) {
+    // One buffer, one send: a frame and its tag leave in the same segment when they fit.
+    tagged_frame_.assign(frame);
+    tagged_frame_.resize(frame.size() + kMessageTagBytes);
+    send_tagger_->TagNext(frame,
+                          reinterpret_cast<unsigned char*>(tagged_frame_.data() + frame.size()));
+    frame = tagged_frame_;
+  }
   size_t done = 0;
   while (done < frame.size()) {
     const ssize_t n = send(socket_.get(), frame.data() + done, frame.size() - done, MSG_NOSIGNAL);
@@ -266,9 +279,22 @@ bool Channel::Receive(proto::coord::CoordinatorMessage* message, TimeNs deadline
   }
   // Once a header is in, the rest of the frame is not interruptible: leaving
   // half a frame consumed would desynchronize the stream.
-  FillAtLeast(kFrameHeaderBytes + body, deadline_ns, -1);
+  const size_t tag_bytes = receive_tagger_ ? kMessageTagBytes : 0;
+  FillAtLeast(kFrameHeaderBytes + body + tag_bytes, deadline_ns, -1);
+  if (receive_tagger_) {
+    const uint64_t sequence = receive_tagger_->count();
+    const std::string_view frame(inbox_.data() + inbox_begin_, kFrameHeaderBytes + body);
+    std::string expected(kMessageTagBytes, '\0');
+    receive_tagger_->TagNext(frame, reinterpret_cast<unsigned char*>(expected.data()));
+    if (!SameProof(expected, std::string(frame.data() + frame.size(), kMessageTagBytes))) {
+      throw TransportError(TransportError::Kind::kBadFrame,
+                           "message " + std::to_string(sequence) +
+                               " of the connection failed authentication (changed, added, "
+                               "dropped or repeated on the way)");
+    }
+  }
   const std::string_view body_bytes(inbox_.data() + inbox_begin_ + kFrameHeaderBytes, body);
-  inbox_begin_ += kFrameHeaderBytes + body;
+  inbox_begin_ += kFrameHeaderBytes + body + tag_bytes;
   if (inbox_begin_ == inbox_end_) inbox_begin_ = inbox_end_ = 0;  // Decoded below before reuse.
   try {
     DecodeFrameBody(encoding, body_bytes, max_frame_bytes_, &scratch_, message);

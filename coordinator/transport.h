@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "common/common.h"
+#include "coordinator/authentication.h"
 #include "coordinator/frame_codec.h"
 
 namespace sitlnet::coordinator {
@@ -78,6 +79,13 @@ class Channel {
   bool Receive(proto::coord::CoordinatorMessage* message, TimeNs deadline_ns = kNoDeadline,
                int interrupt_fd = -1);
 
+  // From now on every frame sent is followed by its tag under `send_key`, and every frame
+  // received must be followed by a valid tag under `receive_key` (authentication.h): both ends
+  // call it once the handshake has proven the shared secret. A frame whose tag does not verify
+  // throws TransportError(kBadFrame), and nothing of it is used.
+  void AuthenticateMessages(const std::string& send_key, const std::string& receive_key);
+  bool authenticates_messages() const { return send_tagger_ != nullptr; }
+
   int fd() const { return socket_.get(); }
   // Receive() polls the socket without sleeping for up to this long before
   // it blocks (0: block at once). Trades CPU for wake-up latency.
@@ -99,6 +107,9 @@ class Channel {
   size_t inbox_end_ = 0;
   FrameScratch scratch_;
   TimeNs spin_ns_ = 0;
+  std::unique_ptr<MessageTagger> send_tagger_;     // Set by AuthenticateMessages.
+  std::unique_ptr<MessageTagger> receive_tagger_;  // Set by AuthenticateMessages.
+  std::string tagged_frame_;                       // A frame and its tag, as sent.
   uint64_t compressed_frames_sent_ = 0;
   uint64_t bytes_sent_ = 0;
 };

@@ -103,10 +103,15 @@ struct BenchPhysics {
   std::unique_ptr<WorldSimulator> mujoco;
 };
 
-int Serve(const std::string& role, const std::string& endpoint, int robots, int net_step_us) {
+// The shared secret of the "-auth" transports: every message after the handshake is tagged.
+const char kBenchSecret[] = "coordinator_bench secret, 32 B!";
+
+int Serve(const std::string& role, const std::string& endpoint, int robots, int net_step_us,
+          bool authenticate) {
   const Scenario scenario = BenchScenario(robots, net_step_us);
-  const ConnectorIdentity identity{
-      role, role == "physics" ? Role::kPhysics : Role::kNetwork, ScenarioHash(scenario), {}};
+  const ConnectorIdentity identity{role, role == "physics" ? Role::kPhysics : Role::kNetwork,
+                                   ScenarioHash(scenario),
+                                   authenticate ? kBenchSecret : std::string()};
   Channel channel(Connect(ParseEndpoint(endpoint), MonotonicNowNs() + 10 * kNsPerS));
   channel.set_spin_ns(SpinNs());
   if (identity.role == Role::kPhysics) {
@@ -127,7 +132,12 @@ struct Row {
   MetricsSummary summary;
 };
 
-Row RunOne(const std::string& transport, int robots, int net_step_us, int64_t iterations) {
+Row RunOne(const std::string& labelled_transport, int robots, int net_step_us, int64_t iterations) {
+  // "<transport>-auth": the same with a shared secret (docs/coordinator.md, "Authentication").
+  const bool authenticate = labelled_transport.ends_with("-auth");
+  const std::string transport = authenticate
+                                    ? labelled_transport.substr(0, labelled_transport.size() - 5)
+                                    : labelled_transport;
   const Scenario scenario = BenchScenario(robots, net_step_us);
   CoordinatorOptions options = OptionsFromScenario(scenario);
   options.iterations = iterations;
@@ -165,7 +175,7 @@ Row RunOne(const std::string& transport, int robots, int net_step_us, int64_t it
       if (pid == 0) {
         const std::string r = std::to_string(robots), s = std::to_string(net_step_us);
         execl("/proc/self/exe", "coordinator_bench", "serve", role, endpoint.c_str(), r.c_str(),
-              s.c_str(), static_cast<char*>(nullptr));
+              s.c_str(), authenticate ? "auth" : "plain", static_cast<char*>(nullptr));
         _exit(127);
       }
       children.push_back(pid);
@@ -173,8 +183,8 @@ Row RunOne(const std::string& transport, int robots, int net_step_us, int64_t it
     WaitLimits limits;
     limits.timeout_ns = 10 * kNsPerS;
     limits.deadline_ns = MonotonicNowNs() + limits.timeout_ns;
-    HandshakeExpectation expect{
-        ScenarioHash(scenario), scenario.iteration_ns, false, std::nullopt, {}};
+    HandshakeExpectation expect{ScenarioHash(scenario), scenario.iteration_ns, false, std::nullopt,
+                                authenticate ? kBenchSecret : std::string()};
     if (hybrid) {
       BenchPhysics physics_sim(scenario);
       auto physics = MakeInProcessConnector("physics", Role::kPhysics, physics_sim.get(),
@@ -189,7 +199,7 @@ Row RunOne(const std::string& transport, int robots, int net_step_us, int64_t it
     }
     for (pid_t pid : children) waitpid(pid, nullptr, 0);
   }
-  return {transport, robots, net_step_us, metrics.Summarize()};
+  return {labelled_transport, robots, net_step_us, metrics.Summarize()};
 }
 
 std::string TransportLabel(const std::string& t) {
@@ -198,6 +208,7 @@ std::string TransportLabel(const std::string& t) {
   if (t == "tcp") return "TCP loopback";
   if (t == "uds-net") return "physics in-process, network over Unix socket";
   if (t == "tcp-net") return "physics in-process, network over TCP loopback";
+  if (t == "tcp-net-auth") return "physics in-process, network over TCP loopback, tagged";
   return t;
 }
 
@@ -221,8 +232,9 @@ void PrintRow(const Row& r) {
 
 int Main(int argc, char** argv) {
   const std::string command = argc > 1 ? argv[1] : "";
-  if (command == "serve" && argc == 6) {
-    return Serve(argv[2], argv[3], std::atoi(argv[4]), std::atoi(argv[5]));
+  if (command == "serve" && argc == 7) {
+    return Serve(argv[2], argv[3], std::atoi(argv[4]), std::atoi(argv[5]),
+                 std::string(argv[6]) == "auth");
   }
   if (command == "compression") return RunCompressionBench();
   if (command == "run" && argc == 6) {
@@ -244,7 +256,7 @@ int Main(int argc, char** argv) {
   }
   std::fprintf(stderr,
                "usage: coordinator_bench compression | matrix [iterations] | run "
-               "inproc|uds|tcp|uds-net|tcp-net ROBOTS NET_STEP_US ITERATIONS\n");
+               "inproc|uds|tcp|uds-net|tcp-net[-auth] ROBOTS NET_STEP_US ITERATIONS\n");
   return 2;
 }
 

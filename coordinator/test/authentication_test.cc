@@ -2,14 +2,20 @@
 // without the secret, with another secret, a hand-made client that sends a made-up proof, and a
 // coordinator that cannot prove the secret are all refused, and the connectors that hold it are
 // accepted after them; secret files that others can read, links and short secrets are refused.
+// The messages after it, attacked by a relay on the path that lets the handshake through and then
+// injects or rewrites: each end refuses the first message that is not the other end's.
 #include "coordinator/authentication.h"
 
 #include <gtest/gtest.h>
+#include <poll.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <functional>
 #include <future>
 
 #include "coordinator/coordinator.h"
@@ -27,6 +33,88 @@ HandshakeExpectation ExpectSecret() {
   expect.secret = kSecret;
   return expect;
 }
+
+std::string HexOf(const std::string& bytes) {
+  std::string hex;
+  for (unsigned char c : bytes) {
+    char two[3];
+    std::snprintf(two, sizeof two, "%02x", c);
+    hex += two;
+  }
+  return hex;
+}
+
+// Bytes of one encoded message.
+std::string FrameOf(const proto::coord::CoordinatorMessage& message) {
+  FrameEncoder encoder;
+  return std::string(encoder.Encode(message));
+}
+
+// An attacker on the path: it accepts the connector's connection, opens its own to the
+// coordinator, and passes every frame on through `edit` (direction, index of the frame in that
+// direction, its bytes with its tag if it has one), which returns what to send instead. It knows
+// the framing and where the tags start (after the coordinator's Challenge and the connector's
+// Proof), not the secret.
+class OnPathRelay {
+ public:
+  enum Direction { kToConnector, kToCoordinator };
+  using Edit = std::function<std::string(Direction, int, const std::string&)>;
+
+  OnPathRelay(Listener& front, const Endpoint& coordinator, Edit edit)
+      : thread_([&front, coordinator, edit] {
+          try {
+            Fd connector = front.Accept(MonotonicNowNs() + 10 * kNsPerS);
+            Fd upstream = Connect(coordinator, MonotonicNowNs() + 5 * kNsPerS);
+            Pass(connector, upstream, edit);
+          } catch (const Error&) {
+            // Either end gone: the relay's work is over.
+          }
+        }) {}
+  ~OnPathRelay() { thread_.join(); }
+
+ private:
+  static void Pass(Fd& connector, Fd& upstream, const Edit& edit) {
+    // Per direction: bytes not yet passed on, frames passed on, first tagged frame.
+    struct Side {
+      int from;
+      int to;
+      Direction direction;
+      int tagged_from;
+      std::string pending;
+      int frames = 0;
+    };
+    Side sides[2] = {{upstream.get(), connector.get(), kToConnector, 1, {}},
+                     {connector.get(), upstream.get(), kToCoordinator, 2, {}}};
+    for (;;) {
+      pollfd fds[2] = {{sides[0].from, POLLIN, 0}, {sides[1].from, POLLIN, 0}};
+      if (poll(fds, 2, 10000) <= 0) return;
+      for (int i = 0; i < 2; ++i) {
+        if (fds[i].revents == 0) continue;
+        Side& side = sides[i];
+        char buffer[65536];
+        const ssize_t n = recv(side.from, buffer, sizeof buffer, 0);
+        if (n <= 0) return;
+        side.pending.append(buffer, static_cast<size_t>(n));
+        for (;;) {
+          if (side.pending.size() < kFrameHeaderBytes) break;
+          uint32_t body = 0;
+          std::memcpy(&body, side.pending.data(), 4);  // Little-endian, like this machine.
+          const size_t size =
+              kFrameHeaderBytes + body + (side.frames >= side.tagged_from ? kMessageTagBytes : 0);
+          if (side.pending.size() < size) break;
+          const std::string out = edit(side.direction, side.frames++, side.pending.substr(0, size));
+          side.pending.erase(0, size);
+          if (send(side.to, out.data(), out.size(), MSG_NOSIGNAL) !=
+              static_cast<ssize_t>(out.size())) {
+            return;
+          }
+        }
+      }
+    }
+  }
+
+  std::thread thread_;
+};
 
 TEST(Authentication, OnlyConnectorsThatProveTheSecretAreAccepted) {
   Listener listener(ParseEndpoint("127.0.0.1:0"));
@@ -121,6 +209,181 @@ TEST(Authentication, ProofsDependOnTheSecretTheNoncesAndTheDirection) {
     hex += two;
   }
   EXPECT_EQ(hex, "7fecfee5e026c626dbc9102e479124012035da516105c95ca00301e37d7c4321");
+}
+
+TEST(Authentication, MessageTagsAreHmacSha256OfTheSequenceNumberAndTheFrame) {
+  // As Python's hmac module computes them: hmac.new(b"Jefe", struct.pack("<Q", n) + frame,
+  // hashlib.sha256) for n = 0 and 1.
+  MessageTagger tagger("Jefe");
+  const std::string frame = "what do ya want for nothing?";
+  std::string tag(kMessageTagBytes, '\0');
+  tagger.TagNext(frame, reinterpret_cast<unsigned char*>(tag.data()));
+  EXPECT_EQ(HexOf(tag), "d524ab401192a2b9f214a6a4feff4277ba99d7c4abd37f5caa3f2508a541cd22");
+  tagger.TagNext(frame, reinterpret_cast<unsigned char*>(tag.data()));
+  EXPECT_EQ(HexOf(tag), "af9265e8ba557f118a00af6e3530f325c1cb82b6e3927aae35d37b6b101efd57");
+  EXPECT_EQ(tagger.count(), 2u);
+  const SessionKeys keys = DeriveSessionKeys(kSecret, std::string(32, 'A'), std::string(32, 'B'));
+  EXPECT_NE(keys.coordinator_to_connector, keys.connector_to_coordinator);
+  EXPECT_NE(keys.coordinator_to_connector,
+            DeriveSessionKeys(kSecret, std::string(32, 'B'), std::string(32, 'A'))
+                .coordinator_to_connector);
+}
+
+TEST(Authentication, ATaggedChannelRefusesARepeatedAnUntaggedAndAReflectedFrame) {
+  auto [sender_fd, wire_in] = SocketPair();
+  auto [wire_out, receiver_fd] = SocketPair();
+  Channel sender(std::move(sender_fd));
+  Channel receiver(std::move(receiver_fd));
+  sender.AuthenticateMessages("key one, sixteen+", "key two, sixteen+");
+  receiver.AuthenticateMessages("key two, sixteen+", "key one, sixteen+");
+  proto::coord::CoordinatorMessage message;
+  message.mutable_start()->set_iteration(7);
+  sender.Send(message);
+  std::string sent(FrameOf(message).size() + kMessageTagBytes, '\0');
+  ASSERT_EQ(recv(wire_in.get(), sent.data(), sent.size(), MSG_WAITALL),
+            static_cast<ssize_t>(sent.size()));
+  auto deliver = [&](const std::string& bytes) {
+    ASSERT_EQ(send(wire_out.get(), bytes.data(), bytes.size(), 0),
+              static_cast<ssize_t>(bytes.size()));
+  };
+  auto refusal = [](Channel& channel) -> std::string {
+    proto::coord::CoordinatorMessage in;
+    try {
+      channel.Receive(&in, MonotonicNowNs() + 5 * kNsPerS);
+    } catch (const TransportError& e) {
+      return std::string(e.kind() == TransportError::Kind::kBadFrame ? "" : "not a bad frame: ") +
+             e.what();
+    }
+    return "accepted iteration " + std::to_string(in.start().iteration());
+  };
+  const std::string kFailed =
+      " of the connection failed authentication (changed, added, dropped or repeated on the way)";
+  deliver(sent);
+  EXPECT_EQ(refusal(receiver), "accepted iteration 7");
+  deliver(sent);  // The same frame again: its sequence number is now 1.
+  EXPECT_EQ(refusal(receiver), "message 1" + kFailed);
+  // A frame without a tag: what follows it (a longer message) is read as its tag.
+  auto [plain_fd, plain_receiver_fd] = SocketPair();
+  Channel plain_receiver(std::move(plain_receiver_fd));
+  plain_receiver.AuthenticateMessages("key two, sixteen+", "key one, sixteen+");
+  proto::coord::CoordinatorMessage stop;
+  stop.mutable_stop()->set_reason(std::string(64, 'r'));
+  const std::string plain = FrameOf(message) + FrameOf(stop);
+  ASSERT_EQ(send(plain_fd.get(), plain.data(), plain.size(), 0),
+            static_cast<ssize_t>(plain.size()));
+  EXPECT_EQ(refusal(plain_receiver), "message 0" + kFailed);
+  // The sender's own first message sent back to it: the other direction's key.
+  auto [reflect_fd, reflect_receiver_fd] = SocketPair();
+  Channel reflected(std::move(reflect_receiver_fd));
+  reflected.AuthenticateMessages("key one, sixteen+", "key two, sixteen+");
+  ASSERT_EQ(send(reflect_fd.get(), sent.data(), sent.size(), 0), static_cast<ssize_t>(sent.size()));
+  EXPECT_EQ(refusal(reflected), "message 0" + kFailed);
+}
+
+// Fails without the tags: the injected Stop ends the connector "orderly" with the attacker's
+// reason, and the forged End reaches the coordinator as the physics' poses.
+TEST(Authentication, ARelayOnThePathCannotInjectOrRewriteMessagesAfterTheHandshake) {
+  Listener coordinator_listener(ParseEndpoint("127.0.0.1:0"));
+  {
+    // Towards the connector: a Stop injected right after the Welcome.
+    Listener front(ParseEndpoint("127.0.0.1:0"));
+    OnPathRelay relay(front, coordinator_listener.endpoint(),
+                      [](OnPathRelay::Direction direction, int index, const std::string& frame) {
+                        if (direction != OnPathRelay::kToConnector || index != 1) return frame;
+                        proto::coord::CoordinatorMessage stop;
+                        stop.mutable_stop()->set_reason("the attacker's");
+                        return frame + FrameOf(stop) + std::string(kMessageTagBytes, 'x');
+                      });
+    auto accepting = std::async(std::launch::async, [&] {
+      return AcceptConnectorOfRole(coordinator_listener, Role::kPhysics, ExpectSecret(),
+                                   Within(10 * kNsPerS));
+    });
+    SyntheticPhysics physics_sim(Robots(1));
+    ConnectorThread phys(front.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash, kSecret});
+    phys.Join();
+    EXPECT_EQ(phys.stop_reason(), "");
+    EXPECT_EQ(phys.error(),
+              "coordinator connection: message 1 of the connection failed authentication "
+              "(changed, added, dropped or repeated on the way)");
+    accepting.get()->Stop("done");
+  }
+  {
+    // Towards the coordinator: the physics' first answer replaced by a made-up End.
+    Listener front(ParseEndpoint("127.0.0.1:0"));
+    OnPathRelay relay(front, coordinator_listener.endpoint(),
+                      [](OnPathRelay::Direction direction, int index, const std::string& frame) {
+                        if (direction != OnPathRelay::kToCoordinator || index != 2) return frame;
+                        proto::coord::CoordinatorMessage end;
+                        end.mutable_end()->set_iteration(0);
+                        return FrameOf(end) + frame.substr(frame.size() - kMessageTagBytes);
+                      });
+    auto accepting = std::async(std::launch::async, [&] {
+      return AcceptConnectorOfRole(coordinator_listener, Role::kPhysics, ExpectSecret(),
+                                   Within(10 * kNsPerS));
+    });
+    SyntheticPhysics physics_sim(Robots(1));
+    ConnectorThread phys(front.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash, kSecret});
+    std::unique_ptr<Connector> connector = accepting.get();
+    ASSERT_NE(connector, nullptr);
+    proto::coord::Start start;
+    start.set_iteration(0);
+    start.set_end_ns(kDelta);
+    connector->Begin(start, Within(5 * kNsPerS));
+    proto::coord::End end;
+    try {
+      connector->Finish(0, &end, Within(5 * kNsPerS));
+      ADD_FAILURE() << "the forged End was taken";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()),
+                "physics connector 'phys0' failed during iteration 0: message 0 of the connection "
+                "failed authentication (changed, added, dropped or repeated on the way)");
+    }
+    connector->Stop("done");
+    connector.reset();
+    phys.Join();
+  }
+}
+
+// Fails with handshakes one at a time: each of the two strangers holds the accept loop for its
+// Hello deadline (2 s) and is then ignored with a warning, before the real connectors are looked
+// at.
+TEST(Authentication, AConnectionThatSaysNothingOrStopsHalfWayHoldsBackNoConnector) {
+  Listener listener(ParseEndpoint("127.0.0.1:0"));
+  ::testing::internal::CaptureStderr();
+  auto accepting = std::async(std::launch::async, [&] {
+    return AcceptConnectors(listener, ExpectSecret(), Within(20 * kNsPerS));
+  });
+  Fd silent = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
+  // A stranger that starts the handshake and never proves anything.
+  Channel half_way(Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS));
+  proto::coord::CoordinatorMessage hello;
+  hello.mutable_hello()->set_protocol_version(kProtocolVersion);
+  hello.mutable_hello()->set_scenario_hash(kHash);
+  hello.mutable_hello()->set_role(proto::coord::ROLE_PHYSICS);
+  hello.mutable_hello()->set_connector_name("half-way");
+  hello.mutable_hello()->set_nonce(RandomNonce());
+  half_way.Send(hello);
+  proto::coord::CoordinatorMessage in;
+  ASSERT_TRUE(half_way.Receive(&in, MonotonicNowNs() + 5 * kNsPerS));
+  ASSERT_TRUE(in.has_challenge());
+  SyntheticPhysics physics_sim(Robots(1));
+  SyntheticNetwork network_sim(Robots(1));
+  ConnectorThread phys(listener.endpoint(), &physics_sim,
+                       {"phys0", Role::kPhysics, kHash, kSecret});
+  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash, kSecret});
+  AcceptedConnectors accepted = accepting.get();
+  const std::string warnings = ::testing::internal::GetCapturedStderr();
+  ASSERT_NE(accepted.physics, nullptr);
+  ASSERT_NE(accepted.network, nullptr);
+  EXPECT_EQ(accepted.physics->name(), "phys0");
+  // Both strangers were still under way when the connectors were in: nothing was ignored yet.
+  EXPECT_EQ(warnings, "");
+  accepted.physics->Stop("done");
+  accepted.network->Stop("done");
+  phys.Join();
+  net.Join();
+  EXPECT_EQ(phys.error(), "");
+  EXPECT_EQ(net.error(), "");
 }
 
 TEST(Authentication, SecretFilesMustBeTheUsersOwnAndPrivate) {
