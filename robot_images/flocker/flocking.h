@@ -2,12 +2,14 @@
 // model of Vásárhelyi et al., "Optimized flocking of autonomous drones in
 // confined environments", Science Robotics 3(20), 2018 (repulsion, velocity
 // alignment with a braking curve, shill agents for obstacles, speed cutoff),
-// with the pairwise attraction and the migration target of Bonnefond, Simonin
-// and Guérin-Lassous, "Extension of flocking models to environments with
-// obstacles and degraded communications", IROS 2021. Each term is a pure
-// function of the robot's own state, what it heard from its neighbours and the
-// shill agents of the obstacles it sees; their sum, capped, is the desired
-// velocity. Equations and parameter values: docs/case-study.md.
+// with the pairwise attraction of Bonnefond, Simonin and Guérin-Lassous,
+// "Extension of flocking models to environments with obstacles and degraded
+// communications", IROS 2021, and a migration term towards a target as in the
+// DANCERS authors' flocking node. Each term is a pure function of the robot's
+// own state, what it heard from its neighbours and the shill agents of the
+// obstacles it sees; their sum, capped, is the desired velocity. The formulas,
+// the implementations they were checked against (the papers' model sections
+// could not be read) and the parameter values: docs/case-study.md.
 #ifndef SITLNET_ROBOT_IMAGES_FLOCKER_FLOCKING_H_
 #define SITLNET_ROBOT_IMAGES_FLOCKER_FLOCKING_H_
 

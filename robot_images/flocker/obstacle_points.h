@@ -1,9 +1,10 @@
 // Where the flocker puts its shill agents: the obstacles it sees in one
 // horizontal lidar scan, each reduced to its point nearest the robot.
-// Vásárhelyi et al. (Science Robotics 2018) place one shill agent per obstacle
-// at its nearest point; a robot that knows obstacles only from its lidar
-// treats each run of adjacent hits as one obstacle outline, as the DANCERS
-// authors' flocking node does with segments extracted from the scan.
+// Vásárhelyi et al.'s simulation code (robotsim, Science Robotics 2018) places
+// one shill agent per obstacle at its nearest point; a robot that knows
+// obstacles only from its lidar treats each run of adjacent hits as one
+// obstacle outline, as the DANCERS authors' flocking node does with segments
+// extracted from the scan.
 #ifndef SITLNET_ROBOT_IMAGES_FLOCKER_OBSTACLE_POINTS_H_
 #define SITLNET_ROBOT_IMAGES_FLOCKER_OBSTACLE_POINTS_H_
 

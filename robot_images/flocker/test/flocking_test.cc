@@ -1,5 +1,6 @@
-// Each VAT term against values worked out by hand from the papers' equations
-// (docs/case-study.md lists them); the arithmetic is in the comments.
+// Each VAT term against values worked out by hand from the formulas in
+// docs/case-study.md (checked against implementations, not the papers' text); the arithmetic is in
+// the comments.
 #include "robot_images/flocker/flocking.h"
 
 #include <gtest/gtest.h>
