@@ -24,8 +24,10 @@ constexpr const char* kPhysicsHelp =
     "time, until SIGINT/SIGTERM or S seconds of virtual time. Each robot's server\n"
     "listens on <root side of its ctl0>:<physics_port> (SITLNET_PHYSICS_ADDR inside\n"
     "the robot; protocol in docs/protocols.md) and, if the robot sets\n"
-    "ardupilot_json_port, speaks ArduPilot's JSON SITL protocol there. The sockets\n"
-    "use IP_FREEBIND: the server may start before `sitlnet up`.\n"
+    "ardupilot_json_port, speaks ArduPilot's JSON SITL protocol there. When the\n"
+    "scenario is up, the sockets are in its ctl namespace (<scenario>.ctl; needs\n"
+    "CAP_SYS_ADMIN); before `up`, in this process's namespace, where robots do not\n"
+    "reach them.\n"
     "\n"
     "  --duration-s S  stop after S seconds of virtual time (default: never)\n"
     "  --threads N     threads stepping robots (default 2)\n"
@@ -89,11 +91,19 @@ int RunPhysicsCommand(int argc, char** argv) {
   });
   if (load_status != kExitOk) return load_status;
   return ReportErrors("physics", kExitFailure, [&] {
-    physics::PhysicsServer server(scenario, options);
-    // When the scenario is up, `sitlnet down` stops this server too. It may
-    // also run before `up` (its sockets use IP_FREEBIND): then it is ours alone.
+    // When the scenario is up, its sockets are made in the scenario's ctl namespace, where the
+    // robots' ctl0 links end (entering it needs CAP_SYS_ADMIN), and `sitlnet down` stops this
+    // server too. Before `up` they are in this process's namespace (IP_FREEBIND), where no
+    // robot reaches them: a server for tests of the protocol.
+    const bool up =
+        nns::ReadScenarioState(scenario.name) && nns::NetnsExists(nns::CtlNetnsName(scenario.name));
+    physics::PhysicsServer server = [&] {
+      std::optional<nns::ScopedNetns> in_ctl;
+      if (up) in_ctl.emplace(nns::CtlNetnsName(scenario.name));
+      return physics::PhysicsServer(scenario, options);
+    }();
     std::optional<nns::DaemonRegistration> registration;
-    if (nns::ReadScenarioState(scenario.name)) registration.emplace(scenario.name, "physics");
+    if (up) registration.emplace(scenario.name, "physics");
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
     std::fprintf(stderr, "sitlnet physics: %zu robots, step %ld us, serving on port %u\n",

@@ -1,12 +1,13 @@
-// The filter on the root side of the robots' ctl0 links (issue 17, finding 3; docs/security.md):
-// an nftables table, `inet sitlnet-<scenario>`, that lets a robot reach only the root side of
-// its own ctl0, and there only the ports the physics server listens on for it (the physics
-// protocol's UDP port, its ArduPilot JSON UDP port, its PX4 TCP port), ping, and answers to what
-// the root side sent it first. Without it, a
-// robot that can write its neighbour table (CAP_NET_ADMIN, or `sandbox: NONE`) reached every
-// address of the host through ctl0 (Linux accepts a packet for any local address on any
-// interface), and any service the host runs on the wildcard address at its own ctl0's root side.
-// Written with libnftables, in nft's own language, as one transaction.
+// The filter on the root side of the robots' ctl0 links (issue 17, findings 3 and 11;
+// docs/security.md): an nftables table, `inet sitlnet-<scenario>`, in the scenario's ctl
+// namespace, that lets a robot reach only the root side of its own ctl0, and there only the
+// ports the physics server listens on for it (the physics protocol's UDP port, its ArduPilot JSON
+// UDP port, its PX4 TCP port), ping, and answers to what the root side sent it first. Without it,
+// a robot that can write its neighbour table (CAP_NET_ADMIN, or `sandbox: NONE`) reaches every
+// address of the ctl namespace through ctl0 (Linux accepts a packet for any local address on any
+// interface): the other robots' root sides and their physics ports. (When the root sides were in
+// the host's namespace, that was every address of the host.) Written with libnftables, in nft's
+// own language, as one transaction.
 #include <nftables/libnftables.h>
 
 #include <memory>
@@ -37,10 +38,6 @@ std::string RunNft(const std::string& commands) {
 std::string TableName(const std::string& scenario) { return "sitlnet-" + scenario; }
 
 }  // namespace
-
-bool CtlFilterExists(const std::string& scenario) {
-  return RunNft("list table inet " + TableName(scenario)).empty();
-}
 
 void AddCtlFilter(const Scenario& scenario) {
   const uint32_t physics_port = scenario.spec.addresses().physics_port();
@@ -105,14 +102,6 @@ void AddCtlFilter(const Scenario& scenario) {
   for (const std::string& line : lines) rules += line + "\n";
   if (const std::string error = RunNft(rules); !error.empty()) {
     throw Error("scenario \"" + scenario.name + "\": nftables table " + table + ": " + error);
-  }
-}
-
-void RemoveCtlFilter(const std::string& scenario) {
-  if (!CtlFilterExists(scenario)) return;
-  const std::string table = "inet " + TableName(scenario);
-  if (const std::string error = RunNft("delete table " + table); !error.empty()) {
-    throw Error("scenario \"" + scenario + "\": remove nftables table " + table + ": " + error);
   }
 }
 

@@ -71,20 +71,10 @@ void SetLinkUp(const RouteSocket& sock, int ifindex, const std::string& what);
 void CreateVeth(const RouteSocket& sock, const std::string& root_name, uint32_t group,
                 const std::string& peer_name, int peer_netns_fd, const std::string& what);
 
-// Names of the links of the socket's namespace that are in link group `group`.
-std::vector<std::string> LinksInGroup(const RouteSocket& sock, uint32_t group);
-
-// Deletes every link of group `group` in one RTM_DELLINK (one batch in the
-// kernel: one RCU grace period instead of one per link).
-void DeleteLinkGroup(const RouteSocket& sock, uint32_t group);
-
 // Adds (or replaces) a PERMANENT neighbour entry `address` -> `mac` on
 // `ifindex`: sends to that address never wait for ARP.
 void AddPermanentNeighbour(const RouteSocket& sock, int ifindex, Ipv4 address,
                            const MacAddress& mac, const std::string& what);
-
-// Deletes link `name` if present; returns whether it was there.
-bool DeleteLinkIfPresent(const RouteSocket& sock, const std::string& name);
 
 // Every link of the socket's namespace with its IPv4 addresses.
 std::vector<LinkInfo> DumpLinks(const RouteSocket& sock);
@@ -157,12 +147,11 @@ void RemoveState(const std::string& scenario);
 // Removes every container registered for the scenario (ContainerRegistration) with its engine,
 // by exact name, and its registration; throws Error naming the first that could not be removed.
 void RemoveRegisteredContainers(const std::string& scenario, DownReport* report);
-// The scenario's nftables table on the root side of its ctl0 links (ctl_filter.cc): a robot
-// reaches only its own ctl0's root address, on the physics server's ports for it, and ping.
-// AddCtlFilter throws Error naming the scenario and nft's message.
-bool CtlFilterExists(const std::string& scenario);
+// The scenario's nftables table on the root side of its ctl0 links (ctl_filter.cc), added in the
+// CALLING THREAD's namespace (the scenario's ctl namespace; it goes with it): a robot reaches
+// only its own ctl0's root address, on the physics server's ports for it, and ping. Throws Error
+// naming the scenario and nft's message.
 void AddCtlFilter(const Scenario& scenario);
-void RemoveCtlFilter(const std::string& scenario);  // If there is one.
 // Kills what is left in the scenario's robots' cgroups and removes their folders (RobotCgroup);
 // the number of robots' v2 cgroups removed.
 int RemoveScenarioCgroups(const std::string& scenario);

@@ -143,45 +143,6 @@ void CreateVeth(const RouteSocket& sock, const std::string& root_name, uint32_t 
   if (err < 0) throw Error(NlError(what, err));
 }
 
-bool DeleteLinkIfPresent(const RouteSocket& sock, const std::string& name) {
-  LinkPtr link(rtnl_link_alloc());
-  SITLNET_DEMAND(link != nullptr);
-  rtnl_link_set_name(link.get(), name.c_str());
-  const int err = rtnl_link_delete(sock.get(), link.get());
-  if (err == -NLE_NODEV || err == -NLE_OBJ_NOTFOUND) return false;
-  if (err < 0) throw Error(NlError("delete link \"" + name + "\"", err));
-  return true;
-}
-
-std::vector<std::string> LinksInGroup(const RouteSocket& sock, uint32_t group) {
-  nl_cache* raw = nullptr;
-  const int err = rtnl_link_alloc_cache(sock.get(), AF_UNSPEC, &raw);
-  if (err < 0) throw Error(NlError("list links", err));
-  std::unique_ptr<nl_cache, CacheDeleter> links(raw);
-  std::vector<std::string> names;
-  for (nl_object* obj = nl_cache_get_first(links.get()); obj; obj = nl_cache_get_next(obj)) {
-    auto* link = reinterpret_cast<rtnl_link*>(obj);
-    if (rtnl_link_get_group(link) == group) names.push_back(rtnl_link_get_name(link));
-  }
-  return names;
-}
-
-void DeleteLinkGroup(const RouteSocket& sock, uint32_t group) {
-  // libnl's rtnl_link_delete sends only an index or a name: build the
-  // request by hand. ifindex 0 + IFLA_GROUP = rtnl_group_dellink in the kernel.
-  std::unique_ptr<nl_msg, void (*)(nl_msg*)> msg(nlmsg_alloc_simple(RTM_DELLINK, 0), nlmsg_free);
-  SITLNET_DEMAND(msg != nullptr);
-  ifinfomsg header{};
-  header.ifi_family = AF_UNSPEC;
-  SITLNET_DEMAND(nlmsg_append(msg.get(), &header, sizeof header, NLMSG_ALIGNTO) == 0);
-  SITLNET_DEMAND(nla_put_u32(msg.get(), IFLA_GROUP, group) == 0);
-  int err = nl_send_auto(sock.get(), msg.get());
-  if (err >= 0) err = nl_wait_for_ack(sock.get());
-  if (err < 0 && err != -NLE_NODEV && err != -NLE_OBJ_NOTFOUND) {
-    throw Error(NlError("delete link group " + std::to_string(group), err));
-  }
-}
-
 std::vector<LinkInfo> DumpLinks(const RouteSocket& sock) {
   nl_cache* raw_links = nullptr;
   int err = rtnl_link_alloc_cache(sock.get(), AF_UNSPEC, &raw_links);

@@ -102,6 +102,8 @@ bool StatNs(const std::string& path, NsId* id) {
 
 }  // namespace internal
 
+std::string CtlNetnsName(const std::string& scenario) { return scenario + ".ctl"; }
+
 void CreateNetns(const std::string& name) {
   ScopedNetns restore(UniqueFd(open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC)).get());
   internal::CreateNetnsAndEnter(name);

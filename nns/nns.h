@@ -76,6 +76,13 @@ bool RemoveNetns(const std::string& name);
 // Opens the namespace file (O_RDONLY|O_CLOEXEC), for setns or IFLA_NET_NS_FD.
 UniqueFd OpenNetns(const std::string& name);
 
+// The namespace of a scenario's ctl links, "<scenario>.ctl" (a robot's is "<scenario>-<robot>";
+// neither name can hold a '.'). The root side of every robot's ctl0 (the veth "<scenario>-c<i>",
+// its address, the filter) and the physics server's sockets live there, not in the host's
+// namespace: no local user can bind a robot's physics port before the run (audit finding 10),
+// and ctl0 leads to nothing of the host. `up` makes it, `down` removes it.
+std::string CtlNetnsName(const std::string& scenario);
+
 // Moves the calling thread into namespace `name` and back on destruction.
 // setns affects only the calling thread: use it on the thread that will open
 // sockets or TAPs, and do not hand the scope to another thread. A netlink or

@@ -10,11 +10,16 @@ std::vector<RobotStatus> Status(const ScenarioState& state) {
   std::vector<RobotStatus> result;
   std::vector<internal::NsId> namespaces;
   std::vector<size_t> robot_of_namespace;
-  internal::RouteSocket root;
+  // The root sides of the ctl links are in the scenario's ctl namespace.
+  std::unique_ptr<internal::RouteSocket> ctl;
+  if (NetnsExists(CtlNetnsName(state.name))) {
+    ScopedNetns enter(CtlNetnsName(state.name));
+    ctl = std::make_unique<internal::RouteSocket>();
+  }
   for (const OwnedRobot& robot : state.robots) {
     RobotStatus status;
     status.robot = robot;
-    status.root_veth_present = internal::LinkIndex(root, robot.root_veth) != 0;
+    status.root_veth_present = ctl && internal::LinkIndex(*ctl, robot.root_veth) != 0;
     internal::NsId id;
     if (internal::StatNs(NetnsPath(robot.netns), &id)) {
       status.netns_present = true;

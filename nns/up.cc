@@ -24,7 +24,7 @@ constexpr int kCtlPrefixLength = 30;
 // (measured in docs/performance.md).
 constexpr int kUpThreads = 2;
 
-void RefuseForeignObjects(const Scenario& scenario, const RouteSocket& root) {
+void RefuseForeignObjects(const Scenario& scenario) {
   const std::string hint = "; nothing was changed";
   for (const RobotPlan& robot : scenario.robots) {
     if (NetnsExists(robot.netns)) {
@@ -33,45 +33,21 @@ void RefuseForeignObjects(const Scenario& scenario, const RouteSocket& root) {
                   "\" did not create it (no state in " + kStateDir + "/" + scenario.name +
                   "): remove it (ip netns del " + robot.netns + ") or rename the scenario" + hint);
     }
-    if (internal::LinkIndex(root, robot.root_veth) != 0) {
-      throw Error("device \"" + robot.root_veth + "\" of robot \"" + robot.name +
-                  "\" exists but scenario \"" + scenario.name +
-                  "\" did not create it: remove it (ip link del " + robot.root_veth +
-                  ") or rename the scenario" + hint);
-    }
   }
-  if (internal::CtlFilterExists(scenario.name)) {
-    throw Error("nftables table \"inet sitlnet-" + scenario.name + "\" exists but scenario \"" +
-                scenario.name + "\" did not create it: remove it (nft delete table inet sitlnet-" +
-                scenario.name + ") or rename the scenario" + hint);
+  // The robots' root-side veths and the filter live in it: a namespace of that name that is not
+  // ours could hold anything.
+  const std::string ctl = CtlNetnsName(scenario.name);
+  if (NetnsExists(ctl)) {
+    throw Error(
+        "namespace \"" + ctl + "\" of scenario \"" + scenario.name +
+        "\"'s ctl links exists but the scenario did not create it: remove it (ip netns del " + ctl +
+        ") or rename the scenario" + hint);
   }
 }
 
-// The common case of a route clash: another scenario that is up uses the
-// same ctl_subnet. Same rule as CheckAddressPlanAgainstRoutes, clearer words.
-void RefuseClashWithOtherScenarios(const Scenario& scenario, const std::vector<HostRoute>& routes) {
-  for (const std::string& other : ListScenarios()) {
-    const std::optional<ScenarioState> state = ReadScenarioState(other);
-    if (!state) continue;
-    for (const OwnedRobot& robot : state->robots) {
-      for (const HostRoute& route : routes) {
-        if (route.device != robot.root_veth) continue;
-        for (const auto& [field, prefix] : {std::pair{"wlan_subnet", scenario.wlan_subnet},
-                                            std::pair{"ctl_subnet", scenario.ctl_subnet}}) {
-          if (!prefix.Overlaps(route.destination)) continue;
-          throw Error(scenario.source_path + ": addresses." + field + " " +
-                      FormatIpv4Prefix(prefix) + " overlaps " +
-                      FormatIpv4Prefix(route.destination) + " on " + route.device +
-                      ", the ctl0 link of robot \"" + robot.name + "\" of scenario \"" + other +
-                      "\" that is up: give each scenario its own ctl_subnet");
-        }
-      }
-    }
-  }
-}
-
-// One robot, see docs/nns.md. `root` is a socket of the root namespace.
-void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket& root) {
+// One robot, see docs/nns.md. `ctl_side` is a socket of the scenario's ctl namespace, which the
+// calling thread is in.
+void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket& ctl_side) {
   const auto& plan = scenario.spec.addresses();
   const bool silent = plan.ipv6() == proto::AddressPlan::IPV6_SILENT;
   const std::string who = "robot \"" + robot.name + "\" (namespace \"" + robot.netns + "\")";
@@ -81,7 +57,7 @@ void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket
   {
     UniqueFd self(open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC));
     if (!self.valid()) throw Error(SystemErrorMessage("open own network namespace", errno));
-    ScopedNetns back_to_root(self.get());  // Restores this thread on scope exit.
+    ScopedNetns back_to_ctl(self.get());  // Restores this thread on scope exit.
     internal::CreateNetnsAndEnter(robot.netns);
     robot_netns.Reset(open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC));
     if (!robot_netns.valid()) throw Error(SystemErrorMessage(who + ": open namespace", errno));
@@ -118,20 +94,20 @@ void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket
     }
   }
 
-  internal::CreateVeth(root, robot.root_veth, internal::LinkGroupForScenario(scenario.name), "ctl0",
-                       robot_netns.get(),
+  internal::CreateVeth(ctl_side, robot.root_veth, internal::LinkGroupForScenario(scenario.name),
+                       "ctl0", robot_netns.get(),
                        who + ": create veth \"" + robot.root_veth + "\" <-> ctl0");
-  const int root_side = internal::LinkIndex(root, robot.root_veth);
+  const int root_side = internal::LinkIndex(ctl_side, robot.root_veth);
   internal::LinkSettings root_settings;
   root_settings.ipv6_silent = silent;
   root_settings.ipv4_no_forwarding = true;
   root_settings.multicast_off = true;
   root_settings.ipv4_own_address_only = true;
-  internal::ConfigureLink(root, root_side, root_settings, who + ": " + robot.root_veth);
+  internal::ConfigureLink(ctl_side, root_side, root_settings, who + ": " + robot.root_veth);
   internal::RefuseRouterAdvertisements(robot.root_veth, who + ": " + robot.root_veth);
-  internal::AddIpv4Address(root, root_side, robot.ctl_root_address, kCtlPrefixLength,
+  internal::AddIpv4Address(ctl_side, root_side, robot.ctl_root_address, kCtlPrefixLength,
                            who + ": " + robot.root_veth);
-  internal::SetLinkUp(root, root_side, who + ": " + robot.root_veth);
+  internal::SetLinkUp(ctl_side, root_side, who + ": " + robot.root_veth);
 
   const int ctl = internal::LinkIndex(*inside, "ctl0");
   internal::LinkSettings ctl_settings;
@@ -151,9 +127,11 @@ void UpAllRobots(const Scenario& scenario, const UpOptions& options) {
   int robots_done = 0;
   auto worker = [&] {
     try {
-      RouteSocket root;  // One per thread: libnl sockets are not thread-safe.
+      // The root sides are made in the ctl namespace (their sysctls are this thread's).
+      ScopedNetns in_ctl(CtlNetnsName(scenario.name));
+      RouteSocket ctl;  // One per thread: libnl sockets are not thread-safe.
       for (size_t i = next++; i < scenario.robots.size() && !failed; i = next++) {
-        UpRobot(scenario, scenario.robots[i], root);
+        UpRobot(scenario, scenario.robots[i], ctl);
         std::lock_guard<std::mutex> lock(mutex);
         ++robots_done;
         if (options.on_robot_done) options.on_robot_done(robots_done);
@@ -191,19 +169,25 @@ void Up(const Scenario& scenario, const UpOptions& options) {
   internal::StateLock lock;
   RefuseIfInUse(scenario.name);         // Never torn down from under its run (audit finding 6).
   internal::DownLocked(scenario.name);  // Our own leftovers (a crash, a previous up).
-  {
-    RouteSocket root;
-    RefuseForeignObjects(scenario, root);
-  }
+  RefuseForeignObjects(scenario);
   const std::vector<HostRoute> routes = ReadHostRoutes();
-  RefuseClashWithOtherScenarios(scenario, routes);
   CheckAddressPlanAgainstRoutes(scenario, routes);
   // Ownership first: from here on, whatever exists under our names is ours.
   internal::WriteState(StateFromScenario(scenario));
   try {
     if (options.register_caller_as_run) internal::WritePidFile(scenario.name, "run");
-    // Before the first veth: no moment in which a robot reaches more than its physics ports.
-    internal::AddCtlFilter(scenario);
+    {
+      // The ctl namespace, its loopback up (the physics server's own traffic), and the filter
+      // before the first veth: no moment in which a robot reaches more than its physics ports.
+      UniqueFd self(open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC));
+      if (!self.valid()) throw Error(SystemErrorMessage("open own network namespace", errno));
+      ScopedNetns back(self.get());
+      internal::CreateNetnsAndEnter(CtlNetnsName(scenario.name));
+      RouteSocket ctl;
+      internal::SetLinkUp(ctl, internal::LinkIndex(ctl, "lo"),
+                          "scenario \"" + scenario.name + "\": ctl namespace lo");
+      internal::AddCtlFilter(scenario);
+    }
     UpAllRobots(scenario, options);
   } catch (...) {
     try {

@@ -42,7 +42,11 @@ int Run(int round_trips) {
   const Scenario scenario = LoadScenarioFile(path);
   std::remove(path.c_str());
   ScenarioUp up(scenario);
-  PhysicsServer server(scenario);
+  // Its sockets where runs make them: the scenario's ctl namespace, where ctl0 ends.
+  PhysicsServer server = [&] {
+    nns::ScopedNetns in_ctl(nns::CtlNetnsName(scenario.name));
+    return PhysicsServer(scenario);
+  }();
   const std::string address = FormatIpv4(scenario.robots[0].ctl_root_address) + ":" +
                               std::to_string(scenario.spec.addresses().physics_port());
 

@@ -160,9 +160,10 @@ def ip_change(name, add, delete):
 
 
 def reach_host_via_ctl0():
-    """Another host address through ctl0, with the neighbour table written by hand (which needs
-    CAP_NET_ADMIN): the next robot's ctl0 root side, a local address of the host. A TCP connection
-    there that is refused (nothing listens) or accepted reached the host; a timeout did not."""
+    """Another address beyond ctl0, with the neighbour table written by hand (which needs
+    CAP_NET_ADMIN): the next robot's ctl0 root side, a local address of the scenario's ctl
+    namespace (of the host's, before that namespace). A TCP connection there that is refused
+    (nothing listens) or accepted reached it; a timeout did not."""
     own = os.environ.get("SITLNET_PHYSICS_ADDR", "").split(":")[0]
     if not own:
         report("reach_host_via_ctl0", False, "no SITLNET_PHYSICS_ADDR")

@@ -130,16 +130,18 @@ TEST(IsolationTest, RobotReachesNeitherTheHostsNetworksNorAnotherRobotsCtl0) {
   const int loopback_error = ConnectFrom(a.netns, Ipv4{0x7f000001}, loopback.port);
   EXPECT_TRUE(loopback_error == ECONNREFUSED || loopback_error == ENETUNREACH)
       << strerror(loopback_error);
-  // The root side of the robot's OWN ctl0 is a local address of the root namespace, so a root
+  // The root side of the robot's OWN ctl0 was a local address of the host's namespace, so a host
   // service bound to the wildcard address answered there (Linux's weak host model) until the ctl0
-  // filter (issue 17, finding 3): now only the physics server's ports for the robot and ping
-  // get through, the rest is dropped (a timeout, not a refusal).
+  // filter (issue 17, finding 3); the root sides are in the scenario's ctl namespace now, where
+  // no host service listens, and the filter there lets only the physics server's ports for the
+  // robot and ping through: the rest is dropped (a timeout, not a refusal).
   EXPECT_EQ(ConnectFrom(a.netns, a.ctl_root_address, wildcard.port), ETIMEDOUT);
 
-  // The root-side veth: ARP only for its own address, strict reverse path, no IPv6 router
-  // advertisements (audit findings 3 and 12: a robot could otherwise learn the host's other
-  // addresses, or install IPv6 routes in the root namespace).
-  const auto sysctl = [](const std::string& path) {
+  // The root-side veth, in the ctl namespace: ARP only for its own address, strict reverse path,
+  // no IPv6 router advertisements (audit findings 3 and 12: a robot could otherwise learn the
+  // other root sides' addresses, or install IPv6 routes there).
+  const auto sysctl = [&](const std::string& path) {
+    nns::ScopedNetns in_ctl(nns::CtlNetnsName(scenario.name));  // /proc/sys/net: this thread's.
     std::string value;
     std::ifstream("/proc/sys/net/" + path) >> value;
     return value;
@@ -158,7 +160,10 @@ TEST(IsolationTest, ForeignMotorCommandsAreDroppedAndCountedEvenWithARouteAdded)
   const Scenario& scenario = t.scenario;
   DownGuard down(scenario.name);
   nns::Up(scenario);
-  physics::PhysicsServer server(scenario);
+  physics::PhysicsServer server = [&] {
+    nns::ScopedNetns in_ctl(nns::CtlNetnsName(scenario.name));  // Where runs make its sockets.
+    return physics::PhysicsServer(scenario);
+  }();
   const RobotPlan& a = scenario.robots[0];
   const RobotPlan& b = scenario.robots[1];
   const uint16_t port = static_cast<uint16_t>(scenario.spec.addresses().physics_port());
@@ -204,8 +209,12 @@ TEST(IsolationTest, ForeignMotorCommandsAreDroppedAndCountedEvenWithARouteAdded)
   // source is not b's ctl0 address. Now the filter drops it: a's packets reach only a's own ctl0
   // root side. After it, a's same command to a's own server address gets through (and is
   // dropped there for naming robot b): the foreign one, sent first, would have been counted first.
-  std::string veth_mac;
-  std::ifstream("/sys/class/net/" + a.root_veth + "/address") >> veth_mac;
+  const std::string veth_link = RunCommand({"ip", "-n", nns::CtlNetnsName(scenario.name), "-o",
+                                            "link", "show", "dev", a.root_veth})
+                                    .out;
+  const size_t ether = veth_link.find("link/ether ");
+  ASSERT_NE(ether, std::string::npos) << veth_link;
+  const std::string veth_mac = veth_link.substr(ether + 11, 17);
   ASSERT_EQ(RunCommand(InNetns(a.netns, {"ip", "neigh", "replace", FormatIpv4(b.ctl_root_address),
                                          "lladdr", veth_mac, "dev", "ctl0", "nud", "permanent"}))
                 .exit_code,
@@ -267,17 +276,21 @@ TEST(IsolationTest, DaemonsListenOnlyWhereTheyMustAndTheMediumSocketIsRootOnly) 
   Child medium({"/bin/sh", "-c", "umask 0; exec \"$0\" medium \"$1\"", SitlnetBinary(), t.path});
   ASSERT_TRUE(medium.WaitForOutput(true, "control socket", 20 * kNsPerS)) << medium.err();
 
-  // Physics: one UDP socket per robot, on the root side of that robot's ctl0, nothing else.
+  // Physics: one UDP socket per robot, on the root side of that robot's ctl0 in the scenario's
+  // ctl namespace, nothing else, and nothing in the host's namespace.
   const auto udp = RunCommand({"ss", "-H", "-l", "-u", "-n", "-p"});
+  EXPECT_TRUE(ListeningAddressesOf(udp.out, physics.pid()).empty()) << udp.out;
+  const auto ctl_udp = RunCommand({"ip", "netns", "exec", nns::CtlNetnsName(scenario.name), "ss",
+                                   "-H", "-l", "-u", "-n", "-p"});
   std::vector<std::string> expected;
   for (const RobotPlan& robot : scenario.robots) {
     expected.push_back(FormatIpv4(robot.ctl_root_address) + ":" +
                        std::to_string(scenario.spec.addresses().physics_port()));
   }
-  auto physics_udp = ListeningAddressesOf(udp.out, physics.pid());
+  auto physics_udp = ListeningAddressesOf(ctl_udp.out, physics.pid());
   std::sort(physics_udp.begin(), physics_udp.end());
   std::sort(expected.begin(), expected.end());
-  EXPECT_EQ(physics_udp, expected) << udp.out;
+  EXPECT_EQ(physics_udp, expected) << ctl_udp.out;
   const auto tcp = RunCommand({"ss", "-H", "-l", "-t", "-n", "-p"});
   EXPECT_TRUE(ListeningAddressesOf(tcp.out, physics.pid()).empty()) << tcp.out;
 

@@ -69,7 +69,8 @@ bool PollIn(int fd, TimeNs timeout_ns) {
 
 }  // namespace
 
-std::string UdpRoundTrip(const std::string& netns, Ipv4 robot_address) {
+std::string UdpRoundTrip(const std::string& scenario, const std::string& netns,
+                         Ipv4 robot_address) {
   constexpr uint16_t kPort = 47999;
   const TimeNs timeout_ns = 5 * kNsPerS;
   // The echo socket is created by a thread inside the robot: setns moves only
@@ -92,7 +93,12 @@ std::string UdpRoundTrip(const std::string& netns, Ipv4 robot_address) {
   });
   inside.join();  // The thread ends; its socket lives on.
   if (!error.empty()) return error;
-  const int root_fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  int root_fd = -1;
+  {
+    // The root side of ctl0 is in the scenario's ctl namespace.
+    ScopedNetns in_ctl(CtlNetnsName(scenario));
+    root_fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  }
   const sockaddr_in to = SocketAddress(robot_address, kPort);
   const char ping[] = "sitlnet-udp-ping";
   if (sendto(root_fd, ping, sizeof ping, 0, reinterpret_cast<const sockaddr*>(&to), sizeof to) !=
@@ -108,7 +114,7 @@ std::string UdpRoundTrip(const std::string& netns, Ipv4 robot_address) {
                                reinterpret_cast<sockaddr*>(&from), &from_length);
     sendto(echo_fd, buffer, n, 0, reinterpret_cast<const sockaddr*>(&from), from_length);
     if (!PollIn(root_fd, timeout_ns)) {
-      error = "no echo back in the root namespace";
+      error = "no echo back in the ctl namespace";
     } else if (recv(root_fd, buffer, sizeof buffer, 0) != static_cast<ssize_t>(sizeof ping)) {
       error = "echo has the wrong size";
     }
@@ -119,6 +125,12 @@ std::string UdpRoundTrip(const std::string& netns, Ipv4 robot_address) {
 }
 
 bool LinkExistsInRoot(const std::string& name) { return if_nametoindex(name.c_str()) != 0; }
+
+bool LinkExistsInCtl(const std::string& scenario, const std::string& name) {
+  if (!NetnsExists(CtlNetnsName(scenario))) return false;
+  ScopedNetns in_ctl(CtlNetnsName(scenario));
+  return if_nametoindex(name.c_str()) != 0;
+}
 
 bool StateExists(const std::string& scenario) {
   struct stat st {};

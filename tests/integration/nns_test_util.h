@@ -73,13 +73,15 @@ class CommandGuard {
   std::vector<std::string> command_;
 };
 
-// Sends a UDP datagram from the root namespace to `robot_address` and waits
-// for the echo sent back by a socket bound inside namespace `netns` (by a
-// test thread that entered it with setns). No capability beyond setns.
+// Sends a UDP datagram from `scenario`'s ctl namespace (the root side of every ctl0) to
+// `robot_address` and waits for the echo sent back by a socket bound inside namespace `netns`
+// (by a test thread that entered it with setns). No capability beyond setns.
 // Returns an empty string on success, else what went wrong.
-std::string UdpRoundTrip(const std::string& netns, Ipv4 robot_address);
+std::string UdpRoundTrip(const std::string& scenario, const std::string& netns, Ipv4 robot_address);
 
 bool LinkExistsInRoot(const std::string& name);
+// True if link `name` exists in the scenario's ctl namespace (false if there is none).
+bool LinkExistsInCtl(const std::string& scenario, const std::string& name);
 bool StateExists(const std::string& scenario);
 
 // Writes an image manifest `name: "<name>"` + `body` (text format) into this process's TempDir()

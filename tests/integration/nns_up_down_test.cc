@@ -87,12 +87,17 @@ TEST(NnsUpTest, ThreeRobotsHaveTheSpecifiedDevicesAddressesAndRoutes) {
     EXPECT_EQ(std::count(routes.begin(), routes.end(), '\n'), 2) << routes;
     EXPECT_TRUE(Contains(routes, FormatIpv4Prefix(s.wlan_subnet) + " dev wlan0")) << routes;
 
-    // Root side: the veth by its planned name, its /30 address, forwarding
-    // and proxy_arp off on that interface.
+    // Root side: the veth by its planned name in the scenario's ctl namespace, not the host's,
+    // its /30 address, forwarding and proxy_arp off on that interface.
+    const std::string ctl_netns = CtlNetnsName(s.name);
     const std::string root =
-        RunCommand({"ip", "-o", "-4", "addr", "show", "dev", robot.root_veth}).out;
+        RunCommand({"ip", "-n", ctl_netns, "-o", "-4", "addr", "show", "dev", robot.root_veth}).out;
     EXPECT_TRUE(Contains(root, "inet " + FormatIpv4(robot.ctl_root_address) + "/30")) << root;
+    EXPECT_FALSE(LinkExistsInRoot(robot.root_veth)) << robot.root_veth;
+    EXPECT_FALSE(Contains(RunCommand({"ip", "-o", "-4", "addr", "show"}).out,
+                          "inet " + FormatIpv4(robot.ctl_root_address) + "/"));
     const std::string conf = "/proc/sys/net/ipv4/conf/" + robot.root_veth + "/";
+    ScopedNetns in_ctl(ctl_netns);  // /proc/sys/net is the namespace of the thread that opens it.
     EXPECT_EQ(ReadFileText(conf + "forwarding"), "0");
     EXPECT_EQ(ReadFileText(conf + "proxy_arp"), "0");
   }
@@ -111,16 +116,18 @@ TEST(NnsUpTest, LinkLocalPolicyKeepsKernelIpv6Addresses) {
   EXPECT_TRUE(Contains(ctl6, "inet6 fe80::")) << ctl6;
 }
 
-TEST(NnsUpTest, RootNamespaceReachesEveryRobotOverCtl0) {
+TEST(NnsUpTest, TheCtlNamespaceReachesEveryRobotOverCtl0) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const TestScenario test = MakeScenario("png", 2, 3);
   DownGuard guard(test.scenario.name);
   Up(test.scenario);
   for (const RobotPlan& robot : test.scenario.robots) {
-    EXPECT_EQ(UdpRoundTrip(robot.netns, robot.ctl_robot_address), "") << robot.name;
+    EXPECT_EQ(UdpRoundTrip(test.scenario.name, robot.netns, robot.ctl_robot_address), "")
+        << robot.name;
     if (!HasCapability(CAP_NET_RAW)) continue;  // ping's raw socket needs it.
     const CommandResult ping =
-        RunCommand({"ping", "-n", "-c", "1", "-W", "5", FormatIpv4(robot.ctl_robot_address)});
+        RunCommand({"ip", "netns", "exec", CtlNetnsName(test.scenario.name), "ping", "-n", "-c",
+                    "1", "-W", "5", FormatIpv4(robot.ctl_robot_address)});
     EXPECT_EQ(ping.exit_code, 0) << robot.name << ": " << ping.out << ping.err;
   }
   if (!HasCapability(CAP_NET_RAW)) std::printf("(no CAP_NET_RAW: checked with UDP, not ping)\n");
@@ -280,7 +287,8 @@ TEST(NnsDownTest, DownLeavesNoNamespaceLinkProcessOrState) {
   ASSERT_TRUE(stubborn.WaitForOutput(false, "ready", 10 * kNsPerS)) << stubborn.err();
 
   const DownReport report = Down(s.name);
-  EXPECT_EQ(report.namespaces_removed, 3);
+  EXPECT_EQ(report.namespaces_removed, 4);  // The robots' and the ctl namespace.
+  EXPECT_FALSE(NetnsExists(CtlNetnsName(s.name)));
   EXPECT_EQ(report.links_removed, 3);
   EXPECT_EQ(report.processes_terminated, 1);
   EXPECT_EQ(report.processes_killed, 1);
@@ -307,6 +315,7 @@ TEST(NnsDownTest, FailureHalfWayRollsBackEverything) {
     if (robots_done == 2) throw Error("injected failure after robot 2");
   };
   EXPECT_THROW(Up(s, options), Error);
+  EXPECT_FALSE(NetnsExists(CtlNetnsName(s.name)));
   for (const RobotPlan& robot : s.robots) {
     EXPECT_FALSE(NetnsExists(robot.netns)) << robot.netns;
     EXPECT_FALSE(LinkExistsInRoot(robot.root_veth)) << robot.root_veth;
@@ -329,8 +338,9 @@ TEST(NnsDownTest, TwoScenariosCoexistAndGoDownSeparately) {
   for (const RobotPlan& robot : a.scenario.robots) EXPECT_FALSE(NetnsExists(robot.netns));
   for (const RobotPlan& robot : b.scenario.robots) {
     EXPECT_TRUE(NetnsExists(robot.netns));
-    EXPECT_TRUE(LinkExistsInRoot(robot.root_veth));
-    EXPECT_EQ(UdpRoundTrip(robot.netns, robot.ctl_robot_address), "") << robot.name;
+    EXPECT_TRUE(LinkExistsInCtl(b.scenario.name, robot.root_veth));
+    EXPECT_EQ(UdpRoundTrip(b.scenario.name, robot.netns, robot.ctl_robot_address), "")
+        << robot.name;
   }
 }
 
@@ -342,7 +352,7 @@ TEST(NnsDownTest, UpAgainReplacesOwnLeftovers) {
   Up(test.scenario);  // Leftovers are ours (state file): removed, recreated.
   for (const RobotPlan& robot : test.scenario.robots) {
     EXPECT_TRUE(NetnsExists(robot.netns));
-    EXPECT_TRUE(LinkExistsInRoot(robot.root_veth));
+    EXPECT_TRUE(LinkExistsInCtl(test.scenario.name, robot.root_veth));
   }
 }
 

@@ -51,6 +51,12 @@ struct PhysicsScenario {
   Scenario scenario;
 };
 
+// The server as runs make it: its sockets in the scenario's ctl namespace.
+PhysicsServer ServerInCtlNamespace(const Scenario& scenario) {
+  nns::ScopedNetns in_ctl(nns::CtlNetnsName(scenario.name));
+  return PhysicsServer(scenario);
+}
+
 std::string ServerAddress(const Scenario& scenario, int robot) {
   return FormatIpv4(scenario.robots[robot].ctl_root_address) + ":" +
          std::to_string(scenario.spec.addresses().physics_port());
@@ -89,7 +95,7 @@ TEST(PhysicsCtl0Test, ProtocolRoundTripThroughCtl0AndIsolation) {
   const Scenario& scenario = t.scenario;
   DownGuard down(scenario.name);
   nns::Up(scenario);
-  PhysicsServer server(scenario);
+  PhysicsServer server = ServerInCtlNamespace(scenario);
 
   // The client's socket is created inside r1's namespace and stays bound to it.
   std::optional<PhysicsClient> client;
@@ -109,8 +115,11 @@ TEST(PhysicsCtl0Test, ProtocolRoundTripThroughCtl0AndIsolation) {
   EXPECT_EQ(state.sim_time_ns(), 10 * kNsPerMs);
   EXPECT_EQ(state.position_m().z(), server.world().Pose(0).position_m.z);
 
-  // From the root namespace the source is not r1's ctl0 address: dropped and counted.
-  UdpSocket root = UdpSocket::Bind(Ipv4{0}, 0, false, "test");
+  // From the ctl namespace itself the source is not r1's ctl0 address: dropped and counted.
+  UdpSocket root = [&] {
+    nns::ScopedNetns in_ctl(nns::CtlNetnsName(scenario.name));
+    return UdpSocket::Bind(Ipv4{0}, 0, false, "test");
+  }();
   const std::string bytes = [] {
     proto::MotorCommand command;
     for (int i = 0; i < 4; ++i) command.add_rotor_speed_rad_s(10);
@@ -133,6 +142,34 @@ TEST(PhysicsCtl0Test, ProtocolRoundTripThroughCtl0AndIsolation) {
   }
 }
 
+// Audit finding 10: anyone may bind an address that is not (yet) there (IP_FREEBIND needs no
+// privilege), so a local user could take a robot's physics port on the host before the run and
+// the server failed at start ("Address already in use"). The server's sockets are in the
+// scenario's ctl namespace now, which only root can enter: the port held in the host's namespace
+// stops nothing, and the robot's commands reach the server.
+TEST(PhysicsCtl0Test, APhysicsPortTakenFirstInTheHostsNamespaceStopsNothing) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  PhysicsScenario t(2, "robot { name: \"r1\" position_m { z: 5 } ardupilot_json_port: 9002 }\n");
+  const Scenario& scenario = t.scenario;
+  const RobotPlan& r1 = scenario.robots[0];
+  const uint16_t port = static_cast<uint16_t>(scenario.spec.addresses().physics_port());
+  UdpSocket squatter = UdpSocket::Bind(r1.ctl_root_address, port, true, "squatter");
+  UdpSocket json_squatter = UdpSocket::Bind(r1.ctl_root_address, 9002, true, "squatter");
+  DownGuard down(scenario.name);
+  nns::Up(scenario);
+  PhysicsServer server = ServerInCtlNamespace(scenario);
+  std::optional<PhysicsClient> client;
+  {
+    nns::ScopedNetns inside(r1.netns);
+    client.emplace(ServerAddress(scenario, 0));
+  }
+  client->set_robot_index(0);
+  ASSERT_TRUE(client->SendRotorSpeeds({900, 900, 900, 900}, 1));
+  PollUntil(&server, [&] { return server.counters(0).commands_accepted == 1; });
+  EXPECT_EQ(server.counters(0).commands_accepted, 1u);
+  EXPECT_EQ(server.world().rotor_target(0)[0], 900);
+}
+
 TEST(PhysicsCtl0Test, RobotProcessInANamespaceHoversAQuadWithTheClientLibrary) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   // On the ground (collision box half height 0.035 m), climbs to 1 m and holds it.
@@ -140,7 +177,7 @@ TEST(PhysicsCtl0Test, RobotProcessInANamespaceHoversAQuadWithTheClientLibrary) {
   const Scenario& scenario = t.scenario;
   DownGuard down(scenario.name);
   nns::Up(scenario);
-  PhysicsServer server(scenario);
+  PhysicsServer server = ServerInCtlNamespace(scenario);
   const proto::Airframe& airframe = scenario.robots[0].airframe;
   const double duration_s = 8;
   // A separate process in r1's namespace, started the way users start robot software.
