@@ -99,9 +99,11 @@ int Main(int argc, char** argv) {
                      report.processes_terminated, robots);
         return 1;
       }
-      if (report.namespaces_removed != robots || report.links_removed != robots) {
-        std::fprintf(stderr, "nns_bench: down removed %d namespaces and %d links, expected %d\n",
-                     report.namespaces_removed, report.links_removed, robots);
+      // The robots' namespaces and the scenario's ctl namespace; a root-side veth per robot.
+      if (report.namespaces_removed != robots + 1 || report.links_removed != robots) {
+        std::fprintf(stderr,
+                     "nns_bench: down removed %d namespaces and %d links, expected %d and %d\n",
+                     report.namespaces_removed, report.links_removed, robots + 1, robots);
         return 1;
       }
       up_ms.push_back(static_cast<double>(t1 - t0) / kNsPerMs);
