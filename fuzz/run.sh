@@ -10,7 +10,8 @@ seconds="${1:-10}"
 shift || true
 targets=("$@")
 ((${#targets[@]})) || targets=(scenario_text_fuzz motor_command_fuzz servo_packet_fuzz
-  coordinator_frame_fuzz medium_frame_fuzz image_manifest_fuzz)
+  coordinator_frame_fuzz medium_frame_fuzz image_manifest_fuzz state_file_fuzz
+  remote_medium_reply_fuzz remote_medium_request_fuzz control_socket_fuzz)
 
 build=build-fuzz
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSITLNET_FUZZ=ON \

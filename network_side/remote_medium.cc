@@ -306,8 +306,11 @@ void RemoteMedium::Exchange(bool want_counters) {
   }
   ++exchange_;
   // AdvanceTo(t) runs every event at or before t: quiet through next - 1.
-  remote_quiet_until_ns_ =
-      reply_.idle() ? std::numeric_limits<TimeNs>::max() : reply_.next_event_ns() - 1;
+  // (A next event at the very start of time, which no medium sends, saturates.)
+  remote_quiet_until_ns_ = reply_.idle() ? std::numeric_limits<TimeNs>::max()
+                           : reply_.next_event_ns() == std::numeric_limits<TimeNs>::min()
+                               ? reply_.next_event_ns()
+                               : reply_.next_event_ns() - 1;
   if (want_counters) {
     if (reply_.counters_size() != stations_) {
       healthy_ = false;

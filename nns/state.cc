@@ -103,7 +103,9 @@ ScenarioState ParseState(const std::string& text, const std::string& source) {
     fields >> key;
     bool ok = true;
     if (key == "scenario") {
-      ok = static_cast<bool>(fields >> state.name);
+      // Once, before the robots: their names are checked against it (a second one would put
+      // one scenario's robots under another's name, for `down` to remove).
+      ok = state.name.empty() && state.robots.empty() && static_cast<bool>(fields >> state.name);
     } else if (key == "physics_port") {
       ok = static_cast<bool>(fields >> state.physics_port);
     } else if (key == "source") {
@@ -131,6 +133,8 @@ ScenarioState ParseState(const std::string& text, const std::string& source) {
     } else {
       ok = false;
     }
+    // Nothing after a line's fields (the source path takes the rest of its line).
+    if (std::string extra; ok && key != "source" && fields >> extra) ok = false;
     if (!ok) {
       throw Error(source + ":" + std::to_string(line_number) + ": malformed state line \"" + line +
                   "\"");

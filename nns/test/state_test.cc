@@ -71,6 +71,13 @@ TEST(StateTest, RobotLinesMustNameThePlansNamespaceAndVeth) {
   }
   EXPECT_THROW(ParseState("robot 0 a alpha-a alpha-c0" + addresses + head, "s"), Error)
       << "a robot line before the scenario's name cannot be checked";
+  // Found by state_file_fuzz: a second scenario line after the robots renamed the scenario
+  // under them, and `down` of the new name would have removed the old one's namespaces.
+  EXPECT_THROW(ParseState(head + "robot 0 a alpha-a alpha-c0" + addresses + "scenario beta\n", "s"),
+               Error);
+  EXPECT_THROW(
+      ParseState(head + "robot 0 a alpha-a alpha-c0 10.0.0.1 10.0.0.2 10.0.0.3 extra\n", "s"),
+      Error);
   EXPECT_THROW(ParseState(head + "source /tmp/%4\n", "s"), Error);
   EXPECT_THROW(ParseState(head + "source /tmp/%zz\n", "s"), Error);
 }
