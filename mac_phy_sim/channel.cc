@@ -82,6 +82,8 @@ int RadioChannel::AddStation(const Vec3d& position_m) {
     loss_db_.assign(stride_ * stride_, 0.0);
     gain_.assign(stride_ * stride_, 0.0);
     computed_epoch_.assign(stride_ * stride_, 0);
+    bound_db_.assign(stride_ * stride_, 0.0);
+    bound_epoch_.assign(stride_ * stride_, 0);
   }
   return index;
 }
@@ -106,8 +108,9 @@ double RadioChannel::PathLossDb(double distance_m) const {
   return reference_loss_db_ + 10 * exponent_ * std::log10(distance_m);
 }
 
-void RadioChannel::Recompute(int a, int b) {
-  const double loss = a == b ? 0.0 : ComputeLoss(a, b);
+// Inlined into Recompute, as before there was a second caller: the path without fading is
+// the hot one of most runs.
+[[gnu::always_inline]] inline void RadioChannel::Store(int a, int b, double loss) {
   const double gain = std::pow(10.0, -loss / 10);
   for (const size_t index :
        {static_cast<size_t>(a) * stride_ + b, static_cast<size_t>(b) * stride_ + a}) {
@@ -115,6 +118,27 @@ void RadioChannel::Recompute(int a, int b) {
     gain_[index] = gain;
     computed_epoch_[index] = epoch_;
   }
+}
+
+void RadioChannel::Recompute(int a, int b) {
+  Store(a, b, a == b ? 0.0 : ComputeLoss(a, b, dead_link_loss_db_, false));
+}
+
+double RadioChannel::RecomputeUntil(int a, int b, double stop_db) {
+  const double loss = a == b ? 0.0 : ComputeLoss(a, b, stop_db, true);
+  // Exact (the walk was not cut short): what Recompute would have stored.
+  // Bounds go to their own cache, dead-for-everyone ones too (storing those
+  // with their gain, a pow each, would cost more than it saves).
+  if (loss < stop_db) {
+    Store(a, b, loss);
+    return loss;
+  }
+  for (const size_t index :
+       {static_cast<size_t>(a) * stride_ + b, static_cast<size_t>(b) * stride_ + a}) {
+    bound_db_[index] = loss;
+    bound_epoch_[index] = epoch_;
+  }
+  return loss;
 }
 
 double RadioChannel::LognormalDb(int a, int b) const {
@@ -135,14 +159,20 @@ double RadioChannel::LognormalDb(int a, int b) const {
   return lognormal_sigma_db_ * std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
 }
 
-double RadioChannel::ComputeLoss(int a, int b) {
+double RadioChannel::ComputeLoss(int a, int b, double stop_db, bool exact_below_stop) {
   const Vec3d& pa = positions_[a];
   const Vec3d& pb = positions_[b];
   const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
   double loss = PathLossDb(std::sqrt(dx * dx + dy * dy + dz * dz)) + LognormalDb(a, b);
   // Shadowing only adds loss: a link already dead in free space stays dead.
-  if (shadowing_ && !boxes_.empty() && loss < dead_link_loss_db_) {
-    loss += ShadowingDb(pa, pb, dead_link_loss_db_ - loss);
+  if (shadowing_ && !boxes_.empty() && loss < stop_db) {
+    const double stop_at_db = stop_db - loss;
+    const double shadowing_db = ShadowingDb(pa, pb, stop_at_db);
+    loss += shadowing_db;
+    // A sum cut short is only a lower bound: keep it at or above the stop even
+    // where rounding would put it an ulp under, for callers that take a value
+    // below the stop as exact.
+    if (exact_below_stop && shadowing_db >= stop_at_db) loss = std::max(loss, stop_db);
   }
   return loss;
 }

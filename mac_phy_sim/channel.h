@@ -53,6 +53,19 @@ class RadioChannel {
   double LossDb(int a, int b) { return loss_db_[Fresh(a, b)]; }
   // 10^(-LossDb/10): received power = transmitted power * gain (cached too).
   double GainLinear(int a, int b) { return gain_[Fresh(a, b)]; }
+  // The loss a <-> b, exact if it is below `stop_db`; otherwise a lower bound
+  // >= stop_db (shadowing summed only until the link is certainly that weak).
+  // For a caller that knows a tighter threshold than the dead-link loss
+  // (fading, transmission.cc); stop_db must not exceed that loss. Exact values
+  // go to the cache LossDb uses, bounds to a cache of their own (so LossDb
+  // and GainLinear keep their contract).
+  double LossDbUntil(int a, int b, double stop_db) {
+    const size_t index = static_cast<size_t>(a) * stride_ + b;
+    const uint64_t need = NeedEpoch(a, b);
+    if (computed_epoch_[index] >= need) return loss_db_[index];  // Exact, or dead for any stop.
+    if (bound_epoch_[index] >= need && bound_db_[index] >= stop_db) return bound_db_[index];
+    return RecomputeUntil(a, b, stop_db);
+  }
   // Uncached: log-distance loss for `distance_m` (the reference loss below 1 m, as ns-3).
   double PathLossDb(double distance_m) const;
   // Uncached: shadowing loss of the segment a -> b; stops adding boxes once
@@ -77,13 +90,20 @@ class RadioChannel {
   // current if computed after both stations last moved and the last obstacle.
   size_t Fresh(int a, int b) {
     const size_t index = static_cast<size_t>(a) * stride_ + b;
-    const uint64_t need = std::max({moved_epoch_[a], moved_epoch_[b], obstacles_epoch_});
-    if (computed_epoch_[index] < need) Recompute(a, b);
+    if (computed_epoch_[index] < NeedEpoch(a, b)) Recompute(a, b);
     return index;
   }
+  uint64_t NeedEpoch(int a, int b) const {
+    return std::max({moved_epoch_[a], moved_epoch_[b], obstacles_epoch_});
+  }
   void Recompute(int a, int b);
+  double RecomputeUntil(int a, int b, double stop_db);
+  void Store(int a, int b, double loss);
   void RebuildGrid();
-  double ComputeLoss(int a, int b);
+  // A lower bound >= stop_db if the obstacle walk was cut short, else exact
+  // (below stop_db exactly so with exact_below_stop; without, it may be an
+  // ulp under: Recompute's dead-link contract does not care).
+  double ComputeLoss(int a, int b, double stop_db, bool exact_below_stop);
 
   double reference_loss_db_, exponent_;
   bool shadowing_;
@@ -99,6 +119,9 @@ class RadioChannel {
   std::vector<double> loss_db_;           // stride_ x stride_, row-major.
   std::vector<double> gain_;              // Same layout, linear.
   std::vector<uint64_t> computed_epoch_;  // Same layout: epoch when computed (0: never).
+  // LossDbUntil's lower bounds under the dead-link loss, and their epochs (same layout).
+  std::vector<double> bound_db_;
+  std::vector<uint64_t> bound_epoch_;
 
   // Obstacles and their grid.
   std::vector<PreparedBox> boxes_;

@@ -1,5 +1,6 @@
 // The public API of the medium and its event loop.
 #include <cmath>
+#include <limits>
 
 #include "mac_phy_sim/error_rate.h"
 #include "mac_phy_sim/medium_state.h"
@@ -79,6 +80,10 @@ Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
   noise_mw = DbmToMw(phy.noise_floor_dbm);
   cca_mw = DbmToMw(config.cca_energy_detect_dbm);
   preamble_snr_linear = std::pow(10.0, config.preamble_detect_snr_db / 10);
+  if (config.nakagami_fading) {
+    const double m[3] = {config.nakagami_m0, config.nakagami_m1, config.nakagami_m2};
+    for (int k = 0; k < 3; ++k) fading[k] = GammaSampler(m[k]);
+  }
   BuildRates(*this);
 }
 
@@ -127,10 +132,18 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
   st.rng.seed(SplitMix64(s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));
   // A stream of its own, so turning fading on leaves the other draws as they were.
   st.fading_rng.seed(SplitMix64(~s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));
-  const double m[3] = {s.config.nakagami_m0, s.config.nakagami_m1, s.config.nakagami_m2};
-  for (int k = 0; k < 3; ++k) {
-    st.fading[k] = std::gamma_distribution<double>(m[k], 1 / m[k]);
-  }
+  // Path loss ref + 10 n log10(d) (the reference loss up to 1 m) under the
+  // margin's loss; a hair wider, as links drawn in vain are still dead for
+  // the exact loss (transmission.cc). Log-normal shadowing can lower any
+  // link's loss: no limit then.
+  const double margin_loss_db =
+      tx_power_dbm - s.config.rx_sensitivity_dbm + kFadingMarginDb - s.phy.reference_loss_db;
+  st.fading_reach_m2 =
+      s.config.lognormal_shadowing_sigma_db > 0
+          ? std::numeric_limits<double>::infinity()
+          : (margin_loss_db <= 0
+                 ? 0.0
+                 : std::pow(10.0, margin_loss_db / (5 * s.config.path_loss_exponent)) * (1 + 1e-9));
   st.cw = s.phy.cw_min;
   st.idle_since_ns = s.now_ns;
   s.channel.AddStation(position_m);

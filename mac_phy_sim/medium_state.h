@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "mac_phy_sim/channel.h"
+#include "mac_phy_sim/gamma.h"
 #include "mac_phy_sim/mac_phy_sim.h"
 #include "mac_phy_sim/phy_mode.h"
 #include "mac_phy_sim/scheduler.h"
@@ -24,10 +25,10 @@ namespace sitlnet::mac {
 using Bytes = std::shared_ptr<const std::vector<uint8_t>>;
 
 // With fading, links whose mean power is more than this under the RX
-// sensitivity are not drawn at all: a Gamma(m, 1/m) gain exceeds +16 dB
+// sensitivity are never received: a Gamma(m, 1/m) gain exceeds +16 dB
 // (39.8 x the mean) with probability erfc(sqrt(19.9)) = 2.5e-10 for the
 // smallest m allowed (0.5, where the gain is a squared normal), less for
-// larger m. Drawing them would double the cost of a 64-station broadcast.
+// larger m. Links that far under in free space are not drawn at all.
 inline constexpr double kFadingMarginDb = 16;
 
 // A PHY mode with its PHY header, and the SINRs above which the error rates
@@ -113,9 +114,12 @@ struct StationState {
   // kIdeal: last SNR (linear) each destination measured on our frames.
   std::vector<std::pair<MacAddress, double>> ideal_snr;
   std::mt19937_64 rng;
-  std::mt19937_64 fading_rng;  // Only drawn from with nakagami_fading (runs without it unchanged).
-  // Gamma(m, 1/m) for m0, m1, m2, kept so the normal deviates they cache are used.
-  std::gamma_distribution<double> fading[3];
+  // Only drawn from with nakagami_fading (runs without it unchanged); its own
+  // generator, cheaper than rng's (gamma.h).
+  RandomEngine fading_rng;
+  // Fading: squared distance beyond which this station's signal is more than
+  // kFadingMarginDb under the sensitivity on path loss alone (never drawn).
+  double fading_reach_m2 = 0;
   StationCounters counters;
   // Transmit queue and the frame in service.
   std::deque<QueuedFrame> queue;
@@ -177,6 +181,9 @@ struct Medium::State {
   const RateEntry* group_rate = nullptr;
   double max_tx_power_dbm = 0;  // Over the config and every station.
   double noise_mw = 0, cca_mw = 0, preamble_snr_linear = 0;
+  // Nakagami fading: Gamma(m, 1) samplers for m0, m1, m2 (stateless: the
+  // stream is the transmitter's fading_rng).
+  GammaSampler fading[3];
 
   RadioChannel channel;
   Scheduler scheduler;

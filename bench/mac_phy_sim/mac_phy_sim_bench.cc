@@ -5,6 +5,9 @@
 // Medians of --runs runs (different seeds). Prints a Markdown table and, with
 // --csv FILE, "scenario,n,sim_s_per_wall_s,sim_s_per_cpu_s,us_per_tx,us_per_tx_per_station".
 // --validation prints the whole ns-3 Bianchi table instead (docs/validation.md).
+// --rows LIST runs only the rows named in the comma-separated LIST: sat1, sat5,
+// sat10, sat20, sat50, bcast, bcast-fading, bcast-delay, bcast1000 (e.g.
+// --rows bcast,bcast-fading for the fading cost alone).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -162,6 +165,7 @@ int main(int argc, char** argv) {
   int runs = 5;
   double seconds = 10;
   const char* csv_path = nullptr;
+  std::string rows;  // Empty: every row.
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool has_value = i + 1 < argc;
@@ -171,15 +175,21 @@ int main(int argc, char** argv) {
       seconds = std::atof(argv[++i]);
     } else if (arg == "--csv" && has_value) {
       csv_path = argv[++i];
+    } else if (arg == "--rows" && has_value) {
+      rows = std::string(",") + argv[++i] + ",";
     } else if (arg == "--validation") {
       PrintValidation();
       return 0;
     } else {
-      std::fprintf(stderr, "usage: %s [--runs N] [--seconds S] [--csv FILE] | --validation\n",
+      std::fprintf(stderr,
+                   "usage: %s [--runs N] [--seconds S] [--csv FILE] [--rows LIST] | --validation\n",
                    argv[0]);
       return 2;
     }
   }
+  auto wanted = [&](const std::string& key) {
+    return rows.empty() || rows.find("," + key + ",") != std::string::npos;
+  };
   FILE* csv = csv_path ? std::fopen(csv_path, "w") : nullptr;
   std::printf(
       "| scenario | n | simulated s per wall s | simulated s per CPU s | CPU us per transmission |"
@@ -197,26 +207,37 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   };
   for (int n : {1, 5, 10, 20, 50}) {
+    if (!wanted("sat" + std::to_string(n))) continue;
     std::vector<Sample> samples;
     for (int k = 0; k < runs; ++k) samples.push_back(Saturation(n, seconds, 1 + k));
     report("saturation 11a 54 Mb/s 1500 B", n, samples);
   }
   std::vector<Sample> samples;
-  for (int k = 0; k < runs; ++k) samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30));
-  report("broadcast 200 B @ 10 Hz, 100 obstacles (300 m square), all moving", 64, samples);
-  samples.clear();
-  for (int k = 0; k < runs; ++k) {
-    samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, /*fading=*/true));
+  if (wanted("bcast")) {
+    for (int k = 0; k < runs; ++k) samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30));
+    report("broadcast 200 B @ 10 Hz, 100 obstacles (300 m square), all moving", 64, samples);
   }
-  report("the same with Nakagami fading (ns-3 defaults)", 64, samples);
-  samples.clear();
-  for (int k = 0; k < runs; ++k) {
-    samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, false, /*delay=*/true));
+  if (wanted("bcast-fading")) {
+    samples.clear();
+    for (int k = 0; k < runs; ++k) {
+      samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, /*fading=*/true));
+    }
+    report("the same with Nakagami fading (ns-3 defaults)", 64, samples);
   }
-  report("the same with propagation delay", 64, samples);
-  samples.clear();
-  for (int k = 0; k < runs; ++k) samples.push_back(Broadcast64(6 * seconds, 1 + k, 1000, 500, 10));
-  report("broadcast 200 B @ 10 Hz, 1000 obstacles (500 m square), all moving", 64, samples);
+  if (wanted("bcast-delay")) {
+    samples.clear();
+    for (int k = 0; k < runs; ++k) {
+      samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, false, /*delay=*/true));
+    }
+    report("the same with propagation delay", 64, samples);
+  }
+  if (wanted("bcast1000")) {
+    samples.clear();
+    for (int k = 0; k < runs; ++k) {
+      samples.push_back(Broadcast64(6 * seconds, 1 + k, 1000, 500, 10));
+    }
+    report("broadcast 200 B @ 10 Hz, 1000 obstacles (500 m square), all moving", 64, samples);
+  }
   if (csv) std::fclose(csv);
   return 0;
 }
