@@ -97,11 +97,8 @@ int RunPhysicsCommand(int argc, char** argv) {
     // robot reaches them: a server for tests of the protocol.
     const bool up =
         nns::ReadScenarioState(scenario.name) && nns::NetnsExists(nns::CtlNetnsName(scenario.name));
-    physics::PhysicsServer server = [&] {
-      std::optional<nns::ScopedNetns> in_ctl;
-      if (up) in_ctl.emplace(nns::CtlNetnsName(scenario.name));
-      return physics::PhysicsServer(scenario, options);
-    }();
+    if (up) options.make_sockets = nns::InNetns(nns::CtlNetnsName(scenario.name));
+    physics::PhysicsServer server(scenario, options);
     std::optional<nns::DaemonRegistration> registration;
     if (up) registration.emplace(scenario.name, "physics");
     std::signal(SIGINT, OnSignal);

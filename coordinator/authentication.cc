@@ -83,6 +83,31 @@ bool SameProof(const std::string& a, const std::string& b) {
   return a.size() == b.size() && CRYPTO_memcmp(a.data(), b.data(), a.size()) == 0;
 }
 
+struct TranscriptHash::Sha256 {
+  EVP_MD_CTX* context = EVP_MD_CTX_new();
+  ~Sha256() { EVP_MD_CTX_free(context); }
+};
+
+TranscriptHash::TranscriptHash() : sha_(std::make_unique<Sha256>()) {
+  SITLNET_DEMAND(sha_->context != nullptr);
+  SITLNET_DEMAND(EVP_DigestInit_ex(sha_->context, EVP_sha256(), nullptr) == 1);
+}
+
+TranscriptHash::~TranscriptHash() = default;
+
+void TranscriptHash::Add(std::string_view frame) {
+  SITLNET_DEMAND(EVP_DigestUpdate(sha_->context, frame.data(), frame.size()) == 1);
+}
+
+std::string TranscriptHash::Digest() const {
+  Sha256 copy;
+  SITLNET_DEMAND(copy.context != nullptr && EVP_MD_CTX_copy_ex(copy.context, sha_->context) == 1);
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  SITLNET_DEMAND(EVP_DigestFinal_ex(copy.context, digest, &length) == 1);
+  return std::string(reinterpret_cast<const char*>(digest), length);
+}
+
 SessionKeys DeriveSessionKeys(const std::string& secret, const std::string& coordinator_nonce,
                               const std::string& connector_nonce) {
   return {ProofOf(secret, "sitlnet session coordinator to connector", coordinator_nonce,

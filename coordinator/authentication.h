@@ -1,6 +1,7 @@
 // Mutual authentication of a connector and the coordinator with a shared secret
 // (docs/coordinator.md, "Authentication"): each side proves it holds the secret with an
-// HMAC-SHA256 (OpenSSL's libcrypto) over both sides' random nonces, without sending it; then every
+// HMAC-SHA256 (OpenSSL's libcrypto) over both sides' random nonces and the handshake's frames so
+// far, without sending it; then every
 // message of the connection carries a tag under a key derived from the secret and both nonces, so
 // an attacker on the path who relayed the handshake cannot change, add, drop, repeat or reorder
 // what follows. Nothing is encrypted (docs/security.md).
@@ -46,6 +47,24 @@ SessionKeys DeriveSessionKeys(const std::string& secret, const std::string& coor
                               const std::string& connector_nonce);
 
 inline constexpr size_t kMessageTagBytes = 32;
+
+// A running SHA-256 of the handshake's frames, exactly as they crossed (the transcript): the
+// proofs and the session keys cover it, so a relay that changes the Hello (its scenario hash,
+// role, initial poses) or the Challenge makes both ends' proofs disagree.
+class TranscriptHash {
+ public:
+  TranscriptHash();
+  ~TranscriptHash();
+  TranscriptHash(const TranscriptHash&) = delete;
+  TranscriptHash& operator=(const TranscriptHash&) = delete;
+  void Add(std::string_view frame);
+  // SHA-256 of the frames added so far (32 bytes); more may be added after.
+  std::string Digest() const;
+
+ private:
+  struct Sha256;  // OpenSSL's digest state (authentication.cc).
+  std::unique_ptr<Sha256> sha_;
+};
 
 // Tags the messages of one direction: HMAC-SHA256(key, sequence number as 8 bytes little-endian
 // || the message's frame). The sequence numbers count the direction's messages from 0, so a

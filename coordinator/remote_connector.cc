@@ -1,7 +1,9 @@
 // Socket side of connectors: the coordinator's RemoteConnector, its
 // handshake, and ServeCoordinator() that runs inside a connector process.
+#include <fcntl.h>
 #include <poll.h>
 #include <sys/eventfd.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -205,26 +207,31 @@ void Authenticate(Channel& channel, const std::string& secret, const std::string
               "(--secret-file on both ends)";
   }
   if (failure.empty()) {
+    // Each proof covers both nonces and the transcript so far (the Hello; the Hello and the
+    // Challenge), so a Hello changed on the way fails both.
     const std::string nonce = RandomNonce();
     CoordinatorMessage challenge;
     challenge.mutable_challenge()->set_nonce(nonce);
     challenge.mutable_challenge()->set_proof(
-        ProofOf(secret, "sitlnet coordinator", their_nonce, nonce));
+        ProofOf(secret, "sitlnet coordinator", their_nonce, nonce + channel.TranscriptDigest()));
     CoordinatorMessage proof;
+    std::string hello_and_challenge;
     try {
       channel.Send(challenge, deadline_ns);
+      hello_and_challenge = channel.TranscriptDigest();
       if (!channel.Receive(&proof, deadline_ns, interrupt_fd)) {
         throw StrayConnectionError(who + ": interrupted while authenticating");
       }
     } catch (const TransportError& e) {
       throw StrayConnectionError(who + ": authenticating: " + e.what());
     }
-    if (!proof.has_proof() || !SameProof(proof.proof().proof(), ProofOf(secret, "sitlnet connector",
-                                                                        nonce, their_nonce))) {
+    if (!proof.has_proof() ||
+        !SameProof(proof.proof().proof(), ProofOf(secret, "sitlnet connector", nonce,
+                                                  their_nonce + hello_and_challenge))) {
       failure = who + " failed to prove the shared secret (a different --secret-file?)";
     } else {
       // Everything after the proof is tagged: the handshake binds the rest of the connection.
-      const SessionKeys keys = DeriveSessionKeys(secret, nonce, their_nonce);
+      const SessionKeys keys = DeriveSessionKeys(secret, nonce, their_nonce + hello_and_challenge);
       channel.AuthenticateMessages(keys.coordinator_to_connector, keys.connector_to_coordinator);
     }
   }
@@ -237,6 +244,8 @@ void Authenticate(Channel& channel, const std::string& secret, const std::string
 
 std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpectation& expect,
                                            const WaitLimits& limits) {
+  // With a secret, the Hello is part of what the proofs cover (Authenticate).
+  if (!expect.secret.empty()) channel.RecordTranscript();
   CoordinatorMessage hello;
   // A connector sends Hello right after connecting; waiting long for one
   // would let a silent stray connection hold the real connectors back.
@@ -298,8 +307,8 @@ namespace {
 
 // The handshakes of accepted connections, each on a thread of its own, so that a connection that
 // says nothing, or stops half-way, holds back no other: each still ends at its own Hello deadline
-// (kHelloTimeoutNs). At most kMaxConcurrentHandshakes run at once; a connection beyond them is
-// closed at once, with a warning.
+// (kHelloTimeoutNs). At most kMaxConcurrentHandshakes run at once; AcceptUntil accepts no more
+// while they do (the next connections wait in the listener's backlog).
 class ConcurrentHandshakes {
  public:
   struct Outcome {
@@ -320,10 +329,16 @@ class ConcurrentHandshakes {
     if (!cancel_.valid() || !ready_.valid()) throw Error(SystemErrorMessage("eventfd", errno));
     limits_.interrupt_fd = cancel_.get();  // The caller watches its own interrupt.
   }
-  // Ends the handshakes still under way (their connections are closed) and waits for them.
+  // Ends the handshakes still under way and waits for them: their sockets are shut down, which
+  // also ends a read in the middle of a frame (where the cancel fd is not watched).
   ~ConcurrentHandshakes() {
+    {
+      std::lock_guard lock(mutex_);
+      for (const auto& [id, socket] : watched_) shutdown(socket, SHUT_RDWR);
+    }
     Notify(cancel_.get());
     for (auto& [id, thread] : threads_) thread.join();
+    for (const auto& [id, socket] : watched_) close(socket);
   }
   ConcurrentHandshakes(const ConcurrentHandshakes&) = delete;
   ConcurrentHandshakes& operator=(const ConcurrentHandshakes&) = delete;
@@ -331,30 +346,21 @@ class ConcurrentHandshakes {
   // Readable when an outcome is waiting for TakeFinished.
   int ready_fd() const { return ready_.get(); }
 
-  // False (the connection closed) if kMaxConcurrentHandshakes are under way.
-  bool Start(Fd fd) {
+  bool HasRoom() {
     std::lock_guard lock(mutex_);
-    if (threads_.size() - done_.size() >= kMaxConcurrentHandshakes) return false;
+    return threads_.size() - done_.size() < kMaxConcurrentHandshakes;
+  }
+
+  void Start(Fd fd) {
+    std::lock_guard lock(mutex_);
     const uint64_t id = next_id_++;
+    // A copy of the descriptor, ours until the thread is done, for the destructor's shutdown:
+    // the thread's own may be closed (and its number reused) at any time.
+    const int watch = fcntl(fd.get(), F_DUPFD_CLOEXEC, 0);
+    if (watch >= 0) watched_.emplace(id, watch);
     threads_.emplace(id, std::thread([this, id, fd = std::move(fd)]() mutable {
-                       Outcome outcome;
-                       try {
-                         Channel channel(std::move(fd), codec_);
-                         channel.set_spin_ns(spin_ns_);
-                         outcome.connector = AcceptConnector(std::move(channel), expect_, limits_);
-                       } catch (const StrayConnectionError& e) {
-                         outcome.stray = e.what();
-                       } catch (...) {
-                         outcome.refusal = std::current_exception();
-                       }
-                       std::lock_guard lock(mutex_);
-                       if (outcome.connector || !outcome.stray.empty() || outcome.refusal) {
-                         finished_.push_back(std::move(outcome));
-                       }
-                       done_.push_back(id);
-                       Notify(ready_.get());
+                       Handshake(id, std::move(fd));
                      }));
-    return true;
   }
 
   std::vector<Outcome> TakeFinished() {
@@ -377,6 +383,30 @@ class ConcurrentHandshakes {
   }
 
  private:
+  // A thread's work: the handshake, then its outcome for TakeFinished.
+  void Handshake(uint64_t id, Fd fd) {
+    Outcome outcome;
+    try {
+      Channel channel(std::move(fd), codec_);
+      channel.set_spin_ns(spin_ns_);
+      outcome.connector = AcceptConnector(std::move(channel), expect_, limits_);
+    } catch (const StrayConnectionError& e) {
+      outcome.stray = e.what();
+    } catch (...) {
+      outcome.refusal = std::current_exception();
+    }
+    std::lock_guard lock(mutex_);
+    if (auto watch = watched_.find(id); watch != watched_.end()) {
+      close(watch->second);  // Before the outcome is out: an accepted socket is never shut.
+      watched_.erase(watch);
+    }
+    if (outcome.connector || !outcome.stray.empty() || outcome.refusal) {
+      finished_.push_back(std::move(outcome));
+    }
+    done_.push_back(id);
+    Notify(ready_.get());
+  }
+
   static void Notify(int fd) {
     const uint64_t one = 1;
     while (write(fd, &one, sizeof one) < 0 && errno == EINTR) {
@@ -391,6 +421,7 @@ class ConcurrentHandshakes {
   Fd ready_;
   std::mutex mutex_;
   std::map<uint64_t, std::thread> threads_;  // Joined by TakeFinished once done, or at the end.
+  std::map<uint64_t, int> watched_;          // Copies of the sockets of handshakes under way.
   std::vector<uint64_t> done_;               // Threads that returned, not yet joined.
   std::vector<Outcome> finished_;
   uint64_t next_id_ = 0;
@@ -411,7 +442,8 @@ bool AcceptUntil(Listener& listener, const HandshakeExpectation& expect, const W
                  const std::function<std::string()>& missing) {
   ConcurrentHandshakes handshakes(expect, limits, codec, spin_ns);
   for (;;) {
-    pollfd fds[3] = {{listener.fd(), POLLIN, 0},
+    // At kMaxConcurrentHandshakes, new connections wait in the backlog (poll skips fd -1).
+    pollfd fds[3] = {{handshakes.HasRoom() ? listener.fd() : -1, POLLIN, 0},
                      {handshakes.ready_fd(), POLLIN, 0},
                      {limits.interrupt_fd, POLLIN, 0}};
     const TimeNs now = MonotonicNowNs();
@@ -444,10 +476,7 @@ bool AcceptUntil(Listener& listener, const HandshakeExpectation& expect, const W
         if (e.kind() != TransportError::Kind::kTimeout) throw;
         continue;  // The connection went away before accept.
       }
-      if (!handshakes.Start(std::move(fd))) {
-        WarnIgnored(listener, std::to_string(ConcurrentHandshakes::kMaxConcurrentHandshakes) +
-                                  " handshakes are already under way");
-      }
+      handshakes.Start(std::move(fd));
     }
   }
 }
@@ -528,24 +557,30 @@ std::string ServeCoordinator(Channel& channel, Simulator& simulator,
   const TimeNs deadline = MonotonicNowNs() + handshake_timeout_ns;
   CoordinatorMessage in;
   bool authenticated = false;
+  // With a secret, the proofs cover the handshake's frames as this end sent and received them.
+  if (!identity.secret.empty()) channel.RecordTranscript();
   try {
     channel.Send(out, deadline);
+    const std::string hello_sent =
+        identity.secret.empty() ? std::string() : channel.TranscriptDigest();
     if (!channel.Receive(&in, deadline, interrupt_fd)) return "interrupted";
     if (in.has_challenge() && !identity.secret.empty()) {
       // The coordinator proves the secret first: a connector tells nothing to an impostor.
       const proto::coord::Challenge& challenge = in.challenge();
+      const std::string hello_and_challenge = channel.TranscriptDigest();
       if (challenge.nonce().size() != kNonceBytes ||
-          !SameProof(challenge.proof(),
-                     ProofOf(identity.secret, "sitlnet coordinator", nonce, challenge.nonce()))) {
+          !SameProof(challenge.proof(), ProofOf(identity.secret, "sitlnet coordinator", nonce,
+                                                challenge.nonce() + hello_sent))) {
         throw Error(
             "the coordinator failed to prove the shared secret (a different "
             "--secret-file, or not sitlnet's coordinator)");
       }
       CoordinatorMessage proof;
-      proof.mutable_proof()->set_proof(
-          ProofOf(identity.secret, "sitlnet connector", challenge.nonce(), nonce));
+      proof.mutable_proof()->set_proof(ProofOf(identity.secret, "sitlnet connector",
+                                               challenge.nonce(), nonce + hello_and_challenge));
       channel.Send(proof, deadline);
-      const SessionKeys keys = DeriveSessionKeys(identity.secret, challenge.nonce(), nonce);
+      const SessionKeys keys =
+          DeriveSessionKeys(identity.secret, challenge.nonce(), nonce + hello_and_challenge);
       channel.AuthenticateMessages(keys.connector_to_coordinator, keys.coordinator_to_connector);
       authenticated = true;
       if (!channel.Receive(&in, deadline, interrupt_fd)) return "interrupted";

@@ -5,6 +5,7 @@
 #include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
+#include <openssl/crypto.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -181,11 +182,20 @@ bool Channel::Wait(short events, TimeNs deadline_ns, int interrupt_fd, const cha
 void Channel::AuthenticateMessages(const std::string& send_key, const std::string& receive_key) {
   send_tagger_ = std::make_unique<MessageTagger>(send_key);
   receive_tagger_ = std::make_unique<MessageTagger>(receive_key);
+  transcript_.reset();  // The tags take over from here.
+}
+
+void Channel::RecordTranscript() { transcript_ = std::make_unique<TranscriptHash>(); }
+
+std::string Channel::TranscriptDigest() const {
+  SITLNET_DEMAND(transcript_ != nullptr);
+  return transcript_->Digest();
 }
 
 void Channel::Send(const proto::coord::CoordinatorMessage& message, TimeNs deadline_ns) {
   std::string_view frame = encoder_.Encode(message);
   if (encoder_.last_encoding() == FrameEncoding::kZlib) ++compressed_frames_sent_;
+  if (transcript_) transcript_->Add(frame);
   if (send_tagger_) {
     // One buffer, one send: a frame and its tag leave in the same segment when they fit.
     tagged_frame_.assign(frame);
@@ -284,15 +294,17 @@ bool Channel::Receive(proto::coord::CoordinatorMessage* message, TimeNs deadline
   if (receive_tagger_) {
     const uint64_t sequence = receive_tagger_->count();
     const std::string_view frame(inbox_.data() + inbox_begin_, kFrameHeaderBytes + body);
-    std::string expected(kMessageTagBytes, '\0');
-    receive_tagger_->TagNext(frame, reinterpret_cast<unsigned char*>(expected.data()));
-    if (!SameProof(expected, std::string(frame.data() + frame.size(), kMessageTagBytes))) {
+    unsigned char expected[kMessageTagBytes];
+    receive_tagger_->TagNext(frame, expected);
+    if (CRYPTO_memcmp(expected, frame.data() + frame.size(), kMessageTagBytes) != 0) {
       throw TransportError(TransportError::Kind::kBadFrame,
                            "message " + std::to_string(sequence) +
                                " of the connection failed authentication (changed, added, "
                                "dropped or repeated on the way)");
     }
   }
+  if (transcript_)
+    transcript_->Add(std::string_view(inbox_.data() + inbox_begin_, kFrameHeaderBytes + body));
   const std::string_view body_bytes(inbox_.data() + inbox_begin_ + kFrameHeaderBytes, body);
   inbox_begin_ += kFrameHeaderBytes + body + tag_bytes;
   if (inbox_begin_ == inbox_end_) inbox_begin_ = inbox_end_ = 0;  // Decoded below before reuse.

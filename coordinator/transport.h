@@ -84,6 +84,10 @@ class Channel {
   // call it once the handshake has proven the shared secret. A frame whose tag does not verify
   // throws TransportError(kBadFrame), and nothing of it is used.
   void AuthenticateMessages(const std::string& send_key, const std::string& receive_key);
+  // From now until AuthenticateMessages, every frame sent or received goes into a SHA-256, the
+  // handshake's transcript (authentication.h), which TranscriptDigest() returns so far.
+  void RecordTranscript();
+  std::string TranscriptDigest() const;
   bool authenticates_messages() const { return send_tagger_ != nullptr; }
 
   int fd() const { return socket_.get(); }
@@ -110,6 +114,7 @@ class Channel {
   std::unique_ptr<MessageTagger> send_tagger_;     // Set by AuthenticateMessages.
   std::unique_ptr<MessageTagger> receive_tagger_;  // Set by AuthenticateMessages.
   std::string tagged_frame_;                       // A frame and its tag, as sent.
+  std::unique_ptr<TranscriptHash> transcript_;     // Set by RecordTranscript.
   uint64_t compressed_frames_sent_ = 0;
   uint64_t bytes_sent_ = 0;
 };

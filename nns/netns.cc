@@ -104,6 +104,13 @@ bool StatNs(const std::string& path, NsId* id) {
 
 std::string CtlNetnsName(const std::string& scenario) { return scenario + ".ctl"; }
 
+std::function<void(const std::function<void()>&)> InNetns(const std::string& name) {
+  return [name](const std::function<void()>& work) {
+    ScopedNetns inside(name);
+    work();
+  };
+}
+
 void CreateNetns(const std::string& name) {
   ScopedNetns restore(UniqueFd(open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC)).get());
   internal::CreateNetnsAndEnter(name);

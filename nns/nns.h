@@ -76,6 +76,10 @@ bool RemoveNetns(const std::string& name);
 // Opens the namespace file (O_RDONLY|O_CLOEXEC), for setns or IFLA_NET_NS_FD.
 UniqueFd OpenNetns(const std::string& name);
 
+// A wrapper that runs its argument with the calling thread in namespace `name` (ScopedNetns), for
+// a library that makes its sockets through one (physics::ServerOptions::make_sockets).
+std::function<void(const std::function<void()>&)> InNetns(const std::string& name);
+
 // The namespace of a scenario's ctl links, "<scenario>.ctl" (a robot's is "<scenario>-<robot>";
 // neither name can hold a '.'). The root side of every robot's ctl0 (the veth "<scenario>-c<i>",
 // its address, the filter) and the physics server's sockets live there, not in the host's

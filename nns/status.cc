@@ -13,8 +13,12 @@ std::vector<RobotStatus> Status(const ScenarioState& state) {
   // The root sides of the ctl links are in the scenario's ctl namespace.
   std::unique_ptr<internal::RouteSocket> ctl;
   if (NetnsExists(CtlNetnsName(state.name))) {
-    ScopedNetns enter(CtlNetnsName(state.name));
-    ctl = std::make_unique<internal::RouteSocket>();
+    try {
+      ScopedNetns enter(CtlNetnsName(state.name));
+      ctl = std::make_unique<internal::RouteSocket>();
+    } catch (const Error&) {
+      // Not a namespace (an `up` killed half-way): its veths show as missing.
+    }
   }
   for (const OwnedRobot& robot : state.robots) {
     RobotStatus status;

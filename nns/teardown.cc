@@ -150,12 +150,15 @@ DownReport internal::DownLocked(const std::string& name) {
   // filter go with it. Counted first: the links of ours that are still there.
   const std::string ctl = CtlNetnsName(name);
   if (NetnsExists(ctl)) {
-    {
+    try {
       ScopedNetns in_ctl(ctl);
       internal::RouteSocket ctl_socket;
       for (const OwnedRobot& robot : state->robots) {
         if (internal::LinkIndex(ctl_socket, robot.root_veth) != 0) ++report.links_removed;
       }
+    } catch (const Error&) {
+      // Not a namespace (an `up` killed between making the file and mounting it there): nothing
+      // to count, and it goes all the same.
     }
     if (RemoveNetns(ctl)) ++report.namespaces_removed;
   }

@@ -12,6 +12,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -180,6 +181,10 @@ struct RobotCounters {
 
 struct ServerOptions {
   WorldOptions world;
+  // Called with the work that makes every socket of the server, to run it: a caller wraps it to
+  // make them in another network namespace (runs: the scenario's ctl namespace, nns::InNetns).
+  // Empty: in the calling thread's namespace. The world's threads are made before, outside it.
+  std::function<void(const std::function<void()>&)> make_sockets;
 };
 
 // A World plus, per robot, a UDP socket on RobotPlan::ctl_root_address:physics_port (native

@@ -458,44 +458,52 @@ PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& opti
   if (impl_->epoll_fd < 0) throw Error(SystemErrorMessage("physics server: epoll_create1", errno));
   const uint32_t port = scenario.spec.addresses().physics_port();
   impl_->endpoints.resize(scenario.robots.size());
-  for (const RobotPlan& plan : scenario.robots) {
-    const std::string who = scenario.source_path + ": robot \"" + plan.name + "\"";
-    const proto::Robot& spec = plan.spec;
-    if (!(std::isfinite(spec.state_rate_hz()) && spec.state_rate_hz() > 0)) {
-      throw Error(who + ": state_rate_hz must be > 0");
-    }
-    if (spec.command_timeout_ms() < 0) throw Error(who + ": command_timeout_ms must be >= 0");
-    if (spec.ardupilot_json_port() > 65535 || spec.ardupilot_json_port() == port) {
-      throw Error(who + ": ardupilot_json_port must be in [1, 65535] and differ from physics_port");
-    }
-    Endpoint& ep = impl_->endpoints[plan.index];
-    ep.robot = plan.index;
-    ep.robot_address = plan.ctl_robot_address;
-    ep.max_speed_rad_s = plan.airframe.max_rotor_speed_rad_s();
-    ep.state_period_ns =
-        std::max<TimeNs>(1, std::llround(static_cast<double>(kNsPerS) / spec.state_rate_hz()));
-    ep.next_state_ns = ep.state_period_ns;
-    ep.timeout_ns = spec.command_timeout_ms() * kNsPerMs;
-    ep.native = UdpSocket::Bind(plan.ctl_root_address, static_cast<uint16_t>(port), true, who);
-    impl_->Watch(ep.native.fd(), 2 * uint64_t(plan.index));
-    if (spec.px4_sim_port() != 0) {
-      if (spec.px4_sim_port() > 65535 || spec.px4_sim_port() == port ||
-          spec.px4_sim_port() == spec.ardupilot_json_port()) {
-        throw Error(who + ": px4_sim_port must be in [1, 65535] and differ from physics_port");
+  const auto make_sockets = [&] {
+    for (const RobotPlan& plan : scenario.robots) {
+      const std::string who = scenario.source_path + ": robot \"" + plan.name + "\"";
+      const proto::Robot& spec = plan.spec;
+      if (!(std::isfinite(spec.state_rate_hz()) && spec.state_rate_hz() > 0)) {
+        throw Error(who + ": state_rate_hz must be > 0");
       }
-      if (!impl_->geodetic) impl_->geodetic.emplace(scenario.spec.geodetic_origin());
-      ep.px4 = std::make_unique<Px4Robot>(
-          scenario, plan.index, static_cast<uint16_t>(spec.px4_sim_port()), &*impl_->geodetic);
-      impl_->Watch(ep.px4->link().listen_fd(), 2 * scenario.robots.size() + plan.index);
-      impl_->has_autopilots = true;
+      if (spec.command_timeout_ms() < 0) throw Error(who + ": command_timeout_ms must be >= 0");
+      if (spec.ardupilot_json_port() > 65535 || spec.ardupilot_json_port() == port) {
+        throw Error(who +
+                    ": ardupilot_json_port must be in [1, 65535] and differ from physics_port");
+      }
+      Endpoint& ep = impl_->endpoints[plan.index];
+      ep.robot = plan.index;
+      ep.robot_address = plan.ctl_robot_address;
+      ep.max_speed_rad_s = plan.airframe.max_rotor_speed_rad_s();
+      ep.state_period_ns =
+          std::max<TimeNs>(1, std::llround(static_cast<double>(kNsPerS) / spec.state_rate_hz()));
+      ep.next_state_ns = ep.state_period_ns;
+      ep.timeout_ns = spec.command_timeout_ms() * kNsPerMs;
+      ep.native = UdpSocket::Bind(plan.ctl_root_address, static_cast<uint16_t>(port), true, who);
+      impl_->Watch(ep.native.fd(), 2 * uint64_t(plan.index));
+      if (spec.px4_sim_port() != 0) {
+        if (spec.px4_sim_port() > 65535 || spec.px4_sim_port() == port ||
+            spec.px4_sim_port() == spec.ardupilot_json_port()) {
+          throw Error(who + ": px4_sim_port must be in [1, 65535] and differ from physics_port");
+        }
+        if (!impl_->geodetic) impl_->geodetic.emplace(scenario.spec.geodetic_origin());
+        ep.px4 = std::make_unique<Px4Robot>(
+            scenario, plan.index, static_cast<uint16_t>(spec.px4_sim_port()), &*impl_->geodetic);
+        impl_->Watch(ep.px4->link().listen_fd(), 2 * scenario.robots.size() + plan.index);
+        impl_->has_autopilots = true;
+      }
+      if (spec.ardupilot_json_port() != 0) {
+        ep.json = UdpSocket::Bind(plan.ctl_root_address,
+                                  static_cast<uint16_t>(spec.ardupilot_json_port()), true,
+                                  who + " (ArduPilot JSON)");
+        impl_->Watch(ep.json.fd(), 2 * uint64_t(plan.index) + 1);
+        impl_->has_autopilots = true;
+      }
     }
-    if (spec.ardupilot_json_port() != 0) {
-      ep.json =
-          UdpSocket::Bind(plan.ctl_root_address, static_cast<uint16_t>(spec.ardupilot_json_port()),
-                          true, who + " (ArduPilot JSON)");
-      impl_->Watch(ep.json.fd(), 2 * uint64_t(plan.index) + 1);
-      impl_->has_autopilots = true;
-    }
+  };
+  if (options.make_sockets) {
+    options.make_sockets(make_sockets);
+  } else {
+    make_sockets();
   }
 }
 

@@ -410,10 +410,9 @@ RunReport RunScenario(const RunOptions& options) {
 
   // Its sockets in the scenario's ctl namespace, where the robots' ctl0 links end: no one else
   // can bind their ports there (nns.h, CtlNetnsName).
-  physics::PhysicsServer physics_server = [&] {
-    nns::ScopedNetns in_ctl(nns::CtlNetnsName(scenario.name));
-    return physics::PhysicsServer(scenario, PhysicsOptionsFromEnvironment());
-  }();
+  physics::ServerOptions physics_options = PhysicsOptionsFromEnvironment();
+  physics_options.make_sockets = nns::InNetns(nns::CtlNetnsName(scenario.name));
+  physics::PhysicsServer physics_server(scenario, physics_options);
   tapbridge::BridgeOptions bridge_options;
   bridge_options.seed = scenario.spec.timing().seed();
   network_side::RemoteMedium* remote_medium = nullptr;  // Owned by the bridge.

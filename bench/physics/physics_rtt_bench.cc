@@ -43,10 +43,9 @@ int Run(int round_trips) {
   std::remove(path.c_str());
   ScenarioUp up(scenario);
   // Its sockets where runs make them: the scenario's ctl namespace, where ctl0 ends.
-  PhysicsServer server = [&] {
-    nns::ScopedNetns in_ctl(nns::CtlNetnsName(scenario.name));
-    return PhysicsServer(scenario);
-  }();
+  ServerOptions options;
+  options.make_sockets = nns::InNetns(nns::CtlNetnsName(scenario.name));
+  PhysicsServer server(scenario, options);
   const std::string address = FormatIpv4(scenario.robots[0].ctl_root_address) + ":" +
                               std::to_string(scenario.spec.addresses().physics_port());
 

@@ -202,13 +202,7 @@ TEST(Authentication, ProofsDependOnTheSecretTheNoncesAndTheDirection) {
   // (hmac.new(b"Jefe", b"sitlnet coordinator\x00" + b"A" * 32 + b"B" * 32, hashlib.sha256)).
   const std::string expected =
       ProofOf("Jefe", "sitlnet coordinator", std::string(32, 'A'), std::string(32, 'B'));
-  std::string hex;
-  for (unsigned char c : expected) {
-    char two[3];
-    std::snprintf(two, sizeof two, "%02x", c);
-    hex += two;
-  }
-  EXPECT_EQ(hex, "7fecfee5e026c626dbc9102e479124012035da516105c95ca00301e37d7c4321");
+  EXPECT_EQ(HexOf(expected), "7fecfee5e026c626dbc9102e479124012035da516105c95ca00301e37d7c4321");
 }
 
 TEST(Authentication, MessageTagsAreHmacSha256OfTheSequenceNumberAndTheFrame) {
@@ -378,6 +372,59 @@ TEST(Authentication, AConnectionThatSaysNothingOrStopsHalfWayHoldsBackNoConnecto
   EXPECT_EQ(accepted.physics->name(), "phys0");
   // Both strangers were still under way when the connectors were in: nothing was ignored yet.
   EXPECT_EQ(warnings, "");
+  accepted.physics->Stop("done");
+  accepted.network->Stop("done");
+  phys.Join();
+  net.Join();
+  EXPECT_EQ(phys.error(), "");
+  EXPECT_EQ(net.error(), "");
+}
+
+// Fails when the proofs cover only the nonces: the relay renames the connector (it could as well
+// change its scenario hash or initial poses) and the coordinator accepts it.
+TEST(Authentication, ARelayThatChangesTheHelloFailsBothProofs) {
+  Listener coordinator_listener(ParseEndpoint("127.0.0.1:0"));
+  Listener front(ParseEndpoint("127.0.0.1:0"));
+  OnPathRelay relay(front, coordinator_listener.endpoint(),
+                    [](OnPathRelay::Direction direction, int index, const std::string& frame) {
+                      if (direction != OnPathRelay::kToCoordinator || index != 0) return frame;
+                      proto::coord::CoordinatorMessage hello;
+                      EXPECT_TRUE(hello.ParseFromString(frame.substr(kFrameHeaderBytes)));
+                      hello.mutable_hello()->set_connector_name("renamed");
+                      return FrameOf(hello);
+                    });
+  auto accepting = std::async(std::launch::async, [&] {
+    return AcceptConnectorOfRole(coordinator_listener, Role::kPhysics, ExpectSecret(),
+                                 Within(kNsPerS));
+  });
+  SyntheticPhysics physics_sim(Robots(1));
+  ConnectorThread phys(front.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash, kSecret});
+  phys.Join();
+  EXPECT_EQ(phys.error(),
+            "the coordinator failed to prove the shared secret (a different --secret-file, or "
+            "not sitlnet's coordinator)");
+  EXPECT_THROW(accepting.get(), Error);  // Nothing accepted before the deadline.
+}
+
+// Fails when a connection beyond the 16 handshakes under way is closed at once: then a stranger
+// holding 16 silent connections keeps the real connectors out. Now they wait in the backlog and
+// are accepted as soon as a slot frees (the silent ones are dropped after 2 s).
+TEST(Authentication, SixteenSilentConnectionsKeepNoConnectorOut) {
+  Listener listener(ParseEndpoint("127.0.0.1:0"));
+  auto accepting = std::async(std::launch::async, [&] {
+    return AcceptConnectors(listener, ExpectSecret(), Within(20 * kNsPerS));
+  });
+  std::vector<Fd> silent;
+  for (int i = 0; i < 16; ++i)
+    silent.push_back(Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS));
+  SyntheticPhysics physics_sim(Robots(1));
+  SyntheticNetwork network_sim(Robots(1));
+  ConnectorThread phys(listener.endpoint(), &physics_sim,
+                       {"phys0", Role::kPhysics, kHash, kSecret});
+  ConnectorThread net(listener.endpoint(), &network_sim, {"net0", Role::kNetwork, kHash, kSecret});
+  AcceptedConnectors accepted = accepting.get();
+  ASSERT_NE(accepted.physics, nullptr);
+  ASSERT_NE(accepted.network, nullptr);
   accepted.physics->Stop("done");
   accepted.network->Stop("done");
   phys.Join();

@@ -88,8 +88,8 @@ void ExpectNothingLeft(const FaultScenario& s) {
   EXPECT_EQ(std::find(up.begin(), up.end(), s.name), up.end()) << s.name;
   for (size_t i = 0; i < s.robots.size(); ++i) {
     EXPECT_FALSE(NetnsExists(s.name + "-" + s.robots[i])) << s.robots[i];
-    EXPECT_FALSE(LinkExistsInRoot(s.name + "-c" + std::to_string(i)));
   }
+  EXPECT_FALSE(NetnsExists(CtlNetnsName(s.name))) << s.name;  // The root sides went with it.
   // No `sitlnet run` of this scenario is left (pgrep as an observer).
   const CommandResult pgrep = RunCommand({"pgrep", "-f", "--", s.path});
   EXPECT_EQ(pgrep.out, "") << "left running: " << pgrep.out;

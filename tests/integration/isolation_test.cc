@@ -160,10 +160,9 @@ TEST(IsolationTest, ForeignMotorCommandsAreDroppedAndCountedEvenWithARouteAdded)
   const Scenario& scenario = t.scenario;
   DownGuard down(scenario.name);
   nns::Up(scenario);
-  physics::PhysicsServer server = [&] {
-    nns::ScopedNetns in_ctl(nns::CtlNetnsName(scenario.name));  // Where runs make its sockets.
-    return physics::PhysicsServer(scenario);
-  }();
+  physics::ServerOptions options;  // Its sockets where runs make them.
+  options.make_sockets = nns::InNetns(nns::CtlNetnsName(scenario.name));
+  physics::PhysicsServer server(scenario, options);
   const RobotPlan& a = scenario.robots[0];
   const RobotPlan& b = scenario.robots[1];
   const uint16_t port = static_cast<uint16_t>(scenario.spec.addresses().physics_port());
@@ -293,6 +292,9 @@ TEST(IsolationTest, DaemonsListenOnlyWhereTheyMustAndTheMediumSocketIsRootOnly) 
   EXPECT_EQ(physics_udp, expected) << ctl_udp.out;
   const auto tcp = RunCommand({"ss", "-H", "-l", "-t", "-n", "-p"});
   EXPECT_TRUE(ListeningAddressesOf(tcp.out, physics.pid()).empty()) << tcp.out;
+  const auto ctl_tcp = RunCommand({"ip", "netns", "exec", nns::CtlNetnsName(scenario.name), "ss",
+                                   "-H", "-l", "-t", "-n", "-p"});
+  EXPECT_TRUE(ListeningAddressesOf(ctl_tcp.out, physics.pid()).empty()) << ctl_tcp.out;
 
   // Medium: no IP socket at all, one Unix socket (its control socket).
   EXPECT_TRUE(ListeningAddressesOf(udp.out, medium.pid()).empty()) << udp.out;

@@ -53,8 +53,9 @@ struct PhysicsScenario {
 
 // The server as runs make it: its sockets in the scenario's ctl namespace.
 PhysicsServer ServerInCtlNamespace(const Scenario& scenario) {
-  nns::ScopedNetns in_ctl(nns::CtlNetnsName(scenario.name));
-  return PhysicsServer(scenario);
+  ServerOptions options;
+  options.make_sockets = nns::InNetns(nns::CtlNetnsName(scenario.name));
+  return PhysicsServer(scenario, options);
 }
 
 std::string ServerAddress(const Scenario& scenario, int robot) {

@@ -79,7 +79,7 @@ void ExpectNothingLeft(const std::string& name) {
   const std::vector<std::string> up = ListScenarios();
   EXPECT_EQ(std::find(up.begin(), up.end(), name), up.end()) << name;
   for (const char* robot : {"a", "b"}) EXPECT_FALSE(NetnsExists(name + "-" + robot));
-  EXPECT_FALSE(LinkExistsInRoot(name + "-c0"));
+  EXPECT_FALSE(NetnsExists(CtlNetnsName(name))) << name;  // The root sides went with it.
 }
 
 TEST(RemoteRunTest, MediumInAnotherProcessOverTcpGivesTheSameRunByteForByte) {

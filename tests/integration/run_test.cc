@@ -281,9 +281,6 @@ TEST(RunTest, AFullDiskFailsTheRunNamingTheFile) {
   ExpectNothingLeft(scenario.name);
 }
 
-// Audit finding 10 (open): any local user may bind the robots' physics address first. The run
-// then stops at start with one line naming the robot, the address and how to find the holder,
-// and leaves nothing behind.
 // Audit finding 10: anyone may bind an address that is not there yet (IP_FREEBIND), so a local
 // user could hold robot a's physics port before the run, and the run then failed at start ("robot
 // \"a\": bind UDP ...: Address already in use", exit 2). The physics server's sockets are in the

@@ -43,7 +43,7 @@ void ExpectNothingLeft(const std::string& name) {
   for (const char* robot : {"a", "b"}) {
     EXPECT_FALSE(NetnsExists(name + "-" + robot)) << name << "-" << robot;
   }
-  EXPECT_FALSE(LinkExistsInRoot(name + "-c0"));
+  EXPECT_FALSE(NetnsExists(CtlNetnsName(name))) << name;  // The root sides went with it.
   // No cgroup folder of the scenario in any hierarchy (/sys/fs/cgroup itself for cgroup v2 alone,
   // or its subfolders: unified, memory, pids, ...).
   std::error_code error;
