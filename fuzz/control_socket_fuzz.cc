@@ -19,6 +19,7 @@
 #include <string>
 
 #include "common/common.h"
+#include "fuzz/fuzz_inputs.h"
 #include "sitlnet/medium.pb.h"
 #include "tapbridge/control_server.h"
 #include "tapbridge/pcap_fanout.h"
@@ -52,18 +53,7 @@ struct Daemon {
   tb::ControlServer server;
 };
 
-double Coordinate(FuzzedDataProvider& in) {
-  switch (in.ConsumeIntegralInRange(0, 3)) {
-    case 0:
-      return NAN;
-    case 1:
-      return in.ConsumeBool() ? INFINITY : -INFINITY;
-    case 2:
-      return in.ConsumeFloatingPointInRange<double>(-100, 100);
-    default:
-      return in.ConsumeFloatingPoint<double>();
-  }
-}
+double Coordinate(FuzzedDataProvider& in) { return sitlnet::fuzz::OddOrInRange(in, -100, 100); }
 
 std::string Request(FuzzedDataProvider& in) {
   sitlnet::proto::MediumRequest request;
@@ -98,11 +88,7 @@ std::string Request(FuzzedDataProvider& in) {
   return request.SerializeAsString();
 }
 
-uint32_t Le32(const std::string& bytes, size_t at) {
-  uint32_t value = 0;
-  for (int i = 0; i < 4; ++i) value |= uint32_t{static_cast<uint8_t>(bytes[at + i])} << (8 * i);
-  return value;
-}
+using sitlnet::fuzz::Le32;
 
 }  // namespace
 

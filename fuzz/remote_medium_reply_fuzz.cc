@@ -16,6 +16,7 @@
 
 #include "common/common.h"
 #include "coordinator/connector.h"
+#include "fuzz/fuzz_inputs.h"
 #include "network_side/network_side.h"
 #include "tapbridge/tapbridge.h"
 
@@ -46,14 +47,7 @@ class ReplyConnector final : public coord::Connector {
 };
 
 const sitlnet::Scenario& ThreeRobots() {
-  static const sitlnet::Scenario scenario = sitlnet::LoadScenarioText(
-      "name: \"fzr\"\n"
-      "robot { name: \"a\" position_m { x: 0 y: 0 z: 1 } }\n"
-      "robot { name: \"b\" position_m { x: 20 y: 0 z: 1 } }\n"
-      "robot { name: \"c\" position_m { x: 0 y: 60 z: 1 } }\n"
-      "timing { iteration_us: 10000 physics_step_us: 1000 network_step_us: 2000 pacing: "
-      "PACING_LOCKSTEP seed: 1 }\n",
-      "remote_medium_reply_fuzz");
+  static const sitlnet::Scenario scenario = sitlnet::fuzz::ThreeRobotScenario("fzr");
   return scenario;
 }
 
@@ -63,18 +57,7 @@ int64_t Time(FuzzedDataProvider& in, int64_t step_ns) {
                           : in.ConsumeIntegral<int64_t>();
 }
 
-double Number(FuzzedDataProvider& in) {
-  switch (in.ConsumeIntegralInRange(0, 3)) {
-    case 0:
-      return NAN;
-    case 1:
-      return in.ConsumeBool() ? INFINITY : -INFINITY;
-    case 2:
-      return in.ConsumeFloatingPointInRange<double>(-200, 100);
-    default:
-      return in.ConsumeFloatingPoint<double>();
-  }
-}
+double Number(FuzzedDataProvider& in) { return sitlnet::fuzz::OddOrInRange(in, -200, 100); }
 
 std::string Reply(FuzzedDataProvider& in, int64_t step_ns) {
   pm::MediumReply reply;
@@ -123,11 +106,7 @@ std::string Reply(FuzzedDataProvider& in, int64_t step_ns) {
   return in.ConsumeBool() ? bytes : in.ConsumeRemainingBytesAsString();
 }
 
-uint32_t Le32(const std::string& bytes, size_t at) {
-  uint32_t value = 0;
-  for (int i = 0; i < 4; ++i) value |= uint32_t{static_cast<uint8_t>(bytes[at + i])} << (8 * i);
-  return value;
-}
+using sitlnet::fuzz::Le32;
 
 }  // namespace
 

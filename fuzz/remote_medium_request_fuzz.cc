@@ -13,6 +13,7 @@
 
 #include "common/common.h"
 #include "coordinator/connector.h"
+#include "fuzz/fuzz_inputs.h"
 #include "network_side/network_side.h"
 #include "tapbridge/tapbridge.h"
 
@@ -21,14 +22,7 @@ namespace {
 namespace pm = sitlnet::proto::medium;
 
 const sitlnet::Scenario& ThreeRobots() {
-  static const sitlnet::Scenario scenario = sitlnet::LoadScenarioText(
-      "name: \"fzq\"\n"
-      "robot { name: \"a\" position_m { x: 0 y: 0 z: 1 } }\n"
-      "robot { name: \"b\" position_m { x: 20 y: 0 z: 1 } }\n"
-      "robot { name: \"c\" position_m { x: 0 y: 60 z: 1 } }\n"
-      "timing { iteration_us: 10000 physics_step_us: 1000 network_step_us: 2000 pacing: "
-      "PACING_LOCKSTEP seed: 1 }\n",
-      "remote_medium_request_fuzz");
+  static const sitlnet::Scenario scenario = sitlnet::fuzz::ThreeRobotScenario("fzq");
   return scenario;
 }
 
@@ -43,18 +37,7 @@ int64_t Time(FuzzedDataProvider& in, int64_t step_ns, int k) {
                           : in.ConsumeIntegral<int64_t>();
 }
 
-double Coordinate(FuzzedDataProvider& in) {
-  switch (in.ConsumeIntegralInRange(0, 3)) {
-    case 0:
-      return NAN;
-    case 1:
-      return in.ConsumeBool() ? INFINITY : -INFINITY;
-    case 2:
-      return in.ConsumeFloatingPointInRange<double>(-100, 100);
-    default:
-      return in.ConsumeFloatingPoint<double>();
-  }
-}
+double Coordinate(FuzzedDataProvider& in) { return sitlnet::fuzz::OddOrInRange(in, -100, 100); }
 
 }  // namespace
 

@@ -44,6 +44,17 @@ std::string HexOf(const std::string& bytes) {
   return hex;
 }
 
+// A physics connector's Hello with a fresh nonce, as a hand-made client sends it.
+proto::coord::CoordinatorMessage HelloWithNonce(const std::string& name) {
+  proto::coord::CoordinatorMessage hello;
+  hello.mutable_hello()->set_protocol_version(kProtocolVersion);
+  hello.mutable_hello()->set_scenario_hash(kHash);
+  hello.mutable_hello()->set_role(proto::coord::ROLE_PHYSICS);
+  hello.mutable_hello()->set_connector_name(name);
+  hello.mutable_hello()->set_nonce(RandomNonce());
+  return hello;
+}
+
 // Bytes of one encoded message.
 std::string FrameOf(const proto::coord::CoordinatorMessage& message) {
   FrameEncoder encoder;
@@ -143,13 +154,7 @@ TEST(Authentication, OnlyConnectorsThatProveTheSecretAreAccepted) {
   {
     // An attacker who skips the check and answers with a made-up proof.
     Channel client(Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS));
-    proto::coord::CoordinatorMessage hello;
-    hello.mutable_hello()->set_protocol_version(kProtocolVersion);
-    hello.mutable_hello()->set_scenario_hash(kHash);
-    hello.mutable_hello()->set_role(proto::coord::ROLE_PHYSICS);
-    hello.mutable_hello()->set_connector_name("forger");
-    hello.mutable_hello()->set_nonce(RandomNonce());
-    client.Send(hello);
+    client.Send(HelloWithNonce("forger"));
     proto::coord::CoordinatorMessage in;
     ASSERT_TRUE(client.Receive(&in, MonotonicNowNs() + 5 * kNsPerS));
     ASSERT_TRUE(in.has_challenge());
@@ -350,13 +355,7 @@ TEST(Authentication, AConnectionThatSaysNothingOrStopsHalfWayHoldsBackNoConnecto
   Fd silent = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
   // A stranger that starts the handshake and never proves anything.
   Channel half_way(Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS));
-  proto::coord::CoordinatorMessage hello;
-  hello.mutable_hello()->set_protocol_version(kProtocolVersion);
-  hello.mutable_hello()->set_scenario_hash(kHash);
-  hello.mutable_hello()->set_role(proto::coord::ROLE_PHYSICS);
-  hello.mutable_hello()->set_connector_name("half-way");
-  hello.mutable_hello()->set_nonce(RandomNonce());
-  half_way.Send(hello);
+  half_way.Send(HelloWithNonce("half-way"));
   proto::coord::CoordinatorMessage in;
   ASSERT_TRUE(half_way.Receive(&in, MonotonicNowNs() + 5 * kNsPerS));
   ASSERT_TRUE(in.has_challenge());
