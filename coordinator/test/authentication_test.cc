@@ -55,6 +55,17 @@ proto::coord::CoordinatorMessage HelloWithNonce(const std::string& name) {
   return hello;
 }
 
+// Ends a run of two accepted connectors: both get Stop, and both served without an error.
+void StopAndExpectBothServedCleanly(AcceptedConnectors& accepted, ConnectorThread& phys,
+                                    ConnectorThread& net) {
+  accepted.physics->Stop("done");
+  accepted.network->Stop("done");
+  phys.Join();
+  net.Join();
+  EXPECT_EQ(phys.error(), "");
+  EXPECT_EQ(net.error(), "");
+}
+
 // Bytes of one encoded message.
 std::string FrameOf(const proto::coord::CoordinatorMessage& message) {
   FrameEncoder encoder;
@@ -371,12 +382,7 @@ TEST(Authentication, AConnectionThatSaysNothingOrStopsHalfWayHoldsBackNoConnecto
   EXPECT_EQ(accepted.physics->name(), "phys0");
   // Both strangers were still under way when the connectors were in: nothing was ignored yet.
   EXPECT_EQ(warnings, "");
-  accepted.physics->Stop("done");
-  accepted.network->Stop("done");
-  phys.Join();
-  net.Join();
-  EXPECT_EQ(phys.error(), "");
-  EXPECT_EQ(net.error(), "");
+  StopAndExpectBothServedCleanly(accepted, phys, net);
 }
 
 // Fails when the proofs cover only the nonces: the relay renames the connector (it could as well
@@ -424,12 +430,7 @@ TEST(Authentication, SixteenSilentConnectionsKeepNoConnectorOut) {
   AcceptedConnectors accepted = accepting.get();
   ASSERT_NE(accepted.physics, nullptr);
   ASSERT_NE(accepted.network, nullptr);
-  accepted.physics->Stop("done");
-  accepted.network->Stop("done");
-  phys.Join();
-  net.Join();
-  EXPECT_EQ(phys.error(), "");
-  EXPECT_EQ(net.error(), "");
+  StopAndExpectBothServedCleanly(accepted, phys, net);
 }
 
 TEST(Authentication, SecretFilesMustBeTheUsersOwnAndPrivate) {
