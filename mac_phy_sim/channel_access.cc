@@ -32,9 +32,6 @@ void OnBusy(State& s, int station) {
     const int elapsed = static_cast<int>((s.now_ns - st.count_origin_ns) / s.phy.slot_ns);
     st.backoff_slots -= std::min(elapsed, st.backoff_slots);
   }
-  // An immediate access (no backoff, 10.3.4.2) that the medium interrupted
-  // turns into a random backoff.
-  if (st.backoff_slots == 0) st.backoff_slots = DrawUniform(st, st.cw);
   s.SetAccessAt(station, -1);
   st.backoff_start_ns = s.now_ns;
 }
@@ -50,8 +47,18 @@ int DrawUniform(StationState& st, int max_inclusive) {
 
 void UpdateCca(State& s, int station) {
   StationState& st = s.stations[station];
-  const bool physically_busy = st.transmitting_tx >= 0 || st.rx.tx >= 0 ||
-                               (st.active_signals > 0 && st.energy_mw >= s.cca_mw);
+  const bool signal_busy = st.rx.tx >= 0 || (st.active_signals > 0 && st.energy_mw >= s.cca_mw);
+  if (signal_busy && st.cca_sense_from_ns < 0) {
+    // A frame reaching an idle station holds its medium busy only once the
+    // preamble detection has decided (ns-3 3.37 PhyEntity): a station whose
+    // backoff ends within those 4 us still transmits, a collision that the
+    // slot time's aCCATime allows for (IEEE 802.11-2016 10.3.7). A station
+    // already busy senses it at once.
+    st.cca_sense_from_ns = st.busy ? s.now_ns : s.now_ns + kPreambleDetectionNs;
+    if (!st.busy) s.scheduler.Push(st.cca_sense_from_ns, EventType::kCcaSense, station, 0);
+  }
+  const bool physically_busy =
+      st.transmitting_tx >= 0 || (signal_busy && s.now_ns >= st.cca_sense_from_ns);
   const bool nav_busy = st.nav_until_ns > s.now_ns;
   // The NAV needs its own expiry event only while it alone holds the medium
   // busy: physical changes call UpdateCca anyway (for a DATA frame the NAV
@@ -67,6 +74,7 @@ void UpdateCca(State& s, int station) {
     OnBusy(s, station);
   } else {
     st.idle_since_ns = s.now_ns;
+    st.cca_sense_from_ns = -1;
     if (st.backoff_pending) ScheduleAccess(s, station);
   }
 }
@@ -96,7 +104,7 @@ void RequestAccess(State& s, int station) {
   // 10.3.4.2: idle medium and a zero backoff counter: transmit once the
   // medium has been idle for DIFS/EIFS, without a random backoff.
   st.backoff_slots = 0;
-  st.backoff_start_ns = s.now_ns;
+  st.backoff_start_ns = s.now_ns + s.phy.difs_ns;
   st.backoff_pending = true;
   ScheduleAccess(s, station);
 }

@@ -15,9 +15,6 @@ namespace {
 
 double ToDb(double linear) { return 10 * std::log10(linear); }
 
-// ns-3's PreambleDetectionDuration: the preamble detection model decides 4 us
-// after the start of a frame.
-constexpr TimeNs kPreambleDetectionNs = 4 * kNsPerUs;
 // ns-3's SimpleFrameCaptureModel: capture is possible up to CaptureWindow
 // (16 us) after the preamble was detected, whatever the PHY.
 constexpr TimeNs kCaptureWindowEndNs = kPreambleDetectionNs + 16 * kNsPerUs;

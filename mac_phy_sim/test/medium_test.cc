@@ -45,20 +45,21 @@ TEST(MediumTest, UnicastDeliveryTimingPowerAndAck) {
   EXPECT_EQ(out[0].ethernet_frame, frame);
   // Medium idle since t = 0: DIFS (34 us), no backoff (10.3.4.2), then 248 us of PPDU.
   EXPECT_EQ(out[0].delivery_ns, (34 + 248) * kNsPerUs);
-  // 16.0206 dBm - (46.6777 + 30 log10(10)) dB (docs/references.md#radio-defaults, rounded to 1e-4 dB);
-  // SINR against -93.97 dBm.
+  // 16.0206 dBm - (46.6777 + 30 log10(10)) dB (docs/references.md#radio-defaults, rounded to 1e-4
+  // dB); SINR against -93.97 dBm.
   EXPECT_NEAR(out[0].rx_power_dbm, 16.0206 - 76.6777, 1e-3);
   EXPECT_NEAR(out[0].sinr_db, 16.0206 - 76.6777 + 93.97, 0.01);
   EXPECT_EQ(medium.counters(a).sent_ok, 1u);
   EXPECT_EQ(medium.counters(b).ack_tx, 1u);
   EXPECT_EQ(medium.counters(b).rx_delivered, 1u);
   EXPECT_EQ(medium.now_ns(), 10 * kNsPerMs);
-  // Idle for longer than DIFS and post-backoff finished: immediate access.
+  // Idle for longer than DIFS and post-backoff finished: immediate access,
+  // DIFS after the frame arrives (ns-3's NeedBackoffUponAccess).
   medium.SubmitFrame(a, frame, 20 * kNsPerMs);
   out.clear();
   medium.AdvanceTo(30 * kNsPerMs, &out);
   ASSERT_EQ(out.size(), 1u);
-  EXPECT_EQ(out[0].delivery_ns, 20 * kNsPerMs + 248 * kNsPerUs);
+  EXPECT_EQ(out[0].delivery_ns, 20 * kNsPerMs + (34 + 248) * kNsPerUs);
   EXPECT_FALSE(medium.NextEventNs().has_value());
 }
 
@@ -261,7 +262,8 @@ TEST(MediumTest, FrameCaptureLetsAStrongerLateFrameWin) {
   // B at 0, A at -10 m, C at 45 m (6 Mb/s). A and C are 55 m apart: -82.9 dBm,
   // under preamble detection, so they cannot hear each other. At B, C arrives
   // at -80.3 dBm and A at -60.7 dBm. C starts at 34 us (DIFS after t = 0),
-  // A at 40 us, inside C's 20 us preamble. Without capture both frames are
+  // A at 40 us (DIFS after its frame arrives at 6 us), inside C's 20 us
+  // preamble. Without capture both frames are
   // lost at B; with ns-3's SimpleFrameCaptureModel (5 dB margin) B switches
   // to A's frame and decodes it.
   for (const bool capture : {false, true}) {
@@ -273,7 +275,7 @@ TEST(MediumTest, FrameCaptureLetsAStrongerLateFrameWin) {
     const StationId a = medium.AddStation(RobotMac(1), {-10, 0, 0});
     const StationId c = medium.AddStation(RobotMac(2), {45, 0, 0});
     medium.SubmitFrame(c, MakeEthernetFrame(RobotMac(0), RobotMac(2), 500), 0);
-    medium.SubmitFrame(a, MakeEthernetFrame(RobotMac(0), RobotMac(1), 500), 40 * kNsPerUs);
+    medium.SubmitFrame(a, MakeEthernetFrame(RobotMac(0), RobotMac(1), 500), 6 * kNsPerUs);
     std::vector<Delivery> out;
     medium.AdvanceTo(2 * kNsPerMs, &out);
     ASSERT_FALSE(out.empty()) << capture;

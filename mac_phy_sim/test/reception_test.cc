@@ -14,9 +14,11 @@ namespace {
 using testing::MakeEthernetFrame;
 
 // 11b at 1 Mb/s, capture on (5 dB). B at 0, C at 45 m (weak at B), A at -10 m
-// (20 dB stronger at B). C starts at DIFS (50 us); A starts `a_delay_us`
-// later. Returns the source of the first frame B receives, -1 if none.
-int FirstSourceAtB(int a_delay_us) {
+// (20 dB stronger at B). C starts at DIFS (50 us); A at `a_start_us` (its
+// frame arrives DIFS earlier). Returns the source of the first frame B
+// receives, -1 if none.
+int FirstSourceAtB(int a_start_us) {
+  constexpr int kDifsUs = 50;
   MediumConfig config;
   config.standard = Standard::k80211b;
   config.rate_mbps = 1;
@@ -28,7 +30,8 @@ int FirstSourceAtB(int a_delay_us) {
   const StationId a = medium.AddStation(RobotMac(1), {-10, 0, 0});
   const StationId c = medium.AddStation(RobotMac(2), {45, 0, 0});
   medium.SubmitFrame(c, MakeEthernetFrame(RobotMac(0), RobotMac(2), 100), 0);
-  medium.SubmitFrame(a, MakeEthernetFrame(RobotMac(0), RobotMac(1), 100), a_delay_us * kNsPerUs);
+  medium.SubmitFrame(a, MakeEthernetFrame(RobotMac(0), RobotMac(1), 100),
+                     (a_start_us - kDifsUs) * kNsPerUs);
   std::vector<Delivery> out;
   medium.AdvanceTo(5 * kNsPerMs, &out);
   for (const Delivery& d : out) {

@@ -1,0 +1,116 @@
+// DCF channel access where ns-3 3.37 decides by details the saturation
+// matrix never reaches (queues there never run empty): a frame arriving at
+// an idle station, an immediate access that the medium interrupts, and the
+// 4 us a frame needs to make an idle station's medium busy. TCP between two
+// robots (one saturated sender, one answering every other frame) depends on
+// all three.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "mac_phy_sim/mac_phy_sim.h"
+#include "mac_phy_sim/phy_mode.h"
+#include "mac_phy_sim/test/saturation_harness.h"
+
+namespace sitlnet::mac {
+namespace {
+
+using testing::DrainTransmissions;
+using testing::MakeEthernetFrame;
+
+constexpr TimeNs kDifsNs = 34 * kNsPerUs;  // 802.11a: SIFS 16 + 2 slots of 9.
+constexpr TimeNs kSifsNs = 16 * kNsPerUs;
+
+// Start of the first DATA transmission of `station` in the trace, -1 if none.
+TimeNs FirstDataStart(const std::vector<TxRecord>& txs, StationId station) {
+  for (const TxRecord& tx : txs) {
+    if (tx.source == station && tx.kind == FrameKind::kData) return tx.start_ns;
+  }
+  return -1;
+}
+
+// ns-3's ChannelAccessManager::NeedBackoffUponAccess: an idle medium and a
+// zero backoff give access DIFS after the frame is queued, even when the
+// medium has been idle for much longer (not at once).
+TEST(ChannelAccessTest, AFrameQueuedAtALongIdleStationWaitsDifsFromItsArrival) {
+  Medium medium(MediumConfig{});
+  const StationId a = medium.AddStation(RobotMac(0), {0, 0, 0});
+  medium.AddStation(RobotMac(1), {10, 0, 0});
+  medium.EnableTrace(true);
+  const TimeNs queued_ns = 50 * kNsPerMs;
+  medium.SubmitFrame(a, MakeEthernetFrame(RobotMac(1), RobotMac(0), 1500), queued_ns);
+  medium.AdvanceTo(60 * kNsPerMs, nullptr);
+  EXPECT_EQ(FirstDataStart(DrainTransmissions(medium), a), queued_ns + kDifsNs);
+}
+
+// An immediate access that another station's frame interrupts keeps its zero
+// backoff in ns-3 3.37 (only a frame queued while the medium is busy draws
+// one): the station sends DIFS after that exchange ends, never later, over
+// every seed (a random backoff would be 0 to 15 slots).
+TEST(ChannelAccessTest, AnInterruptedImmediateAccessSendsDifsAfterTheExchange) {
+  for (uint64_t seed = 1; seed <= 8; ++seed) {
+    MediumConfig config;
+    config.seed = seed;
+    Medium medium(config);
+    const StationId y = medium.AddStation(RobotMac(0), {0, 0, 0});
+    const StationId x = medium.AddStation(RobotMac(1), {1, 0, 0});
+    medium.AddStation(RobotMac(2), {2, 0, 0});
+    medium.EnableTrace(true);
+    // Y starts at DIFS (34 us); X's frame arrives at 10 us, its access
+    // would be at 44 us: Y's frame interrupts it.
+    medium.SubmitFrame(y, MakeEthernetFrame(RobotMac(2), RobotMac(0), 1500), 0);
+    medium.SubmitFrame(x, MakeEthernetFrame(RobotMac(2), RobotMac(1), 100), 10 * kNsPerUs);
+    medium.AdvanceTo(5 * kNsPerMs, nullptr);
+    const std::vector<TxRecord> txs = DrainTransmissions(medium);
+    TimeNs exchange_end_ns = -1;
+    for (const TxRecord& tx : txs) {
+      if (tx.kind == FrameKind::kAck) {
+        exchange_end_ns = tx.end_ns;
+        break;
+      }
+    }
+    ASSERT_EQ(FirstDataStart(txs, y), kDifsNs) << seed;
+    const TimeNs y_end_ns =
+        kDifsNs + PpduDurationNs(Standard::k80211a, 54, MpduBytesForEthernet(1514));
+    const TimeNs ack_ns = PpduDurationNs(Standard::k80211a, 24, 14);
+    // The ACK reaches X a few ns after it ends (propagation): X counts DIFS from there.
+    ASSERT_GE(exchange_end_ns, y_end_ns + kSifsNs + ack_ns) << seed;
+    const TimeNs x_start_ns = FirstDataStart(txs, x);
+    EXPECT_GE(x_start_ns, exchange_end_ns + kDifsNs) << seed;
+    EXPECT_LT(x_start_ns, exchange_end_ns + kDifsNs + 100) << seed;  // Within propagation.
+    EXPECT_EQ(medium.counters(x).tx_failures, 0u) << seed;
+  }
+}
+
+// ns-3 3.37 reports a frame's arrival at an idle station to channel access
+// only when preamble detection ends, 4 us in (PhyEntity's
+// EndPreambleDetectionPeriod); 802.11a's aCCATime is the same 4 us. A station
+// whose access falls inside those 4 us still sends, and the two frames
+// collide; one whose access falls after them defers.
+TEST(ChannelAccessTest, AFrameBecomesBusyForAnIdleStationOnlyAfterPreambleDetection) {
+  for (const int x_queued_us : {3, 5}) {  // X's access at 37 us (inside) or 39 us (after).
+    Medium medium(MediumConfig{});
+    const StationId y = medium.AddStation(RobotMac(0), {0, 0, 0});
+    const StationId x = medium.AddStation(RobotMac(1), {1, 0, 0});
+    medium.AddStation(RobotMac(2), {2, 0, 0});
+    medium.EnableTrace(true);
+    medium.SubmitFrame(y, MakeEthernetFrame(RobotMac(2), RobotMac(0), 1500), 0);
+    medium.SubmitFrame(x, MakeEthernetFrame(RobotMac(2), RobotMac(1), 1500),
+                       x_queued_us * kNsPerUs);
+    medium.AdvanceTo(kNsPerMs, nullptr);
+    const std::vector<TxRecord> txs = DrainTransmissions(medium);
+    ASSERT_EQ(FirstDataStart(txs, y), kDifsNs);
+    const TimeNs x_start_ns = FirstDataStart(txs, x);
+    if (x_queued_us == 3) {
+      EXPECT_EQ(x_start_ns, 3 * kNsPerUs + kDifsNs);
+      EXPECT_EQ(medium.counters(y).tx_failures, 1u);
+      EXPECT_EQ(medium.counters(x).tx_failures, 1u);
+    } else {
+      EXPECT_TRUE(x_start_ns < 0 || x_start_ns > kDifsNs + 300 * kNsPerUs) << x_start_ns;
+      EXPECT_EQ(medium.counters(y).tx_failures, 0u);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sitlnet::mac
