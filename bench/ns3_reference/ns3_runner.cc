@@ -159,3 +159,101 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
   Simulator::Destroy();
   return {g_rx_bytes * 8.0 / c.measure_s / 1e6, wall};
 }
+
+namespace {
+
+struct TcpReplicaState {
+  ns3::Ptr<ns3::Socket> b_socket;
+  double turnaround_us = 0;
+  uint64_t received = 0, measured = 0, ack_timeouts = 0;
+};
+TcpReplicaState g_replica;
+
+void ReplicaSendAck() { g_replica.b_socket->Send(ns3::Create<ns3::Packet>(kTcpReplicaAckBytes)); }
+
+void ReplicaOnRx(ns3::Ptr<const ns3::Packet> packet, const ns3::Address&) {
+  if (packet->GetSize() != kTcpReplicaDataBytes) return;
+  if (ns3::Simulator::Now() > ns3::Seconds(kTcpReplicaWarmupS)) ++g_replica.measured;
+  if (++g_replica.received % 2 == 0) {
+    ns3::Simulator::Schedule(ns3::NanoSeconds(static_cast<int64_t>(g_replica.turnaround_us * 1000)),
+                             &ReplicaSendAck);
+  }
+}
+
+void ReplicaOnResponseTimeout(uint8_t, ns3::Ptr<const ns3::WifiMpdu>, const ns3::WifiTxVector&) {
+  ++g_replica.ack_timeouts;
+}
+
+}  // namespace
+
+TcpReplicaOutcome RunNs3TcpReplica(double turnaround_us, uint32_t run) {
+  using namespace ns3;
+  RngSeedManager::SetSeed(1);
+  RngSeedManager::SetRun(run);
+  Config::SetDefault("ns3::WifiRemoteStationManager::MaxSsrc", UintegerValue(7));
+  Config::SetDefault("ns3::WifiRemoteStationManager::MaxSlrc", UintegerValue(4));
+  g_replica = TcpReplicaState{};
+  g_replica.turnaround_us = turnaround_us;
+  WifiHelper wifi;
+  wifi.SetStandard(WIFI_STANDARD_80211a);
+  wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode",
+                               StringValue("OfdmRate54Mbps"), "ControlMode",
+                               StringValue("OfdmRate6Mbps"));
+  NodeContainer nodes;
+  nodes.Create(2);
+  MobilityHelper mobility;
+  Ptr<ListPositionAllocator> positions = CreateObject<ListPositionAllocator>();
+  positions->Add(Vector(0, 0, 1));
+  positions->Add(Vector(kTcpReplicaDistanceM, 0, 1));
+  mobility.SetPositionAllocator(positions);
+  mobility.Install(nodes);
+  Ptr<YansWifiChannel> channel = CreateObject<YansWifiChannel>();
+  channel->SetPropagationDelayModel(CreateObject<ConstantSpeedPropagationDelayModel>());
+  Ptr<LogDistancePropagationLossModel> loss = CreateObject<LogDistancePropagationLossModel>();
+  loss->SetAttribute("Exponent", DoubleValue(3));
+  loss->SetAttribute("ReferenceLoss", DoubleValue(Ns3Radio{}.reference_loss_db));
+  channel->SetPropagationLossModel(loss);
+  YansWifiPhyHelper phy;
+  phy.SetChannel(channel);
+  phy.SetErrorRateModel("ns3::NistErrorRateModel");
+  WifiMacHelper mac;
+  mac.SetType("ns3::AdhocWifiMac");
+  NetDeviceContainer devices = wifi.Install(phy, mac, nodes);
+  PacketSocketHelper packet_socket;
+  packet_socket.Install(nodes);
+  PacketSocketAddress to_b;
+  to_b.SetSingleDevice(devices.Get(0)->GetIfIndex());
+  to_b.SetPhysicalAddress(devices.Get(1)->GetAddress());
+  to_b.SetProtocol(1);
+  Ptr<PacketSocketClient> client = CreateObject<PacketSocketClient>();
+  client->SetRemote(to_b);
+  client->SetAttribute("PacketSize", UintegerValue(kTcpReplicaDataBytes));
+  client->SetAttribute("MaxPackets", UintegerValue(0));
+  client->SetAttribute("Interval", TimeValue(MicroSeconds(150)));  // Twice what 54 Mb/s carries.
+  nodes.Get(0)->AddApplication(client);
+  PacketSocketAddress at_b;
+  at_b.SetSingleDevice(devices.Get(1)->GetIfIndex());
+  at_b.SetProtocol(1);
+  Ptr<PacketSocketServer> server = CreateObject<PacketSocketServer>();
+  server->SetLocal(at_b);
+  server->TraceConnectWithoutContext("Rx", MakeCallback(&ReplicaOnRx));
+  nodes.Get(1)->AddApplication(server);
+  PacketSocketAddress to_a;
+  to_a.SetSingleDevice(devices.Get(1)->GetIfIndex());
+  to_a.SetPhysicalAddress(devices.Get(0)->GetAddress());
+  to_a.SetProtocol(2);
+  g_replica.b_socket = Socket::CreateSocket(nodes.Get(1), PacketSocketFactory::GetTypeId());
+  g_replica.b_socket->Bind();
+  g_replica.b_socket->Connect(to_a);
+  Config::ConnectWithoutContext(
+      "/NodeList/*/DeviceList/*/$ns3::WifiNetDevice/Mac/MpduResponseTimeout",
+      MakeCallback(&ReplicaOnResponseTimeout));
+  Simulator::Stop(Seconds(kTcpReplicaWarmupS + kTcpReplicaMeasureS));
+  Simulator::Run();
+  const TcpReplicaOutcome outcome{
+      g_replica.measured * kTcpReplicaMssBytes * 8.0 / kTcpReplicaMeasureS / 1e6,
+      g_replica.ack_timeouts};
+  g_replica.b_socket = nullptr;
+  Simulator::Destroy();
+  return outcome;
+}

@@ -32,4 +32,21 @@ struct Ns3Radio {
 // throughput over the measured window and the wall time of Simulator::Run().
 Ns3Outcome RunNs3Case(const sitlnet::side_by_side::Case& c, const Ns3Radio& radio, uint32_t run);
 
+// The TCP replica: the pattern of one TCP flow between two robots without
+// TCP's timing. Two 802.11a stations 10 m apart at 54 Mb/s (as
+// tcp_side_by_side.sh); A is saturated with 1500-byte packets for B; B
+// answers every second packet it receives with a 52-byte one (a TCP ACK's
+// IP packet) `turnaround_us` after the reception ends. Goodput counts 1448
+// bytes (an MSS) per packet B receives after the first second, over 10 s.
+constexpr double kTcpReplicaDistanceM = 10;
+constexpr int kTcpReplicaDataBytes = 1500;
+constexpr int kTcpReplicaAckBytes = 52;
+constexpr int kTcpReplicaMssBytes = 1448;
+constexpr double kTcpReplicaWarmupS = 1, kTcpReplicaMeasureS = 10;
+struct TcpReplicaOutcome {
+  double goodput_mbps = 0;
+  uint64_t ack_timeouts = 0;  // DATA frames of either station left unacknowledged.
+};
+TcpReplicaOutcome RunNs3TcpReplica(double turnaround_us, uint32_t run);
+
 #endif  // SITLNET_BENCH_NS3_REFERENCE_NS3_RUNNER_H_

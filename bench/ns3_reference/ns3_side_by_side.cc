@@ -11,6 +11,8 @@
 //        ns3_side_by_side table <in.csv>
 //        ns3_side_by_side refresh <csv>   (recompute the mac_phy_sim columns)
 //        ns3_side_by_side speed           (n = 5, 20, 50 saturation, both, timed)
+//        ns3_side_by_side tcp-replica [seeds]  (ns3_runner.h: one TCP flow's frame
+//                                          pattern at turnarounds of 0-250 us)
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -24,6 +26,7 @@
 #include "mac_phy_sim/test/saturation_harness.h"
 #include "mac_phy_sim/test/side_by_side_csv.h"
 #include "ns3_runner.h"
+#include "tcp_replica.h"
 
 namespace {
 
@@ -384,6 +387,32 @@ int PrintTable(const std::string& in_path) {
   return 0;
 }
 
+// The TCP replica at several turnarounds (what a TCP ACK takes to come back
+// through the receiver's kernel and the bridge): a Markdown table of both
+// sides' goodput means over `seeds` runs and their ACK timeouts.
+int PrintTcpReplica(int seeds) {
+  std::printf("| turnaround | ns-3 Mb/s | mac_phy_sim Mb/s | difference | ACK timeouts ns-3 / "
+              "mac_phy_sim |\n| --- | --- | --- | --- | --- |\n");
+  for (const double turnaround_us : {0.0, 30.0, 50.0, 70.0, 90.0, 100.0, 150.0, 250.0}) {
+    double ns3_mbps = 0, ours_mbps = 0;
+    uint64_t ns3_timeouts = 0, ours_timeouts = 0;
+    for (int seed = 1; seed <= seeds; ++seed) {
+      const TcpReplicaOutcome theirs = RunNs3TcpReplica(turnaround_us, seed);
+      const TcpReplicaOutcome ours = RunTcpReplica(turnaround_us, seed);
+      ns3_mbps += theirs.goodput_mbps / seeds;
+      ours_mbps += ours.goodput_mbps / seeds;
+      ns3_timeouts += theirs.ack_timeouts;
+      ours_timeouts += ours.ack_timeouts;
+    }
+    std::printf("| %.0f us | %.3f | %.3f | %+.2f %% | %llu / %llu |\n", turnaround_us, ns3_mbps,
+                ours_mbps, (ours_mbps / ns3_mbps - 1) * 100,
+                static_cast<unsigned long long>(ns3_timeouts / seeds),
+                static_cast<unsigned long long>(ours_timeouts / seeds));
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -394,10 +423,12 @@ int main(int argc, char** argv) {
   if (mode == "table" && argc > 2) return PrintTable(argv[2]);
   if (mode == "refresh" && argc > 2) return Refresh(argv[2]);
   if (mode == "speed") return PrintSpeed();
+  if (mode == "tcp-replica") return PrintTcpReplica(argc > 2 ? std::atoi(argv[2]) : 3);
   std::fprintf(stderr,
                "usage: ns3_side_by_side matrix <out.csv> [seeds] [cell-id-substring]\n"
                "       ns3_side_by_side table <in.csv>\n"
                "       ns3_side_by_side refresh <csv>\n"
-               "       ns3_side_by_side speed\n");
+               "       ns3_side_by_side speed\n"
+               "       ns3_side_by_side tcp-replica [seeds]\n");
   return 2;
 }
