@@ -4,8 +4,9 @@
 // DIFS (EIFS after a failed reception) the backoff counts down one slot per
 // idle slot; it freezes (keeping whole elapsed slots, as ns-3's
 // ChannelAccessManager does) when the medium turns busy. A station whose
-// counter reaches zero in the same instant another starts still transmits:
-// that is how DCF collisions happen.
+// counter reaches zero in the same instant another starts, or within the 4 us
+// its CCA needs to notice the other's frame, still transmits: that is how DCF
+// collisions happen.
 #include <algorithm>
 
 #include "mac_phy_sim/medium_state.h"
@@ -24,14 +25,25 @@ void ScheduleAccess(State& s, int station) {
   s.SetAccessAt(station, st.count_origin_ns + st.backoff_slots * s.phy.slot_ns);
 }
 
-void OnBusy(State& s, int station) {
+// `sensed_ns`: when channel access learns that the medium is busy: now, or
+// kPreambleDetectionNs later when only an arriving frame made it so (UpdateCca).
+void OnBusy(State& s, int station, TimeNs sensed_ns) {
   StationState& st = s.stations[station];
   if (st.access_at_ns < 0) return;
-  if (st.access_at_ns == s.now_ns) return;  // Counter hits zero now: transmit anyway.
-  if (s.now_ns > st.count_origin_ns) {
-    const int elapsed = static_cast<int>((s.now_ns - st.count_origin_ns) / s.phy.slot_ns);
+  // The counter reaches zero before the medium is sensed busy: transmit anyway.
+  // That is how DCF collisions happen (counters ending together, or within the
+  // CCA delay of each other).
+  if (st.access_at_ns <= sensed_ns) return;
+  if (sensed_ns > st.count_origin_ns) {
+    const int elapsed = static_cast<int>((sensed_ns - st.count_origin_ns) / s.phy.slot_ns);
     st.backoff_slots -= std::min(elapsed, st.backoff_slots);
   }
+  // An immediate access (no backoff, 10.3.4.2) that the medium interrupted
+  // turns into a random backoff, as the standard says. ns-3 3.37 keeps the
+  // zero backoff instead, so every station that queued a frame during one
+  // busy period sends DIFS after it, together: for group frames (no ACK, no
+  // retry) each such meeting loses all of them (docs/mac_phy_sim.md).
+  if (st.backoff_slots == 0) st.backoff_slots = DrawUniform(st, st.cw);
   s.SetAccessAt(station, -1);
   st.backoff_start_ns = s.now_ns;
 }
@@ -48,17 +60,7 @@ int DrawUniform(StationState& st, int max_inclusive) {
 void UpdateCca(State& s, int station) {
   StationState& st = s.stations[station];
   const bool signal_busy = st.rx.tx >= 0 || (st.active_signals > 0 && st.energy_mw >= s.cca_mw);
-  if (signal_busy && st.cca_sense_from_ns < 0) {
-    // A frame reaching an idle station holds its medium busy only once the
-    // preamble detection has decided (ns-3 3.37 PhyEntity): a station whose
-    // backoff ends within those 4 us still transmits, a collision that the
-    // slot time's aCCATime allows for (IEEE 802.11-2016 10.3.7). A station
-    // already busy senses it at once.
-    st.cca_sense_from_ns = st.busy ? s.now_ns : s.now_ns + kPreambleDetectionNs;
-    if (!st.busy) s.scheduler.Push(st.cca_sense_from_ns, EventType::kCcaSense, station, 0);
-  }
-  const bool physically_busy =
-      st.transmitting_tx >= 0 || (signal_busy && s.now_ns >= st.cca_sense_from_ns);
+  const bool physically_busy = st.transmitting_tx >= 0 || signal_busy;
   const bool nav_busy = st.nav_until_ns > s.now_ns;
   // The NAV needs its own expiry event only while it alone holds the medium
   // busy: physical changes call UpdateCca anyway (for a DATA frame the NAV
@@ -71,10 +73,16 @@ void UpdateCca(State& s, int station) {
   if (busy == st.busy) return;
   st.busy = busy;
   if (busy) {
-    OnBusy(s, station);
+    // A frame reaching an idle station makes its medium busy for channel
+    // access only once preamble detection has decided, 4 us in (ns-3 3.37's
+    // PhyEntity): a station whose counter ends within those 4 us still
+    // transmits, a collision the slot time allows for (aSlotTime includes
+    // aCCATime, IEEE 802.11-2016 DCF timing relations). Nothing can end the
+    // busy period within 4 us, so the decision is taken now, not by an event.
+    const bool only_a_signal = st.transmitting_tx < 0 && !nav_busy;
+    OnBusy(s, station, only_a_signal ? s.now_ns + kPreambleDetectionNs : s.now_ns);
   } else {
     st.idle_since_ns = s.now_ns;
-    st.cca_sense_from_ns = -1;
     if (st.backoff_pending) ScheduleAccess(s, station);
   }
 }

@@ -53,9 +53,6 @@ void Dispatch(State& s, const Event& e) {
       s.stations[e.station].nav_event_ns = -1;
       UpdateCca(s, e.station);
       return;
-    case EventType::kCcaSense:
-      UpdateCca(s, e.station);
-      return;
     case EventType::kSignalStart:
       OnSignalStart(s, static_cast<int>(e.aux >> 32), static_cast<int>(e.aux & 0xffffffffu));
       return;

@@ -35,7 +35,7 @@ inline constexpr double kFadingMarginDb = 16;
 // the preamble detection model decides whether it locks on; only then does
 // its PHY report the medium busy (PhyEntity::EndPreambleDetectionPeriod ->
 // NotifyCcaBusy, or DropPreambleEvent -> SwitchMaybeToCcaBusy on energy).
-// 802.11a's aCCATime (17.4.4) is the same 4 us.
+// The OFDM PHY's aCCATime (IEEE 802.11-2016 Clause 17) is the same 4 us.
 inline constexpr TimeNs kPreambleDetectionNs = 4 * kNsPerUs;
 
 // A PHY mode with its PHY header, and the SINRs above which the error rates
@@ -142,10 +142,6 @@ struct StationState {
   // Channel access (DCF).
   bool busy = false;
   TimeNs idle_since_ns = 0;
-  // When the signals on the air at an idle station start to make its medium
-  // busy (kPreambleDetectionNs after the first arrived); -1 until a signal
-  // arrives, back to -1 when the medium turns idle.
-  TimeNs cca_sense_from_ns = -1;
   bool use_eifs = false;         // Last reception failed (10.3.2.3.7).
   bool backoff_pending = false;  // Counting down (for a frame, or post-backoff).
   int backoff_slots = 0;

@@ -23,7 +23,6 @@ enum class EventType : uint8_t {
   kTimeout,      // ACK/CTS timeout of `station` (aux: timeout generation).
   kRespond,      // `station` sends its pending SIFS response (ACK, CTS, DATA after CTS).
   kNavEnd,       // The NAV of `station` may have expired.
-  kCcaSense,     // A signal that reached idle `station` 4 us ago now makes its CCA busy.
   kSignalStart,  // A delayed signal reaches its receiver (aux: tx id << 32 | entry index).
   kSignalEnd,    // A delayed signal leaves its receiver (aux: as kSignalStart).
 };

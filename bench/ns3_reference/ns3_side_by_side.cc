@@ -391,8 +391,9 @@ int PrintTable(const std::string& in_path) {
 // through the receiver's kernel and the bridge): a Markdown table of both
 // sides' goodput means over `seeds` runs and their ACK timeouts.
 int PrintTcpReplica(int seeds) {
-  std::printf("| turnaround | ns-3 Mb/s | mac_phy_sim Mb/s | difference | ACK timeouts ns-3 / "
-              "mac_phy_sim |\n| --- | --- | --- | --- | --- |\n");
+  std::printf(
+      "| turnaround | ns-3 Mb/s | mac_phy_sim Mb/s | difference | ACK timeouts ns-3 / "
+      "mac_phy_sim |\n| --- | --- | --- | --- | --- |\n");
   for (const double turnaround_us : {0.0, 30.0, 50.0, 70.0, 90.0, 100.0, 150.0, 250.0}) {
     double ns3_mbps = 0, ours_mbps = 0;
     uint64_t ns3_timeouts = 0, ours_timeouts = 0;

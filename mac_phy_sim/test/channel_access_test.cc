@@ -1,9 +1,8 @@
-// DCF channel access where ns-3 3.37 decides by details the saturation
-// matrix never reaches (queues there never run empty): a frame arriving at
-// an idle station, an immediate access that the medium interrupts, and the
-// 4 us a frame needs to make an idle station's medium busy. TCP between two
-// robots (one saturated sender, one answering every other frame) depends on
-// all three.
+// DCF channel access in details the saturation matrix never reaches (queues
+// there never run empty): a frame arriving at an idle station, an immediate
+// access that the medium interrupts, and the 4 us a frame needs to make an
+// idle station's medium busy. TCP between two robots (one saturated sender,
+// one answering every other frame) depends on all three.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -43,11 +42,14 @@ TEST(ChannelAccessTest, AFrameQueuedAtALongIdleStationWaitsDifsFromItsArrival) {
   EXPECT_EQ(FirstDataStart(DrainTransmissions(medium), a), queued_ns + kDifsNs);
 }
 
-// An immediate access that another station's frame interrupts keeps its zero
-// backoff in ns-3 3.37 (only a frame queued while the medium is busy draws
-// one): the station sends DIFS after that exchange ends, never later, over
-// every seed (a random backoff would be 0 to 15 slots).
-TEST(ChannelAccessTest, AnInterruptedImmediateAccessSendsDifsAfterTheExchange) {
+// An immediate access that another station's frame interrupts draws a random
+// backoff (10.3.4.2: the medium did not stay idle for DIFS), counted from DIFS
+// after that exchange: whole slots, 0 to CWmin, and not 0 for every seed.
+// ns-3 3.37 keeps the zero backoff here (docs/mac_phy_sim.md says why this
+// model does not).
+TEST(ChannelAccessTest, AnInterruptedImmediateAccessDrawsARandomBackoff) {
+  constexpr TimeNs kSlotNs = 9 * kNsPerUs;
+  int seeds_with_a_backoff = 0;
   for (uint64_t seed = 1; seed <= 8; ++seed) {
     MediumConfig config;
     config.seed = seed;
@@ -72,14 +74,18 @@ TEST(ChannelAccessTest, AnInterruptedImmediateAccessSendsDifsAfterTheExchange) {
     ASSERT_EQ(FirstDataStart(txs, y), kDifsNs) << seed;
     const TimeNs y_end_ns =
         kDifsNs + PpduDurationNs(Standard::k80211a, 54, MpduBytesForEthernet(1514));
-    const TimeNs ack_ns = PpduDurationNs(Standard::k80211a, 24, 14);
-    // The ACK reaches X a few ns after it ends (propagation): X counts DIFS from there.
-    ASSERT_GE(exchange_end_ns, y_end_ns + kSifsNs + ack_ns) << seed;
-    const TimeNs x_start_ns = FirstDataStart(txs, x);
-    EXPECT_GE(x_start_ns, exchange_end_ns + kDifsNs) << seed;
-    EXPECT_LT(x_start_ns, exchange_end_ns + kDifsNs + 100) << seed;  // Within propagation.
+    ASSERT_EQ(exchange_end_ns, y_end_ns + kSifsNs + PpduDurationNs(Standard::k80211a, 24, 14))
+        << seed;
+    // X hears the ACK end a few ns later (propagation) and counts from there.
+    const TimeNs after_difs_ns = FirstDataStart(txs, x) - (exchange_end_ns + kDifsNs);
+    ASSERT_GE(after_difs_ns, 0) << seed;
+    const TimeNs slots = after_difs_ns / kSlotNs;
+    EXPECT_LT(after_difs_ns - slots * kSlotNs, 100) << seed;  // Within propagation of a slot.
+    EXPECT_LE(slots, 15) << seed;
+    if (slots > 0) ++seeds_with_a_backoff;
     EXPECT_EQ(medium.counters(x).tx_failures, 0u) << seed;
   }
+  EXPECT_GT(seeds_with_a_backoff, 0);
 }
 
 // ns-3 3.37 reports a frame's arrival at an idle station to channel access

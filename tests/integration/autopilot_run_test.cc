@@ -223,7 +223,8 @@ TEST(RunTest, ArduPilotAndPx4RobotsFlyInTheCoordinatorsClockAndTwoRunsAreByteIde
   }
   // Telemetry to the station: HEARTBEAT each second, GLOBAL_POSITION_INT at 10 Hz of each
   // autopilot's clock (MAVLink system id: robot index + 1), each entering the medium in the
-  // iteration (10 ms) of the time it carries.
+  // iteration (10 ms) of the time it carries. It goes on air DIFS (34 us) after it enters the
+  // medium at the earliest, later if the medium is busy: at most 1 ms past the iteration.
   std::string counts;
   const std::vector<DecodedMessage> telemetry =
       DecodeTelemetry(out + "1", "udp.dstport == 14550 && ip.dst == " + station, &counts);
@@ -240,7 +241,7 @@ TEST(RunTest, ArduPilotAndPx4RobotsFlyInTheCoordinatorsClockAndTwoRunsAreByteIde
     const double autopilot_s = std::stod(message.fields.at("time_boot_ms")) / 1000;
     const double iteration_start_s = std::floor(autopilot_s * 100 + 1e-9) / 100;
     EXPECT_GE(message.on_air_s, iteration_start_s) << "system " << system << " at " << autopilot_s;
-    EXPECT_LT(message.on_air_s, iteration_start_s + 0.01)
+    EXPECT_LT(message.on_air_s, iteration_start_s + 0.01 + 0.001)
         << "system " << system << " at " << autopilot_s;
   }
   // The ArduPilot robots' reports (the state their reply gave, on the 100 ms grid as the rows)
