@@ -14,6 +14,7 @@
 #include "ns3/network-module.h"
 #include "ns3/propagation-module.h"
 #include "ns3/wifi-module.h"
+#include "ns3_two_stations.h"
 
 namespace {
 
@@ -194,31 +195,9 @@ TcpReplicaOutcome RunNs3TcpReplica(double turnaround_us, uint32_t run) {
   Config::SetDefault("ns3::WifiRemoteStationManager::MaxSlrc", UintegerValue(4));
   g_replica = TcpReplicaState{};
   g_replica.turnaround_us = turnaround_us;
-  WifiHelper wifi;
-  wifi.SetStandard(WIFI_STANDARD_80211a);
-  wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode",
-                               StringValue("OfdmRate54Mbps"), "ControlMode",
-                               StringValue("OfdmRate6Mbps"));
-  NodeContainer nodes;
-  nodes.Create(2);
-  MobilityHelper mobility;
-  Ptr<ListPositionAllocator> positions = CreateObject<ListPositionAllocator>();
-  positions->Add(Vector(0, 0, 1));
-  positions->Add(Vector(kTcpReplicaDistanceM, 0, 1));
-  mobility.SetPositionAllocator(positions);
-  mobility.Install(nodes);
-  Ptr<YansWifiChannel> channel = CreateObject<YansWifiChannel>();
-  channel->SetPropagationDelayModel(CreateObject<ConstantSpeedPropagationDelayModel>());
-  Ptr<LogDistancePropagationLossModel> loss = CreateObject<LogDistancePropagationLossModel>();
-  loss->SetAttribute("Exponent", DoubleValue(3));
-  loss->SetAttribute("ReferenceLoss", DoubleValue(Ns3Radio{}.reference_loss_db));
-  channel->SetPropagationLossModel(loss);
-  YansWifiPhyHelper phy;
-  phy.SetChannel(channel);
-  phy.SetErrorRateModel("ns3::NistErrorRateModel");
-  WifiMacHelper mac;
-  mac.SetType("ns3::AdhocWifiMac");
-  NetDeviceContainer devices = wifi.Install(phy, mac, nodes);
+  const Ns3TwoStations stations = MakeTwo80211aStations(kTcpReplicaDistanceM, 54);
+  const NodeContainer& nodes = stations.nodes;
+  const NetDeviceContainer& devices = stations.devices;
   PacketSocketHelper packet_socket;
   packet_socket.Install(nodes);
   PacketSocketAddress to_b;

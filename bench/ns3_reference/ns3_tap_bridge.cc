@@ -46,20 +46,15 @@
 #include <vector>
 
 #include "ns3/core-module.h"
-#include "ns3/mobility-module.h"
 #include "ns3/network-module.h"
-#include "ns3/propagation-module.h"
 #include "ns3/tap-bridge-module.h"
 #include "ns3/wifi-module.h"
+#include "ns3_two_stations.h"
 
 namespace {
 
 constexpr const char* kPackagedTapCreator = "/usr/libexec/ns3/ns3.37-tap-creator";
 constexpr const char* kTapName = "wlan0";
-// As bench/ns3_reference's matrix and mac_phy_sim's default radio: loss at
-// 1 m for 5.18 GHz free space, exponent 3.
-constexpr double kReferenceLossDb = 46.6777;
-
 int OpenNetns(const std::string& name) {
   const std::string path = "/run/netns/" + name;
   const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -102,10 +97,6 @@ void EnterNetns(int netns_fd) {
     std::fprintf(stderr, "ns3_tap_bridge: setns: %s\n", std::strerror(errno));
     std::exit(1);
   }
-}
-
-std::string OfdmMode(double rate_mbps) {
-  return "OfdmRate" + std::to_string(static_cast<int>(rate_mbps)) + "Mbps";
 }
 
 // Per robot: frames handed to the MAC (from the TAP), PHY transmissions
@@ -182,33 +173,9 @@ int main(int argc, char** argv) {
   GlobalValue::Bind("SimulatorImplementationType", StringValue("ns3::RealtimeSimulatorImpl"));
   GlobalValue::Bind("ChecksumEnabled", BooleanValue(true));
 
-  NodeContainer nodes;
-  nodes.Create(2);
-  MobilityHelper mobility;
-  Ptr<ListPositionAllocator> positions = CreateObject<ListPositionAllocator>();
-  positions->Add(Vector(0, 0, 1));
-  positions->Add(Vector(distance_m, 0, 1));
-  mobility.SetPositionAllocator(positions);
-  mobility.SetMobilityModel("ns3::ConstantPositionMobilityModel");
-  mobility.Install(nodes);
-
-  WifiHelper wifi;
-  wifi.SetStandard(WIFI_STANDARD_80211a);
-  wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode",
-                               StringValue(OfdmMode(rate_mbps)), "ControlMode",
-                               StringValue(OfdmMode(6)));
-  Ptr<YansWifiChannel> channel = CreateObject<YansWifiChannel>();
-  channel->SetPropagationDelayModel(CreateObject<ConstantSpeedPropagationDelayModel>());
-  Ptr<LogDistancePropagationLossModel> loss = CreateObject<LogDistancePropagationLossModel>();
-  loss->SetAttribute("Exponent", DoubleValue(3));
-  loss->SetAttribute("ReferenceLoss", DoubleValue(kReferenceLossDb));
-  channel->SetPropagationLossModel(loss);
-  YansWifiPhyHelper phy;
-  phy.SetChannel(channel);
-  phy.SetErrorRateModel("ns3::NistErrorRateModel");
-  WifiMacHelper mac;
-  mac.SetType("ns3::AdhocWifiMac");
-  NetDeviceContainer devices = wifi.Install(phy, mac, nodes);
+  const Ns3TwoStations stations = MakeTwo80211aStations(distance_m, rate_mbps);
+  const NodeContainer& nodes = stations.nodes;
+  const NetDeviceContainer& devices = stations.devices;
 
   TapBridgeHelper tap_bridge;
   tap_bridge.SetAttribute("Mode", StringValue("UseLocal"));
