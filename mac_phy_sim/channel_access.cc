@@ -42,8 +42,10 @@ void OnBusy(State& s, int station, TimeNs sensed_ns) {
   // turns into a random backoff, as the standard says. ns-3 3.37 keeps the
   // zero backoff instead, so every station that queued a frame during one
   // busy period sends DIFS after it, together: for group frames (no ACK, no
-  // retry) each such meeting loses all of them (docs/mac_phy_sim.md).
-  if (st.backoff_slots == 0) st.backoff_slots = DrawUniform(st, st.cw);
+  // retry) each such meeting loses all of them (docs/mac_phy_sim.md). A
+  // counter that was drawn and reached zero stays zero.
+  if (st.immediate_access) st.backoff_slots = DrawUniform(st, st.cw);
+  st.immediate_access = false;
   s.SetAccessAt(station, -1);
   st.backoff_start_ns = s.now_ns;
 }
@@ -77,13 +79,18 @@ void UpdateCca(State& s, int station) {
     // access only once preamble detection has decided, 4 us in (ns-3 3.37's
     // PhyEntity): a station whose counter ends within those 4 us still
     // transmits, a collision the slot time allows for (aSlotTime includes
-    // aCCATime, IEEE 802.11-2016 DCF timing relations). Nothing can end the
-    // busy period within 4 us, so the decision is taken now, not by an event.
+    // aCCATime, IEEE 802.11-2016 DCF timing relations). The decision is
+    // taken now, not by an event: an access that falls inside the 4 us is
+    // kept, any other is frozen.
     const bool only_a_signal = st.transmitting_tx < 0 && !nav_busy;
     OnBusy(s, station, only_a_signal ? s.now_ns + kPreambleDetectionNs : s.now_ns);
   } else {
     st.idle_since_ns = s.now_ns;
-    if (st.backoff_pending) ScheduleAccess(s, station);
+    // An access kept inside the 4 us stands if the medium turns idle again
+    // before it (a second frame broke the first's preamble detection and the
+    // energy left is under CCA-ED; or a weak signal that held the energy over
+    // it ended): ns-3 never saw the medium busy.
+    if (st.backoff_pending && st.access_at_ns < 0) ScheduleAccess(s, station);
   }
 }
 
@@ -96,6 +103,7 @@ void SetNav(State& s, int station, TimeNs until_ns) {
 void StartBackoff(State& s, int station) {
   StationState& st = s.stations[station];
   st.backoff_slots = DrawUniform(st, st.cw);
+  st.immediate_access = false;
   st.backoff_start_ns = s.now_ns;
   st.backoff_pending = true;
   s.SetAccessAt(station, -1);
@@ -109,9 +117,12 @@ void RequestAccess(State& s, int station) {
     StartBackoff(s, station);
     return;
   }
-  // 10.3.4.2: idle medium and a zero backoff counter: transmit once the
-  // medium has been idle for DIFS/EIFS, without a random backoff.
+  // 10.3.4.2: idle medium and a zero backoff counter: transmit without a
+  // random backoff, DIFS after the frame arrived (ns-3 3.37's
+  // NeedBackoffUponAccess starts the backoff at now + DIFS even after a long
+  // idle period), or DIFS/EIFS after the last busy period if that is later.
   st.backoff_slots = 0;
+  st.immediate_access = true;
   st.backoff_start_ns = s.now_ns + s.phy.difs_ns;
   st.backoff_pending = true;
   ScheduleAccess(s, station);
@@ -122,6 +133,7 @@ void OnAccess(State& s, int station) {
   s.SetAccessAt(station, -1);
   st.backoff_pending = false;
   st.backoff_slots = 0;
+  st.immediate_access = false;
   if (!st.has_current || st.exchange != Exchange::kIdle) return;  // Post-backoff done.
   if (st.transmitting_tx < 0) {
     StartCurrentFrame(s, station);

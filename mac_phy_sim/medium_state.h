@@ -142,8 +142,9 @@ struct StationState {
   // Channel access (DCF).
   bool busy = false;
   TimeNs idle_since_ns = 0;
-  bool use_eifs = false;         // Last reception failed (10.3.2.3.7).
-  bool backoff_pending = false;  // Counting down (for a frame, or post-backoff).
+  bool use_eifs = false;          // Last reception failed (10.3.2.3.7).
+  bool backoff_pending = false;   // Counting down (for a frame, or post-backoff).
+  bool immediate_access = false;  // Pending access without a drawn backoff (10.3.4.2).
   int backoff_slots = 0;
   TimeNs backoff_start_ns = 0;
   TimeNs count_origin_ns = 0;  // Where slot counting starts for the scheduled access.

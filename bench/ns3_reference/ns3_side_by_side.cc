@@ -424,7 +424,10 @@ int main(int argc, char** argv) {
   if (mode == "table" && argc > 2) return PrintTable(argv[2]);
   if (mode == "refresh" && argc > 2) return Refresh(argv[2]);
   if (mode == "speed") return PrintSpeed();
-  if (mode == "tcp-replica") return PrintTcpReplica(argc > 2 ? std::atoi(argv[2]) : 3);
+  if (mode == "tcp-replica") {
+    const int seeds = argc > 2 ? std::atoi(argv[2]) : 3;
+    if (seeds >= 1) return PrintTcpReplica(seeds);
+  }
   std::fprintf(stderr,
                "usage: ns3_side_by_side matrix <out.csv> [seeds] [cell-id-substring]\n"
                "       ns3_side_by_side table <in.csv>\n"

@@ -130,9 +130,13 @@ extern "C" int execlp(const char* file, const char* arg, ...) {
   argv[argc++] = arg;
   va_list list;
   va_start(list, arg);
-  while (argc < kMaxArguments) {
-    const char* next = va_arg(list, const char*);
-    if (next == nullptr) break;
+  for (const char* next = va_arg(list, const char*); next != nullptr;
+       next = va_arg(list, const char*)) {
+    if (argc == kMaxArguments) {
+      va_end(list);
+      errno = E2BIG;
+      return -1;
+    }
     argv[argc++] = next;
   }
   va_end(list);
@@ -140,10 +144,9 @@ extern "C" int execlp(const char* file, const char* arg, ...) {
   const size_t length = std::strlen(file);
   const char* suffix = "-tap-creator";
   const size_t suffix_length = std::strlen(suffix);
-  if (length < suffix_length || std::strcmp(file + length - suffix_length, suffix) != 0) {
-    errno = ENOENT;
-    return -1;
-  }
+  const bool is_tap_creator =
+      length >= suffix_length && std::strcmp(file + length - suffix_length, suffix) == 0;
+  if (!is_tap_creator) return execvp(file, const_cast<char* const*>(argv));  // As libc's.
   argv[0] = kPackagedTapCreator;
   return execv(kPackagedTapCreator, const_cast<char* const*>(argv));
 }
@@ -181,8 +184,14 @@ int main(int argc, char** argv) {
   tap_bridge.SetAttribute("Mode", StringValue("UseLocal"));
   tap_bridge.SetAttribute("DeviceName", StringValue(kTapName));
   const int home_netns_fd = open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC);
+  if (home_netns_fd < 0) {
+    std::fprintf(stderr, "ns3_tap_bridge: own network namespace: %s\n", std::strerror(errno));
+    return 1;
+  }
+  std::vector<int> netns_fds = {home_netns_fd};
   for (int i = 0; i < 2; ++i) {
     const int netns_fd = OpenNetns(netns[i]);
+    netns_fds.push_back(netns_fd);
     const Mac48Address tap_mac = TapMac(netns_fd, netns[i]);
     Ptr<WifiNetDevice> device = DynamicCast<WifiNetDevice>(devices.Get(i));
     device->SetAddress(tap_mac);
@@ -236,5 +245,6 @@ int main(int argc, char** argv) {
               static_cast<unsigned long long>(g_mac_tx_drops),
               static_cast<unsigned long long>(g_retransmissions));
   Simulator::Destroy();
+  for (const int fd : netns_fds) close(fd);
   return 0;
 }

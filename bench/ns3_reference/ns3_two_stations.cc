@@ -7,12 +7,9 @@
 #include "ns3/mobility-module.h"
 #include "ns3/propagation-module.h"
 #include "ns3/wifi-module.h"
+#include "ns3_runner.h"
 
 namespace {
-
-// Loss at 1 m for 5.18 GHz free space, as mac_phy_sim's default 802.11a
-// radio and the matrix (Ns3Radio).
-constexpr double kReferenceLossDb = 46.6777;
 
 std::string OfdmMode(double rate_mbps) {
   return "OfdmRate" + std::to_string(static_cast<int>(rate_mbps)) + "Mbps";
@@ -40,7 +37,7 @@ Ns3TwoStations MakeTwo80211aStations(double distance_m, double rate_mbps) {
   channel->SetPropagationDelayModel(CreateObject<ConstantSpeedPropagationDelayModel>());
   Ptr<LogDistancePropagationLossModel> loss = CreateObject<LogDistancePropagationLossModel>();
   loss->SetAttribute("Exponent", DoubleValue(3));
-  loss->SetAttribute("ReferenceLoss", DoubleValue(kReferenceLossDb));
+  loss->SetAttribute("ReferenceLoss", DoubleValue(Ns3Radio{}.reference_loss_db));
   channel->SetPropagationLossModel(loss);
   YansWifiPhyHelper phy;
   phy.SetChannel(channel);

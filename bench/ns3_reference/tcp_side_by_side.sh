@@ -4,27 +4,36 @@
 # iperf3 flow, the medium in between alternated (sitlnet medium, then ns-3,
 # then ns-3, then sitlnet, ... : ABBA rounds, so a drift of the host's load
 # falls on both). 802.11a ad hoc, two robots DISTANCE m apart (10: a clean
-# channel), RATE Mb/s. Prints one row per run, then the medians and their
+# channel), RATE_MBPS (default 54). Prints one row per run, then the medians and their
 # ratio; writes the rows to <build-dir>/ns3_tcp.csv. Needs root; installs
 # Debian's libns3-dev and ns3 (TapBridge's TAP opener) if missing.
-# Usage: bench/ns3_reference/tcp_side_by_side.sh [build-dir] [rounds] [seconds] [rate]
+# Usage: bench/ns3_reference/tcp_side_by_side.sh [build-dir] [rounds] [seconds] [rate-mbps]
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$repo/build-bench}
 rounds=${2:-4}
 seconds=${3:-10}
-rate=${4:-54}
+rate_mbps=${4:-54}
 distance_m=10
 scenario=n3tcp
 if [ "$(id -u)" != 0 ]; then
   echo "tcp_side_by_side.sh: needs root (namespaces, TAPs, the medium daemon)" >&2
   exit 3
 fi
+missing=""
 for package in libns3-dev ns3; do
-  dpkg -s "$package" > /dev/null 2>&1 ||
-    apt-get install -y --no-install-recommends "$package" > /dev/null
+  dpkg -s "$package" > /dev/null 2>&1 || missing="$missing $package"
 done
-cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
+if [ -n "$missing" ]; then
+  apt-get update > /dev/null
+  apt-get install -y --no-install-recommends $missing > /dev/null
+fi
+# A build directory of the user's keeps its build type; a new one is Release.
+if [ -f "$build/CMakeCache.txt" ]; then
+  cmake -S "$repo" -B "$build" > /dev/null
+else
+  cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
+fi
 cmake --build "$build" -j2 --target ns3_tap_bridge sitlnet > /dev/null
 sitlnet=$build/bin/sitlnet
 if [ -e "/run/sitlnet/$scenario" ]; then
@@ -46,7 +55,7 @@ cat > "$work/$scenario.textproto" << EOF
 name: "$scenario"
 robot { name: "a" position_m { x: 0 y: 0 z: 1 } }
 robot { name: "b" position_m { x: $distance_m y: 0 z: 1 } }
-radio { standard: STANDARD_80211A rate_mbps: $rate }
+radio { standard: STANDARD_80211A rate_mbps: $rate_mbps }
 EOF
 "$sitlnet" up "$work/$scenario.textproto" > /dev/null
 server_address=$(ip -n "$scenario-b" -4 -o addr show wlan0 | awk '{print $4}' | cut -d/ -f1)
@@ -71,7 +80,7 @@ measure() {
     "$sitlnet" medium "$scenario" > /dev/null 2> "$work/out.fifo" &
     ready="robots attached"
   else
-    chrt -f 10 "$build/bin/ns3_tap_bridge" "$scenario-a" "$scenario-b" "$distance_m" "$rate" \
+    chrt -f 10 "$build/bin/ns3_tap_bridge" "$scenario-a" "$scenario-b" "$distance_m" "$rate_mbps" \
       > "$work/out.fifo" 2>&1 &
     ready="ready"
   fi
@@ -110,7 +119,7 @@ print("%.3f %d" % (end["sum_received"]["bits_per_second"] / 1e6, end["sum_sent"]
 
 csv=$build/ns3_tcp.csv
 {
-  echo "# TCP between two robots (iperf3 $seconds s, first second omitted), 802.11a $rate Mb/s," \
+  echo "# TCP between two robots (iperf3 $seconds s, first second omitted), 802.11a $rate_mbps Mb/s," \
     "$distance_m m: sitlnet medium vs ns-3 $(dpkg-query -W -f='${Version}' libns3-dev) TapBridge"
   echo "# sitlnet at commit $(git -C "$repo" rev-parse --short HEAD 2> /dev/null || echo unknown);" \
     "started $(date -u +%FT%TZ), load average $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -224,7 +224,9 @@ TEST(RunTest, ArduPilotAndPx4RobotsFlyInTheCoordinatorsClockAndTwoRunsAreByteIde
   // Telemetry to the station: HEARTBEAT each second, GLOBAL_POSITION_INT at 10 Hz of each
   // autopilot's clock (MAVLink system id: robot index + 1), each entering the medium in the
   // iteration (10 ms) of the time it carries. It goes on air DIFS (34 us) after it enters the
-  // medium at the earliest, later if the medium is busy: at most 1 ms past the iteration.
+  // medium at the earliest, later if the medium is busy (a backoff of up to 15 slots, others'
+  // frames): the 1 ms past the iteration is slack for that, not a derived bound; a message
+  // stamped in the wrong iteration is 10 ms off.
   std::string counts;
   const std::vector<DecodedMessage> telemetry =
       DecodeTelemetry(out + "1", "udp.dstport == 14550 && ip.dst == " + station, &counts);
