@@ -65,23 +65,24 @@ int OpenNetns(const std::string& name) {
   return fd;
 }
 
-// The MAC address of wlan0 in the namespace `netns_fd` (this thread enters
-// it and comes back).
-ns3::Mac48Address TapMac(int netns_fd, const std::string& netns_name) {
-  const int home = open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC);
-  if (home < 0 || setns(netns_fd, CLONE_NEWNET) != 0) {
-    std::fprintf(stderr, "ns3_tap_bridge: cannot enter %s: %s\n", netns_name.c_str(),
-                 std::strerror(errno));
+void EnterNetns(int netns_fd) {
+  if (setns(netns_fd, CLONE_NEWNET) != 0) {
+    std::fprintf(stderr, "ns3_tap_bridge: setns: %s\n", std::strerror(errno));
     std::exit(1);
   }
+}
+
+// The MAC address of wlan0 in the namespace `netns_fd` (this thread enters
+// it and comes back to `home_netns_fd`).
+ns3::Mac48Address TapMac(int netns_fd, int home_netns_fd, const std::string& netns_name) {
+  EnterNetns(netns_fd);
   const int sock = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
   ifreq request{};
   std::strncpy(request.ifr_name, kTapName, IFNAMSIZ - 1);
   const bool found = sock >= 0 && ioctl(sock, SIOCGIFHWADDR, &request) == 0;
   const int saved_errno = errno;
   if (sock >= 0) close(sock);
-  if (setns(home, CLONE_NEWNET) != 0) std::exit(1);
-  close(home);
+  EnterNetns(home_netns_fd);
   if (!found) {
     std::fprintf(stderr, "ns3_tap_bridge: %s has no %s: %s\n", netns_name.c_str(), kTapName,
                  std::strerror(saved_errno));
@@ -90,13 +91,6 @@ ns3::Mac48Address TapMac(int netns_fd, const std::string& netns_name) {
   ns3::Mac48Address mac;
   mac.CopyFrom(reinterpret_cast<const uint8_t*>(request.ifr_hwaddr.sa_data));
   return mac;
-}
-
-void EnterNetns(int netns_fd) {
-  if (setns(netns_fd, CLONE_NEWNET) != 0) {
-    std::fprintf(stderr, "ns3_tap_bridge: setns: %s\n", std::strerror(errno));
-    std::exit(1);
-  }
 }
 
 // Per robot: frames handed to the MAC (from the TAP), PHY transmissions
@@ -108,8 +102,7 @@ void OnPhyTxBegin(int robot, ns3::Ptr<const ns3::Packet>, double) { ++g_phy_tx[r
 // How late the real-time simulator hands received frames up (and so to the
 // TAP): wall time minus simulated time at the end of each reception, in us.
 std::vector<int64_t> g_lateness_us;
-void OnPhyRxEnd(ns3::Ptr<const ns3::Packet>) {
-  auto impl = ns3::DynamicCast<ns3::RealtimeSimulatorImpl>(ns3::Simulator::GetImplementation());
+void OnPhyRxEnd(ns3::Ptr<ns3::RealtimeSimulatorImpl> impl, ns3::Ptr<const ns3::Packet>) {
   g_lateness_us.push_back((impl->RealtimeNow() - ns3::Simulator::Now()).GetMicroSeconds());
 }
 uint64_t g_mac_tx_drops = 0;
@@ -192,7 +185,7 @@ int main(int argc, char** argv) {
   for (int i = 0; i < 2; ++i) {
     const int netns_fd = OpenNetns(netns[i]);
     netns_fds.push_back(netns_fd);
-    const Mac48Address tap_mac = TapMac(netns_fd, netns[i]);
+    const Mac48Address tap_mac = TapMac(netns_fd, home_netns_fd, netns[i]);
     Ptr<WifiNetDevice> device = DynamicCast<WifiNetDevice>(devices.Get(i));
     device->SetAddress(tap_mac);
     device->GetMac()->GetFrameExchangeManager()->SetAddress(tap_mac);
@@ -203,11 +196,15 @@ int main(int argc, char** argv) {
         ->Start(MicroSeconds(2 * i + 1));
   }
   Simulator::Schedule(MicroSeconds(4), [home_netns_fd] { EnterNetns(home_netns_fd); });
+  // Looked up once, not on every reception.
+  const Ptr<RealtimeSimulatorImpl> realtime =
+      DynamicCast<RealtimeSimulatorImpl>(Simulator::GetImplementation());
   for (int i = 0; i < 2; ++i) {
     Ptr<WifiNetDevice> device = DynamicCast<WifiNetDevice>(devices.Get(i));
     device->GetMac()->TraceConnectWithoutContext("MacTx", MakeBoundCallback(&OnMacTx, i));
     device->GetPhy()->TraceConnectWithoutContext("PhyTxBegin", MakeBoundCallback(&OnPhyTxBegin, i));
-    device->GetPhy()->TraceConnectWithoutContext("PhyRxEnd", MakeCallback(&OnPhyRxEnd));
+    device->GetPhy()->TraceConnectWithoutContext("PhyRxEnd",
+                                                 MakeBoundCallback(&OnPhyRxEnd, realtime));
   }
   Config::ConnectWithoutContext("/NodeList/*/DeviceList/*/$ns3::WifiNetDevice/Mac/MacTxDrop",
                                 MakeCallback(&OnMacTxDrop));
