@@ -4,7 +4,8 @@
 //   World::Advance (rotor/motor model, wrench, bookkeeping) with 1 and 2 threads;
 //   PhysicsServer::Advance (plus polling, failsafe and state timing, no subscribers).
 // Every figure is the median of 9 interleaved runs, all in the same process. Usage:
-//   physics_bench [--quick]      (--quick: 1 run each, for smoke tests)
+//   physics_bench [--quick] [--culling]   (--quick: 1 run each, for smoke tests;
+//                                          --culling: only the obstacle-culling table)
 // The command -> state round trip over a real ctl0 is physics_rtt_bench (needs root).
 #include <algorithm>
 #include <cmath>
@@ -194,33 +195,43 @@ double OwnWorkNsPerRobotStep() {
   return Median(samples);
 }
 
-// The 64-robot flocking layout of bench/scale/gen_scenario.py (16 replicas of the arrow case
-// study 50 m apart, 48 obstacle boxes, 36-ray lidars of 15 m), every robot flying east at 5 m/s
-// at 3 m from x = 30, into the arrows (x 47..100; a full run covers 50 m, collisions
-// included), its lidar cast every 10 steps as the server does: thread CPU us per step of
-// World::Advance(10) on one thread, without obstacle culling and with tiles of several sizes
-// (the same trajectories in every column: culling is exact).
+// The 64-robot flocking layout of bench/scale/gen_scenario.py: 16 replicas of the case study's
+// arrow, read from scenarios/arrow_flocking.textproto (10 boxes each: nine head boxes and the
+// shaft), 50 m apart along y, and 36-ray lidars of 15 m. The bench flies no flocker, so each
+// replica's 2 x 2 start block is split into two pairs that fly east at 5 m/s past either side
+// of the arrow at 10 m (y = +-18 m from its axis: 4.5 m beside the widest head box), as the
+// two subgroups of the case study's shadowed run do; 10 s cover x = 0..50 m, the head and the
+// shaft's first part, the arrow always within lidar reach.
 Scenario ScaleScenario() {
-  const double ys[4] = {-8, -2, 4, 10};  // the case study's start positions
-  std::string text = "name: \"bench\"\n";
-  for (int i = 0; i < 64; ++i) {
-    const double y0 = 50.0 * (i / 4 - 7.5);
-    text += "robot { name: \"r" + std::to_string(i) +
-            "\" position_m { x: 30 y: " + std::to_string(y0 + ys[i % 4]) +
-            " z: 3 } lidar { rays: 36 max_range_m: 15 } }\n";
+  const Scenario case_study = LoadScenarioFile(SITLNET_CASE_STUDY_SCENARIO);
+  constexpr int kReplicas = 16;
+  constexpr double kReplicaPitchM = 50;
+  constexpr double kPairOffsetM = 16;  // added to the start block's y = +-2 m
+  proto::Scenario spec = case_study.spec;
+  spec.set_name("bench");
+  spec.clear_robot();
+  spec.clear_obstacle();
+  for (int r = 0; r < kReplicas; ++r) {
+    const double y0 = kReplicaPitchM * (r - (kReplicas - 1) / 2.0);
+    for (const proto::Robot& block_robot : case_study.spec.robot()) {
+      proto::Robot* robot = spec.add_robot();
+      *robot = block_robot;
+      robot->set_name("uav" + std::to_string(spec.robot_size()));
+      const double y = block_robot.position_m().y();
+      robot->mutable_position_m()->set_y(y0 + y + std::copysign(kPairOffsetM, y));
+      robot->mutable_position_m()->set_z(10);
+    }
+    for (const proto::Obstacle& arrow_box : case_study.spec.obstacle()) {
+      proto::Obstacle* box = spec.add_obstacle();
+      *box = arrow_box;
+      box->set_name(arrow_box.name() + "_r" + std::to_string(r));
+      box->mutable_center_m()->set_y(arrow_box.center_m().y() + y0);
+    }
   }
-  for (int r = 0; r < 16; ++r) {
-    const double y0 = 50.0 * (r - 7.5);
-    const auto box = [&](double x, double y, double sx, double sy, double yaw) {
-      text += "obstacle { center_m { x: " + std::to_string(x) + " y: " + std::to_string(y) +
-              " z: 10 } size_m { x: " + std::to_string(sx) + " y: " + std::to_string(sy) +
-              " z: 20 } yaw_deg: " + std::to_string(yaw) + " }\n";
-    };
-    box(63.1, y0 + 9.2, 32, 4, 35);
-    box(63.1, y0 - 9.2, 32, 4, -35);
-    box(80, y0, 40, 6, 0);
-  }
-  text += "addresses { ctl_subnet: \"127.80.0.0/16\" physics_port: 39999 }\n";
+  spec.mutable_addresses()->set_ctl_subnet("127.80.0.0/16");
+  spec.mutable_addresses()->set_physics_port(39999);
+  std::string text;
+  SITLNET_DEMAND(google::protobuf::TextFormat::PrintToString(spec, &text));
   return LoadScenarioText(text, "bench scale");
 }
 
@@ -229,10 +240,12 @@ void CullingTable() {
   const proto::Airframe& airframe = scenario.robots[0].airframe;
   const double hover = std::sqrt(airframe.mass_kg() * 9.81 / (4 * airframe.thrust_coefficient()));
   const double tiles_m[] = {0, 10, 20, 40, 80};  // 0: no culling
+  const int robots = static_cast<int>(scenario.robots.size());
+  const int boxes = scenario.spec.obstacle_size();
   std::printf(
-      "\nobstacle culling, 64 robots of bench/scale (48 boxes) flying east at 5 m/s from x = 30:\n"
-      "us per step (all robots), World::Advance(10), 1 thread, thread CPU, median of %d\n",
-      g_runs);
+      "\nobstacle culling, %d robots of bench/scale (%d boxes) flying east at 5 m/s past the "
+      "arrows:\nus per step (all robots), World::Advance(10), 1 thread, thread CPU, median of %d\n",
+      robots, boxes, g_runs);
   std::printf("%5s | %10s", "integ", "no_culling");
   for (double tile : tiles_m) {
     if (tile > 0) std::printf("  tile%3.0fm", tile);
@@ -245,7 +258,7 @@ void CullingTable() {
       options.cull_obstacles = tile > 0;
       if (tile > 0) options.cull_tile_m = tile;
       worlds.push_back(std::make_unique<World>(scenario, options));
-      for (int i = 0; i < 64; ++i) {
+      for (int i = 0; i < robots; ++i) {
         worlds.back()->SetRotorSpeeds(i, {hover, hover, hover, hover});
         worlds.back()->SetVelocity(i, {5, 0, 0});
       }
@@ -257,7 +270,7 @@ void CullingTable() {
         const double us = UsPerStep(1000, true, [&](int k) {
           for (int s = 0; s < k; s += 10) {
             worlds[w]->Advance(10);
-            for (int i = 0; i < 64; ++i) worlds[w]->Lidar(i, &ranges);  // as the server: 100 Hz
+            for (int i = 0; i < robots; ++i) worlds[w]->Lidar(i, &ranges);  // as the server: 100 Hz
           }
         });
         if (r >= 0) samples[w].push_back(us);
@@ -266,9 +279,9 @@ void CullingTable() {
     std::printf("%5s |", integrator == Integrator::kRk4 ? "RK4" : "Euler");
     for (auto& column : samples) std::printf(" %10.1f", Median(column));
     int most = 0;
-    for (int i = 0; i < 64; ++i) most = std::max(most, worlds[2]->obstacles_in_model(i));
-    std::printf(" | max %d of 48, %ld, %d\n", most, static_cast<long>(worlds[2]->model_switches()),
-                worlds[2]->models_compiled());
+    for (int i = 0; i < robots; ++i) most = std::max(most, worlds[2]->obstacles_in_model(i));
+    std::printf(" | max %d of %d, %ld, %d\n", most, boxes,
+                static_cast<long>(worlds[2]->model_switches()), worlds[2]->models_compiled());
     std::fflush(stdout);
   }
 }
@@ -278,7 +291,21 @@ void CullingTable() {
 
 int main(int argc, char** argv) {
   using namespace sitlnet::physics;
-  if (argc > 1 && !std::strcmp(argv[1], "--quick")) g_runs = 1;
+  bool culling_only = false;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--quick")) {
+      g_runs = 1;
+    } else if (!std::strcmp(argv[i], "--culling")) {
+      culling_only = true;
+    } else {
+      std::fprintf(stderr, "usage: physics_bench [--quick] [--culling]\n");
+      return 2;
+    }
+  }
+  if (culling_only) {
+    CullingTable();
+    return 0;
+  }
   std::printf(
       "us per physics step (all robots), median of %d interleaved runs; world and server step\n"
       "10 at a time; 1-thread columns in thread CPU time, 2-thread columns in wall time\n",
