@@ -93,7 +93,12 @@ int Run(const Options& options) {
   const ControllerGains gains;
   const int64_t beacon_period_ns = static_cast<int64_t>(1e9 / options.broadcast_hz);
   const int64_t log_period_ns = static_cast<int64_t>(options.log_period_s * 1e9);
-  int64_t next_beacon_ns = 0;
+  // Robots beacon out of phase, as separately booted ones would: in phase, every robot's beacon
+  // reaches the medium within a millisecond of the others' in realtime pacing and they contend
+  // (docs/case-study.md, "Realtime pacing"). Offsets a golden-ratio step apart stay spread for
+  // any fleet size; they are the robot's own, so lockstep runs stay reproducible.
+  const double beacon_phase = std::fmod(me * 0.6180339887498949, 1.0);
+  int64_t next_beacon_ns = static_cast<int64_t>(beacon_phase * beacon_period_ns);
   int64_t next_log_ns = 0;
   double yaw_rad = NAN;
 
