@@ -233,6 +233,7 @@ class MediumLinkSimulator final : public Simulator {
  private:
   std::unique_ptr<tapbridge::MediumModel> medium_;
   int stations_;
+  TimeNs last_time_ns_;  // The latest time a request may name: the longest run's end, and a step.
   proto::medium::MediumRequest request_;
   proto::medium::MediumReply reply_;
   std::vector<mac::Delivery> deliveries_;

@@ -336,7 +336,9 @@ void RemoteMedium::Stop(const std::string& reason) {
 
 MediumLinkSimulator::MediumLinkSimulator(const Scenario& scenario,
                                          std::unique_ptr<tapbridge::MediumModel> medium)
-    : medium_(std::move(medium)), stations_(static_cast<int>(scenario.robots.size())) {}
+    : medium_(std::move(medium)),
+      stations_(static_cast<int>(scenario.robots.size())),
+      last_time_ns_(kMaxDurationMs * kNsPerMs + scenario.iteration_ns) {}
 
 void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End* end,
                                        IterationContext&) {
@@ -353,10 +355,23 @@ void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::
     }
     return station;
   };
+  // The model adds durations to these times; one near int64's end (a fuzzer's INT64_MAX) would
+  // overflow inside it. The coordinator never sends a time past its scenario's end, and no
+  // scenario runs longer than kMaxDurationMs (this side's own duration may differ: the scenario
+  // hash leaves it out, so `--duration` needs to be given only to the coordinator).
+  const auto time_ok = [&](TimeNs time_ns, const char* what) {
+    if (time_ns < 0 || time_ns > last_time_ns_) {
+      throw Error("medium request " + std::to_string(start.iteration()) + ": " + what + " " +
+                  std::to_string(time_ns) + " ns outside [0, " + std::to_string(last_time_ns_) +
+                  "] ns");
+    }
+    return time_ns;
+  };
   for (const pm::MediumOp& op : request_.ops()) {
     switch (op.kind_case()) {
       case pm::MediumOp::kSubmit:
-        medium_->Submit(station_ok(op.submit().station()), op.submit().at_ns(),
+        medium_->Submit(station_ok(op.submit().station()),
+                        time_ok(op.submit().at_ns(), "submit at"),
                         std::span<const uint8_t>(
                             reinterpret_cast<const uint8_t*>(op.submit().ethernet().data()),
                             op.submit().ethernet().size()));
@@ -364,7 +379,7 @@ void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::
       case pm::MediumOp::kAdvance:
         deliveries_.clear();
         air_.clear();
-        medium_->AdvanceTo(op.advance().until_ns(), &deliveries_,
+        medium_->AdvanceTo(time_ok(op.advance().until_ns(), "advance until"), &deliveries_,
                            op.advance().trace_air() ? &air_ : nullptr);
         for (const mac::Delivery& d : deliveries_) {
           pm::Delivery* out = reply_.add_deliveries();

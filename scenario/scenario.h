@@ -70,6 +70,9 @@ inline constexpr int kMaxScenarioNameLength = 10;
 inline constexpr int kMaxRobots = 1000;
 inline constexpr int kMaxRobotNameLength = 32;
 inline constexpr double kMaxRos2ClockHz = 1000;  // Timing.ros2_clock_hz
+// Largest duration_ms: a year of virtual time keeps every derived nanosecond count (and sums of
+// them) far from int64's end; nothing a scenario needs comes near it.
+inline constexpr int64_t kMaxDurationMs = 366LL * 24 * 3600 * 1000;
 
 // Parses protobuf text format into `message` (also used for image manifests).
 // Throws Error "source:line:col: <protobuf's message>" on the first error.

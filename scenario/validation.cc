@@ -43,10 +43,9 @@ void RequireInRange(const SourceLocator& at, std::initializer_list<SourceLocator
   }
 }
 
-// Largest values that keep every derived nanosecond count (and sums of them) far from int64's
-// end; nothing a scenario needs comes near them.
-constexpr int64_t kMaxDurationMs = 366LL * 24 * 3600 * 1000;  // a year of virtual time
-constexpr int64_t kMaxStepUs = 60LL * 1000 * 1000;            // a minute per step
+// Largest step that keeps derived nanosecond counts far from int64's end (kMaxDurationMs is
+// public: the remote medium bounds request times with it).
+constexpr int64_t kMaxStepUs = 60LL * 1000 * 1000;  // a minute per step
 constexpr uint32_t kMaxLidarRays = 4096;
 
 void ValidateName(const SourceLocator& at, Scenario* scenario) {

@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <string>
 #include <thread>
 
 #include "coordinator/coordinator.h"
@@ -336,6 +338,29 @@ TEST(MediumLinkSimulator, RefusesMalformedRequestsWithOneLine) {
     EXPECT_NE(std::string(e.what()).find("station 3 out of range (the scenario has 3 robots)"),
               std::string::npos)
         << e.what();
+  }
+  // Times near int64's end would overflow inside the model (found by remote_medium_request_fuzz:
+  // a submit at INT64_MAX, then DIFS added to it); before the bound they reached it.
+  const std::string frame(60, '\x01');
+  for (const TimeNs bad_ns : {std::numeric_limits<TimeNs>::max(), TimeNs{-1}}) {
+    for (const bool submit : {true, false}) {
+      request.Clear();
+      if (submit) {
+        request.add_ops()->mutable_submit()->set_at_ns(bad_ns);
+        request.mutable_ops(0)->mutable_submit()->set_ethernet(frame);
+      } else {
+        request.add_ops()->mutable_advance()->set_until_ns(bad_ns);
+      }
+      start.set_payload(request.SerializeAsString());
+      try {
+        simulator.RunIteration(start, &end, context);
+        FAIL() << "accepted a time of " << bad_ns << " ns";
+      } catch (const Error& e) {
+        const std::string expected = std::string(submit ? "submit at " : "advance until ") +
+                                     std::to_string(bad_ns) + " ns outside [0, ";
+        EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+      }
+    }
   }
 }
 
