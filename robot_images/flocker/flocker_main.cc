@@ -4,6 +4,7 @@
 // Usage and flags: docs/robot-images.md, or `flocker --help`.
 #include <google/protobuf/text_format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -91,12 +92,14 @@ int Run(const Options& options) {
   NeighbourTable table(static_cast<int64_t>(options.neighbour_timeout_s * 1e9));
   const FlockingParams& flocking = options.flocking;
   const ControllerGains gains;
-  const int64_t beacon_period_ns = static_cast<int64_t>(1e9 / options.broadcast_hz);
+  const int64_t beacon_period_ns =
+      std::max<int64_t>(1, static_cast<int64_t>(1e9 / options.broadcast_hz));
   const int64_t log_period_ns = static_cast<int64_t>(options.log_period_s * 1e9);
   // Robots beacon out of phase, as separately booted ones would: in phase, every robot's beacon
   // reaches the medium within a millisecond of the others' in realtime pacing and they contend
   // (docs/case-study.md, "Realtime pacing"). Offsets a golden-ratio step apart stay spread for
-  // any fleet size; they are the robot's own, so lockstep runs stay reproducible.
+  // any fleet size (over the period's state slots: 10 at 10 Hz beacons and 100 Hz states); they
+  // are the robot's own, so lockstep runs stay reproducible.
   const double beacon_phase = std::fmod(me * 0.6180339887498949, 1.0);
   int64_t next_beacon_ns = static_cast<int64_t>(beacon_phase * beacon_period_ns);
   int64_t next_log_ns = 0;
@@ -154,7 +157,9 @@ int Run(const Options& options) {
       beacon.set_vx_m_s(velocity.x());
       beacon.set_vy_m_s(velocity.y());
       link.Send(beacon);
-      next_beacon_ns = std::max(next_beacon_ns + beacon_period_ns, now_ns);
+      // Whole periods on, so that the robot keeps its phase also after a late first state (an
+      // image that started slowly in realtime pacing).
+      next_beacon_ns += ((now_ns - next_beacon_ns) / beacon_period_ns + 1) * beacon_period_ns;
     }
     client.SendRotorSpeeds(speeds, state.step());
 
