@@ -5,7 +5,8 @@
 // frames, each a MediumRequest made up from them (positions of any robot, NaN and infinities
 // included, counters, a pcap subscription) or raw bytes, behind a length that may lie. Every
 // answer must be a well-framed MediumResponse (until a subscription turns the stream into pcap),
-// and the server must go on serving the next connection.
+// and the server must go on serving the next connection. Every channel effect is on
+// (fuzz_inputs.h, kEveryEffectRadio), so positions reach the whole channel model.
 #include <fuzzer/FuzzedDataProvider.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -31,10 +32,12 @@ namespace tb = sitlnet::tapbridge;
 
 struct Daemon {
   Daemon()
-      : scenario(sitlnet::LoadScenarioText("name: \"fzc\"\n"
-                                           "robot { name: \"a\" position_m { x: 0 y: 0 z: 1 } }\n"
-                                           "robot { name: \"b\" position_m { x: 20 y: 0 z: 1 } }\n",
-                                           "control_socket_fuzz")),
+      : scenario(
+            sitlnet::LoadScenarioText("name: \"fzc\"\n"
+                                      "robot { name: \"a\" position_m { x: 0 y: 0 z: 1 } }\n"
+                                      "robot { name: \"b\" position_m { x: 20 y: 0 z: 1 } }\n" +
+                                          std::string(sitlnet::fuzz::kEveryEffectRadio),
+                                      "control_socket_fuzz")),
         core(scenario, tb::MakeMacPhySimMedium(scenario), Quiet()),
         fanout(0),
         path("/tmp/sitlnet-control-fuzz-" + std::to_string(getpid()) + ".sock"),

@@ -29,15 +29,26 @@ inline double OddOrInRange(FuzzedDataProvider& in, double low, double high) {
   }
 }
 
-// Robots a, b, c (b 20 m from a, c 60 m from a), lockstep, δ_net 2 ms.
-inline Scenario ThreeRobotScenario(const std::string& name) {
+// Every channel effect on, with a radio that hears almost anything (path loss exponent 1,
+// 30 dBm, sensitivity -200 dBm: a station 1e18 m away is still above it) and a wall: positions
+// from a peer reach the propagation delay, fading, log-normal shadowing and obstacle code.
+inline constexpr char kEveryEffectRadio[] =
+    "radio { standard: STANDARD_80211G path_loss_exponent: 1 tx_power_dbm: 30 "
+    "rx_sensitivity_dbm: -200 propagation_delay: true nakagami_fading: true "
+    "lognormal_shadowing_sigma_db: 6 }\n"
+    "obstacle { name: \"wall\" center_m { x: 10 y: 5 z: 1 } size_m { x: 1 y: 4 z: 4 } }\n";
+
+// Robots a, b, c (b 20 m from a, c 60 m from a), lockstep, δ_net 2 ms; the default radio, or
+// kEveryEffectRadio.
+inline Scenario ThreeRobotScenario(const std::string& name, bool every_effect = false) {
   return LoadScenarioText("name: \"" + name +
                               "\"\n"
                               "robot { name: \"a\" position_m { x: 0 y: 0 z: 1 } }\n"
                               "robot { name: \"b\" position_m { x: 20 y: 0 z: 1 } }\n"
                               "robot { name: \"c\" position_m { x: 0 y: 60 z: 1 } }\n"
                               "timing { iteration_us: 10000 physics_step_us: 1000 "
-                              "network_step_us: 2000 pacing: PACING_LOCKSTEP seed: 1 }\n",
+                              "network_step_us: 2000 pacing: PACING_LOCKSTEP seed: 1 }\n" +
+                              (every_effect ? kEveryEffectRadio : ""),
                           name + "_fuzz");
 }
 

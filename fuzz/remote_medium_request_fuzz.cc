@@ -3,7 +3,8 @@
 // proves the shared secret but is still another program on another host: a request must be
 // refused in one line (Error) or served, never crash or hang the medium. Requests are made up
 // from the fuzzer's bytes: submits (any station, time, frame), advances, positions (NaN and
-// infinities too), station switches, and the step's bounds.
+// infinities too), station switches, and the step's bounds; on the default radio or with every
+// channel effect on.
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include <cmath>
@@ -21,9 +22,11 @@ namespace {
 
 namespace pm = sitlnet::proto::medium;
 
-const sitlnet::Scenario& ThreeRobots() {
-  static const sitlnet::Scenario scenario = sitlnet::fuzz::ThreeRobotScenario("fzq");
-  return scenario;
+// The default radio, or every channel effect on (positions reach the propagation delay).
+const sitlnet::Scenario& ThreeRobots(bool every_effect) {
+  static const sitlnet::Scenario plain = sitlnet::fuzz::ThreeRobotScenario("fzq");
+  static const sitlnet::Scenario effects = sitlnet::fuzz::ThreeRobotScenario("fzq", true);
+  return every_effect ? effects : plain;
 }
 
 class NoContext final : public sitlnet::coordinator::IterationContext {
@@ -42,9 +45,9 @@ double Coordinate(FuzzedDataProvider& in) { return sitlnet::fuzz::OddOrInRange(i
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const sitlnet::Scenario& scenario = ThreeRobots();
-  const int64_t step_ns = scenario.network_step_ns;
   FuzzedDataProvider in(data, size);
+  const sitlnet::Scenario& scenario = ThreeRobots(in.ConsumeBool());
+  const int64_t step_ns = scenario.network_step_ns;
   sitlnet::network_side::MediumLinkSimulator simulator(
       scenario, sitlnet::tapbridge::MakeMacPhySimMedium(scenario));
   NoContext context;

@@ -188,10 +188,15 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   const MediumConfig& config = s.config;
   const int n = static_cast<int>(s.stations.size());
   auto add_receiver = [&](int r, double dbm, double mw) {
-    const TimeNs delay_ns = config.propagation_delay
-                                ? std::llround(std::sqrt(SquaredDistanceM2(s.channel, source, r)) /
-                                               kSpeedOfLightMps * 1e9)
-                                : 0;
+    TimeNs delay_ns = 0;
+    if (config.propagation_delay) {
+      // Nothing farther than light travels in a second hears the frame: no radio reaches that
+      // far (only a radio allowed 230 dB of loss comes near), and the delay would carry the
+      // signal's events past int64's end.
+      const double delay_s = std::sqrt(SquaredDistanceM2(s.channel, source, r)) / kSpeedOfLightMps;
+      if (!(delay_s < 1.0)) return;
+      delay_ns = std::llround(delay_s * 1e9);
+    }
     tx.rx.push_back({r, mw, dbm, RxOutcome::kBelowSensitivity, 0, delay_ns});
   };
   if (config.nakagami_fading) {
@@ -203,7 +208,8 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
     for (int r = 0; r < n; ++r) {
       if (r == source) continue;
       const double dbm = src.tx_power_dbm - s.channel.LossDb(source, r);
-      if (dbm < config.rx_sensitivity_dbm) continue;
+      // Written so that a station at a position that is not a number hears nothing.
+      if (!(dbm >= config.rx_sensitivity_dbm)) continue;
       add_receiver(r, dbm, src.tx_power_mw * s.channel.GainLinear(source, r));
     }
   }

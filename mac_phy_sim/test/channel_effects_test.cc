@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <vector>
 
 #include "mac_phy_sim/mac_phy_sim.h"
@@ -47,6 +49,34 @@ TEST(ChannelEffectsTest, PropagationDelayIsDistanceOverTheSpeedOfLight) {
     EXPECT_EQ(trace[1].tx->start_ns, out[0].delivery_ns + 16 * kNsPerUs);
     EXPECT_EQ(medium.counters(0).sent_ok, 1u);
     EXPECT_EQ(medium.counters(0).retries, 0u);
+  }
+}
+
+// A station whose position is not a number, or one farther than light travels in a second
+// (heard only by a radio allowed 230 dB of loss), hears nothing: with the propagation delay on,
+// its signal's events used to land near int64's end (a signed overflow) or before now.
+TEST(ChannelEffectsTest, AStationAtNoPositionOrBeyondALightSecondHearsNothing) {
+  constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+  for (const bool fading : {false, true}) {
+    for (const Vec3d far : {Vec3d{kNan, 0, 0}, Vec3d{3e8, 0, 0}, Vec3d{2.7e18, 0, 0}}) {
+      MediumConfig config;
+      config.standard = Standard::k80211g;
+      config.path_loss_exponent = 1;
+      config.tx_power_dbm = 30;
+      config.rx_sensitivity_dbm = -200;
+      config.propagation_delay = true;
+      config.nakagami_fading = fading;
+      Medium medium(config);
+      medium.AddStation(RobotMac(0), {0, 0, 0});
+      medium.AddStation(RobotMac(1), {10, 0, 0});
+      medium.AddStation(RobotMac(2), far);
+      medium.SubmitFrame(0, MakeEthernetFrame(kBroadcast, RobotMac(0), 500), 0);
+      std::vector<Delivery> out;
+      medium.AdvanceTo(kNsPerS, &out);
+      ASSERT_EQ(out.size(), 1u) << far.x << (fading ? " fading" : "");
+      EXPECT_EQ(out[0].station, 1);
+      EXPECT_EQ(medium.NextEventNs(), std::nullopt);
+    }
   }
 }
 
