@@ -29,7 +29,7 @@ constexpr const char* kPhysicsHelp =
     "CAP_SYS_ADMIN); before `up`, in this process's namespace, where robots do not\n"
     "reach them.\n"
     "\n"
-    "  --duration-s S  stop after S seconds of virtual time (default: never)\n"
+    "  --duration-s S  stop after S seconds of virtual time, at most a year (default: never)\n"
     "  --threads N     threads stepping robots (default 2)\n"
     "  --euler         semi-implicit Euler, whatever the scenario says (docs/physics.md)\n"
     "\n"
@@ -80,7 +80,9 @@ int RunPhysicsCommand(int argc, char** argv) {
     std::fprintf(stderr, "sitlnet physics: bad argument \"%s\"\n%s", e.what(), kPhysicsHelp);
     return kExitUsage;
   }
-  if (scenario_arg.empty() || options.world.threads < 1 || duration_s < 0) {
+  // At most a year, as a scenario's duration: the nanoseconds stay far from int64's end.
+  if (scenario_arg.empty() || options.world.threads < 1 ||
+      !(duration_s >= 0 && duration_s <= kMaxDurationMs / 1000)) {
     std::fputs(kPhysicsHelp, stderr);
     return kExitUsage;
   }

@@ -85,9 +85,12 @@ int RunRunCommand(int argc, char** argv) {
       const std::string text = value();
       char* end = nullptr;
       options.duration_s = std::strtod(text.c_str(), &end);
-      if (end == text.c_str() || *end != '\0' || !(*options.duration_s > 0)) {
-        std::fprintf(stderr, "sitlnet run: --duration \"%s\" is not a positive number of seconds\n",
-                     text.c_str());
+      if (end == text.c_str() || *end != '\0' || !(*options.duration_s > 0) ||
+          *options.duration_s > kMaxDurationMs / 1000) {
+        std::fprintf(stderr,
+                     "sitlnet run: --duration \"%s\" is not a number of seconds in (0, %lld] (a "
+                     "year)\n",
+                     text.c_str(), static_cast<long long>(kMaxDurationMs / 1000));
         return kExitUsage;
       }
     } else if (arg == "--pacing") {

@@ -369,13 +369,16 @@ void MediumLinkSimulator::RunIteration(const proto::coord::Start& start, proto::
   };
   for (const pm::MediumOp& op : request_.ops()) {
     switch (op.kind_case()) {
-      case pm::MediumOp::kSubmit:
-        medium_->Submit(station_ok(op.submit().station()),
-                        time_ok(op.submit().at_ns(), "submit at"),
+      case pm::MediumOp::kSubmit: {
+        // One after the other, so that a request wrong in both is named by its station.
+        const int station = station_ok(op.submit().station());
+        const TimeNs at_ns = time_ok(op.submit().at_ns(), "submit at");
+        medium_->Submit(station, at_ns,
                         std::span<const uint8_t>(
                             reinterpret_cast<const uint8_t*>(op.submit().ethernet().data()),
                             op.submit().ethernet().size()));
         break;
+      }
       case pm::MediumOp::kAdvance:
         deliveries_.clear();
         air_.clear();

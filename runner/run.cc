@@ -320,7 +320,10 @@ std::unique_ptr<coordinator::Connector> AcceptRemoteNetwork(const Scenario& scen
 Scenario ApplyRunOverrides(const Scenario& scenario, const RunOptions& options) {
   proto::Scenario spec = scenario.spec;
   if (options.duration_s) {
-    if (!(*options.duration_s > 0)) throw Error("--duration must be > 0 seconds");
+    if (!(*options.duration_s > 0 && *options.duration_s <= kMaxDurationMs / 1000)) {
+      throw Error("--duration must be in (0, " + std::to_string(kMaxDurationMs / 1000) +
+                  "] seconds (a year)");
+    }
     spec.mutable_timing()->set_duration_ms(static_cast<int64_t>(*options.duration_s * 1000));
   }
   if (options.lockstep) {

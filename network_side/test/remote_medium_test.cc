@@ -362,6 +362,23 @@ TEST(MediumLinkSimulator, RefusesMalformedRequestsWithOneLine) {
       }
     }
   }
+  // The bound itself (the longest scenario's end and a step) is served, in a fresh medium, and
+  // the model's sums from it are right: the frame queued there would go on air DIFS later
+  // (34 us in 802.11a, 10.3.2.3.7: SIFS 16 + 2 slots of 9).
+  MediumLinkSimulator fresh(scenario, tapbridge::MakeMacPhySimMedium(scenario));
+  const TimeNs last_ns = kMaxDurationMs * kNsPerMs + scenario.iteration_ns;
+  request.Clear();
+  request.add_ops()->mutable_submit()->set_at_ns(last_ns);
+  request.mutable_ops(0)->mutable_submit()->set_ethernet(frame);
+  request.add_ops()->mutable_advance()->set_until_ns(last_ns);
+  start.set_payload(request.SerializeAsString());
+  ASSERT_NO_THROW(fresh.RunIteration(start, &end, context));
+  proto::medium::MediumReply reply;
+  ASSERT_TRUE(reply.ParseFromString(end.payload()));
+  EXPECT_EQ(reply.next_event_ns(), last_ns + 34 * kNsPerUs);
+  request.mutable_ops(1)->mutable_advance()->set_until_ns(last_ns + 1);
+  start.set_payload(request.SerializeAsString());
+  EXPECT_THROW(fresh.RunIteration(start, &end, context), Error);
 }
 
 }  // namespace

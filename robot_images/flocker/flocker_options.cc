@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <string>
+#include <utility>
 
 namespace sitlnet::flocker {
 namespace {
@@ -96,7 +98,13 @@ Options ParseOptions(int argc, char** argv) {
       Die("unknown flag " + flag + "\n" + kUsage);
     }
   }
-  if (options.broadcast_hz <= 0) Die("--broadcast-hz must be > 0");
+  // Bounds that keep the periods in nanoseconds within int64 (main converts them).
+  if (!(options.broadcast_hz >= 1e-3)) Die("--broadcast-hz must be at least 0.001");
+  for (const auto& [flag, seconds] :
+       {std::pair{"--neighbour-timeout-s", options.neighbour_timeout_s},
+        std::pair{"--log-period-s", options.log_period_s}}) {
+    if (!(seconds >= 0 && seconds <= 1e6)) Die(std::string(flag) + " must be in [0, 1e6]");
+  }
   if (options.flocking.max_speed_m_s <= 0) Die("--max-speed-m-s must be > 0");
   return options;
 }

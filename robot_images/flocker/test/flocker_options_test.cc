@@ -71,7 +71,12 @@ TEST(FlockerOptionsTest, BadInputExitsTwoNamingTheFlag) {
   EXPECT_EXIT(Parse({"--target", "120"}), exits_2, "--target wants X,Y");
   EXPECT_EXIT(Parse({"--beacon-port", "70000"}), exits_2, "--beacon-port: 1..65535");
   EXPECT_EXIT(Parse({"--altitude-m"}), exits_2, "--altitude-m needs a value");
-  EXPECT_EXIT(Parse({"--broadcast-hz", "0"}), exits_2, "--broadcast-hz must be > 0");
+  EXPECT_EXIT(Parse({"--broadcast-hz", "0"}), exits_2, "--broadcast-hz must be at least 0.001");
+  // A period in ns past int64's end (1e9 / 1e-20 Hz) would be undefined behaviour in the cast.
+  EXPECT_EXIT(Parse({"--broadcast-hz", "1e-20"}), exits_2, "--broadcast-hz must be at least");
+  EXPECT_EXIT(Parse({"--log-period-s", "1e300"}), exits_2,
+              "--log-period-s must be in \\[0, 1e6\\]");
+  EXPECT_EXIT(Parse({"--neighbour-timeout-s", "-1"}), exits_2, "--neighbour-timeout-s must be in");
   EXPECT_EXIT(Parse({"--max-speed-m-s", "-1"}), exits_2, "--max-speed-m-s must be > 0");
   EXPECT_EXIT(Parse({"--help"}), ::testing::ExitedWithCode(0), "");
 }
