@@ -1,7 +1,9 @@
 #include "physics_mujoco/obstacle_tiles.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <set>
 
 #include "common/common.h"
 
@@ -61,6 +63,30 @@ std::vector<int> ObstacleTiles::ObstaclesOf(TileIndex tile) const {
     }
   }
   return inside;
+}
+
+std::optional<std::vector<TileIndex>> ObstacleTiles::TilesNearObstacles(int64_t max_tiles) const {
+  const auto index = [&](double v) {
+    return static_cast<int64_t>(
+        std::floor(std::clamp(v, -kMaxCoordinate_m, kMaxCoordinate_m) / tile_m_));
+  };
+  // Per obstacle, the tiles whose area (grown by the margin) may reach its box, one more on
+  // each side against rounding; ObstaclesOf decides. Stops as soon as there are too many.
+  std::set<TileIndex> near;
+  for (const Rect& b : bounds_) {
+    for (int64_t ix = index(b.x_min - margin_m_) - 1; ix <= index(b.x_max + margin_m_) + 1; ++ix) {
+      for (int64_t iy = index(b.y_min - margin_m_) - 1; iy <= index(b.y_max + margin_m_) + 1;
+           ++iy) {
+        near.insert({ix, iy});
+        if (static_cast<int64_t>(near.size()) > max_tiles) return std::nullopt;
+      }
+    }
+  }
+  std::vector<TileIndex> tiles;
+  for (const TileIndex& tile : near) {
+    if (!ObstaclesOf(tile).empty()) tiles.push_back(tile);
+  }
+  return tiles;
 }
 
 }  // namespace sitlnet::physics

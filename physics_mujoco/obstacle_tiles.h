@@ -6,6 +6,7 @@
 #define SITLNET_PHYSICS_MUJOCO_OBSTACLE_TILES_H_
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "scenario/scenario.h"
@@ -45,6 +46,10 @@ class ObstacleTiles {
   // Indices into scenario.spec.obstacle() of every obstacle whose horizontal bounding box
   // (yaw included) intersects Region(tile) grown by the reach, in scenario order.
   std::vector<int> ObstaclesOf(TileIndex tile) const;
+  // Every tile whose model holds at least one obstacle (ObstaclesOf not empty; every other tile
+  // holds the ground alone), in index order; nullopt if the obstacles' surroundings cover more
+  // than `max_tiles` tiles.
+  std::optional<std::vector<TileIndex>> TilesNearObstacles(int64_t max_tiles) const;
 
   double tile_m() const { return tile_m_; }
   double hysteresis_m() const { return hysteresis_m_; }

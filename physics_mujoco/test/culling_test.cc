@@ -107,6 +107,10 @@ TEST(CullingTest, TileModelsFlyBitIdenticalToTheModelWithEveryObstacle) {
   World tiles7(scenario, Culled(7));  // lidar reach 15 m > tile: many more switches
   std::vector<World*> worlds = {&all, &tiles20, &tiles7};
   for (World* world : worlds) StartFlights(world);
+  // With 20 m tiles every tile model is compiled when the World is built, none in a step (a
+  // compile there made the 64-robot flight's iteration 4x longer); with 7 m tiles the boxes'
+  // surroundings cover more than 1024 tiles, so they are compiled on first use, as before.
+  const int compiled20 = tiles20.models_compiled(), compiled7 = tiles7.models_compiled();
   const int slider_obstacles_at_start = tiles20.obstacles_in_model(1);
   std::vector<float> want, got;
   int lidar_hits = 0;
@@ -144,6 +148,9 @@ TEST(CullingTest, TileModelsFlyBitIdenticalToTheModelWithEveryObstacle) {
   EXPECT_EQ(all.model_switches(), 0);
   EXPECT_GT(tiles20.model_switches(), 8);
   EXPECT_GT(tiles7.model_switches(), tiles20.model_switches());
+  EXPECT_GT(compiled20, 50);
+  EXPECT_EQ(tiles20.models_compiled(), compiled20);
+  EXPECT_GT(tiles7.models_compiled(), compiled7);
 }
 
 TEST(CullingTest, CulledWorldsAreDeterministicAndThreadIndependent) {
@@ -182,7 +189,8 @@ TEST(CullingTest, FastRobotUsesTheModelWithEveryObstacle) {
 TEST(CullingTest, TilesWithTheSameObstaclesShareOneModel) {
   // 100 m east over open ground (5 tiles of 20 m), one box far north: every tile on the way
   // has no obstacle, so after the start (the model with every obstacle, then the ground-only
-  // one) the robot never changes model. Compiled: those two.
+  // one) the robot never changes model. Compiled: those two (the tiles around the box hold
+  // every obstacle: they use the model with all).
   const Scenario scenario = MakeScenario("robot { name: \"a\" position_m { x: 1 y: 1 z: 2 } }\n" +
                                          Box(50, 500, 2, 1, 1, 1, 0));
   World world(scenario, Culled(20));
@@ -221,6 +229,29 @@ TEST(ObstacleTilesTest, TileModelsHoldTheBoxesWithinReachOfTheRegionYawIncluded)
   EXPECT_FALSE(region.Contains(std::nan(""), 4));
   EXPECT_FALSE(tiles.HasTile(std::nan(""), 0));
   EXPECT_FALSE(tiles.HasTile(0, 2e9));
+}
+
+TEST(ObstacleTilesTest, TilesNearObstaclesAreExactlyThoseWhoseModelsHoldOne) {
+  const Scenario scenario =
+      MakeScenario("robot { name: \"a\" position_m { z: 2 } }\n" + Box(17, 4, 1, 2, 2, 1, 0) +
+                   Box(-30, 12, 1, 8, 0.1, 1, 45) + Box(40.5, -40.5, 1, 1, 30, 1, 30));
+  const ObstacleTiles tiles(scenario, 8, 5);
+  // Oracle: every tile of a grid far wider than the boxes' reach, asked one by one.
+  std::vector<TileIndex> want;
+  for (int64_t ix = -30; ix <= 30; ++ix) {
+    for (int64_t iy = -30; iy <= 30; ++iy) {
+      if (!tiles.ObstaclesOf({ix, iy}).empty()) want.push_back({ix, iy});
+    }
+  }
+  ASSERT_GT(want.size(), 20u);
+  const auto near = tiles.TilesNearObstacles(10000);
+  ASSERT_TRUE(near.has_value());
+  EXPECT_EQ(*near, want);
+  EXPECT_FALSE(tiles.TilesNearObstacles(static_cast<int64_t>(want.size()) - 1).has_value());
+  // A box 100 km wide: too many tiles to list, found out without walking them all.
+  const Scenario wide =
+      MakeScenario("robot { name: \"a\" position_m { z: 2 } }\n" + Box(0, 0, 1, 1e5, 1e5, 1, 0));
+  EXPECT_FALSE(ObstacleTiles(wide, 20, 15).TilesNearObstacles(1024).has_value());
 }
 
 }  // namespace
