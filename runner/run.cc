@@ -200,8 +200,9 @@ std::vector<std::unique_ptr<images::RobotProcess>> StartClockPublishers(
 // first step and two runs start alike. Waits on the server's socket, at most
 // 10 s of wall time plus 250 ms per robot with an image: 64 container images took 9.7 s to
 // start on a loaded 2-core host (docs/performance.md, "Containers").
+// `why`: what makes the run wait ("lockstep", "wait_for_robots"), the error's first word.
 void WaitForRobotsToSpeak(const Scenario& scenario, const std::vector<RobotSlot>& robots,
-                          physics::PhysicsServer* server) {
+                          physics::PhysicsServer* server, const std::string& why) {
   const TimeNs allowed_ns =
       10 * kNsPerS + 250 * kNsPerMs *
                          std::count_if(robots.begin(), robots.end(),
@@ -219,7 +220,7 @@ void WaitForRobotsToSpeak(const Scenario& scenario, const std::vector<RobotSlot>
     if (silent.empty()) return;
     const TimeNs now = MonotonicNowNs();
     if (now >= deadline) {
-      throw Error("lockstep: robots " + silent +
+      throw Error(why + ": robots " + silent +
                   " sent no MotorCommand (nor servo frame, nor PX4 connection) within " +
                   std::to_string(allowed_ns / kNsPerMs) +
                   " ms of starting (see their logs in robots/)");
@@ -468,7 +469,11 @@ RunReport RunScenario(const RunOptions& options) {
   if (lockstep) {
     physics_server.SetPeriodicStates(false);  // one state per iteration, from the gate
     physics_server.SetFrameGate(robot_lockstep.command_timeout_ns);
-    WaitForRobotsToSpeak(scenario, robots, &physics_server);
+    WaitForRobotsToSpeak(scenario, robots, &physics_server, "lockstep");
+  } else if (scenario.spec.timing().wait_for_robots()) {
+    // Realtime: the clock starts once the images have booted (docs/performance.md, "Where the
+    // realtime bursts come from").
+    WaitForRobotsToSpeak(scenario, robots, &physics_server, "wait_for_robots");
   }
   physics_side::PhysicsServerSimulator physics_sim(scenario, &physics_server, robot_lockstep);
   RecordingPhysics recording(&physics_sim, &physics_server.world(),

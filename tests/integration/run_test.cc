@@ -658,5 +658,56 @@ TEST(RunTest, RealtimeRunIsFifoButItsImagesAreNot) {
   ExpectNothingLeft(scenario.name);
 }
 
+// First "t=" of a flocker log: the virtual time of the first state it received (s), or -1.
+double FirstStateTimeS(const std::string& log) {
+  const size_t at = log.find("t=");
+  return at == std::string::npos ? -1 : std::atof(log.c_str() + at + 2);
+}
+
+TEST(RunTest, WaitForRobotsStartsTheRealtimeClockOnceTheImagesHaveSpoken) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  // A flocker that boots for 2 s of wall time before it speaks to physics.
+  const std::string manifest = WriteImageManifest(
+      "slowboot",
+      "command: [\"/bin/sh\", \"-c\", \"sleep 2; exec \\\"$@\\\"\", \"sh\", "
+      "\"${SITLNET_BIN}/flocker\", \"--airframe\", \"${AIRFRAME}\"]\nsandbox: NONE\n");
+  const std::string robots = "robot { name: \"a\" position_m { z: 0.2 } image: \"" + manifest +
+                             "\" }\nrobot { name: \"b\" position_m { y: 6 z: 0.2 } }\n";
+  for (const bool wait : {true, false}) {
+    const RunScenario scenario = WriteScenario(
+        9, robots,
+        std::string("timing { duration_ms: 3000 pacing: PACING_REALTIME wait_for_robots: ") +
+            (wait ? "true" : "false") + " }\n");
+    DownGuard guard(scenario.name);
+    const std::string out = TempDir() + "/" + scenario.name + (wait ? "-wait" : "-nowait");
+    const CommandResult result = SitlnetRun(scenario, out, {});
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    // With the wait the first state reaches it within the first iterations of virtual time;
+    // without, more than a second of the run has gone by while it booted.
+    const std::string log = ReadAll(out + "/robots/a.log");
+    const double first_s = FirstStateTimeS(log);
+    ASSERT_GE(first_s, 0) << log;
+    if (wait) {
+      EXPECT_LT(first_s, 0.5) << log;
+    } else {
+      EXPECT_GE(first_s, 1.0) << log;
+    }
+    ExpectNothingLeft(scenario.name);
+  }
+  // An image that never speaks to physics stops such a run before its clock starts, named.
+  const std::string silent =
+      WriteImageManifest("silent", "command: [\"/bin/sleep\", \"60\"]\nsandbox: NONE\n");
+  const RunScenario scenario =
+      WriteScenario(9, "robot { name: \"quiet\" image: \"" + silent + "\" }\n",
+                    "timing { duration_ms: 3000 pacing: PACING_REALTIME wait_for_robots: true }\n");
+  DownGuard guard(scenario.name);
+  const CommandResult result = SitlnetRun(scenario, TempDir() + "/" + scenario.name + "-q", {});
+  EXPECT_NE(result.exit_code, 0) << result.err;  // 2, as lockstep's silent robots
+  EXPECT_NE(result.err.find("wait_for_robots: robots quiet sent no MotorCommand"),
+            std::string::npos)
+      << result.err;
+  ExpectNothingLeft(scenario.name);
+}
+
 }  // namespace
 }  // namespace sitlnet::nns::testing
