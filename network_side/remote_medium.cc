@@ -123,6 +123,7 @@ uint64_t MediumScenarioHash(const Scenario& scenario) {
   Scenario copy = scenario;
   copy.spec.mutable_timing()->clear_duration_ms();
   copy.spec.mutable_timing()->clear_pacing();
+  copy.spec.mutable_timing()->clear_wait_for_robots();  // When the clock starts: not the medium's
   return coordinator::ScenarioHash(copy);
 }
 

@@ -70,23 +70,27 @@ std::optional<std::vector<TileIndex>> ObstacleTiles::TilesNearObstacles(int64_t 
     return static_cast<int64_t>(
         std::floor(std::clamp(v, -kMaxCoordinate_m, kMaxCoordinate_m) / tile_m_));
   };
-  // Per obstacle, the tiles whose area (grown by the margin) may reach its box, one more on
-  // each side against rounding; ObstaclesOf decides. Stops as soon as there are too many.
+  // Per obstacle, the tiles whose area (the tile grown by the margin, as in ObstaclesOf) reaches
+  // its box: from the one whose far edge does (hence the -1) to the one whose near edge does
+  // (+1: a quotient rounded just below a whole number); ObstaclesOf's own test decides. Stops
+  // as soon as there are too many.
   std::set<TileIndex> near;
   for (const Rect& b : bounds_) {
     for (int64_t ix = index(b.x_min - margin_m_) - 1; ix <= index(b.x_max + margin_m_) + 1; ++ix) {
       for (int64_t iy = index(b.y_min - margin_m_) - 1; iy <= index(b.y_max + margin_m_) + 1;
            ++iy) {
+        const double x0 = static_cast<double>(ix) * tile_m_;
+        const double y0 = static_cast<double>(iy) * tile_m_;
+        if (b.x_max < x0 - margin_m_ || b.x_min > x0 + tile_m_ + margin_m_ ||
+            b.y_max < y0 - margin_m_ || b.y_min > y0 + tile_m_ + margin_m_) {
+          continue;  // The same test as ObstaclesOf's: this tile's area misses the box.
+        }
         near.insert({ix, iy});
         if (static_cast<int64_t>(near.size()) > max_tiles) return std::nullopt;
       }
     }
   }
-  std::vector<TileIndex> tiles;
-  for (const TileIndex& tile : near) {
-    if (!ObstaclesOf(tile).empty()) tiles.push_back(tile);
-  }
-  return tiles;
+  return std::vector<TileIndex>(near.begin(), near.end());
 }
 
 }  // namespace sitlnet::physics

@@ -92,6 +92,9 @@ struct WorldOptions {
   // as with every obstacle in one model (tested bit for bit). false: one model holds all.
   bool cull_obstacles = true;
   double cull_tile_m = 20;
+  // Tile models are compiled when the World is built if at most this many tiles are near an
+  // obstacle, else each on first use, inside a step (docs/physics.md, "Obstacle culling").
+  int64_t cull_tiles_compiled_up_front = 1024;
 };
 
 // The MuJoCo world of a scenario. Not thread-safe: one caller at a time.

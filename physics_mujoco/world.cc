@@ -7,6 +7,7 @@
 #include <mutex>
 #include <numbers>
 #include <optional>
+#include <set>
 
 #include "physics_mujoco/mujoco_model.h"
 #include "physics_mujoco/obstacle_tiles.h"
@@ -24,8 +25,6 @@ namespace {
 // (the speed limit below enforces it; faster robots use the model with every obstacle).
 // RK4's stages stay within about dt * |v| + dt^2 * |a| of the step's start.
 constexpr double kStepTravel_m = 1.0;
-// Most tiles whose models World compiles when it is built (each near an obstacle).
-constexpr int64_t kMaxTilesCompiledUpFront = 1024;
 
 // A compiled model: the ground, some obstacles, and one quad of an airframe.
 struct CompiledModel {
@@ -160,6 +159,17 @@ struct World::Impl {
     return model;
   }
 
+  // The model of a tile without obstacles (the ground alone), compiled on first use.
+  const CompiledModel* GroundModel(AirframeModels* am) {
+    std::lock_guard<std::mutex> lock(models_mutex);
+    auto& compiled = am->by_obstacles[{}];
+    if (!compiled) {
+      const std::vector<int> none;
+      compiled = Compile(*am, &none);
+    }
+    return compiled.get();
+  }
+
   bool Fast(const mjData* d) const {
     const double v2 = d->qvel[0] * d->qvel[0] + d->qvel[1] * d->qvel[1] + d->qvel[2] * d->qvel[2];
     return !(v2 <= max_speed_m_s * max_speed_m_s);  // NaN: fast
@@ -286,14 +296,23 @@ World::World(const Scenario& scenario, const WorldOptions& options)
     impl.PlaceAtStart(slot.get(), 0);
     impl.robots.push_back(std::move(slot));
   }
-  // Every tile model compiled now rather than in the step that first needs it: a compile takes
-  // about 1.4 ms on a stepping thread, and robots flying side by side reach new tiles in the
-  // same step (the 64-robot flight's iteration grew from 4 to 17 ms there; in realtime pacing
-  // that is a late iteration). Beyond kMaxTilesCompiledUpFront tiles (a world crowded with
-  // obstacles, ~1.4 s of start-up) they are compiled on first use, as before.
-  if (impl.tiles) {
-    if (const auto near = impl.tiles->TilesNearObstacles(kMaxTilesCompiledUpFront)) {
-      for (auto& [name, am] : impl.models) {
+  // Every tile model compiled now rather than in the step that first needs it: in flight a
+  // compile took about 1.4 ms on a stepping thread (0.3 ms here, before the stepping starts),
+  // and robots flying side by side reach new tiles in the same step (the 64-robot flight's
+  // iteration grew from 5 to 17-24 ms there; in realtime pacing that is a late iteration). The
+  // models of the tiles near an obstacle and the ground-only one, for each airframe that flies.
+  // Beyond WorldOptions::cull_tiles_compiled_up_front such tiles (docs/physics.md: a long lidar
+  // widens every obstacle's surroundings) they are compiled on first use, as before.
+  if (impl.tiles && scenario.spec.obstacle_size() > 0) {
+    std::set<AirframeModels*> flying;
+    for (const auto& slot : impl.robots) {
+      if (!slot->fixed) flying.insert(slot->airframe);
+    }
+    const auto near = impl.tiles->TilesNearObstacles(options.cull_tiles_compiled_up_front);
+    for (auto& [name, am] : impl.models) {
+      if (!flying.contains(am.get())) continue;
+      impl.GroundModel(am.get());
+      if (near) {
         for (const TileIndex& tile : *near) impl.TileModel(am.get(), tile);
       }
     }

@@ -201,7 +201,9 @@ std::vector<std::unique_ptr<images::RobotProcess>> StartClockPublishers(
 // 10 s of wall time plus 250 ms per robot with an image: 64 container images took 9.7 s to
 // start on a loaded 2-core host (docs/performance.md, "Containers").
 // `why`: what makes the run wait ("lockstep", "wait_for_robots"), the error's first word.
-void WaitForRobotsToSpeak(const Scenario& scenario, const std::vector<RobotSlot>& robots,
+// An image that exits meanwhile ends the wait at once, named with its status (restart policies
+// apply once the run has begun).
+void WaitForRobotsToSpeak(const Scenario& scenario, std::vector<RobotSlot>& robots,
                           physics::PhysicsServer* server, const std::string& why) {
   const TimeNs allowed_ns =
       10 * kNsPerS + 250 * kNsPerMs *
@@ -212,8 +214,14 @@ void WaitForRobotsToSpeak(const Scenario& scenario, const std::vector<RobotSlot>
     server->Poll();
     std::string silent;
     for (const RobotPlan& plan : scenario.robots) {
+      RobotSlot& robot = robots[plan.index];
       // A ground station's software has no physics to speak to.
-      if (robots[plan.index].process && !plan.spec.ground_station() && !server->spoke(plan.index)) {
+      if (robot.process && !plan.spec.ground_station() && !server->spoke(plan.index)) {
+        if (const std::optional<int> status = robot.process->PollExit()) {
+          throw Error(why + ": robot \"" + plan.name + "\" exited (status " +
+                      std::to_string(*status) +
+                      ") before it spoke to physics (log: " + robot.process->log_path() + ")");
+        }
         silent += (silent.empty() ? "" : ", ") + plan.name;
       }
     }
@@ -474,6 +482,11 @@ RunReport RunScenario(const RunOptions& options) {
     // Realtime: the clock starts once the images have booted (docs/performance.md, "Where the
     // realtime bursts come from").
     WaitForRobotsToSpeak(scenario, robots, &physics_server, "wait_for_robots");
+  }
+  if (lockstep || scenario.spec.timing().wait_for_robots()) {
+    // Readiness is timed from the clock's start: an image that spoke early may have waited
+    // for the slowest one longer than its ready_timeout_ms.
+    for (RobotSlot& robot : robots) robot.started_wall_ns = MonotonicNowNs();
   }
   physics_side::PhysicsServerSimulator physics_sim(scenario, &physics_server, robot_lockstep);
   RecordingPhysics recording(&physics_sim, &physics_server.world(),

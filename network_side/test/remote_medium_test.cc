@@ -268,11 +268,12 @@ TEST(RemoteMedium, RepliesAnHonestMediumCannotMakeEndTheLinkNamingWhy) {
             "has more air frames than the robots' frames could make (64 each)");
 }
 
-TEST(RemoteMedium, ScenarioHashIgnoresDurationAndPacingButNotTheSeed) {
+TEST(RemoteMedium, ScenarioHashIgnoresDurationPacingAndWaitForRobotsButNotTheSeed) {
   const Scenario base = ThreeRobots(7);
   Scenario longer = base;
   longer.spec.mutable_timing()->set_duration_ms(123456);
   longer.spec.mutable_timing()->set_pacing(proto::Timing::PACING_REALTIME);
+  longer.spec.mutable_timing()->set_wait_for_robots(false);  // set, not left out
   EXPECT_EQ(MediumScenarioHash(base), MediumScenarioHash(longer));
   EXPECT_NE(MediumScenarioHash(base), MediumScenarioHash(ThreeRobots(8)));
 }

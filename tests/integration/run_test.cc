@@ -676,7 +676,7 @@ TEST(RunTest, WaitForRobotsStartsTheRealtimeClockOnceTheImagesHaveSpoken) {
   for (const bool wait : {true, false}) {
     const RunScenario scenario = WriteScenario(
         9, robots,
-        std::string("timing { duration_ms: 3000 pacing: PACING_REALTIME wait_for_robots: ") +
+        std::string("timing { duration_ms: 4000 pacing: PACING_REALTIME wait_for_robots: ") +
             (wait ? "true" : "false") + " }\n");
     DownGuard guard(scenario.name);
     const std::string out = TempDir() + "/" + scenario.name + (wait ? "-wait" : "-nowait");
@@ -694,19 +694,26 @@ TEST(RunTest, WaitForRobotsStartsTheRealtimeClockOnceTheImagesHaveSpoken) {
     }
     ExpectNothingLeft(scenario.name);
   }
-  // An image that never speaks to physics stops such a run before its clock starts, named.
-  const std::string silent =
-      WriteImageManifest("silent", "command: [\"/bin/sleep\", \"60\"]\nsandbox: NONE\n");
-  const RunScenario scenario =
-      WriteScenario(9, "robot { name: \"quiet\" image: \"" + silent + "\" }\n",
-                    "timing { duration_ms: 3000 pacing: PACING_REALTIME wait_for_robots: true }\n");
-  DownGuard guard(scenario.name);
-  const CommandResult result = SitlnetRun(scenario, TempDir() + "/" + scenario.name + "-q", {});
-  EXPECT_NE(result.exit_code, 0) << result.err;  // 2, as lockstep's silent robots
-  EXPECT_NE(result.err.find("wait_for_robots: robots quiet sent no MotorCommand"),
-            std::string::npos)
-      << result.err;
-  ExpectNothingLeft(scenario.name);
+  // An image that never speaks to physics stops such a run before its clock starts, named; one
+  // that exits meanwhile stops it at once, with its status.
+  for (const std::string& command : {std::string("[\"/bin/sleep\", \"60\"]"),
+                                     std::string("[\"/bin/sh\", \"-c\", \"sleep 0.5; exit 3\"]")}) {
+    const bool exits = command.find("exit 3") != std::string::npos;
+    const std::string silent =
+        WriteImageManifest("silent", "command: " + command + "\nsandbox: NONE\n");
+    const RunScenario scenario = WriteScenario(
+        9, "robot { name: \"a\" image: \"" + silent + "\" }\n",
+        "timing { duration_ms: 3000 pacing: PACING_REALTIME wait_for_robots: true }\n");
+    DownGuard guard(scenario.name);
+    const CommandResult result = SitlnetRun(scenario, TempDir() + "/" + scenario.name + "-q", {});
+    EXPECT_NE(result.exit_code, 0) << result.err;  // 2, as lockstep's silent robots
+    EXPECT_NE(result.err.find(exits ? "wait_for_robots: robot \"a\" exited (status 3) before it "
+                                      "spoke to physics"
+                                    : "wait_for_robots: robots a sent no MotorCommand"),
+              std::string::npos)
+        << result.err;
+    ExpectNothingLeft(scenario.name);
+  }
 }
 
 }  // namespace
