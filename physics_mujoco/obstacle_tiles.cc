@@ -49,18 +49,17 @@ Rect ObstacleTiles::Region(TileIndex tile) const {
           y0 + tile_m_ + hysteresis_m_};
 }
 
-std::vector<int> ObstacleTiles::ObstaclesOf(TileIndex tile) const {
+bool ObstacleTiles::Reaches(TileIndex tile, const Rect& box) const {
   const double x0 = static_cast<double>(tile.ix) * tile_m_;
   const double y0 = static_cast<double>(tile.iy) * tile_m_;
-  const Rect area{x0 - margin_m_, x0 + tile_m_ + margin_m_, y0 - margin_m_,
-                  y0 + tile_m_ + margin_m_};
+  return box.x_max >= x0 - margin_m_ && box.x_min <= x0 + tile_m_ + margin_m_ &&
+         box.y_max >= y0 - margin_m_ && box.y_min <= y0 + tile_m_ + margin_m_;
+}
+
+std::vector<int> ObstacleTiles::ObstaclesOf(TileIndex tile) const {
   std::vector<int> inside;
   for (int i = 0; i < static_cast<int>(bounds_.size()); ++i) {
-    const Rect& b = bounds_[i];
-    if (b.x_max >= area.x_min && b.x_min <= area.x_max && b.y_max >= area.y_min &&
-        b.y_min <= area.y_max) {
-      inside.push_back(i);
-    }
+    if (Reaches(tile, bounds_[i])) inside.push_back(i);
   }
   return inside;
 }
@@ -72,19 +71,14 @@ std::optional<std::vector<TileIndex>> ObstacleTiles::TilesNearObstacles(int64_t 
   };
   // Per obstacle, the tiles whose area (the tile grown by the margin, as in ObstaclesOf) reaches
   // its box: from the one whose far edge does (hence the -1) to the one whose near edge does
-  // (+1: a quotient rounded just below a whole number); ObstaclesOf's own test decides. Stops
+  // (+1: a quotient rounded just below a whole number); Reaches, ObstaclesOf's test, decides. Stops
   // as soon as there are too many.
   std::set<TileIndex> near;
   for (const Rect& b : bounds_) {
     for (int64_t ix = index(b.x_min - margin_m_) - 1; ix <= index(b.x_max + margin_m_) + 1; ++ix) {
       for (int64_t iy = index(b.y_min - margin_m_) - 1; iy <= index(b.y_max + margin_m_) + 1;
            ++iy) {
-        const double x0 = static_cast<double>(ix) * tile_m_;
-        const double y0 = static_cast<double>(iy) * tile_m_;
-        if (b.x_max < x0 - margin_m_ || b.x_min > x0 + tile_m_ + margin_m_ ||
-            b.y_max < y0 - margin_m_ || b.y_min > y0 + tile_m_ + margin_m_) {
-          continue;  // The same test as ObstaclesOf's: this tile's area misses the box.
-        }
+        if (!Reaches({ix, iy}, b)) continue;
         near.insert({ix, iy});
         if (static_cast<int64_t>(near.size()) > max_tiles) return std::nullopt;
       }

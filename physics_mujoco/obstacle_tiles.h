@@ -56,6 +56,10 @@ class ObstacleTiles {
   double margin_m() const { return margin_m_; }
 
  private:
+  // Whether `box` reaches into the tile's area (the tile grown by the margin): the one test of
+  // what a tile's model holds.
+  bool Reaches(TileIndex tile, const Rect& box) const;
+
   double tile_m_;
   double hysteresis_m_;
   double margin_m_;           // hysteresis + reach + safety

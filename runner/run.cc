@@ -477,13 +477,12 @@ RunReport RunScenario(const RunOptions& options) {
   if (lockstep) {
     physics_server.SetPeriodicStates(false);  // one state per iteration, from the gate
     physics_server.SetFrameGate(robot_lockstep.command_timeout_ns);
-    WaitForRobotsToSpeak(scenario, robots, &physics_server, "lockstep");
-  } else if (scenario.spec.timing().wait_for_robots()) {
-    // Realtime: the clock starts once the images have booted (docs/performance.md, "Where the
-    // realtime bursts come from").
-    WaitForRobotsToSpeak(scenario, robots, &physics_server, "wait_for_robots");
   }
+  // Realtime with wait_for_robots too: the clock starts once the images have booted
+  // (docs/performance.md, "Where the realtime bursts come from").
   if (lockstep || scenario.spec.timing().wait_for_robots()) {
+    WaitForRobotsToSpeak(scenario, robots, &physics_server,
+                         lockstep ? "lockstep" : "wait_for_robots");
     // Readiness is timed from the clock's start: an image that spoke early may have waited
     // for the slowest one longer than its ready_timeout_ms.
     for (RobotSlot& robot : robots) robot.started_wall_ns = MonotonicNowNs();
