@@ -14,7 +14,9 @@ FROM ${BASE}
 ENV DEBIAN_FRONTEND=noninteractive
 # npm trusts the system's certificate authorities too (a local one included).
 ENV NODE_EXTRA_CA_CERTS=/etc/ssl/certs/ca-certificates.crt
-WORKDIR /src/sitlnet
+# Under /tmp, as many CI systems check out: a robot's sandbox keeps /tmp private, so the container
+# pass proves that robots still see sitlnet's own files there (docs/robot-images.md).
+WORKDIR /tmp/sitlnet
 # The packages first, in a layer of their own: a change to the sources does not install
 # them again.
 COPY scripts/setup scripts/setup

@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <string_view>
@@ -69,6 +70,26 @@ bool UsesDilatedTime(const Image& image, const LaunchContext& context) {
     default:
       return context.realtime_factor != 0 && context.realtime_factor != 1.0;
   }
+}
+
+std::vector<std::string> SitlnetRuntimeFiles(const Image& image, const LaunchContext& context) {
+  if (!UsesDilatedTime(image, context)) return {};
+  return {kLibfaketime, kSocketTimeouts};
+}
+
+std::vector<std::string> PreloadLibraries(const Image& image, const LaunchContext& context) {
+  std::vector<std::string> libraries = SitlnetRuntimeFiles(image, context);
+  for (const auto& variable : image.manifest.env()) {
+    if (variable.name() != "LD_PRELOAD") continue;
+    const std::string value = ExpandPlaceholders(variable.value(), image, context);
+    // ld.so(8): the list is separated by colons or spaces.
+    for (size_t start = 0; start <= value.size();) {
+      const size_t end = std::min(value.find_first_of(": ", start), value.size());
+      if (end > start) libraries.push_back(value.substr(start, end - start));
+      start = end + 1;
+    }
+  }
+  return libraries;
 }
 
 std::vector<std::string> DilatedTimeEnvironment(const Image& image, const LaunchContext& context,

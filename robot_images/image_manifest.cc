@@ -2,6 +2,8 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <string_view>
 
 #include "robot_images/internal.h"
 #include "robot_images/robot_images.h"
@@ -14,6 +16,13 @@ bool IsFile(const std::string& path) {
   struct stat info {};
   return stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
 }
+
+bool Exists(const std::string& path) {
+  struct stat info {};
+  return stat(path.c_str(), &info) == 0;
+}
+
+constexpr std::string_view kEnvPrefix = "env:";
 
 }  // namespace
 
@@ -47,11 +56,22 @@ std::string ExpandPlaceholders(const std::string& text, const Image& image,
       out += context.scenario;
     } else if (name == "AIRFRAME") {
       out += context.airframe_text;
+    } else if (name.rfind(kEnvPrefix, 0) == 0) {
+      // The caller's environment, for what differs between hosts (where an autopilot is built).
+      const std::string variable = name.substr(kEnvPrefix.size());
+      const char* value = variable.empty() ? nullptr : std::getenv(variable.c_str());
+      if (value == nullptr || *value == '\0') {
+        throw Error(image.manifest_path + ": ${" + name + "}: " +
+                    (variable.empty() ? std::string("names no variable")
+                                      : variable + " is not set in sitlnet's environment (the "
+                                                   "manifest's comments say what it names)"));
+      }
+      out += value;
     } else {
       throw Error(
           image.manifest_path + ": unknown placeholder ${" + name + "} in \"" + text +
-          "\" (known: IMAGE_DIR SITLNET_BIN ROBOT ROBOT_INDEX SCENARIO AIRFRAME, and ${ARGS} "
-          "as a whole command element)");
+          "\" (known: IMAGE_DIR SITLNET_BIN ROBOT ROBOT_INDEX SCENARIO AIRFRAME env:NAME, and "
+          "${ARGS} as a whole command element)");
     }
     i = close + 1;
   }
@@ -132,11 +152,12 @@ std::vector<std::string> ExpandEnv(const Image& image, const LaunchContext& cont
 void CheckFiles(const Image& image, const LaunchContext& context) {
   for (const std::string& file : image.manifest.files()) {
     const std::string path = ExpandPlaceholders(file, image, context);
-    if (!IsFile(path)) {
+    if (!Exists(path)) {
       throw Error("robot \"" + context.robot + "\": image \"" + image.manifest.name() +
                   "\" needs " + path + ", which does not exist");
     }
   }
+  internal::CheckRobotSeesWhatItRuns(image, context, ExpandCommand(image, context));
 }
 
 }  // namespace sitlnet::images

@@ -28,6 +28,12 @@ std::string FindProgram(const std::string& program);
 std::string ExpandPlaceholders(const std::string& text, const Image& image,
                                const LaunchContext& context);
 
+// Throws Error naming the robot, the path and the fix when the image's program (`command[0]`), a
+// `files:` entry or a preload library lies where the image's sandbox does not show it (a
+// private folder, a hidden path). Nothing to check for `sandbox: NONE` or a container image.
+void CheckRobotSeesWhatItRuns(const Image& image, const LaunchContext& context,
+                              const std::vector<std::string>& command);
+
 // Throws Error "manifest: field: rule" for sandbox fields a robot must not have (a capability
 // that reaches beyond the robot's namespaces, a relative path).
 void CheckSandboxFields(const Image& image);
@@ -42,6 +48,14 @@ std::vector<std::string> ConfinementPrefix(const Image& image, const LaunchConte
 // Whether the image's processes read the dilated clock (the manifest's `time`, by default when
 // the run is realtime-paced at a factor other than 1).
 bool UsesDilatedTime(const Image& image, const LaunchContext& context);
+
+// sitlnet's own files that the image's processes load, bound read-only into its sandbox: the
+// dilated-time preload libraries when the image reads the dilated clock; else none.
+std::vector<std::string> SitlnetRuntimeFiles(const Image& image, const LaunchContext& context);
+
+// Every library the image's command preloads: sitlnet's own (SitlnetRuntimeFiles) and those of
+// the manifest's LD_PRELOAD (expanded; ':' or ' ' separated).
+std::vector<std::string> PreloadLibraries(const Image& image, const LaunchContext& context);
 
 // The environment that dilates the image's clock (libfaketime's LD_PRELOAD and FAKETIME), empty
 // for WALL. Throws Error naming the robot for a statically linked `command[0]`, lockstep

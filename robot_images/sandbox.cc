@@ -139,6 +139,11 @@ std::vector<std::string> BubblewrapArgs(const Image& image, const LaunchContext&
       binds.emplace_back("--ro-bind", std::filesystem::path(path).lexically_normal().string());
     }
   }
+  // sitlnet's own files that the image's processes load (the dilated-time preload libraries),
+  // wherever sitlnet was built: a checkout under /tmp too.
+  for (const std::string& path : SitlnetRuntimeFiles(image, context)) {
+    if (IsInPrivateFolder(path) && !IsWithin(path, image_dir)) binds.emplace_back("--ro-bind", path);
+  }
   for (const std::string& path : manifest.writable()) {
     const std::string host_path = ExpandPlaceholders(path, image, context);
     if (!Exists(host_path)) {
@@ -194,7 +199,72 @@ std::vector<std::string> SetprivArgs(const Image& image, const passwd& user) {
   return args;
 }
 
+std::string Normal(const std::string& path) {
+  return std::filesystem::absolute(path).lexically_normal().string();
+}
+
+bool IsAtOrWithin(const std::string& path, const std::string& folder) {
+  return path == folder || IsWithin(path, folder);
+}
+
+// Why the sandbox of `image` does not show host `path` to the robot ("it lies in ..., which
+// ..."), or "" when it does. Mirrors BubblewrapArgs: hidden paths win; a private folder shows
+// only the image's folder, its `files`, its `writable` paths and sitlnet's runtime files.
+std::string WhyRobotCannotSee(const Image& image, const LaunchContext& context,
+                              const std::string& host_path) {
+  const std::string path = Normal(host_path);
+  for (const std::string& hidden : image.manifest.hidden()) {
+    const std::string folder = Normal(ExpandPlaceholders(hidden, image, context));
+    if (IsAtOrWithin(path, folder)) {
+      return "it lies in " + folder + ", which the manifest hides (hidden:): remove it there";
+    }
+  }
+  const auto private_folder =
+      std::find_if(kPrivateFolders.begin(), kPrivateFolders.end(),
+                   [&](std::string_view folder) { return IsWithin(path, folder); });
+  if (private_folder == kPrivateFolders.end()) return "";
+  std::vector<std::string> shown = {Normal(image.dir)};
+  for (const auto* field : {&image.manifest.files(), &image.manifest.writable()}) {
+    for (const std::string& entry : *field) {
+      shown.push_back(Normal(ExpandPlaceholders(entry, image, context)));
+    }
+  }
+  for (const std::string& file : SitlnetRuntimeFiles(image, context)) shown.push_back(file);
+  if (std::any_of(shown.begin(), shown.end(),
+                  [&](const std::string& folder) { return IsAtOrWithin(path, folder); })) {
+    return "";
+  }
+  return "it lies in " + std::string(*private_folder) +
+         ", which the robot's sandbox keeps private and empty: list it or its folder in the "
+         "manifest's files:, or move it out of /run, /tmp and /var/tmp";
+}
+
 }  // namespace
+
+void CheckRobotSeesWhatItRuns(const Image& image, const LaunchContext& context,
+                              const std::vector<std::string>& command) {
+  if (image.manifest.sandbox() != proto::ImageManifest::CONFINED ||
+      !image.manifest.container_image().empty()) {
+    return;  // The host's files as they are, or the container's own.
+  }
+  const auto check = [&](const std::string& what, const std::string& path) {
+    if (path.empty() || path[0] != '/') return;
+    const std::string why = WhyRobotCannotSee(image, context, path);
+    if (!why.empty()) {
+      throw Error("robot \"" + context.robot + "\": image \"" + image.manifest.name() + "\" (" +
+                  image.manifest_path + "): " + what + " " + path + " is not visible to it: " + why);
+    }
+  };
+  if (!command.empty()) check("its program", FindProgram(command[0]));
+  for (const std::string& file : image.manifest.files()) {
+    check("files: entry", ExpandPlaceholders(file, image, context));
+  }
+  // A library the robot's loader cannot open is skipped with a line in its log: the run would go
+  // on without it (undilated, for sitlnet's own).
+  for (const std::string& library : PreloadLibraries(image, context)) {
+    check("preload library", library);
+  }
+}
 
 std::string FindProgram(const std::string& program) {
   if (program.find('/') != std::string::npos) return program;

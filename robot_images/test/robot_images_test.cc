@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/time.h>
 #include <unistd.h>
@@ -59,6 +60,25 @@ TEST(ImageTest, ExpandsPlaceholdersAndSplicesArgs) {
                                             "--target", "120,0"}));
 }
 
+// Where an autopilot is built differs from host to host: ${env:NAME} reads sitlnet's environment.
+TEST(ImageTest, EnvPlaceholderReadsSitlnetsEnvironmentAndNamesAnUnsetVariable) {
+  const std::string path = ::testing::TempDir() + "/env_image.textproto";
+  std::ofstream(path) << "name: \"x\"\ncommand: \"${env:SITLNET_TEST_DIR}/bin/px4\"\n";
+  const Image image = LoadImage("", path);
+  ASSERT_EQ(setenv("SITLNET_TEST_DIR", "/opt/px4", 1), 0);
+  EXPECT_EQ(ExpandCommand(image, Context()), std::vector<std::string>{"/opt/px4/bin/px4"});
+  ASSERT_EQ(unsetenv("SITLNET_TEST_DIR"), 0);
+  try {
+    ExpandCommand(image, Context());
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()),
+              path + ": ${env:SITLNET_TEST_DIR}: SITLNET_TEST_DIR is not set in sitlnet's "
+                     "environment (the manifest's comments say what it names)");
+  }
+  std::remove(path.c_str());
+}
+
 TEST(ImageTest, MissingFileNamesRobotAndPath) {
   const Image image = LoadImage(ImagesRoot(), "flocker");
   try {
@@ -110,6 +130,101 @@ TEST(ImageTest, SandboxFieldsThatReachBeyondTheRobotAreRefused) {
       refusal("sandbox: NONE capabilities: \"CAP_NET_RAW\"").rfind(path + ": capabilities:", 0),
       0u);
   std::remove(path.c_str());
+}
+
+// Issue 36: a robot's sandbox keeps /run, /tmp and /var/tmp private and empty, and hides what
+// the manifest hides. An image whose program, `files:` entry or preload library the robot would
+// not see is refused before it starts, naming the path and the fix.
+class VisibilityTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char image_dir[] = "/tmp/sitlnet-visible-image-XXXXXX";
+    char program_dir[] = "/tmp/sitlnet-visible-program-XXXXXX";
+    ASSERT_NE(mkdtemp(image_dir), nullptr);
+    ASSERT_NE(mkdtemp(program_dir), nullptr);
+    image_dir_ = image_dir;
+    program_dir_ = program_dir;
+    program_ = program_dir_ + "/prog";
+    std::ofstream(program_) << "#!/bin/sh\nexit 0\n";
+    chmod(program_.c_str(), 0755);
+  }
+  void TearDown() override {
+    RunProgramQuietly({"rm", "-rf", image_dir_, program_dir_});
+  }
+  // What CheckFiles says of an image running `program_` with `fields`; "" when it may run.
+  std::string Refusal(const std::string& fields, double realtime_factor = 1.0) {
+    const std::string path = image_dir_ + "/image.textproto";
+    std::ofstream(path) << "name: \"x\"\ncommand: \"" << program_ << "\"\n" << fields;
+    LaunchContext context = Context();
+    context.realtime_factor = realtime_factor;
+    try {
+      CheckFiles(LoadImage("", path), context);
+    } catch (const Error& error) {
+      return error.what();
+    }
+    return "";
+  }
+  std::string image_dir_;
+  std::string program_dir_;
+  std::string program_;
+};
+
+TEST_F(VisibilityTest, WhatTheRobotCannotSeeIsRefusedNamingPathAndFix) {
+  const std::string refusal = Refusal("");
+  EXPECT_EQ(refusal, "robot \"uav2\": image \"x\" (" + image_dir_ +
+                         "/image.textproto): its program " + program_ +
+                         " is not visible to it: it lies in /tmp, which the robot's sandbox "
+                         "keeps private and empty: list it or its folder in the manifest's "
+                         "files:, or move it out of /run, /tmp and /var/tmp");
+  EXPECT_EQ(Refusal("files: \"" + program_dir_ + "\"\n"), "");  // A folder,
+  EXPECT_EQ(Refusal("files: \"" + program_ + "\"\n"), "");       // or the file itself.
+  EXPECT_EQ(Refusal("sandbox: NONE\n"), "");  // The host's files, as they are.
+  EXPECT_NE(Refusal("files: \"" + program_dir_ + "\"\nhidden: \"" + program_dir_ + "\"\n")
+                .find("its program " + program_ + " is not visible to it: it lies in " +
+                      program_dir_ + ", which the manifest hides (hidden:)"),
+            std::string::npos);
+  // A library the manifest preloads from a private folder: ld.so would skip it with a log line.
+  EXPECT_NE(Refusal("files: \"" + program_ + "\"\nenv { name: \"LD_PRELOAD\" value: \"" +
+                    program_dir_ + "/lib.so\" }\n")
+                .find("preload library " + program_dir_ + "/lib.so is not visible"),
+            std::string::npos);
+}
+
+TEST_F(VisibilityTest, DilatedRobotWhoseSocketTimeoutsLibraryIsHiddenIsRefusedNotUndilated) {
+  const std::string files = "files: \"" + program_dir_ + "\"\n";
+  const std::string library_dir = std::string(kSocketTimeoutsModule).substr(
+      0, std::string(kSocketTimeoutsModule).rfind('/'));
+  EXPECT_EQ(Refusal(files, /*realtime_factor=*/2), "");
+  EXPECT_NE(Refusal(files + "hidden: \"" + library_dir + "\"\n", /*realtime_factor=*/2)
+                .find(std::string("preload library ") + kSocketTimeoutsModule + " is not visible"),
+            std::string::npos);
+  // Undilated, the same image loads no library of sitlnet's.
+  EXPECT_EQ(Refusal(files + "hidden: \"" + library_dir + "\"\n", /*realtime_factor=*/1), "");
+}
+
+// The oracle is bubblewrap itself: the sandbox that ConfinementPrefix builds shows the robot
+// exactly what the check lets through, its program in a private folder when `files:` names it,
+// and sitlnet's dilated-time libraries wherever sitlnet is built.
+TEST_F(VisibilityTest, TheSandboxShowsWhatTheCheckLetsThrough) {
+  if (geteuid() != 0 || internal::FindProgram("bwrap").empty()) {
+    if (std::getenv("CI") != nullptr && std::string(std::getenv("CI")) == "true") {
+      FAIL() << "needs root and bubblewrap (apt-get install bubblewrap)";
+    }
+    GTEST_SKIP() << "needs root and bubblewrap (apt-get install bubblewrap)";
+  }
+  const auto robot_reads = [&](const std::string& fields, const std::string& file) {
+    const std::string path = image_dir_ + "/image.textproto";
+    std::ofstream(path) << "name: \"x\"\ncommand: \"" << program_ << "\"\n" << fields;
+    LaunchContext context = Context();
+    context.realtime_factor = 2;
+    std::vector<std::string> argv =
+        internal::ConfinementPrefix(LoadImage("", path), context);
+    argv.insert(argv.end(), {"/bin/sh", "-c", "test -r \"$0\"", file});
+    return RunProgramQuietly(argv) == 0;
+  };
+  EXPECT_FALSE(robot_reads("", program_));
+  EXPECT_TRUE(robot_reads("files: \"" + program_dir_ + "\"\n", program_));
+  EXPECT_TRUE(robot_reads("", kSocketTimeoutsModule));
 }
 
 // Issue 17: limits a cgroup cannot hold are refused naming the manifest and the field.

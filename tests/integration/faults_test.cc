@@ -235,9 +235,11 @@ TEST(FaultsTest, RobotKilledWithSigkillIsReportedAndTheRunContinues) {
 TEST(FaultsTest, RobotThatStopsAnsweringInLockstepStopsTheRunNamingIt) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const std::string silent = TestBinaryDir() + "/silent_robot";
-  const std::string mute = WriteImageManifest("mute", "command: [\"" + silent + "\", \"20\"]\n");
-  const std::string chatty =
-      WriteImageManifest("chatty", "command: [\"" + silent + "\", \"1000000\"]\n");
+  // files: the build tree may lie in /tmp, which the sandbox keeps private.
+  const std::string mute = WriteImageManifest(
+      "mute", "command: [\"" + silent + "\", \"20\"]\nfiles: \"" + silent + "\"\n");
+  const std::string chatty = WriteImageManifest(
+      "chatty", "command: [\"" + silent + "\", \"1000000\"]\nfiles: \"" + silent + "\"\n");
   const FaultScenario s = WriteScenario(2, {"image: \"" + chatty + "\"", "image: \"" + mute + "\""},
                                         "timing { duration_ms: 30000 }\n");
   DownGuard guard(s.name);

@@ -557,7 +557,8 @@ TEST(RunTest, Ros2ClockReachesARobotOnItsLoopbackInBothPacings) {
       SitlnetBinary().substr(0, SitlnetBinary().rfind('/')) + "/ros2_clock_echo";
   // Realtime: the subscriber is the robot's image.
   const std::string manifest =
-      WriteImageManifest("clock_echo", "command: [\"" + echo + "\", \"--count\", \"20\"]\n");
+      WriteImageManifest("clock_echo", "command: [\"" + echo + "\", \"--count\", \"20\"]\n"
+                                       "files: \"" + echo + "\"\n");
   const RunScenario realtime =
       WriteScenario(12,
                     "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } image: \"" + manifest +
