@@ -29,7 +29,8 @@ void ExpectRejected(const std::string& text, const std::string& location, const 
 constexpr char kTwo[] = "name: \"t\"\nrobot { name: \"a\" }\nrobot { name: \"b\" }\n";
 
 TEST(ScenarioTest, ShippedExamplesLoad) {
-  for (const char* file : {"two_robots", "line3"}) {
+  for (const char* file :
+       {"two_robots", "line3", "arrow_flocking", "px4_fleet", "ardupilot_fleet"}) {
     const Scenario scenario = LoadScenarioFile(SourceDir() + "/scenarios/" + file + ".textproto");
     EXPECT_FALSE(scenario.robots.empty()) << file;
   }
