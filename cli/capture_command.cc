@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include "cli/commands.h"
@@ -15,9 +16,7 @@
 namespace sitlnet::cli {
 namespace {
 
-constexpr const char* kCaptureHelp =
-    "usage: sitlnet capture --medium [SCENARIO_NAME]\n"
-    "\n"
+constexpr const char* kCaptureFooter =
     "Writes the medium's view (every 802.11 frame on the air: data, ACKs, retries,\n"
     "collided frames, with radiotap signal/noise dBm, rate, channel) as a pcap\n"
     "stream to stdout until the daemon stops or the reader goes away:\n"
@@ -29,33 +28,9 @@ constexpr const char* kCaptureHelp =
     "`sitlnet medium SCENARIO` running. A robot's own view: sitlnet exec ROBOT --\n"
     "tcpdump -i wlan0.\n"
     "\n"
-    "exit codes: 0 stream ended, 1 no daemon or no such scenario, 2 usage.\n";
+    "exit codes: 0 stream ended, 1 no daemon or no such scenario, 2 usage.";
 
-}  // namespace
-
-int RunCaptureCommand(int argc, char** argv) {
-  if (WantsHelp(argc, argv)) {
-    std::fputs(kCaptureHelp, stdout);
-    return kExitOk;
-  }
-  bool medium = false;
-  std::string name;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--medium") {
-      medium = true;
-    } else if (name.empty() && !arg.starts_with("-")) {
-      name = arg;
-    } else {
-      std::fprintf(stderr, "sitlnet capture: unexpected argument \"%s\"\n%s", arg.c_str(),
-                   kCaptureHelp);
-      return kExitUsage;
-    }
-  }
-  if (!medium) {
-    std::fputs(kCaptureHelp, stderr);
-    return kExitUsage;
-  }
+int Capture(std::string name) {
   return ReportErrors("capture", kExitFailure, [&] {
     if (name.empty()) {
       const std::vector<std::string> up = nns::ListScenarios();
@@ -86,6 +61,20 @@ int RunCaptureCommand(int argc, char** argv) {
       }
     }
   });
+}
+
+}  // namespace
+
+Command AddCaptureCommand(CLI::App& sitlnet) {
+  CLI::App* capture = sitlnet.add_subcommand("capture", "stream the medium's 802.11 view as pcap");
+  capture->footer(kCaptureFooter);
+  auto name = std::make_shared<std::string>();
+  capture->add_flag("--medium")
+      ->description("the medium daemon's view (the one view there is)")
+      ->required();
+  capture->add_option("SCENARIO_NAME", *name,
+                      "the scenario (default: the one that is up, when there is one)");
+  return {capture, [name] { return Capture(*name); }};
 }
 
 }  // namespace sitlnet::cli

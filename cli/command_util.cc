@@ -11,14 +11,6 @@
 
 namespace sitlnet::cli {
 
-bool WantsHelp(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--")) return false;
-    if (!std::strcmp(argv[i], "-h") || !std::strcmp(argv[i], "--help")) return true;
-  }
-  return false;
-}
-
 int ReportErrors(const char* command, int error_code, const std::function<int()>& body) {
   try {
     return body();

@@ -1,9 +1,11 @@
-// sitlnet CLI: one function per command, dispatched by main.cc's table.
-// Adding a command = one file defining RunXxxCommand + one line in kCommands.
-// Exit codes are documented in docs/cli.md.
+// sitlnet CLI: one CLI11 subcommand per command, each defined in its own file
+// (cli/*_command.cc) and dispatched by main.cc. Adding a command = one file
+// defining AddXxxCommand + one line in main.cc's list (docs/cli.md).
+// Exit codes are documented in docs/cli.md, generated from --help.
 #ifndef SITLNET_CLI_COMMANDS_H_
 #define SITLNET_CLI_COMMANDS_H_
 
+#include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
 
@@ -19,22 +21,27 @@ enum ExitCode {
   kExitPrivileges = 3,  // Missing CAP_NET_ADMIN / CAP_SYS_ADMIN / /dev/net/tun.
 };
 
-// Each command gets argv[0] = its own name and parses the rest itself.
-int RunUpCommand(int argc, char** argv);
-int RunDownCommand(int argc, char** argv);
-int RunExecCommand(int argc, char** argv);
-int RunStatusCommand(int argc, char** argv);
-int RunMediumCommand(int argc, char** argv);   // cli/medium_command.cc (tapbridge)
-int RunCaptureCommand(int argc, char** argv);  // cli/capture_command.cc (tapbridge)
-int RunPhysicsCommand(int argc, char** argv);  // cli/physics_command.cc (physics_mujoco)
-int RunRunCommand(int argc, char** argv);      // cli/run_command.cc (runner)
+// One subcommand: its CLI11 definition (owned by the top-level App), what runs
+// it once its arguments are parsed, and the exit code of a usage error.
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+  int usage_exit_code = kExitUsage;
+};
+
+// Each adds its subcommand, with every option it takes, to `sitlnet`.
+Command AddRunCommand(CLI::App& sitlnet);      // cli/run_command.cc (runner)
+Command AddUpCommand(CLI::App& sitlnet);       // cli/up_down_command.cc
+Command AddExecCommand(CLI::App& sitlnet);     // cli/exec_command.cc
+Command AddStatusCommand(CLI::App& sitlnet);   // cli/status_command.cc
+Command AddDownCommand(CLI::App& sitlnet);     // cli/up_down_command.cc
+Command AddMediumCommand(CLI::App& sitlnet);   // cli/medium_command.cc (tapbridge)
+Command AddCaptureCommand(CLI::App& sitlnet);  // cli/capture_command.cc (tapbridge)
+Command AddPhysicsCommand(CLI::App& sitlnet);  // cli/physics_command.cc (physics_mujoco)
 
 // A scenario file, or the name of a scenario that is up (its state file names
 // the file). Throws Error.
 Scenario LoadByFileOrName(const std::string& what);
-
-// True if any argument before "--" is -h or --help.
-bool WantsHelp(int argc, char** argv);
 
 // Runs `body`; an exception becomes one line "sitlnet <command>: <what>" on
 // stderr and an exit code: PrivilegeError -> kExitPrivileges, other errors ->

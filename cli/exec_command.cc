@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,9 +17,7 @@
 namespace sitlnet::cli {
 namespace {
 
-constexpr const char* kExecHelp =
-    "usage: sitlnet exec [--scenario NAME] ROBOT [--] CMD [ARGS...]\n"
-    "\n"
+constexpr const char* kExecFooter =
     "Runs CMD in the network namespace of ROBOT, which is a robot name when it\n"
     "is unique among the scenarios that are up, or <scenario>-<robot> (the\n"
     "namespace name), or a robot name with --scenario. Environment added:\n"
@@ -27,41 +26,27 @@ constexpr const char* kExecHelp =
     "  SITLNET_ROBOT_INDEX   robot index in the scenario, from 0\n"
     "  SITLNET_PHYSICS_ADDR  <root side of ctl0>:<physics port>, the physics server\n"
     "Only the network namespace changes (no mount namespace, unlike ip netns exec).\n"
+    "Everything after ROBOT is CMD and its arguments, options included; a -- before\n"
+    "CMD is optional. An ambiguous robot name is refused with the candidates.\n"
     "\n"
-    "exit codes: CMD's own status (128+N if killed by signal N, as a shell shows\n"
-    "it); 125 sitlnet failed before running CMD (unknown robot, privileges,\n"
-    "usage); 126 CMD cannot be executed; 127 CMD not found.\n";
+    "exit codes (env's convention, so that CMD's own stay visible): CMD's own\n"
+    "status (128+N if killed by signal N, as a shell shows it); 125 sitlnet failed\n"
+    "before running CMD (unknown or ambiguous robot, privileges, usage); 126 CMD\n"
+    "cannot be executed; 127 CMD not found.";
 
 // `env`'s convention, so that CMD's own 1..3 stay distinguishable.
 constexpr int kExitExecFailed = 125;
 constexpr int kExitCannotExecute = 126;
 constexpr int kExitNotFound = 127;
 
-}  // namespace
-
-int RunExecCommand(int argc, char** argv) {
-  if (WantsHelp(argc, argv)) {
-    std::fputs(kExecHelp, stdout);
-    return kExitOk;
-  }
-  std::string scenario_name;
-  int i = 1;
-  if (i + 1 < argc && !std::strcmp(argv[i], "--scenario")) {
-    scenario_name = argv[i + 1];
-    i += 2;
-  }
-  if (i >= argc) {
-    std::fputs(kExecHelp, stderr);
+// Enters ROBOT's network namespace and replaces this process with `command` (argv order).
+int Exec(const std::string& scenario_name, const std::string& robot,
+         std::vector<std::string> command) {
+  if (!command.empty() && command.front() == "--") command.erase(command.begin());
+  if (command.empty()) {
+    std::fprintf(stderr, "sitlnet exec: CMD is required (sitlnet exec --help)\n");
     return kExitExecFailed;
   }
-  const std::string robot = argv[i++];
-  if (i < argc && !std::strcmp(argv[i], "--")) ++i;
-  if (i >= argc) {
-    std::fputs(kExecHelp, stderr);
-    return kExitExecFailed;
-  }
-  char** command = argv + i;
-
   const int status = ReportErrors("exec", kExitExecFailed, [&] {
     nns::RequirePrivileges();
     std::vector<nns::ScenarioState> scenarios;
@@ -82,7 +67,10 @@ int RunExecCommand(int argc, char** argv) {
     return kExitOk;
   });
   if (status != kExitOk) return status;
-  execvp(command[0], command);
+  std::vector<char*> argv;
+  for (std::string& arg : command) argv.push_back(arg.data());
+  argv.push_back(nullptr);
+  execvp(argv[0], argv.data());
   const int err = errno;
   // EPERM from exec of an existing file: most often a program with file capabilities (Debian's
   // ping: cap_net_raw) outside this process's bounding set, e.g. in a container without them.
@@ -90,8 +78,32 @@ int RunExecCommand(int argc, char** argv) {
                                     "run when they are outside the bounding set: "
                                     "docs/security.md)"
                                   : "";
-  std::fprintf(stderr, "sitlnet exec: run \"%s\": %s%s\n", command[0], std::strerror(err), hint);
+  std::fprintf(stderr, "sitlnet exec: run \"%s\": %s%s\n", argv[0], std::strerror(err), hint);
   return err == ENOENT ? kExitNotFound : kExitCannotExecute;
+}
+
+}  // namespace
+
+Command AddExecCommand(CLI::App& sitlnet) {
+  CLI::App* exec = sitlnet.add_subcommand("exec", "run a program inside a robot's namespace");
+  exec->footer(kExecFooter);
+  struct Arguments {
+    std::string scenario;
+    std::string robot;
+    std::vector<std::string> command;
+  };
+  auto arguments = std::make_shared<Arguments>();
+  exec->add_option("--scenario", arguments->scenario, "the scenario ROBOT belongs to")
+      ->type_name("NAME");
+  exec->add_option("ROBOT", arguments->robot,
+                   "a robot name, unique among the scenarios that are up, or <scenario>-<robot>")
+      ->required();
+  exec->add_option("CMD", arguments->command, "the program and its arguments")->required();
+  // After ROBOT every argument is CMD's, even one that looks like an option of ours.
+  exec->positionals_at_end();
+  return {exec,
+          [arguments] { return Exec(arguments->scenario, arguments->robot, arguments->command); },
+          kExitExecFailed};
 }
 
 }  // namespace sitlnet::cli

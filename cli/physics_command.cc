@@ -5,10 +5,13 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/options.h"
 #include "nns/nns.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "scenario/scenario.h"
@@ -16,9 +19,7 @@
 namespace sitlnet::cli {
 namespace {
 
-constexpr const char* kPhysicsHelp =
-    "usage: sitlnet physics SCENARIO [--duration-s S] [--threads N] [--euler]\n"
-    "\n"
+constexpr const char* kPhysicsFooter =
     "Runs the MuJoCo physics of SCENARIO (a scenario file, or the name of a scenario\n"
     "that is up) in real time (the scenario's realtime_factor), one physics step at a\n"
     "time, until SIGINT/SIGTERM or S seconds of virtual time. Each robot's server\n"
@@ -27,14 +28,10 @@ constexpr const char* kPhysicsHelp =
     "ardupilot_json_port, speaks ArduPilot's JSON SITL protocol there. When the\n"
     "scenario is up, the sockets are in its ctl namespace (<scenario>.ctl; needs\n"
     "CAP_SYS_ADMIN); before `up`, in this process's namespace, where robots do not\n"
-    "reach them.\n"
+    "reach them. `sitlnet down` of the scenario stops it too.\n"
+    "Prints per-robot counters at exit.\n"
     "\n"
-    "  --duration-s S  stop after S seconds of virtual time, at most a year (default: never)\n"
-    "  --threads N     threads stepping robots (default 2)\n"
-    "  --euler         semi-implicit Euler, whatever the scenario says (docs/physics.md)\n"
-    "\n"
-    "Prints per-robot counters at exit. exit codes: 0 ok, 1 failed, 2 usage or bad\n"
-    "scenario file.\n";
+    "exit codes: 0 ok, 1 failed, 2 usage or bad scenario file.";
 
 std::atomic<bool> g_stop{false};
 
@@ -51,41 +48,7 @@ void PrintCounters(const Scenario& scenario, const physics::PhysicsServer& serve
   }
 }
 
-}  // namespace
-
-int RunPhysicsCommand(int argc, char** argv) {
-  if (WantsHelp(argc, argv)) {
-    std::fputs(kPhysicsHelp, stdout);
-    return kExitOk;
-  }
-  std::string scenario_arg;
-  double duration_s = 0;
-  physics::ServerOptions options;
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string arg = argv[i];
-      if (arg == "--duration-s" && i + 1 < argc) {
-        duration_s = std::stod(argv[++i]);
-      } else if (arg == "--threads" && i + 1 < argc) {
-        options.world.threads = std::stoi(argv[++i]);
-      } else if (arg == "--euler") {
-        options.world.integrator = physics::Integrator::kEuler;
-      } else if (scenario_arg.empty() && !arg.starts_with("-")) {
-        scenario_arg = arg;
-      } else {
-        throw std::invalid_argument(arg);
-      }
-    }
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "sitlnet physics: bad argument \"%s\"\n%s", e.what(), kPhysicsHelp);
-    return kExitUsage;
-  }
-  // At most a year, as a scenario's duration: the nanoseconds stay far from int64's end.
-  if (scenario_arg.empty() || options.world.threads < 1 ||
-      !(duration_s >= 0 && duration_s <= kMaxDurationMs / 1000)) {
-    std::fputs(kPhysicsHelp, stderr);
-    return kExitUsage;
-  }
+int Physics(const std::string& scenario_arg, double duration_s, physics::ServerOptions options) {
   Scenario scenario;
   const int load_status = ReportErrors("physics", kExitUsage, [&] {
     scenario = LoadByFileOrName(scenario_arg);
@@ -117,6 +80,38 @@ int RunPhysicsCommand(int argc, char** argv) {
     PrintCounters(scenario, server);
     return kExitOk;
   });
+}
+
+}  // namespace
+
+Command AddPhysicsCommand(CLI::App& sitlnet) {
+  CLI::App* command =
+      sitlnet.add_subcommand("physics", "run a scenario's MuJoCo physics in real time");
+  command->footer(kPhysicsFooter);
+  struct Arguments {
+    std::string scenario;
+    double duration_s = 0;  // 0: until a signal.
+    physics::ServerOptions options;
+  };
+  auto arguments = std::make_shared<Arguments>();
+  AddScenarioFileOrName(*command, &arguments->scenario);
+  // At most a year, as a scenario's duration: the nanoseconds stay far from int64's end.
+  command
+      ->add_option("--duration-s", arguments->duration_s,
+                   "stop after S seconds of virtual time, at most a year (default: never)")
+      ->type_name("S")
+      ->check(SecondsIn(0, true, static_cast<double>(kMaxDurationMs / 1000)));
+  command->add_option("--threads", arguments->options.world.threads, "threads stepping robots")
+      ->type_name("N")
+      ->check(CLI::Range(1, std::numeric_limits<int>::max()).description("at least 1"))
+      ->capture_default_str();
+  command->add_flag_function(
+      "--euler",
+      [arguments](int64_t) { arguments->options.world.integrator = physics::Integrator::kEuler; },
+      "semi-implicit Euler, whatever the scenario says (docs/physics.md)");
+  return {command, [arguments] {
+            return Physics(arguments->scenario, arguments->duration_s, arguments->options);
+          }};
 }
 
 }  // namespace sitlnet::cli

@@ -1,6 +1,7 @@
 // `sitlnet status [SCENARIO]`: robots, their devices and processes, as the
 // kernel sees them now.
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -10,15 +11,14 @@
 namespace sitlnet::cli {
 namespace {
 
-constexpr const char* kStatusHelp =
-    "usage: sitlnet status [SCENARIO_NAME]\n"
-    "\n"
+constexpr const char* kStatusFooter =
     "For every scenario that is up (or the one named): each robot, whether its\n"
     "namespace and root-side veth exist, the devices inside with state, MAC,\n"
-    "IPv4 addresses and txqueuelen, and the processes running inside.\n"
+    "IPv4 addresses and txqueuelen, and the processes running inside\n"
+    "(pid:command). Everything is read from the kernel at that moment.\n"
     "\n"
     "exit codes: 0 ok (also when nothing is up), 1 the named scenario is not up\n"
-    "or a read failed, 2 usage, 3 missing privileges.\n";
+    "or a read failed, 2 usage, 3 missing privileges.";
 
 void PrintScenario(const nns::ScenarioState& state) {
   std::printf("scenario %s (%zu robots, physics port %d, from %s)\n", state.name.c_str(),
@@ -43,23 +43,13 @@ void PrintScenario(const nns::ScenarioState& state) {
   }
 }
 
-}  // namespace
-
-int RunStatusCommand(int argc, char** argv) {
-  if (WantsHelp(argc, argv)) {
-    std::fputs(kStatusHelp, stdout);
-    return kExitOk;
-  }
-  if (argc > 2) {
-    std::fputs(kStatusHelp, stderr);
-    return kExitUsage;
-  }
+int Status(const std::string& only) {
   return ReportErrors("status", kExitFailure, [&] {
     nns::RequirePrivileges();
     std::vector<std::string> names = nns::ListScenarios();
-    if (argc == 2) {
-      const std::optional<nns::ScenarioState> state = nns::ReadScenarioState(argv[1]);
-      if (!state) throw Error(std::string("scenario \"") + argv[1] + "\" is not up");
+    if (!only.empty()) {
+      const std::optional<nns::ScenarioState> state = nns::ReadScenarioState(only);
+      if (!state) throw Error("scenario \"" + only + "\" is not up");
       PrintScenario(*state);
       return kExitOk;
     }
@@ -69,6 +59,16 @@ int RunStatusCommand(int argc, char** argv) {
     }
     return kExitOk;
   });
+}
+
+}  // namespace
+
+Command AddStatusCommand(CLI::App& sitlnet) {
+  CLI::App* status = sitlnet.add_subcommand("status", "show robots, devices and processes");
+  status->footer(kStatusFooter);
+  auto name = std::make_shared<std::string>();
+  status->add_option("SCENARIO_NAME", *name, "only this scenario (default: every one that is up)");
+  return {status, [name] { return Status(*name); }};
 }
 
 }  // namespace sitlnet::cli

@@ -3,7 +3,7 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -14,31 +14,36 @@
 namespace sitlnet::cli {
 namespace {
 
-constexpr const char* kUpHelp =
-    "usage: sitlnet up SCENARIO.textproto\n"
-    "\n"
+constexpr const char* kUpDescription =
     "Creates, for every robot of the scenario, the namespace <scenario>-<robot>\n"
     "(usable with `ip netns exec`) holding lo, wlan0 (a persistent TAP for the\n"
-    "simulated medium) and ctl0 (a veth to the root namespace, /30 addresses,\n"
-    "for the physics channel). Leftovers of the same scenario are removed first;\n"
-    "namespaces or devices with our names that this scenario did not create, and\n"
-    "subnets that overlap a host route, are refused before anything is touched.\n"
+    "simulated medium) and ctl0 (a veth to the scenario's ctl namespace\n"
+    "<scenario>.ctl, root end <scenario>-c<index>, /30 addresses, for the physics\n"
+    "channel); no default route. A scenario that is running (a live sitlnet run,\n"
+    "medium or physics of it) is refused, naming each; leftovers of the same\n"
+    "scenario (a previous up, a crash) are removed first. Namespaces or devices\n"
+    "with our names that this scenario did not create, and subnets that overlap a\n"
+    "host route, are refused before anything is touched (two scenarios up at once\n"
+    "need different ctl_subnets).\n"
     "A failure half-way removes everything created. Details: docs/nns.md.\n"
-    "\n"
-    "exit codes: 0 up, 1 failed or refused (nothing left behind), 2 usage or bad\n"
-    "scenario file, 3 missing privileges.\n";
+    "Prints one line: up <scenario>: N robots (<first> .. <last>) in T ms; state in\n"
+    "/run/sitlnet/<scenario>.\n";
 
-constexpr const char* kDownHelp =
-    "usage: sitlnet down SCENARIO_NAME | SCENARIO.textproto | --all\n"
-    "\n"
+constexpr const char* kUpExitCodes =
+    "exit codes: 0 up, 1 failed or refused (nothing left behind), 2 usage or bad\n"
+    "scenario file, 3 missing privileges.";
+
+constexpr const char* kDownDescription =
     "Stops every process in the scenario's namespaces (SIGTERM, then SIGKILL\n"
     "after 2 s), deletes the root-side veths, unmounts and removes the\n"
     "namespaces and the state in /run/sitlnet/<scenario>. Idempotent; works\n"
     "after a crash or kill -9 of everything. --all does it for every scenario\n"
     "that has a state. Only objects listed in the scenario's state are touched.\n"
-    "\n"
+    "The containers of its OCI robot images are removed too (docs/containers.md).\n";
+
+constexpr const char* kDownExitCodes =
     "exit codes: 0 done (also when nothing was up), 1 failed, 2 usage,\n"
-    "3 missing privileges.\n";
+    "3 missing privileges.";
 
 // Test hook (docs/nns.md): hold forever after N robots, so that a test can
 // kill -9 `up` at a known point. Never set outside tests.
@@ -58,18 +63,7 @@ void PrintReport(const std::string& name, const nns::DownReport& report) {
   std::printf("\n");
 }
 
-}  // namespace
-
-int RunUpCommand(int argc, char** argv) {
-  if (WantsHelp(argc, argv)) {
-    std::fputs(kUpHelp, stdout);
-    return kExitOk;
-  }
-  if (argc != 2) {
-    std::fputs(kUpHelp, stderr);
-    return kExitUsage;
-  }
-  const std::string path = argv[1];
+int Up(const std::string& path) {
   const int privileges = ReportErrors("up", kExitFailure, [] {
     nns::RequirePrivileges();
     return kExitOk;
@@ -102,19 +96,10 @@ int RunUpCommand(int argc, char** argv) {
   });
 }
 
-int RunDownCommand(int argc, char** argv) {
-  if (WantsHelp(argc, argv)) {
-    std::fputs(kDownHelp, stdout);
-    return kExitOk;
-  }
-  if (argc != 2) {
-    std::fputs(kDownHelp, stderr);
-    return kExitUsage;
-  }
-  const std::string target = argv[1];
+int Down(const std::string& target, bool all) {
   return ReportErrors("down", kExitFailure, [&] {
     nns::RequirePrivileges();
-    if (target == "--all") {
+    if (all) {
       for (const std::string& name : nns::ListScenarios()) PrintReport(name, nns::Down(name));
       return kExitOk;
     }
@@ -126,6 +111,30 @@ int RunDownCommand(int argc, char** argv) {
     PrintReport(name, nns::Down(name));
     return kExitOk;
   });
+}
+
+}  // namespace
+
+Command AddUpCommand(CLI::App& sitlnet) {
+  CLI::App* up =
+      sitlnet.add_subcommand("up", "create the robots of a scenario (namespaces, devices)");
+  up->footer(std::string(kUpDescription) + "\n" + kUpExitCodes);
+  auto path = std::make_shared<std::string>();
+  up->add_option("SCENARIO", *path, "the scenario file")->required();
+  return {up, [path] { return Up(*path); }};
+}
+
+Command AddDownCommand(CLI::App& sitlnet) {
+  CLI::App* down = sitlnet.add_subcommand("down", "remove everything a scenario created");
+  down->footer(std::string(kDownDescription) + "\n" + kDownExitCodes);
+  auto target = std::make_shared<std::string>();
+  auto all = std::make_shared<bool>(false);
+  CLI::Option* scenario = down->add_option(
+      "SCENARIO", *target, "the name of a scenario, or its file (down what `up` of it created)");
+  CLI::Option* every = down->add_flag("--all", *all, "every scenario that has a state");
+  scenario->excludes(every);
+  down->require_option(1);  // SCENARIO or --all.
+  return {down, [target, all] { return Down(*target, *all); }};
 }
 
 }  // namespace sitlnet::cli
