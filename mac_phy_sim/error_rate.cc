@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mac_phy_sim/table_error_rate.h"
+
 namespace sitlnet::mac {
 namespace {
 
@@ -114,14 +116,29 @@ double ChunkSuccessRate(const PhyMode& mode, double sinr, double bits) {
   return std::pow(1.0 - pe, bits);
 }
 
-double PerfectSinr(const PhyMode& mode) {
-  // Bisection in dB between 0 and 80 dB for the smallest SINR where a
-  // maximal frame is certain; success is monotone in SINR.
-  const double bits = 8.0 * 2400;
+double ChunkSuccessRate(MediumConfig::ErrorModel model, const PhyMode& mode, double sinr,
+                        double bits) {
+  if (model == MediumConfig::ErrorModel::kTableBased && mode.ofdm) {
+    return TableBasedChunkSuccessRate(mode, sinr, bits);
+  }
+  return ChunkSuccessRate(mode, sinr, bits);
+}
+
+double PerfectSinr(MediumConfig::ErrorModel model, const PhyMode& mode) {
+  // Bisection in dB between -10 and 80 dB for the smallest SINR where the
+  // chunks that fail most easily are certain: 2400 bytes, and for the table
+  // model also 399 bytes, the largest chunk its 32-byte table applies to.
+  // Success is monotone in SINR and, per table, in size (for NIST the
+  // 2400-byte condition implies every smaller one).
+  const bool tables = model == MediumConfig::ErrorModel::kTableBased && mode.ofdm;
+  auto certain = [&](double sinr) {
+    return ChunkSuccessRate(model, mode, sinr, 8.0 * 2400) >= 1.0 &&
+           (!tables || ChunkSuccessRate(model, mode, sinr, 8.0 * 399) >= 1.0);
+  };
   double lo_db = -10, hi_db = 80;
   for (int i = 0; i < 60; ++i) {
     const double mid = (lo_db + hi_db) / 2;
-    if (ChunkSuccessRate(mode, std::pow(10.0, mid / 10), bits) >= 1.0) {
+    if (certain(std::pow(10.0, mid / 10))) {
       hi_db = mid;
     } else {
       lo_db = mid;

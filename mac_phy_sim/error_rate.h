@@ -16,12 +16,18 @@
 
 namespace sitlnet::mac {
 
-// Success probability of `bits` bits in `mode` at linear SINR `sinr`.
+// Success probability of `bits` bits in `mode` at linear SINR `sinr`, NIST model.
 double ChunkSuccessRate(const PhyMode& mode, double sinr, double bits);
 
-// Smallest linear SINR above which ChunkSuccessRate(mode, sinr, 8 * 2400)
-// rounds to exactly 1 (computed once; lets the hot path skip the model).
-double PerfectSinr(const PhyMode& mode);
+// The same with the chosen error model: kNist as above; kTableBased the
+// tables of table_error_rate.h for OFDM modes, the DSSS formulas otherwise.
+double ChunkSuccessRate(MediumConfig::ErrorModel model, const PhyMode& mode, double sinr,
+                        double bits);
+
+// Smallest linear SINR above which every chunk of `mode` up to 2400 bytes
+// succeeds with probability exactly 1 under `model` (computed once; lets the
+// hot path skip the model).
+double PerfectSinr(MediumConfig::ErrorModel model, const PhyMode& mode);
 
 }  // namespace sitlnet::mac
 

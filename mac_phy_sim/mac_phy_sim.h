@@ -87,6 +87,12 @@ struct MediumConfig {
   enum class RateControl : uint8_t { kConstant, kIdeal };
   RateControl rate_control = RateControl::kConstant;
   double ideal_ber = 1e-6;  // ns-3 IdealWifiManager's BerThreshold.
+  // Error model of OFDM frames. kNist: ns-3's NistErrorRateModel (formulas;
+  // what runs used before this field existed). kTableBased: ns-3 3.37's
+  // TableBasedErrorRateModel, the default of its Wi-Fi PHY (PER tables from
+  // link-level simulations). DSSS frames use ns-3's DSSS formulas with both.
+  enum class ErrorModel : uint8_t { kNist, kTableBased };
+  ErrorModel error_model = ErrorModel::kNist;
   uint64_t seed = 1;        // Every random draw derives from this (per-station streams).
 };
 

@@ -14,18 +14,19 @@ namespace {
 ModeEntry MakeMode(const MediumConfig& config, double rate_mbps) {
   const PhyMode mode = ModeFor(config.standard, rate_mbps);
   const PhyHeader header = HeaderFor(config.standard, mode, config.short_preamble);
-  return ModeEntry{mode, PerfectSinr(mode), header, PerfectSinr(header.header_mode)};
+  return ModeEntry{mode, PerfectSinr(config.error_model, mode), header,
+                   PerfectSinr(config.error_model, header.header_mode)};
 }
 
 // ns-3 ErrorRateModel::CalculateSnr: the SNR (linear) at which one bit fails
 // with probability `ber`, by bisection over [1e-25, 1e25] down to 2e-12 (at
 // most 200 halvings: far above the threshold the spacing of doubles is wider
 // than 2e-12, so ns-3's loop would not end there).
-double SnrForBer(const PhyMode& mode, double ber) {
+double SnrForBer(MediumConfig::ErrorModel model, const PhyMode& mode, double ber) {
   double low = 1e-25, high = 1e25;
   for (int i = 0; i < 200 && high - low > 2e-12; ++i) {
     const double middle = low + (high - low) / 2;
-    if (1 - ChunkSuccessRate(mode, middle, 1) > ber) {
+    if (1 - ChunkSuccessRate(model, mode, middle, 1) > ber) {
       low = middle;
     } else {
       high = middle;
@@ -57,7 +58,8 @@ void BuildRates(State& s) {
     entry.ack_ns = PpduDurationNs(entry.control.mode, entry.control.header, kAckBytes);
     entry.cts_ns = PpduDurationNs(entry.control.mode, entry.control.header, kCtsBytes);
     if (s.config.rate_control == MediumConfig::RateControl::kIdeal) {
-      entry.ideal_snr_threshold = SnrForBer(entry.data.mode, s.config.ideal_ber);
+      entry.ideal_snr_threshold =
+          SnrForBer(s.config.error_model, entry.data.mode, s.config.ideal_ber);
     }
     entry.basic = ControlRateFor(s.config.standard, rate) == rate;
     s.rates.push_back(entry);

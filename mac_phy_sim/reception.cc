@@ -30,12 +30,12 @@ double ChunkSuccess(const State& s, const Transmission& tx, TimeNs a, TimeNs b, 
   if (header_overlap > 0 && sinr < tx.mode->header_perfect_sinr) {
     const double bits =
         header.header_bits * static_cast<double>(header_overlap) / header.preamble_and_header_ns;
-    success *= ChunkSuccessRate(header.header_mode, sinr, bits);
+    success *= ChunkSuccessRate(s.config.error_model, header.header_mode, sinr, bits);
   }
   const TimeNs payload_overlap = std::min(b, payload_end) - std::max(a, header_end);
   if (payload_overlap > 0 && sinr < tx.mode->perfect_sinr) {
     const double bits = tx.mode->mode.rate_mbps * static_cast<double>(payload_overlap) / 1000.0;
-    success *= ChunkSuccessRate(tx.mode->mode, sinr, bits);
+    success *= ChunkSuccessRate(s.config.error_model, tx.mode->mode, sinr, bits);
   }
   return success;
 }

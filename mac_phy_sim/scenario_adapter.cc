@@ -49,6 +49,9 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
   if (radio.rate_control() == proto::Radio::RATE_CONTROL_IDEAL) {
     config.rate_control = MediumConfig::RateControl::kIdeal;
   }
+  if (radio.error_model() == proto::Radio::ERROR_MODEL_TABLE_BASED) {
+    config.error_model = MediumConfig::ErrorModel::kTableBased;
+  }
   config.seed = scenario.spec.timing().seed();
   return config;
 }

@@ -111,7 +111,8 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
   }
   YansWifiPhyHelper phy;
   phy.SetChannel(channel);
-  phy.SetErrorRateModel("ns3::NistErrorRateModel");
+  phy.SetErrorRateModel(c.table_error_model ? "ns3::TableBasedErrorRateModel"
+                                            : "ns3::NistErrorRateModel");
   if (c.capture) phy.SetFrameCaptureModel("ns3::SimpleFrameCaptureModel");
   WifiMacHelper mac;
   mac.SetType("ns3::AdhocWifiMac");

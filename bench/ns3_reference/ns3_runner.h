@@ -27,7 +27,7 @@ struct Ns3Radio {
 
 // Runs cell `c` in ns-3 3.37 with RngRun `run`: ad hoc (non-QoS) 802.11a/b/g,
 // ConstantRateWifiManager, Yans channel (log-distance exponent 3, constant-
-// speed delay), NIST error model, packet sockets offering `payload_bytes`
+// speed delay), NIST or table-based error model, packet sockets offering `payload_bytes`
 // packets faster than the medium carries them. Returns the payload
 // throughput over the measured window and the wall time of Simulator::Run().
 Ns3Outcome RunNs3Case(const sitlnet::side_by_side::Case& c, const Ns3Radio& radio, uint32_t run);

@@ -13,6 +13,9 @@
 //        ns3_side_by_side speed           (n = 5, 20, 50 saturation, both, timed)
 //        ns3_side_by_side tcp-replica [seeds]  (ns3_runner.h: one TCP flow's frame
 //                                          pattern at turnarounds of 0-250 us)
+//        ns3_side_by_side error-rates     (mac_phy_sim's OFDM error models against
+//                                          ns-3's own, every 11a rate, SNR and size grid)
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,9 +25,11 @@
 #include <string>
 #include <vector>
 
+#include "mac_phy_sim/error_rate.h"
 #include "mac_phy_sim/phy_mode.h"
 #include "mac_phy_sim/test/saturation_harness.h"
 #include "mac_phy_sim/test/side_by_side_csv.h"
+#include "ns3_error_rate.h"
 #include "ns3_runner.h"
 #include "tcp_replica.h"
 
@@ -193,6 +198,33 @@ std::vector<Case> Cells() {
   Case shadowed = geo(Standard::kA, 6, Topology::kHidden, 40, 40, 0, false);
   shadowed.lognormal_sigma_db = 6;
   add(shadowed, geo_name(shadowed) + "-lognormal");
+  // ns-3's default error model (TableBasedErrorRateModel) on both sides:
+  // where frames overlap or the SNR is marginal, the error model decides.
+  auto table = [&](Case c, const std::string& id, bool fast = false) {
+    c.table_error_model = true;
+    add(c, id + "-table", fast);
+  };
+  for (uint32_t rts : {0u, 500u}) {
+    for (double d : {30.0, 40.0, 50.0}) {
+      const Case c = geo(Standard::kA, 6, Topology::kHidden, d, d, rts, false);
+      table(c, geo_name(c), d == 40 && rts == 0);
+    }
+  }
+  const Case asymmetric = geo(Standard::kA, 6, Topology::kHidden, 20, 40, 0, true);
+  table(asymmetric, geo_name(asymmetric));
+  Case edge = geo(Standard::kA, 6, Topology::kLink, 70, 0, 0, false);
+  edge.senders = 1;
+  edge.nakagami_m = 1;
+  table(edge, "a-6M-link-70-rayleigh");
+  // 54 Mb/s across its cliff: SNR 21.4 dB at 25 m (PER of a 1536-byte frame
+  // near 0) down to 17.8 dB at 33 m (near 1), table MCS 6.
+  for (double distance_m : {25.0, 27.0, 29.0, 31.0, 33.0}) {
+    Case c = geo(Standard::kA, 54, Topology::kLink, distance_m, 0, 0, false);
+    c.senders = 1;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "a-54M-link-%g", distance_m);
+    table(c, buf);
+  }
   return cells;
 }
 
@@ -368,6 +400,9 @@ int PrintTable(const std::string& in_path) {
     std::string channel = c.ideal_rate ? "Ideal rate control" : "-";
     if (c.nakagami_m > 0) channel = "Nakagami m " + FormatG(c.nakagami_m);
     if (c.lognormal_sigma_db > 0) channel = "log-normal " + FormatG(c.lognormal_sigma_db) + " dB";
+    if (c.table_error_model) {
+      channel = channel == "-" ? "table-based errors" : channel + ", table-based errors";
+    }
     const bool pass = sitlnet::side_by_side::Passes(r);
     passed += pass;
     std::printf(
@@ -414,6 +449,59 @@ int PrintTcpReplica(int seeds) {
   return 0;
 }
 
+// Both OFDM error models against ns-3's (TableBasedErrorRateModel,
+// NistErrorRateModel) called directly: every 802.11a rate, SNRs from -4 to
+// 30 dB in 0.01 dB steps (the table model rounds to 0.01 dB, so offsets of
+// 0.003 dB are swept too), chunk sizes across both tables, the size
+// threshold and the one-byte floor. Prints the largest absolute difference
+// of the success rate per rate and model; exit status 1 above 1e-9.
+int PrintErrorRates() {
+  using sitlnet::mac::MediumConfig;
+  const uint64_t kBits[] = {1,    7,    8,    24,   100,   255,   256,   3192,
+                            3199, 3200, 3207, 8000, 11664, 12312, 16000, 19200};
+  std::printf(
+      "| rate Mb/s | points | table-based: largest difference | NIST: largest difference |\n"
+      "| --- | --- | --- | --- |\n");
+  double worst = 0;
+  for (double rate : {6.0, 9.0, 12.0, 18.0, 24.0, 36.0, 48.0, 54.0}) {
+    const sitlnet::mac::PhyMode mode = sitlnet::mac::ModeFor(sitlnet::mac::Standard::k80211a, rate);
+    double table_diff = 0, nist_diff = 0;
+    int points = 0;
+    for (int centi_db = -400; centi_db <= 3000; ++centi_db) {
+      for (double offset_db : {0.0, 0.003}) {
+        const double snr = std::pow(10.0, (centi_db / 100.0 + offset_db) / 10);
+        for (uint64_t bits : kBits) {
+          ++points;
+          const double ours_table = sitlnet::mac::ChunkSuccessRate(
+              MediumConfig::ErrorModel::kTableBased, mode, snr, static_cast<double>(bits));
+          const double ours_nist = sitlnet::mac::ChunkSuccessRate(
+              MediumConfig::ErrorModel::kNist, mode, snr, static_cast<double>(bits));
+          table_diff = std::max(
+              table_diff, std::abs(ours_table - Ns3OfdmChunkSuccessRate(true, rate, snr, bits)));
+          nist_diff = std::max(
+              nist_diff, std::abs(ours_nist - Ns3OfdmChunkSuccessRate(false, rate, snr, bits)));
+        }
+      }
+    }
+    worst = std::max({worst, table_diff, nist_diff});
+    std::printf("| %g | %d | %.3g | %.3g |\n", rate, points, table_diff, nist_diff);
+  }
+  std::printf("\nns-3 spot values (success rate), table-based model:\n");
+  const struct {
+    double rate, snr_db;
+    uint64_t bits;
+  } kSpots[] = {{9, 2.0, 12312},  {9, 3.0, 12312}, {9, 4.0, 12312},   {9, 5.0, 12312},
+                {9, 6.0, 12312},  {9, 7.0, 12312}, {54, 19.0, 12312}, {54, 20.0, 12312},
+                {6, 1.23, 12312}, {6, 0.7, 24}};
+  for (const auto& spot : kSpots) {
+    std::printf(
+        "  %g Mb/s, %g dB, %llu bits: %.9g\n", spot.rate, spot.snr_db,
+        static_cast<unsigned long long>(spot.bits),
+        Ns3OfdmChunkSuccessRate(true, spot.rate, std::pow(10.0, spot.snr_db / 10), spot.bits));
+  }
+  return worst > 1e-9 ? 1 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -424,6 +512,7 @@ int main(int argc, char** argv) {
   if (mode == "table" && argc > 2) return PrintTable(argv[2]);
   if (mode == "refresh" && argc > 2) return Refresh(argv[2]);
   if (mode == "speed") return PrintSpeed();
+  if (mode == "error-rates") return PrintErrorRates();
   if (mode == "tcp-replica") {
     const int seeds = argc > 2 ? std::atoi(argv[2]) : 3;
     if (seeds >= 1) return PrintTcpReplica(seeds);
@@ -433,6 +522,7 @@ int main(int argc, char** argv) {
                "       ns3_side_by_side table <in.csv>\n"
                "       ns3_side_by_side refresh <csv>\n"
                "       ns3_side_by_side speed\n"
-               "       ns3_side_by_side tcp-replica [seeds]\n");
+               "       ns3_side_by_side tcp-replica [seeds]\n"
+               "       ns3_side_by_side error-rates\n");
   return 2;
 }

@@ -61,7 +61,7 @@ TEST(ErrorRateTest, DsssMatchesNs3SpotValues) {
 TEST(ErrorRateTest, PerfectSinrIsExact) {
   for (double rate : {6.0, 54.0}) {
     const PhyMode mode = ModeFor(Standard::k80211a, rate);
-    const double perfect = PerfectSinr(mode);
+    const double perfect = PerfectSinr(MediumConfig::ErrorModel::kNist, mode);
     EXPECT_EQ(ChunkSuccessRate(mode, perfect, 8 * 2400), 1.0);
     EXPECT_LT(ChunkSuccessRate(mode, perfect / 1.01, 8 * 2400), 1.0);
   }

@@ -163,6 +163,7 @@ MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
   }
   config.lognormal_shadowing_sigma_db = c.lognormal_sigma_db;
   if (c.ideal_rate) config.rate_control = MediumConfig::RateControl::kIdeal;
+  if (c.table_error_model) config.error_model = MediumConfig::ErrorModel::kTableBased;
   if (c.capture) config.capture_margin_db = 5;  // ns-3 SimpleFrameCaptureModel's default margin.
   if (c.unlimited_retries) {
     config.short_retry_limit = 1000000;

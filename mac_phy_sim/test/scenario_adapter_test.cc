@@ -31,6 +31,7 @@ TEST(ScenarioAdapterTest, BuildsStationsObstaclesAndRadio) {
   EXPECT_EQ(config.queue_max_delay_ns, 500 * kNsPerMs);
   EXPECT_FALSE(config.group_rate_mbps.has_value());
   EXPECT_FALSE(config.capture_margin_db.has_value());
+  EXPECT_EQ(config.error_model, MediumConfig::ErrorModel::kNist);  // The default.
   Medium medium = MakeMediumFromScenario(scenario);
   ASSERT_EQ(medium.station_count(), 2);
   // Friis at 2.4 GHz + 30 log10(30) + one 2 m box: 2 walls + 0.8 dB.
@@ -47,6 +48,7 @@ TEST(ScenarioAdapterTest, MapsTheNs3FidelityOptions) {
       short_preamble: true capture_margin_db: 5 queue_limit_frames: 50 queue_max_delay_ms: 0
       propagation_delay: true nakagami_fading: true nakagami_m0: 1 nakagami_d2_m: 150
       lognormal_shadowing_sigma_db: 4 rate_control: RATE_CONTROL_IDEAL
+      error_model: ERROR_MODEL_TABLE_BASED
     }
   )",
                                              "opts.textproto");
@@ -65,6 +67,7 @@ TEST(ScenarioAdapterTest, MapsTheNs3FidelityOptions) {
   EXPECT_EQ(config.nakagami_d2_m, 150);
   EXPECT_EQ(config.lognormal_shadowing_sigma_db, 4);
   EXPECT_EQ(config.rate_control, MediumConfig::RateControl::kIdeal);
+  EXPECT_EQ(config.error_model, MediumConfig::ErrorModel::kTableBased);
 }
 
 TEST(ScenarioAdapterTest, RobotsHaveTheirOwnTxPowerAndRate) {

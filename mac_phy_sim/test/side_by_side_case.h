@@ -33,6 +33,9 @@ struct Case {
   double nakagami_m = 0;             // Nakagami fading with this m at every distance; 0: off.
   double lognormal_sigma_db = 0;     // Log-normal shadowing per link; 0: off.
   bool ideal_rate = false;           // Rate control: ns-3's IdealWifiManager (rate_mbps unused).
+  // Error model: ns-3's TableBasedErrorRateModel (the default of its PHY) on
+  // both sides instead of NistErrorRateModel.
+  bool table_error_model = false;
   double near_m = 0, far_m = 0;      // Hidden/exposed geometry.
   double warmup_s = 1, measure_s = 10;
   // Bianchi's assumption for saturation (CW stays at CWmax); otherwise the

@@ -10,7 +10,8 @@ namespace {
 
 constexpr const char* kColumns =
     "id,standard,short_slot,rate_mbps,senders,topology,payload_bytes,rts_threshold_bytes,capture,"
-    "near_m,far_m,nakagami_m,lognormal_sigma_db,ideal_rate,warmup_s,measure_s,unlimited_retries,"
+    "near_m,far_m,nakagami_m,lognormal_sigma_db,ideal_rate,table_error_model,warmup_s,measure_s,"
+    "unlimited_retries,"
     "fast,seeds,"
     "ns3_mean_mbps,ns3_sd_mbps,"
     "ours_mean_mbps,ours_sd_mbps,ns3_wall_s,ours_wall_s";
@@ -42,7 +43,7 @@ bool ParseLine(const std::string& line, Row* row) {
   std::vector<std::string> f;
   std::stringstream in(line);
   for (std::string cell; std::getline(in, cell, ',');) f.push_back(cell);
-  if (f.size() != 25) return false;
+  if (f.size() != 26) return false;
   try {
     Case& c = row->c;
     c.id = f[0];
@@ -58,17 +59,18 @@ bool ParseLine(const std::string& line, Row* row) {
     c.nakagami_m = std::stod(f[11]);
     c.lognormal_sigma_db = std::stod(f[12]);
     c.ideal_rate = f[13] == "1";
-    c.warmup_s = std::stod(f[14]);
-    c.measure_s = std::stod(f[15]);
-    c.unlimited_retries = f[16] == "1";
-    c.fast = f[17] == "1";
-    row->seeds = std::stoi(f[18]);
-    row->ns3_mean_mbps = std::stod(f[19]);
-    row->ns3_sd_mbps = std::stod(f[20]);
-    row->ours_mean_mbps = std::stod(f[21]);
-    row->ours_sd_mbps = std::stod(f[22]);
-    row->ns3_wall_s = std::stod(f[23]);
-    row->ours_wall_s = std::stod(f[24]);
+    c.table_error_model = f[14] == "1";
+    c.warmup_s = std::stod(f[15]);
+    c.measure_s = std::stod(f[16]);
+    c.unlimited_retries = f[17] == "1";
+    c.fast = f[18] == "1";
+    row->seeds = std::stoi(f[19]);
+    row->ns3_mean_mbps = std::stod(f[20]);
+    row->ns3_sd_mbps = std::stod(f[21]);
+    row->ours_mean_mbps = std::stod(f[22]);
+    row->ours_sd_mbps = std::stod(f[23]);
+    row->ns3_wall_s = std::stod(f[24]);
+    row->ours_wall_s = std::stod(f[25]);
   } catch (const std::exception&) {
     return false;
   }
@@ -84,12 +86,13 @@ std::string FormatRow(const Row& r) {
   char buf[512];
   std::snprintf(
       buf, sizeof buf,
-      "%s,%s,%d,%g,%d,%s,%d,%u,%d,%g,%g,%g,%g,%d,%g,%g,%d,%d,%d,%.6f,%.6f,%.6f,%.6f,%.3f,%.3f",
+      "%s,%s,%d,%g,%d,%s,%d,%u,%d,%g,%g,%g,%g,%d,%d,%g,%g,%d,%d,%d,%.6f,%.6f,%.6f,%.6f,%.3f,%.3f",
       c.id.c_str(), StandardName(c.standard), c.short_slot ? 1 : 0, c.rate_mbps, c.senders,
       TopologyName(c.topology), c.payload_bytes, c.rts_threshold_bytes, c.capture ? 1 : 0, c.near_m,
-      c.far_m, c.nakagami_m, c.lognormal_sigma_db, c.ideal_rate ? 1 : 0, c.warmup_s, c.measure_s,
-      c.unlimited_retries ? 1 : 0, c.fast ? 1 : 0, r.seeds, r.ns3_mean_mbps, r.ns3_sd_mbps,
-      r.ours_mean_mbps, r.ours_sd_mbps, r.ns3_wall_s, r.ours_wall_s);
+      c.far_m, c.nakagami_m, c.lognormal_sigma_db, c.ideal_rate ? 1 : 0,
+      c.table_error_model ? 1 : 0, c.warmup_s, c.measure_s, c.unlimited_retries ? 1 : 0,
+      c.fast ? 1 : 0, r.seeds, r.ns3_mean_mbps, r.ns3_sd_mbps, r.ours_mean_mbps, r.ours_sd_mbps,
+      r.ns3_wall_s, r.ours_wall_s);
   return buf;
 }
 
