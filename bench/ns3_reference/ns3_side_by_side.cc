@@ -217,13 +217,17 @@ std::vector<Case> Cells() {
   edge.nakagami_m = 1;
   table(edge, "a-6M-link-70-rayleigh");
   // 54 Mb/s across its cliff: SNR 21.4 dB at 25 m (PER of a 1536-byte frame
-  // near 0) down to 17.8 dB at 33 m (near 1), table MCS 6.
-  for (double distance_m : {25.0, 27.0, 29.0, 31.0, 33.0}) {
+  // near 0) down to 17.0 dB at 35 m (near 0.9), table MCS 6.
+  for (double distance_m : {25.0, 27.0, 29.0, 31.0, 33.0, 35.0}) {
     Case c = geo(Standard::kA, 54, Topology::kLink, distance_m, 0, 0, false);
     c.senders = 1;
     char buf[64];
     std::snprintf(buf, sizeof buf, "a-54M-link-%g", distance_m);
     table(c, buf);
+    // At 35 m (PER about 0.9) a tenth of the frames get through: measure ten
+    // times longer so that each seed still counts over a thousand (5 seeds of
+    // the usual window: ns-3 -8.5 %, seed spread 9.4 %; 20 seeds: -3.0 %).
+    if (distance_m == 35) cells.back().measure_s *= 10;
   }
   return cells;
 }
