@@ -1,13 +1,18 @@
 // mac_phy_sim benchmark: simulated seconds per wall second.
 //   saturation, n = 1, 5, 10, 20, 50: 802.11a 54 Mb/s, 1500-byte payloads, ring;
 //   broadcast64: 64 moving stations, each broadcasting 200 B at 10 Hz, among
-//   100 or 1000 obstacles (positions updated every 10 ms, as the coordinator does).
+//   100 or 1000 obstacles (positions updated every 10 ms, as the coordinator does);
+//   hidden: the hidden pair A -> B <- C, 40 m apart, 11a 6 Mb/s, 1500 B,
+//   saturated: half the frames overlap, so the error model runs on every chunk.
 // Medians of --runs runs (different seeds). Prints a Markdown table and, with
-// --csv FILE, "scenario,n,sim_s_per_wall_s,sim_s_per_cpu_s,us_per_tx,us_per_tx_per_station".
+// --csv FILE, "scenario,n,sim_s_per_wall_s,sim_s_per_cpu_s,us_per_tx,us_per_tx_per_station,
+// transmissions" (the last: the median run's count, for instruction counts per transmission).
 // --validation prints the whole ns-3 Bianchi table instead (docs/validation.md).
 // --rows LIST runs only the rows named in the comma-separated LIST: sat1, sat5,
-// sat10, sat20, sat50, bcast, bcast-fading, bcast-delay, bcast1000 (e.g.
+// sat10, sat20, sat50, bcast, bcast-fading, bcast-delay, bcast1000, hidden (e.g.
 // --rows bcast,bcast-fading for the fading cost alone).
+// --error-model nist|table: the error model of the broadcast and hidden rows (default
+// nist); bench/mac_phy_sim/error_model_ab.sh alternates the two (ABBA).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -31,7 +36,11 @@ struct Sample {
   double sim_per_wall = 0;  // Simulated seconds per wall second.
   double sim_per_cpu = 0;   // Simulated seconds per CPU second of this process.
   double us_per_tx = 0;     // CPU microseconds per transmission (DATA + ACK + RTS + CTS).
+  uint64_t transmissions = 0;
 };
+
+// The error model of the broadcast rows (--error-model).
+MediumConfig::ErrorModel g_error_model = MediumConfig::ErrorModel::kNist;
 
 double CpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
@@ -55,7 +64,8 @@ Sample Saturation(int n, double seconds, uint64_t seed) {
   const uint64_t transmissions = testing::RunTopUpSaturation(n, seconds, seed);
   const double wall = WallSeconds(start);
   const double cpu = CpuSeconds() - cpu_start;
-  return {seconds / wall, seconds / cpu, cpu * 1e6 / std::max<uint64_t>(1, transmissions)};
+  return {seconds / wall, seconds / cpu, cpu * 1e6 / std::max<uint64_t>(1, transmissions),
+          transmissions};
 }
 
 Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, double max_box_m,
@@ -66,6 +76,7 @@ Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, 
   // fading per frame and receiver; propagation delay per receiver.
   config.nakagami_fading = fading;
   config.propagation_delay = delay;
+  config.error_model = g_error_model;
   Medium medium(config);
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> pos(0, area_m), size(max_box_m / 6, max_box_m), yaw(0, 90),
@@ -105,7 +116,43 @@ Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, 
   }
   const double wall = WallSeconds(start);
   const double cpu = CpuSeconds() - cpu_start;
-  return {seconds / wall, seconds / cpu, cpu * 1e6 / std::max<uint64_t>(1, Transmissions(medium))};
+  return {seconds / wall, seconds / cpu, cpu * 1e6 / std::max<uint64_t>(1, Transmissions(medium)),
+          Transmissions(medium)};
+}
+
+// The hidden pair of docs/validation.md with a light driver: A (0 m) and C
+// (80 m) send 1500-byte frames to B (40 m) at 6 Mb/s, queues topped up to 16
+// frames every 2 ms; the standard's retry limits.
+Sample HiddenPair(double seconds, uint64_t seed) {
+  MediumConfig config;
+  config.seed = seed;
+  config.rate_mbps = 6;
+  config.error_model = g_error_model;
+  Medium medium(config);
+  for (int i = 0; i < 3; ++i) medium.AddStation(RobotMac(i), Vec3d{40.0 * i, 0, 0});
+  const int senders[] = {0, 2};
+  std::vector<std::vector<uint8_t>> frames;
+  for (int i : senders)
+    frames.push_back(testing::MakeEthernetFrame(RobotMac(1), RobotMac(i), 1500));
+  const TimeNs step_ns = 2 * kNsPerMs;
+  const TimeNs end_ns = static_cast<TimeNs>(seconds * 1e9);
+  std::vector<Delivery> deliveries;
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = CpuSeconds();
+  for (TimeNs t = 0; t < end_ns; t += step_ns) {
+    for (int k = 0; k < 2; ++k) {
+      while (medium.queued_frames(senders[k]) < 16) {
+        medium.SubmitFrame(senders[k], frames[k], t);
+        medium.AdvanceTo(t, nullptr);  // Enqueue now so queued_frames() sees it.
+      }
+    }
+    deliveries.clear();
+    medium.AdvanceTo(t + step_ns, &deliveries);
+  }
+  const double wall = WallSeconds(start);
+  const double cpu = CpuSeconds() - cpu_start;
+  return {seconds / wall, seconds / cpu, cpu * 1e6 / std::max<uint64_t>(1, Transmissions(medium)),
+          Transmissions(medium)};
 }
 
 // The full ns-3 Bianchi table (docs/references.md#bianchi), both topologies, ~25,000 frames
@@ -177,12 +224,17 @@ int main(int argc, char** argv) {
       csv_path = argv[++i];
     } else if (arg == "--rows" && has_value) {
       rows = std::string(",") + argv[++i] + ",";
+    } else if (arg == "--error-model" && has_value &&
+               (std::strcmp(argv[i + 1], "nist") == 0 || std::strcmp(argv[i + 1], "table") == 0)) {
+      g_error_model = std::strcmp(argv[++i], "table") == 0 ? MediumConfig::ErrorModel::kTableBased
+                                                           : MediumConfig::ErrorModel::kNist;
     } else if (arg == "--validation") {
       PrintValidation();
       return 0;
     } else {
       std::fprintf(stderr,
-                   "usage: %s [--runs N] [--seconds S] [--csv FILE] [--rows LIST] | --validation\n",
+                   "usage: %s [--runs N] [--seconds S] [--csv FILE] [--rows LIST]"
+                   " [--error-model nist|table] | --validation\n",
                    argv[0]);
       return 2;
     }
@@ -195,15 +247,19 @@ int main(int argc, char** argv) {
       "| scenario | n | simulated s per wall s | simulated s per CPU s | CPU us per transmission |"
       " CPU us per transmission per station |\n| --- | --- | --- | --- | --- | --- |\n");
   auto report = [&](const char* name, int n, const std::vector<Sample>& samples) {
-    std::vector<double> wall_rate, cpu_rate, cost;
+    std::vector<double> wall_rate, cpu_rate, cost, transmissions;
     for (const Sample& s : samples) {
       wall_rate.push_back(s.sim_per_wall);
       cpu_rate.push_back(s.sim_per_cpu);
       cost.push_back(s.us_per_tx);
+      transmissions.push_back(static_cast<double>(s.transmissions));
     }
     const double w = Median(wall_rate), r = Median(cpu_rate), c = Median(cost);
     std::printf("| %s | %d | %.1f | %.1f | %.3f | %.4f |\n", name, n, w, r, c, c / n);
-    if (csv) std::fprintf(csv, "%s,%d,%.3f,%.3f,%.4f,%.5f\n", name, n, w, r, c, c / n);
+    if (csv) {
+      std::fprintf(csv, "%s,%d,%.3f,%.3f,%.4f,%.5f,%.0f\n", name, n, w, r, c, c / n,
+                   Median(transmissions));
+    }
     std::fflush(stdout);
   };
   for (int n : {1, 5, 10, 20, 50}) {
@@ -237,6 +293,11 @@ int main(int argc, char** argv) {
       samples.push_back(Broadcast64(6 * seconds, 1 + k, 1000, 500, 10));
     }
     report("broadcast 200 B @ 10 Hz, 1000 obstacles (500 m square), all moving", 64, samples);
+  }
+  if (wanted("hidden")) {
+    samples.clear();
+    for (int k = 0; k < runs; ++k) samples.push_back(HiddenPair(6 * seconds, 1 + k));
+    report("hidden pair 40 m, 11a 6 Mb/s, 1500 B, saturated", 3, samples);
   }
   if (csv) std::fclose(csv);
   return 0;
