@@ -57,15 +57,21 @@ uint64_t Transmissions(const Medium& medium) {
   return total;
 }
 
-Sample Saturation(int n, double seconds, uint64_t seed) {
-  // The medium's own cost, with the light driver (testing::RunTopUpSaturation).
-  const auto start = std::chrono::steady_clock::now();
-  const double cpu_start = CpuSeconds();
-  const uint64_t transmissions = testing::RunTopUpSaturation(n, seconds, seed);
+// The sample of a run of `seconds` of virtual time that started at `start`
+// (wall) and `cpu_start` (CPU) and made `transmissions`.
+Sample Measured(double seconds, std::chrono::steady_clock::time_point start, double cpu_start,
+                uint64_t transmissions) {
   const double wall = WallSeconds(start);
   const double cpu = CpuSeconds() - cpu_start;
   return {seconds / wall, seconds / cpu, cpu * 1e6 / std::max<uint64_t>(1, transmissions),
           transmissions};
+}
+
+Sample Saturation(int n, double seconds, uint64_t seed) {
+  // The medium's own cost, with the light driver (testing::RunTopUpSaturation).
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = CpuSeconds();
+  return Measured(seconds, start, cpu_start, testing::RunTopUpSaturation(n, seconds, seed));
 }
 
 Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, double max_box_m,
@@ -114,10 +120,7 @@ Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, 
     deliveries.clear();
     medium.AdvanceTo(t + step_ns, &deliveries);
   }
-  const double wall = WallSeconds(start);
-  const double cpu = CpuSeconds() - cpu_start;
-  return {seconds / wall, seconds / cpu, cpu * 1e6 / std::max<uint64_t>(1, Transmissions(medium)),
-          Transmissions(medium)};
+  return Measured(seconds, start, cpu_start, Transmissions(medium));
 }
 
 // The hidden pair of docs/validation.md with a light driver: A (0 m) and C
@@ -149,10 +152,7 @@ Sample HiddenPair(double seconds, uint64_t seed) {
     deliveries.clear();
     medium.AdvanceTo(t + step_ns, &deliveries);
   }
-  const double wall = WallSeconds(start);
-  const double cpu = CpuSeconds() - cpu_start;
-  return {seconds / wall, seconds / cpu, cpu * 1e6 / std::max<uint64_t>(1, Transmissions(medium)),
-          Transmissions(medium)};
+  return Measured(seconds, start, cpu_start, Transmissions(medium));
 }
 
 // The full ns-3 Bianchi table (docs/references.md#bianchi), both topologies, ~25,000 frames

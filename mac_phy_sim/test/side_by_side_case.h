@@ -36,12 +36,15 @@ struct Case {
   // Error model: ns-3's TableBasedErrorRateModel (the default of its PHY) on
   // both sides instead of NistErrorRateModel.
   bool table_error_model = false;
-  double near_m = 0, far_m = 0;      // Hidden/exposed geometry.
+  double near_m = 0, far_m = 0;  // Hidden/exposed geometry.
   double warmup_s = 1, measure_s = 10;
   // Bianchi's assumption for saturation (CW stays at CWmax); otherwise the
   // standard's 7 / 4 attempts.
   bool unlimited_retries = true;
   bool fast = false;  // Part of the subset scripts/test checks against the CSV.
+  // Source interval override (ns); 0: OfferIntervalNs's default. Not in the
+  // CSV: for one-off load studies (ns3_side_by_side hidden-load).
+  int64_t offer_interval_ns = 0;
 };
 
 struct Point {
@@ -93,6 +96,7 @@ inline Layout MakeLayout(const Case& c) {
 // source, sets the throughput. Queues then hold 500 frames and frames expire
 // after 500 ms (ns-3's WifiMacQueue defaults), as in ns-3.
 inline int64_t OfferIntervalNs(const Case& c) {
+  if (c.offer_interval_ns > 0) return c.offer_interval_ns;
   const bool dsss = c.rate_mbps == 1 || c.rate_mbps == 2 || c.rate_mbps == 5.5 || c.rate_mbps == 11;
   const double slot_us = c.standard == Standard::kA || c.short_slot ? 9 : 20;
   const double bits = 8.0 * (c.payload_bytes + 36);
