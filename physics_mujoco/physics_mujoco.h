@@ -15,6 +15,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "clock/clock.h"
@@ -188,16 +189,42 @@ struct ServerOptions {
   // make them in another network namespace (runs: the scenario's ctl namespace, nns::InNetns).
   // Empty: in the calling thread's namespace. The world's threads are made before, outside it.
   std::function<void(const std::function<void()>&)> make_sockets;
+
+  // How the clock waits for autopilots (ArduPilot, PX4), fixed for the server's life; at most
+  // one of the two. The frame gate (lockstep pacing; docs/protocols.md): Advance() waits up to
+  // this much wall time for every autopilot that has joined (and is not dropped) to answer its
+  // last message. 0: the clock never waits for them.
+  TimeNs frame_gate_timeout_ns = 0;
+  // Realtime pacing (docs/autopilots.md, "Time"): with a timebase (not owned, on
+  // CLOCK_MONOTONIC, begun before the first Advance), Advance() sends what an autopilot is due
+  // (an ArduPilot reply, PX4's sensors) no earlier than the wall instant of its virtual time,
+  // sleeping until then, and while an autopilot's answer is awaited the world does not run
+  // ahead of the wall clock (it waits for the answer up to the wall instant of its next step,
+  // then steps once). Null, or no autopilot in the scenario: not held.
+  const clock::Timebase* autopilot_wall_clock = nullptr;
+  // Native robots' periodic states at their state rate during Advance(). Lock-step runs turn
+  // them off so a robot gets exactly one state (SendStates) per iteration and nothing it
+  // answers can race the coordinator.
+  bool periodic_states = true;
 };
 
-// A World plus, per robot, a UDP socket on RobotPlan::ctl_root_address:physics_port (native
-// protocol) and optionally one on :ardupilot_json_port. Sockets use IP_FREEBIND, so the server
-// may start before the scenario's ctl0 veths exist.
+// An autopilot that missed the frame gate's timeout, in its protocol's words: "robot 'a' did
+// not answer <unanswered> of iteration N <expected> within T ms".
+struct SilentAutopilot {
+  int robot = 0;
+  std::string unanswered;  // "its JSON reply", "its HIL_SENSOR"
+  std::string expected;    // "with a servo frame", "with HIL_ACTUATOR_CONTROLS"
+};
+
+// A World plus, per robot, its links on RobotPlan::ctl_root_address: a UDP socket on
+// physics_port (native protocol) and optionally one on ardupilot_json_port (ArduPilot JSON) and
+// a TCP listener on px4_sim_port (PX4). Sockets use IP_FREEBIND, so the server may start before
+// the scenario's ctl0 veths exist.
 class PhysicsServer {
  public:
   // Throws Error naming the robot and address if a socket cannot be bound, or a robot's
-  // state_rate_hz / command_timeout_ms / ardupilot_json_port is invalid. `scenario` must
-  // outlive the server.
+  // state_rate_hz / command_timeout_ms / ardupilot_json_port / px4_sim_port is invalid.
+  // `scenario` must outlive the server.
   explicit PhysicsServer(const Scenario& scenario, const ServerOptions& options = {});
   ~PhysicsServer();
   PhysicsServer(const PhysicsServer&) = delete;
@@ -212,21 +239,11 @@ class PhysicsServer {
   // an autopilot's last reply or HIL_SENSOR before its answer arrived.
   void Advance(int steps);
 
-  // The frame gate (lockstep pacing; docs/protocols.md): Advance() waits up to `timeout_ns` of
-  // wall time for every ArduPilot robot that has sent a frame (and is not dropped) to answer its
-  // last reply; 0 (default, realtime pacing): the clock never waits for them.
-  void SetFrameGate(TimeNs timeout_ns);
   // True if some robot has an ArduPilot JSON endpoint or a PX4 simulator link.
   bool has_frame_gated_robots() const;
-  // Realtime pacing (docs/autopilots.md, "Time"): with a timebase (not owned; nullptr: off),
-  // Advance() sends what an autopilot is due (an ArduPilot reply, PX4's sensors) no earlier than
-  // the wall instant of its virtual time, sleeping until then, and while an autopilot's answer
-  // is awaited the world does not run ahead of the wall clock (it waits for the answer up to
-  // the wall instant of its next step, then steps once). The timebase must be on CLOCK_MONOTONIC.
-  void HoldAutopilotsToWallClock(const clock::Timebase* timebase);
-  // Autopilots (ArduPilot, PX4) that missed the frame gate's timeout since the last call (each
-  // once until it answers again), for the caller's on_silent_robot policy.
-  std::vector<int> TakeSilentRobots();
+  // Autopilots that missed the frame gate's timeout since the last call (each once until it
+  // answers again), for the caller's on_silent_robot policy; those of one protocol together.
+  std::vector<SilentAutopilot> TakeSilentAutopilots();
   // The robot's software has made itself known: a native command, an ArduPilot frame or a PX4
   // connection.
   bool spoke(int robot) const;
@@ -241,10 +258,6 @@ class PhysicsServer {
   // or `timeout_ns` of wall time passed. Returns the robots still missing (empty: all in).
   // Robot software joins the lock-step with its first command; others are not waited for.
   std::vector<int> CollectCommands(TimeNs timeout_ns);
-  // Periodic states at each robot's state rate during Advance() (default on). Lock-step
-  // runs turn them off so a robot gets exactly one state (SendStates) per iteration and
-  // nothing it answers can race the coordinator.
-  void SetPeriodicStates(bool enabled);
   // Takes a robot out of the lock-step for the rest of the run (a silent robot, by the
   // scenario's on_silent_robot policy): its motors are cut, it gets no more states, and its
   // later commands are dropped and counted (dropped_after_drop).

@@ -48,10 +48,6 @@ struct RobotLockstepOptions {
   // A robot past the timeout is dropped (PhysicsServer::DropFromLockstep:
   // motors cut, the run goes on) instead of stopping the run.
   bool drop_silent = false;
-  // Realtime pacing (not with `enabled`): the run's timebase (CoordinatorOptions::timebase_out,
-  // filled before iteration 0); what autopilots are due leaves at the wall instant of its
-  // virtual time (PhysicsServer::HoldAutopilotsToWallClock). Null: not held.
-  const clock::Timebase* autopilot_timebase = nullptr;
 };
 
 // Steps a PhysicsServer (not owned): robots get their RobotState and their

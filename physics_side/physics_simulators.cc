@@ -46,9 +46,6 @@ PhysicsServerSimulator::PhysicsServerSimulator(const Scenario& scenario,
                                                RobotLockstepOptions lockstep)
     : server_(*server), steps_(scenario.physics_steps_per_iteration), lockstep_(lockstep) {
   for (const RobotPlan& robot : scenario.robots) robot_names_.push_back(robot.name);
-  if (lockstep_.autopilot_timebase != nullptr && server_.has_frame_gated_robots()) {
-    server_.HoldAutopilotsToWallClock(lockstep_.autopilot_timebase);
-  }
 }
 
 proto::coord::Poses PhysicsServerSimulator::InitialPoses() {
@@ -97,14 +94,17 @@ void PhysicsServerSimulator::RunIteration(const proto::coord::Start& start, prot
   }
   server_.Advance(steps_);
   if (lockstep_.enabled) {
-    // Each autopilot named with its own protocol's words; ArduPilot's first (one Error names
-    // the robots of one protocol).
-    std::vector<int> json, px4;
-    for (int robot : server_.TakeSilentRobots()) {
-      (server_.px4_counters(robot) ? px4 : json).push_back(robot);
+    // Each autopilot named with its own protocol's words (one Error names the robots of one
+    // protocol; the server lists them protocol by protocol).
+    const std::vector<physics::SilentAutopilot> silent = server_.TakeSilentAutopilots();
+    for (size_t begin = 0, end; begin < silent.size(); begin = end) {
+      std::vector<int> robots;
+      for (end = begin; end < silent.size() && silent[end].unanswered == silent[begin].unanswered;
+           ++end) {
+        robots.push_back(silent[end].robot);
+      }
+      ApplySilentRobotPolicy(robots, silent[begin].unanswered, silent[begin].expected, start);
     }
-    ApplySilentRobotPolicy(json, "its JSON reply", "with a servo frame", start);
-    ApplySilentRobotPolicy(px4, "its HIL_SENSOR", "with HIL_ACTUATOR_CONTROLS", start);
   }
   PosesFromWorld(server_.world(), end->mutable_poses());
 }

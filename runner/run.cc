@@ -424,6 +424,16 @@ RunReport RunScenario(const RunOptions& options) {
   // can bind their ports there (nns.h, CtlNetnsName).
   physics::ServerOptions physics_options = PhysicsOptionsFromEnvironment();
   physics_options.make_sockets = nns::InNetns(nns::CtlNetnsName(scenario.name));
+  // The autopilots' pacing: in lockstep the frame gate (silent after the scenario's timeout),
+  // in realtime the run's timebase (the coordinator begins it before iteration 0).
+  clock::Timebase run_timebase(scenario.spec.timing().realtime_factor());
+  const TimeNs silent_robot_timeout_ns = scenario.spec.silent_robot_timeout_ms() * kNsPerMs;
+  if (lockstep) {
+    physics_options.periodic_states = false;  // one state per iteration, from the gate
+    physics_options.frame_gate_timeout_ns = silent_robot_timeout_ns;
+  } else {
+    physics_options.autopilot_wall_clock = &run_timebase;
+  }
   physics::PhysicsServer physics_server(scenario, physics_options);
   tapbridge::BridgeOptions bridge_options;
   bridge_options.seed = scenario.spec.timing().seed();
@@ -469,15 +479,9 @@ RunReport RunScenario(const RunOptions& options) {
 
   physics_side::RobotLockstepOptions robot_lockstep;
   robot_lockstep.enabled = lockstep;
-  clock::Timebase run_timebase(scenario.spec.timing().realtime_factor());
-  if (!lockstep) robot_lockstep.autopilot_timebase = &run_timebase;
-  robot_lockstep.command_timeout_ns = scenario.spec.silent_robot_timeout_ms() * kNsPerMs;
+  robot_lockstep.command_timeout_ns = silent_robot_timeout_ns;
   robot_lockstep.drop_silent =
       scenario.spec.on_silent_robot() == proto::Scenario::SILENT_ROBOT_DROP;
-  if (lockstep) {
-    physics_server.SetPeriodicStates(false);  // one state per iteration, from the gate
-    physics_server.SetFrameGate(robot_lockstep.command_timeout_ns);
-  }
   // Realtime with wait_for_robots too: the clock starts once the images have booted
   // (docs/performance.md, "Where the realtime bursts come from").
   if (lockstep || scenario.spec.timing().wait_for_robots()) {

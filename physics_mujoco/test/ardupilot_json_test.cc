@@ -23,7 +23,9 @@
 namespace sitlnet::physics {
 namespace {
 
+using testing::FrameGate;
 using testing::MakeScenario;
+using testing::TakeSilentRobots;
 using testing::TestJsonPort;
 using testing::WaitReadable;
 
@@ -103,6 +105,17 @@ std::string Exchange(PhysicsServer& server, JsonClient& client, const std::strin
     server.Advance(1);
   }
   return "";
+}
+
+// Exchange with the frame gate on: the reply due at the end of an Advance leaves at the start
+// of the next, so the world advances the frame's one step, then Advance(0) sends the reply.
+std::string GatedExchange(PhysicsServer& server, JsonClient& client, const std::string& packet) {
+  client.Send(packet);
+  if (!WaitReadable(server.wait_fd(), 2000)) return "";
+  server.Poll();
+  server.Advance(1);
+  server.Advance(0);
+  return client.Receive();
 }
 
 class ArduPilotJsonTest : public ::testing::Test {
@@ -224,8 +237,7 @@ TEST(ArduPilotJsonGateTest, TheClockWaitsForEachFrameAndRepliesLeaveAtTheirFrame
   const Scenario scenario = MakeScenario(
       "robot { name: \"a\" position_m { z: 10 } ardupilot_json_port: " +
       std::to_string(TestJsonPort()) + " }\nrobot { name: \"b\" position_m { x: 5 z: 10 } }");
-  PhysicsServer server(scenario);
-  server.SetFrameGate(5 * kNsPerS);
+  PhysicsServer server(scenario, FrameGate(5 * kNsPerS));
   JsonClient client("127.77.0.2");
   constexpr int kFrames = 400;  // 1 s at 400 Hz
   std::vector<double> reply_times_s;
@@ -247,7 +259,7 @@ TEST(ArduPilotJsonGateTest, TheClockWaitsForEachFrameAndRepliesLeaveAtTheirFrame
   server.Advance(0);
   ardupilot.join();
   server.Poll();  // Its last frame, sent before it ended.
-  EXPECT_TRUE(server.TakeSilentRobots().empty());
+  EXPECT_TRUE(TakeSilentRobots(&server).empty());
   ASSERT_EQ(reply_times_s.size(), static_cast<size_t>(kFrames));
   for (int n = 1; n <= kFrames; ++n) {
     // Frame n ends at n * 2.5 ms, in whole 1 ms steps with the remainder carried (2, 5, 7, ...).
@@ -266,14 +278,13 @@ TEST(ArduPilotJsonGateTest, ASilentAutopilotIsReportedOnceAndARestartRejoins) {
   const Scenario scenario =
       MakeScenario("robot { name: \"a\" position_m { x: 1 z: 10 } ardupilot_json_port: " +
                    std::to_string(TestJsonPort()) + " }");
-  PhysicsServer server(scenario);
+  PhysicsServer server(scenario, FrameGate(50 * kNsPerMs));
   JsonClient client("127.77.0.2");
-  ASSERT_FALSE(Exchange(server, client, ServoPacket16(1000, 1, 1500)).empty());  // then silent
-  server.SetFrameGate(50 * kNsPerMs);
+  ASSERT_FALSE(GatedExchange(server, client, ServoPacket16(1000, 1, 1500)).empty());  // silent
   server.Advance(10);
-  EXPECT_EQ(server.TakeSilentRobots(), std::vector<int>{0});
+  EXPECT_EQ(TakeSilentRobots(&server), std::vector<int>{0});
   server.Advance(10);  // Not waited for again.
-  EXPECT_TRUE(server.TakeSilentRobots().empty());
+  EXPECT_TRUE(TakeSilentRobots(&server).empty());
   EXPECT_EQ(server.world().steps(0), 21);
   server.DropFromLockstep(0);  // on_silent_robot: SILENT_ROBOT_DROP
   EXPECT_EQ(server.world().rotor_target(0)[0], 0);
@@ -285,17 +296,14 @@ TEST(ArduPilotJsonGateTest, ASilentAutopilotIsReportedOnceAndARestartRejoins) {
   EXPECT_EQ(server.counters(0).dropped_after_drop, 1u);
   server.Advance(5);
   EXPECT_TRUE(client.Receive(0).empty());  // No reply while dropped.
-  // Exchange steps one step at a time: off the gate, which would wait at each step.
-  server.SetFrameGate(0);
-  const std::string reply = Exchange(server, client, ServoPacket16(1000, 1, 1500));
-  server.SetFrameGate(50 * kNsPerMs);
+  const std::string reply = GatedExchange(server, client, ServoPacket16(1000, 1, 1500));
   ASSERT_FALSE(reply.empty());
   EXPECT_EQ(server.counters(0).json_restarts, 1u);
   EXPECT_DOUBLE_EQ(Field(reply, "timestamp")[0], 0.027);  // 26 steps, then its first frame
   EXPECT_NEAR(Field(reply, "position")[1], 1, 1e-9);      // back at its start (NED east)
   EXPECT_GT(server.world().rotor_target(0)[0], 0);
   server.Advance(10);  // In the lock-step again: its next frame is waited for.
-  EXPECT_EQ(server.TakeSilentRobots(), std::vector<int>{0});
+  EXPECT_EQ(TakeSilentRobots(&server), std::vector<int>{0});
 }
 
 // Two silent autopilots, one after the other: each is reported once, the first not again when
@@ -305,16 +313,15 @@ TEST(ArduPilotJsonGateTest, EachSilentAutopilotIsReportedOnlyOnce) {
   const Scenario scenario = MakeScenario(
       "robot { name: \"a\" position_m { z: 10 } ardupilot_json_port: " + port +
       " }\nrobot { name: \"b\" position_m { x: 5 z: 10 } ardupilot_json_port: " + port + " }");
-  PhysicsServer server(scenario);
+  PhysicsServer server(scenario, FrameGate(50 * kNsPerMs));
   JsonClient a("127.77.0.2");
   JsonClient b("127.77.0.6", "127.77.0.5");
-  ASSERT_FALSE(Exchange(server, a, ServoPacket16(1000, 1, 1500)).empty());
+  ASSERT_FALSE(GatedExchange(server, a, ServoPacket16(1000, 1, 1500)).empty());
   b.Send(ServoPacket16(1000, 1, 1500));
   for (int tries = 0; server.counters(1).json_frames == 0 && tries < 50; ++tries) {
     if (WaitReadable(server.wait_fd(), 100)) server.Poll();
   }
   ASSERT_EQ(server.counters(1).json_frames, 1u);
-  server.SetFrameGate(50 * kNsPerMs);
   // a is silent; b answers each reply until it falls silent too.
   std::thread b_answers([&] {
     for (uint32_t frame = 2; frame <= 20; ++frame) {
@@ -323,10 +330,10 @@ TEST(ArduPilotJsonGateTest, EachSilentAutopilotIsReportedOnlyOnce) {
     }
   });
   server.Advance(10);
-  EXPECT_EQ(server.TakeSilentRobots(), std::vector<int>{0});
+  EXPECT_EQ(TakeSilentRobots(&server), std::vector<int>{0});
   server.Advance(30);  // b answers 19 frames, then misses the gate.
   b_answers.join();
-  EXPECT_EQ(server.TakeSilentRobots(), std::vector<int>{1});
+  EXPECT_EQ(TakeSilentRobots(&server), std::vector<int>{1});
 }
 
 // Realtime pacing: the clock follows the wall clock and never waits; a reply leaves when the

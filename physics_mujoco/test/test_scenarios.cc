@@ -23,4 +23,18 @@ bool WaitReadable(int fd, int timeout_ms) {
   return poll(&p, 1, timeout_ms) > 0;
 }
 
+ServerOptions FrameGate(TimeNs timeout_ns) {
+  ServerOptions options;
+  options.frame_gate_timeout_ns = timeout_ns;
+  return options;
+}
+
+std::vector<int> TakeSilentRobots(PhysicsServer* server) {
+  std::vector<int> robots;
+  for (const SilentAutopilot& silent : server->TakeSilentAutopilots()) {
+    robots.push_back(silent.robot);
+  }
+  return robots;
+}
+
 }  // namespace sitlnet::physics::testing

@@ -4,7 +4,9 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
+#include "physics_mujoco/physics_mujoco.h"
 #include "scenario/scenario.h"
 
 namespace sitlnet::physics::testing {
@@ -23,6 +25,11 @@ uint16_t TestJsonPort();
 
 // Waits (poll) until `fd` is readable or `timeout_ms` passes; true if readable.
 bool WaitReadable(int fd, int timeout_ms);
+
+// Server options with the frame gate (lockstep pacing) at `timeout_ns`.
+ServerOptions FrameGate(TimeNs timeout_ns);
+// The robots of server->TakeSilentAutopilots(), in its order.
+std::vector<int> TakeSilentRobots(PhysicsServer* server);
 
 }  // namespace sitlnet::physics::testing
 

@@ -1,0 +1,146 @@
+// ArduPilot's JSON SITL backend on the robot's ardupilot_json_port (docs/protocols.md): a servo
+// frame asks for the state at the frame's end; the reply waits until the world's clock has
+// reached that time. Packet format and frame counting: ardupilot_json.h.
+#include <algorithm>
+#include <limits>
+#include <memory>
+#include <optional>
+
+#include "clock/clock.h"
+#include "physics_mujoco/ardupilot_json.h"
+#include "physics_mujoco/robot_link.h"
+
+namespace sitlnet::physics {
+namespace {
+
+class ArduPilotJsonLink final : public RobotLink {
+ public:
+  ArduPilotJsonLink(const RobotLinkSetup& setup, uint16_t port)
+      : robot_(*setup.robot),
+        world_(*setup.robot->world),
+        robot_address_(setup.plan->ctl_robot_address),
+        max_speed_rad_s_(setup.plan->airframe.max_rotor_speed_rad_s()) {
+    socket_ =
+        UdpSocket::Bind(setup.plan->ctl_root_address, port, true, setup.who + " (ArduPilot JSON)");
+    setup.watch(this, socket_.fd());
+  }
+
+  void Poll() override {
+    DrainDatagrams(socket_, [this](const uint8_t* data, ssize_t size, const sockaddr_in& from) {
+      Handle(data, size, from);
+    });
+  }
+
+  int StepsUntilDue() const override {
+    if (!pending_) return std::numeric_limits<int>::max();
+    return static_cast<int>(std::clamp<int64_t>(due_steps_ - world_.steps(robot_.robot), 1,
+                                                std::numeric_limits<int>::max()));
+  }
+
+  // Sends the state of a pending frame once the world's clock has reached the frame's end.
+  void Serve() override {
+    if (!DueNow()) return;
+    pending_ = false;
+    const int robot = robot_.robot;
+    last_reply_ = FormatJsonState(world_.time_ns(robot), world_.Pose(robot), world_.Imu(robot));
+    robot_.Send(socket_, last_reply_, reply_to_);
+  }
+
+  bool spoke() const override { return robot_.counters.json_frames > 0; }
+  // An ArduPilot robot gets no more replies until SITL restarts.
+  void OnDropped() override { pending_ = false; }
+
+  bool paced() const override { return true; }
+  bool DueNow() const override { return pending_ && world_.steps(robot_.robot) >= due_steps_; }
+  // A frame answering the last reply (SITL has sent a frame before).
+  bool AnswerOutstanding() const override { return joined_ && !pending_ && !robot_.dropped; }
+  UnansweredMessage unanswered() const override {
+    return {"its JSON reply", "with a servo frame"};
+  }
+
+ private:
+  void Handle(const uint8_t* data, ssize_t size, const sockaddr_in& from) {
+    RobotCounters& counters = robot_.counters;
+    const auto packet = size <= static_cast<ssize_t>(kReceiveBufferBytes)
+                            ? ParseServoPacket(data, size)
+                            : std::nullopt;
+    if (SockaddrIpv4(from) != robot_address_ || !packet) {
+      ++counters.json_dropped;
+      return;
+    }
+    uint64_t missed = 0;
+    const FrameAction action = tracker_.OnFrame(packet->frame_count, &missed);
+    if (action == FrameAction::kResend) {
+      // SITL repeats a frame whose reply it has not seen: the reply already sent goes again; one
+      // not yet due will go when it is.
+      ++counters.json_resends;
+      if (!pending_ && !last_reply_.empty()) robot_.Send(socket_, last_reply_, from);
+      return;
+    }
+    if (action == FrameAction::kRestart) {
+      // SITL restarted: the vehicle starts over where it began, at the world's current time,
+      // and the robot rejoins the lock-step if it had been dropped.
+      ++counters.json_restarts;
+      world_.ResetRobot(robot_.robot);
+      rate_hz_ = 0;
+      robot_.Rejoin();
+    }
+    if (robot_.dropped) {
+      ++counters.dropped_after_drop;
+      return;
+    }
+    ++counters.json_frames;
+    counters.json_missed_frames += missed;
+    world_.SetRotorTarget(robot_.robot, PwmToRotorSpeeds(*packet, max_speed_rad_s_));
+    const int64_t now_steps = world_.steps(robot_.robot);
+    if (packet->frame_rate_hz != rate_hz_) {  // new rate: count frames from here
+      rate_hz_ = packet->frame_rate_hz;
+      base_steps_ = now_steps;
+      frames_ = 0;
+    }
+    ++frames_;
+    // Frame n ends at n / frame_rate: whole physics steps, the remainder carried (exact over
+    // many frames when 1/frame_rate is not a multiple of the step).
+    int64_t due_steps = base_steps_ + clock::TickTimeNs(frames_, rate_hz_) / world_.step_ns();
+    if (due_steps < now_steps) {
+      // Late (realtime pacing, SITL slower than the clock): frames count from now on.
+      base_steps_ += now_steps - due_steps;
+      due_steps = now_steps;
+    }
+    due_steps_ = due_steps;
+    pending_ = true;
+    joined_ = true;
+    Unmute();  // Answering again.
+    reply_to_ = from;
+    Serve();
+  }
+
+  RobotLinkContext& robot_;
+  World& world_;
+  Ipv4 robot_address_;
+  double max_speed_rad_s_;
+  UdpSocket socket_;
+  FrameTracker tracker_;
+  std::string last_reply_;
+  sockaddr_in reply_to_{};
+  uint16_t rate_hz_ = 0;
+  int64_t base_steps_ = 0;  // Frames at rate_hz_ are counted from this step.
+  int64_t frames_ = 0;
+  bool joined_ = false;   // Sent a frame: the frame gate waits for its next one.
+  bool pending_ = false;  // A frame's reply is due at due_steps_.
+  int64_t due_steps_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<RobotLink> MakeArduPilotJsonLink(const RobotLinkSetup& setup) {
+  const uint32_t port = setup.plan->spec.ardupilot_json_port();
+  if (port > 65535 || port == setup.scenario->spec.addresses().physics_port()) {
+    throw Error(setup.who +
+                ": ardupilot_json_port must be in [1, 65535] and differ from physics_port");
+  }
+  if (port == 0) return nullptr;
+  return std::make_unique<ArduPilotJsonLink>(setup, static_cast<uint16_t>(port));
+}
+
+}  // namespace sitlnet::physics
