@@ -54,9 +54,7 @@ class ArduPilotJsonLink final : public RobotLink {
   bool DueNow() const override { return pending_ && world_.steps(robot_.robot) >= due_steps_; }
   // A frame answering the last reply (SITL has sent a frame before).
   bool AnswerOutstanding() const override { return joined_ && !pending_ && !robot_.dropped; }
-  UnansweredMessage unanswered() const override {
-    return {"its JSON reply", "with a servo frame"};
-  }
+  UnansweredMessage unanswered() const override { return {"its JSON reply", "with a servo frame"}; }
 
  private:
   void Handle(const uint8_t* data, ssize_t size, const sockaddr_in& from) {

@@ -22,9 +22,9 @@ class NativeLink final : public RobotLink {
         state_period_ns_(state_period_ns),
         next_state_ns_(state_period_ns),
         timeout_ns_(timeout_ns) {
-    socket_ = UdpSocket::Bind(setup.plan->ctl_root_address,
-                              static_cast<uint16_t>(setup.scenario->spec.addresses().physics_port()),
-                              true, setup.who);
+    socket_ = UdpSocket::Bind(
+        setup.plan->ctl_root_address,
+        static_cast<uint16_t>(setup.scenario->spec.addresses().physics_port()), true, setup.who);
     setup.watch(this, socket_.fd());
   }
 
@@ -61,8 +61,8 @@ class NativeLink final : public RobotLink {
   }
 
   bool LockstepCommandMissing() const override {
-    return InLockStep() && (!answered_state_ ||
-                            command_step_ != static_cast<uint64_t>(world_.steps(robot_.robot)));
+    return InLockStep() &&
+           (!answered_state_ || command_step_ != static_cast<uint64_t>(world_.steps(robot_.robot)));
   }
 
  private:
@@ -136,7 +136,7 @@ class NativeLink final : public RobotLink {
   bool answered_state_ = false;
   TimeNs state_period_ns_;
   TimeNs next_state_ns_;
-  TimeNs timeout_ns_;  // 0: failsafe off
+  TimeNs timeout_ns_;        // 0: failsafe off
   proto::RobotState state_;  // Reused buffers.
   std::string wire_;
   std::vector<float> lidar_;
@@ -152,8 +152,7 @@ std::unique_ptr<RobotLink> MakeNativeLink(const RobotLinkSetup& setup) {
   if (spec.command_timeout_ms() < 0) throw Error(setup.who + ": command_timeout_ms must be >= 0");
   const TimeNs state_period_ns =
       std::max<TimeNs>(1, std::llround(static_cast<double>(kNsPerS) / spec.state_rate_hz()));
-  return std::make_unique<NativeLink>(setup, state_period_ns,
-                                      spec.command_timeout_ms() * kNsPerMs);
+  return std::make_unique<NativeLink>(setup, state_period_ns, spec.command_timeout_ms() * kNsPerMs);
 }
 
 }  // namespace sitlnet::physics

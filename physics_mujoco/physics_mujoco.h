@@ -1,11 +1,11 @@
-// sitlnet physics_mujoco: MuJoCo multirotors flown by robot software over UDP on each robot's
-// ctl0 veth. Frames, units and models are described in docs/physics.md, the wire protocols
-// (native protobuf and ArduPilot JSON) in docs/protocols.md.
+// sitlnet physics_mujoco: MuJoCo multirotors flown by robot software over each robot's ctl0
+// veth. Frames, units and models are described in docs/physics.md, the wire protocols (native
+// protobuf and ArduPilot JSON) in docs/protocols.md, PX4's in docs/autopilots.md.
 //
 // World: the pure simulation (no network): one mjData per robot on a shared mjModel per
-//   airframe, rotor and motor models, IMU and lidar. PhysicsServer: a World plus the UDP
-//   endpoints of every robot; the coordinator calls Advance(k), the standalone mode
-//   RunRealtime().
+//   airframe, rotor and motor models, IMU and lidar. PhysicsServer: a World plus every robot's
+//   links, one per protocol it speaks (robot_link.h); the coordinator calls Advance(k), the
+//   standalone mode RunRealtime().
 #ifndef SITLNET_PHYSICS_MUJOCO_PHYSICS_MUJOCO_H_
 #define SITLNET_PHYSICS_MUJOCO_PHYSICS_MUJOCO_H_
 

@@ -6,10 +6,10 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cmath>
-#include <limits>
 #include <memory>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "clock/clock.h"
 #include "physics_mujoco/physics_mujoco.h"
@@ -22,8 +22,9 @@ struct PhysicsServer::Impl {
   // Per robot: what its links share; then every link, robot by robot, in protocol order.
   std::vector<RobotLinkContext> robots;
   std::vector<std::unique_ptr<RobotLink>> links;
+  std::vector<size_t> link_begin;  // Robot r's links: [link_begin[r], link_begin[r + 1]).
   int epoll_fd = -1;
-  const TimeNs frame_gate_timeout_ns;  // 0: the clock never waits for autopilots
+  const TimeNs frame_gate_timeout_ns;         // 0: the clock never waits for autopilots
   const clock::Timebase* realtime = nullptr;  // Set: autopilots are served on the wall clock.
   bool has_autopilots = false;  // Some link is paced (ArduPilot, PX4): the frame gate applies.
   std::vector<std::pair<int, SilentAutopilot>> silent;  // (link kind, autopilot), as reported
@@ -160,9 +161,6 @@ struct PhysicsServer::Impl {
       }
     }
   }
-
-  // The links of each robot: [link_begin[r], link_begin[r + 1]).
-  std::vector<size_t> link_begin;
 };
 
 PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& options)
