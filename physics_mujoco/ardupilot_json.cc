@@ -84,7 +84,10 @@ std::string FormatJsonState(TimeNs sim_time_ns, const RobotPose& pose, const Imu
   std::snprintf(quat, sizeof quat, "\"quaternion\":[%.9g,%.9g,%.9g,%.9g],", q.w, q.x, q.y, q.z);
   out += quat;
   AppendVector("velocity", EnuToNed(pose.velocity_m_s), &out);
-  out += "}\n";
+  // sitlnet's clock paces SITL (the frame gate, the realtime hold): without this SITL also
+  // sleeps to hold each frame to 1/frame_rate of wall time (SIM_Aircraft's sync_frame_time), so
+  // a lockstep run could never go faster than real time.
+  out += ",\"no_time_sync\":1}\n";
   return out;
 }
 

@@ -57,7 +57,8 @@ class FrameTracker {
 RotorSpeeds PwmToRotorSpeeds(const ServoPacket& packet, double max_speed_rad_s);
 
 // "\n{...}\n" with timestamp (s), imu.gyro and imu.accel_body (FRD), position and velocity
-// (NED) and quaternion (w, x, y, z, NED/FRD), keys without spaces.
+// (NED) and quaternion (w, x, y, z, NED/FRD), and no_time_sync (SITL takes its pace from the
+// replies alone), keys without spaces.
 std::string FormatJsonState(TimeNs sim_time_ns, const RobotPose& pose, const ImuSample& imu);
 
 }  // namespace sitlnet::physics

@@ -42,6 +42,7 @@ class ArduPilotJsonLink final : public RobotLink {
     if (!DueNow()) return;
     pending_ = false;
     const int robot = robot_.robot;
+    start_steps_ = world_.steps(robot);
     last_reply_ = FormatJsonState(world_.time_ns(robot), world_.Pose(robot), world_.Imu(robot));
     robot_.Send(socket_, last_reply_, reply_to_);
   }
@@ -54,7 +55,9 @@ class ArduPilotJsonLink final : public RobotLink {
   bool DueNow() const override { return pending_ && world_.steps(robot_.robot) >= due_steps_; }
   // A frame answering the last reply (SITL has sent a frame before).
   bool AnswerOutstanding() const override { return joined_ && !pending_ && !robot_.dropped; }
-  UnansweredMessage unanswered() const override { return {"its JSON reply", "with a servo frame"}; }
+  UnansweredMessage unanswered() const override {
+    return {"its JSON reply", "with a servo frame"};
+  }
 
  private:
   void Handle(const uint8_t* data, ssize_t size, const sockaddr_in& from) {
@@ -91,6 +94,7 @@ class ArduPilotJsonLink final : public RobotLink {
     counters.json_missed_frames += missed;
     world_.SetRotorTarget(robot_.robot, PwmToRotorSpeeds(*packet, max_speed_rad_s_));
     const int64_t now_steps = world_.steps(robot_.robot);
+    if (!joined_ || action == FrameAction::kRestart) start_steps_ = now_steps;
     if (packet->frame_rate_hz != rate_hz_) {  // new rate: count frames from here
       rate_hz_ = packet->frame_rate_hz;
       base_steps_ = now_steps;
@@ -104,6 +108,16 @@ class ArduPilotJsonLink final : public RobotLink {
       // Late (realtime pacing, SITL slower than the clock): frames count from now on.
       base_steps_ += now_steps - due_steps;
       due_steps = now_steps;
+    }
+    if (due_steps <= start_steps_) {
+      // A frame shorter than what is left of the step: it still ends a step after it starts.
+      // SITL takes a reply with the last one's timestamp as no time passed (SIM_JSON's dt = 0):
+      // its clock stands and it sends the next frame at once, each with frame_rate one higher
+      // (it steers towards SIM_RATE_HZ, 1200), which restarted the count above, so the next
+      // frame was due at once again: 200 frames per step. Frames count from here.
+      due_steps = start_steps_ + 1;
+      base_steps_ = due_steps;
+      frames_ = 0;
     }
     due_steps_ = due_steps;
     pending_ = true;
@@ -127,6 +141,9 @@ class ArduPilotJsonLink final : public RobotLink {
   bool joined_ = false;   // Sent a frame: the frame gate waits for its next one.
   bool pending_ = false;  // A frame's reply is due at due_steps_.
   int64_t due_steps_ = 0;
+  // Where the next frame starts: the last frame's end (its reply), or where the first frame
+  // came (at start, after a restart). A frame ends at least one step after it.
+  int64_t start_steps_ = 0;
 };
 
 }  // namespace

@@ -56,6 +56,8 @@ std::string ExpandPlaceholders(const std::string& text, const Image& image,
       out += context.scenario;
     } else if (name == "AIRFRAME") {
       out += context.airframe_text;
+    } else if (name == "GEODETIC_ORIGIN") {
+      out += context.geodetic_origin;
     } else if (name.rfind(kEnvPrefix, 0) == 0) {
       // The caller's environment, for what differs between hosts (where an autopilot is built).
       const std::string variable = name.substr(kEnvPrefix.size());
@@ -70,8 +72,8 @@ std::string ExpandPlaceholders(const std::string& text, const Image& image,
     } else {
       throw Error(
           image.manifest_path + ": unknown placeholder ${" + name + "} in \"" + text +
-          "\" (known: IMAGE_DIR SITLNET_BIN ROBOT ROBOT_INDEX SCENARIO AIRFRAME env:NAME, and "
-          "${ARGS} as a whole command element)");
+          "\" (known: IMAGE_DIR SITLNET_BIN ROBOT ROBOT_INDEX SCENARIO AIRFRAME GEODETIC_ORIGIN "
+          "env:NAME, and ${ARGS} as a whole command element)");
     }
     i = close + 1;
   }

@@ -38,6 +38,9 @@ struct LaunchContext {
   std::string physics_address;
   std::vector<std::string> robot_args;  // "${ARGS}"
   std::string airframe_text;            // ${AIRFRAME}: the robot's Airframe, text format
+  // ${GEODETIC_ORIGIN}: the scenario's geodetic_origin as "latitude_deg,longitude_deg,altitude_m"
+  // (ArduPilot's --home, without its heading).
+  std::string geodetic_origin;
   // Virtual seconds per wall second of a realtime-paced run; 0 in lockstep (no fixed factor).
   double realtime_factor = 1.0;
   // A descriptor of the run that the command receives as kPassedFd (the shared virtual time of

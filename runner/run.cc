@@ -71,6 +71,11 @@ images::LaunchContext RobotContext(const Scenario& scenario, const RunOptions& o
   context.robot_index = plan.index;
   context.physics_address = FormatIpv4(plan.ctl_root_address) + ":" +
                             std::to_string(scenario.spec.addresses().physics_port());
+  const proto::GeodeticOrigin& origin = scenario.spec.geodetic_origin();
+  char home[96];
+  std::snprintf(home, sizeof home, "%.9f,%.9f,%.3f", origin.latitude_deg(),
+                origin.longitude_deg(), origin.altitude_m());
+  context.geodetic_origin = home;
   return context;
 }
 
