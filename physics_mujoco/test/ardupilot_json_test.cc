@@ -149,6 +149,24 @@ TEST_F(ArduPilotJsonTest, EachNewFrameAdvancesOneOverFrameRate) {
   EXPECT_EQ(server_.counters(0).json_frames, 4u);
 }
 
+// ArduCopter's SITL asks for 1200 Hz (SIM_RATE_HZ), then for 1/dt of the replies it gets, one
+// higher each frame after a reply that did not advance its clock (SIM_JSON.cpp: recv_fdm,
+// update). A frame shorter than the 1 ms step still ends a step after the last reply: each
+// reply advances its clock, whatever the rate, also when the rate changes every frame (before,
+// such a frame was answered at once with the last timestamp, 200 frames per step).
+TEST_F(ArduPilotJsonTest, AFrameShorterThanAStepEndsAStepAfterTheLastReply) {
+  uint32_t count = 0;
+  double last_s = 0;
+  for (const uint16_t rate : {1200, 1001, 1002, 1003, 1200, 1200, 1200, 1001, 1001}) {
+    const std::string reply = Exchange(ServoPacket16(rate, ++count, 1000));
+    ASSERT_FALSE(reply.empty()) << "frame " << count;
+    EXPECT_NEAR(Field(reply, "timestamp")[0], last_s + 0.001, 1e-12) << "frame " << count;
+    last_s = Field(reply, "timestamp")[0];
+    // SITL is paced by the replies alone, not by its own wall clock as well.
+    EXPECT_EQ(Field(reply, "no_time_sync"), std::vector<double>{1});
+  }
+}
+
 TEST_F(ArduPilotJsonTest, RepeatedFrameCountResendsWithoutAdvancing) {
   Exchange(ServoPacket16(1000, 7, 1000));
   const std::string reply = Exchange(ServoPacket16(1000, 8, 1000));

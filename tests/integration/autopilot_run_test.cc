@@ -68,17 +68,6 @@ int CompareTrajectory(const std::string& csv, int robot,
   return compared;
 }
 
-std::string NodeMavlinkDir() { return integration_test::SourceDir() + "/tests/node_mavlink"; }
-
-// Why node-mavlink cannot run here, or "" if it can (scripts/setup installs it).
-std::string NodeMavlinkMissing() {
-  if (std::system("node --version >/dev/null 2>&1") != 0) return "node is not installed";
-  if (!std::filesystem::exists(NodeMavlinkDir() + "/node_modules/node-mavlink/package.json")) {
-    return "node-mavlink is not installed in " + NodeMavlinkDir() + "/node_modules";
-  }
-  return "";
-}
-
 // A MAVLink message as node-mavlink decoded it, with the on-air time of its datagram.
 struct DecodedMessage {
   double on_air_s = 0;

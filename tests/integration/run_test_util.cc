@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -78,6 +79,16 @@ std::vector<double> CapturedTimes(const std::string& out, const std::string& fil
     if (sources != nullptr) sources->push_back(source);
   }
   return times;
+}
+
+std::string NodeMavlinkDir() { return integration_test::SourceDir() + "/tests/node_mavlink"; }
+
+std::string NodeMavlinkMissing() {
+  if (std::system("node --version >/dev/null 2>&1") != 0) return "node is not installed";
+  if (!std::filesystem::exists(NodeMavlinkDir() + "/node_modules/node-mavlink/package.json")) {
+    return "node-mavlink is not installed in " + NodeMavlinkDir() + "/node_modules";
+  }
+  return "";
 }
 
 }  // namespace sitlnet::nns::testing

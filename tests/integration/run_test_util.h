@@ -35,6 +35,11 @@ std::vector<double> CapturedTimes(const std::string& out, const std::string& fil
                                   std::vector<int>* udp_lengths = nullptr,
                                   std::vector<std::string>* sources = nullptr);
 
+// tests/node_mavlink: node-mavlink scripts (scripts/setup installs the package there).
+std::string NodeMavlinkDir();
+// Why node-mavlink cannot run here, or "" if it can.
+std::string NodeMavlinkMissing();
+
 }  // namespace sitlnet::nns::testing
 
 #endif  // SITLNET_TESTS_INTEGRATION_RUN_TEST_UTIL_H_

@@ -5,7 +5,7 @@
 //   node guided_flight.cjs HOST PORT ALT_M HOLD_S NORTH_M EAST_M
 // Prints one line per event, with the autopilot's time in seconds:
 //   STATUSTEXT t=.. <text> | ARMED t=.. | TAKEOFF_REACHED t=.. | WAYPOINT_REACHED t=.. |
-//   DISARMED t=.. | POS t=.. rel_alt=.. north=.. east=.. (GLOBAL_POSITION_INT, every report)
+//   LAND t=.. (LAND mode asked) | DISARMED t=.. | POS t=.. rel_alt=.. north=.. east=.. (GLOBAL_POSITION_INT, every report)
 // and exits 0 after DISARMED, 1 if the connection closes first.
 // Used by tests/integration/arducopter_flight_test.cc.
 'use strict';
@@ -100,7 +100,7 @@ function step() {
       break;
     }
     case 'settle':
-      if (timeS - phaseStartS >= Number(holdS)) enter('land');
+      if (timeS - phaseStartS >= Number(holdS)) { say(`LAND t=${timeS.toFixed(3)}`); enter('land'); }
       break;
     case 'land':
       if (due(1)) command(176, [1, COPTER_LAND, 0, 0, 0, 0, 0]);
