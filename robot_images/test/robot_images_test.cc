@@ -79,6 +79,41 @@ TEST(ImageTest, EnvPlaceholderReadsSitlnetsEnvironmentAndNamesAnUnsetVariable) {
   std::remove(path.c_str());
 }
 
+// The ArduCopter manifest takes its folder from SITLNET_ARDUPILOT_DIR (the tests and .ci/run
+// set it), lists the binary and the parameters as files, and starts at the scenario's origin.
+TEST(ImageTest, ArduCopterTakesItsFolderFromTheEnvironmentAndItsHomeFromTheOrigin) {
+  const Image image = LoadImage(ImagesRoot(), "arducopter");
+  LaunchContext context = Context();
+  context.geodetic_origin = "47.397742000,8.545594000,488.000";
+  const char* before = std::getenv("SITLNET_ARDUPILOT_DIR");
+  const std::string kept = before != nullptr ? before : "";
+  ASSERT_EQ(setenv("SITLNET_ARDUPILOT_DIR", "/tmp/ardupilot-x", 1), 0);
+  const std::vector<std::string> argv = ExpandCommand(image, context);
+  ASSERT_GE(argv.size(), 3u);
+  EXPECT_NE(argv[2].find("--home \"47.397742000,8.545594000,488.000,0\""), std::string::npos)
+      << argv[2];
+  EXPECT_EQ(ExpandEnv(image, context), std::vector<std::string>{"ARDUPILOT_DIR=/tmp/ardupilot-x"});
+  try {
+    CheckFiles(image, context);
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_STREQ(error.what(),
+                 "robot \"uav2\": image \"arducopter\" needs /tmp/ardupilot-x/bin/arducopter, "
+                 "which does not exist");
+  }
+  ASSERT_EQ(unsetenv("SITLNET_ARDUPILOT_DIR"), 0);
+  try {
+    ExpandEnv(image, context);
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()),
+              image.manifest_path +
+                  ": ${env:SITLNET_ARDUPILOT_DIR}: SITLNET_ARDUPILOT_DIR is not set in sitlnet's "
+                  "environment (the manifest's comments say what it names)");
+  }
+  if (before != nullptr) setenv("SITLNET_ARDUPILOT_DIR", kept.c_str(), 1);
+}
+
 TEST(ImageTest, MissingFileNamesRobotAndPath) {
   const Image image = LoadImage(ImagesRoot(), "flocker");
   try {
