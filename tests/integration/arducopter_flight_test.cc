@@ -99,19 +99,21 @@ class ArduCopterFlightTest : public ::testing::Test {
   }
 };
 
-// Lockstep, 100 virtual seconds. Oracles: ArduPilot's own multicopter model (`arducopter
+// 100 virtual seconds, in lockstep or realtime pacing. Oracles: ArduPilot's own multicopter model (`arducopter
 // --model quad`, the same binary and parameters, its GCS the same script) reports "EKF3 IMU0 is
 // using GPS" at 41.4 s and arms at 41.9 s, with "Gyros inconsistent" until 23 s and "Need
 // Position Estimate" until then; the physics step (1 ms) against SIM_RATE_HZ (1200): one frame
-// per step is the most the JSON backend can get.
-TEST_F(ArduCopterFlightTest, ArmsTakesOffFliesToAWaypointLandsAndDisarmsInLockstep) {
+// per step is the most the JSON backend can get; ArduPilot's own loop-rate checks.
+void FlyGuided(bool lockstep) {
   const RunScenario scenario =
       WriteScenario(9,
                     "robot { name: \"c1\" position_m { x: 0 y: 0 z: 0.1 } "
                     "ardupilot_json_port: 9002 image: \"arducopter\" }\n",
-                    "timing { duration_ms: 100000 pacing: PACING_LOCKSTEP }\n");
+                    std::string("timing { duration_ms: 100000 pacing: ") +
+                        (lockstep ? "PACING_LOCKSTEP" : "PACING_REALTIME") + " }\n");
   DownGuard guard(scenario.name);
-  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const std::string out =
+      TempDir() + "/" + scenario.name + (lockstep ? "-lockstep" : "-realtime");
   Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress"});
   const std::string log = out + "/robots/c1.log";
   ASSERT_TRUE(WaitForFiles(
@@ -137,9 +139,14 @@ TEST_F(ArduCopterFlightTest, ArmsTakesOffFliesToAWaypointLandsAndDisarmsInLockst
   std::sscanf(summary.c_str() + summary.find("\"json_resends\":"), "\"json_resends\":%ld",
               &resends);
   std::sscanf(summary.c_str() + summary.find("\"stf\":{\"mean\":"), "\"stf\":{\"mean\":%lf", &stf);
-  EXPECT_NEAR(frames, 100000, 2) << summary;
   EXPECT_EQ(resends, 0);
-  EXPECT_LT(stf, 1) << "lockstep slower than real time";
+  if (lockstep) {
+    EXPECT_NEAR(frames, 100000, 2) << summary;
+    EXPECT_LT(stf, 1) << "lockstep slower than real time";
+  } else {
+    // A frame that comes after its step's wall instant is answered with a longer step: fewer.
+    EXPECT_LE(frames, 100001) << summary;
+  }
 
   // The flight, in the autopilot's time.
   for (const char* event : {"ARMED", "TAKEOFF_REACHED", "WAYPOINT_REACHED", "LAND", "DISARMED"}) {
@@ -154,6 +161,10 @@ TEST_F(ArduCopterFlightTest, ArmsTakesOffFliesToAWaypointLandsAndDisarmsInLockst
   double using_gps_s = -1;
   for (const auto& [t, text] : flight.texts) {
     if (using_gps_s < 0 && text.find("EKF3 IMU0 is using GPS") != std::string::npos) using_gps_s = t;
+    // In realtime pacing each frame must come within its millisecond of wall time: on a
+    // loaded host some do not, and SITL's IMU misses samples (docs/autopilots.md).
+    EXPECT_EQ(text.find("Main loop slow"), std::string::npos) << t << " " << text;
+    EXPECT_EQ(text.find(" rate "), std::string::npos) << t << " " << text;
     const bool failed_check = text.rfind("Arm: ", 0) == 0 || text.rfind("PreArm: ", 0) == 0;
     if (!failed_check) continue;
     // The check of the same 100 ms report may still say so.
@@ -192,12 +203,21 @@ TEST_F(ArduCopterFlightTest, ArmsTakesOffFliesToAWaypointLandsAndDisarmsInLockst
   EXPECT_NEAR(at_waypoint.x_m, 0, 1);
   EXPECT_GT(waypoint_s, takeoff_s);
   EXPECT_NEAR(RowAt(rows, flight.events.at("DISARMED")).z_m, ground_z, 0.05);
-  std::printf("ArduCopter lockstep: %ld JSON frames in 100 s, STF %.3f, armed at %.2f s, EKF "
+  std::printf("ArduCopter %s: %ld JSON frames in 100 s, STF %.3f, armed at %.2f s, EKF "
               "uses GPS at %.2f s, took off at %.2f s, waypoint at %.2f s, disarmed at %.2f s; "
               "altitude off 10 m by %.3f m at most, its estimate off the truth by %.3f m\n",
-              frames, stf, armed_s, using_gps_s, takeoff_s, waypoint_s,
+              lockstep ? "lockstep" : "realtime", frames, stf, armed_s, using_gps_s, takeoff_s, waypoint_s,
               flight.events.at("DISARMED"), worst_altitude_m, worst_estimate_m);
   ExpectNothingLeft(scenario.name);
+}
+
+TEST_F(ArduCopterFlightTest, ArmsTakesOffFliesToAWaypointLandsAndDisarmsInLockstep) {
+  FlyGuided(true);
+}
+
+// 100 s of wall time.
+TEST_F(ArduCopterFlightTest, ArmsTakesOffFliesToAWaypointLandsAndDisarmsInRealtime) {
+  FlyGuided(false);
 }
 
 }  // namespace
