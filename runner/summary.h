@@ -8,7 +8,7 @@
 #include "coordinator/metrics.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "runner/connectivity.h"
-#include "runner/run_monitor.h"
+#include "runner/robot_slot.h"
 #include "runner/runner.h"
 #include "tapbridge/tapbridge.h"
 

@@ -1,0 +1,74 @@
+#include "runner/coordinated_run.h"
+
+#include <sys/resource.h>
+
+#include "runner/cpu_time.h"
+
+namespace sitlnet::runner {
+namespace {
+
+physics_side::RobotLockstepOptions RobotLockstep(const Scenario& scenario, bool lockstep) {
+  physics_side::RobotLockstepOptions robot_lockstep;
+  robot_lockstep.enabled = lockstep;
+  robot_lockstep.command_timeout_ns = scenario.spec.silent_robot_timeout_ms() * kNsPerMs;
+  robot_lockstep.drop_silent =
+      scenario.spec.on_silent_robot() == proto::Scenario::SILENT_ROBOT_DROP;
+  return robot_lockstep;
+}
+
+}  // namespace
+
+CoordinatedRun::CoordinatedRun(RunSetup* setup, const RunOptions& options,
+                               const std::string& run_dir, int interrupt_fd)
+    : physics_sim_(setup->scenario(), &setup->physics_server(),
+                   RobotLockstep(setup->scenario(), setup->lockstep())),
+      recording_(&physics_sim_, &setup->physics_server().world(),
+                 physics::GeodeticFrame(setup->scenario().spec.geodetic_origin()),
+                 run_dir + "/trajectories.csv", options.trajectory_period_ns),
+      bridge_sim_(setup->scenario(), &setup->bridge(),
+                  setup->lockstep() ? coordinator::Pacing::kLockstep
+                                    : coordinator::Pacing::kRealtime,
+                  setup->scenario().spec.timing().realtime_factor()),
+      progress_(options.progress, &setup->bridge(), &setup->robots(),
+                setup->scenario().duration_ns),
+      supervisor_(&setup->robots(),
+                  setup->scenario().spec.on_robot_failure() ==
+                      proto::Scenario::ROBOT_FAILURE_STOP,
+                  &progress_),
+      // The supervisor first: a robot that exited is counted out on the same line.
+      observed_network_(&bridge_sim_, {&supervisor_, &progress_}),
+      physics_(coordinator::MakeInProcessConnector("physics", coordinator::Role::kPhysics,
+                                                   &recording_,
+                                                   coordinator::Threading::kOwnThread)),
+      // The bridge is single-threaded: always the coordinator's own thread.
+      network_(coordinator::MakeInProcessConnector("network", coordinator::Role::kNetwork,
+                                                   &observed_network_,
+                                                   coordinator::Threading::kCallerThread)),
+      run_options_(coordinator::OptionsFromScenario(setup->scenario())),
+      metrics_csv_(run_dir + "/metrics.csv") {
+  if (setup->shared_time() != nullptr) recording_.ShareTimeWith(setup->shared_time());
+  run_options_.timebase_out = &setup->run_timebase();
+  run_options_.metrics_csv = &metrics_csv_;
+  run_options_.metrics = &metrics_;
+  run_options_.interrupt_fd = interrupt_fd;
+  run_options_.lockstep_robots = setup->lockstep();
+}
+
+LoopOutcome CoordinatedRun::Run() {
+  LoopOutcome outcome;
+  outcome.begin_ns = MonotonicNowNs();
+  try {
+    outcome.result = coordinator::RunCoordinator(*physics_, *network_, run_options_);
+  } catch (const Error& error) {
+    outcome.failure = error.what();
+  }
+  outcome.end_ns = MonotonicNowNs();
+  outcome.self_cpu_s = CpuSeconds(RUSAGE_SELF);
+  progress_.Finish();
+  metrics_csv_.Flush();
+  recording_.Flush();
+  outcome.metrics = metrics_.Summarize();
+  return outcome;
+}
+
+}  // namespace sitlnet::runner

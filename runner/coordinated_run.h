@@ -1,0 +1,58 @@
+// The run stage of `sitlnet run`: the coordinator steps the physics side (recording
+// trajectories.csv) and the network side, whose iterations the robot supervisor and the progress
+// line observe; metrics.csv is written as it goes.
+#ifndef SITLNET_RUNNER_COORDINATED_RUN_H_
+#define SITLNET_RUNNER_COORDINATED_RUN_H_
+
+#include <memory>
+#include <string>
+
+#include "coordinator/coordinator.h"
+#include "network_side/network_side.h"
+#include "physics_side/physics_side.h"
+#include "runner/progress_line.h"
+#include "runner/recording_physics.h"
+#include "runner/robot_supervisor.h"
+#include "runner/run_setup.h"
+#include "runner/runner.h"
+
+namespace sitlnet::runner {
+
+// What the coordinator's loop came to.
+struct LoopOutcome {
+  coordinator::RunResult result;
+  std::string failure;  // The Error that ended the run; empty if none.
+  coordinator::MetricsSummary metrics;
+  TimeNs begin_ns = 0;    // Monotonic instants of the loop's start and end.
+  TimeNs end_ns = 0;
+  double self_cpu_s = 0;  // user+sys of this process (all threads) at the loop's end.
+};
+
+class CoordinatedRun {
+ public:
+  // Creates trajectories.csv and metrics.csv (throws Error naming the file). `setup` must
+  // outlive this; `interrupt_fd`: the run's StopSignal.
+  CoordinatedRun(RunSetup* setup, const RunOptions& options, const std::string& run_dir,
+                 int interrupt_fd);
+  // Runs every iteration (or until interrupted, or until a connector fails: the Error is the
+  // outcome's failure, not thrown), then ends the progress line and flushes metrics.csv and
+  // trajectories.csv (throws Error naming the file that cannot be written).
+  LoopOutcome Run();
+
+ private:
+  physics_side::PhysicsServerSimulator physics_sim_;
+  RecordingPhysics recording_;
+  network_side::BridgeSimulator bridge_sim_;
+  ProgressLine progress_;
+  RobotSupervisor supervisor_;
+  ObservedSimulator observed_network_;
+  std::unique_ptr<coordinator::Connector> physics_;
+  std::unique_ptr<coordinator::Connector> network_;
+  coordinator::CoordinatorOptions run_options_;
+  coordinator::MetricsCsvWriter metrics_csv_;
+  coordinator::MetricsCollector metrics_;
+};
+
+}  // namespace sitlnet::runner
+
+#endif  // SITLNET_RUNNER_COORDINATED_RUN_H_

@@ -1,0 +1,43 @@
+// The run's physics simulator, recorded: trajectories.csv and the robots' shared /clock time.
+#ifndef SITLNET_RUNNER_RECORDING_PHYSICS_H_
+#define SITLNET_RUNNER_RECORDING_PHYSICS_H_
+
+#include <string>
+
+#include "common/common.h"
+#include "coordinator/connector.h"
+#include "physics_mujoco/physics_mujoco.h"
+#include "ros2_clock/ros2_clock.h"
+
+namespace sitlnet::runner {
+
+// Physics simulator + trajectories.csv every `period_ns` of virtual time. Runs on the physics
+// connector's thread, so it touches only its own simulator and world.
+class RecordingPhysics final : public coordinator::Simulator {
+ public:
+  // `frame`: the scenario's geodetic frame, for the rows' latitude, longitude and altitude.
+  RecordingPhysics(coordinator::Simulator* inner, const physics::World* world,
+                   const physics::GeodeticFrame& frame, const std::string& csv_path,
+                   TimeNs period_ns);
+  proto::coord::Poses InitialPoses() override { return inner_.InitialPoses(); }
+  void RunIteration(const proto::coord::Start& start, proto::coord::End* end,
+                    coordinator::IterationContext& context) override;
+  // Each iteration's end time, once the physics has reached it, goes there too (the robots'
+  // /clock publishers read it).
+  void ShareTimeWith(ros2_clock::SharedVirtualTime* shared) { shared_time_ = shared; }
+  void Flush() { csv_.Flush(); }
+
+ private:
+  void Record(TimeNs time_ns);
+  coordinator::Simulator& inner_;
+  const physics::World& world_;
+  physics::GeodeticFrame frame_;
+  LineFile csv_;
+  TimeNs period_ns_;
+  TimeNs next_sample_ns_ = 0;
+  ros2_clock::SharedVirtualTime* shared_time_ = nullptr;
+};
+
+}  // namespace sitlnet::runner
+
+#endif  // SITLNET_RUNNER_RECORDING_PHYSICS_H_

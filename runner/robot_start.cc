@@ -1,0 +1,190 @@
+#include "runner/robot_start.h"
+
+#include <google/protobuf/text_format.h>
+#include <poll.h>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace sitlnet::runner {
+namespace {
+
+// Folder of the sitlnet binary (${SITLNET_BIN}; the flocker and ros2_clock programs are there).
+std::string BinDir(const RunOptions& options) {
+  return options.sitlnet_exe.substr(0, options.sitlnet_exe.rfind('/'));
+}
+
+// What every process started in robot `plan` is told of its place.
+images::LaunchContext RobotContext(const Scenario& scenario, const RunOptions& options,
+                                   const RobotPlan& plan) {
+  images::LaunchContext context;
+  context.sitlnet_bin_dir = BinDir(options);
+  context.scenario = scenario.name;
+  context.robot = plan.name;
+  context.robot_index = plan.index;
+  context.physics_address = FormatIpv4(plan.ctl_root_address) + ":" +
+                            std::to_string(scenario.spec.addresses().physics_port());
+  const proto::GeodeticOrigin& origin = scenario.spec.geodetic_origin();
+  char home[96];
+  std::snprintf(home, sizeof home, "%.9f,%.9f,%.3f", origin.latitude_deg(),
+                origin.longitude_deg(), origin.altitude_m());
+  context.geodetic_origin = home;
+  return context;
+}
+
+// The robot's cgroup with its image's limits, or null (said once per run) when the host offers
+// none and the image asks for no limit; throws Error naming the robot for a limit that cannot be
+// applied.
+std::unique_ptr<nns::RobotCgroup> MakeCgroup(const Scenario& scenario, const std::string& robot,
+                                             const images::Image& image, bool* warned) {
+  const proto::ImageManifest::Limits& limits = image.manifest.limits();
+  nns::CgroupLimits cgroup_limits;
+  cgroup_limits.memory_max_bytes = static_cast<int64_t>(limits.memory_max_mib()) << 20;
+  cgroup_limits.pids_max = limits.pids_max();
+  cgroup_limits.cpu_max_cores = limits.cpu_max_cores();
+  auto cgroup = std::make_unique<nns::RobotCgroup>(scenario.name, robot, cgroup_limits);
+  if (cgroup->unavailable().empty()) return cgroup;
+  if (!*warned) {
+    std::fprintf(stderr,
+                 "sitlnet run: warning: the robots run without a cgroup (%s): their CPU time and "
+                 "memory are not accounted, and a robot's process that leaves its sandbox's "
+                 "namespaces may outlive it (docs/security.md)\n",
+                 cgroup->unavailable().c_str());
+    *warned = true;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& options,
+                                   const std::string& run_dir) {
+  std::vector<RobotSlot> robots(scenario.robots.size());
+  bool warned_no_cgroup = false;
+  for (const RobotPlan& plan : scenario.robots) {
+    RobotSlot& slot = robots[plan.index];
+    slot.name = plan.name;
+    if (plan.spec.image().empty()) continue;
+    const images::Image image = images::LoadImage(options.images_root, plan.spec.image());
+    images::LaunchContext context = RobotContext(scenario, options, plan);
+    context.robot_args.assign(plan.spec.args().begin(), plan.spec.args().end());
+    context.realtime_factor = scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP
+                                  ? 0
+                                  : scenario.spec.timing().realtime_factor();
+    google::protobuf::TextFormat::Printer one_line;
+    one_line.SetSingleLineMode(true);
+    one_line.PrintToString(plan.airframe, &context.airframe_text);
+    images::CheckFiles(image, context);
+    if (image.manifest.sandbox() == proto::ImageManifest::NONE) {
+      std::fprintf(stderr,
+                   "sitlnet run: warning: robot \"%s\": image \"%s\" runs without a sandbox "
+                   "(sandbox: NONE in %s): it shares the host's files, processes and privileges "
+                   "(docs/security.md)\n",
+                   plan.name.c_str(), image.manifest.name().c_str(), image.manifest_path.c_str());
+    }
+    // Recorded before it exists: `down` removes it by name even if this run is killed while
+    // podman creates it.
+    if (const auto container = images::ContainerTargetOf(image, context)) {
+      slot.container = std::make_unique<nns::ContainerRegistration>(
+          scenario.name, container->engine_exe, container->name);
+    } else {
+      slot.cgroup = MakeCgroup(scenario, plan.name, image, &warned_no_cgroup);
+      if (slot.cgroup) context.cgroup_join_fds = slot.cgroup->join_fds();
+    }
+    slot.process = std::make_unique<images::RobotProcess>(
+        image, context, options.sitlnet_exe, run_dir + "/robots/" + plan.name + ".log");
+    slot.image = image;
+    slot.context = context;
+    slot.sitlnet_exe = options.sitlnet_exe;
+    slot.started_wall_ns = MonotonicNowNs();
+  }
+  // A program that is missing or dies at once shows within a moment; this
+  // bounded wait is the start-up check, not a synchronization.
+  // One 300 ms window for the whole fleet, not 300 ms per robot (64 robots
+  // took 19 s to start with per-robot waits).
+  const TimeNs check_until_ns = MonotonicNowNs() + 300 * kNsPerMs;
+  for (RobotSlot& slot : robots) {
+    if (!slot.process) continue;
+    const TimeNs left_ns = std::max<TimeNs>(0, check_until_ns - MonotonicNowNs());
+    if (const auto status = slot.process->WaitExit(left_ns); status && *status != 0) {
+      throw Error("robot \"" + slot.name + "\": its image exited at once with status " +
+                  std::to_string(*status) + "; see " + slot.process->log_path());
+    }
+  }
+  return robots;
+}
+
+std::vector<std::unique_ptr<images::RobotProcess>> StartClockPublishers(
+    const Scenario& scenario, const RunOptions& options, const std::string& run_dir,
+    const ros2_clock::SharedVirtualTime& shared) {
+  std::vector<std::unique_ptr<images::RobotProcess>> publishers;
+  const proto::Timing& timing = scenario.spec.timing();
+  if (timing.ros2_clock_hz() == 0) return publishers;
+  const std::string bin_dir = BinDir(options);
+  const bool lockstep = timing.pacing() == proto::Timing::PACING_LOCKSTEP;
+  // The shared time moves once per iteration: polling twice per iteration's wall time is
+  // enough in realtime; in lockstep an iteration's wall time is not known, 1 ms it is.
+  const int64_t poll_us =
+      lockstep
+          ? 1000
+          : std::max<int64_t>(
+                100, static_cast<int64_t>(timing.iteration_us() / timing.realtime_factor() / 2));
+  images::Image image;
+  image.dir = bin_dir;
+  image.manifest_path = "(built in: timing.ros2_clock_hz)";
+  image.manifest.set_name("ros2_clock");
+  for (const std::string& arg : {bin_dir + "/ros2_clock_publisher", std::string("--time-fd"),
+                                 std::to_string(images::kPassedFd), std::string("--rate-hz"),
+                                 std::to_string(timing.ros2_clock_hz()), std::string("--poll-us"),
+                                 std::to_string(poll_us)}) {
+    image.manifest.add_command(arg);
+  }
+  image.manifest.add_files(bin_dir + "/ros2_clock_publisher");
+  image.manifest.set_time(proto::ImageManifest::WALL);
+  image.manifest.set_ready_log_line("ros2_clock_publisher: /clock");
+  for (const RobotPlan& plan : scenario.robots) {
+    images::LaunchContext context = RobotContext(scenario, options, plan);
+    context.passed_fd = shared.fd();
+    images::CheckFiles(image, context);
+    publishers.push_back(std::make_unique<images::RobotProcess>(
+        image, context, options.sitlnet_exe, run_dir + "/robots/" + plan.name + ".ros2_clock.log"));
+  }
+  return publishers;
+}
+
+void WaitForRobotsToSpeak(const Scenario& scenario, std::vector<RobotSlot>& robots,
+                          physics::PhysicsServer* server, const std::string& why) {
+  const TimeNs allowed_ns =
+      10 * kNsPerS + 250 * kNsPerMs *
+                         std::count_if(robots.begin(), robots.end(),
+                                       [](const RobotSlot& r) { return r.process != nullptr; });
+  const TimeNs deadline = MonotonicNowNs() + allowed_ns;
+  for (;;) {
+    server->Poll();
+    std::string silent;
+    for (const RobotPlan& plan : scenario.robots) {
+      RobotSlot& robot = robots[plan.index];
+      // A ground station's software has no physics to speak to.
+      if (robot.process && !plan.spec.ground_station() && !server->spoke(plan.index)) {
+        if (const std::optional<int> status = robot.process->PollExit()) {
+          throw Error(why + ": robot \"" + plan.name + "\" exited (status " +
+                      std::to_string(*status) +
+                      ") before it spoke to physics (log: " + robot.process->log_path() + ")");
+        }
+        silent += (silent.empty() ? "" : ", ") + plan.name;
+      }
+    }
+    if (silent.empty()) return;
+    const TimeNs now = MonotonicNowNs();
+    if (now >= deadline) {
+      throw Error(why + ": robots " + silent +
+                  " sent no MotorCommand (nor servo frame, nor PX4 connection) within " +
+                  std::to_string(allowed_ns / kNsPerMs) +
+                  " ms of starting (see their logs in robots/)");
+    }
+    pollfd wait{server->wait_fd(), POLLIN, 0};
+    poll(&wait, 1, static_cast<int>((deadline - now) / kNsPerMs) + 1);
+  }
+}
+
+}  // namespace sitlnet::runner

@@ -1,0 +1,46 @@
+#include "runner/run_report.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "runner/summary.h"
+
+namespace sitlnet::runner {
+namespace {
+
+// --remote network: the medium link's round trips on stderr and in the report.
+void ReportMediumLink(const network_side::RemoteMedium& remote_medium, RunReport* report) {
+  const network_side::MediumLinkStats& link = remote_medium.stats();
+  report->medium_link = link;
+  const network_side::MediumLinkStats::Means mean = link.PerRoundTrip();
+  std::fprintf(stderr,
+               "sitlnet run: medium link to %s: %lld round trips (%lld quiet steps without), "
+               "mean %.1f us each (remote medium %.1f us, transport %.1f us), %.0f B out, "
+               "%.0f B back\n",
+               remote_medium.Describe().c_str(), static_cast<long long>(link.round_trips),
+               static_cast<long long>(link.quiet_steps), mean.round_trip_us,
+               mean.remote_medium_us, mean.transport_us, mean.request_bytes, mean.reply_bytes);
+}
+
+}  // namespace
+
+void ReportRun(RunSetup& setup, const LoopOutcome& loop, RunReport* report) {
+  const std::string& failure = loop.failure;
+  report->interrupted = loop.result.interrupted;
+  report->exit_code = !failure.empty() ? 1 : loop.result.interrupted ? 130 : 0;
+  if (!failure.empty()) std::fprintf(stderr, "sitlnet run: %s\n", failure.c_str());
+  network_side::RemoteMedium* remote_medium = setup.remote_medium();
+  if (remote_medium) ReportMediumLink(*remote_medium, report);
+  // A failed run throws out of RunCoordinator before it returns a count: the
+  // metrics have one row per iteration done.
+  WriteSummaryAndPlots(setup.scenario(), *report, loop.metrics,
+                       std::max<int64_t>(loop.result.iterations_done, loop.metrics.iterations),
+                       setup.robots(), setup.bridge(), setup.physics_server(),
+                       &setup.medium_records().connectivity(), failure);
+  if (remote_medium) {
+    remote_medium->Stop(failure.empty() ? (loop.result.interrupted ? "interrupted" : "run finished")
+                                        : failure);
+  }
+}
+
+}  // namespace sitlnet::runner
