@@ -25,21 +25,19 @@ CoordinatedRun::CoordinatedRun(RunSetup* setup, const RunOptions& options,
       recording_(&physics_sim_, &setup->physics_server().world(),
                  physics::GeodeticFrame(setup->scenario().spec.geodetic_origin()),
                  run_dir + "/trajectories.csv", options.trajectory_period_ns),
-      bridge_sim_(setup->scenario(), &setup->bridge(),
-                  setup->lockstep() ? coordinator::Pacing::kLockstep
-                                    : coordinator::Pacing::kRealtime,
-                  setup->scenario().spec.timing().realtime_factor()),
+      bridge_sim_(
+          setup->scenario(), &setup->bridge(),
+          setup->lockstep() ? coordinator::Pacing::kLockstep : coordinator::Pacing::kRealtime,
+          setup->scenario().spec.timing().realtime_factor()),
       progress_(options.progress, &setup->bridge(), &setup->robots(),
                 setup->scenario().duration_ns),
       supervisor_(&setup->robots(),
-                  setup->scenario().spec.on_robot_failure() ==
-                      proto::Scenario::ROBOT_FAILURE_STOP,
+                  setup->scenario().spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP,
                   &progress_),
       // The supervisor first: a robot that exited is counted out on the same line.
       observed_network_(&bridge_sim_, {&supervisor_, &progress_}),
-      physics_(coordinator::MakeInProcessConnector("physics", coordinator::Role::kPhysics,
-                                                   &recording_,
-                                                   coordinator::Threading::kOwnThread)),
+      physics_(coordinator::MakeInProcessConnector(
+          "physics", coordinator::Role::kPhysics, &recording_, coordinator::Threading::kOwnThread)),
       // The bridge is single-threaded: always the coordinator's own thread.
       network_(coordinator::MakeInProcessConnector("network", coordinator::Role::kNetwork,
                                                    &observed_network_,

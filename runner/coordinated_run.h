@@ -23,7 +23,7 @@ struct LoopOutcome {
   coordinator::RunResult result;
   std::string failure;  // The Error that ended the run; empty if none.
   coordinator::MetricsSummary metrics;
-  TimeNs begin_ns = 0;    // Monotonic instants of the loop's start and end.
+  TimeNs begin_ns = 0;  // Monotonic instants of the loop's start and end.
   TimeNs end_ns = 0;
   double self_cpu_s = 0;  // user+sys of this process (all threads) at the loop's end.
 };

@@ -18,7 +18,6 @@ int64_t PeakRssKib(pid_t pid) {
   return 0;
 }
 
-
 }  // namespace
 
 void StopRobots(std::vector<RobotSlot>* robots,

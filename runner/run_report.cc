@@ -18,8 +18,8 @@ void ReportMediumLink(const network_side::RemoteMedium& remote_medium, RunReport
                "mean %.1f us each (remote medium %.1f us, transport %.1f us), %.0f B out, "
                "%.0f B back\n",
                remote_medium.Describe().c_str(), static_cast<long long>(link.round_trips),
-               static_cast<long long>(link.quiet_steps), mean.round_trip_us,
-               mean.remote_medium_us, mean.transport_us, mean.request_bytes, mean.reply_bytes);
+               static_cast<long long>(link.quiet_steps), mean.round_trip_us, mean.remote_medium_us,
+               mean.transport_us, mean.request_bytes, mean.reply_bytes);
 }
 
 }  // namespace
