@@ -38,8 +38,8 @@ bool Px4Robot::Step(World* world, TimeNs time_ns) {
   const mavlink::HilSensor sensor = MakeHilSensor(
       time_ns, imu, sensors_.Magnetometer(pose.orientation), sensors_.Barometer(pose.position_m.z));
   std::optional<mavlink::HilGps> gps;
-  if (sensors_.GpsDue(time_ns)) {
-    gps = MakeHilGps(time_ns, sensors_.Gps(time_ns, pose), spec_->gps());
+  if (const std::optional<GpsFix> fix = sensors_.DeliveredGps(time_ns, pose)) {
+    gps = MakeHilGps(fix->sampled_ns, *fix, spec_->gps());  // As Gazebo: stamped when measured.
   }
   std::optional<mavlink::HilStateQuaternion> truth;
   if (options_.send_ground_truth) truth = MakeGroundTruth(time_ns, pose, imu, *frame_);

@@ -67,8 +67,9 @@ HilSensorModel::HilSensorModel(const proto::Robot& robot, const proto::GeodeticO
       field_ned_gauss_(MagneticFieldNedGauss(origin.magnetic_field())),
       scenario_seed_(scenario_seed),
       robot_index_(robot_index),
-      gps_period_ns_(std::llround(kNsPerS / robot.gps().rate_hz())) {
-  SITLNET_DEMAND(frame_ != nullptr && gps_period_ns_ > 0);
+      gps_period_ns_(std::llround(kNsPerS / robot.gps().rate_hz())),
+      gps_delay_ns_(std::llround(robot.gps().delay_ms() * kNsPerMs)) {
+  SITLNET_DEMAND(frame_ != nullptr && gps_period_ns_ > 0 && gps_delay_ns_ >= 0);
   Reset();
 }
 
@@ -77,6 +78,7 @@ void HilSensorModel::Reset() {
   Seed(&baro_engine_, scenario_seed_, robot_index_, kBaroTag);
   Seed(&gps_engine_, scenario_seed_, robot_index_, kGpsTag);
   next_gps_ns_ = 0;
+  gps_in_flight_.clear();
 }
 
 Vec3d HilSensorModel::Magnetometer(const Quat& q_enu_flu) {
@@ -108,7 +110,17 @@ GpsFix HilSensorModel::Gps(TimeNs time_ns, const RobotPose& pose) {
   velocity.x += Noise(&gps_engine_, gps.velocity_noise_m_s());
   velocity.y += Noise(&gps_engine_, gps.velocity_noise_m_s());
   velocity.z += Noise(&gps_engine_, gps.velocity_noise_m_s());
-  return {frame_->ToGeodetic(position), velocity, static_cast<uint8_t>(gps.satellites())};
+  return {time_ns, frame_->ToGeodetic(position), velocity, static_cast<uint8_t>(gps.satellites())};
+}
+
+std::optional<GpsFix> HilSensorModel::DeliveredGps(TimeNs time_ns, const RobotPose& pose) {
+  if (GpsDue(time_ns)) gps_in_flight_.push_back(Gps(time_ns, pose));
+  if (gps_in_flight_.empty() || gps_in_flight_.front().sampled_ns + gps_delay_ns_ > time_ns) {
+    return std::nullopt;
+  }
+  GpsFix fix = gps_in_flight_.front();
+  gps_in_flight_.pop_front();
+  return fix;
 }
 
 }  // namespace sitlnet::physics

@@ -5,6 +5,8 @@
 #define SITLNET_PHYSICS_MUJOCO_SENSOR_MODELS_H_
 
 #include <cstdint>
+#include <deque>
+#include <optional>
 #include <random>
 
 #include "physics_mujoco/physics_mujoco.h"
@@ -44,6 +46,7 @@ struct BarometerSample {
 };
 
 struct GpsFix {
+  TimeNs sampled_ns = 0;  // When the receiver measured it.
   GeodeticPoint position;
   Vec3d velocity_ned_m_s;
   uint8_t satellites = 0;
@@ -66,6 +69,10 @@ class HilSensorModel {
   bool GpsDue(TimeNs time_ns) const { return time_ns >= next_gps_ns_; }
   // The fix of `pose` at `time_ns` (noise added), and schedules the next.
   GpsFix Gps(TimeNs time_ns, const RobotPose& pose);
+  // The receiver with its latency, for a caller that steps through time: takes a fix of `pose`
+  // when one is due, and returns the oldest fix taken whose delivery (its sample time +
+  // delay_ms) has come by `time_ns`, if any. Fixes are delivered in order, one per call.
+  std::optional<GpsFix> DeliveredGps(TimeNs time_ns, const RobotPose& pose);
   // Back to the state after construction (a restarted autopilot gets the same readings).
   void Reset();
 
@@ -76,7 +83,9 @@ class HilSensorModel {
   uint64_t scenario_seed_;
   int robot_index_;
   TimeNs gps_period_ns_;
+  TimeNs gps_delay_ns_;
   TimeNs next_gps_ns_ = 0;
+  std::deque<GpsFix> gps_in_flight_;  // Taken, not yet delivered, oldest first.
   std::mt19937_64 mag_engine_, baro_engine_, gps_engine_;
 };
 

@@ -327,6 +327,10 @@ void ValidateHilSensors(const SourceLocator& at, int i, const proto::Robot& robo
     at.Fail({{"robot", i}, {"gps"}, {"rate_hz"}},
             who + "gps rate_hz " + Num(robot.gps().rate_hz()) + " out of range [0.1, 1000]");
   }
+  if (!InRange(robot.gps().delay_ms(), 0, 10000)) {
+    at.Fail({{"robot", i}, {"gps"}, {"delay_ms"}},
+            who + "gps delay_ms " + Num(robot.gps().delay_ms()) + " out of range [0, 10000]");
+  }
   const std::tuple<const char*, const char*, double> noises[] = {
       {"gps", "horizontal_noise_m", robot.gps().horizontal_noise_m()},
       {"gps", "vertical_noise_m", robot.gps().vertical_noise_m()},

@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <utility>
 #include <vector>
 
 namespace sitlnet::physics {
@@ -53,8 +55,16 @@ class HilSensorModelTest : public ::testing::Test {
   Vec3d field_ = MagneticFieldNedGauss(origin_.magnetic_field());
 };
 
+// Noise 0: the exact readings.
+proto::Robot Exact() {
+  proto::Robot robot;
+  robot.mutable_barometer()->set_noise_pa(0);
+  robot.mutable_magnetometer()->set_noise_gauss(0);
+  return robot;
+}
+
 TEST_F(HilSensorModelTest, MagnetometerReadsTheFieldInTheBodyFrame) {
-  HilSensorModel model = Model(proto::Robot{});
+  HilSensorModel model = Model(Exact());
   // Level, nose east (ENU yaw 0): forward = east, right = south, down = down.
   const Vec3d east_facing = model.Magnetometer({1, 0, 0, 0});
   EXPECT_NEAR(east_facing.x, field_.y, 1e-12);
@@ -74,7 +84,7 @@ TEST_F(HilSensorModelTest, MagnetometerReadsTheFieldInTheBodyFrame) {
 }
 
 TEST_F(HilSensorModelTest, BarometerAtTheRobotsAltitude) {
-  HilSensorModel model = Model(proto::Robot{});
+  HilSensorModel model = Model(Exact());
   const BarometerSample sample = model.Barometer(12);
   const Atmosphere air = IsaTroposphere(488 + 12);
   EXPECT_DOUBLE_EQ(sample.pressure_hpa, air.pressure_pa / 100);
@@ -114,8 +124,39 @@ TEST_F(HilSensorModelTest, GpsFixIsThePoseAtItsRate) {
   }
 }
 
+// The receiver's latency: each fix is of the pose at its sample instant (0, 100, 200 ms, ...)
+// and is delivered at the first step at or after that instant + delay_ms (110 ms by default),
+// in order; with delay 0 at the instant itself.
+TEST_F(HilSensorModelTest, GpsFixesAreDeliveredTheirDelayAfterTheyWereTaken) {
+  for (const double delay_ms : {110.0, 0.0}) {
+    proto::Robot robot;
+    if (delay_ms == 0) robot.mutable_gps()->set_delay_ms(0);
+    HilSensorModel model = Model(robot);
+    std::vector<std::pair<TimeNs, GpsFix>> delivered;
+    for (TimeNs t = 0; t < kNsPerS; t += 4 * kNsPerMs) {
+      RobotPose pose;
+      pose.position_m = {static_cast<double>(t) / kNsPerS, 0, 0};  // 1 m/s east: x = t
+      if (const std::optional<GpsFix> fix = model.DeliveredGps(t, pose)) {
+        delivered.emplace_back(t, *fix);
+      }
+    }
+    const size_t expected = delay_ms == 0 ? 10 : 9;  // 0 .. 900 ms; the last 1 or 0 in flight
+    ASSERT_EQ(delivered.size(), expected) << delay_ms;
+    for (size_t i = 0; i < delivered.size(); ++i) {
+      const auto& [t, fix] = delivered[i];
+      const TimeNs sampled = static_cast<TimeNs>(i) * 100 * kNsPerMs;
+      EXPECT_EQ(fix.sampled_ns, sampled) << delay_ms;
+      const TimeNs due = sampled + std::llround(delay_ms * kNsPerMs);
+      EXPECT_GE(t, due) << delay_ms;
+      EXPECT_LT(t, due + 4 * kNsPerMs) << delay_ms;
+      const GeodeticPoint where = frame_.ToGeodetic({static_cast<double>(sampled) / kNsPerS, 0, 0});
+      EXPECT_DOUBLE_EQ(fix.position.longitude_deg, where.longitude_deg) << delay_ms;
+    }
+  }
+}
+
 TEST_F(HilSensorModelTest, NoiseHasItsSigmaAndIsSeededPerRobotAndSensor) {
-  proto::Robot robot;
+  proto::Robot robot = Exact();
   robot.mutable_gps()->set_horizontal_noise_m(2);
   robot.mutable_barometer()->set_noise_pa(3);
   HilSensorModel model = Model(robot);

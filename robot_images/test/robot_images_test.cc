@@ -8,6 +8,7 @@
 #include <sys/time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 
@@ -123,6 +124,31 @@ TEST(ImageTest, MissingFileNamesRobotAndPath) {
     EXPECT_STREQ(error.what(),
                  "robot \"uav2\": image \"flocker\" needs /opt/sitlnet/bin/flocker, which does not "
                  "exist");
+  }
+}
+
+// The shipped PX4 manifest takes PX4's folder from SITLNET_PX4_DIR and needs it (`files`): a
+// folder that is there is accepted, a missing one is refused naming the robot and the path.
+TEST(ImageTest, Px4ManifestTakesItsFolderFromSitlnetPx4Dir) {
+  const char* before = std::getenv("SITLNET_PX4_DIR");
+  const std::string saved = before ? before : "";
+  const Image image = LoadImage(ImagesRoot(), "px4");
+  setenv("SITLNET_PX4_DIR", ::testing::TempDir().c_str(), 1);
+  const std::vector<std::string> env = ExpandEnv(image, Context());
+  EXPECT_NE(std::find(env.begin(), env.end(), "PX4_DIR=" + ::testing::TempDir()), env.end());
+  EXPECT_NO_THROW(CheckFiles(image, Context()));
+  setenv("SITLNET_PX4_DIR", "/nonexistent/px4", 1);
+  try {
+    CheckFiles(image, Context());
+    ADD_FAILURE() << "a missing PX4 folder was accepted";
+  } catch (const Error& error) {
+    EXPECT_STREQ(error.what(),
+                 "robot \"uav2\": image \"px4\" needs /nonexistent/px4, which does not exist");
+  }
+  if (before != nullptr) {
+    setenv("SITLNET_PX4_DIR", saved.c_str(), 1);
+  } else {
+    unsetenv("SITLNET_PX4_DIR");
   }
 }
 

@@ -203,6 +203,8 @@ TEST(ScenarioTest, GeodeticOriginDefaultsAndRanges) {
 TEST(ScenarioTest, RejectsBadHilSensorFigures) {
   ExpectRejected("name: \"t\"\nrobot { name: \"a\" gps { rate_hz: 0 } }\n",
                  "t.textproto:2:", "gps rate_hz 0 out of range");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" gps { delay_ms: -1 } }\n", "t.textproto:2:",
+                 "gps delay_ms -1 out of range [0, 10000]");
   ExpectRejected("name: \"t\"\nrobot { name: \"a\" barometer { noise_pa: -1 } }\n",
                  "t.textproto:2:", "barometer noise_pa -1 must be finite and >= 0");
   ExpectRejected("name: \"t\"\nrobot { name: \"a\" gps { satellites: 255 } }\n",

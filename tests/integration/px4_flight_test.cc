@@ -1,0 +1,251 @@
+// The real PX4 v1.14 flies in `sitlnet run` (issue 31, items 1 and 2; docs/autopilots.md): one
+// robot started through the shipped manifest robot_images/px4, PX4 found through
+// SITLNET_PX4_DIR, commanded over its own GCS MAVLink link by node-mavlink
+// (tests/node_mavlink/fly_px4.cjs), in both pacings. The oracle is PX4 itself (what its log
+// says, where it says it is) and the truth sitlnet writes (trajectories.csv).
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/integration/run_test_util.h"
+
+namespace sitlnet::nns::testing {
+namespace {
+
+constexpr double kAltitudeM = 5;    // take-off altitude above home
+constexpr double kNorthM = 50;      // the waypoint, from home
+constexpr double kDurationS = 75;   // virtual seconds of the run (disarmed at 55-60 s)
+constexpr double kEarthRadiusM = 6371000;  // PX4's map projection (and fly_px4.cjs's)
+
+// Why PX4 cannot be flown here, or "" when it can.
+std::string Px4Missing() {
+  const char* dir = std::getenv("SITLNET_PX4_DIR");
+  if (dir == nullptr || *dir == '\0') {
+    return "SITLNET_PX4_DIR is not set: point it at a PX4 v1.14 px4_sitl_default build folder "
+           "(bin/px4, etc/), docs/autopilots.md \"Building PX4\"";
+  }
+  if (!std::filesystem::exists(std::string(dir) + "/bin/px4")) {
+    return std::string("SITLNET_PX4_DIR=") + dir + " holds no bin/px4 (docs/autopilots.md "
+           "\"Building PX4\")";
+  }
+  if (std::system("node --version >/dev/null 2>&1") != 0) return "node is not installed";
+  if (!std::filesystem::exists(integration_test::SourceDir() +
+                               "/tests/node_mavlink/node_modules/node-mavlink/package.json")) {
+    return "node-mavlink is not installed (scripts/setup installs it)";
+  }
+  return "";
+}
+
+#define SITLNET_REQUIRE_PX4()                               \
+  do {                                                      \
+    if (const std::string missing = Px4Missing(); !missing.empty()) { \
+      if (IsCi()) FAIL() << missing;                        \
+      GTEST_SKIP() << missing;                              \
+    }                                                       \
+  } while (0)
+
+// One row of trajectories.csv: time and the robot's position on Earth.
+struct Truth {
+  double t_s = 0;
+  double x_m = 0, y_m = 0, z_m = 0;  // world ENU
+  double latitude_deg = 0, longitude_deg = 0, altitude_m = 0;
+};
+
+std::vector<Truth> ReadTruth(const std::string& csv) {
+  std::vector<Truth> rows;
+  std::istringstream lines(csv);
+  for (std::string line; std::getline(lines, line);) {
+    Truth r;
+    int robot = -1;
+    double skip[7];
+    if (std::sscanf(line.c_str(), "%lf,%d,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf",
+                    &r.t_s, &robot, &r.x_m, &r.y_m, &r.z_m, &skip[0], &skip[1], &skip[2],
+                    &skip[3], &skip[4], &skip[5], &skip[6], &r.latitude_deg, &r.longitude_deg,
+                    &r.altitude_m) == 15 &&
+        robot == 0) {
+      rows.push_back(r);
+    }
+  }
+  return rows;
+}
+
+// The truth at `t_s`, linear between the 100 ms rows (at most 5 mm off at 3 m/s^2).
+Truth TruthAt(const std::vector<Truth>& rows, double t_s) {
+  const auto after = std::lower_bound(rows.begin(), rows.end(), t_s,
+                                      [](const Truth& r, double t) { return r.t_s < t; });
+  if (after == rows.begin()) return rows.front();
+  if (after == rows.end()) return rows.back();
+  const Truth& a = *(after - 1);
+  const Truth& b = *after;
+  const double f = (t_s - a.t_s) / (b.t_s - a.t_s);
+  const auto mix = [f](double u, double v) { return u + f * (v - u); };
+  return {t_s,
+          mix(a.x_m, b.x_m),
+          mix(a.y_m, b.y_m),
+          mix(a.z_m, b.z_m),
+          mix(a.latitude_deg, b.latitude_deg),
+          mix(a.longitude_deg, b.longitude_deg),
+          mix(a.altitude_m, b.altitude_m)};
+}
+
+// What fly_px4.cjs printed: events (PX4's time, ms) and PX4's position reports.
+struct Flight {
+  std::map<std::string, std::pair<long, long>> events;  // name -> (t_ms, since_ms or -1)
+  std::vector<std::array<double, 4>> positions;          // t_s, lat_deg, lon_deg, alt_m
+};
+
+Flight ReadFlight(const std::string& out) {
+  Flight flight;
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);) {
+    char name[32];
+    long t = 0, since = -1, lat = 0, lon = 0, alt = 0;
+    if (std::sscanf(line.c_str(), "EVENT %31s t_ms=%ld since_ms=%ld", name, &t, &since) >= 2) {
+      flight.events[name] = {t, since};
+    } else if (std::sscanf(line.c_str(), "POS t_ms=%ld lat=%ld lon=%ld alt=%ld", &t, &lat, &lon,
+                           &alt) == 4) {
+      flight.positions.push_back({t / 1e3, lat / 1e7, lon / 1e7, alt / 1e3});
+    }
+  }
+  return flight;
+}
+
+// Horizontal distance (m) between two points on PX4's sphere, small separations.
+double HorizontalM(double lat1, double lon1, double lat2, double lon2) {
+  const double rad = M_PI / 180;
+  const double north = (lat1 - lat2) * rad * kEarthRadiusM;
+  const double east = (lon1 - lon2) * rad * kEarthRadiusM * std::cos(lat1 * rad);
+  return std::hypot(north, east);
+}
+
+// Lines of PX4's log (or of the commander's STATUSTEXTs) that report a fault. One is PX4's
+// own: its commander checks the estimator before its startup script has started ekf2, and may
+// say "Preflight Fail: ekf2 missing data" once (it does with Gazebo too: the boot log in
+// PX4-Autopilot pull request 21815, Gazebo classic's iris). That line is allowed before
+// `boot_done` (a line that starts the flight part of the log), never after it.
+std::vector<std::string> Complaints(const std::string& log, const std::string& boot_done) {
+  std::vector<std::string> found;
+  bool booting = true;
+  std::istringstream lines(log);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find(boot_done) != std::string::npos) booting = false;
+    if (booting && line.find("Preflight Fail: ekf2 missing data") != std::string::npos) continue;
+    std::string lower = line;
+    std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
+    for (const char* word : {"stale", "preflight fail", "failsafe", "arming denied"}) {
+      if (lower.find(word) != std::string::npos) found.push_back(line);
+    }
+  }
+  return found;
+}
+
+void FlyPx4(int slot, const char* pacing) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE_PX4();
+  const RunScenario scenario = WriteScenario(
+      slot,
+      "robot { name: \"px\" position_m { x: 3 y: -2 z: 0.2 } image: \"px4\" "
+      "px4_sim_port: 4560 }\n",
+      "timing { duration_ms: " + std::to_string(static_cast<int>(kDurationS * 1000)) +
+          " pacing: " + pacing + " }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const auto start = std::chrono::steady_clock::now();
+  Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress"});
+  // The commander enters the robot's namespace once it exists; PX4's GCS link answers it there.
+  const std::string netns = scenario.name + "-px";
+  ASSERT_TRUE(WaitForFiles(kNetnsDir, [&] { return NetnsExists(netns); }, 60 * kNsPerS))
+      << run.err();
+  CommandResult fly = RunCommand(
+      {SitlnetBinary(), "exec", "--scenario", scenario.name, "px", "--", "node",
+       integration_test::SourceDir() + "/tests/node_mavlink/fly_px4.cjs", std::to_string(kAltitudeM),
+       std::to_string(kNorthM), "0", "300"},
+      320 * kNsPerS);
+  ASSERT_EQ(run.Wait(400 * kNsPerS), 0) << run.err();
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(fly.exit_code, 0) << fly.out << fly.err;
+
+  const std::string log = ReadAll(out + "/robots/px.log");
+  EXPECT_NE(log.find("Ready for takeoff"), std::string::npos) << log;
+  EXPECT_EQ(Complaints(log, "Startup script returned successfully"), std::vector<std::string>{})
+      << log;
+  EXPECT_EQ(Complaints(fly.out, "POS "), std::vector<std::string>{}) << fly.out;
+
+  const Flight flight = ReadFlight(fly.out);
+  const std::vector<Truth> truth = ReadTruth(ReadAll(out + "/trajectories.csv"));
+  ASSERT_FALSE(truth.empty());
+  for (const char* event : {"ARMED", "TAKEOFF", "HOLD", "WAYPOINT", "ARRIVED", "LAND", "DISARMED"}) {
+    ASSERT_EQ(flight.events.count(event), 1u) << event << "\n" << fly.out;
+  }
+  const Truth home = TruthAt(truth, flight.events.at("ARMED").first / 1e3);
+
+  // Altitude: the truth above home over PX4's hold, within 0.3 m of the commanded altitude.
+  const auto [hold_end_ms, hold_start_ms] = flight.events.at("HOLD");
+  double worst_altitude_m = 0;
+  for (const Truth& row : truth) {
+    if (row.t_s * 1e3 < hold_start_ms || row.t_s * 1e3 > hold_end_ms) continue;
+    worst_altitude_m =
+        std::max(worst_altitude_m, std::abs(row.altitude_m - home.altitude_m - kAltitudeM));
+  }
+  EXPECT_LT(worst_altitude_m, 0.3);
+
+  // The waypoint: 50 m north of home (world +y), reached within 1 m, over PX4's steady arrival.
+  const auto [arrived_end_ms, arrived_start_ms] = flight.events.at("ARRIVED");
+  double worst_waypoint_m = 0;
+  for (const Truth& row : truth) {
+    if (row.t_s * 1e3 < arrived_start_ms || row.t_s * 1e3 > arrived_end_ms) continue;
+    worst_waypoint_m = std::max(
+        worst_waypoint_m, std::hypot(row.x_m - home.x_m, row.y_m - home.y_m - kNorthM));
+  }
+  EXPECT_LT(worst_waypoint_m, 1.0);
+
+  // PX4's own estimate (GLOBAL_POSITION_INT) against the truth, from arming to disarming.
+  double worst_horizontal_m = 0, worst_vertical_m = 0;
+  int compared = 0;
+  for (const auto& [t_s, lat, lon, alt] : flight.positions) {
+    if (t_s * 1e3 < flight.events.at("ARMED").first ||
+        t_s * 1e3 > flight.events.at("DISARMED").first || t_s > truth.back().t_s) {
+      continue;
+    }
+    const Truth at = TruthAt(truth, t_s);
+    worst_horizontal_m =
+        std::max(worst_horizontal_m, HorizontalM(lat, lon, at.latitude_deg, at.longitude_deg));
+    worst_vertical_m = std::max(worst_vertical_m, std::abs(alt - at.altitude_m));
+    ++compared;
+  }
+  EXPECT_GT(compared, 500);
+  EXPECT_LT(worst_horizontal_m, 0.3);
+  EXPECT_LT(worst_vertical_m, 0.3);
+
+  // Landed where it flew to, on the ground, disarmed before the run ended.
+  const Truth landed = TruthAt(truth, flight.events.at("DISARMED").first / 1e3);
+  EXPECT_LT(landed.z_m - home.z_m, 0.1);
+  EXPECT_LT(std::hypot(landed.x_m - home.x_m, landed.y_m - home.y_m - kNorthM), 1.0);
+  std::printf("[ measured ] %s: altitude error %.3f m, waypoint error %.3f m, estimate error "
+              "%.3f m horizontal %.3f m vertical (%d reports), disarmed at %.1f s virtual, "
+              "%.1f s wall\n",
+              pacing, worst_altitude_m, worst_waypoint_m, worst_horizontal_m, worst_vertical_m,
+              compared, flight.events.at("DISARMED").first / 1e3, wall_s);
+  ExpectNothingLeft(scenario.name);
+  RunCommand({"rm", "-rf", out});
+}
+
+TEST(Px4FlightTest, InLockstepPacingPx4TakesOffHoldsFliesToAWaypointAndLands) {
+  FlyPx4(0, "PACING_LOCKSTEP");
+}
+
+TEST(Px4FlightTest, InRealtimePacingPx4TakesOffHoldsFliesToAWaypointAndLands) {
+  FlyPx4(1, "PACING_REALTIME");
+}
+
+}  // namespace
+}  // namespace sitlnet::nns::testing
