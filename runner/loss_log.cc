@@ -1,0 +1,254 @@
+#include "runner/loss_log.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <utility>
+
+#include "mac_phy_sim/scenario_adapter.h"
+
+namespace sitlnet::runner {
+namespace {
+
+constexpr size_t kDeflateInputBytes = 1 << 16;  // CSV text gathered before each deflate call.
+constexpr size_t kChunkBytes = 1 << 16;
+
+const char* KindName(mac::FrameKind kind) {
+  switch (kind) {
+    case mac::FrameKind::kData:
+      return "DATA";
+    case mac::FrameKind::kAck:
+      return "ACK";
+    case mac::FrameKind::kRts:
+      return "RTS";
+    case mac::FrameKind::kCts:
+      return "CTS";
+  }
+  return "?";
+}
+
+// links.csv's loss columns, in kLinkHeader's order.
+enum Loss : int {
+  kObstacle,
+  kRange,
+  kNoiseError,
+  kCollision,
+  kAlreadyReceiving,
+  kOwnTransmission,
+  kRetryLimit,
+  kQueueFull,
+  kQueueExpired,
+  kLossKinds
+};
+constexpr std::array<const char*, kLossKinds> kLossNames = {
+    "below_threshold_obstacle", "below_threshold_range", "noise_error", "collision",
+    "already_receiving",        "own_transmission",      "retry_limit", "queue_full",
+    "queue_expired"};
+
+}  // namespace
+
+const char* CauseName(mac::RxCause cause) {
+  switch (cause) {
+    case mac::RxCause::kUnknown:
+      return "unknown";
+    case mac::RxCause::kDecoded:
+      return "decoded";
+    case mac::RxCause::kBelowThreshold:
+      return "below_threshold";
+    case mac::RxCause::kNoiseError:
+      return "noise_error";
+    case mac::RxCause::kCollision:
+      return "collision";
+    case mac::RxCause::kAlreadyReceiving:
+      return "already_receiving";
+    case mac::RxCause::kOwnTransmission:
+      return "own_transmission";
+  }
+  return "?";
+}
+
+const char* DropName(mac::DropReason reason) {
+  switch (reason) {
+    case mac::DropReason::kRetryLimit:
+      return "retry_limit";
+    case mac::DropReason::kQueueFull:
+      return "queue_full";
+    case mac::DropReason::kQueueExpired:
+      return "queue_expired";
+  }
+  return "?";
+}
+
+struct LossLog::Counts {
+  uint64_t frames = 0, delivered = 0;
+  std::array<uint64_t, kLossKinds> losses{};
+};
+
+struct LossLog::ZStream {
+  z_stream z{};
+};
+
+LossLog::LossLog(const std::string& run_dir, std::vector<MacAddress> stations,
+                 double noise_floor_dbm, double detect_min_rssi_dbm)
+    : run_dir_(run_dir),
+      stations_(std::move(stations)),
+      noise_floor_dbm_(noise_floor_dbm),
+      detect_min_rssi_dbm_(detect_min_rssi_dbm),
+      file_(std::make_unique<LineFile>(run_dir + "/losses.csv.gz", "", 4, "losses")),
+      z_(std::make_unique<ZStream>()) {
+  // windowBits 15 + 16: a gzip stream (zcat, Python's gzip read it).
+  if (deflateInit2(&z_->z, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15 + 16, 8,
+                   Z_DEFAULT_STRATEGY) != Z_OK) {
+    throw Error("losses.csv.gz: zlib deflateInit2 failed");
+  }
+  pending_.reserve(kDeflateInputBytes + 256);
+  pending_ += kLossHeader;
+  pending_ += '\n';
+}
+
+LossLog::~LossLog() {
+  if (finished_) return;
+  try {
+    Finish();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sitlnet: %s\n", e.what());
+  }
+  if (!finished_) deflateEnd(&z_->z);
+}
+
+int LossLog::StationOf(const MacAddress& mac) const {
+  if (mac.IsGroup()) return -1;
+  const auto it = std::find(stations_.begin(), stations_.end(), mac);
+  return it == stations_.end() ? -1 : static_cast<int>(it - stations_.begin());
+}
+
+LossLog::Counts& LossLog::Link(TimeNs time_ns, int from, int to) {
+  return links_[{time_ns / kNsPerS, from, to}];
+}
+
+void LossLog::Row(const char* row, int length) {
+  pending_.append(row, static_cast<size_t>(length));
+  if (pending_.size() >= kDeflateInputBytes) Deflate(Z_NO_FLUSH);
+}
+
+void LossLog::Deflate(int flush) {
+  z_->z.next_in = reinterpret_cast<Bytef*>(pending_.data());
+  z_->z.avail_in = static_cast<uInt>(pending_.size());
+  std::array<unsigned char, kChunkBytes> out;
+  int status;
+  do {
+    z_->z.next_out = out.data();
+    z_->z.avail_out = static_cast<uInt>(out.size());
+    status = deflate(&z_->z, flush);
+    if (status == Z_STREAM_ERROR) throw Error("losses.csv.gz: zlib deflate failed");
+    const size_t produced = out.size() - z_->z.avail_out;
+    if (produced > 0) {
+      file_->AppendRecord({reinterpret_cast<const char*>(out.data()), produced});
+    }
+  } while (z_->z.avail_out == 0 || (flush == Z_FINISH && status != Z_STREAM_END));
+  pending_.clear();
+}
+
+void LossLog::Add(const mac::TraceEvent& event) {
+  char row[256];
+  if (event.drop) {
+    const mac::DropRecord& d = *event.drop;
+    const int to = StationOf(d.destination);
+    const int n = std::snprintf(row, sizeof row, "%lld,%d,%d,DATA,%u,,%d,%s,,,,,\n",
+                                static_cast<long long>(d.time_ns), d.station, to,
+                                d.sequence_number, d.station, DropName(d.reason));
+    Row(row, n);
+    Counts& c = Link(d.time_ns, d.station, to);
+    ++c.losses[d.reason == mac::DropReason::kRetryLimit  ? kRetryLimit
+               : d.reason == mac::DropReason::kQueueFull ? kQueueFull
+                                                         : kQueueExpired];
+    return;
+  }
+  if (!event.tx) return;
+  const mac::TxRecord& tx = *event.tx;
+  const int to = StationOf(tx.receiver);
+  const bool data = tx.kind == mac::FrameKind::kData;
+  for (const mac::RxRecord& r : tx.receptions) {
+    if (!(r.rx_power_dbm >= noise_floor_dbm_)) continue;
+    const int n = std::snprintf(
+        row, sizeof row, "%lld,%d,%d,%s,%u,%d,%d,%s,%d,%.2f,%.2f,%.2f,%.2f\n",
+        static_cast<long long>(tx.start_ns), tx.source, to, KindName(tx.kind), tx.sequence_number,
+        tx.retry ? 1 : 0, r.station, CauseName(r.cause), r.interferer, r.rx_power_dbm, r.sinr_db,
+        r.path_loss_db, r.obstacle_loss_db);
+    Row(row, n);
+    // links.csv: DATA frames at the station they are for (every station for a group frame).
+    if (!data || (to >= 0 && r.station != to) || (to < 0 && !tx.receiver.IsGroup())) continue;
+    Counts& c = Link(tx.start_ns, tx.source, r.station);
+    ++c.frames;
+    switch (r.cause) {
+      case mac::RxCause::kDecoded:
+        ++c.delivered;
+        break;
+      case mac::RxCause::kBelowThreshold:
+        ++c.losses[r.rx_power_dbm + r.obstacle_loss_db >= detect_min_rssi_dbm_ ? kObstacle
+                                                                                : kRange];
+        break;
+      case mac::RxCause::kNoiseError:
+        ++c.losses[kNoiseError];
+        break;
+      case mac::RxCause::kCollision:
+        ++c.losses[kCollision];
+        break;
+      case mac::RxCause::kAlreadyReceiving:
+        ++c.losses[kAlreadyReceiving];
+        break;
+      case mac::RxCause::kOwnTransmission:
+        ++c.losses[kOwnTransmission];
+        break;
+      case mac::RxCause::kUnknown:
+        break;
+    }
+  }
+}
+
+void LossLog::Finish() {
+  if (finished_) return;
+  finished_ = true;
+  Deflate(Z_FINISH);
+  deflateEnd(&z_->z);
+  file_->Flush();
+  file_.reset();
+  LineFile links(run_dir_ + "/links.csv", kLinkHeader, 256, "links");
+  std::string line;
+  for (const auto& [key, c] : links_) {
+    const auto& [second, from, to] = key;
+    const auto main = std::max_element(c.losses.begin(), c.losses.end());
+    char head[160];
+    const int n = std::snprintf(
+        head, sizeof head, "%lld,%d,%d,%llu,%llu,", static_cast<long long>(second), from, to,
+        static_cast<unsigned long long>(c.frames), static_cast<unsigned long long>(c.delivered));
+    line.assign(head, static_cast<size_t>(n));
+    if (c.frames > 0) {
+      char ratio[32];
+      std::snprintf(ratio, sizeof ratio, "%.4f",
+                    static_cast<double>(c.delivered) / static_cast<double>(c.frames));
+      line += ratio;
+    }
+    line += ',';
+    line += *main > 0 ? kLossNames[main - c.losses.begin()] : "none";
+    for (const uint64_t count : c.losses) {
+      line += ',';
+      line += std::to_string(count);
+    }
+    links.Append(line);
+  }
+  links.Flush();
+}
+
+std::unique_ptr<LossLog> MakeLossLog(const std::string& run_dir, const Scenario& scenario) {
+  std::vector<MacAddress> macs(scenario.robots.size());
+  for (const RobotPlan& robot : scenario.robots) macs[robot.index] = robot.wlan_mac;
+  const mac::MediumConfig config = mac::MediumConfigFromScenario(scenario);
+  return std::make_unique<LossLog>(run_dir, std::move(macs),
+                                   mac::DerivePhyInfo(config).noise_floor_dbm,
+                                   config.preamble_detect_min_rssi_dbm);
+}
+
+}  // namespace sitlnet::runner
