@@ -29,7 +29,7 @@ const char* KindName(mac::FrameKind kind) {
   return "?";
 }
 
-// links.csv's loss columns, in kLinkHeader's order.
+// Losses counted per link in links.csv.
 enum Loss : int {
   kObstacle,
   kRange,
@@ -42,10 +42,10 @@ enum Loss : int {
   kQueueExpired,
   kLossKinds
 };
+// links.csv's main_cause words: below_threshold split by whether the obstacles decided it.
 constexpr std::array<const char*, kLossKinds> kLossNames = {
-    "below_threshold_obstacle", "below_threshold_range", "noise_error", "collision",
-    "already_receiving",        "own_transmission",      "retry_limit", "queue_full",
-    "queue_expired"};
+    "obstacle",         "range",       "noise_error", "collision",    "already_receiving",
+    "own_transmission", "retry_limit", "queue_full",  "queue_expired"};
 
 }  // namespace
 
@@ -173,7 +173,7 @@ void LossLog::Add(const mac::TraceEvent& event) {
   for (const mac::RxRecord& r : tx.receptions) {
     if (!(r.rx_power_dbm >= noise_floor_dbm_)) continue;
     const int n = std::snprintf(
-        row, sizeof row, "%lld,%d,%d,%s,%u,%d,%d,%s,%d,%.2f,%.2f,%.2f,%.2f\n",
+        row, sizeof row, "%lld,%d,%d,%s,%u,%d,%d,%s,%d,%.1f,%.1f,%.1f,%.1f\n",
         static_cast<long long>(tx.start_ns), tx.source, to, KindName(tx.kind), tx.sequence_number,
         tx.retry ? 1 : 0, r.station, CauseName(r.cause), r.interferer, r.rx_power_dbm, r.sinr_db,
         r.path_loss_db, r.obstacle_loss_db);
@@ -227,16 +227,14 @@ void LossLog::Finish() {
     line.assign(head, static_cast<size_t>(n));
     if (c.frames > 0) {
       char ratio[32];
-      std::snprintf(ratio, sizeof ratio, "%.4f",
+      std::snprintf(ratio, sizeof ratio, "%.3f",
                     static_cast<double>(c.delivered) / static_cast<double>(c.frames));
       line += ratio;
     }
     line += ',';
     line += *main > 0 ? kLossNames[main - c.losses.begin()] : "none";
-    for (const uint64_t count : c.losses) {
-      line += ',';
-      line += std::to_string(count);
-    }
+    line += ',';
+    line += std::to_string(*main);
     links.Append(line);
   }
   links.Flush();

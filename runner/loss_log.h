@@ -22,9 +22,7 @@ inline constexpr char kLossHeader[] =
     "time_ns,from,to,kind,seq,retry,station,cause,interferer,rx_power_dbm,sinr_db,path_loss_db,"
     "obstacle_loss_db";
 inline constexpr char kLinkHeader[] =
-    "second,from,to,frames,delivered,delivery_ratio,main_cause,below_threshold_obstacle,"
-    "below_threshold_range,noise_error,collision,already_receiving,own_transmission,"
-    "retry_limit,queue_full,queue_expired";
+    "second,from,to,frames,delivered,delivery_ratio,main_cause,main_cause_frames";
 
 // The word losses.csv.gz and links.csv use for a cause.
 const char* CauseName(mac::RxCause cause);

@@ -94,11 +94,11 @@ TEST(LossLogTest, WritesEveryReceptionAboveTheNoiseFloorAndPerSecondLinks) {
   const std::vector<std::string> links = Lines(links_text.str());
   const std::vector<std::string> expected = {
       kLinkHeader,
-      "0,1,0,1,0,0.0000,collision,0,0,0,1,0,0,0,0,0",
-      "0,1,2,1,0,0.0000,below_threshold_range,0,1,0,0,0,0,0,0,0",
-      "0,2,0,1,0,0.0000,already_receiving,0,0,0,0,1,0,0,0,0",
-      "0,2,1,1,0,0.0000,own_transmission,0,0,0,0,0,1,0,0,0",
-      "1,0,1,1,1,1.0000,none,0,0,0,0,0,0,0,0,0",
+      "0,1,0,1,0,0.000,collision,1",
+      "0,1,2,1,0,0.000,range,1",
+      "0,2,0,1,0,0.000,already_receiving,1",
+      "0,2,1,1,0,0.000,own_transmission,1",
+      "1,0,1,1,1,1.000,none,0",
   };
   EXPECT_EQ(links, expected);
 }
