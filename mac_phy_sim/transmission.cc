@@ -55,10 +55,13 @@ void TraceTransmission(State& s, const Transmission& tx) {
       record.receptions.push_back(
           {r, RxOutcome::kBelowSensitivity, dbm, dbm - s.phy.noise_floor_dbm});
       if (s.record_causes) {
-        // Positions may have changed since the start; the split is that of now.
         RxRecord& out = record.receptions.back();
         out.cause = RxCause::kBelowThreshold;
-        SplitLoss(s, tx.source, r, loss_db, &out.path_loss_db, &out.obstacle_loss_db);
+        // Only where it could matter (a sensitivity above the noise floor); positions may
+        // have changed since the start: the split is that of now.
+        if (dbm >= s.phy.noise_floor_dbm) {
+          SplitLoss(s, tx.source, r, loss_db, &out.path_loss_db, &out.obstacle_loss_db);
+        }
       }
     }
   }

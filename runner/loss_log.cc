@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <utility>
 
@@ -46,6 +48,28 @@ enum Loss : int {
 constexpr std::array<const char*, kLossKinds> kLossNames = {
     "obstacle",         "range",       "noise_error", "collision",    "already_receiving",
     "own_transmission", "retry_limit", "queue_full",  "queue_expired"};
+
+// Appends ',' and the integer.
+void Int(std::string& out, long long value) {
+  char digits[24];
+  out += ',';
+  out.append(digits, std::to_chars(digits, digits + sizeof digits, value).ptr);
+}
+
+// Appends ',' and `value` with one decimal (as %.1f but for ties and -0; empty if not finite):
+// the row is formatted on the medium's thread, and snprintf of four doubles cost more than
+// everything else the row needs.
+void Decibel(std::string& out, double value) {
+  out += ',';
+  if (!std::isfinite(value)) return;
+  const long long tenths = std::llround(value * 10);
+  const unsigned long long magnitude = tenths < 0 ? -tenths : tenths;
+  if (tenths < 0) out += '-';
+  char digits[24];
+  out.append(digits, std::to_chars(digits, digits + sizeof digits, magnitude / 10).ptr);
+  out += '.';
+  out += static_cast<char>('0' + magnitude % 10);
+}
 
 }  // namespace
 
@@ -125,12 +149,9 @@ int LossLog::StationOf(const MacAddress& mac) const {
 }
 
 LossLog::Counts& LossLog::Link(TimeNs time_ns, int from, int to) {
-  return links_[{time_ns / kNsPerS, from, to}];
-}
-
-void LossLog::Row(const char* row, int length) {
-  pending_.append(row, static_cast<size_t>(length));
-  if (pending_.size() >= kDeflateInputBytes) Deflate(Z_NO_FLUSH);
+  const uint64_t key = static_cast<uint64_t>(time_ns / kNsPerS) << 32 |
+                       static_cast<uint64_t>(from + 1) << 16 | static_cast<uint64_t>(to + 1);
+  return links_[key];
 }
 
 void LossLog::Deflate(int flush) {
@@ -152,32 +173,44 @@ void LossLog::Deflate(int flush) {
 }
 
 void LossLog::Add(const mac::TraceEvent& event) {
-  char row[256];
   if (event.drop) {
     const mac::DropRecord& d = *event.drop;
     const int to = StationOf(d.destination);
+    char row[160];
     const int n = std::snprintf(row, sizeof row, "%lld,%d,%d,DATA,%u,,%d,%s,,,,,\n",
                                 static_cast<long long>(d.time_ns), d.station, to,
                                 d.sequence_number, d.station, DropName(d.reason));
-    Row(row, n);
+    pending_.append(row, static_cast<size_t>(n));
     Counts& c = Link(d.time_ns, d.station, to);
     ++c.losses[d.reason == mac::DropReason::kRetryLimit  ? kRetryLimit
                : d.reason == mac::DropReason::kQueueFull ? kQueueFull
                                                          : kQueueExpired];
-    return;
+  } else if (event.tx) {
+    AddTransmission(*event.tx);
   }
-  if (!event.tx) return;
-  const mac::TxRecord& tx = *event.tx;
+  if (pending_.size() >= kDeflateInputBytes) Deflate(Z_NO_FLUSH);
+}
+
+void LossLog::AddTransmission(const mac::TxRecord& tx) {
   const int to = StationOf(tx.receiver);
   const bool data = tx.kind == mac::FrameKind::kData;
+  // The columns every row of this transmission shares, up to `station`.
+  char head[96];
+  const int head_length = std::snprintf(head, sizeof head, "%lld,%d,%d,%s,%u,%d",
+                                        static_cast<long long>(tx.start_ns), tx.source, to,
+                                        KindName(tx.kind), tx.sequence_number, tx.retry ? 1 : 0);
   for (const mac::RxRecord& r : tx.receptions) {
     if (!(r.rx_power_dbm >= noise_floor_dbm_)) continue;
-    const int n = std::snprintf(
-        row, sizeof row, "%lld,%d,%d,%s,%u,%d,%d,%s,%d,%.1f,%.1f,%.1f,%.1f\n",
-        static_cast<long long>(tx.start_ns), tx.source, to, KindName(tx.kind), tx.sequence_number,
-        tx.retry ? 1 : 0, r.station, CauseName(r.cause), r.interferer, r.rx_power_dbm, r.sinr_db,
-        r.path_loss_db, r.obstacle_loss_db);
-    Row(row, n);
+    pending_.append(head, static_cast<size_t>(head_length));
+    Int(pending_, r.station);
+    pending_ += ',';
+    pending_ += CauseName(r.cause);
+    Int(pending_, r.interferer);
+    Decibel(pending_, r.rx_power_dbm);
+    Decibel(pending_, r.sinr_db);
+    Decibel(pending_, r.path_loss_db);
+    Decibel(pending_, r.obstacle_loss_db);
+    pending_ += '\n';
     // links.csv: DATA frames at the station they are for (every station for a group frame).
     if (!data || (to >= 0 && r.station != to) || (to < 0 && !tx.receiver.IsGroup())) continue;
     Counts& c = Link(tx.start_ns, tx.source, r.station);
@@ -216,13 +249,22 @@ void LossLog::Finish() {
   file_->Flush();
   file_.reset();
   LineFile links(run_dir_ + "/links.csv", kLinkHeader, 256, "links");
+  std::vector<std::pair<uint64_t, const Counts*>> sorted;
+  sorted.reserve(links_.size());
+  for (const auto& [key, c] : links_) sorted.emplace_back(key, &c);
+  // By second, then from, then to (-1 first): the key's order.
+  std::sort(sorted.begin(), sorted.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
   std::string line;
-  for (const auto& [key, c] : links_) {
-    const auto& [second, from, to] = key;
+  for (const auto& [key, counts] : sorted) {
+    const Counts& c = *counts;
+    const long long second = static_cast<long long>(key >> 32);
+    const int from = static_cast<int>((key >> 16) & 0xffff) - 1;
+    const int to = static_cast<int>(key & 0xffff) - 1;
     const auto main = std::max_element(c.losses.begin(), c.losses.end());
     char head[160];
     const int n = std::snprintf(
-        head, sizeof head, "%lld,%d,%d,%llu,%llu,", static_cast<long long>(second), from, to,
+        head, sizeof head, "%lld,%d,%d,%llu,%llu,", second, from, to,
         static_cast<unsigned long long>(c.frames), static_cast<unsigned long long>(c.delivered));
     line.assign(head, static_cast<size_t>(n));
     if (c.frames > 0) {

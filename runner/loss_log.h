@@ -6,10 +6,9 @@
 #ifndef SITLNET_RUNNER_LOSS_LOG_H_
 #define SITLNET_RUNNER_LOSS_LOG_H_
 
-#include <map>
+#include <unordered_map>
 #include <memory>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include "common/common.h"
@@ -48,7 +47,7 @@ class LossLog {
  private:
   struct Counts;
   int StationOf(const MacAddress& mac) const;
-  void Row(const char* row, int length);
+  void AddTransmission(const mac::TxRecord& tx);
   void Deflate(int flush);
   Counts& Link(TimeNs time_ns, int from, int to);
 
@@ -59,7 +58,8 @@ class LossLog {
   struct ZStream;
   std::unique_ptr<ZStream> z_;
   std::string pending_;  // CSV text not yet deflated.
-  std::map<std::tuple<int64_t, int, int>, Counts> links_;
+  // Key: second << 32 | (from + 1) << 16 | (to + 1) (to is -1 for group frames).
+  std::unordered_map<uint64_t, Counts> links_;
   bool finished_ = false;
 };
 
