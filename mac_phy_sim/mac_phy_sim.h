@@ -166,7 +166,7 @@ enum class RxCause : uint8_t {
   kBelowThreshold,    // Under the RX sensitivity, or under the preamble thresholds alone.
   kNoiseError,        // Locked, then lost at the error-rate draw with no interferer.
   kCollision,         // Lost to overlapping frames (preamble broken, taken over, SINR).
-  kAlreadyReceiving,  // Arrived while the station was locked on another frame.
+  kAlreadyReceiving,  // Arrived while locked on another frame; detectable alone.
   kOwnTransmission,   // The station was transmitting (at arrival, or started during it).
 };
 

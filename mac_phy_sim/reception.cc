@@ -73,6 +73,24 @@ int StrongestOther(const State& s, const StationState& st, int except_tx, double
   return source;
 }
 
+// ns-3's preamble thresholds (RSSI, SNR) met by the signal alone, without interference.
+bool DetectableAlone(const State& s, const RxEntry& entry) {
+  return entry.power_dbm >= s.config.preamble_detect_min_rssi_dbm &&
+         entry.sinr >= s.preamble_snr_linear;
+}
+
+// A signal that reaches a station busy with another frame: blamed on that
+// frame only if it could have been detected alone, else it was too weak anyway.
+void MarkAlreadyReceiving(const State& s, RxEntry& entry, int locked_source) {
+  entry.outcome = RxOutcome::kCollided;
+  if (DetectableAlone(s, entry)) {
+    entry.cause = RxCause::kAlreadyReceiving;
+    entry.interferer = s.record_causes ? locked_source : -1;
+  } else {
+    entry.cause = RxCause::kBelowThreshold;
+  }
+}
+
 // Marks the locked frame lost to overlapping frames.
 void LoseLockedToCollision(State& s, StationState& st) {
   RxEntry& locked = s.transmissions[st.rx.tx].rx[st.rx.entry];
@@ -140,14 +158,14 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
         st.rx.interference_mw += entry.power_mw;
         st.rx.interfered = true;
         NoteInterferer(s, st, tx.source, entry.power_mw);
-        entry.outcome = RxOutcome::kCollided;
-        entry.cause = RxCause::kAlreadyReceiving;
-        entry.interferer = s.record_causes ? locked_source : -1;
+        MarkAlreadyReceiving(s, entry, locked_source);
       }
       if (st.rx.power_mw < s.preamble_snr_linear * (s.noise_mw + st.rx.interference_mw)) {
         LoseLockedToCollision(s, st);
-        // Neither frame is detected: the newcomer is lost to a collision too.
-        if (!took_over) entry.cause = RxCause::kCollision;
+        // Neither frame is detected: the newcomer, if detectable, is lost to a collision too.
+        if (!took_over && entry.cause == RxCause::kAlreadyReceiving) {
+          entry.cause = RxCause::kCollision;
+        }
         st.rx.tx = -1;
       }
       return;
@@ -167,9 +185,7 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
     st.rx.interference_mw += entry.power_mw;
     st.rx.interfered = true;
     NoteInterferer(s, st, tx.source, entry.power_mw);
-    entry.outcome = RxOutcome::kCollided;
-    entry.cause = RxCause::kAlreadyReceiving;
-    entry.interferer = s.record_causes ? locked_source : -1;
+    MarkAlreadyReceiving(s, entry, locked_source);
     return;
   }
   // Preamble detection (ns-3 ThresholdPreambleDetectionModel): RSSI and SINR thresholds.
@@ -178,7 +194,7 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
     Lock(s, st, tx, entry_index, energy_before);
     return;
   }
-  const bool detectable_alone = strong_enough && entry.sinr >= s.preamble_snr_linear;
+  const bool detectable_alone = DetectableAlone(s, entry);
   entry.outcome = detectable_alone ? RxOutcome::kCollided : RxOutcome::kBelowSensitivity;
   entry.cause = detectable_alone ? RxCause::kCollision : RxCause::kBelowThreshold;
   if (detectable_alone && s.record_causes) {
