@@ -208,8 +208,13 @@ void LossLog::AddTransmission(const mac::TxRecord& tx) {
     Int(pending_, r.interferer);
     Decibel(pending_, r.rx_power_dbm);
     Decibel(pending_, r.sinr_db);
-    Decibel(pending_, r.path_loss_db);
-    Decibel(pending_, r.obstacle_loss_db);
+    // The loss split only where the signal's weakness decided (half the bytes otherwise).
+    if (r.cause == mac::RxCause::kBelowThreshold || r.cause == mac::RxCause::kNoiseError) {
+      Decibel(pending_, r.path_loss_db);
+      Decibel(pending_, r.obstacle_loss_db);
+    } else {
+      pending_ += ",,";
+    }
     pending_ += '\n';
     // links.csv: DATA frames at the station they are for (every station for a group frame).
     if (!data || (to >= 0 && r.station != to) || (to < 0 && !tx.receiver.IsGroup())) continue;
