@@ -71,6 +71,9 @@ Command AddRunCommand(CLI::App& sitlnet) {
   run->add_flag_function(
       "--no-progress", [options](int64_t) { options->progress = false; },
       "no live progress line on stderr");
+  run->add_flag_function(
+      "--no-losses", [options](int64_t) { options->record_losses = false; },
+      "no losses.csv.gz and links.csv (the cause of every lost frame; docs/run.md)");
   AddRtPriorityOption(*run, &options->realtime_priority);
   CLI::Option* listen =
       run->add_option("--listen", options->listen,

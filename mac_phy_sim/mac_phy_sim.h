@@ -158,11 +158,35 @@ enum class RxOutcome : uint8_t {
   kTransmitting,      // The receiver was itself transmitting (half duplex).
 };
 
+// Why a station did or did not decode a frame: the branch of the model that
+// decided (reception.cc), finer than RxOutcome. Recorded with EnableCauses.
+enum class RxCause : uint8_t {
+  kUnknown,           // Causes were not recorded.
+  kDecoded,           // Decoded (RxOutcome::kReceived).
+  kBelowThreshold,    // Under the RX sensitivity, or under the preamble thresholds alone.
+  kNoiseError,        // Locked, then lost at the error-rate draw with no interferer.
+  kCollision,         // Lost to overlapping frames (preamble broken, taken over, SINR).
+  kAlreadyReceiving,  // Arrived while locked on another frame; detectable alone.
+  kOwnTransmission,   // The station was transmitting (at arrival, or started during it).
+};
+
 struct RxRecord {
   StationId station = 0;
   RxOutcome outcome = RxOutcome::kBelowSensitivity;
   double rx_power_dbm = 0;
   double sinr_db = 0;  // Lowest SINR over the frame; noise-only SNR when not locked.
+  // With EnableCauses (else kUnknown, -1, 0, 0):
+  RxCause cause = RxCause::kUnknown;
+  // kCollision: the source of the strongest frame that overlapped it (at the
+  // instant of the decision for a preamble, over the whole frame once
+  // locked); kAlreadyReceiving: the source of the frame the station was
+  // locked on. Else -1.
+  StationId interferer = -1;
+  // The loss at the frame's start split into log-distance path loss and
+  // obstacle shadowing (rx power = tx power - both - log-normal + fading).
+  // Under the sensitivity the obstacle part may be a lower bound (channel.h).
+  double path_loss_db = 0;
+  double obstacle_loss_db = 0;
 };
 
 // One transmission on the air. Emitted when it ends, so the trace is ordered
@@ -276,6 +300,11 @@ class Medium {
   // transmission and drop is buffered until DrainTrace moves it out.
   void EnableTrace(bool enabled);
   void DrainTrace(std::vector<TraceEvent>* out);
+  // Off by default. On (with the trace), every RxRecord carries its cause,
+  // interferer and loss split; nothing else changes (same draws, same
+  // outcomes). Turn on before the first frame: a signal already on the air
+  // when it is turned on is not known as an interferer.
+  void EnableCauses(bool enabled);
 
   const StationCounters& counters(StationId station) const;
   size_t queued_frames(StationId station) const;  // Waiting, excluding the one in service.

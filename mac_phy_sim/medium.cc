@@ -234,6 +234,11 @@ std::optional<TimeNs> Medium::NextEventNs() {
 
 void Medium::EnableTrace(bool enabled) { state_->trace_enabled = enabled; }
 
+void Medium::EnableCauses(bool enabled) {
+  state_->record_causes = enabled;
+  for (StationState& st : state_->stations) st.active.clear();
+}
+
 void Medium::DrainTrace(std::vector<TraceEvent>* out) {
   for (TraceEvent& event : state_->trace) out->push_back(std::move(event));
   state_->trace.clear();

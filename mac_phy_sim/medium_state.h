@@ -79,6 +79,10 @@ struct RxEntry {
   RxOutcome outcome = RxOutcome::kBelowSensitivity;
   double sinr = 0;      // Linear: lowest SINR of a locked frame, else SNR (dB only on output).
   TimeNs delay_ns = 0;  // Propagation delay: the signal spans [start, end] + delay_ns here.
+  // Set where the outcome is; interferer and losses only with record_causes.
+  RxCause cause = RxCause::kBelowThreshold;
+  int interferer = -1;
+  float path_loss_db = 0, obstacle_loss_db = 0;
 };
 
 // A PPDU on the air.
@@ -110,6 +114,15 @@ struct Reception {
   double success_probability = 1;
   double min_sinr = 0;
   bool interfered = false;
+  // With record_causes: source and power of the strongest overlapping signal.
+  int interferer = -1;
+  double interferer_mw = 0;
+};
+
+// A signal on the air at a station (record_causes only): transmission id, entry.
+struct ActiveSignal {
+  int tx = 0;
+  int entry = 0;
 };
 
 enum class Exchange : uint8_t { kIdle, kWaitAck, kWaitCts };
@@ -157,6 +170,7 @@ struct StationState {
   int active_signals = 0;
   double energy_mw = 0;
   Reception rx;
+  std::vector<ActiveSignal> active;  // Maintained only with record_causes.
   // Frame exchange.
   Exchange exchange = Exchange::kIdle;
   uint64_t timeout_generation = 0;
@@ -213,6 +227,7 @@ struct Medium::State {
   void EarliestAccess(TimeNs* at_ns, int* station);
 
   bool trace_enabled = false;
+  bool record_causes = false;  // Fill RxEntry's interferer and losses (EnableCauses).
   std::vector<TraceEvent> trace;
   std::vector<Delivery>* deliveries = nullptr;  // Set during AdvanceTo.
 };

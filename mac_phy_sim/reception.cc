@@ -56,6 +56,57 @@ void CloseChunk(State& s, StationState& st) {
   rx.chunk_start_ns = s.now_ns;
 }
 
+// record_causes: the strongest signal at `st` other than transmission `except_tx`
+// (source station, power); -1 if none.
+int StrongestOther(const State& s, const StationState& st, int except_tx, double* power_mw) {
+  int source = -1;
+  *power_mw = 0;
+  for (const ActiveSignal& a : st.active) {
+    if (a.tx == except_tx) continue;
+    const Transmission& other = s.transmissions[a.tx];
+    const double mw = other.rx[a.entry].power_mw;
+    if (source < 0 || mw > *power_mw) {
+      source = other.source;
+      *power_mw = mw;
+    }
+  }
+  return source;
+}
+
+// ns-3's preamble thresholds (RSSI, SNR) met by the signal alone, without interference.
+bool DetectableAlone(const State& s, const RxEntry& entry) {
+  return entry.power_dbm >= s.config.preamble_detect_min_rssi_dbm &&
+         entry.sinr >= s.preamble_snr_linear;
+}
+
+// A signal that reaches a station busy with another frame: blamed on that
+// frame only if it could have been detected alone, else it was too weak anyway.
+void MarkAlreadyReceiving(const State& s, RxEntry& entry, int locked_source) {
+  entry.outcome = RxOutcome::kCollided;
+  if (DetectableAlone(s, entry)) {
+    entry.cause = RxCause::kAlreadyReceiving;
+    entry.interferer = s.record_causes ? locked_source : -1;
+  } else {
+    entry.cause = RxCause::kBelowThreshold;
+  }
+}
+
+// Marks the locked frame lost to overlapping frames.
+void LoseLockedToCollision(State& s, StationState& st) {
+  RxEntry& locked = s.transmissions[st.rx.tx].rx[st.rx.entry];
+  locked.outcome = RxOutcome::kCollided;
+  locked.cause = RxCause::kCollision;
+  locked.interferer = st.rx.interferer;
+}
+
+// record_causes: a signal from `source` at `mw` overlaps the locked frame.
+void NoteInterferer(State& s, StationState& st, int source, double mw) {
+  if (s.record_causes && (st.rx.interferer < 0 || mw > st.rx.interferer_mw)) {
+    st.rx.interferer = source;
+    st.rx.interferer_mw = mw;
+  }
+}
+
 void Lock(State& s, StationState& st, Transmission& tx, int entry_index, double interference_mw) {
   Reception& rx = st.rx;
   rx.tx = tx.id;
@@ -66,6 +117,9 @@ void Lock(State& s, StationState& st, Transmission& tx, int entry_index, double 
   rx.success_probability = 1;
   rx.min_sinr = std::numeric_limits<double>::infinity();
   rx.interfered = interference_mw > 0;
+  rx.interferer = -1;
+  rx.interferer_mw = 0;
+  if (s.record_causes) rx.interferer = StrongestOther(s, st, tx.id, &rx.interferer_mw);
 }
 
 }  // namespace
@@ -76,13 +130,16 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
   const double energy_before = st.active_signals > 0 ? st.energy_mw : 0.0;
   st.energy_mw = energy_before + entry.power_mw;
   ++st.active_signals;
+  if (s.record_causes) st.active.push_back({tx.id, entry_index});
   entry.sinr = entry.power_mw / s.noise_mw;
   if (st.transmitting_tx >= 0) {
     entry.outcome = RxOutcome::kTransmitting;  // Half duplex.
+    entry.cause = RxCause::kOwnTransmission;
     return;
   }
   if (st.rx.tx >= 0) {
     CloseChunk(s, st);
+    const int locked_source = s.transmissions[st.rx.tx].source;
     if (s.now_ns < st.rx.start_ns + kPreambleDetectionNs) {
       // Still inside the preamble detection window (ns-3 PhyEntity): a
       // stronger frame takes over; either way the frame being detected must
@@ -90,16 +147,25 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
       // start together at equal power are thus both missed, as in ns-3: no
       // reception error, so no EIFS.
       Transmission& old_tx = s.transmissions[st.rx.tx];
-      if (entry.power_mw > st.rx.power_mw) {
-        old_tx.rx[st.rx.entry].outcome = RxOutcome::kCollided;
+      const bool took_over = entry.power_mw > st.rx.power_mw;
+      if (took_over) {
+        RxEntry& old_entry = old_tx.rx[st.rx.entry];
+        old_entry.outcome = RxOutcome::kCollided;
+        old_entry.cause = RxCause::kCollision;
+        old_entry.interferer = s.record_causes ? tx.source : -1;
         Lock(s, st, tx, entry_index, energy_before);
       } else {
         st.rx.interference_mw += entry.power_mw;
         st.rx.interfered = true;
-        entry.outcome = RxOutcome::kCollided;
+        NoteInterferer(s, st, tx.source, entry.power_mw);
+        MarkAlreadyReceiving(s, entry, locked_source);
       }
       if (st.rx.power_mw < s.preamble_snr_linear * (s.noise_mw + st.rx.interference_mw)) {
-        s.transmissions[st.rx.tx].rx[st.rx.entry].outcome = RxOutcome::kCollided;
+        LoseLockedToCollision(s, st);
+        // Neither frame is detected: the newcomer, if detectable, is lost to a collision too.
+        if (!took_over && entry.cause == RxCause::kAlreadyReceiving) {
+          entry.cause = RxCause::kCollision;
+        }
         st.rx.tx = -1;
       }
       return;
@@ -109,13 +175,17 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
         entry.power_dbm > ToDb(st.rx.power_mw) + *capture) {
       // Frame capture (ns-3 SimpleFrameCaptureModel): drop the weaker frame.
       Transmission& old_tx = s.transmissions[st.rx.tx];
-      old_tx.rx[st.rx.entry].outcome = RxOutcome::kCollided;
+      RxEntry& old_entry = old_tx.rx[st.rx.entry];
+      old_entry.outcome = RxOutcome::kCollided;
+      old_entry.cause = RxCause::kCollision;
+      old_entry.interferer = s.record_causes ? tx.source : -1;
       Lock(s, st, tx, entry_index, energy_before);
       return;
     }
     st.rx.interference_mw += entry.power_mw;
     st.rx.interfered = true;
-    entry.outcome = RxOutcome::kCollided;
+    NoteInterferer(s, st, tx.source, entry.power_mw);
+    MarkAlreadyReceiving(s, entry, locked_source);
     return;
   }
   // Preamble detection (ns-3 ThresholdPreambleDetectionModel): RSSI and SINR thresholds.
@@ -124,8 +194,13 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
     Lock(s, st, tx, entry_index, energy_before);
     return;
   }
-  const bool detectable_alone = strong_enough && entry.sinr >= s.preamble_snr_linear;
+  const bool detectable_alone = DetectableAlone(s, entry);
   entry.outcome = detectable_alone ? RxOutcome::kCollided : RxOutcome::kBelowSensitivity;
+  entry.cause = detectable_alone ? RxCause::kCollision : RxCause::kBelowThreshold;
+  if (detectable_alone && s.record_causes) {
+    double mw;
+    entry.interferer = StrongestOther(s, st, tx.id, &mw);
+  }
 }
 
 bool SignalEnds(State& s, int station, Transmission& tx, int entry_index) {
@@ -139,11 +214,23 @@ bool SignalEnds(State& s, int station, Transmission& tx, int entry_index) {
     entry.sinr = st.rx.min_sinr;
     entry.outcome = decoded ? RxOutcome::kReceived
                             : (st.rx.interfered ? RxOutcome::kCollided : RxOutcome::kError);
+    entry.cause = decoded ? RxCause::kDecoded
+                          : (st.rx.interfered ? RxCause::kCollision : RxCause::kNoiseError);
+    if (!decoded && st.rx.interfered) entry.interferer = st.rx.interferer;
     st.use_eifs = !decoded;
     st.rx.tx = -1;
   } else if (st.rx.tx >= 0) {
     CloseChunk(s, st);
     st.rx.interference_mw = std::max(0.0, st.rx.interference_mw - entry.power_mw);
+  }
+  if (s.record_causes) {
+    for (ActiveSignal& a : st.active) {
+      if (a.tx == tx.id && a.entry == entry_index) {
+        a = st.active.back();
+        st.active.pop_back();
+        break;
+      }
+    }
   }
   if (--st.active_signals == 0) {
     st.energy_mw = 0;  // Exactly: no residue of floating-point subtraction.
@@ -158,7 +245,9 @@ bool SignalEnds(State& s, int station, Transmission& tx, int entry_index) {
 void AbortReception(State& s, int station) {
   StationState& st = s.stations[station];
   if (st.rx.tx < 0) return;
-  s.transmissions[st.rx.tx].rx[st.rx.entry].outcome = RxOutcome::kTransmitting;
+  RxEntry& locked = s.transmissions[st.rx.tx].rx[st.rx.entry];
+  locked.outcome = RxOutcome::kTransmitting;
+  locked.cause = RxCause::kOwnTransmission;
   st.rx.tx = -1;
 }
 

@@ -10,6 +10,17 @@
 namespace sitlnet::mac {
 namespace {
 
+double SquaredDistanceM2(const RadioChannel& channel, int a, int b);
+
+// record_causes: splits the loss a -> b into path loss and obstacle shadowing,
+// with the channel's own terms (RadioChannel::ComputeLoss adds these three).
+template <typename T>
+void SplitLoss(State& s, int a, int b, double loss_db, T* path_db, T* obstacle_db) {
+  const double path = s.channel.PathLossDb(std::sqrt(SquaredDistanceM2(s.channel, a, b)));
+  *path_db = static_cast<T>(path);
+  *obstacle_db = static_cast<T>(loss_db - path - s.channel.LognormalDb(a, b));
+}
+
 void TraceTransmission(State& s, const Transmission& tx) {
   TxRecord record;
   record.start_ns = tx.start_ns;
@@ -31,10 +42,27 @@ void TraceTransmission(State& s, const Transmission& tx) {
     if (next_entry < tx.rx.size() && tx.rx[next_entry].station == r) {
       const RxEntry& e = tx.rx[next_entry++];
       record.receptions.push_back({r, e.outcome, e.power_dbm, 10 * std::log10(e.sinr)});
+      if (s.record_causes) {
+        RxRecord& out = record.receptions.back();
+        out.cause = e.cause;
+        out.interferer = e.interferer;
+        out.path_loss_db = e.path_loss_db;
+        out.obstacle_loss_db = e.obstacle_loss_db;
+      }
     } else {
-      const double dbm = s.stations[tx.source].tx_power_dbm - s.channel.LossDb(tx.source, r);
+      const double loss_db = s.channel.LossDb(tx.source, r);
+      const double dbm = s.stations[tx.source].tx_power_dbm - loss_db;
       record.receptions.push_back(
           {r, RxOutcome::kBelowSensitivity, dbm, dbm - s.phy.noise_floor_dbm});
+      if (s.record_causes) {
+        RxRecord& out = record.receptions.back();
+        out.cause = RxCause::kBelowThreshold;
+        // Only where it could matter (a sensitivity above the noise floor); positions may
+        // have changed since the start: the split is that of now.
+        if (dbm >= s.phy.noise_floor_dbm) {
+          SplitLoss(s, tx.source, r, loss_db, &out.path_loss_db, &out.obstacle_loss_db);
+        }
+      }
     }
   }
   TraceEvent event;
@@ -94,7 +122,7 @@ int NakagamiIndex(const MediumConfig& c, double squared_distance_m2) {
 // Links more than kFadingMarginDb under the sensitivity on path loss alone
 // draw nothing; any link that far under is dead (gains that large have
 // probability <= 2.5e-10).
-bool FadedPower(State& s, int source, int r, double* dbm, double* mw) {
+bool FadedPower(State& s, int source, int r, double* dbm, double* mw, double* loss_out_db) {
   StationState& src = s.stations[source];
   const double d2 = SquaredDistanceM2(s.channel, source, r);
   if (!(d2 < src.fading_reach_m2)) return false;
@@ -114,6 +142,7 @@ bool FadedPower(State& s, int source, int r, double* dbm, double* mw) {
   }
   *dbm = src.tx_power_dbm - loss_db + gain_db;
   if (*dbm < config.rx_sensitivity_dbm) return false;
+  *loss_out_db = loss_db;
   *mw = std::pow(10.0, *dbm / 10);
   return true;
 }
@@ -187,7 +216,7 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   UpdateCca(s, source);
   const MediumConfig& config = s.config;
   const int n = static_cast<int>(s.stations.size());
-  auto add_receiver = [&](int r, double dbm, double mw) {
+  auto add_receiver = [&](int r, double dbm, double mw, double loss_db) {
     TimeNs delay_ns = 0;
     if (config.propagation_delay) {
       // Nothing farther than light travels in a second hears the frame: no radio reaches that
@@ -198,19 +227,26 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
       delay_ns = std::llround(delay_s * 1e9);
     }
     tx.rx.push_back({r, mw, dbm, RxOutcome::kBelowSensitivity, 0, delay_ns});
+    if (s.record_causes) {
+      RxEntry& e = tx.rx.back();
+      SplitLoss(s, source, r, loss_db, &e.path_loss_db, &e.obstacle_loss_db);
+    }
   };
   if (config.nakagami_fading) {
     for (int r = 0; r < n; ++r) {
-      double dbm, mw;
-      if (r != source && FadedPower(s, source, r, &dbm, &mw)) add_receiver(r, dbm, mw);
+      double dbm, mw, loss_db;
+      if (r != source && FadedPower(s, source, r, &dbm, &mw, &loss_db)) {
+        add_receiver(r, dbm, mw, loss_db);
+      }
     }
   } else {
     for (int r = 0; r < n; ++r) {
       if (r == source) continue;
-      const double dbm = src.tx_power_dbm - s.channel.LossDb(source, r);
+      const double loss_db = s.channel.LossDb(source, r);
+      const double dbm = src.tx_power_dbm - loss_db;
       // Written so that a station at a position that is not a number hears nothing.
       if (!(dbm >= config.rx_sensitivity_dbm)) continue;
-      add_receiver(r, dbm, src.tx_power_mw * s.channel.GainLinear(source, r));
+      add_receiver(r, dbm, src.tx_power_mw * s.channel.GainLinear(source, r), loss_db);
     }
   }
   for (int i = 0; i < static_cast<int>(tx.rx.size()); ++i) {

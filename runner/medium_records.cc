@@ -8,11 +8,13 @@
 
 namespace sitlnet::runner {
 
-MediumRecords::MediumRecords(const std::string& run_dir, int robots, bool lockstep)
+MediumRecords::MediumRecords(const std::string& run_dir, int robots, bool lockstep,
+                             LossLog* losses)
     : pcap_(run_dir + "/medium.pcap", "", 256, "pcap"),
       epoch_offset_ns_(lockstep ? 0 : static_cast<TimeNs>(std::time(nullptr)) * kNsPerS),
       deliveries_(run_dir + "/deliveries.csv", kDeliveryHeader),
-      connectivity_(robots, kConnectivityWindowNs, kConnectivitySampleNs) {
+      connectivity_(robots, kConnectivityWindowNs, kConnectivitySampleNs),
+      losses_(losses) {
   pcap_.AppendRecord(tapbridge::PcapFileHeader());  // Buffered: written with the first records.
 }
 
@@ -32,6 +34,7 @@ void MediumRecords::Attach(tapbridge::BridgeCore* bridge) {
 void MediumRecords::Flush() {
   deliveries_.Flush();
   pcap_.Flush();
+  if (losses_) losses_->Finish();
 }
 
 }  // namespace sitlnet::runner

@@ -7,6 +7,7 @@
 
 #include "common/common.h"
 #include "runner/connectivity.h"
+#include "runner/loss_log.h"
 #include "tapbridge/tapbridge.h"
 
 namespace sitlnet::runner {
@@ -16,11 +17,13 @@ class MediumRecords {
   // Creates <run_dir>/medium.pcap (with its file header) and <run_dir>/deliveries.csv; throws
   // Error naming the file. pcap timestamps are virtual in lockstep, so that runs are
   // byte-identical, and wall-clock dates in realtime.
-  MediumRecords(const std::string& run_dir, int robots, bool lockstep);
+  // `losses` (may be null; outlives this): losses.csv.gz and links.csv, finished by Flush.
+  MediumRecords(const std::string& run_dir, int robots, bool lockstep, LossLog* losses);
   // Records every air frame and delivery of `bridge` from now on; this must outlive its use.
   void Attach(tapbridge::BridgeCore* bridge);
   ConnectivityTracker& connectivity() { return connectivity_; }
-  // deliveries.csv, then medium.pcap; throws Error naming the file that cannot be written.
+  // deliveries.csv, medium.pcap, then the loss log; throws Error naming the file that cannot
+  // be written.
   void Flush();
 
  private:
@@ -28,6 +31,7 @@ class MediumRecords {
   TimeNs epoch_offset_ns_;
   LineFile deliveries_;
   ConnectivityTracker connectivity_;
+  LossLog* losses_;
 };
 
 }  // namespace sitlnet::runner

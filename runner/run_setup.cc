@@ -88,11 +88,15 @@ void RunSetup::StartMedium() {
     medium = std::move(remote_owned_);
   } else {
     medium = tapbridge::MakeMacPhySimMedium(scenario_);
+    if (options_.record_losses) {
+      loss_log_ = MakeLossLog(run_dir_, scenario_);
+      medium->SetTraceSink([log = loss_log_.get()](const mac::TraceEvent& e) { log->Add(e); });
+    }
   }
   bridge_ = std::make_unique<tapbridge::BridgeCore>(scenario_, std::move(medium), bridge_options);
   bridge_->AttachAll();
   medium_records_ = std::make_unique<MediumRecords>(
-      run_dir_, static_cast<int>(scenario_.robots.size()), lockstep_);
+      run_dir_, static_cast<int>(scenario_.robots.size()), lockstep_, loss_log_.get());
   medium_records_->Attach(bridge_.get());
 }
 

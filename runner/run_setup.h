@@ -14,6 +14,7 @@
 #include "physics_mujoco/physics_mujoco.h"
 #include "robot_images/robot_images.h"
 #include "ros2_clock/ros2_clock.h"
+#include "runner/loss_log.h"
 #include "runner/medium_records.h"
 #include "runner/robot_slot.h"
 #include "runner/runner.h"
@@ -70,6 +71,7 @@ class RunSetup {
   std::unique_ptr<ScenarioNamespaces> namespaces_;
   clock::Timebase run_timebase_;
   std::unique_ptr<physics::PhysicsServer> physics_server_;
+  std::unique_ptr<LossLog> loss_log_;  // Outlives the bridge: its medium writes to it.
   std::unique_ptr<tapbridge::BridgeCore> bridge_;
   std::unique_ptr<MediumRecords> medium_records_;
   std::vector<RobotSlot> robots_;

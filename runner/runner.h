@@ -34,6 +34,7 @@ struct RunOptions {
   std::string images_root;                       // Folder of the image manifests.
   TimeNs trajectory_period_ns = 100 * kNsPerMs;  // Sampling of trajectories.csv.
   bool progress = true;                          // Live progress line on stderr.
+  bool record_losses = true;  // losses.csv.gz and links.csv (docs/run.md); mac_phy_sim here only.
   // SCHED_FIFO priority of sitlnet's own threads in realtime pacing (0: normal scheduling;
   // refused without CAP_SYS_NICE: a warning, then normal). Images run at normal priority.
   int realtime_priority = 10;

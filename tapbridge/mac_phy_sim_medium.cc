@@ -38,7 +38,7 @@ class MacPhySimMedium : public MediumModel {
     if (air != nullptr && !tracing_) {
       medium_.EnableTrace(true);
       tracing_ = true;
-    } else if (air == nullptr && tracing_) {
+    } else if (air == nullptr && tracing_ && !sink_) {
       trace_.clear();
       medium_.DrainTrace(&trace_);
       medium_.EnableTrace(false);
@@ -55,8 +55,11 @@ class MacPhySimMedium : public MediumModel {
       medium_.DrainTrace(&trace_);
       if (air != nullptr) {
         for (mac::TraceEvent& event : trace_) {
+          if (sink_) sink_(event);
           if (event.tx) air->push_back(ToAirFrame(std::move(*event.tx)));
         }
+      } else if (sink_) {
+        for (const mac::TraceEvent& event : trace_) sink_(event);
       }
     }
   }
@@ -97,6 +100,13 @@ class MacPhySimMedium : public MediumModel {
   }
 
   size_t MaxEthernetFrameBytes() const override { return kMax80211EthernetFrameBytes; }
+
+  void SetTraceSink(std::function<void(const mac::TraceEvent&)> sink) override {
+    sink_ = std::move(sink);
+    medium_.EnableTrace(true);
+    medium_.EnableCauses(true);
+    tracing_ = true;
+  }
 
  private:
   int StationOf(const MacAddress& mac) const {
@@ -145,6 +155,7 @@ class MacPhySimMedium : public MediumModel {
   std::vector<mac::Delivery> scratch_;
   std::vector<mac::TraceEvent> trace_;
   bool tracing_ = false;
+  std::function<void(const mac::TraceEvent&)> sink_;  // SetTraceSink: causes recorded.
 };
 
 }  // namespace

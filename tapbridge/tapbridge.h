@@ -83,6 +83,10 @@ class MediumModel {
   virtual MediumCounters Counters(int station) const = 0;
   // Largest Ethernet frame the medium accepts (14-byte header + MSDU - 8 LLC/SNAP).
   virtual size_t MaxEthernetFrameBytes() const = 0;
+  // Hands every transmission (each station's reception with its cause) and every drop to
+  // `sink`, as the model decides them, during AdvanceTo. Set before the first AdvanceTo;
+  // a model that records no causes ignores it.
+  virtual void SetTraceSink(std::function<void(const mac::TraceEvent&)> /*sink*/) {}
 };
 
 // 802.11 simulated medium (mac_phy_sim) configured from the scenario.

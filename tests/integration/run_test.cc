@@ -48,10 +48,15 @@ TEST(RunTest, LockstepRunsAreByteIdenticalAndTheSeedMatters) {
   const CommandResult other =
       SitlnetRun(scenario, base + "3", {"--pacing", "lockstep", "--seed", "6"});
   ASSERT_EQ(other.exit_code, 0) << other.err;
+  // Without the loss recording (losses.csv.gz, links.csv) the rest is byte-identical.
+  const CommandResult no_losses =
+      SitlnetRun(scenario, base + "4", {"--pacing", "lockstep", "--seed", "5", "--no-losses"});
+  ASSERT_EQ(no_losses.exit_code, 0) << no_losses.err;
 
   for (const char* file : {"scenario.textproto", "trajectories.csv", "metrics.csv", "medium.pcap",
                            "deliveries.csv", "connectivity.csv", "summary.json", "robots/a.log",
-                           "trajectories.png", "connectivity.png", "stf.png"}) {
+                           "trajectories.png", "connectivity.png", "stf.png", "losses.csv.gz",
+                           "links.csv"}) {
     struct stat info {};
     EXPECT_EQ(stat((base + "1/" + file).c_str(), &info), 0) << file;
   }
@@ -63,6 +68,14 @@ TEST(RunTest, LockstepRunsAreByteIdenticalAndTheSeedMatters) {
   EXPECT_EQ(trajectories, ReadAll(base + "2/trajectories.csv"));
   EXPECT_EQ(pcap, ReadAll(base + "2/medium.pcap"));
   EXPECT_EQ(ReadAll(base + "1/deliveries.csv"), ReadAll(base + "2/deliveries.csv"));
+  EXPECT_EQ(ReadAll(base + "1/losses.csv.gz"), ReadAll(base + "2/losses.csv.gz"));
+  EXPECT_EQ(ReadAll(base + "1/links.csv"), ReadAll(base + "2/links.csv"));
+  for (const char* file : {"trajectories.csv", "medium.pcap", "deliveries.csv", "connectivity.csv"}) {
+    EXPECT_EQ(ReadAll(base + "1/" + file), ReadAll(base + "4/" + file)) << file;
+  }
+  struct stat none {};
+  EXPECT_NE(stat((base + "4/losses.csv.gz").c_str(), &none), 0);
+  EXPECT_NE(stat((base + "4/links.csv").c_str(), &none), 0);
   // Another seed changes the medium's draws (backoff slots, intra-step offsets).
   EXPECT_NE(pcap, ReadAll(base + "3/medium.pcap"));
   ExpectNothingLeft(scenario.name);
@@ -99,7 +112,8 @@ TEST(RunTest, RobotsInheritNoFileOfTheRun) {
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const std::string listing = ReadAll(out + "/robots/a.log");
   ASSERT_NE(listing.find("/proc/"), std::string::npos) << listing;  // ls ran and listed
-  for (const char* file : {"medium.pcap", "deliveries.csv", "trajectories.csv", "metrics.csv"}) {
+  for (const char* file :
+       {"medium.pcap", "deliveries.csv", "trajectories.csv", "metrics.csv", "losses.csv.gz"}) {
     EXPECT_EQ(listing.find(file), std::string::npos) << file << " is open in the robot:\n"
                                                      << listing;
   }

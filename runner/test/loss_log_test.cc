@@ -1,0 +1,107 @@
+// losses.csv.gz and links.csv written from the medium's own trace: the hidden
+// pair of mac_phy_sim's causes_test (A and C hidden from each other around B).
+#include "runner/loss_log.h"
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace sitlnet::runner {
+namespace {
+
+constexpr MacAddress kBroadcast{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
+
+std::vector<uint8_t> Frame(const MacAddress& to, const MacAddress& from, int payload) {
+  std::vector<uint8_t> f(14 + payload, 0);
+  std::copy(to.bytes.begin(), to.bytes.end(), f.begin());
+  std::copy(from.bytes.begin(), from.bytes.end(), f.begin() + 6);
+  f[12] = 0x08;
+  return f;
+}
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+std::string Gunzip(const std::string& path) {
+  gzFile f = gzopen(path.c_str(), "rb");
+  EXPECT_NE(f, nullptr);
+  std::string text;
+  char buffer[4096];
+  int n;
+  while ((n = gzread(f, buffer, sizeof buffer)) > 0) text.append(buffer, n);
+  gzclose(f);
+  return text;
+}
+
+TEST(LossLogTest, WritesEveryReceptionAboveTheNoiseFloorAndPerSecondLinks) {
+  const std::string dir = ::testing::TempDir() + "/loss_log_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  mac::MediumConfig config;
+  config.rate_mbps = 12;  // B -> A at -75 dBm (SNR 19 dB) decodes; 54 Mb/s would not.
+  mac::Medium medium(config);
+  medium.EnableTrace(true);
+  medium.EnableCauses(true);
+  const std::vector<MacAddress> macs = {RobotMac(0), RobotMac(1), RobotMac(2), RobotMac(3)};
+  medium.AddStation(macs[0], {0, 0, 0});       // B
+  medium.AddStation(macs[1], {-30, 0, 0});     // A
+  medium.AddStation(macs[2], {30, 0, 0});      // C
+  medium.AddStation(macs[3], {3000, 0, 0});    // Far: under the noise floor, never written.
+  medium.SubmitFrame(1, Frame(kBroadcast, macs[1], 100), 0);
+  medium.SubmitFrame(2, Frame(kBroadcast, macs[2], 100), 50 * kNsPerUs);
+  // One second later B sends A a unicast frame alone: decoded and acknowledged.
+  medium.SubmitFrame(0, Frame(macs[1], macs[0], 100), kNsPerS);
+  medium.AdvanceTo(2 * kNsPerS, nullptr);
+  std::vector<mac::TraceEvent> events;
+  medium.DrainTrace(&events);
+  {
+    LossLog log(dir, macs, medium.phy().noise_floor_dbm, -82);
+    for (const mac::TraceEvent& e : events) log.Add(e);
+    log.Finish();
+  }
+  const std::vector<std::string> rows = Lines(Gunzip(dir + "/losses.csv.gz"));
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows[0], kLossHeader);
+  auto find = [&](const std::string& prefix_from_to, const std::string& station_cause) {
+    for (const std::string& r : rows) {
+      if (r.find(prefix_from_to) != std::string::npos &&
+          r.find(station_cause) != std::string::npos) {
+        return true;
+      }
+    }
+    return false;
+  };
+  EXPECT_TRUE(find(",1,-1,DATA,", ",0,collision,2,"));          // A's frame at B, C interfered.
+  EXPECT_TRUE(find(",2,-1,DATA,", ",0,already_receiving,1,"));  // C's at B, locked on A.
+  EXPECT_TRUE(find(",2,-1,DATA,", ",1,own_transmission,"));     // C's at A, A on the air.
+  EXPECT_TRUE(find(",1,-1,DATA,", ",2,below_threshold,"));      // -84 dBm at C.
+  EXPECT_TRUE(find(",0,1,DATA,", ",1,decoded,-1,"));
+  EXPECT_TRUE(find(",1,0,ACK,", ",0,decoded,-1,"));
+  for (const std::string& r : rows) EXPECT_EQ(r.find(",3,"), std::string::npos) << r;
+
+  std::ifstream links_file(dir + "/links.csv");
+  std::stringstream links_text;
+  links_text << links_file.rdbuf();
+  const std::vector<std::string> links = Lines(links_text.str());
+  const std::vector<std::string> expected = {
+      kLinkHeader,
+      "0,1,0,1,0,0.000,collision,1",
+      "0,1,2,1,0,0.000,range,1",
+      "0,2,0,1,0,0.000,already_receiving,1",
+      "0,2,1,1,0,0.000,own_transmission,1",
+      "1,0,1,1,1,1.000,none,0",
+  };
+  EXPECT_EQ(links, expected);
+}
+
+}  // namespace
+}  // namespace sitlnet::runner
