@@ -15,7 +15,10 @@ namespace {
 // robot's state goes out when due, and a due sensor message is answered before the next step.
 class Px4RobotTest : public ::testing::Test {
  protected:
-  Scenario scenario_ = testing::MakeScenario("robot { name: \"px4\" position_m { z: 0.2 } }");
+  // GPS fixes delivered the instant they are taken, so that counts follow the rate alone (the
+  // default 110 ms delay is SensorModelsTest's).
+  Scenario scenario_ = testing::MakeScenario(
+      "robot { name: \"px4\" position_m { z: 0.2 } gps { delay_ms: 0 } }");
   GeodeticFrame frame_{scenario_.spec.geodetic_origin()};
   World world_{scenario_};
   Px4Robot robot_{scenario_, 0, 0, &frame_};
