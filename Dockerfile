@@ -24,6 +24,8 @@ COPY tests/node_mavlink/package.json tests/node_mavlink/package-lock.json tests/
 RUN apt-get update -qq && apt-get install -y -qq --no-install-recommends ca-certificates >/dev/null \
     && scripts/setup --no-build
 COPY . .
+# Compiled once here: a ccache folder in the image would only make it larger.
+ENV CCACHE_DISABLE=1
 RUN scripts/setup
 ENV CI=true
 CMD ["scripts/test"]
