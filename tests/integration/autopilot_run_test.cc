@@ -300,8 +300,11 @@ TEST(RunTest, ArduPilotAndPx4RobotsFlyInTheCoordinatorsClockAndTwoRunsAreByteIde
 // Issue 14, item 1: in realtime pacing each autopilot message leaves at the wall instant of its
 // virtual time (the physics computes an iteration ahead of the wall clock, and holds them).
 // Measured from the test autopilot's log: the wall time it took each observation, less the
-// observation's virtual time, is one constant (the run's start) give or take the host's
-// scheduling; served at once, ArduPilot's replies would spread over the 10 ms iteration.
+// observation's virtual time, is one constant (the run's start) plus the host's scheduling delay.
+// A delay only makes a message late, so the test looks at the early side: served at once, at the
+// iteration's start, the messages would come up to 10 ms early, and the 5th percentile would lie
+// about 4.5 ms below the median. A busy CI host delays many receipts by milliseconds (p90 of
+// |offset - median| was 3.5 ms there), which the late side shows and the early side does not.
 TEST(RunTest, InRealtimePacingAutopilotsAreServedAtTheWallInstantOfTheirTime) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const RunScenario scenario = WriteScenario(
@@ -333,13 +336,12 @@ TEST(RunTest, InRealtimePacingAutopilotsAreServedAtTheWallInstantOfTheirTime) {
     std::vector<double> sorted = offsets_ms;
     std::sort(sorted.begin(), sorted.end());
     const double median_ms = sorted[sorted.size() / 2];
-    std::vector<double> deviation_ms;
-    for (double offset : offsets_ms) deviation_ms.push_back(std::abs(offset - median_ms));
-    std::sort(deviation_ms.begin(), deviation_ms.end());
-    const double p90_ms = deviation_ms[deviation_ms.size() * 9 / 10];
-    std::printf("%s: %zu observations, wall - virtual: median %.3f ms, 90 %% within %.3f ms\n",
-                robot, offsets_ms.size(), median_ms, p90_ms);
-    EXPECT_LT(p90_ms, 1.5) << robot;
+    const double early_side_ms = median_ms - sorted[sorted.size() / 20];
+    const double late_side_ms = sorted[sorted.size() * 19 / 20] - median_ms;
+    std::printf("%s: %zu observations, wall - virtual: median %.3f ms, 5th percentile %.3f ms "
+                "below it, 95th %.3f ms above it\n",
+                robot, offsets_ms.size(), median_ms, early_side_ms, late_side_ms);
+    EXPECT_LT(early_side_ms, 2.0) << robot;
   }
   ExpectNothingLeft(scenario.name);
   RunCommand({"rm", "-rf", out});
