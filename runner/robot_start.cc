@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <vector>
 
 #include "runner/log_cause.h"
 
@@ -167,6 +168,9 @@ void WaitForRobotsToSpeak(const Scenario& scenario, std::vector<RobotSlot>& robo
     server->Poll();
     std::string silent;
     std::string first_silent_log;  // The first silent robot's log: what it is waiting for.
+    // Woken by the physics server or by a silent image that exits (named at once, not at the
+    // deadline: a PX4 that exits at boot may take a second or more on a busy host).
+    std::vector<pollfd> wait = {{server->wait_fd(), POLLIN, 0}};
     for (const RobotPlan& plan : scenario.robots) {
       RobotSlot& robot = robots[plan.index];
       // A ground station's software has no physics to speak to.
@@ -178,6 +182,7 @@ void WaitForRobotsToSpeak(const Scenario& scenario, std::vector<RobotSlot>& robo
                       " (log: " + robot.process->log_path() + ")");
         }
         if (silent.empty()) first_silent_log = robot.process->log_path();
+        if (robot.process->exit_fd() >= 0) wait.push_back({robot.process->exit_fd(), POLLIN, 0});
         silent += (silent.empty() ? "" : ", ") + plan.name;
       }
     }
@@ -192,8 +197,7 @@ void WaitForRobotsToSpeak(const Scenario& scenario, std::vector<RobotSlot>& robo
                                            "'s log ends \"" + last + "\"") +
                   " (see their logs in robots/)");
     }
-    pollfd wait{server->wait_fd(), POLLIN, 0};
-    poll(&wait, 1, static_cast<int>((deadline - now) / kNsPerMs) + 1);
+    poll(wait.data(), wait.size(), static_cast<int>((deadline - now) / kNsPerMs) + 1);
   }
 }
 
