@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -116,116 +117,188 @@ long SummaryCount(const std::string& summary, const std::string& key) {
 }
 
 // ------------------------------------------------------------------------------------------------
-// PX4: fly_px4.cjs on PX4's own GCS link (the robot's loopback) arms it and takes it to 3 m; once
-// PX4 has held that altitude for 3 s ("EVENT HOLD"), PX4 is killed.
+// Killed mid-flight. A ground station from tests/node_mavlink, in robot "a"'s namespace on the
+// autopilot's own GCS link, arms it and takes it to 3 m; once the autopilot reports it there,
+// the autopilot is killed (SIGKILL).
 
-constexpr double kPx4AltitudeM = 3;
-constexpr double kStartZ = 0.2;  // The robot's start height.
+constexpr double kAltitudeM = 3;
 
-const char* const kPx4Robot =
-    "robot { name: \"a\" position_m { z: 0.2 } image: \"IMAGE\" px4_sim_port: 4560 }\n";
+struct Autopilot {
+  const char* variable;  // Where it is built, and what it holds.
+  const char* program;
+  const char* image;    // The shipped manifest.
+  const char* process;  // Its process name (comm).
+  const char* robot;    // The robot block, "IMAGE" for the image.
+  double start_z;       // The robot's start height.
+  // Starts the ground station once the autopilot (started for the `nth` time) listens.
+  std::function<std::unique_ptr<Child>(const std::string& scenario, const std::string& out,
+                                       int nth)>
+      fly;
+  const char* at_altitude;  // What the ground station prints once at kAltitudeM.
+  const char* unanswered;   // The silent-robot line: "... did not answer <unanswered>".
+  const char* expected;     // ... "<expected> within".
+  const char* reconnect_key;  // summary.json's count that says the restart reconnected.
+  long reconnect_count;
+};
 
 std::string WithImage(std::string robot, const std::string& image) {
   robot.replace(robot.find("IMAGE"), 5, image);
   return robot;
 }
 
-// node fly_px4.cjs in robot "a"'s namespace: arm, take off to kPx4AltitudeM, hold, ... .
-std::unique_ptr<Child> FlyPx4(const std::string& scenario) {
-  return std::make_unique<Child>(std::vector<std::string>{
-      "ip", "netns", "exec", scenario + "-a", "node", NodeMavlinkDir() + "/fly_px4.cjs",
-      std::to_string(kPx4AltitudeM), "50", "0", "300"});
+// Waits (2 min at most) until robot "a"'s log says `line` for the `nth` time (a restart appends
+// to the log).
+void WaitForLogLine(const std::string& out, const std::string& line, int nth) {
+  const std::string log = out + "/robots/a.log";
+  const auto said = [&] {
+    const std::string text = ReadAll(log);
+    int found = 0;
+    for (size_t at = text.find(line); at != std::string::npos; at = text.find(line, at + 1)) {
+      ++found;
+    }
+    return found >= nth;
+  };
+  EXPECT_TRUE(WaitForFiles(out + "/robots", said, 120 * kNsPerS)) << ReadAll(log);
 }
 
-// Starts the run, flies PX4 until it holds its altitude, kills PX4 (SIGKILL). Returns the wall
-// instant of the kill.
-std::chrono::steady_clock::time_point FlyAndKillPx4(const RunScenario& scenario, Child& run,
-                                                    std::unique_ptr<Child>* fly) {
-  EXPECT_TRUE(WaitForFiles(kNetnsDir, [&] { return NetnsExists(scenario.name + "-a"); },
-                           60 * kNsPerS))
-      << run.err();
-  *fly = FlyPx4(scenario.name);
-  EXPECT_TRUE((*fly)->WaitForOutput(false, "EVENT HOLD", 120 * kNsPerS))
-      << (*fly)->out() << run.err();
-  const pid_t px4 = AutopilotPid(scenario.name, "px4");
-  EXPECT_GT(px4, 0);
-  if (px4 > 0) kill(px4, SIGKILL);
+// node SCRIPT ARGS... in robot "a"'s namespace.
+std::unique_ptr<Child> GroundStation(const std::string& scenario, const std::string& script,
+                                     std::vector<std::string> args) {
+  std::vector<std::string> argv = {"ip", "netns", "exec", scenario + "-a", "node",
+                                   NodeMavlinkDir() + "/" + script};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return std::make_unique<Child>(argv);
+}
+
+// PX4's GCS link is UDP on the robot's loopback (fly_px4.cjs): arm, take off, hold ("EVENT
+// HOLD" once steady at the altitude), then a waypoint the test never lets it reach.
+const Autopilot kPx4 = {
+    "SITLNET_PX4_DIR", "bin/px4", "px4", "px4",
+    "robot { name: \"a\" position_m { z: 0.2 } image: \"IMAGE\" px4_sim_port: 4560 }\n", 0.2,
+    [](const std::string& scenario, const std::string& out, int nth) {
+      WaitForLogLine(out, "Startup script returned successfully", nth);
+      return GroundStation(scenario, "fly_px4.cjs",
+                           {std::to_string(kAltitudeM), "50", "0", "300"});
+    },
+    "EVENT HOLD", "its HIL_SENSOR of iteration ", "with HIL_ACTUATOR_CONTROLS", "connections", 2};
+
+// ArduCopter's is TCP 5760 of the robot's loopback (guided_flight.cjs): GUIDED, arm, take off
+// ("TAKEOFF_REACHED"), hold 600 s.
+const Autopilot kArduCopter = {
+    "SITLNET_ARDUPILOT_DIR", "bin/arducopter", "arducopter", "arducopter",
+    "robot { name: \"a\" position_m { z: 0.1 } image: \"IMAGE\" ardupilot_json_port: 9002 }\n",
+    0.1,
+    [](const std::string& scenario, const std::string& out, int nth) {
+      WaitForLogLine(out, "SERIAL0 on TCP port 5760", nth);
+      return GroundStation(scenario, "guided_flight.cjs",
+                           {"127.0.0.1", "5760", std::to_string(kAltitudeM), "600", "0", "0"});
+    },
+    "TAKEOFF_REACHED", "its JSON reply of iteration ", "with a servo frame", "json_restarts", 1};
+
+// Flies the autopilot to kAltitudeM and kills it; returns the wall instant of the kill.
+std::chrono::steady_clock::time_point FlyAndKill(const Autopilot& autopilot,
+                                                 const RunScenario& scenario,
+                                                 const std::string& out,
+                                                 std::unique_ptr<Child>* gcs) {
+  *gcs = autopilot.fly(scenario.name, out, 1);
+  EXPECT_TRUE((*gcs)->WaitForOutput(false, autopilot.at_altitude, 300 * kNsPerS)) << (*gcs)->out();
+  const pid_t pid = AutopilotPid(scenario.name, autopilot.process);
+  EXPECT_GT(pid, 0);
+  if (pid > 0) kill(pid, SIGKILL);
   return std::chrono::steady_clock::now();
 }
 
 // Default on_silent_robot (SILENT_ROBOT_STOP): the run stops after silent_robot_timeout_ms (1 s)
-// naming the robot and what it did not answer, exit 1, the outputs whole up to the stop.
-TEST(AutopilotFaultsTest, Px4KilledMidFlightStopsTheLockstepRunNamingIt) {
-  SITLNET_REQUIRE_AUTOPILOT("SITLNET_PX4_DIR", "bin/px4", true);
-  const RunScenario scenario = WriteScenario(
-      2, WithImage(kPx4Robot, "px4"), "timing { duration_ms: 300000 pacing: PACING_LOCKSTEP }\n");
+// naming the robot and what it did not answer, exit 1, the outputs whole up to the stop, the
+// vehicle at its altitude in the last rows.
+void KilledMidFlightStopsTheRun(const Autopilot& autopilot, int slot) {
+  const RunScenario scenario =
+      WriteScenario(slot, WithImage(autopilot.robot, autopilot.image),
+                    "timing { duration_ms: 300000 pacing: PACING_LOCKSTEP }\n");
   DownGuard guard(scenario.name);
   const std::string out = TempDir() + "/" + scenario.name + "-out";
   const auto start = std::chrono::steady_clock::now();
   Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress"});
-  std::unique_ptr<Child> fly;
-  const auto killed = FlyAndKillPx4(scenario, run, &fly);
+  std::unique_ptr<Child> gcs;
+  const auto killed = FlyAndKill(autopilot, scenario, out, &gcs);
   EXPECT_EQ(run.Wait(60 * kNsPerS), 1) << run.err();
   const double stop_s = SecondsSince(killed);
-  EXPECT_NE(run.err().find("robot 'a' did not answer its HIL_SENSOR of iteration "),
+  EXPECT_NE(run.err().find(std::string("robot 'a' did not answer ") + autopilot.unanswered),
             std::string::npos)
       << run.err();
-  EXPECT_NE(run.err().find("with HIL_ACTUATOR_CONTROLS within 1000 ms"), std::string::npos)
+  EXPECT_NE(run.err().find(std::string(autopilot.expected) + " within 1000 ms"), std::string::npos)
       << run.err();
-  // Flying when it died: the last rows are at the altitude PX4 held.
   const std::vector<double> z = Heights(out);
   ASSERT_FALSE(z.empty());
-  EXPECT_NEAR(z.back() - kStartZ, kPx4AltitudeM, 0.3) << "not at its altitude at the kill";
-  std::printf("[ measured ] PX4 killed at %.1f m after %.1f s virtual; the run stopped %.2f s "
+  EXPECT_NEAR(z.back() - autopilot.start_z, kAltitudeM, 0.3) << "not at its altitude at the kill";
+  std::printf("[ measured ] %s killed at %.1f m after %.1f s virtual; the run stopped %.2f s "
               "(wall) after the kill; %.1f s wall in all\n",
-              z.back() - kStartZ, z.size() / 10.0, stop_s, SecondsSince(start));
+              autopilot.image, z.back() - autopilot.start_z, z.size() / 10.0, stop_s,
+              SecondsSince(start));
   ExpectNothingLeft(scenario.name);
   RunCommand({"rm", "-rf", out});
 }
 
-// SILENT_ROBOT_DROP and a restart policy: the dead PX4 is dropped (motors cut: it falls), the
-// supervisor starts it again, the new PX4 connects (the robot back at its start), boots, arms and
-// climbs to its altitude again: PX4 says so, and so does the truth. The run is then interrupted.
-TEST(AutopilotFaultsTest, Px4KilledMidFlightIsDroppedAndRestartedFliesAgain) {
-  SITLNET_REQUIRE_AUTOPILOT("SITLNET_PX4_DIR", "bin/px4", true);
-  const std::string manifest = RestartingManifest("px4");
+// SILENT_ROBOT_DROP and a restart policy: the dead autopilot is dropped (motors cut: it falls),
+// the supervisor starts it again, the new one reconnects (PX4: a new connection; ArduCopter: a
+// smaller frame_count), which puts the robot back at its start; it boots, arms and climbs to its
+// altitude again: the autopilot says so, and so does the truth. The run is then interrupted.
+void KilledMidFlightIsDroppedAndRestartedFliesAgain(const Autopilot& autopilot, int slot) {
+  const std::string manifest = RestartingManifest(autopilot.image);
   const RunScenario scenario =
-      WriteScenario(3, WithImage(kPx4Robot, manifest),
+      WriteScenario(slot, WithImage(autopilot.robot, manifest),
                     "timing { duration_ms: 300000 pacing: PACING_LOCKSTEP }\n"
                     "silent_robot_timeout_ms: 300\non_silent_robot: SILENT_ROBOT_DROP\n");
   DownGuard guard(scenario.name);
   const std::string out = TempDir() + "/" + scenario.name + "-out";
   const auto start = std::chrono::steady_clock::now();
   Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress"});
-  std::unique_ptr<Child> fly;
-  const auto killed = FlyAndKillPx4(scenario, run, &fly);
-  fly.reset();  // Its GCS port is the next one's.
+  std::unique_ptr<Child> gcs;
+  const auto killed = FlyAndKill(autopilot, scenario, out, &gcs);
+  gcs.reset();  // Its GCS port is the next one's.
   EXPECT_TRUE(run.WaitForOutput(true, "dropped from the run, motors cut", 30 * kNsPerS))
       << run.err();
   EXPECT_TRUE(run.WaitForOutput(true, "restarting robot \"a\" (1 of at most 1)", 30 * kNsPerS))
       << run.err();
   const double restarted_s = SecondsSince(killed);
-  fly = FlyPx4(scenario.name);
-  EXPECT_TRUE(fly->WaitForOutput(false, "EVENT HOLD", 120 * kNsPerS)) << fly->out() << run.err();
+  gcs = autopilot.fly(scenario.name, out, 2);
+  EXPECT_TRUE(gcs->WaitForOutput(false, autopilot.at_altitude, 300 * kNsPerS)) << gcs->out();
   const double flying_again_s = SecondsSince(killed);
   kill(run.pid(), SIGINT);
   EXPECT_EQ(run.Wait(60 * kNsPerS), 130) << run.err();
-  EXPECT_NE(run.err().find("robot 'a' did not answer its HIL_SENSOR of iteration "),
+  EXPECT_NE(run.err().find(std::string("robot 'a' did not answer ") + autopilot.unanswered),
             std::string::npos)
       << run.err();
   const std::string summary = ReadAll(out + "/summary.json");
-  EXPECT_EQ(SummaryCount(summary, "connections"), 2) << summary;
-  // The truth: up at the kill, on the ground between the flights (fallen, then put back at its
-  // start), up again at the end.
+  EXPECT_EQ(SummaryCount(summary, autopilot.reconnect_key), autopilot.reconnect_count) << summary;
   const std::vector<double> z = Heights(out);
-  ASSERT_FALSE(z.empty());
-  ExpectUpDownUp(z, kStartZ, kPx4AltitudeM);
-  std::printf("[ measured ] PX4 dropped and restarted %.2f s (wall) after the kill, at %.1f m "
+  ExpectUpDownUp(z, autopilot.start_z, kAltitudeM);
+  std::printf("[ measured ] %s dropped and restarted %.2f s (wall) after the kill, at %.1f m "
               "again %.1f s after it; %.1f s virtual, %.1f s wall in all\n",
-              restarted_s, z.back() - kStartZ, flying_again_s, z.size() / 10.0,
-              SecondsSince(start));
+              autopilot.image, restarted_s, z.back() - autopilot.start_z, flying_again_s,
+              z.size() / 10.0, SecondsSince(start));
   ExpectNothingLeft(scenario.name);
   RunCommand({"rm", "-rf", out, manifest});
+}
+
+TEST(AutopilotFaultsTest, Px4KilledMidFlightStopsTheLockstepRunNamingIt) {
+  SITLNET_REQUIRE_AUTOPILOT(kPx4.variable, kPx4.program, true);
+  KilledMidFlightStopsTheRun(kPx4, 2);
+}
+
+TEST(AutopilotFaultsTest, Px4KilledMidFlightIsDroppedAndRestartedFliesAgain) {
+  SITLNET_REQUIRE_AUTOPILOT(kPx4.variable, kPx4.program, true);
+  KilledMidFlightIsDroppedAndRestartedFliesAgain(kPx4, 3);
+}
+
+TEST(AutopilotFaultsTest, ArduCopterKilledMidFlightStopsTheLockstepRunNamingIt) {
+  SITLNET_REQUIRE_AUTOPILOT(kArduCopter.variable, kArduCopter.program, true);
+  KilledMidFlightStopsTheRun(kArduCopter, 6);
+}
+
+TEST(AutopilotFaultsTest, ArduCopterKilledMidFlightIsDroppedAndRestartedFliesAgain) {
+  SITLNET_REQUIRE_AUTOPILOT(kArduCopter.variable, kArduCopter.program, true);
+  KilledMidFlightIsDroppedAndRestartedFliesAgain(kArduCopter, 7);
 }
 
 // PX4 started as instance 1 connects to port 4561 (PX4's 4560 + instance), where nothing
@@ -254,115 +327,6 @@ TEST(AutopilotFaultsTest, APx4ThatNeverConnectsIsNamedWithinTheTimeout) {
   std::printf("[ measured ] named after %.1f s (wall)\n", wall_s);
   ExpectNothingLeft(scenario.name);
   RunCommand({"rm", "-rf", out});
-}
-
-// ------------------------------------------------------------------------------------------------
-// ArduCopter: guided_flight.cjs on ArduCopter's SERIAL0 (TCP 5760 of the robot's loopback) sets
-// GUIDED, arms, takes off to 3 m and holds; once ArduCopter reports the altitude reached
-// ("TAKEOFF_REACHED"), it is killed.
-
-constexpr double kCopterAltitudeM = 3;
-constexpr double kCopterStartZ = 0.1;
-
-const char* const kCopterRobot =
-    "robot { name: \"a\" position_m { z: 0.1 } image: \"IMAGE\" ardupilot_json_port: 9002 }\n";
-
-// Waits until robot "a"'s log says ArduCopter listens on SERIAL0 for the `nth` time (a restart
-// appends to the log), then starts the ground station there.
-std::unique_ptr<Child> FlyCopter(const std::string& scenario, const std::string& out, int nth) {
-  const std::string log = out + "/robots/a.log";
-  const auto listening = [&] {
-    const std::string text = ReadAll(log);
-    int found = 0;
-    for (size_t at = text.find("SERIAL0 on TCP port 5760"); at != std::string::npos;
-         at = text.find("SERIAL0 on TCP port 5760", at + 1)) {
-      ++found;
-    }
-    return found >= nth;
-  };
-  EXPECT_TRUE(WaitForFiles(out + "/robots", listening, 120 * kNsPerS)) << ReadAll(log);
-  return std::make_unique<Child>(std::vector<std::string>{
-      "ip", "netns", "exec", scenario + "-a", "node", NodeMavlinkDir() + "/guided_flight.cjs",
-      "127.0.0.1", "5760", std::to_string(kCopterAltitudeM), "600", "0", "0"});
-}
-
-std::chrono::steady_clock::time_point FlyAndKillCopter(const RunScenario& scenario,
-                                                       const std::string& out,
-                                                       std::unique_ptr<Child>* gcs) {
-  *gcs = FlyCopter(scenario.name, out, 1);
-  EXPECT_TRUE((*gcs)->WaitForOutput(false, "TAKEOFF_REACHED", 300 * kNsPerS)) << (*gcs)->out();
-  const pid_t copter = AutopilotPid(scenario.name, "arducopter");
-  EXPECT_GT(copter, 0);
-  if (copter > 0) kill(copter, SIGKILL);
-  return std::chrono::steady_clock::now();
-}
-
-TEST(AutopilotFaultsTest, ArduCopterKilledMidFlightStopsTheLockstepRunNamingIt) {
-  SITLNET_REQUIRE_AUTOPILOT("SITLNET_ARDUPILOT_DIR", "bin/arducopter", true);
-  const RunScenario scenario =
-      WriteScenario(6, WithImage(kCopterRobot, "arducopter"),
-                    "timing { duration_ms: 300000 pacing: PACING_LOCKSTEP }\n");
-  DownGuard guard(scenario.name);
-  const std::string out = TempDir() + "/" + scenario.name + "-out";
-  const auto start = std::chrono::steady_clock::now();
-  Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress"});
-  std::unique_ptr<Child> gcs;
-  const auto killed = FlyAndKillCopter(scenario, out, &gcs);
-  EXPECT_EQ(run.Wait(60 * kNsPerS), 1) << run.err();
-  const double stop_s = SecondsSince(killed);
-  EXPECT_NE(run.err().find("robot 'a' did not answer its JSON reply of iteration "),
-            std::string::npos)
-      << run.err();
-  EXPECT_NE(run.err().find("with a servo frame within 1000 ms"), std::string::npos) << run.err();
-  const std::vector<double> z = Heights(out);
-  ASSERT_FALSE(z.empty());
-  EXPECT_NEAR(z.back() - kCopterStartZ, kCopterAltitudeM, 0.3) << "not at its altitude at the kill";
-  std::printf("[ measured ] ArduCopter killed at %.1f m after %.1f s virtual; the run stopped "
-              "%.2f s (wall) after the kill; %.1f s wall in all\n",
-              z.back() - kCopterStartZ, z.size() / 10.0, stop_s, SecondsSince(start));
-  ExpectNothingLeft(scenario.name);
-  RunCommand({"rm", "-rf", out});
-}
-
-// As for PX4: dropped, restarted, back at its start (a new SITL's smaller frame_count), arms and
-// reaches its altitude again.
-TEST(AutopilotFaultsTest, ArduCopterKilledMidFlightIsDroppedAndRestartedFliesAgain) {
-  SITLNET_REQUIRE_AUTOPILOT("SITLNET_ARDUPILOT_DIR", "bin/arducopter", true);
-  const std::string manifest = RestartingManifest("arducopter");
-  const RunScenario scenario =
-      WriteScenario(7, WithImage(kCopterRobot, manifest),
-                    "timing { duration_ms: 300000 pacing: PACING_LOCKSTEP }\n"
-                    "silent_robot_timeout_ms: 300\non_silent_robot: SILENT_ROBOT_DROP\n");
-  DownGuard guard(scenario.name);
-  const std::string out = TempDir() + "/" + scenario.name + "-out";
-  const auto start = std::chrono::steady_clock::now();
-  Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress"});
-  std::unique_ptr<Child> gcs;
-  const auto killed = FlyAndKillCopter(scenario, out, &gcs);
-  EXPECT_TRUE(run.WaitForOutput(true, "dropped from the run, motors cut", 30 * kNsPerS))
-      << run.err();
-  EXPECT_TRUE(run.WaitForOutput(true, "restarting robot \"a\" (1 of at most 1)", 30 * kNsPerS))
-      << run.err();
-  const double restarted_s = SecondsSince(killed);
-  gcs = FlyCopter(scenario.name, out, 2);
-  EXPECT_TRUE(gcs->WaitForOutput(false, "TAKEOFF_REACHED", 300 * kNsPerS)) << gcs->out();
-  const double flying_again_s = SecondsSince(killed);
-  kill(run.pid(), SIGINT);
-  EXPECT_EQ(run.Wait(60 * kNsPerS), 130) << run.err();
-  EXPECT_NE(run.err().find("robot 'a' did not answer its JSON reply of iteration "),
-            std::string::npos)
-      << run.err();
-  const std::string summary = ReadAll(out + "/summary.json");
-  EXPECT_EQ(SummaryCount(summary, "json_restarts"), 1) << summary;
-  const std::vector<double> z = Heights(out);
-  ASSERT_FALSE(z.empty());
-  ExpectUpDownUp(z, kCopterStartZ, kCopterAltitudeM);
-  std::printf("[ measured ] ArduCopter dropped and restarted %.2f s (wall) after the kill, at "
-              "%.1f m again %.1f s after it; %.1f s virtual, %.1f s wall in all\n",
-              restarted_s, z.back() - kCopterStartZ, flying_again_s, z.size() / 10.0,
-              SecondsSince(start));
-  ExpectNothingLeft(scenario.name);
-  RunCommand({"rm", "-rf", out, manifest});
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -405,7 +369,7 @@ std::string LineSaying(const std::string& err, const std::vector<std::string>& p
 TEST(AutopilotFaultsTest, BadAutopilotsAreRefusedInOneLineNamingTheRobotAndTheCause) {
   SITLNET_REQUIRE_AUTOPILOT("SITLNET_PX4_DIR", "bin/px4", false);
   SITLNET_REQUIRE_AUTOPILOT("SITLNET_ARDUPILOT_DIR", "bin/arducopter", false);
-  const std::string px4_robot = WithImage(kPx4Robot, "px4");
+  const std::string px4_robot = WithImage(kPx4.robot, "px4");
   const std::string wrong = TempDir() + "/no_px4_here";
   // Bytes that begin no known executable format, NULs among them (so the shell does not take
   // them for a script).
