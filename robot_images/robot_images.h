@@ -98,6 +98,10 @@ class RobotProcess {
   // robot, to end; its status, or nullopt.
   std::optional<int> WaitExit(TimeNs timeout_ns);
 
+  // A descriptor that becomes readable (POLLIN) when the process ends, for a caller's poll; -1
+  // when there is none (then PollExit must be called now and then).
+  int exit_fd() const { return pidfd_; }
+
   // True once the manifest's ready_log_line is in the log (or there is none).
   bool IsReady() const;
 

@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <vector>
+
+#include "runner/log_cause.h"
 
 namespace sitlnet::runner {
 namespace {
@@ -108,7 +111,9 @@ std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& o
     const TimeNs left_ns = std::max<TimeNs>(0, check_until_ns - MonotonicNowNs());
     if (const auto status = slot.process->WaitExit(left_ns); status && *status != 0) {
       throw Error("robot \"" + slot.name + "\": its image exited at once with status " +
-                  std::to_string(*status) + "; see " + slot.process->log_path());
+                  std::to_string(*status) +
+                  LogSays(FirstErrorLine(ReadLogTail(slot.process->log_path()))) + "; see " +
+                  slot.process->log_path());
     }
   }
   return robots;
@@ -162,28 +167,37 @@ void WaitForRobotsToSpeak(const Scenario& scenario, std::vector<RobotSlot>& robo
   for (;;) {
     server->Poll();
     std::string silent;
+    std::string first_silent_log;  // The first silent robot's log: what it is waiting for.
+    // Woken by the physics server or by a silent image that exits (named at once, not at the
+    // deadline: a PX4 that exits at boot may take a second or more on a busy host).
+    std::vector<pollfd> wait = {{server->wait_fd(), POLLIN, 0}};
     for (const RobotPlan& plan : scenario.robots) {
       RobotSlot& robot = robots[plan.index];
       // A ground station's software has no physics to speak to.
       if (robot.process && !plan.spec.ground_station() && !server->spoke(plan.index)) {
         if (const std::optional<int> status = robot.process->PollExit()) {
           throw Error(why + ": robot \"" + plan.name + "\" exited (status " +
-                      std::to_string(*status) +
-                      ") before it spoke to physics (log: " + robot.process->log_path() + ")");
+                      std::to_string(*status) + ") before it spoke to physics" +
+                      LogSays(FirstErrorLine(ReadLogTail(robot.process->log_path()))) +
+                      " (log: " + robot.process->log_path() + ")");
         }
+        if (silent.empty()) first_silent_log = robot.process->log_path();
+        if (robot.process->exit_fd() >= 0) wait.push_back({robot.process->exit_fd(), POLLIN, 0});
         silent += (silent.empty() ? "" : ", ") + plan.name;
       }
     }
     if (silent.empty()) return;
     const TimeNs now = MonotonicNowNs();
     if (now >= deadline) {
+      const std::string last = LastLine(ReadLogTail(first_silent_log));
       throw Error(why + ": robots " + silent +
                   " sent no MotorCommand (nor servo frame, nor PX4 connection) within " +
-                  std::to_string(allowed_ns / kNsPerMs) +
-                  " ms of starting (see their logs in robots/)");
+                  std::to_string(allowed_ns / kNsPerMs) + " ms of starting" +
+                  (last.empty() ? "" : "; " + silent.substr(0, silent.find(',')) +
+                                           "'s log ends \"" + last + "\"") +
+                  " (see their logs in robots/)");
     }
-    pollfd wait{server->wait_fd(), POLLIN, 0};
-    poll(&wait, 1, static_cast<int>((deadline - now) / kNsPerMs) + 1);
+    poll(wait.data(), wait.size(), static_cast<int>((deadline - now) / kNsPerMs) + 1);
   }
 }
 
