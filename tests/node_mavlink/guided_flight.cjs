@@ -5,8 +5,8 @@
 //   node guided_flight.cjs HOST PORT ALT_M HOLD_S NORTH_M EAST_M
 // HOST PORT: ArduPilot's TCP server (its --serial0 tcp:0 on the robot's loopback), or, with
 // HOST `udpin`, a UDP port of this node where ArduPilot's --serial0 udpclient:THIS_NODE:PORT
-// sends (over the simulated radio): the script prints `LISTENING` once bound and answers the
-// address the vehicle's datagrams come from, as a GCS does.
+// sends (over the simulated radio; PORT 0: any free port): the script prints `LISTENING on UDP
+// port N` once bound and answers the address the vehicle's datagrams come from, as a GCS does.
 // Prints one line per event, with the autopilot's time in seconds:
 //   STATUSTEXT t=.. <text> | ARMED t=.. | TAKEOFF_REACHED t=.. | WAYPOINT_REACHED t=.. |
 //   LAND t=.. (LAND mode asked) | DISARMED t=.. | POS t=.. rel_alt=.. north=.. east=.. (GLOBAL_POSITION_INT, every report)
@@ -46,7 +46,7 @@ function udpLink() {
     splitter.write(datagram);
   });
   socket.on('error', (error) => { say(`ERROR ${error.message}`); process.exit(1); });
-  socket.bind(Number(port), () => say('LISTENING'));
+  socket.bind(Number(port), () => say(`LISTENING on UDP port ${socket.address().port}`));
   return {
     write: (bytes) => { if (vehicle) socket.send(bytes, vehicle.port, vehicle.address); },
     end: () => socket.close(() => process.exit(0)),
