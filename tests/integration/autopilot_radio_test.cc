@@ -32,7 +32,8 @@ constexpr int kVehicle = 1;
 std::string Missing(const char* variable, const char* program) {
   const char* dir = std::getenv(variable);
   if (dir == nullptr || *dir == '\0') {
-    return std::string(variable) + " is not set: point it at the autopilot's build folder "
+    return std::string(variable) +
+           " is not set: point it at the autopilot's build folder "
            "(docs/autopilots.md, \"Flying your own ArduPilot or PX4\")";
   }
   if (!std::filesystem::exists(std::string(dir) + "/" + program)) {
@@ -41,13 +42,13 @@ std::string Missing(const char* variable, const char* program) {
   return NodeMavlinkMissing();
 }
 
-#define SITLNET_REQUIRE_AUTOPILOT(variable, program)                             \
-  do {                                                                           \
-    SITLNET_REQUIRE_NNS_PRIVILEGES();                                            \
+#define SITLNET_REQUIRE_AUTOPILOT(variable, program)                                \
+  do {                                                                              \
+    SITLNET_REQUIRE_NNS_PRIVILEGES();                                               \
     if (const std::string missing = Missing(variable, program); !missing.empty()) { \
-      if (IsCi()) FAIL() << missing;                                             \
-      GTEST_SKIP() << missing;                                                   \
-    }                                                                            \
+      if (IsCi()) FAIL() << missing;                                                \
+      GTEST_SKIP() << missing;                                                      \
+    }                                                                               \
   } while (0)
 
 // A ground station robot's image: node-mavlink's GCS script `script` with `args`, ready once it
@@ -94,7 +95,8 @@ const Row& RowAt(const std::vector<Row>& rows, double t_s) {
 struct Crossed {
   std::map<std::string, int> messages;
   std::map<std::string, int> commands;
-  std::string counts;  // "COUNTS valid=.. invalid=.. unknown=.."
+  std::map<std::string, int> systems;  // sender's MAVLink system id -> messages
+  std::string counts;                  // "COUNTS valid=.. invalid=.. unknown=.."
   int Messages(const std::string& name) const {
     const auto it = messages.find(name);
     return it == messages.end() ? 0 : it->second;
@@ -108,8 +110,8 @@ struct Crossed {
 Crossed DecodeCrossing(const std::string& out, const std::string& from, const std::string& to) {
   const CommandResult tshark = RunCommand(
       {"tshark", "-r", out + "/medium.pcap", "-Y",
-       "udp && ip.src == " + from + " && ip.dst == " + to + " && wlan.fc.retry == 0 && !icmp",
-       "-T", "fields", "-e", "data.data"},
+       "udp && ip.src == " + from + " && ip.dst == " + to + " && wlan.fc.retry == 0 && !icmp", "-T",
+       "fields", "-e", "data.data"},
       120 * kNsPerS);
   EXPECT_EQ(tshark.exit_code, 0) << tshark.err;
   std::string bytes;
@@ -134,7 +136,9 @@ Crossed DecodeCrossing(const std::string& out, const std::string& from, const st
     if (kind != "MSG") continue;
     ++crossed.messages[name];
     for (std::string word; words >> word;) {
-      if (name == "COMMAND_LONG" && word.rfind("command=", 0) == 0) ++crossed.commands[word.substr(8)];
+      if (word.rfind("sysid=", 0) == 0) ++crossed.systems[word.substr(6)];
+      if (name == "COMMAND_LONG" && word.rfind("command=", 0) == 0)
+        ++crossed.commands[word.substr(8)];
     }
   }
   return crossed;
@@ -285,14 +289,14 @@ void ExpectArduCopterFlight(const RadioFlight& flight, const char* how) {
   EXPECT_GT(telemetry.Messages("COMMAND_ACK"), 0);
   EXPECT_GT(Delivered(flight.out, kStation, kVehicle), 0);
   EXPECT_GT(Delivered(flight.out, kVehicle, kStation), 300);
-  std::printf("[ measured ] ArduCopter, %s: armed %.1f s, took off %.1f s, waypoint %.1f s, "
-              "disarmed %.1f s (virtual); altitude off by %.3f m, waypoint by %.3f m; %d "
-              "COMMAND_LONG, %d position targets, %d GLOBAL_POSITION_INT; %s; %.1f s wall\n",
-              how, at("ARMED"), at("TAKEOFF_REACHED"), at("WAYPOINT_REACHED"), at("DISARMED"),
-              errors.altitude_m, errors.waypoint_m, commands.Messages("COMMAND_LONG"),
-              commands.Messages("SET_POSITION_TARGET_LOCAL_NED"),
-              telemetry.Messages("GLOBAL_POSITION_INT"), CrossingSummary(flight).c_str(),
-              flight.wall_s);
+  std::printf(
+      "[ measured ] ArduCopter, %s: armed %.1f s, took off %.1f s, waypoint %.1f s, "
+      "disarmed %.1f s (virtual); altitude off by %.3f m, waypoint by %.3f m; %d "
+      "COMMAND_LONG, %d position targets, %d GLOBAL_POSITION_INT; %s; %.1f s wall\n",
+      how, at("ARMED"), at("TAKEOFF_REACHED"), at("WAYPOINT_REACHED"), at("DISARMED"),
+      errors.altitude_m, errors.waypoint_m, commands.Messages("COMMAND_LONG"),
+      commands.Messages("SET_POSITION_TARGET_LOCAL_NED"), telemetry.Messages("GLOBAL_POSITION_INT"),
+      CrossingSummary(flight).c_str(), flight.wall_s);
 }
 
 const std::vector<std::string> kGuidedFlightEvents = {"ARMED", "TAKEOFF_REACHED",
@@ -349,16 +353,19 @@ TEST(AutopilotRadioTest, AGcsOnTheHostFliesArduCopterThroughTheRelayInLockstep) 
   for (const std::string& arg : GuidedRoute()) command += " " + arg;
   Child gcs({"sh", "-c", command + " > \"$1\" 2>&1", NodeMavlinkDir(), gcs_output});
   int port = 0;
-  ASSERT_TRUE(WaitForFiles(folder, [&] {
-    return std::sscanf(ReadAll(gcs_output).c_str(), "LISTENING on UDP port %d", &port) == 1;
-  }, 30 * kNsPerS)) << ReadAll(gcs_output);
-  Child host_side({"socat",
-                   "UNIX-SENDTO:" + folder + "/commands.sock,bind=" + folder +
-                       "/mavlink.sock,unlink-early",
-                   "UDP4:127.0.0.1:" + std::to_string(port)});
-  ASSERT_TRUE(WaitForFiles(folder, [&] {
-    return std::filesystem::exists(folder + "/mavlink.sock");
-  }, 30 * kNsPerS));
+  ASSERT_TRUE(WaitForFiles(
+      folder,
+      [&] {
+        return std::sscanf(ReadAll(gcs_output).c_str(), "LISTENING on UDP port %d", &port) == 1;
+      },
+      30 * kNsPerS))
+      << ReadAll(gcs_output);
+  Child host_side(
+      {"socat",
+       "UNIX-SENDTO:" + folder + "/commands.sock,bind=" + folder + "/mavlink.sock,unlink-early",
+       "UDP4:127.0.0.1:" + std::to_string(port)});
+  ASSERT_TRUE(WaitForFiles(
+      folder, [&] { return std::filesystem::exists(folder + "/mavlink.sock"); }, 30 * kNsPerS));
   const RadioFlight flight = FlyOverTheMedium(4, manifest_path, ArduCopterBlock(4), 80000,
                                               kGuidedFlightEvents, gcs_output);
   EXPECT_EQ(gcs.Wait(30 * kNsPerS), 0) << ReadAll(gcs_output);
@@ -372,9 +379,9 @@ TEST(AutopilotRadioTest, AGcsOnTheHostFliesArduCopterThroughTheRelayInLockstep) 
 // Issue 31, item 4, PX4: the station (fly_px4.cjs) arms (COMMAND_LONG COMPONENT_ARM_DISARM),
 // takes off (NAV_TAKEOFF), climbs and flies to the waypoint (COMMAND_INT DO_REPOSITION) and
 // lands (NAV_LAND), all over the medium, in lockstep pacing; PX4's radio link is the px4
-// manifest's `--gcs ADDR` (mavlink start -t ADDR). Bounds as px4_flight_test.cc's: the hold
-// within 0.3 m of the commanded altitude, the arrival within 1 m of the waypoint, over the
-// steady windows fly_px4.cjs names.
+// manifest's `--gcs ADDR` (mavlink start -t ADDR), its system id the manifest's `--sysid 7`. Bounds
+// as px4_flight_test.cc's: the hold within 0.3 m of the commanded altitude, the arrival within 1 m
+// of the waypoint, over the steady windows fly_px4.cjs names.
 TEST(AutopilotRadioTest, AStationRobotFliesPx4OverTheMediumInLockstep) {
   SITLNET_REQUIRE_AUTOPILOT("SITLNET_PX4_DIR", "bin/px4");
   const int slot = 3;
@@ -384,16 +391,17 @@ TEST(AutopilotRadioTest, AStationRobotFliesPx4OverTheMediumInLockstep) {
       StationManifest("fly_px4.cjs",
                       {std::to_string(kAltitudeM), std::to_string(kNorthM), "0", "300"}),
       "position_m { x: 0 y: 0 z: 0.2 } px4_sim_port: 4560 image: \"px4\" "
-      "args: [\"--gcs\", \"" + station + "\"]",
+      "args: [\"--gcs\", \"" +
+          station + "\", \"--sysid\", \"7\"]",
       60000, {"ARMED", "TAKEOFF", "HOLD", "WAYPOINT", "ARRIVED", "LAND", "DISARMED"});
   if (HasFailure()) return;
   const auto& events = flight.events;
-  const FlightErrors hold = Errors(flight, events.at("ARMED").t_s, events.at("HOLD").since_s,
-                                   events.at("HOLD").t_s, events.at("ARRIVED").t_s,
-                                   events.at("DISARMED").t_s);
-  const FlightErrors arrival = Errors(flight, events.at("ARMED").t_s, events.at("ARRIVED").since_s,
-                                      events.at("ARRIVED").t_s, events.at("ARRIVED").since_s,
-                                      events.at("DISARMED").t_s);
+  const FlightErrors hold =
+      Errors(flight, events.at("ARMED").t_s, events.at("HOLD").since_s, events.at("HOLD").t_s,
+             events.at("ARRIVED").t_s, events.at("DISARMED").t_s);
+  const FlightErrors arrival =
+      Errors(flight, events.at("ARMED").t_s, events.at("ARRIVED").since_s, events.at("ARRIVED").t_s,
+             events.at("ARRIVED").since_s, events.at("DISARMED").t_s);
   EXPECT_GT(hold.rows_held, 20);
   EXPECT_LT(hold.altitude_m, 0.3);
   EXPECT_LT(arrival.waypoint_m, 1);
@@ -417,16 +425,19 @@ TEST(AutopilotRadioTest, AStationRobotFliesPx4OverTheMediumInLockstep) {
   EXPECT_GT(telemetry.Messages("HEARTBEAT"), 40);
   EXPECT_GT(telemetry.Messages("GLOBAL_POSITION_INT"), 200);
   EXPECT_GT(telemetry.Messages("COMMAND_ACK"), 0);
+  // The manifest's --sysid: every message PX4 sent over the radio carries it.
+  EXPECT_EQ(telemetry.systems.size(), 1u);
+  EXPECT_GT(telemetry.systems.count("7"), 0u);
   EXPECT_GT(Delivered(flight.out, kStation, kVehicle), 0);
   EXPECT_GT(Delivered(flight.out, kVehicle, kStation), 300);
-  std::printf("[ measured ] PX4 over the medium: armed %.1f s, hold to %.1f s, arrived %.1f s, "
-              "disarmed %.1f s (virtual); altitude off by %.3f m, waypoint by %.3f m; %d "
-              "COMMAND_LONG, %d COMMAND_INT, %d GLOBAL_POSITION_INT; %s; %.1f s wall\n",
-              events.at("ARMED").t_s, events.at("HOLD").t_s, events.at("ARRIVED").t_s,
-              events.at("DISARMED").t_s, hold.altitude_m, arrival.waypoint_m,
-              commands.Messages("COMMAND_LONG"), commands.Messages("COMMAND_INT"),
-              telemetry.Messages("GLOBAL_POSITION_INT"), CrossingSummary(flight).c_str(),
-              flight.wall_s);
+  std::printf(
+      "[ measured ] PX4 over the medium: armed %.1f s, hold to %.1f s, arrived %.1f s, "
+      "disarmed %.1f s (virtual); altitude off by %.3f m, waypoint by %.3f m; %d "
+      "COMMAND_LONG, %d COMMAND_INT, %d GLOBAL_POSITION_INT; %s; %.1f s wall\n",
+      events.at("ARMED").t_s, events.at("HOLD").t_s, events.at("ARRIVED").t_s,
+      events.at("DISARMED").t_s, hold.altitude_m, arrival.waypoint_m,
+      commands.Messages("COMMAND_LONG"), commands.Messages("COMMAND_INT"),
+      telemetry.Messages("GLOBAL_POSITION_INT"), CrossingSummary(flight).c_str(), flight.wall_s);
   RunCommand({"rm", "-rf", flight.out});
 }
 
