@@ -61,26 +61,7 @@ std::string StationManifest(const std::string& script, const std::vector<std::st
   return WriteImageManifest("station", body);
 }
 
-// One row of trajectories.csv: time and world ENU position.
-struct Row {
-  double t_s = 0;
-  double x_m = 0, y_m = 0, z_m = 0;
-};
-
-std::vector<Row> RobotRows(const std::string& csv, int robot) {
-  std::vector<Row> rows;
-  std::istringstream lines(csv);
-  for (std::string line; std::getline(lines, line);) {
-    Row row;
-    int r = -1;
-    if (std::sscanf(line.c_str(), "%lf,%d,%lf,%lf,%lf", &row.t_s, &r, &row.x_m, &row.y_m,
-                    &row.z_m) == 5 &&
-        r == robot) {
-      rows.push_back(row);
-    }
-  }
-  return rows;
-}
+using Row = TrajectoryRow;
 
 // The row at or just before `t_s` (rows every 100 ms).
 const Row& RowAt(const std::vector<Row>& rows, double t_s) {
@@ -89,9 +70,9 @@ const Row& RowAt(const std::vector<Row>& rows, double t_s) {
   return rows.at(i);
 }
 
-// The MAVLink messages of the UDP datagrams from `from` to `to` in OUT/medium.pcap (first
-// transmissions, no ICMP quoting them), decoded by node-mavlink (tests/node_mavlink/decode.cjs,
-// CRC and CRC_EXTRA checked): message name -> count, and the COMMAND_LONG commands' ids -> count.
+// MAVLink messages that crossed the medium one way, as node-mavlink decoded them
+// (tests/node_mavlink/decode.cjs, CRC and CRC_EXTRA checked): message name -> count, and the
+// COMMAND_LONG commands' ids -> count.
 struct Crossed {
   std::map<std::string, int> messages;
   std::map<std::string, int> commands;
@@ -107,24 +88,11 @@ struct Crossed {
   }
 };
 
-Crossed DecodeCrossing(const std::string& out, const std::string& from, const std::string& to) {
-  const CommandResult tshark = RunCommand(
-      {"tshark", "-r", out + "/medium.pcap", "-Y",
-       "udp && ip.src == " + from + " && ip.dst == " + to + " && wlan.fc.retry == 0 && !icmp", "-T",
-       "fields", "-e", "data.data"},
-      120 * kNsPerS);
-  EXPECT_EQ(tshark.exit_code, 0) << tshark.err;
-  std::string bytes;
-  std::istringstream lines(tshark.out);
-  for (std::string hex; std::getline(lines, hex);) {
-    for (size_t i = 0; i + 1 < hex.size(); i += 2) {
-      bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
-    }
-  }
-  const std::string stream = out + "/crossing.bin";
-  std::ofstream(stream, std::ios::binary) << bytes;
+// `bytes` (MAVLink frames) decoded by node-mavlink; `file` holds them for node's stdin.
+Crossed DecodeMavlink(const std::string& bytes, const std::string& file) {
+  std::ofstream(file, std::ios::binary) << bytes;
   const CommandResult node = RunCommand(
-      {"sh", "-c", "node \"$0/decode.cjs\" < \"$1\"", NodeMavlinkDir(), stream}, 120 * kNsPerS);
+      {"sh", "-c", "node \"$0/decode.cjs\" < \"$1\"", NodeMavlinkDir(), file}, 120 * kNsPerS);
   EXPECT_EQ(node.exit_code, 0) << node.err;
   Crossed crossed;
   std::istringstream decoded(node.out);
@@ -137,11 +105,37 @@ Crossed DecodeCrossing(const std::string& out, const std::string& from, const st
     ++crossed.messages[name];
     for (std::string word; words >> word;) {
       if (word.rfind("sysid=", 0) == 0) ++crossed.systems[word.substr(6)];
-      if (name == "COMMAND_LONG" && word.rfind("command=", 0) == 0)
+      if (name == "COMMAND_LONG" && word.rfind("command=", 0) == 0) {
         ++crossed.commands[word.substr(8)];
+      }
     }
   }
   return crossed;
+}
+
+// The UDP payloads between addresses `a` and `b` in OUT/medium.pcap (first transmissions, no
+// ICMP quoting them), one tshark pass (seconds per pass on a long capture): source -> bytes.
+std::map<std::string, std::string> PayloadsBetween(const std::string& out, const std::string& a,
+                                                   const std::string& b) {
+  const CommandResult tshark =
+      RunCommand({"tshark", "-r", out + "/medium.pcap", "-Y",
+                  "udp && ((ip.src == " + a + " && ip.dst == " + b + ") || (ip.src == " + b +
+                      " && ip.dst == " + a + ")) && wlan.fc.retry == 0 && !icmp",
+                  "-T", "fields", "-e", "ip.src", "-e", "data.data"},
+                 120 * kNsPerS);
+  EXPECT_EQ(tshark.exit_code, 0) << tshark.err;
+  std::map<std::string, std::string> payloads;
+  std::istringstream lines(tshark.out);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream fields(line);
+    std::string source, hex;
+    fields >> source >> hex;
+    std::string& bytes = payloads[source];
+    for (size_t i = 0; i + 1 < hex.size(); i += 2) {
+      bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
+    }
+  }
+  return payloads;
 }
 
 // Frames the medium delivered from robot `from` to robot `to` (deliveries.csv:
@@ -223,7 +217,7 @@ RadioFlight FlyOverTheMedium(int slot, const std::string& manifest,
   for (const std::string& event : expected_events) {
     EXPECT_EQ(flight.events.count(event), 1u) << event << "\n" << flight.log;
   }
-  flight.rows = RobotRows(ReadAll(flight.out + "/trajectories.csv"), kVehicle);
+  flight.rows = TrajectoryRows(ReadAll(flight.out + "/trajectories.csv"), kVehicle);
   EXPECT_FALSE(flight.rows.empty());
   ExpectNothingLeft(scenario.name);
   return flight;
@@ -253,6 +247,31 @@ FlightErrors Errors(const RadioFlight& flight, double armed_s, double from_s, do
   return errors;
 }
 
+// Both directions of a flight as they crossed the medium, decoded, with the checks every flight
+// must pass: node-mavlink found no invalid frame either way; the vehicle's HEARTBEATs (1 Hz),
+// GLOBAL_POSITION_INTs and COMMAND_ACKs reached the station; the medium delivered frames both
+// ways (deliveries.csv).
+struct Crossings {
+  Crossed commands;   // station -> vehicle
+  Crossed telemetry;  // vehicle -> station
+};
+
+Crossings ExpectCrossedBothWays(const RadioFlight& flight, int min_heartbeats, int min_positions) {
+  std::map<std::string, std::string> payloads =
+      PayloadsBetween(flight.out, flight.station, flight.vehicle);
+  Crossings crossings{DecodeMavlink(payloads[flight.station], flight.out + "/commands.bin"),
+                      DecodeMavlink(payloads[flight.vehicle], flight.out + "/telemetry.bin")};
+  for (const Crossed* way : {&crossings.commands, &crossings.telemetry}) {
+    EXPECT_NE(way->counts.find(" invalid=0 "), std::string::npos) << way->counts;
+  }
+  EXPECT_GT(crossings.telemetry.Messages("HEARTBEAT"), min_heartbeats);
+  EXPECT_GT(crossings.telemetry.Messages("GLOBAL_POSITION_INT"), min_positions);
+  EXPECT_GT(crossings.telemetry.Messages("COMMAND_ACK"), 0);
+  EXPECT_GT(Delivered(flight.out, kStation, kVehicle), 0);
+  EXPECT_GT(Delivered(flight.out, kVehicle, kStation), min_positions);
+  return crossings;
+}
+
 // Frames the medium delivered each way, printed with the test's other measurements.
 std::string CrossingSummary(const RadioFlight& flight) {
   return "frames delivered station->vehicle " +
@@ -276,19 +295,11 @@ void ExpectArduCopterFlight(const RadioFlight& flight, const char* how) {
   EXPECT_NEAR(errors.landed_m, 0, 0.05);
 
   // The commands and the telemetry crossed the medium, as MAVLink that node-mavlink decodes.
-  const Crossed commands = DecodeCrossing(flight.out, flight.station, flight.vehicle);
-  EXPECT_NE(commands.counts.find(" invalid=0 "), std::string::npos) << commands.counts;
+  const auto [commands, telemetry] = ExpectCrossedBothWays(flight, 60, 300);
   EXPECT_GT(commands.Commands(176), 0) << "DO_SET_MODE";
   EXPECT_GT(commands.Commands(400), 0) << "COMPONENT_ARM_DISARM";
   EXPECT_GT(commands.Commands(22), 0) << "NAV_TAKEOFF";
   EXPECT_GT(commands.Messages("SET_POSITION_TARGET_LOCAL_NED"), 0);
-  const Crossed telemetry = DecodeCrossing(flight.out, flight.vehicle, flight.station);
-  EXPECT_NE(telemetry.counts.find(" invalid=0 "), std::string::npos) << telemetry.counts;
-  EXPECT_GT(telemetry.Messages("HEARTBEAT"), 60);
-  EXPECT_GT(telemetry.Messages("GLOBAL_POSITION_INT"), 300);
-  EXPECT_GT(telemetry.Messages("COMMAND_ACK"), 0);
-  EXPECT_GT(Delivered(flight.out, kStation, kVehicle), 0);
-  EXPECT_GT(Delivered(flight.out, kVehicle, kStation), 300);
   std::printf(
       "[ measured ] ArduCopter, %s: armed %.1f s, took off %.1f s, waypoint %.1f s, "
       "disarmed %.1f s (virtual); altitude off by %.3f m, waypoint by %.3f m; %d "
@@ -340,13 +351,8 @@ TEST(AutopilotRadioTest, AGcsOnTheHostFliesArduCopterThroughTheRelayInLockstep) 
   const std::string folder = TempDir() + "/gcs_host";
   ASSERT_EQ(RunCommand({"mkdir", "-p", folder}).exit_code, 0);
   // The shipped manifest, its host folder replaced by the test's.
-  std::string manifest =
-      ReadAll(integration_test::SourceDir() + "/robot_images/gcs_relay/image.textproto");
-  for (size_t at; (at = manifest.find("/run/sitlnet-gcs")) != std::string::npos;) {
-    manifest.replace(at, 16, folder);
-  }
   const std::string manifest_path = TempDir() + "/gcs_relay_two_way.textproto";
-  std::ofstream(manifest_path) << manifest;
+  WriteGcsRelayManifest(folder, manifest_path);
   // The GCS on the host, on a free port; its output to a file (it prints every report).
   const std::string gcs_output = folder + "/gcs.out";
   std::string command = "exec node \"$0/guided_flight.cjs\" udpin 0";
@@ -413,23 +419,15 @@ TEST(AutopilotRadioTest, AStationRobotFliesPx4OverTheMediumInLockstep) {
             std::string::npos)
       << px4_log;
 
-  const Crossed commands = DecodeCrossing(flight.out, flight.station, flight.vehicle);
-  EXPECT_NE(commands.counts.find(" invalid=0 "), std::string::npos) << commands.counts;
+  const auto [commands, telemetry] = ExpectCrossedBothWays(flight, 40, 200);
   EXPECT_GT(commands.Commands(400), 0) << "COMPONENT_ARM_DISARM";
   EXPECT_GT(commands.Commands(22), 0) << "NAV_TAKEOFF";
   EXPECT_GT(commands.Commands(21), 0) << "NAV_LAND";
   EXPECT_GT(commands.Messages("COMMAND_INT"), 0) << "DO_REPOSITION";
   EXPECT_GT(commands.Messages("HEARTBEAT"), 0);
-  const Crossed telemetry = DecodeCrossing(flight.out, flight.vehicle, flight.station);
-  EXPECT_NE(telemetry.counts.find(" invalid=0 "), std::string::npos) << telemetry.counts;
-  EXPECT_GT(telemetry.Messages("HEARTBEAT"), 40);
-  EXPECT_GT(telemetry.Messages("GLOBAL_POSITION_INT"), 200);
-  EXPECT_GT(telemetry.Messages("COMMAND_ACK"), 0);
   // The manifest's --sysid: every message PX4 sent over the radio carries it.
   EXPECT_EQ(telemetry.systems.size(), 1u);
   EXPECT_GT(telemetry.systems.count("7"), 0u);
-  EXPECT_GT(Delivered(flight.out, kStation, kVehicle), 0);
-  EXPECT_GT(Delivered(flight.out, kVehicle, kStation), 300);
   std::printf(
       "[ measured ] PX4 over the medium: armed %.1f s, hold to %.1f s, arrived %.1f s, "
       "disarmed %.1f s (virtual); altitude off by %.3f m, waypoint by %.3f m; %d "
