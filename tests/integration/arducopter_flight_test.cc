@@ -27,26 +27,7 @@ constexpr double kAltitudeM = 10;
 constexpr double kHoldS = 3;
 constexpr double kNorthM = 20;
 
-// A trajectories.csv row: time, ENU position.
-struct Row {
-  double t_s = 0;
-  double x_m = 0, y_m = 0, z_m = 0;
-};
-
-std::vector<Row> RobotRows(const std::string& csv, int robot) {
-  std::vector<Row> rows;
-  std::istringstream lines(csv);
-  for (std::string line; std::getline(lines, line);) {
-    Row row;
-    int r = -1;
-    if (std::sscanf(line.c_str(), "%lf,%d,%lf,%lf,%lf", &row.t_s, &r, &row.x_m, &row.y_m,
-                    &row.z_m) == 5 &&
-        r == robot) {
-      rows.push_back(row);
-    }
-  }
-  return rows;
-}
+using Row = TrajectoryRow;
 
 // The row at time t (rows every 100 ms from 0).
 const Row& RowAt(const std::vector<Row>& rows, double t_s) {
@@ -177,7 +158,7 @@ void FlyGuided(bool lockstep) {
   EXPECT_GT(using_gps_s, 0);
 
   // Truth: trajectories.csv (ENU, every 100 ms). Altitude above where it stood when it armed.
-  const std::vector<Row> rows = RobotRows(ReadAll(out + "/trajectories.csv"), 0);
+  const std::vector<Row> rows = TrajectoryRows(ReadAll(out + "/trajectories.csv"), 0);
   ASSERT_GT(rows.size(), 990u);
   const double ground_z = RowAt(rows, armed_s).z_m;
   int held = 0;

@@ -449,13 +449,8 @@ TEST(RunTest, AGroundStationRelaysTelemetryToTheHostWithoutARoute) {
   const std::string folder = TempDir() + "/gcs";
   ASSERT_EQ(RunCommand({"mkdir", "-p", folder}).exit_code, 0);
   // The shipped manifest, its host folder replaced by the test's.
-  std::string manifest =
-      ReadAll(integration_test::SourceDir() + "/robot_images/gcs_relay/image.textproto");
-  for (size_t at; (at = manifest.find("/run/sitlnet-gcs")) != std::string::npos;) {
-    manifest.replace(at, 16, folder);
-  }
   const std::string manifest_path = TempDir() + "/gcs_relay.textproto";
-  std::ofstream(manifest_path) << manifest;
+  WriteGcsRelayManifest(folder, manifest_path);
   const int host = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
   ASSERT_GE(host, 0);
   sockaddr_un at{};

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -79,6 +80,31 @@ std::vector<double> CapturedTimes(const std::string& out, const std::string& fil
     if (sources != nullptr) sources->push_back(source);
   }
   return times;
+}
+
+std::vector<TrajectoryRow> TrajectoryRows(const std::string& csv, int robot) {
+  std::vector<TrajectoryRow> rows;
+  std::istringstream lines(csv);
+  for (std::string line; std::getline(lines, line);) {
+    TrajectoryRow row;
+    int r = -1;
+    if (std::sscanf(line.c_str(), "%lf,%d,%lf,%lf,%lf", &row.t_s, &r, &row.x_m, &row.y_m,
+                    &row.z_m) == 5 &&
+        r == robot) {
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
+void WriteGcsRelayManifest(const std::string& folder, const std::string& path) {
+  std::string manifest =
+      ReadAll(integration_test::SourceDir() + "/robot_images/gcs_relay/image.textproto");
+  const std::string shipped = "/run/sitlnet-gcs";
+  for (size_t at; (at = manifest.find(shipped)) != std::string::npos;) {
+    manifest.replace(at, shipped.size(), folder);
+  }
+  std::ofstream(path) << manifest;
 }
 
 std::string NodeMavlinkDir() { return integration_test::SourceDir() + "/tests/node_mavlink"; }

@@ -35,6 +35,18 @@ std::vector<double> CapturedTimes(const std::string& out, const std::string& fil
                                   std::vector<int>* udp_lengths = nullptr,
                                   std::vector<std::string>* sources = nullptr);
 
+// One row of a run's trajectories.csv: time and world ENU position.
+struct TrajectoryRow {
+  double t_s = 0;
+  double x_m = 0, y_m = 0, z_m = 0;
+};
+// The rows of robot index `robot` in the text of a trajectories.csv (every 100 ms from 0).
+std::vector<TrajectoryRow> TrajectoryRows(const std::string& csv, int robot);
+
+// Writes the shipped robot_images/gcs_relay manifest to `path`, its host folder
+// /run/sitlnet-gcs replaced by `folder` (a test's own).
+void WriteGcsRelayManifest(const std::string& folder, const std::string& path);
+
 // tests/node_mavlink: node-mavlink scripts (scripts/setup installs the package there).
 std::string NodeMavlinkDir();
 // Why node-mavlink cannot run here, or "" if it can.

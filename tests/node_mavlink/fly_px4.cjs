@@ -1,5 +1,8 @@
-// Flies PX4 as a ground station would, over PX4's own GCS MAVLink link (UDP 18570 of its
-// localhost; PX4 answers to 14550), with messages encoded by node-mavlink:
+// Flies PX4 as a ground station would, over a GCS MAVLink link of PX4's, with messages encoded
+// by node-mavlink: it listens on UDP 14550, where PX4's GCS links send (its own on the robot's
+// localhost, from port 18570; the px4 manifest's `--gcs ADDR` link over wlan0, from 14556), and
+// answers the address PX4's first datagram came from, as a GCS does. Prints `LISTENING` once
+// bound.
 //   node fly_px4.cjs <altitude_m> <north_m> <east_m> <timeout_s>
 // Waits until PX4 says it can arm (SYS_STATUS pre-arm bit), arms, takes off to <altitude_m>
 // above home (NAV_TAKEOFF; PX4 ends its take-off NAV_MC_ALT_RAD short of the target and holds
@@ -12,7 +15,7 @@
 //   HOME lat=.. lon=.. alt=..                          where it armed (degE7, mm)
 //   TEXT t_ms=.. severity=.. <text>                    every STATUSTEXT
 // Exits 0 once PX4 disarmed after landing, 1 on timeout (wall clock) or a refused command.
-// Used by tests/integration/px4_flight_test.cc.
+// Used by tests/integration/px4_flight_test.cc and autopilot_radio_test.cc.
 'use strict';
 const dgram = require('dgram');
 const { MavLinkProtocolV2, MavLinkPacketSplitter, MavLinkPacketParser, minimal, common } =
@@ -25,8 +28,7 @@ if (args.length !== 4) {
 }
 const [altitudeM, northM, eastM, timeoutS] = args.map(Number);
 
-const PX4_GCS_PORT = 18570;  // PX4's GCS link (px4-rc.mavlink, instance 0)
-const GCS_PORT = 14550;      // where that link sends before it has heard from anyone
+const GCS_PORT = 14550;  // where PX4's GCS links send before they have heard from anyone
 const EARTH_RADIUS_M = 6371000;  // PX4's map projection (lib/geo) uses this sphere
 const MAV_CMD = { NAV_LAND: 21, NAV_TAKEOFF: 22, DO_REPOSITION: 192, ARM_DISARM: 400 };
 const PREARM_CHECK = 0x10000000;  // MAV_SYS_STATUS_PREARM_CHECK
@@ -37,8 +39,10 @@ const REGISTRY = { ...minimal.REGISTRY, ...common.REGISTRY };
 const protocol = new MavLinkProtocolV2(255, 190);  // a GCS: system 255, MAV_COMP_ID_MISSIONPLANNER
 const socket = dgram.createSocket('udp4');
 let sequence = 0;
+let vehicle = null;  // { address, port } of PX4's first datagram: where its link listens
 function send(message) {
-  socket.send(protocol.serialize(message, sequence++ & 0xff), PX4_GCS_PORT, '127.0.0.1');
+  if (vehicle === null) return;
+  socket.send(protocol.serialize(message, sequence++ & 0xff), vehicle.port, vehicle.address);
 }
 function say(line) { process.stdout.write(line + '\n'); }
 
@@ -202,7 +206,10 @@ function take(packet) {
 
 const splitter = new MavLinkPacketSplitter();
 splitter.pipe(new MavLinkPacketParser()).on('data', take);
-socket.on('message', (datagram) => splitter.write(datagram));
+socket.on('message', (datagram, from) => {
+  if (vehicle === null) vehicle = { address: from.address, port: from.port };
+  splitter.write(datagram);
+});
 
 function heartbeat() {
   const m = new minimal.Heartbeat();
@@ -222,7 +229,7 @@ function finish(code) {
   process.exitCode = code;
 }
 socket.bind(GCS_PORT, () => {
-  heartbeat();
+  say('LISTENING');
   heartbeats = setInterval(heartbeat, 1000);
   deadline = setTimeout(() => {
     say(`TIMEOUT phase=${phase} armed=${armed} can_arm=${canArm}`);

@@ -3,12 +3,17 @@
 // (local NED from home), LAND, wait for the disarm. Time is the autopilot's (time_boot_ms):
 // the script never reads a clock of its own, so it works at any speed of the simulation.
 //   node guided_flight.cjs HOST PORT ALT_M HOLD_S NORTH_M EAST_M
+// HOST PORT: ArduPilot's TCP server (its --serial0 tcp:0 on the robot's loopback), or, with
+// HOST `udpin`, a UDP port of this node where ArduPilot's --serial0 udpclient:THIS_NODE:PORT
+// sends (over the simulated radio; PORT 0: any free port): the script prints `LISTENING on UDP
+// port N` once bound and answers the address the vehicle's datagrams come from, as a GCS does.
 // Prints one line per event, with the autopilot's time in seconds:
 //   STATUSTEXT t=.. <text> | ARMED t=.. | TAKEOFF_REACHED t=.. | WAYPOINT_REACHED t=.. |
 //   LAND t=.. (LAND mode asked) | DISARMED t=.. | POS t=.. rel_alt=.. north=.. east=.. (GLOBAL_POSITION_INT, every report)
 // and exits 0 after DISARMED, 1 if the connection closes first.
-// Used by tests/integration/arducopter_flight_test.cc.
+// Used by tests/integration/arducopter_flight_test.cc (TCP) and autopilot_radio_test.cc (udpin).
 'use strict';
+const dgram = require('dgram');
 const net = require('net');
 const {
   MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, minimal, common, ardupilotmega,
@@ -24,10 +29,33 @@ const COPTER_GUIDED = 4;
 const COPTER_LAND = 9;
 const ARMED_FLAG = 128;  // MAV_MODE_FLAG_SAFETY_ARMED
 const protocol = new MavLinkProtocolV2(255, 190);  // A GCS's usual system and component ids.
-const socket = net.connect(Number(port), host);
+const splitter = new MavLinkPacketSplitter();
+// The link to the vehicle: write(bytes), end(); what arrives goes to `splitter`.
+function tcpLink() {
+  const socket = net.connect(Number(port), host);
+  socket.pipe(splitter);
+  socket.on('error', (error) => { say(`ERROR ${error.message}`); process.exit(1); });
+  socket.on('close', () => process.exit(phase === 'done' ? 0 : 1));
+  return { write: (bytes) => socket.write(bytes), end: () => socket.end() };
+}
+function udpLink() {
+  const socket = dgram.createSocket('udp4');
+  let vehicle = null;  // { address, port } of the vehicle's first datagram
+  socket.on('message', (datagram, from) => {
+    if (vehicle === null) vehicle = { address: from.address, port: from.port };
+    splitter.write(datagram);
+  });
+  socket.on('error', (error) => { say(`ERROR ${error.message}`); process.exit(1); });
+  socket.bind(Number(port), () => say(`LISTENING on UDP port ${socket.address().port}`));
+  return {
+    write: (bytes) => { if (vehicle) socket.send(bytes, vehicle.port, vehicle.address); },
+    end: () => socket.close(() => process.exit(0)),
+  };
+}
+const link = host === 'udpin' ? udpLink() : tcpLink();
 let seq = 0;
 function send(message) {
-  socket.write(protocol.serialize(message, seq++ & 255));
+  link.write(protocol.serialize(message, seq++ & 255));
 }
 function command(id, params) {
   const message = new common.CommandLong();
@@ -104,14 +132,14 @@ function step() {
       break;
     case 'land':
       if (due(1)) command(176, [1, COPTER_LAND, 0, 0, 0, 0, 0]);
-      if (!armed) { say(`DISARMED t=${timeS.toFixed(3)}`); enter('done'); socket.end(); }
+      if (!armed) { say(`DISARMED t=${timeS.toFixed(3)}`); enter('done'); link.end(); }
       break;
     default:
       break;
   }
 }
 
-const parser = socket.pipe(new MavLinkPacketSplitter()).pipe(new MavLinkPacketParser());
+const parser = splitter.pipe(new MavLinkPacketParser());
 parser.on('data', (packet) => {
   if (packet.header.sysid !== 1 || packet.header.compid !== 1) return;
   const clazz = REGISTRY[packet.header.msgid];
@@ -143,5 +171,4 @@ parser.on('data', (packet) => {
   }
   step();
 });
-socket.on('error', (error) => { say(`ERROR ${error.message}`); process.exit(1); });
-socket.on('close', () => process.exit(phase === 'done' ? 0 : 1));
+
