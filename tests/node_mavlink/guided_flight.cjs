@@ -1,44 +1,35 @@
-// A ground station that flies one ArduCopter in GUIDED mode over MAVLink, with node-mavlink:
-// GUIDED, arm (retried until armed), take off to ALT m, hold HOLD_S s, fly to NORTH,EAST m
-// (local NED from home), LAND, wait for the disarm. Time is the autopilot's (time_boot_ms):
-// the script never reads a clock of its own, so it works at any speed of the simulation.
+// A ground station that flies one ArduCopter in GUIDED mode over MAVLink, with node-mavlink
+// (the flight, and the lines it prints: guided_flight_plan.cjs).
 //   node guided_flight.cjs HOST PORT ALT_M HOLD_S NORTH_M EAST_M
 // HOST PORT: ArduPilot's TCP server (its --serial0 tcp:0 on the robot's loopback), or, with
 // HOST `udpin`, a UDP port of this node where ArduPilot's --serial0 udpclient:THIS_NODE:PORT
 // sends (over the simulated radio; PORT 0: any free port): the script prints `LISTENING on UDP
 // port N` once bound and answers the address the vehicle's datagrams come from, as a GCS does.
-// Prints one line per event, with the autopilot's time in seconds:
-//   STATUSTEXT t=.. <text> | ARMED t=.. | TAKEOFF_REACHED t=.. | WAYPOINT_REACHED t=.. |
-//   LAND t=.. (LAND mode asked) | DISARMED t=.. | POS t=.. rel_alt=.. north=.. east=.. (GLOBAL_POSITION_INT, every report)
-// and exits 0 after DISARMED, 1 if the connection closes first.
+// Exits 0 after DISARMED, 1 if the connection closes first. Its commands reach the autopilot
+// when the host schedules this process, so a lockstep run with it is not reproducible
+// (guided_flight_lockstep.cjs is).
 // Used by tests/integration/arducopter_flight_test.cc (TCP) and autopilot_radio_test.cc (udpin).
 'use strict';
 const dgram = require('dgram');
 const net = require('net');
-const {
-  MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, minimal, common, ardupilotmega,
-} = require('node-mavlink');
+const { guidedFlight } = require('./guided_flight_plan.cjs');
 
 const [host, port, altM, holdS, northM, eastM] = process.argv.slice(2);
 if (eastM === undefined) {
   process.stderr.write('usage: node guided_flight.cjs HOST PORT ALT_M HOLD_S NORTH_M EAST_M\n');
   process.exit(2);
 }
-const REGISTRY = { ...minimal.REGISTRY, ...common.REGISTRY, ...ardupilotmega.REGISTRY };
-const COPTER_GUIDED = 4;
-const COPTER_LAND = 9;
-const ARMED_FLAG = 128;  // MAV_MODE_FLAG_SAFETY_ARMED
-const protocol = new MavLinkProtocolV2(255, 190);  // A GCS's usual system and component ids.
-const splitter = new MavLinkPacketSplitter();
+function say(line) { process.stdout.write(line + '\n'); }
+
 // The link to the vehicle: write(bytes), end(); what arrives goes to `splitter`.
-function tcpLink() {
+function tcpLink(splitter, isDone) {
   const socket = net.connect(Number(port), host);
   socket.pipe(splitter);
   socket.on('error', (error) => { say(`ERROR ${error.message}`); process.exit(1); });
-  socket.on('close', () => process.exit(phase === 'done' ? 0 : 1));
+  socket.on('close', () => process.exit(isDone() ? 0 : 1));
   return { write: (bytes) => socket.write(bytes), end: () => socket.end() };
 }
-function udpLink() {
+function udpLink(splitter) {
   const socket = dgram.createSocket('udp4');
   let vehicle = null;  // { address, port } of the vehicle's first datagram
   socket.on('message', (datagram, from) => {
@@ -52,123 +43,12 @@ function udpLink() {
     end: () => socket.close(() => process.exit(0)),
   };
 }
-const link = host === 'udpin' ? udpLink() : tcpLink();
-let seq = 0;
-function send(message) {
-  link.write(protocol.serialize(message, seq++ & 255));
-}
-function command(id, params) {
-  const message = new common.CommandLong();
-  message.targetSystem = 1;
-  message.targetComponent = 1;
-  message.command = id;
-  message.confirmation = 0;
-  params.forEach((value, i) => { message[`_param${i + 1}`] = value; });
-  send(message);
-}
-function say(line) { process.stdout.write(line + '\n'); }
 
-// States of the flight; each advances on what the autopilot reports.
-let phase = 'boot';
-let timeS = 0;            // The autopilot's time of its latest report.
-let lastTryS = -10;       // When the current command was last sent.
-let phaseStartS = 0;
-let armed = false;
-let everArmed = false;
-let position = null;      // { relAlt, north, east } from GLOBAL_POSITION_INT and LOCAL_POSITION_NED
-
-function enter(next) { phase = next; phaseStartS = timeS; lastTryS = -10; }
-function due(periodS) {
-  if (timeS - lastTryS < periodS) return false;
-  lastTryS = timeS;
-  return true;
-}
-
-function step() {
-  switch (phase) {
-    case 'boot':
-      if (due(1)) {
-        const streams = new common.RequestDataStream();
-        streams.targetSystem = 1;
-        streams.targetComponent = 1;
-        streams.reqStreamId = 0;  // MAV_DATA_STREAM_ALL
-        streams.reqMessageRate = 10;
-        streams.startStop = 1;
-        send(streams);
-        command(176, [1, COPTER_GUIDED, 0, 0, 0, 0, 0]);  // MAV_CMD_DO_SET_MODE
-        command(400, [1, 0, 0, 0, 0, 0, 0]);              // MAV_CMD_COMPONENT_ARM_DISARM
-      }
-      if (armed) { say(`ARMED t=${timeS.toFixed(3)}`); enter('takeoff'); }
-      break;
-    case 'takeoff':
-      if (due(1) && position && position.relAlt < 0.5) command(22, [0, 0, 0, 0, 0, 0, Number(altM)]);
-      if (position && position.relAlt >= Number(altM) - 0.1) {
-        say(`TAKEOFF_REACHED t=${timeS.toFixed(3)}`);
-        enter('hold');
-      }
-      break;
-    case 'hold':
-      if (timeS - phaseStartS >= Number(holdS)) enter('waypoint');
-      break;
-    case 'waypoint': {
-      if (due(1)) {
-        const target = new common.SetPositionTargetLocalNed();
-        target.timeBootMs = Math.round(timeS * 1000);
-        target.targetSystem = 1;
-        target.targetComponent = 1;
-        target.coordinateFrame = 1;  // MAV_FRAME_LOCAL_NED
-        target.typeMask = 0x0DF8;    // position only
-        target.x = Number(northM);
-        target.y = Number(eastM);
-        target.z = -Number(altM);
-        send(target);
-      }
-      const off = Math.hypot(position.north - Number(northM), position.east - Number(eastM));
-      if (off < 1) { say(`WAYPOINT_REACHED t=${timeS.toFixed(3)}`); enter('settle'); }
-      break;
-    }
-    case 'settle':
-      if (timeS - phaseStartS >= Number(holdS)) { say(`LAND t=${timeS.toFixed(3)}`); enter('land'); }
-      break;
-    case 'land':
-      if (due(1)) command(176, [1, COPTER_LAND, 0, 0, 0, 0, 0]);
-      if (!armed) { say(`DISARMED t=${timeS.toFixed(3)}`); enter('done'); link.end(); }
-      break;
-    default:
-      break;
-  }
-}
-
-const parser = splitter.pipe(new MavLinkPacketParser());
-parser.on('data', (packet) => {
-  if (packet.header.sysid !== 1 || packet.header.compid !== 1) return;
-  const clazz = REGISTRY[packet.header.msgid];
-  if (!clazz) return;
-  const data = packet.protocol.data(packet.payload, clazz);
-  switch (clazz.MSG_NAME) {
-    case 'HEARTBEAT':
-      armed = (data.baseMode & ARMED_FLAG) !== 0;
-      everArmed = everArmed || armed;
-      break;
-    case 'SYSTEM_TIME':
-      timeS = Math.max(timeS, data.timeBootMs / 1000);
-      break;
-    case 'STATUSTEXT':
-      say(`STATUSTEXT t=${timeS.toFixed(3)} ${data.text.replace(/\0.*$/s, '')}`);
-      break;
-    case 'GLOBAL_POSITION_INT':
-      timeS = Math.max(timeS, data.timeBootMs / 1000);
-      position = { ...(position || { north: 0, east: 0 }), relAlt: data.relativeAlt / 1000 };
-      say(`POS t=${(data.timeBootMs / 1000).toFixed(3)} rel_alt=${position.relAlt.toFixed(3)} ` +
-          `north=${position.north.toFixed(3)} east=${position.east.toFixed(3)}`);
-      break;
-    case 'LOCAL_POSITION_NED':
-      timeS = Math.max(timeS, data.timeBootMs / 1000);
-      position = { ...(position || { relAlt: 0 }), north: data.x, east: data.y };
-      break;
-    default:
-      return;
-  }
-  step();
+let link = null;
+const flight = guidedFlight({
+  altM: Number(altM), holdS: Number(holdS), northM: Number(northM), eastM: Number(eastM),
+  write: (bytes) => link.write(bytes),
+  say,
+  onDone: () => link.end(),
 });
-
+link = host === 'udpin' ? udpLink(flight.splitter) : tcpLink(flight.splitter, flight.done);

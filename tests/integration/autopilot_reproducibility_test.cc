@@ -1,0 +1,146 @@
+// Two lockstep runs of the real ArduCopter SITL (issue 31, item 6) give the same flight: a ground
+// station on the simulated radio arms it, and it takes off. The station is a robot of the
+// scenario that takes part in the lock-step (tests/node_mavlink/guided_flight_lockstep.cjs), so
+// its commands enter the medium at the same virtual instants in every run.
+// docs/autopilots-evidence.md, "Reproducibility", has the measurements and the reasons.
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/integration/run_test_util.h"
+
+namespace sitlnet::nns::testing {
+namespace {
+
+using integration_test::IsCi;
+using integration_test::ReadAll;
+using integration_test::SourceDir;
+using integration_test::TempDir;
+
+// Linux's default ip_local_port_range starts here: ports at or above it are ephemeral.
+constexpr int kFirstEphemeralPort = 32768;
+
+uint16_t Be16(const std::string& bytes, size_t at) {
+  return static_cast<uint16_t>(static_cast<uint8_t>(bytes[at]) << 8 |
+                               static_cast<uint8_t>(bytes[at + 1]));
+}
+
+// medium.pcap with the fields the robots' kernels draw at random set to zero, frame by frame:
+// the IPv4 identification (random at a UDP socket's connect, or from a hash keyed at random per
+// namespace), the header checksum over it, an ephemeral UDP port (its first try is random) and
+// the UDP checksum over it, and the frame check sequence over all of them. Everything else
+// (timestamps, lengths, MAC fields, addresses, fixed ports, payloads) is kept.
+std::string WithoutKernelRandomness(std::string pcap) {
+  size_t at = 24;  // global header
+  while (at + 16 <= pcap.size()) {
+    const uint32_t length = static_cast<uint8_t>(pcap[at + 8]) |
+                            static_cast<uint8_t>(pcap[at + 9]) << 8 |
+                            static_cast<uint8_t>(pcap[at + 10]) << 16 |
+                            static_cast<uint32_t>(static_cast<uint8_t>(pcap[at + 11])) << 24;
+    const size_t frame = at + 16;
+    const size_t end = frame + length;
+    if (end > pcap.size()) break;
+    const size_t radiotap = static_cast<uint8_t>(pcap[frame + 2]) |
+                            static_cast<uint8_t>(pcap[frame + 3]) << 8;
+    const size_t mac = frame + radiotap;
+    const uint8_t control = static_cast<uint8_t>(pcap[mac]);
+    const bool data = (control & 0x0c) == 0x08;
+    const size_t llc = mac + ((control & 0x80) != 0 ? 26 : 24);  // QoS data: 2 more
+    if (data && llc + 8 + 20 <= end && pcap.compare(llc, 8, "\xaa\xaa\x03\x00\x00\x00\x08\x00", 8) == 0) {
+      const size_t ip = llc + 8;
+      const size_t header = (static_cast<uint8_t>(pcap[ip]) & 0x0f) * 4u;
+      const size_t ip_end = ip + Be16(pcap, ip + 2);
+      pcap.replace(ip + 4, 2, 2, '\0');   // identification
+      pcap.replace(ip + 10, 2, 2, '\0');  // header checksum
+      if (pcap[ip + 9] == 17 && ip + header + 8 <= end) {
+        const size_t udp = ip + header;
+        for (size_t port : {udp, udp + 2}) {
+          if (Be16(pcap, port) >= kFirstEphemeralPort) pcap.replace(port, 2, 2, '\0');
+        }
+        pcap.replace(udp + 6, 2, 2, '\0');  // checksum
+      }
+      if (end == ip_end + 4) pcap.replace(ip_end, 4, 4, '\0');  // FCS
+    }
+    at = end;
+  }
+  return pcap;
+}
+
+// The ground station's robot image: node, the script and its node_modules bound in.
+std::string WriteStationImage(double altitude_m) {
+  const std::string path = TempDir() + "/lockstep_gcs.textproto";
+  const std::string folder = SourceDir() + "/tests/node_mavlink";
+  std::ofstream(path) << "name: \"lockstep_gcs\"\ncommand: \"/usr/bin/env\"\ncommand: \"node\"\n"
+                      << "command: \"" << folder << "/guided_flight_lockstep.cjs\"\n"
+                      << "command: \"" << altitude_m << "\"\ncommand: \"3\"\n"
+                      << "command: \"20\"\ncommand: \"0\"\n"
+                      << "files: \"" << folder << "\"\nready_log_line: \"GCS ready\"\n";
+  return path;
+}
+
+// 50 virtual seconds: ArduCopter's EKF uses GPS at about 41 s (arducopter_flight_test.cc), it
+// arms then and climbs towards 10 m for the rest of the run. Oracle: two runs of the same
+// inputs; what each compares is what the lock-step orders (docs/coordinator.md).
+TEST(ArduCopterReproducibilityTest, TwoLockstepFlightsAreTheSameByteForByte) {
+  const char* dir = std::getenv("SITLNET_ARDUPILOT_DIR");
+  if (dir == nullptr || *dir == '\0') {
+    const std::string why =
+        "SITLNET_ARDUPILOT_DIR is not set: build ArduCopter SITL as docs/autopilots.md says "
+        "and point it at the folder (bin/arducopter, params/copter.parm)";
+    if (IsCi()) GTEST_FAIL() << why;
+    GTEST_SKIP() << why;
+  }
+  if (const std::string missing = NodeMavlinkMissing(); !missing.empty()) {
+    if (IsCi()) GTEST_FAIL() << missing;
+    GTEST_SKIP() << missing << " (scripts/setup installs it)";
+  }
+  const std::string station = WlanPrefix(10) + "2";  // robot 1
+  const RunScenario scenario = WriteScenario(
+      10,
+      "robot { name: \"c1\" position_m { x: 0 y: 0 z: 0.1 } ardupilot_json_port: 9002 "
+      "image: \"arducopter\" args: [\"--serial0\", \"udpclient:" + station + ":14550\"] }\n"
+      "robot { name: \"gcs\" position_m { x: 5 y: 0 z: 0.1 } image: \"" +
+          WriteStationImage(10) + "\" }\n",
+      "timing { duration_ms: 50000 pacing: PACING_LOCKSTEP }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  for (const char* run : {"1", "2"}) {
+    const CommandResult result = SitlnetRun(scenario, out + run, {});
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+  }
+  const auto same = [&](const std::string& file) {
+    const std::string first = ReadAll(out + "1/" + file);
+    EXPECT_FALSE(first.empty()) << file;
+    EXPECT_TRUE(first == ReadAll(out + "2/" + file)) << file << " differs";
+    return first;
+  };
+  // The station's view: every STATUSTEXT, position report and event, with ArduCopter's time.
+  const std::string station_log = same("robots/gcs.log");
+  EXPECT_NE(station_log.find("ARMED t="), std::string::npos) << station_log;
+  same("trajectories.csv");
+  same("deliveries.csv");
+  // It flew: robot 0 higher than 3 m at the end.
+  double t_s = 0, x_m = 0, y_m = 0, z_m = 0, last_z_m = 0;
+  int robot = -1;
+  std::istringstream rows(ReadAll(out + "1/trajectories.csv"));
+  for (std::string row; std::getline(rows, row);) {
+    if (std::sscanf(row.c_str(), "%lf,%d,%lf,%lf,%lf", &t_s, &robot, &x_m, &y_m, &z_m) == 5 &&
+        robot == 0) {
+      last_z_m = z_m;
+    }
+  }
+  EXPECT_GT(last_z_m, 3);
+  // The capture: the same but for the fields the kernels draw at random.
+  const std::string first_pcap = ReadAll(out + "1/medium.pcap");
+  EXPECT_GT(first_pcap.size(), 100000u) << "the MAVLink exchange is on the radio";
+  EXPECT_TRUE(WithoutKernelRandomness(first_pcap) ==
+              WithoutKernelRandomness(ReadAll(out + "2/medium.pcap")));
+  ExpectNothingLeft(scenario.name);
+}
+
+}  // namespace
+}  // namespace sitlnet::nns::testing
