@@ -65,11 +65,7 @@ class ArduCopterFlightTest : public ::testing::Test {
  protected:
   void SetUp() override {
     // The manifest reads the same variable; under CI=true a missing autopilot is a failure.
-    const char* dir = std::getenv("SITLNET_ARDUPILOT_DIR");
-    if (dir == nullptr || *dir == '\0') {
-      const std::string why =
-          "SITLNET_ARDUPILOT_DIR is not set: build ArduCopter SITL as docs/autopilots.md says "
-          "and point it at the folder (bin/arducopter, params/copter.parm)";
+    if (const std::string why = ArduPilotMissing(); !why.empty()) {
       if (IsCi()) GTEST_FAIL() << why;
       GTEST_SKIP() << why;
     }

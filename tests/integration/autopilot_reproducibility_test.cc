@@ -86,11 +86,7 @@ std::string WriteStationImage(double altitude_m) {
 // arms then and climbs towards 10 m for the rest of the run. Oracle: two runs of the same
 // inputs; what each compares is what the lock-step orders (docs/coordinator.md).
 TEST(ArduCopterReproducibilityTest, TwoLockstepFlightsAreTheSameByteForByte) {
-  const char* dir = std::getenv("SITLNET_ARDUPILOT_DIR");
-  if (dir == nullptr || *dir == '\0') {
-    const std::string why =
-        "SITLNET_ARDUPILOT_DIR is not set: build ArduCopter SITL as docs/autopilots.md says "
-        "and point it at the folder (bin/arducopter, params/copter.parm)";
+  if (const std::string why = ArduPilotMissing(); !why.empty()) {
     if (IsCi()) GTEST_FAIL() << why;
     GTEST_SKIP() << why;
   }

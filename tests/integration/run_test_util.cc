@@ -109,6 +109,13 @@ void WriteGcsRelayManifest(const std::string& folder, const std::string& path) {
 
 std::string NodeMavlinkDir() { return integration_test::SourceDir() + "/tests/node_mavlink"; }
 
+std::string ArduPilotMissing() {
+  const char* dir = std::getenv("SITLNET_ARDUPILOT_DIR");
+  if (dir != nullptr && *dir != '\0') return "";
+  return "SITLNET_ARDUPILOT_DIR is not set: build ArduCopter SITL as docs/autopilots.md says "
+         "and point it at the folder (bin/arducopter, params/copter.parm)";
+}
+
 std::string NodeMavlinkMissing() {
   if (std::system("node --version >/dev/null 2>&1") != 0) return "node is not installed";
   if (!std::filesystem::exists(NodeMavlinkDir() + "/node_modules/node-mavlink/package.json")) {

@@ -49,6 +49,8 @@ void WriteGcsRelayManifest(const std::string& folder, const std::string& path);
 
 // tests/node_mavlink: node-mavlink scripts (scripts/setup installs the package there).
 std::string NodeMavlinkDir();
+// Why SITLNET_ARDUPILOT_DIR names no ArduCopter build (and how to make one), or "" if it does.
+std::string ArduPilotMissing();
 // Why node-mavlink cannot run here, or "" if it can.
 std::string NodeMavlinkMissing();
 
