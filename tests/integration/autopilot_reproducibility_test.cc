@@ -3,6 +3,8 @@
 // scenario that takes part in the lock-step (tests/node_mavlink/guided_flight_lockstep.cjs), so
 // its commands enter the medium at the same virtual instants in every run.
 // docs/autopilots-evidence.md, "Reproducibility", has the measurements and the reasons.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -70,15 +72,35 @@ std::string WithoutKernelRandomness(std::string pcap) {
   return pcap;
 }
 
-// The ground station's robot image: node, the script and its node_modules bound in.
-std::string WriteStationImage(double altitude_m) {
-  const std::string path = TempDir() + "/lockstep_gcs.textproto";
+// A ground station's robot image: `script` of tests/node_mavlink with `args`, run by node, the
+// folder (and its node_modules) bound in. Ready once bound (lockstep_station.cjs).
+std::string WriteStationImage(const std::string& script, const std::vector<std::string>& args) {
+  const std::string path = TempDir() + "/" + script + ".textproto";
   const std::string folder = SourceDir() + "/tests/node_mavlink";
-  std::ofstream(path) << "name: \"lockstep_gcs\"\ncommand: \"/usr/bin/env\"\ncommand: \"node\"\n"
-                      << "command: \"" << folder << "/guided_flight_lockstep.cjs\"\n"
-                      << "command: \"" << altitude_m << "\"\ncommand: \"3\"\n"
-                      << "command: \"20\"\ncommand: \"0\"\n"
-                      << "files: \"" << folder << "\"\nready_log_line: \"GCS ready\"\n";
+  std::ofstream image(path);
+  image << "name: \"" << script << "\"\ncommand: \"/usr/bin/env\"\ncommand: \"node\"\n"
+        << "command: \"" << folder << "/" << script << "\"\n";
+  for (const std::string& arg : args) image << "command: \"" << arg << "\"\n";
+  image << "files: \"" << folder << "\"\nready_log_line: \"GCS ready\"\n";
+  return path;
+}
+
+// Robot 0's positions (world ENU) in trajectories.csv, every 100 ms.
+struct Position {
+  double x_m = 0, y_m = 0, z_m = 0;
+};
+std::vector<Position> RobotZeroPath(const std::string& csv) {
+  std::vector<Position> path;
+  std::istringstream rows(csv);
+  for (std::string row; std::getline(rows, row);) {
+    Position p;
+    double t_s = 0;
+    int robot = -1;
+    if (std::sscanf(row.c_str(), "%lf,%d,%lf,%lf,%lf", &t_s, &robot, &p.x_m, &p.y_m, &p.z_m) == 5 &&
+        robot == 0) {
+      path.push_back(p);
+    }
+  }
   return path;
 }
 
@@ -100,7 +122,7 @@ TEST(ArduCopterReproducibilityTest, TwoLockstepFlightsAreTheSameByteForByte) {
       "robot { name: \"c1\" position_m { x: 0 y: 0 z: 0.1 } ardupilot_json_port: 9002 "
       "image: \"arducopter\" args: [\"--serial0\", \"udpclient:" + station + ":14550\"] }\n"
       "robot { name: \"gcs\" position_m { x: 5 y: 0 z: 0.1 } image: \"" +
-          WriteStationImage(10) + "\" }\n",
+          WriteStationImage("guided_flight_lockstep.cjs", {"10", "3", "20", "0"}) + "\" }\n",
       "timing { duration_ms: 50000 pacing: PACING_LOCKSTEP }\n");
   DownGuard guard(scenario.name);
   const std::string out = TempDir() + "/" + scenario.name + "-out";
@@ -120,21 +142,79 @@ TEST(ArduCopterReproducibilityTest, TwoLockstepFlightsAreTheSameByteForByte) {
   same("trajectories.csv");
   same("deliveries.csv");
   // It flew: robot 0 higher than 3 m at the end.
-  double t_s = 0, x_m = 0, y_m = 0, z_m = 0, last_z_m = 0;
-  int robot = -1;
-  std::istringstream rows(ReadAll(out + "1/trajectories.csv"));
-  for (std::string row; std::getline(rows, row);) {
-    if (std::sscanf(row.c_str(), "%lf,%d,%lf,%lf,%lf", &t_s, &robot, &x_m, &y_m, &z_m) == 5 &&
-        robot == 0) {
-      last_z_m = z_m;
-    }
-  }
-  EXPECT_GT(last_z_m, 3);
+  const std::vector<Position> path = RobotZeroPath(ReadAll(out + "1/trajectories.csv"));
+  ASSERT_FALSE(path.empty());
+  EXPECT_GT(path.back().z_m, 3);
   // The capture: the same but for the fields the kernels draw at random.
   const std::string first_pcap = ReadAll(out + "1/medium.pcap");
   EXPECT_GT(first_pcap.size(), 100000u) << "the MAVLink exchange is on the radio";
   EXPECT_TRUE(WithoutKernelRandomness(first_pcap) ==
               WithoutKernelRandomness(ReadAll(out + "2/medium.pcap")));
+  ExpectNothingLeft(scenario.name);
+}
+
+// The first row where robot 0 is 5 cm above where it stood at 3 s (settled, not yet armed).
+size_t LiftOff(const std::vector<Position>& path) {
+  const double ground_m = path.at(30).z_m;
+  size_t i = 30;
+  while (i < path.size() && path[i].z_m < ground_m + 0.05) ++i;
+  return i;
+}
+
+// PX4 v1.14.4, flown by a station in the lock-step (fly_px4_lockstep.cjs): arm, take off to
+// 5 m, hold over home; 30 virtual seconds (PX4 arms about 9 s after it connects). Its threads
+// make the runs differ (docs/autopilots-evidence.md): the test bounds how far apart.
+// The bound, 0.6 m: each run's path is where its own position estimate steers it, to the same
+// setpoints (the station acts only on PX4's telemetry and the lock-step fixes when its
+// commands arrive). Issue 31 bounds that estimate to 0.3 m of the truth, and Px4FlightTest
+// asserts it in every run: two such paths are at most 2 x 0.3 m apart. Compared from lift-off
+// (aligned: PX4 arms at a time its threads decide) to the end.
+TEST(Px4ReproducibilityTest, TwoLockstepFlightsStayWithinTwiceTheEstimatorBound) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  if (const std::string missing = Px4Missing(); !missing.empty()) {
+    if (IsCi()) GTEST_FAIL() << missing;
+    GTEST_SKIP() << missing;
+  }
+  const RunScenario scenario = WriteScenario(
+      11,
+      "robot { name: \"px\" position_m { x: 3 y: -2 z: 0.2 } image: \"px4\" "
+      "px4_sim_port: 4560 args: [\"--gcs\", \"" + WlanPrefix(11) + "2\"] }\n"  // robot 1
+      "robot { name: \"gcs\" position_m { x: 8 y: -2 z: 0.1 } image: \"" +
+          WriteStationImage("fly_px4_lockstep.cjs", {"5", "0", "0"}) + "\" }\n",
+      "timing { duration_ms: 30000 pacing: PACING_LOCKSTEP }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  std::vector<Position> paths[2];
+  for (int run = 0; run < 2; ++run) {
+    const std::string folder = out + std::to_string(run + 1);
+    const CommandResult result = SitlnetRun(scenario, folder, {});
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    EXPECT_NE(ReadAll(folder + "/robots/gcs.log").find("EVENT ARMED"), std::string::npos)
+        << ReadAll(folder + "/robots/gcs.log");
+    paths[run] = RobotZeroPath(ReadAll(folder + "/trajectories.csv"));
+    ASSERT_GT(paths[run].size(), 200u);
+  }
+  const size_t first = LiftOff(paths[0]), second = LiftOff(paths[1]);
+  ASSERT_LT(first, paths[0].size());
+  ASSERT_LT(second, paths[1].size());
+  const size_t rows = std::min(paths[0].size() - first, paths[1].size() - second);
+  ASSERT_GT(rows, 100u) << "less than 10 s of flight to compare";
+  double worst_m = 0, worst_horizontal_m = 0, worst_vertical_m = 0, highest_m = 0;
+  for (size_t k = 0; k < rows; ++k) {
+    const Position& a = paths[0][first + k];
+    const Position& b = paths[1][second + k];
+    const double horizontal_m = std::hypot(a.x_m - b.x_m, a.y_m - b.y_m);
+    worst_horizontal_m = std::max(worst_horizontal_m, horizontal_m);
+    worst_vertical_m = std::max(worst_vertical_m, std::fabs(a.z_m - b.z_m));
+    worst_m = std::max(worst_m, std::hypot(horizontal_m, a.z_m - b.z_m));
+    highest_m = std::max(highest_m, a.z_m);
+  }
+  EXPECT_GT(highest_m, 4) << "it climbed towards 5 m";
+  EXPECT_LT(worst_m, 0.6);
+  std::printf("PX4 lockstep, two runs: lift-off at %.1f s and %.1f s; aligned there, over %.1f s "
+              "the paths are at most %.3f m apart (horizontal %.3f m, vertical %.3f m)\n",
+              first / 10.0, second / 10.0, rows / 10.0, worst_m, worst_horizontal_m,
+              worst_vertical_m);
   ExpectNothingLeft(scenario.name);
 }
 

@@ -25,25 +25,6 @@ constexpr double kNorthM = 50;      // the waypoint, from home
 constexpr double kDurationS = 75;   // virtual seconds of the run (disarmed at 55-60 s)
 constexpr double kEarthRadiusM = 6371000;  // PX4's map projection (and fly_px4.cjs's)
 
-// Why PX4 cannot be flown here, or "" when it can.
-std::string Px4Missing() {
-  const char* dir = std::getenv("SITLNET_PX4_DIR");
-  if (dir == nullptr || *dir == '\0') {
-    return "SITLNET_PX4_DIR is not set: point it at a PX4 v1.14 px4_sitl_default build folder "
-           "(bin/px4, etc/), docs/autopilots.md \"Building PX4\"";
-  }
-  if (!std::filesystem::exists(std::string(dir) + "/bin/px4")) {
-    return std::string("SITLNET_PX4_DIR=") + dir + " holds no bin/px4 (docs/autopilots.md "
-           "\"Building PX4\")";
-  }
-  if (std::system("node --version >/dev/null 2>&1") != 0) return "node is not installed";
-  if (!std::filesystem::exists(integration_test::SourceDir() +
-                               "/tests/node_mavlink/node_modules/node-mavlink/package.json")) {
-    return "node-mavlink is not installed (scripts/setup installs it)";
-  }
-  return "";
-}
-
 #define SITLNET_REQUIRE_PX4()                               \
   do {                                                      \
     if (const std::string missing = Px4Missing(); !missing.empty()) { \

@@ -116,6 +116,24 @@ std::string ArduPilotMissing() {
          "and point it at the folder (bin/arducopter, params/copter.parm)";
 }
 
+std::string Px4Missing() {
+  const char* dir = std::getenv("SITLNET_PX4_DIR");
+  if (dir == nullptr || *dir == '\0') {
+    return "SITLNET_PX4_DIR is not set: point it at a PX4 v1.14 px4_sitl_default build folder "
+           "(bin/px4, etc/), docs/autopilots.md \"Building PX4\"";
+  }
+  if (!std::filesystem::exists(std::string(dir) + "/bin/px4")) {
+    return std::string("SITLNET_PX4_DIR=") + dir + " holds no bin/px4 (docs/autopilots.md "
+           "\"Building PX4\")";
+  }
+  if (std::system("node --version >/dev/null 2>&1") != 0) return "node is not installed";
+  if (!std::filesystem::exists(integration_test::SourceDir() +
+                               "/tests/node_mavlink/node_modules/node-mavlink/package.json")) {
+    return "node-mavlink is not installed (scripts/setup installs it)";
+  }
+  return "";
+}
+
 std::string NodeMavlinkMissing() {
   if (std::system("node --version >/dev/null 2>&1") != 0) return "node is not installed";
   if (!std::filesystem::exists(NodeMavlinkDir() + "/node_modules/node-mavlink/package.json")) {

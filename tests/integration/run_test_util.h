@@ -51,6 +51,8 @@ void WriteGcsRelayManifest(const std::string& folder, const std::string& path);
 std::string NodeMavlinkDir();
 // Why SITLNET_ARDUPILOT_DIR names no ArduCopter build (and how to make one), or "" if it does.
 std::string ArduPilotMissing();
+// Why PX4 cannot be flown here (SITLNET_PX4_DIR, node, node-mavlink), or "" when it can.
+std::string Px4Missing();
 // Why node-mavlink cannot run here, or "" if it can.
 std::string NodeMavlinkMissing();
 
