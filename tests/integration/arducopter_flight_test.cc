@@ -17,7 +17,6 @@ namespace sitlnet::nns::testing {
 namespace {
 
 using integration_test::Child;
-using integration_test::IsCi;
 using integration_test::ReadAll;
 using integration_test::SitlnetBinary;
 using integration_test::TempDir;
@@ -65,14 +64,8 @@ class ArduCopterFlightTest : public ::testing::Test {
  protected:
   void SetUp() override {
     // The manifest reads the same variable; under CI=true a missing autopilot is a failure.
-    if (const std::string why = ArduPilotMissing(); !why.empty()) {
-      if (IsCi()) GTEST_FAIL() << why;
-      GTEST_SKIP() << why;
-    }
-    if (const std::string missing = NodeMavlinkMissing(); !missing.empty()) {
-      if (IsCi()) GTEST_FAIL() << missing;
-      GTEST_SKIP() << missing << " (scripts/setup installs it)";
-    }
+    SITLNET_REQUIRE(ArduPilotMissing());
+    SITLNET_REQUIRE(NodeMavlinkMissing());
   }
 };
 

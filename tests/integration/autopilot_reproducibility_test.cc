@@ -18,7 +18,6 @@
 namespace sitlnet::nns::testing {
 namespace {
 
-using integration_test::IsCi;
 using integration_test::ReadAll;
 using integration_test::SourceDir;
 using integration_test::TempDir;
@@ -108,14 +107,8 @@ std::vector<Position> RobotZeroPath(const std::string& csv) {
 // arms then and climbs towards 10 m for the rest of the run. Oracle: two runs of the same
 // inputs; what each compares is what the lock-step orders (docs/coordinator.md).
 TEST(ArduCopterReproducibilityTest, TwoLockstepFlightsAreTheSameByteForByte) {
-  if (const std::string why = ArduPilotMissing(); !why.empty()) {
-    if (IsCi()) GTEST_FAIL() << why;
-    GTEST_SKIP() << why;
-  }
-  if (const std::string missing = NodeMavlinkMissing(); !missing.empty()) {
-    if (IsCi()) GTEST_FAIL() << missing;
-    GTEST_SKIP() << missing << " (scripts/setup installs it)";
-  }
+  SITLNET_REQUIRE(ArduPilotMissing());
+  SITLNET_REQUIRE(NodeMavlinkMissing());
   const std::string station = WlanPrefix(10) + "2";  // robot 1
   const RunScenario scenario = WriteScenario(
       10,
@@ -171,10 +164,7 @@ size_t LiftOff(const std::vector<Position>& path) {
 // (aligned: PX4 arms at a time its threads decide) to the end.
 TEST(Px4ReproducibilityTest, TwoLockstepFlightsStayWithinTwiceTheEstimatorBound) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  if (const std::string missing = Px4Missing(); !missing.empty()) {
-    if (IsCi()) GTEST_FAIL() << missing;
-    GTEST_SKIP() << missing;
-  }
+  SITLNET_REQUIRE(Px4Missing());
   const RunScenario scenario = WriteScenario(
       11,
       "robot { name: \"px\" position_m { x: 3 y: -2 z: 0.2 } image: \"px4\" "

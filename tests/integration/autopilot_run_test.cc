@@ -143,12 +143,7 @@ std::vector<DecodedMessage> DecodeTelemetry(const std::string& out, const std::s
 // - each autopilot climbs to 5 m and flies towards its waypoint from its protocol alone.
 TEST(RunTest, ArduPilotAndPx4RobotsFlyInTheCoordinatorsClockAndTwoRunsAreByteIdentical) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  if (const std::string missing = NodeMavlinkMissing(); !missing.empty()) {
-    if (std::getenv("CI") != nullptr && std::string(std::getenv("CI")) == "true") {
-      FAIL() << missing << " (scripts/setup installs it)";
-    }
-    GTEST_SKIP() << missing << " (scripts/setup installs it)";
-  }
+  SITLNET_REQUIRE(NodeMavlinkMissing());
   const std::string wlan = WlanPrefix(12);
   const std::string station = wlan + "8";  // robot 7
   // The station listens on 14550 from before the run's start, as a GCS does: a port without a

@@ -25,14 +25,6 @@ constexpr double kNorthM = 50;      // the waypoint, from home
 constexpr double kDurationS = 75;   // virtual seconds of the run (disarmed at 55-60 s)
 constexpr double kEarthRadiusM = 6371000;  // PX4's map projection (and fly_px4.cjs's)
 
-#define SITLNET_REQUIRE_PX4()                               \
-  do {                                                      \
-    if (const std::string missing = Px4Missing(); !missing.empty()) { \
-      if (IsCi()) FAIL() << missing;                        \
-      GTEST_SKIP() << missing;                              \
-    }                                                       \
-  } while (0)
-
 // One row of trajectories.csv: time and the robot's position on Earth.
 struct Truth {
   double t_s = 0;
@@ -130,7 +122,7 @@ std::vector<std::string> Complaints(const std::string& log, const std::string& b
 
 void FlyPx4(int slot, const char* pacing) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  SITLNET_REQUIRE_PX4();
+  SITLNET_REQUIRE(Px4Missing());
   const RunScenario scenario = WriteScenario(
       slot,
       "robot { name: \"px\" position_m { x: 3 y: -2 z: 0.2 } image: \"px4\" "

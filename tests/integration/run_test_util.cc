@@ -137,7 +137,8 @@ std::string Px4Missing() {
 std::string NodeMavlinkMissing() {
   if (std::system("node --version >/dev/null 2>&1") != 0) return "node is not installed";
   if (!std::filesystem::exists(NodeMavlinkDir() + "/node_modules/node-mavlink/package.json")) {
-    return "node-mavlink is not installed in " + NodeMavlinkDir() + "/node_modules";
+    return "node-mavlink is not installed in " + NodeMavlinkDir() +
+           "/node_modules (scripts/setup installs it)";
   }
   return "";
 }

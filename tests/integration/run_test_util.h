@@ -47,6 +47,16 @@ std::vector<TrajectoryRow> TrajectoryRows(const std::string& csv, int robot);
 // /run/sitlnet-gcs replaced by `folder` (a test's own).
 void WriteGcsRelayManifest(const std::string& folder, const std::string& path);
 
+// Skips the test when `why_missing` (a ...Missing() above or below) is not empty, saying why; under
+// CI=true fails it instead.
+#define SITLNET_REQUIRE(why_missing)                                    \
+  do {                                                                  \
+    if (const std::string missing = (why_missing); !missing.empty()) {  \
+      if (::sitlnet::integration_test::IsCi()) FAIL() << missing;       \
+      GTEST_SKIP() << missing;                                          \
+    }                                                                   \
+  } while (0)
+
 // tests/node_mavlink: node-mavlink scripts (scripts/setup installs the package there).
 std::string NodeMavlinkDir();
 // Why SITLNET_ARDUPILOT_DIR names no ArduCopter build (and how to make one), or "" if it does.
