@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -84,25 +83,6 @@ std::string WriteStationImage(const std::string& script, const std::vector<std::
   return path;
 }
 
-// Robot 0's positions (world ENU) in trajectories.csv, every 100 ms.
-struct Position {
-  double x_m = 0, y_m = 0, z_m = 0;
-};
-std::vector<Position> RobotZeroPath(const std::string& csv) {
-  std::vector<Position> path;
-  std::istringstream rows(csv);
-  for (std::string row; std::getline(rows, row);) {
-    Position p;
-    double t_s = 0;
-    int robot = -1;
-    if (std::sscanf(row.c_str(), "%lf,%d,%lf,%lf,%lf", &t_s, &robot, &p.x_m, &p.y_m, &p.z_m) == 5 &&
-        robot == 0) {
-      path.push_back(p);
-    }
-  }
-  return path;
-}
-
 // 50 virtual seconds: ArduCopter's EKF uses GPS at about 41 s (arducopter_flight_test.cc), it
 // arms then and climbs towards 10 m for the rest of the run. Oracle: two runs of the same
 // inputs; what each compares is what the lock-step orders (docs/coordinator.md).
@@ -135,7 +115,7 @@ TEST(ArduCopterReproducibilityTest, TwoLockstepFlightsAreTheSameByteForByte) {
   same("trajectories.csv");
   same("deliveries.csv");
   // It flew: robot 0 higher than 3 m at the end.
-  const std::vector<Position> path = RobotZeroPath(ReadAll(out + "1/trajectories.csv"));
+  const std::vector<TrajectoryRow> path = TrajectoryRows(ReadAll(out + "1/trajectories.csv"), 0);
   ASSERT_FALSE(path.empty());
   EXPECT_GT(path.back().z_m, 3);
   // The capture: the same but for the fields the kernels draw at random.
@@ -147,7 +127,7 @@ TEST(ArduCopterReproducibilityTest, TwoLockstepFlightsAreTheSameByteForByte) {
 }
 
 // The first row where robot 0 is 5 cm above where it stood at 3 s (settled, not yet armed).
-size_t LiftOff(const std::vector<Position>& path) {
+size_t LiftOff(const std::vector<TrajectoryRow>& path) {
   const double ground_m = path.at(30).z_m;
   size_t i = 30;
   while (i < path.size() && path[i].z_m < ground_m + 0.05) ++i;
@@ -174,14 +154,14 @@ TEST(Px4ReproducibilityTest, TwoLockstepFlightsStayWithinTwiceTheEstimatorBound)
       "timing { duration_ms: 30000 pacing: PACING_LOCKSTEP }\n");
   DownGuard guard(scenario.name);
   const std::string out = TempDir() + "/" + scenario.name + "-out";
-  std::vector<Position> paths[2];
+  std::vector<TrajectoryRow> paths[2];
   for (int run = 0; run < 2; ++run) {
     const std::string folder = out + std::to_string(run + 1);
     const CommandResult result = SitlnetRun(scenario, folder, {});
     ASSERT_EQ(result.exit_code, 0) << result.err;
     EXPECT_NE(ReadAll(folder + "/robots/gcs.log").find("EVENT ARMED"), std::string::npos)
         << ReadAll(folder + "/robots/gcs.log");
-    paths[run] = RobotZeroPath(ReadAll(folder + "/trajectories.csv"));
+    paths[run] = TrajectoryRows(ReadAll(folder + "/trajectories.csv"), 0);
     ASSERT_GT(paths[run].size(), 200u);
   }
   const size_t first = LiftOff(paths[0]), second = LiftOff(paths[1]);
@@ -191,8 +171,8 @@ TEST(Px4ReproducibilityTest, TwoLockstepFlightsStayWithinTwiceTheEstimatorBound)
   ASSERT_GT(rows, 100u) << "less than 10 s of flight to compare";
   double worst_m = 0, worst_horizontal_m = 0, worst_vertical_m = 0, highest_m = 0;
   for (size_t k = 0; k < rows; ++k) {
-    const Position& a = paths[0][first + k];
-    const Position& b = paths[1][second + k];
+    const TrajectoryRow& a = paths[0][first + k];
+    const TrajectoryRow& b = paths[1][second + k];
     const double horizontal_m = std::hypot(a.x_m - b.x_m, a.y_m - b.y_m);
     worst_horizontal_m = std::max(worst_horizontal_m, horizontal_m);
     worst_vertical_m = std::max(worst_vertical_m, std::fabs(a.z_m - b.z_m));
