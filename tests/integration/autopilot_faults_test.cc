@@ -28,36 +28,19 @@ namespace sitlnet::nns::testing {
 namespace {
 
 using integration_test::Child;
-using integration_test::IsCi;
 using integration_test::ReadAll;
 using integration_test::SitlnetBinary;
 using integration_test::SourceDir;
 using integration_test::TempDir;
 using integration_test::WaitForFiles;
 
-// Why the autopilot built in $`variable` (holding `program`) cannot be run here, or "". Flying
-// it also needs node-mavlink.
-std::string AutopilotMissing(const char* variable, const std::string& program, bool flies) {
-  const char* dir = std::getenv(variable);
-  if (dir == nullptr || *dir == '\0') {
-    return std::string(variable) + " is not set: point it at the autopilot's build folder as "
-           "docs/autopilots.md says";
-  }
-  if (!std::filesystem::exists(std::string(dir) + "/" + program)) {
-    return std::string(variable) + "=" + dir + " holds no " + program + " (docs/autopilots.md)";
-  }
-  return flies ? NodeMavlinkMissing() : "";
-}
-
-// Skips (fails under CI=true) when the autopilot or node-mavlink is missing.
-#define SITLNET_REQUIRE_AUTOPILOT(variable, program, flies)                             \
-  do {                                                                                 \
-    SITLNET_REQUIRE_NNS_PRIVILEGES();                                                  \
-    if (const std::string missing = AutopilotMissing(variable, program, flies);        \
-        !missing.empty()) {                                                            \
-      if (IsCi()) FAIL() << missing;                                                   \
-      GTEST_SKIP() << missing;                                                         \
-    }                                                                                  \
+// Skips (fails under CI=true) when root, the autopilot of `why_missing` or (if it `flies`)
+// node-mavlink is missing.
+#define SITLNET_REQUIRE_AUTOPILOT(why_missing, flies)  \
+  do {                                                 \
+    SITLNET_REQUIRE_NNS_PRIVILEGES();                  \
+    SITLNET_REQUIRE(why_missing);                      \
+    if (flies) SITLNET_REQUIRE(NodeMavlinkMissing());  \
   } while (0)
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
@@ -124,8 +107,7 @@ long SummaryCount(const std::string& summary, const std::string& key) {
 constexpr double kAltitudeM = 3;
 
 struct Autopilot {
-  const char* variable;  // Where it is built, and what it holds.
-  const char* program;
+  std::string (*missing)();  // Why it cannot be run here, or "".
   const char* image;    // The shipped manifest.
   const char* process;  // Its process name (comm).
   const char* robot;    // The robot block, "IMAGE" for the image.
@@ -173,7 +155,7 @@ std::unique_ptr<Child> GroundStation(const std::string& scenario, const std::str
 // PX4's GCS link is UDP on the robot's loopback (fly_px4.cjs): arm, take off, hold ("EVENT
 // HOLD" once steady at the altitude), then a waypoint the test never lets it reach.
 const Autopilot kPx4 = {
-    "SITLNET_PX4_DIR", "bin/px4", "px4", "px4",
+    Px4Missing, "px4", "px4",
     "robot { name: \"a\" position_m { z: 0.2 } image: \"IMAGE\" px4_sim_port: 4560 }\n", 0.2,
     [](const std::string& scenario, const std::string& out, int nth) {
       WaitForLogLine(out, "Startup script returned successfully", nth);
@@ -185,7 +167,7 @@ const Autopilot kPx4 = {
 // ArduCopter's is TCP 5760 of the robot's loopback (guided_flight.cjs): GUIDED, arm, take off
 // ("TAKEOFF_REACHED"), hold 600 s.
 const Autopilot kArduCopter = {
-    "SITLNET_ARDUPILOT_DIR", "bin/arducopter", "arducopter", "arducopter",
+    ArduPilotMissing, "arducopter", "arducopter",
     "robot { name: \"a\" position_m { z: 0.1 } image: \"IMAGE\" ardupilot_json_port: 9002 }\n",
     0.1,
     [](const std::string& scenario, const std::string& out, int nth) {
@@ -212,6 +194,7 @@ std::chrono::steady_clock::time_point FlyAndKill(const Autopilot& autopilot,
 // naming the robot and what it did not answer, exit 1, the outputs whole up to the stop, the
 // vehicle at its altitude in the last rows.
 void KilledMidFlightStopsTheRun(const Autopilot& autopilot, int slot) {
+  SITLNET_REQUIRE_AUTOPILOT(autopilot.missing(), true);
   const RunScenario scenario =
       WriteScenario(slot, WithImage(autopilot.robot, autopilot.image),
                     "timing { duration_ms: 300000 pacing: PACING_LOCKSTEP }\n");
@@ -244,6 +227,7 @@ void KilledMidFlightStopsTheRun(const Autopilot& autopilot, int slot) {
 // smaller frame_count), which puts the robot back at its start; it boots, arms and climbs to its
 // altitude again: the autopilot says so, and so does the truth. The run is then interrupted.
 void KilledMidFlightIsDroppedAndRestartedFliesAgain(const Autopilot& autopilot, int slot) {
+  SITLNET_REQUIRE_AUTOPILOT(autopilot.missing(), true);
   const std::string manifest = RestartingManifest(autopilot.image);
   const RunScenario scenario =
       WriteScenario(slot, WithImage(autopilot.robot, manifest),
@@ -282,22 +266,18 @@ void KilledMidFlightIsDroppedAndRestartedFliesAgain(const Autopilot& autopilot, 
 }
 
 TEST(AutopilotFaultsTest, Px4KilledMidFlightStopsTheLockstepRunNamingIt) {
-  SITLNET_REQUIRE_AUTOPILOT(kPx4.variable, kPx4.program, true);
   KilledMidFlightStopsTheRun(kPx4, 2);
 }
 
 TEST(AutopilotFaultsTest, Px4KilledMidFlightIsDroppedAndRestartedFliesAgain) {
-  SITLNET_REQUIRE_AUTOPILOT(kPx4.variable, kPx4.program, true);
   KilledMidFlightIsDroppedAndRestartedFliesAgain(kPx4, 3);
 }
 
 TEST(AutopilotFaultsTest, ArduCopterKilledMidFlightStopsTheLockstepRunNamingIt) {
-  SITLNET_REQUIRE_AUTOPILOT(kArduCopter.variable, kArduCopter.program, true);
   KilledMidFlightStopsTheRun(kArduCopter, 6);
 }
 
 TEST(AutopilotFaultsTest, ArduCopterKilledMidFlightIsDroppedAndRestartedFliesAgain) {
-  SITLNET_REQUIRE_AUTOPILOT(kArduCopter.variable, kArduCopter.program, true);
   KilledMidFlightIsDroppedAndRestartedFliesAgain(kArduCopter, 7);
 }
 
@@ -305,7 +285,7 @@ TEST(AutopilotFaultsTest, ArduCopterKilledMidFlightIsDroppedAndRestartedFliesAga
 // listens: in lockstep the run names it within the readiness bound (10 s + 250 ms per robot),
 // quoting what PX4 says it waits for.
 TEST(AutopilotFaultsTest, APx4ThatNeverConnectsIsNamedWithinTheTimeout) {
-  SITLNET_REQUIRE_AUTOPILOT("SITLNET_PX4_DIR", "bin/px4", false);
+  SITLNET_REQUIRE_AUTOPILOT(Px4Missing(), false);
   const RunScenario scenario = WriteScenario(
       4,
       "robot { name: \"a\" position_m { z: 0.2 } image: \"px4\" px4_sim_port: 4560 "
@@ -367,8 +347,8 @@ std::string LineSaying(const std::string& err, const std::vector<std::string>& p
 }
 
 TEST(AutopilotFaultsTest, BadAutopilotsAreRefusedInOneLineNamingTheRobotAndTheCause) {
-  SITLNET_REQUIRE_AUTOPILOT("SITLNET_PX4_DIR", "bin/px4", false);
-  SITLNET_REQUIRE_AUTOPILOT("SITLNET_ARDUPILOT_DIR", "bin/arducopter", false);
+  SITLNET_REQUIRE_AUTOPILOT(Px4Missing(), false);
+  SITLNET_REQUIRE_AUTOPILOT(ArduPilotMissing(), false);
   const std::string px4_robot = WithImage(kPx4.robot, "px4");
   const std::string wrong = TempDir() + "/no_px4_here";
   // Bytes that begin no known executable format, NULs among them (so the shell does not take

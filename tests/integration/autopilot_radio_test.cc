@@ -28,27 +28,13 @@ using integration_test::Child;
 constexpr int kStation = 0;
 constexpr int kVehicle = 1;
 
-// Why this test cannot fly the autopilot of `variable` here, or "" when it can.
-std::string Missing(const char* variable, const char* program) {
-  const char* dir = std::getenv(variable);
-  if (dir == nullptr || *dir == '\0') {
-    return std::string(variable) +
-           " is not set: point it at the autopilot's build folder "
-           "(docs/autopilots.md, \"Flying your own ArduPilot or PX4\")";
-  }
-  if (!std::filesystem::exists(std::string(dir) + "/" + program)) {
-    return std::string(variable) + "=" + dir + " holds no " + program;
-  }
-  return NodeMavlinkMissing();
-}
-
-#define SITLNET_REQUIRE_AUTOPILOT(variable, program)                                \
-  do {                                                                              \
-    SITLNET_REQUIRE_NNS_PRIVILEGES();                                               \
-    if (const std::string missing = Missing(variable, program); !missing.empty()) { \
-      if (IsCi()) FAIL() << missing;                                                \
-      GTEST_SKIP() << missing;                                                      \
-    }                                                                               \
+// Skips (fails under CI=true) when root, the autopilot of `why_missing` or node-mavlink is
+// missing.
+#define SITLNET_REQUIRE_FLIGHT(why_missing) \
+  do {                                      \
+    SITLNET_REQUIRE_NNS_PRIVILEGES();       \
+    SITLNET_REQUIRE(why_missing);           \
+    SITLNET_REQUIRE(NodeMavlinkMissing());  \
   } while (0)
 
 // A ground station robot's image: node-mavlink's GCS script `script` with `args`, ready once it
@@ -331,7 +317,7 @@ std::vector<std::string> GuidedRoute() {
 // lockstep pacing; ArduCopter's --serial0 udpclient sends to the station. Measured: 80 virtual
 // seconds in 16-25 s of wall time, 24-39 s for the whole test.
 TEST(AutopilotRadioTest, AStationRobotFliesArduCopterOverTheMediumInLockstep) {
-  SITLNET_REQUIRE_AUTOPILOT("SITLNET_ARDUPILOT_DIR", "bin/arducopter");
+  SITLNET_REQUIRE_FLIGHT(ArduPilotMissing());
   std::vector<std::string> args = {"udpin", "14550"};
   for (const std::string& arg : GuidedRoute()) args.push_back(arg);
   const RadioFlight flight = FlyOverTheMedium(2, StationManifest("guided_flight.cjs", args),
@@ -347,7 +333,7 @@ TEST(AutopilotRadioTest, AStationRobotFliesArduCopterOverTheMediumInLockstep) {
 // as above. The host GCS has no route to the vehicle: its commands cross the medium from the
 // station (NnsUpTest checks that no robot namespace has a route off its own links).
 TEST(AutopilotRadioTest, AGcsOnTheHostFliesArduCopterThroughTheRelayInLockstep) {
-  SITLNET_REQUIRE_AUTOPILOT("SITLNET_ARDUPILOT_DIR", "bin/arducopter");
+  SITLNET_REQUIRE_FLIGHT(ArduPilotMissing());
   const std::string folder = TempDir() + "/gcs_host";
   ASSERT_EQ(RunCommand({"mkdir", "-p", folder}).exit_code, 0);
   // The shipped manifest, its host folder replaced by the test's.
@@ -389,7 +375,7 @@ TEST(AutopilotRadioTest, AGcsOnTheHostFliesArduCopterThroughTheRelayInLockstep) 
 // as px4_flight_test.cc's: the hold within 0.3 m of the commanded altitude, the arrival within 1 m
 // of the waypoint, over the steady windows fly_px4.cjs names.
 TEST(AutopilotRadioTest, AStationRobotFliesPx4OverTheMediumInLockstep) {
-  SITLNET_REQUIRE_AUTOPILOT("SITLNET_PX4_DIR", "bin/px4");
+  SITLNET_REQUIRE_FLIGHT(Px4Missing());
   const int slot = 3;
   const std::string station = WlanPrefix(slot) + std::to_string(kStation + 1);
   const RadioFlight flight = FlyOverTheMedium(

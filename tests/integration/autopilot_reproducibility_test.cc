@@ -145,6 +145,7 @@ size_t LiftOff(const std::vector<TrajectoryRow>& path) {
 TEST(Px4ReproducibilityTest, TwoLockstepFlightsStayWithinTwiceTheEstimatorBound) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   SITLNET_REQUIRE(Px4Missing());
+  SITLNET_REQUIRE(NodeMavlinkMissing());
   const RunScenario scenario = WriteScenario(
       11,
       "robot { name: \"px\" position_m { x: 3 y: -2 z: 0.2 } image: \"px4\" "

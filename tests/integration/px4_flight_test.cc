@@ -123,6 +123,7 @@ std::vector<std::string> Complaints(const std::string& log, const std::string& b
 void FlyPx4(int slot, const char* pacing) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   SITLNET_REQUIRE(Px4Missing());
+  SITLNET_REQUIRE(NodeMavlinkMissing());
   const RunScenario scenario = WriteScenario(
       slot,
       "robot { name: \"px\" position_m { x: 3 y: -2 z: 0.2 } image: \"px4\" "

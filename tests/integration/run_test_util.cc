@@ -109,29 +109,31 @@ void WriteGcsRelayManifest(const std::string& folder, const std::string& path) {
 
 std::string NodeMavlinkDir() { return integration_test::SourceDir() + "/tests/node_mavlink"; }
 
+namespace {
+
+// Why $`variable` names no autopilot build holding `program`, or "" if it does; `how` says
+// where docs/autopilots.md tells how to make one.
+std::string AutopilotBuildMissing(const char* variable, const char* program, const char* how) {
+  const char* dir = std::getenv(variable);
+  if (dir == nullptr || *dir == '\0') return std::string(variable) + " is not set: " + how;
+  if (!std::filesystem::exists(std::string(dir) + "/" + program)) {
+    return std::string(variable) + "=" + dir + " holds no " + program + ": " + how;
+  }
+  return "";
+}
+
+}  // namespace
+
 std::string ArduPilotMissing() {
-  const char* dir = std::getenv("SITLNET_ARDUPILOT_DIR");
-  if (dir != nullptr && *dir != '\0') return "";
-  return "SITLNET_ARDUPILOT_DIR is not set: build ArduCopter SITL as docs/autopilots.md says "
-         "and point it at the folder (bin/arducopter, params/copter.parm)";
+  return AutopilotBuildMissing("SITLNET_ARDUPILOT_DIR", "bin/arducopter",
+                               "build ArduCopter SITL as docs/autopilots.md says and point it at "
+                               "the folder (bin/arducopter, params/copter.parm)");
 }
 
 std::string Px4Missing() {
-  const char* dir = std::getenv("SITLNET_PX4_DIR");
-  if (dir == nullptr || *dir == '\0') {
-    return "SITLNET_PX4_DIR is not set: point it at a PX4 v1.14 px4_sitl_default build folder "
-           "(bin/px4, etc/), docs/autopilots.md \"Building PX4\"";
-  }
-  if (!std::filesystem::exists(std::string(dir) + "/bin/px4")) {
-    return std::string("SITLNET_PX4_DIR=") + dir + " holds no bin/px4 (docs/autopilots.md "
-           "\"Building PX4\")";
-  }
-  if (std::system("node --version >/dev/null 2>&1") != 0) return "node is not installed";
-  if (!std::filesystem::exists(integration_test::SourceDir() +
-                               "/tests/node_mavlink/node_modules/node-mavlink/package.json")) {
-    return "node-mavlink is not installed (scripts/setup installs it)";
-  }
-  return "";
+  return AutopilotBuildMissing("SITLNET_PX4_DIR", "bin/px4",
+                               "point it at a PX4 v1.14 px4_sitl_default build folder (bin/px4, "
+                               "etc/), docs/autopilots.md \"Building PX4\"");
 }
 
 std::string NodeMavlinkMissing() {

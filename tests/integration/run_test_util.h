@@ -61,7 +61,8 @@ void WriteGcsRelayManifest(const std::string& folder, const std::string& path);
 std::string NodeMavlinkDir();
 // Why SITLNET_ARDUPILOT_DIR names no ArduCopter build (and how to make one), or "" if it does.
 std::string ArduPilotMissing();
-// Why PX4 cannot be flown here (SITLNET_PX4_DIR, node, node-mavlink), or "" when it can.
+// Why SITLNET_PX4_DIR names no PX4 build (and how to make one), or "" if it does. Flying it
+// also needs NodeMavlinkMissing() empty.
 std::string Px4Missing();
 // Why node-mavlink cannot run here, or "" if it can.
 std::string NodeMavlinkMissing();
