@@ -244,7 +244,9 @@ TEST_P(CaseStudyTest, ShadowingSplitsAndReunitesWithoutItTheFleetGoesAroundAsOne
   EXPECT_TRUE(AllPastTheArrow(without));
 }
 
-INSTANTIATE_TEST_SUITE_P(Seeds, CaseStudyTest, ::testing::Values(1, 2, 3));
+// Seed 1 is flown by scripts/test's paper stage (scripts/reproduce-paper --quick: the same
+// scenario, seed and flags, so the same runs byte for byte), whose Fig. 6 verdicts check it.
+INSTANTIATE_TEST_SUITE_P(Seeds, CaseStudyTest, ::testing::Values(2, 3));
 
 }  // namespace
 }  // namespace sitlnet::nns::testing
