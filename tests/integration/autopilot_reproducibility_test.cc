@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -18,7 +17,6 @@ namespace sitlnet::nns::testing {
 namespace {
 
 using integration_test::ReadAll;
-using integration_test::SourceDir;
 using integration_test::TempDir;
 
 // Linux's default ip_local_port_range starts here: ports at or above it are ephemeral.
@@ -68,19 +66,6 @@ std::string WithoutKernelRandomness(std::string pcap) {
     at = end;
   }
   return pcap;
-}
-
-// A ground station's robot image: `script` of tests/node_mavlink with `args`, run by node, the
-// folder (and its node_modules) bound in. Ready once bound (lockstep_station.cjs).
-std::string WriteStationImage(const std::string& script, const std::vector<std::string>& args) {
-  const std::string path = TempDir() + "/" + script + ".textproto";
-  const std::string folder = SourceDir() + "/tests/node_mavlink";
-  std::ofstream image(path);
-  image << "name: \"" << script << "\"\ncommand: \"/usr/bin/env\"\ncommand: \"node\"\n"
-        << "command: \"" << folder << "/" << script << "\"\n";
-  for (const std::string& arg : args) image << "command: \"" << arg << "\"\n";
-  image << "files: \"" << folder << "\"\nready_log_line: \"GCS ready\"\n";
-  return path;
 }
 
 // 50 virtual seconds: ArduCopter's EKF uses GPS at about 41 s (arducopter_flight_test.cc), it

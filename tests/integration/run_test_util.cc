@@ -107,6 +107,19 @@ void WriteGcsRelayManifest(const std::string& folder, const std::string& path) {
   std::ofstream(path) << manifest;
 }
 
+// A ground station's robot image: `script` of tests/node_mavlink with `args`, run by node, the
+// folder (and its node_modules) bound in. Ready once bound (lockstep_station.cjs).
+std::string WriteStationImage(const std::string& script, const std::vector<std::string>& args) {
+  const std::string path = TempDir() + "/" + script + ".textproto";
+  const std::string folder = integration_test::SourceDir() + "/tests/node_mavlink";
+  std::ofstream image(path);
+  image << "name: \"" << script << "\"\ncommand: \"/usr/bin/env\"\ncommand: \"node\"\n"
+        << "command: \"" << folder << "/" << script << "\"\n";
+  for (const std::string& arg : args) image << "command: \"" << arg << "\"\n";
+  image << "files: \"" << folder << "\"\nready_log_line: \"GCS ready\"\n";
+  return path;
+}
+
 std::string NodeMavlinkDir() { return integration_test::SourceDir() + "/tests/node_mavlink"; }
 
 namespace {

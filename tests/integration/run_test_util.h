@@ -57,6 +57,11 @@ void WriteGcsRelayManifest(const std::string& folder, const std::string& path);
     }                                                                   \
   } while (0)
 
+// A lockstep ground station's robot image (tests/node_mavlink/lockstep_station.cjs): `script` of
+// tests/node_mavlink with `args`, run by node, the folder bound in; ready once bound. Returns the
+// manifest's path.
+std::string WriteStationImage(const std::string& script, const std::vector<std::string>& args);
+
 // tests/node_mavlink: node-mavlink scripts (scripts/setup installs the package there).
 std::string NodeMavlinkDir();
 // Why SITLNET_ARDUPILOT_DIR names no ArduCopter build (and how to make one), or "" if it does.

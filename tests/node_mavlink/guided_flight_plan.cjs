@@ -1,9 +1,11 @@
 // The flight of guided_flight.cjs and guided_flight_lockstep.cjs, apart from how MAVLink travels:
 // GUIDED, arm (retried until armed), take off to ALT m, hold HOLD_S s, fly to NORTH,EAST m
-// (local NED from home), LAND, wait for the disarm. Time is the autopilot's (time_boot_ms):
+// (local NED from home; or to each point of `waypoints` in turn, holding HOLD_S s at each),
+// LAND, wait for the disarm. Time is the autopilot's (time_boot_ms):
 // the plan never reads a clock of its own, so it works at any speed of the simulation.
 // Prints one line per event, with the autopilot's time in seconds:
 //   STATUSTEXT t=.. <text> | ARMED t=.. | TAKEOFF_REACHED t=.. | WAYPOINT_REACHED t=.. |
+//   (with `waypoints`: WAYPOINT_REACHED t=.. index=.. for each) |
 //   LAND t=.. (LAND mode asked) | DISARMED t=.. | POS t=.. rel_alt=.. north=.. east=.. (GLOBAL_POSITION_INT, every report)
 'use strict';
 const {
@@ -17,14 +19,17 @@ const ARMED_FLAG = 128;  // MAV_MODE_FLAG_SAFETY_ARMED
 
 // Flies one ArduCopter: write(bytes) sends a serialized MAVLink frame to it, say(line) prints,
 // onDone() is called once it disarmed after landing. Feed it the autopilot's bytes with
-// splitter().write(chunk).
-function guidedFlight({ altM, holdS, northM, eastM, write, say, onDone }) {
+// splitter().write(chunk). `sysid`: the autopilot's MAVLink system id (its --sysid), 1 by
+// default; `waypoints`: [{ northM, eastM }, ...], else the one point northM, eastM.
+function guidedFlight({ altM, holdS, northM, eastM, waypoints, sysid = 1, write, say, onDone }) {
+  const route = waypoints || [{ northM, eastM }];
+  let leg = 0;  // the index in `route` of the waypoint flown to
   const protocol = new MavLinkProtocolV2(255, 190);  // A GCS's usual system and component ids.
   let seq = 0;
   function send(message) { write(protocol.serialize(message, seq++ & 255)); }
   function command(id, params) {
     const message = new common.CommandLong();
-    message.targetSystem = 1;
+    message.targetSystem = sysid;
     message.targetComponent = 1;
     message.command = id;
     message.confirmation = 0;
@@ -52,7 +57,7 @@ function guidedFlight({ altM, holdS, northM, eastM, write, say, onDone }) {
       case 'boot':
         if (due(1)) {
           const streams = new common.RequestDataStream();
-          streams.targetSystem = 1;
+          streams.targetSystem = sysid;
           streams.targetComponent = 1;
           streams.reqStreamId = 0;  // MAV_DATA_STREAM_ALL
           streams.reqMessageRate = 10;
@@ -77,21 +82,30 @@ function guidedFlight({ altM, holdS, northM, eastM, write, say, onDone }) {
         if (due(1)) {
           const target = new common.SetPositionTargetLocalNed();
           target.timeBootMs = Math.round(timeS * 1000);
-          target.targetSystem = 1;
+          target.targetSystem = sysid;
           target.targetComponent = 1;
           target.coordinateFrame = 1;  // MAV_FRAME_LOCAL_NED
           target.typeMask = 0x0DF8;    // position only
-          target.x = northM;
-          target.y = eastM;
+          target.x = route[leg].northM;
+          target.y = route[leg].eastM;
           target.z = -altM;
           send(target);
         }
-        const off = Math.hypot(position.north - northM, position.east - eastM);
-        if (off < 1) { say(`WAYPOINT_REACHED t=${timeS.toFixed(3)}`); enter('settle'); }
+        const off = Math.hypot(position.north - route[leg].northM, position.east - route[leg].eastM);
+        if (off < 1) {
+          say(`WAYPOINT_REACHED t=${timeS.toFixed(3)}` + (waypoints ? ` index=${leg}` : ''));
+          enter('settle');
+        }
         break;
       }
       case 'settle':
-        if (timeS - phaseStartS >= holdS) { say(`LAND t=${timeS.toFixed(3)}`); enter('land'); }
+        if (timeS - phaseStartS < holdS) break;
+        if (++leg < route.length) {
+          enter('waypoint');
+        } else {
+          say(`LAND t=${timeS.toFixed(3)}`);
+          enter('land');
+        }
         break;
       case 'land':
         if (due(1)) command(176, [1, COPTER_LAND, 0, 0, 0, 0, 0]);
@@ -103,7 +117,7 @@ function guidedFlight({ altM, holdS, northM, eastM, write, say, onDone }) {
   }
 
   function take(packet) {
-    if (packet.header.sysid !== 1 || packet.header.compid !== 1) return;
+    if (packet.header.sysid !== sysid || packet.header.compid !== 1) return;
     const clazz = REGISTRY[packet.header.msgid];
     if (!clazz) return;
     const data = packet.protocol.data(packet.payload, clazz);

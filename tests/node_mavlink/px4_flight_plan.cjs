@@ -2,10 +2,11 @@
 // until PX4 says it can arm (SYS_STATUS pre-arm bit), arms, takes off to ALTITUDE_M above home
 // (NAV_TAKEOFF; PX4 ends its take-off NAV_MC_ALT_RAD short of the target and holds where it
 // ended, so a DO_REPOSITION to the same altitude follows), holds, flies to the point NORTH_M,
-// EAST_M from home (DO_REPOSITION), lands (NAV_LAND) and waits for PX4 to disarm. Its time is
+// EAST_M from home (DO_REPOSITION; or to each point of `waypoints` in turn), lands (NAV_LAND) and waits for PX4 to disarm. Its time is
 // PX4's (time_boot_ms). Prints:
 //   EVENT <name> t_ms=..        ARMED, TAKEOFF, HOLD, WAYPOINT, ARRIVED, LAND, DISARMED
-//                               (HOLD and ARRIVED: since_ms=.. when the steady state began)
+//                               (HOLD and ARRIVED: since_ms=.. when the steady state began;
+//                               with `waypoints`, WAYPOINT and ARRIVED: index=.. for each)
 //   POS t_ms=.. lat=.. lon=.. alt=.. relative_alt=..   every GLOBAL_POSITION_INT (degE7, mm)
 //   HOME lat=.. lon=.. alt=..                          where it armed (degE7, mm)
 //   TEXT t_ms=.. severity=.. <text>                    every STATUSTEXT
@@ -23,8 +24,12 @@ const REGISTRY = { ...minimal.REGISTRY, ...common.REGISTRY };
 
 // Flies one PX4: write(bytes) sends a serialized MAVLink frame to it, say(line) prints,
 // onDone() is called once it disarmed after landing. Feed it PX4's datagrams with
-// splitter.write(datagram); heartbeat() sends a GCS HEARTBEAT.
-function px4Flight({ altitudeM, northM, eastM, write, say, onDone }) {
+// splitter.write(datagram); heartbeat() sends a GCS HEARTBEAT. `waypoints`: [{ northM, eastM },
+// ...], else the one point northM, eastM.
+function px4Flight({ altitudeM, northM, eastM, waypoints, write, say, onDone }) {
+  const route = waypoints || [{ northM, eastM }];
+  const legName = (leg) => (waypoints ? ` index=${leg}` : '');
+  let leg = 0;  // the index in `route` of the waypoint flown to
   const protocol = new MavLinkProtocolV2(255, 190);  // a GCS: system 255, MAV_COMP_ID_MISSIONPLANNER
   let sequence = 0;
   function send(message) { write(protocol.serialize(message, sequence++ & 0xff)); }
@@ -129,16 +134,21 @@ function px4Flight({ altitudeM, northM, eastM, write, say, onDone }) {
         if (steady(Math.abs(relativeM - altitudeM) < 0.1 && speedM_s < 0.1, tMs, 3000)) {
           say(`EVENT HOLD t_ms=${tMs} since_ms=${steadySinceMs}`);
           enter('waypoint', tMs);
-          say(`EVENT WAYPOINT t_ms=${tMs}`);
+          say(`EVENT WAYPOINT t_ms=${tMs}${legName(leg)}`);
         }
         break;
       case 'waypoint': {
-        const [lat, lon] = targetOf(northM, eastM);
+        const [lat, lon] = targetOf(route[leg].northM, route[leg].eastM);
         if (due(MAV_CMD.DO_REPOSITION, tMs)) commandGlobal(MAV_CMD.DO_REPOSITION, lat, lon, home.alt / 1000 + altitudeM);
         if (steady(horizontalDistanceM(lat, lon) < 0.2 && speedM_s < 0.1, tMs, 3000)) {
-          say(`EVENT ARRIVED t_ms=${tMs} since_ms=${steadySinceMs}`);
-          enter('land', tMs);
-          say(`EVENT LAND t_ms=${tMs}`);
+          say(`EVENT ARRIVED t_ms=${tMs} since_ms=${steadySinceMs}${legName(leg)}`);
+          if (++leg < route.length) {
+            enter('waypoint', tMs);
+            say(`EVENT WAYPOINT t_ms=${tMs}${legName(leg)}`);
+          } else {
+            enter('land', tMs);
+            say(`EVENT LAND t_ms=${tMs}`);
+          }
         }
         break;
       }
@@ -146,6 +156,7 @@ function px4Flight({ altitudeM, northM, eastM, write, say, onDone }) {
         if (due(MAV_CMD.NAV_LAND, tMs)) commandLong(MAV_CMD.NAV_LAND, [0, 0, 0, NaN, NaN, NaN, NaN]);
         if (!armed) {
           say(`EVENT DISARMED t_ms=${tMs}`);
+          enter('done', tMs);
           onDone();
         }
         break;

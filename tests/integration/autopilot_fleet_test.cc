@@ -1,0 +1,130 @@
+// A fleet of real autopilots in one lockstep run (issue 31, item 5): PX4 v1.14.4 and ArduCopter
+// SITL robots, and a ground station robot (tests/node_mavlink/fleet_lockstep.cjs, node-mavlink)
+// that commands every one of them over wlan0 and the medium, telling them apart by their MAVLink
+// system ids (the manifests' --sysid). The formation mission: every vehicle takes off, flies the
+// same four waypoints from its own home, and lands. Oracle: the truth in trajectories.csv.
+// The fleet's size here is set by CI's time (docs/performance.md, "The real autopilots in
+// lock-step", has the 4 + 4 fleet and the cost of larger ones).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "tests/integration/run_test_util.h"
+
+namespace sitlnet::nns::testing {
+namespace {
+
+using integration_test::ReadAll;
+using integration_test::TempDir;
+
+constexpr int kPx4s = 4;
+constexpr int kArduCopters = 4;
+constexpr double kAltitudeM = 5;
+constexpr double kSpacingM = 3;  // between neighbours of the formation
+// The route from each vehicle's home: a 4 m square, north then east (fleet_lockstep.cjs's ROUTE).
+struct Waypoint {
+  double north_m, east_m;
+};
+constexpr Waypoint kRoute[] = {{4, 0}, {4, 4}, {0, 4}, {0, 0}};
+constexpr const char* kRouteArg = "4,0/4,4/0,4/0,0";
+// ArduCopter arms once its EKF uses GPS, about 42 s of its clock (arducopter_flight_test.cc);
+// then about 35 s of flight (take-off, four legs with a 1 s hold at each, landing).
+constexpr int kDurationMs = 90000;
+
+// The first row at or after `from` where the vehicle is within 1 m of `target` (x east, y north,
+// z up, world metres), or rows.size().
+size_t FirstWithin1M(const std::vector<TrajectoryRow>& rows, size_t from, double x_m, double y_m,
+                     double z_m, double* closest_m) {
+  for (size_t i = from; i < rows.size(); ++i) {
+    const double off_m = std::hypot(rows[i].x_m - x_m, rows[i].y_m - y_m, rows[i].z_m - z_m);
+    *closest_m = std::min(*closest_m, off_m);
+    if (off_m <= 1) return i;
+  }
+  return rows.size();
+}
+
+// Robot 0 is the station (listed first, so that it listens before the vehicles boot), robots 1..
+// the PX4s then the ArduCopters, each with system id = its robot index, on a grid of two rows
+// `kSpacingM` apart; the station (a robot of the lock-step, on the ground: its motors stay off)
+// stands south of them, within 15 m of every waypoint (the
+// default 54 Mb/s radio loses its links beyond about 25 m).
+TEST(AutopilotFleetTest, EveryVehicleOfAMixedFleetReachesEveryWaypointWithin1M) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE(Px4Missing());
+  SITLNET_REQUIRE(ArduPilotMissing());
+  const int slot = 12;
+  const std::string station = WlanPrefix(slot) + "1";
+  const int vehicles = kPx4s + kArduCopters;
+  const int per_row = (vehicles + 1) / 2;
+  std::vector<std::string> station_args = {std::to_string(kAltitudeM), "1", kRouteArg};
+  std::string robots = "robot { name: \"gcs\" position_m { x: 3 y: -3 z: 0.1 } image: \"" +
+                       std::string("@STATION@") + "\" }\n";
+  for (int id = 1; id <= vehicles; ++id) {
+    const bool px4 = id <= kPx4s;
+    const double x_m = kSpacingM * ((id - 1) % per_row), y_m = kSpacingM * ((id - 1) / per_row);
+    char position[96];
+    std::snprintf(position, sizeof position, "position_m { x: %.1f y: %.1f z: %.1f }", x_m, y_m,
+                  px4 ? 0.2 : 0.1);
+    const std::string sysid = std::to_string(id);
+    robots += "robot { name: \"v" + sysid + "\" " + position +
+              (px4 ? " px4_sim_port: 4560 image: \"px4\" args: [\"--gcs\", \"" + station +
+                         "\", \"--sysid\", \"" + sysid + "\"] }\n"
+                   : " ardupilot_json_port: 9002 image: \"arducopter\" args: [\"--serial0\", "
+                     "\"udpclient:" + station + ":14550\", \"--sysid\", \"" + sysid + "\"] }\n");
+    station_args.push_back((px4 ? "px4:" : "arducopter:") + sysid);
+  }
+  robots.replace(robots.find("@STATION@"), 9, WriteStationImage("fleet_lockstep.cjs", station_args));
+  const RunScenario scenario = WriteScenario(
+      slot, robots,
+      "timing { duration_ms: " + std::to_string(kDurationMs) + " pacing: PACING_LOCKSTEP }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const auto start = std::chrono::steady_clock::now();
+  const CommandResult run = SitlnetRun(scenario, out, {});
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string log = ReadAll(out + "/robots/gcs.log");
+  const std::string csv = ReadAll(out + "/trajectories.csv");
+  for (int id = 1; id <= vehicles; ++id) {
+    const bool px4 = id <= kPx4s;
+    const std::string who = std::string(px4 ? "PX4" : "ArduCopter") + " sys=" + std::to_string(id);
+    // The station saw it through: the last waypoint, then the disarm after landing.
+    const std::string prefix = "sys=" + std::to_string(id) + " ";
+    EXPECT_NE(log.find(prefix + (px4 ? "EVENT ARRIVED" : "WAYPOINT_REACHED")), std::string::npos)
+        << who << "\n" << log.substr(0, 4000);
+    EXPECT_NE(log.find(prefix + (px4 ? "EVENT DISARMED" : "DISARMED")), std::string::npos) << who;
+    // The truth: from its home (where it stood at 3 s, before any vehicle arms), each waypoint in
+    // turn at the commanded altitude, within 1 m; back on the ground at the end.
+    const std::vector<TrajectoryRow> rows = TrajectoryRows(csv, id);
+    ASSERT_GT(rows.size(), 30u) << who;
+    const TrajectoryRow home = rows[30];
+    size_t at = 0;
+    std::string measured;
+    for (const Waypoint& waypoint : kRoute) {
+      double closest_m = 1e9;
+      at = FirstWithin1M(rows, at, home.x_m + waypoint.east_m, home.y_m + waypoint.north_m,
+                         home.z_m + kAltitudeM, &closest_m);
+      EXPECT_LT(at, rows.size()) << who << ": waypoint " << waypoint.north_m << " N "
+                                 << waypoint.east_m << " E never within 1 m (closest "
+                                 << closest_m << " m)";
+      if (at == rows.size()) break;
+      char reached[64];
+      std::snprintf(reached, sizeof reached, " %.1f s", rows[at].t_s);
+      measured += reached;
+    }
+    EXPECT_LT(rows.back().z_m - home.z_m, 0.1) << who << " landed";
+    std::printf("[ measured ] %s: waypoints within 1 m at%s (virtual)\n", who.c_str(),
+                measured.c_str());
+  }
+  std::printf("[ measured ] %d PX4 + %d ArduCopter, %d s virtual in %.1f s wall\n", kPx4s,
+              kArduCopters, kDurationMs / 1000, wall_s);
+  RunCommand({"rm", "-rf", out});
+  ExpectNothingLeft(scenario.name);
+}
+
+}  // namespace
+}  // namespace sitlnet::nns::testing
