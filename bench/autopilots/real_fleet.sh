@@ -1,25 +1,31 @@
 #!/bin/bash
-# Lockstep cost of the real autopilots (issue 31, item 5; docs/performance.md, "The real
-# autopilots in lock-step"): fleets of N PX4 v1.14.4 or N ArduCopter SITL robots through the
-# shipped manifests robot_images/px4 and robot_images/arducopter, idling on the ground (no ground
-# station: each autopilot boots, runs its estimator and its MAVLink, and is never armed) for
-# SECONDS of virtual time. Per run: STF (wall time per virtual time of the loop, from
-# summary.json), the loop's wall seconds, and the CPU seconds of each autopilot's cgroup (user +
-# system, every process of the robot) per virtual second, the mean over the fleet.
+# Cost of the real autopilots (issue 31, item 5; docs/performance.md, "The real autopilots"):
+# fleets of N PX4 v1.14.4 or N ArduCopter SITL robots through the shipped manifests
+# robot_images/px4 and robot_images/arducopter, idling on the ground (no ground station: each
+# autopilot boots, runs its estimator and its MAVLink, and is never armed) for SECONDS of virtual
+# time, in PACING lockstep or realtime. Per run, from summary.json: STF (wall time per virtual
+# time of the loop), the loop's wall seconds, the CPU seconds of each autopilot's cgroup (user +
+# system, every process of the robot) per virtual second, the mean over the fleet, and the lag's
+# p99 (realtime: how late iterations started); and the lines of the PX4s' logs that report a
+# timing fault (stale sensors, preflight failures, failsafes; ArduCopter says its own, "Main loop
+# slow", only to a ground station, so it is not counted here).
 # The autopilots come from SITLNET_PX4_DIR and SITLNET_ARDUPILOT_DIR, as in the tests.
+# The flight of a mixed fleet with a ground station is AutopilotFleetTest
+# (SITLNET_FLEET_EACH=4 for 4 + 4).
 #
-#   sudo -E bench/autopilots/real_fleet.sh [BUILD=build] [SECONDS=20] [RUNS=3] [SIZES="1 4 8"]
+#   sudo -E bench/autopilots/real_fleet.sh [BUILD=build] [SECONDS=20] [RUNS=3] [SIZES="1 4 8"] \
+#       [PACING=lockstep]
 set -euo pipefail
-build=${1:-build} seconds=${2:-20} runs=${3:-3} sizes=${4:-"1 4 8"}
+build=${1:-build} seconds=${2:-20} runs=${3:-3} sizes=${4:-"1 4 8"} pacing=${5:-lockstep}
 : "${SITLNET_PX4_DIR:?point it at a PX4 build (docs/autopilots.md)}"
 : "${SITLNET_ARDUPILOT_DIR:?point it at an ArduCopter SITL build (docs/autopilots.md)}"
 out=$(mktemp -d /tmp/sitlnet-real-autopilots-XXXXXX)
 trap 'rm -rf "$out"' EXIT
 
 scenario() {  # KIND N FILE: robots on a 3 m grid
-  python3 - "$1" "$2" "$3" "$seconds" <<'PY'
+  python3 - "$1" "$2" "$3" "$seconds" "${pacing^^}" <<'PY'
 import sys
-kind, n, path, seconds = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
+kind, n, path, seconds, pacing = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4]), sys.argv[5]
 side = int(n ** 0.5 + 0.999)
 with open(path, "w") as f:
     f.write('name: "rabench"\naddresses { wlan_subnet: "10.68.0.0/16" ctl_subnet: "10.69.0.0/16" }\n')
@@ -29,11 +35,11 @@ with open(path, "w") as f:
                'ardupilot_json_port: 9002 image: "arducopter"'
         f.write(f'robot {{ name: "r{i}" position_m {{ x: {x} y: {y} z: 0.2 }} {link} '
                 f'args: ["--sysid", "{i + 1}"] }}\n')
-    f.write(f"timing {{ duration_ms: {seconds * 1000} pacing: PACING_LOCKSTEP }}\n")
+    f.write(f"timing {{ duration_ms: {seconds * 1000} pacing: PACING_{pacing} }}\n")
 PY
 }
 
-echo "kind,robots,run,stf_mean,loop_s,cpu_s_per_autopilot_per_virtual_s,load1"
+echo "kind,robots,run,pacing,stf_mean,loop_s,cpu_s_per_autopilot_per_virtual_s,lag_p99_ms,px4_complaints,load1"
 for run in $(seq 1 "$runs"); do
   for n in $sizes; do
     for kind in px4 arducopter; do
@@ -42,17 +48,25 @@ for run in $(seq 1 "$runs"); do
       load=$(cut -d' ' -f1 /proc/loadavg)
       if ! "$build/bin/sitlnet" run "$out/s.textproto" --out "$out/run" --no-progress > "$out/log" 2>&1; then
         # A fleet too large for the host (an autopilot too slow to answer in time) is a result.
-        echo "$kind,$n,$run,failed,,,$load"
+        echo "$kind,$n,$run,$pacing,failed,,,,,$load"
         echo "run failed ($kind, $n robots): $(grep -m1 'sitlnet run:.*robot' "$out/log" || tail -1 "$out/log")" >&2
         continue
       fi
-      python3 - "$out/run/summary.json" "$kind" "$n" "$run" "$seconds" "$load" <<'PY'
+      # PX4's one boot-time "Preflight Fail: ekf2 missing data" before its startup script returned
+      # is its own (px4_flight_test.cc, Complaints) and not counted.
+      complaints=$(awk 'FNR == 1 { booted = 0 } /Startup script returned successfully/ { booted = 1 }
+        !booted && /Preflight Fail: ekf2 missing data/ { next }
+        tolower($0) ~ /stale|preflight fail|failsafe/ { n++ } END { print n + 0 }' "$out"/run/robots/*.log)
+      python3 - "$out/run/summary.json" "$kind" "$n" "$run" "$seconds" "$load" "$pacing" "$complaints" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
 kind, n, run, seconds, load = sys.argv[2], int(sys.argv[3]), sys.argv[4], float(sys.argv[5]), sys.argv[6]
+pacing, complaints = sys.argv[7], sys.argv[8] if sys.argv[2] == "px4" else ""
 cpu = [r["cgroup"]["cpu_s"] for r in s["robots"] if r.get("cgroup")]
 per = f"{sum(cpu) / len(cpu) / seconds:.3f}" if cpu else ""
-print(f'{kind},{n},{run},{s["metrics"]["stf"]["mean"]:.4f},{s["resources"]["loop_s"]:.3f},{per},{load}')
+m = s["metrics"]
+print(f'{kind},{n},{run},{pacing},{m["stf"]["mean"]:.4f},{s["resources"]["loop_s"]:.3f},{per},'
+      f'{m["lag_ms"]["p99"]:.3f},{complaints},{load}')
 PY
     done
   done
