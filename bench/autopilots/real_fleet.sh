@@ -56,7 +56,8 @@ for run in $(seq 1 "$runs"); do
       # is its own (px4_flight_test.cc, Complaints) and not counted.
       complaints=$(awk 'FNR == 1 { booted = 0 } /Startup script returned successfully/ { booted = 1 }
         !booted && /Preflight Fail: ekf2 missing data/ { next }
-        tolower($0) ~ /stale|preflight fail|failsafe/ { n++ } END { print n + 0 }' "$out"/run/robots/*.log)
+        tolower($0) ~ /stale|preflight fail|failsafe/ { n++; print FILENAME ": " $0 > "/dev/stderr" }
+        END { print n + 0 }' "$out"/run/robots/*.log 2> >(sort -u -k2 | head -5 >&2))
       python3 - "$out/run/summary.json" "$kind" "$n" "$run" "$seconds" "$load" "$pacing" "$complaints" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
