@@ -6,7 +6,8 @@
 # time, in PACING lockstep or realtime. Per run, from summary.json: STF (wall time per virtual
 # time of the loop), the loop's wall seconds, the CPU seconds of each autopilot's cgroup (user +
 # system, every process of the robot) per virtual second, the mean over the fleet, and the lag's
-# p99 (realtime: how late iterations started); and the lines of the PX4s' logs that report a
+# p99 (realtime: how late iterations started), the slowest autopilot's simulator messages per
+# virtual second (in realtime, an autopilot short of CPU runs its loop slower); and the lines of the PX4s' logs that report a
 # timing fault (stale sensors, preflight failures, failsafes; ArduCopter says its own, "Main loop
 # slow", only to a ground station, so it is not counted here).
 # The autopilots come from SITLNET_PX4_DIR and SITLNET_ARDUPILOT_DIR, as in the tests.
@@ -39,7 +40,7 @@ with open(path, "w") as f:
 PY
 }
 
-echo "kind,robots,run,pacing,stf_mean,loop_s,cpu_s_per_autopilot_per_virtual_s,lag_p99_ms,px4_complaints,load1"
+echo "kind,robots,run,pacing,stf_mean,loop_s,cpu_s_per_autopilot_per_virtual_s,lag_p99_ms,px4_complaints,load1,min_frames_per_virtual_s"
 for run in $(seq 1 "$runs"); do
   for n in $sizes; do
     for kind in px4 arducopter; do
@@ -48,7 +49,7 @@ for run in $(seq 1 "$runs"); do
       load=$(cut -d' ' -f1 /proc/loadavg)
       if ! "$build/bin/sitlnet" run "$out/s.textproto" --out "$out/run" --no-progress > "$out/log" 2>&1; then
         # A fleet too large for the host (an autopilot too slow to answer in time) is a result.
-        echo "$kind,$n,$run,$pacing,failed,,,,,$load"
+        echo "$kind,$n,$run,$pacing,failed,,,,,$load,"
         echo "run failed ($kind, $n robots): $(grep -m1 'sitlnet run:.*robot' "$out/log" || tail -1 "$out/log")" >&2
         continue
       fi
@@ -66,8 +67,14 @@ pacing, complaints = sys.argv[7], sys.argv[8] if sys.argv[2] == "px4" else ""
 cpu = [r["cgroup"]["cpu_s"] for r in s["robots"] if r.get("cgroup")]
 per = f"{sum(cpu) / len(cpu) / seconds:.3f}" if cpu else ""
 m = s["metrics"]
+# The slowest autopilot's rate: JSON frames (ArduCopter: 1000 per virtual second when it keeps
+# its loop rate) or PX4 actuator controls (250: one per HIL_SENSOR).
+def frames(r):
+    p = r.get("physics") or {}
+    return (p.get("px4") or {}).get("actuator_controls", 0) if kind == "px4" else p.get("json_frames", 0)
+slowest = min(frames(r) for r in s["robots"]) / seconds
 print(f'{kind},{n},{run},{pacing},{m["stf"]["mean"]:.4f},{s["resources"]["loop_s"]:.3f},{per},'
-      f'{m["lag_ms"]["p99"]:.3f},{complaints},{load}')
+      f'{m["lag_ms"]["p99"]:.3f},{complaints},{load},{slowest:.0f}')
 PY
     done
   done
