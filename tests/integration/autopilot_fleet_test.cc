@@ -3,8 +3,8 @@
 // that commands every one of them over wlan0 and the medium, telling them apart by their MAVLink
 // system ids (the manifests' --sysid). The formation mission: every vehicle takes off, flies the
 // same four waypoints from its own home, and lands. Oracle: the truth in trajectories.csv.
-// The fleet's size here is set by CI's time: 2 PX4 + 2 ArduCopter, 82 s virtual in 106 s of wall
-// time on this 2-core host shared with other work, where 4 + 4 took 127 s.
+// The fleet's size here is set by CI's time: 2 PX4 + 2 ArduCopter, 82 s virtual in 56-106 s of
+// wall time on this 2-core host shared with other work, where 4 + 4 took 98-127 s.
 // SITLNET_FLEET_EACH=N flies N of each instead (bench/autopilots/real_fleet.sh runs 4 + 4;
 // docs/performance.md, "The real autopilots in lock-step").
 #include <algorithm>
