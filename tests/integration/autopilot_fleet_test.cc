@@ -62,6 +62,7 @@ TEST(AutopilotFleetTest, EveryVehicleOfAMixedFleetReachesEveryWaypointWithin1M) 
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   SITLNET_REQUIRE(Px4Missing());
   SITLNET_REQUIRE(ArduPilotMissing());
+  SITLNET_REQUIRE(NodeMavlinkMissing());
   const int slot = 12;
   const std::string station = WlanPrefix(slot) + "1";
   const int px4s = EachKind();
