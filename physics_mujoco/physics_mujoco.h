@@ -195,10 +195,10 @@ struct ServerOptions {
   // this much wall time for every autopilot that has joined (and is not dropped) to answer its
   // last message. 0: the clock never waits for them.
   TimeNs frame_gate_timeout_ns = 0;
-  // Realtime pacing (docs/autopilots.md, "Time"): with a timebase (not owned, on
-  // CLOCK_MONOTONIC, begun before the first Advance), Advance() sends what an autopilot is due
-  // (an ArduPilot reply, PX4's sensors) no earlier than the wall instant of its virtual time,
-  // sleeping until then, and while an autopilot's answer is awaited the world does not run
+  // Realtime pacing (docs/autopilots.md, "ArduPilot in sitlnet's clock"): with a timebase (not
+  // owned, on CLOCK_MONOTONIC, begun before the first Advance), Advance() sends what an
+  // autopilot is due (an ArduPilot reply, PX4's sensors) no earlier than the wall instant of its
+  // virtual time, sleeping until then, and while an autopilot's answer is awaited the world does not run
   // ahead of the wall clock (it waits for the answer up to the wall instant of its next step,
   // then steps once). Null, or no autopilot in the scenario: not held.
   const clock::Timebase* autopilot_wall_clock = nullptr;
