@@ -190,20 +190,37 @@ std::chrono::steady_clock::time_point FlyAndKill(const Autopilot& autopilot,
   return std::chrono::steady_clock::now();
 }
 
+// A lockstep run of `autopilot` (its robot with `image`) in `slot`, with `extra` top-level
+// fields, flown to kAltitudeM and killed there: what both kill tests start from.
+struct KilledFlight {
+  KilledFlight(const Autopilot& autopilot, const std::string& image, int slot,
+               const std::string& extra)
+      : scenario(WriteScenario(slot, WithImage(autopilot.robot, image), extra)),
+        guard(scenario.name),
+        out(TempDir() + "/" + scenario.name + "-out"),
+        start(std::chrono::steady_clock::now()),
+        run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress"}),
+        killed(FlyAndKill(autopilot, scenario, out, &gcs)) {}
+  const RunScenario scenario;
+  DownGuard guard;
+  const std::string out;
+  const std::chrono::steady_clock::time_point start;
+  Child run;
+  std::unique_ptr<Child> gcs;  // Declared before `killed`, which FlyAndKill sets it for.
+  const std::chrono::steady_clock::time_point killed;
+};
+
 // Default on_silent_robot (SILENT_ROBOT_STOP): the run stops after silent_robot_timeout_ms (1 s)
 // naming the robot and what it did not answer, exit 1, the outputs whole up to the stop, the
 // vehicle at its altitude in the last rows.
 void KilledMidFlightStopsTheRun(const Autopilot& autopilot, int slot) {
   SITLNET_REQUIRE_AUTOPILOT(autopilot.missing(), true);
-  const RunScenario scenario =
-      WriteScenario(slot, WithImage(autopilot.robot, autopilot.image),
-                    "timing { duration_ms: 300000 pacing: PACING_LOCKSTEP }\n");
-  DownGuard guard(scenario.name);
-  const std::string out = TempDir() + "/" + scenario.name + "-out";
-  const auto start = std::chrono::steady_clock::now();
-  Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress"});
-  std::unique_ptr<Child> gcs;
-  const auto killed = FlyAndKill(autopilot, scenario, out, &gcs);
+  KilledFlight flight(autopilot, autopilot.image, slot,
+                      "timing { duration_ms: 300000 pacing: PACING_LOCKSTEP }\n");
+  const RunScenario& scenario = flight.scenario;
+  const std::string& out = flight.out;
+  Child& run = flight.run;
+  const auto killed = flight.killed;
   EXPECT_EQ(run.Wait(60 * kNsPerS), 1) << run.err();
   const double stop_s = SecondsSince(killed);
   EXPECT_NE(run.err().find(std::string("robot 'a' did not answer ") + autopilot.unanswered),
@@ -217,7 +234,7 @@ void KilledMidFlightStopsTheRun(const Autopilot& autopilot, int slot) {
   std::printf("[ measured ] %s killed at %.1f m after %.1f s virtual; the run stopped %.2f s "
               "(wall) after the kill; %.1f s wall in all\n",
               autopilot.image, z.back() - autopilot.start_z, z.size() / 10.0, stop_s,
-              SecondsSince(start));
+              SecondsSince(flight.start));
   ExpectNothingLeft(scenario.name);
   RunCommand({"rm", "-rf", out});
 }
@@ -229,16 +246,14 @@ void KilledMidFlightStopsTheRun(const Autopilot& autopilot, int slot) {
 void KilledMidFlightIsDroppedAndRestartedFliesAgain(const Autopilot& autopilot, int slot) {
   SITLNET_REQUIRE_AUTOPILOT(autopilot.missing(), true);
   const std::string manifest = RestartingManifest(autopilot.image);
-  const RunScenario scenario =
-      WriteScenario(slot, WithImage(autopilot.robot, manifest),
-                    "timing { duration_ms: 300000 pacing: PACING_LOCKSTEP }\n"
-                    "silent_robot_timeout_ms: 300\non_silent_robot: SILENT_ROBOT_DROP\n");
-  DownGuard guard(scenario.name);
-  const std::string out = TempDir() + "/" + scenario.name + "-out";
-  const auto start = std::chrono::steady_clock::now();
-  Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress"});
-  std::unique_ptr<Child> gcs;
-  const auto killed = FlyAndKill(autopilot, scenario, out, &gcs);
+  KilledFlight flight(autopilot, manifest, slot,
+                      "timing { duration_ms: 300000 pacing: PACING_LOCKSTEP }\n"
+                      "silent_robot_timeout_ms: 300\non_silent_robot: SILENT_ROBOT_DROP\n");
+  const RunScenario& scenario = flight.scenario;
+  const std::string& out = flight.out;
+  Child& run = flight.run;
+  std::unique_ptr<Child>& gcs = flight.gcs;
+  const auto killed = flight.killed;
   gcs.reset();  // Its GCS port is the next one's.
   EXPECT_TRUE(run.WaitForOutput(true, "dropped from the run, motors cut", 30 * kNsPerS))
       << run.err();
@@ -260,7 +275,7 @@ void KilledMidFlightIsDroppedAndRestartedFliesAgain(const Autopilot& autopilot, 
   std::printf("[ measured ] %s dropped and restarted %.2f s (wall) after the kill, at %.1f m "
               "again %.1f s after it; %.1f s virtual, %.1f s wall in all\n",
               autopilot.image, restarted_s, z.back() - autopilot.start_z, flying_again_s,
-              z.size() / 10.0, SecondsSince(start));
+              z.size() / 10.0, SecondsSince(flight.start));
   ExpectNothingLeft(scenario.name);
   RunCommand({"rm", "-rf", out, manifest});
 }
