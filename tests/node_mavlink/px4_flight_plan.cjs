@@ -9,13 +9,22 @@
 //                               with `waypoints`, WAYPOINT and ARRIVED: index=.. for each)
 //   POS t_ms=.. lat=.. lon=.. alt=.. relative_alt=..   every GLOBAL_POSITION_INT (degE7, mm)
 //   HOME lat=.. lon=.. alt=..                          where it armed (degE7, mm)
+//   ODOM t_us=.. x=.. y=.. z=..     every ODOMETRY (asked for at 20 Hz): PX4's estimate, local
+//                                   NED (m) from its origin, stamped with the instant it estimates
+//                                   (GLOBAL_POSITION_INT is stamped when ekf2 published it, later
+//                                   by ekf2's own lag on a busy host)
+//   ORIGIN lat=.. lon=.. alt=..                        the estimator's origin (GPS_GLOBAL_ORIGIN:
+//                                                      degE7, mm), asked for once armed
 //   TEXT t_ms=.. severity=.. <text>                    every STATUSTEXT
 'use strict';
 const { MavLinkProtocolV2, MavLinkPacketSplitter, MavLinkPacketParser, minimal, common } =
     require('node-mavlink');
 
 const EARTH_RADIUS_M = 6371000;  // PX4's map projection (lib/geo) uses this sphere
-const MAV_CMD = { NAV_LAND: 21, NAV_TAKEOFF: 22, DO_REPOSITION: 192, ARM_DISARM: 400 };
+const MAV_CMD = { NAV_LAND: 21, NAV_TAKEOFF: 22, DO_REPOSITION: 192, ARM_DISARM: 400,
+                  SET_MESSAGE_INTERVAL: 511, REQUEST_MESSAGE: 512 };
+const ODOMETRY_ID = 331, GPS_GLOBAL_ORIGIN_ID = 49;
+const ODOMETRY_INTERVAL_US = 50000;  // 20 Hz
 const PREARM_CHECK = 0x10000000;  // MAV_SYS_STATUS_PREARM_CHECK
 const ARMED = 0x80;  // MAV_MODE_FLAG_SAFETY_ARMED
 const AUTO_LOITER = (4 << 16) | (3 << 24);  // PX4 custom mode: main AUTO, sub LOITER
@@ -70,6 +79,15 @@ function px4Flight({ altitudeM, northM, eastM, waypoints, write, say, onDone }) 
   let phase = 'wait_ready', phaseSinceMs = 0, lastCommandMs = -1e9, steadySinceMs = null;
   let accepted = new Set();  // commands PX4 accepted (COMMAND_ACK) in this phase
   let lastHeartbeatMs = -1e9;  // PX4's time of the latest HEARTBEAT sent on its telemetry
+  // ODOMETRY and GPS_GLOBAL_ORIGIN are not in PX4's default GCS streams: asked for each second of
+  // PX4's time until they come (the origin once armed: it is set before PX4 can arm).
+  let odometrySeen = false, originSeen = false, lastAskMs = -1e9;
+  function askForEstimates(tMs) {
+    if ((odometrySeen && (originSeen || !armed)) || tMs - lastAskMs < 1000) return;
+    lastAskMs = tMs;
+    if (!odometrySeen) commandLong(MAV_CMD.SET_MESSAGE_INTERVAL, [ODOMETRY_ID, ODOMETRY_INTERVAL_US, 0, 0, 0, 0, 0]);
+    if (armed && !originSeen) commandLong(MAV_CMD.REQUEST_MESSAGE, [GPS_GLOBAL_ORIGIN_ID, 0, 0, 0, 0, 0, 0]);
+  }
 
   function enter(next, tMs) {
     phase = next;
@@ -184,6 +202,14 @@ function px4Flight({ altitudeM, northM, eastM, waypoints, write, say, onDone }) 
       case common.StatusText:
         say(`TEXT t_ms=${position ? position.timeBootMs : 0} severity=${m.severity} ${m.text}`);
         break;
+      case common.Odometry:
+        odometrySeen = true;
+        say(`ODOM t_us=${m.timeUsec} x=${m.x} y=${m.y} z=${m.z}`);
+        break;
+      case common.GpsGlobalOrigin:
+        originSeen = true;
+        say(`ORIGIN lat=${m.latitude} lon=${m.longitude} alt=${m.altitude}`);
+        break;
       case common.GlobalPositionInt:
         // PX4 counts the ground station lost after COM_DL_LOSS_T (10 s) of its own clock without
         // a HEARTBEAT: in lockstep that clock runs faster than the wall clock.
@@ -192,6 +218,7 @@ function px4Flight({ altitudeM, northM, eastM, waypoints, write, say, onDone }) 
           lastHeartbeatMs = m.timeBootMs;
         }
         position = m;
+        askForEstimates(m.timeBootMs);
         say(`POS t_ms=${m.timeBootMs} lat=${m.lat} lon=${m.lon} alt=${m.alt} ` +
             `relative_alt=${m.relativeAlt}`);
         step(m.timeBootMs);
