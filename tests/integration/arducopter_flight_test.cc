@@ -120,7 +120,8 @@ void FlyGuided(bool lockstep) {
 
   // The flight, in the autopilot's time.
   for (const char* event : {"ARMED", "TAKEOFF_REACHED", "WAYPOINT_REACHED", "LAND", "DISARMED"}) {
-    ASSERT_EQ(flight.events.count(event), 1u) << event << "\n" << gcs.out() << gcs.err();
+    ASSERT_EQ(flight.events.count(event), 1u)
+        << event << "\n" << integration_test::HostLoad() << "\n" << gcs.out() << gcs.err();
   }
   const double armed_s = flight.events.at("ARMED");
   const double takeoff_s = flight.events.at("TAKEOFF_REACHED");
@@ -133,8 +134,10 @@ void FlyGuided(bool lockstep) {
     if (using_gps_s < 0 && text.find("EKF3 IMU0 is using GPS") != std::string::npos) using_gps_s = t;
     // In realtime pacing each frame must come within its millisecond of wall time: on a
     // loaded host some do not, and SITL's IMU misses samples (docs/autopilots.md).
-    EXPECT_EQ(text.find("Main loop slow"), std::string::npos) << t << " " << text;
-    EXPECT_EQ(text.find(" rate "), std::string::npos) << t << " " << text;
+    EXPECT_EQ(text.find("Main loop slow"), std::string::npos)
+        << t << " " << text << "; " << integration_test::HostLoad();
+    EXPECT_EQ(text.find(" rate "), std::string::npos)
+        << t << " " << text << "; " << integration_test::HostLoad();
     const bool failed_check = text.rfind("Arm: ", 0) == 0 || text.rfind("PreArm: ", 0) == 0;
     if (!failed_check) continue;
     // The check of the same 100 ms report may still say so.

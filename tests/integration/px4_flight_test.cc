@@ -152,7 +152,7 @@ void FlyPx4(int slot, const char* pacing) {
   ASSERT_EQ(run.Wait(400 * kNsPerS), 0) << run.err();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  ASSERT_EQ(fly.exit_code, 0) << fly.out << fly.err;
+  ASSERT_EQ(fly.exit_code, 0) << integration_test::HostLoad() << "\n" << fly.out << fly.err;
 
   const std::string log = ReadAll(out + "/robots/px.log");
   EXPECT_NE(log.find("Ready for takeoff"), std::string::npos) << log;
@@ -212,7 +212,7 @@ void FlyPx4(int slot, const char* pacing) {
     ++compared;
   }
   EXPECT_GT(compared, 500);
-  EXPECT_LT(worst_horizontal_m, 0.3);
+  EXPECT_LT(worst_horizontal_m, 0.3) << integration_test::HostLoad();
   EXPECT_LT(worst_vertical_m, 0.3);
 
   // Landed where it flew to, on the ground, disarmed before the run ended.

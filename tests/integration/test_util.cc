@@ -11,10 +11,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 namespace sitlnet::integration_test {
 namespace {
@@ -179,6 +181,16 @@ std::string ReadAll(const std::string& path) {
   std::ostringstream text;
   text << file.rdbuf();
   return text.str();
+}
+
+std::string HostLoad() {
+  double one = 0, five = 0, fifteen = 0;
+  const std::string loadavg = ReadAll("/proc/loadavg");
+  std::sscanf(loadavg.c_str(), "%lf %lf %lf", &one, &five, &fifteen);
+  char line[96];
+  std::snprintf(line, sizeof line, "host load average %.2f, %.2f, %.2f on %u cores", one, five,
+                fifteen, std::thread::hardware_concurrency());
+  return line;
 }
 
 std::string TempDir() {

@@ -108,6 +108,9 @@ CommandResult RunWithoutCapabilities(const std::vector<std::string>& argv, uint6
 std::string ReadAll(const std::string& path);
 // A folder private to this test process under $TMPDIR (or /tmp), removed at normal exit.
 std::string TempDir();
+// "host load average X, Y, Z on N cores" (/proc/loadavg): printed with a realtime flight's
+// failure, where an autopilot short of CPU misses its own clock (docs/autopilots.md).
+std::string HostLoad();
 // <build>/bin/sitlnet of the tree under test ($SITLNET_BINARY_DIR, else from /proc/self/exe).
 std::string SitlnetBinary();
 // $SITLNET_SOURCE_DIR, else ".".
