@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -30,6 +31,13 @@ namespace {
 
 namespace tb = sitlnet::tapbridge;
 
+// The daemon lives until the process ends (libFuzzer ends it with exit()), so its destructor
+// never runs: its socket file is removed at exit instead.
+const std::string* socket_path = nullptr;
+void RemoveSocketFile() {
+  if (socket_path != nullptr) unlink(socket_path->c_str());
+}
+
 struct Daemon {
   Daemon()
       : scenario(
@@ -41,8 +49,10 @@ struct Daemon {
         core(scenario, tb::MakeMacPhySimMedium(scenario), Quiet()),
         fanout(0),
         path("/tmp/sitlnet-control-fuzz-" + std::to_string(getpid()) + ".sock"),
-        server(path, &loop, &core, &fanout) {}
-  ~Daemon() { unlink(path.c_str()); }
+        server(path, &loop, &core, &fanout) {
+    socket_path = &path;
+    std::atexit(RemoveSocketFile);
+  }
   static tb::BridgeOptions Quiet() {
     tb::BridgeOptions options;
     options.log = [](const std::string&) {};
