@@ -38,6 +38,7 @@ Command AddDownCommand(CLI::App& sitlnet);     // cli/up_down_command.cc
 Command AddMediumCommand(CLI::App& sitlnet);   // cli/medium_command.cc (tapbridge)
 Command AddCaptureCommand(CLI::App& sitlnet);  // cli/capture_command.cc (tapbridge)
 Command AddPhysicsCommand(CLI::App& sitlnet);  // cli/physics_command.cc (physics_mujoco)
+Command AddViewCommand(CLI::App& sitlnet);     // cli/view_command.cc (view)
 
 // A scenario file, or the name of a scenario that is up (its state file names
 // the file). Throws Error.

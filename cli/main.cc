@@ -104,7 +104,7 @@ int Main(int argc, char** argv) {
   const std::vector<Command> commands = {
       AddRunCommand(sitlnet),     AddUpCommand(sitlnet),      AddExecCommand(sitlnet),
       AddStatusCommand(sitlnet),  AddDownCommand(sitlnet),    AddMediumCommand(sitlnet),
-      AddCaptureCommand(sitlnet), AddPhysicsCommand(sitlnet),
+      AddCaptureCommand(sitlnet), AddPhysicsCommand(sitlnet), AddViewCommand(sitlnet),
   };
   const char* first_arg = argc > 1 ? argv[1] : nullptr;
   if (first_arg != nullptr && !std::strcmp(first_arg, "help")) {  // `sitlnet help`, as ever.

@@ -1,0 +1,123 @@
+#include "view/replay_json.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+
+#include "runner/loss_log.h"
+
+namespace sitlnet::view {
+namespace {
+
+std::string Quote(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (static_cast<unsigned char>(c) < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
+      out += escaped;
+    } else {
+      if (c == '"' || c == '\\') out += '\\';
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+// The shortest text that reads back as `value` (so a position is the CSV's number).
+std::string Number(double value) {
+  if (!std::isfinite(value)) return "null";
+  char text[32];
+  const auto result = std::to_chars(text, text + sizeof text, value);
+  return std::string(text, result.ptr);
+}
+
+std::string Seconds(TimeNs ns) { return Number(static_cast<double>(ns) / kNsPerS); }
+
+template <typename Item, typename Format>
+std::string Array(const std::vector<Item>& items, Format format) {
+  std::string json = "[";
+  for (size_t i = 0; i < items.size(); ++i) json += (i ? "," : "") + format(items[i]);
+  return json + "]";
+}
+
+std::string Vec3(const proto::Vec3& v) {
+  return "[" + Number(v.x()) + "," + Number(v.y()) + "," + Number(v.z()) + "]";
+}
+
+}  // namespace
+
+std::string RunJson(const RunRecord& record) {
+  const Scenario& scenario = record.scenario;
+  TimeNs end_ns = 0;
+  for (const PoseSample& pose : record.poses) end_ns = std::max(end_ns, pose.time_ns);
+  std::string json = "{\"name\":" + Quote(scenario.name);
+  json += ",\"run_dir\":" + Quote(record.run_dir);
+  json += ",\"end_s\":" + Seconds(end_ns);
+  json += ",\"robots\":" + Array(scenario.robots, [](const RobotPlan& robot) {
+            return "{\"index\":" + std::to_string(robot.index) + ",\"name\":" + Quote(robot.name) +
+                   "}";
+          });
+  std::vector<const proto::Obstacle*> obstacles;
+  for (const proto::Obstacle& obstacle : scenario.spec.obstacle()) obstacles.push_back(&obstacle);
+  json += ",\"obstacles\":" + Array(obstacles, [](const proto::Obstacle* box) {
+            return "{\"name\":" + Quote(box->name()) + ",\"center_m\":" + Vec3(box->center_m()) +
+                   ",\"size_m\":" + Vec3(box->size_m()) + ",\"yaw_deg\":" +
+                   Number(box->yaw_deg()) + "}";
+          });
+  std::vector<std::string> columns;
+  for (const char* c = runner::kLossHeader; *c != '\0'; ++c) {
+    if (columns.empty() || *c == ',') columns.emplace_back();
+    if (*c != ',') columns.back() += *c;
+  }
+  json += ",\"loss_columns\":" + Array(columns, Quote);
+  return json + "}";
+}
+
+std::string TrajectoriesJson(const RunRecord& record) {
+  std::vector<std::string> per_robot(record.scenario.robots.size());
+  for (const PoseSample& pose : record.poses) {
+    std::string& samples = per_robot[pose.robot];
+    const double speed = std::sqrt(pose.vx_m_s * pose.vx_m_s + pose.vy_m_s * pose.vy_m_s +
+                                   pose.vz_m_s * pose.vz_m_s);
+    samples += (samples.empty() ? "[" : ",[") + Seconds(pose.time_ns) + "," + Number(pose.x_m) +
+               "," + Number(pose.y_m) + "," + Number(pose.z_m) + "," + Number(speed) + "]";
+  }
+  return "{\"robots\":" +
+         Array(per_robot, [](const std::string& samples) { return "[" + samples + "]"; }) + "}";
+}
+
+std::string LinksJson(const RunRecord& record) {
+  return "{\"links\":" + Array(record.links, [](const LinkSecond& link) {
+           return "[" + std::to_string(link.second) + "," + std::to_string(link.from) + "," +
+                  std::to_string(link.to) + "," + std::to_string(link.frames) + "," +
+                  std::to_string(link.delivered) + "," +
+                  (link.delivery_ratio < 0 ? "null" : Number(link.delivery_ratio)) + "," +
+                  Quote(link.main_cause) + "," + std::to_string(link.main_cause_frames) + "]";
+         }) + "}";
+}
+
+std::string FramesJson(const RunRecord& record, int from, int station, TimeNs end_ns,
+                       TimeNs window_ns) {
+  std::vector<const LossRow*> rows;
+  const auto link = record.losses_by_link.find({from, station});
+  if (link != record.losses_by_link.end()) {
+    for (const size_t index : link->second) {
+      const LossRow& row = record.losses[index];
+      if (row.time_ns >= end_ns - window_ns && row.time_ns < end_ns) rows.push_back(&row);
+    }
+  }
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const LossRow* a, const LossRow* b) { return a->time_ns < b->time_ns; });
+  const size_t total = rows.size();
+  if (rows.size() > kMaxFrameRows) rows.resize(kMaxFrameRows);
+  std::string json = "{\"from\":" + std::to_string(from) + ",\"station\":" +
+                     std::to_string(station) + ",\"start_ns\":" +
+                     std::to_string(end_ns - window_ns) + ",\"end_ns\":" +
+                     std::to_string(end_ns) + ",\"total\":" + std::to_string(total);
+  json += ",\"rows\":" + Array(rows, [](const LossRow* row) { return Array(row->cells, Quote); });
+  return json + "}";
+}
+
+}  // namespace sitlnet::view

@@ -1,0 +1,34 @@
+// The JSON documents the page reads (docs/view.md, "Endpoints"), built from a RunRecord.
+#ifndef SITLNET_VIEW_REPLAY_JSON_H_
+#define SITLNET_VIEW_REPLAY_JSON_H_
+
+#include <string>
+
+#include "common/common.h"
+#include "view/run_record.h"
+
+namespace sitlnet::view {
+
+// /api/run: scenario name, robots (index, name), obstacles (centre, size, yaw), the time the
+// trajectories cover, and losses.csv.gz's columns.
+std::string RunJson(const RunRecord& record);
+
+// /api/trajectories: per robot, its samples as [time_s, x_m, y_m, z_m, speed_m_s].
+std::string TrajectoriesJson(const RunRecord& record);
+
+// /api/links: links.csv's rows as [second, from, to, frames, delivered, ratio|null,
+// main_cause, main_cause_frames].
+std::string LinksJson(const RunRecord& record);
+
+// At most this many rows in a /api/frames answer (its `total` counts them all).
+inline constexpr size_t kMaxFrameRows = 2000;
+
+// /api/frames: losses.csv.gz's rows of transmissions by `from` that reached `station`, with
+// time_ns in [end_ns - window_ns, end_ns) (links.csv's second when whole seconds), ordered by
+// time_ns (stable: ties in file order).
+std::string FramesJson(const RunRecord& record, int from, int station, TimeNs end_ns,
+                       TimeNs window_ns);
+
+}  // namespace sitlnet::view
+
+#endif  // SITLNET_VIEW_REPLAY_JSON_H_

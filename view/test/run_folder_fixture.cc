@@ -1,0 +1,52 @@
+#include "view/test/run_folder_fixture.h"
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "runner/loss_log.h"
+#include "runner/outputs.h"
+
+namespace sitlnet::view::testing {
+
+void WriteFile(const std::string& path, const std::string& text, bool gzip) {
+  if (!gzip) {
+    std::ofstream(path, std::ios::binary) << text;
+    return;
+  }
+  gzFile file = gzopen(path.c_str(), "wb");
+  ASSERT_NE(file, nullptr) << path;
+  EXPECT_EQ(gzwrite(file, text.data(), text.size()), static_cast<int>(text.size()));
+  gzclose(file);
+}
+
+std::string WriteRunFolder(const std::string& name, const std::string& losses) {
+  const std::string dir = ::testing::TempDir() + "/" + name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  WriteFile(dir + "/scenario.textproto",
+            "name: \"vt\"\n"
+            "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } }\n"
+            "robot { name: \"b\" position_m { x: 10 y: 0 z: 0.2 } }\n"
+            "obstacle { name: \"wall\" center_m { x: 5 y: 5 z: 2 } size_m { x: 2 y: 4 z: 4 } "
+            "yaw_deg: 90 }\n");
+  std::string trajectories = std::string(runner::kTrajectoryHeader) + "\n";
+  for (const char* row :
+       {"0.000,0,0.0000,0.0000,0.2000", "0.000,1,10.0000,0.0000,0.2000",
+        "0.100,0,0.5000,0.0000,1.0000", "0.100,1,10.0000,-0.2500,1.0000",
+        "0.200,0,1.0000,0.1000,2.0000", "0.200,1,9.5000,-0.5000,2.0000"}) {
+    trajectories += std::string(row) +
+                    ",1.000000,0.000000,0.000000,0.000000,3.0000,4.0000,0.0000,"
+                    "47.39774200,8.54559400,488.2000\n";
+  }
+  WriteFile(dir + "/trajectories.csv", trajectories);
+  WriteFile(dir + "/links.csv", std::string(runner::kLinkHeader) +
+                                    "\n0,0,1,4,3,0.75,collision,1\n0,1,-1,0,0,,queue_full,2\n");
+  WriteFile(dir + "/losses.csv.gz", std::string(runner::kLossHeader) + "\n" + losses, true);
+  WriteFile(dir + "/summary.json", "{\"scenario\":\"vt\"}\n");
+  return dir;
+}
+
+}  // namespace sitlnet::view::testing

@@ -1,0 +1,14 @@
+// The server's JSON endpoints (docs/view.md, "Endpoints").
+async function getJson(path) {
+  const response = await fetch(path);
+  if (!response.ok) throw new Error(`${path}: ${response.status} ${await response.text()}`);
+  return response.json();
+}
+
+export const loadRun = () => getJson('api/run');
+export const loadTrajectories = () => getJson('api/trajectories');
+export const loadLinks = () => getJson('api/links');
+
+// Rows of losses.csv.gz for frames by `from` that reached `station` in [endS - 1 s, endS).
+export const loadFrames = (from, station, endS) =>
+  getJson(`api/frames?from=${from}&to=${station}&t=${endS}&window=1`);

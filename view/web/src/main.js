@@ -1,0 +1,70 @@
+// The page of `sitlnet view`: loads the run, draws it at the slider's time, lists a clicked
+// link's frames. document.body's data-ready is "true" once the first drawing is done.
+import { select } from 'd3-selection';
+import { loadFrames, loadLinks, loadRun, loadTrajectories } from './api.js';
+import { FrameList } from './frames.js';
+import { MapView, ratioColour } from './map.js';
+import { linkSecondAt, linksBySecond, sampleAt, trailUntil } from './timeline.js';
+
+function drawLegend() {
+  const legend = select('#legend');
+  for (const [ratio, text] of [[0, '0'], [0.5, '0.5'], [1, '1']]) {
+    legend.append('span').attr('class', 'swatch').style('background', ratioColour(ratio));
+    legend.append('span').text(text);
+  }
+  legend.append('span').attr('class', 'swatch').style('background', '#888');
+  legend.append('span').text('only sender drops');
+}
+
+function drawRobotTable(run, positions) {
+  select('#robots tbody').selectAll('tr').data(run.robots.filter((r) => positions[r.index])).join('tr')
+    .selectAll('td')
+    .data((r) => {
+      const p = positions[r.index];
+      return [r.name, p[1].toFixed(2), p[2].toFixed(2), p[3].toFixed(2), p[4].toFixed(2)];
+    })
+    .join('td').text((c) => c);
+}
+
+async function main() {
+  const [run, trajectories, links] = await Promise.all([loadRun(), loadTrajectories(), loadLinks()]);
+  select('#title').text(`sitlnet view: ${run.name}`);
+  document.title = `sitlnet view: ${run.name}`;
+  const bySecond = linksBySecond(links.links);
+  const robotName = (index) => run.robots[index]?.name ?? String(index);
+  const frames = new FrameList('#frames', '#frames-title', '#frames-note', run.loss_columns);
+  const slider = document.getElementById('time');
+  slider.max = run.end_s;
+  const currentTime = () => Number(slider.value);
+
+  let frameRequest = 0;  // Only the answer to the latest click is shown.
+  const showFrames = async (from, station) => {
+    const request = ++frameRequest;
+    const answer = await loadFrames(from, station, linkSecondAt(currentTime()) + 1);
+    if (request === frameRequest) frames.show(answer, robotName);
+  };
+  const map = new MapView(document.getElementById('map'), run, trajectories, showFrames);
+
+  const draw = () => {
+    const t = currentTime();
+    select('#time-label').text(`${t.toFixed(1)} s`);
+    const positions = trajectories.robots.map((samples) => sampleAt(samples, t));
+    const trails = trajectories.robots.map((samples) => trailUntil(samples, t));
+    map.draw(run, positions, trails, bySecond.get(linkSecondAt(t)) ?? []);
+    drawRobotTable(run, positions);
+  };
+  slider.addEventListener('input', () => {
+    frameRequest++;
+    map.selected = null;
+    frames.clear();
+    draw();
+  });
+  drawLegend();
+  draw();
+  document.body.dataset.ready = 'true';
+}
+
+main().catch((error) => {
+  console.error(error);
+  select('#title').text(`sitlnet view: ${error.message}`);
+});

@@ -1,0 +1,125 @@
+// The map from above: obstacles, trails, links and robots, in an SVG whose scale the page
+// exposes (data-px-per-m, data-min-x-m, data-max-y-m on the svg; data-x-m, data-y-m on each
+// robot) so a test can check where things are drawn.
+import { select } from 'd3-selection';
+import { scaleLinear } from 'd3-scale';
+
+const kMaxWidthPx = 900;
+const kMaxHeightPx = 640;
+const kMarginM = 3;
+const kLinkOffsetPx = 2.5;  // A->B and B->A drawn side by side, both clickable.
+
+export const ratioColour = scaleLinear().domain([0, 0.5, 1]).range(['#d62728', '#ff9f1a', '#2ca02c']);
+
+export const robotColour = (index) => `hsl(${(index * 137.5) % 360}, 65%, 45%)`;
+
+// The corners of an obstacle's footprint, as scenario.proto's Obstacle defines it.
+function corners(obstacle) {
+  const yaw = (obstacle.yaw_deg * Math.PI) / 180;
+  const hx = obstacle.size_m[0] / 2;
+  const hy = obstacle.size_m[1] / 2;
+  return [[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]].map(([cx, cy]) => [
+    obstacle.center_m[0] + cx * Math.cos(yaw) - cy * Math.sin(yaw),
+    obstacle.center_m[1] + cx * Math.sin(yaw) + cy * Math.cos(yaw),
+  ]);
+}
+
+export class MapView {
+  constructor(svgElement, run, trajectories, onLinkClick) {
+    const points = run.obstacles.flatMap(corners);
+    for (const samples of trajectories.robots) for (const s of samples) points.push([s[1], s[2]]);
+    if (points.length === 0) points.push([0, 0]);
+    const xs = points.map((p) => p[0]);
+    const ys = points.map((p) => p[1]);
+    this.minX = Math.min(...xs) - kMarginM;
+    this.maxY = Math.max(...ys) + kMarginM;
+    const widthM = Math.max(...xs) + kMarginM - this.minX;
+    const heightM = this.maxY - (Math.min(...ys) - kMarginM);
+    this.pxPerM = Math.min(kMaxWidthPx / widthM, kMaxHeightPx / heightM);
+    this.svg = select(svgElement)
+      .attr('width', Math.ceil(widthM * this.pxPerM))
+      .attr('height', Math.ceil(heightM * this.pxPerM))
+      .attr('data-px-per-m', this.pxPerM)
+      .attr('data-min-x-m', this.minX)
+      .attr('data-max-y-m', this.maxY);
+    this.onLinkClick = onLinkClick;
+    this.selected = null;
+
+    this.svg.append('g').attr('class', 'obstacles').selectAll('polygon').data(run.obstacles)
+      .join('polygon').attr('class', 'obstacle')
+      .attr('points', (o) => corners(o).map(([x, y]) => `${this.px(x)},${this.py(y)}`).join(' '))
+      .append('title').text((o) => o.name);
+    this.trails = this.svg.append('g').attr('class', 'trails');
+    this.links = this.svg.append('g').attr('class', 'links');
+    this.robots = this.svg.append('g').attr('class', 'robots');
+  }
+
+  px(xM) { return (xM - this.minX) * this.pxPerM; }
+  py(yM) { return (this.maxY - yM) * this.pxPerM; }
+
+  // `positions[i]`: robot i's sample [t, x, y, z, speed] or null; `trails[i]`: its samples so
+  // far; `links`: links.csv rows of the second shown.
+  draw(run, positions, trails, links) {
+    this.trails.selectAll('polyline').data(trails).join('polyline').attr('class', 'trail')
+      .attr('stroke', (_, i) => robotColour(i))
+      .attr('points', (samples) => samples.map((s) => `${this.px(s[1])},${this.py(s[2])}`).join(' '));
+    this.drawLinks(positions, links);
+    const robots = run.robots.filter((r) => positions[r.index]);
+    const groups = this.robots.selectAll('g.robot-group').data(robots, (r) => r.index)
+      .join((enter) => {
+        const g = enter.append('g').attr('class', 'robot-group');
+        g.append('circle').attr('class', 'robot').attr('r', 5)
+          .attr('fill', (r) => robotColour(r.index)).attr('data-robot', (r) => r.index);
+        g.append('text').attr('class', 'robot-label').attr('dx', 7).attr('dy', -6)
+          .text((r) => r.name);
+        return g;
+      });
+    groups.select('circle')
+      .attr('cx', (r) => this.px(positions[r.index][1]))
+      .attr('cy', (r) => this.py(positions[r.index][2]))
+      .attr('data-x-m', (r) => positions[r.index][1])
+      .attr('data-y-m', (r) => positions[r.index][2])
+      .attr('data-time-s', (r) => positions[r.index][0]);
+    groups.select('text')
+      .attr('x', (r) => this.px(positions[r.index][1]))
+      .attr('y', (r) => this.py(positions[r.index][2]));
+  }
+
+  drawLinks(positions, links) {
+    const drawn = links.filter((l) => l[2] >= 0 && l[1] !== l[2] && positions[l[1]] && positions[l[2]]);
+    const ends = (l) => {
+      const [x1, y1] = [this.px(positions[l[1]][1]), this.py(positions[l[1]][2])];
+      const [x2, y2] = [this.px(positions[l[2]][1]), this.py(positions[l[2]][2])];
+      const length = Math.hypot(x2 - x1, y2 - y1) || 1;
+      const [ox, oy] = [(-(y2 - y1) / length) * kLinkOffsetPx, ((x2 - x1) / length) * kLinkOffsetPx];
+      return { x1: x1 + ox, y1: y1 + oy, x2: x2 + ox, y2: y2 + oy };
+    };
+    const key = (l) => `${l[1]}-${l[2]}`;
+    const groups = this.links.selectAll('g.link-group').data(drawn, key)
+      .join((enter) => {
+        const g = enter.append('g').attr('class', 'link-group');
+        g.append('line').attr('class', 'link');
+        g.append('line').attr('class', 'link-hit');
+        g.append('title');
+        return g;
+      })
+      .on('click', (_, l) => { this.selected = key(l); this.onLinkClick(l[1], l[2]); this.markSelected(); });
+    for (const cls of ['line.link', 'line.link-hit']) {
+      groups.select(cls)
+        .attr('x1', (l) => ends(l).x1).attr('y1', (l) => ends(l).y1)
+        .attr('x2', (l) => ends(l).x2).attr('y2', (l) => ends(l).y2)
+        .attr('data-from', (l) => l[1]).attr('data-to', (l) => l[2]);
+    }
+    groups.select('line.link')
+      .classed('drops-only', (l) => l[5] === null)
+      .attr('stroke', (l) => (l[5] === null ? null : ratioColour(l[5])))
+      .attr('data-ratio', (l) => l[5]);
+    groups.select('title').text((l) =>
+      `${l[1]} -> ${l[2]}: ${l[4]}/${l[3]} delivered` + (l[6] !== 'none' ? `, mostly ${l[6]} (${l[7]})` : ''));
+    this.markSelected();
+  }
+
+  markSelected() {
+    this.links.selectAll('line.link').classed('selected', (l) => `${l[1]}-${l[2]}` === this.selected);
+  }
+}

@@ -1,0 +1,90 @@
+// Drives the page of `sitlnet view` in Debian's Chromium (playwright-core, no browser of its
+// own) for tests/integration/view_browser_test.cc, which holds the oracles (trajectories.csv,
+// losses.csv.gz). Usage: node check_page.cjs URL ARTIFACT_DIR TIME_S...
+// Prints one fact a line:
+//   load_ms MS                      navigation to the page's first drawing
+//   console_error TEXT              every console error, page error and failed request
+//   scale PX_PER_M MIN_X_M MAX_Y_M  the map's projection (data attributes of the svg)
+//   robot TIME_S INDEX CX_PX CY_PX  a robot's drawn centre, CSS px from the svg's top-left corner
+//   frames FROM TO START_NS END_NS TOTAL   the clicked link's frame list, then each row:
+//   frame CELL,CELL,...
+//   screenshot PATH
+const path = require('node:path');
+const fs = require('node:fs');
+const os = require('node:os');
+const { chromium } = require('playwright-core');
+
+const kChromium = '/usr/bin/chromium';
+
+async function robotCentres(page) {
+  return page.$$eval('#map circle.robot', (circles) => {
+    const svg = document.getElementById('map').getBoundingClientRect();
+    return circles.map((c) => {
+      const box = c.getBoundingClientRect();
+      return [c.dataset.robot, box.x + box.width / 2 - svg.x, box.y + box.height / 2 - svg.y];
+    });
+  });
+}
+
+async function main() {
+  const [url, artifacts, ...times] = process.argv.slice(2);
+  fs.mkdirSync(artifacts, { recursive: true });
+  const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'sitlnet-view-chromium-'));
+  const context = await chromium.launchPersistentContext(profile, {
+    executablePath: kChromium,
+    headless: true,
+    viewport: { width: 1400, height: 800 },
+    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+  });
+  try {
+    const page = context.pages()[0] ?? (await context.newPage());
+    page.on('console', (m) => { if (m.type() === 'error') console.log(`console_error ${m.text()}`); });
+    page.on('pageerror', (e) => console.log(`console_error ${e.message}`));
+    page.on('requestfailed', (r) => console.log(`console_error failed ${r.url()}`));
+    page.on('response', (r) => {
+      if (r.status() >= 400) console.log(`console_error ${r.status()} ${r.url()}`);
+    });
+    const start = Date.now();
+    await page.goto(url);
+    await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
+    console.log(`load_ms ${Date.now() - start}`);
+    const scale = await page.$eval('#map', (svg) =>
+      [svg.dataset.pxPerM, svg.dataset.minXM, svg.dataset.maxYM]);
+    console.log(`scale ${scale.join(' ')}`);
+    const shot = async (name) => {
+      const file = path.join(artifacts, name);
+      await page.screenshot({ path: file, fullPage: true });
+      console.log(`screenshot ${file}`);
+    };
+    for (const time of times) {
+      await page.$eval('#time', (slider, t) => {
+        slider.value = t;
+        slider.dispatchEvent(new Event('input'));
+      }, time);
+      for (const [index, x, y] of await robotCentres(page)) console.log(`robot ${time} ${index} ${x} ${y}`);
+      await shot(`replay-${time}s.png`);
+    }
+    // The first link drawn at the last time; the table says which link the click selected.
+    const link = page.locator('#map line.link-hit').first();
+    await link.click();
+    await page.waitForSelector('#frames[data-from]', { timeout: 10000 });
+    const frames = await page.$eval('#frames', (table) => ({
+      head: [table.dataset.from, table.dataset.to, table.dataset.startNs, table.dataset.endNs,
+        table.dataset.total],
+      rows: [...table.querySelectorAll('tbody tr')].map((tr) =>
+        [...tr.querySelectorAll('td')].map((td) => td.textContent).join(',')),
+    }));
+    console.log(`frames ${frames.head.join(' ')}`);
+    for (const row of frames.rows) console.log(`frame ${row}`);
+    await shot('replay-link.png');
+  } finally {
+    await context.close();
+    fs.rmSync(profile, { recursive: true, force: true });
+  }
+}
+
+main().catch((error) => {
+  console.log(`console_error driver: ${error.message.split('\n')[0]}`);
+  process.exitCode = 1;
+});
