@@ -1,6 +1,7 @@
 // Drives the page of `sitlnet view` in Debian's Chromium (playwright-core, no browser of its
 // own) for tests/integration/view_browser_test.cc, which holds the oracles (trajectories.csv,
-// losses.csv.gz). Usage: node check_page.cjs URL ARTIFACT_DIR TIME_S...
+// losses.csv.gz). Usage: node check_page.cjs [--link FROM,TO] URL ARTIFACT_DIR TIME_S...
+// It clicks the link FROM -> TO (default: the first drawn) at the last time.
 // Prints one fact a line:
 //   load_ms MS                      navigation to the page's first drawing
 //   console_error TEXT              every console error, page error and failed request
@@ -27,7 +28,10 @@ async function robotCentres(page) {
 }
 
 async function main() {
-  const [url, artifacts, ...times] = process.argv.slice(2);
+  const args = process.argv.slice(2);
+  const linkAt = args.indexOf('--link');
+  const [linkFrom, linkTo] = linkAt >= 0 ? args.splice(linkAt, 2)[1].split(',') : [];
+  const [url, artifacts, ...times] = args;
   fs.mkdirSync(artifacts, { recursive: true });
   const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'sitlnet-view-chromium-'));
   const context = await chromium.launchPersistentContext(profile, {
@@ -65,8 +69,11 @@ async function main() {
       for (const [index, x, y] of await robotCentres(page)) console.log(`robot ${time} ${index} ${x} ${y}`);
       await shot(`replay-${time}s.png`);
     }
-    // The first link drawn at the last time; the table says which link the click selected.
-    const link = page.locator('#map line.link-hit').first();
+    // The link asked for, or the first drawn, at the last time; the table says which link the
+    // click selected (links drawn side by side may overlap).
+    const link = linkFrom === undefined
+      ? page.locator('#map line.link-hit').first()
+      : page.locator(`#map line.link-hit[data-from="${linkFrom}"][data-to="${linkTo}"]`);
     await link.click();
     await page.waitForSelector('#frames[data-from]', { timeout: 10000 });
     const frames = await page.$eval('#frames', (table) => ({
