@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -9,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "runner/runner.h"
+#include "view/view.h"
 
 namespace sitlnet::cli {
 namespace {
@@ -36,6 +38,26 @@ constexpr const char* kRunExitCodes =
     "component failed, the remote medium's connector did not come, was refused or\n"
     "vanished), 2 usage or bad scenario, 3 missing privileges, 130 interrupted\n"
     "(outputs written so far are complete).";
+
+// `--view [ADDR:PORT]`: where the live view listens, and whether another address is allowed.
+struct LiveViewArguments {
+  CLI::Option* option = nullptr;
+  std::string listen;
+  bool allow_remote = false;
+};
+
+// The live view of the run `options` describes, bound and serving; its URL on stderr.
+std::unique_ptr<view::LiveView> StartLiveView(const runner::RunOptions& options,
+                                              const LiveViewArguments& arguments) {
+  const view::ListenAddress listen = view::ParseListenAddress(
+      arguments.listen.empty() ? view::kDefaultListen : arguments.listen, arguments.allow_remote);
+  const Scenario scenario =
+      runner::ApplyRunOverrides(LoadScenarioFile(options.scenario_path), options);
+  auto live = std::make_unique<view::LiveView>(scenario, options.out_dir, listen,
+                                               SITLNET_VIEW_WEB_DIR);
+  std::fprintf(stderr, "sitlnet run: live view at %s\n", live->url().c_str());
+  return live;
+}
 
 std::string SelfExe() {
   char path[PATH_MAX];
@@ -95,14 +117,36 @@ Command AddRunCommand(CLI::App& sitlnet) {
   AddPeerTimeoutOption(*run, "--remote-timeout", "longest wait for the medium to connect",
                        &options->remote_wait_ns);
   AddSecretFileOption(*run, &options->secret_file)->needs(listen);
-  return {run, [options, remote] {
+  auto view_arguments = std::make_shared<LiveViewArguments>();
+  view_arguments->option =
+      run->add_option("--view", view_arguments->listen,
+                      std::string("serve a live view of the run on ADDR:PORT (default ") +
+                          view::kDefaultListen +
+                          "; port 0 picks one), printed on stderr; it never slows the run "
+                          "(docs/view.md)")
+          ->type_name("[ADDR:PORT]")
+          ->expected(0, 1);
+  run->add_flag("--view-allow-remote", view_arguments->allow_remote,
+                "let --view listen on an address other than loopback")
+      ->needs(view_arguments->option);
+  return {run, [options, remote, view_arguments] {
             options->sitlnet_exe = SelfExe();
             const char* images = std::getenv("SITLNET_IMAGES");
             options->images_root = images ? images : SITLNET_DEFAULT_IMAGES_DIR;
             int code = kExitOk;
             const int status = ReportErrors("run", kExitUsage, [&] {
+              std::unique_ptr<view::LiveView> live;
+              if (view_arguments->option->count() > 0) {
+                try {
+                  live = StartLiveView(*options, *view_arguments);
+                } catch (const view::ListenError& error) {
+                  std::fprintf(stderr, "sitlnet run: %s\n", error.what());
+                  return static_cast<int>(kExitFailure);
+                }
+                options->live = live->sink();
+              }
               code = runner::RunScenario(*options).exit_code;
-              return kExitOk;
+              return static_cast<int>(kExitOk);
             });
             return status != kExitOk ? status : code;
           }};

@@ -45,6 +45,7 @@ CoordinatedRun::CoordinatedRun(RunSetup* setup, const RunOptions& options,
       run_options_(coordinator::OptionsFromScenario(setup->scenario())),
       metrics_csv_(run_dir + "/metrics.csv") {
   if (setup->shared_time() != nullptr) recording_.ShareTimeWith(setup->shared_time());
+  recording_.SetLiveSink(options.live);
   run_options_.timebase_out = &setup->run_timebase();
   run_options_.metrics_csv = &metrics_csv_;
   run_options_.metrics = &metrics_;

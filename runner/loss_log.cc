@@ -151,7 +151,40 @@ int LossLog::StationOf(const MacAddress& mac) const {
 LossLog::Counts& LossLog::Link(TimeNs time_ns, int from, int to) {
   const uint64_t key = static_cast<uint64_t>(time_ns / kNsPerS) << 32 |
                        static_cast<uint64_t>(from + 1) << 16 | static_cast<uint64_t>(to + 1);
-  return links_[key];
+  const auto [it, made] = links_.try_emplace(key);
+  if (made && live_ != nullptr) live_keys_.push_back(key);
+  return it->second;
+}
+
+LinkRow LossLog::RowOf(uint64_t key, const Counts& c) {
+  LinkRow row;
+  row.second = static_cast<int64_t>(key >> 32);
+  row.from = static_cast<int>((key >> 16) & 0xffff) - 1;
+  row.to = static_cast<int>(key & 0xffff) - 1;
+  row.frames = c.frames;
+  row.delivered = c.delivered;
+  const auto main = std::max_element(c.losses.begin(), c.losses.end());
+  row.main_cause_frames = *main;
+  if (*main > 0) row.main_cause = kLossNames[main - c.losses.begin()];
+  return row;
+}
+
+void LossLog::PublishSecondsBefore(TimeNs time_ns) {
+  constexpr TimeNs kOnAirMarginNs = 50 * kNsPerMs;
+  while (live_ != nullptr && time_ns >= (next_live_second_ + 1) * kNsPerS + kOnAirMarginNs) {
+    std::vector<LinkRow> rows;
+    std::vector<uint64_t> later;
+    for (const uint64_t key : live_keys_) {
+      const int64_t second = static_cast<int64_t>(key >> 32);
+      if (second == next_live_second_) rows.push_back(RowOf(key, links_.at(key)));
+      else if (second > next_live_second_) later.push_back(key);
+    }
+    std::sort(rows.begin(), rows.end(), [](const LinkRow& a, const LinkRow& b) {
+      return std::pair(a.from, a.to) < std::pair(b.from, b.to);
+    });
+    live_keys_ = std::move(later);
+    live_->Links(next_live_second_++, rows);
+  }
 }
 
 void LossLog::Deflate(int flush) {
@@ -189,6 +222,7 @@ void LossLog::Add(const mac::TraceEvent& event) {
     AddTransmission(*event.tx);
   }
   if (pending_.size() >= kDeflateInputBytes) Deflate(Z_NO_FLUSH);
+  if (live_ != nullptr) PublishSecondsBefore(event.drop ? event.drop->time_ns : event.tx->start_ns);
 }
 
 void LossLog::AddTransmission(const mac::TxRecord& tx) {
@@ -260,28 +294,28 @@ void LossLog::Finish() {
   // By second, then from, then to (-1 first): the key's order.
   std::sort(sorted.begin(), sorted.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });
+  if (!sorted.empty()) {  // The last seconds, to the live view.
+    PublishSecondsBefore(static_cast<TimeNs>((sorted.back().first >> 32) + 2) * kNsPerS);
+  }
   std::string line;
   for (const auto& [key, counts] : sorted) {
-    const Counts& c = *counts;
-    const long long second = static_cast<long long>(key >> 32);
-    const int from = static_cast<int>((key >> 16) & 0xffff) - 1;
-    const int to = static_cast<int>(key & 0xffff) - 1;
-    const auto main = std::max_element(c.losses.begin(), c.losses.end());
+    const LinkRow row = RowOf(key, *counts);
     char head[160];
-    const int n = std::snprintf(
-        head, sizeof head, "%lld,%d,%d,%llu,%llu,", second, from, to,
-        static_cast<unsigned long long>(c.frames), static_cast<unsigned long long>(c.delivered));
+    const int n = std::snprintf(head, sizeof head, "%lld,%d,%d,%llu,%llu,",
+                                static_cast<long long>(row.second), row.from, row.to,
+                                static_cast<unsigned long long>(row.frames),
+                                static_cast<unsigned long long>(row.delivered));
     line.assign(head, static_cast<size_t>(n));
-    if (c.frames > 0) {
+    if (row.frames > 0) {
       char ratio[32];
       std::snprintf(ratio, sizeof ratio, "%.3f",
-                    static_cast<double>(c.delivered) / static_cast<double>(c.frames));
+                    static_cast<double>(row.delivered) / static_cast<double>(row.frames));
       line += ratio;
     }
     line += ',';
-    line += *main > 0 ? kLossNames[main - c.losses.begin()] : "none";
+    line += row.main_cause;
     line += ',';
-    line += std::to_string(*main);
+    line += std::to_string(row.main_cause_frames);
     links.Append(line);
   }
   links.Flush();

@@ -13,6 +13,7 @@
 
 #include "common/common.h"
 #include "mac_phy_sim/mac_phy_sim.h"
+#include "runner/live_sink.h"
 #include "scenario/scenario.h"
 
 namespace sitlnet::runner {
@@ -41,6 +42,10 @@ class LossLog {
   LossLog& operator=(const LossLog&) = delete;
 
   void Add(const mac::TraceEvent& event);
+  // `sink` (may be null; outlives this) is told each second's rows once no transmission can
+  // still add to them: when an event of 50 ms past the second's end has come (a frame is on
+  // the air for under 20 ms), and at Finish.
+  void SetLiveSink(LiveSink* sink) { live_ = sink; }
   // Ends losses.csv.gz and writes links.csv. Throws Error naming a file.
   void Finish();
 
@@ -50,6 +55,9 @@ class LossLog {
   void AddTransmission(const mac::TxRecord& tx);
   void Deflate(int flush);
   Counts& Link(TimeNs time_ns, int from, int to);
+  static LinkRow RowOf(uint64_t key, const Counts& counts);
+  // Tells live_ of the seconds that end 50 ms or more before `time_ns`.
+  void PublishSecondsBefore(TimeNs time_ns);
 
   std::string run_dir_;
   std::vector<MacAddress> stations_;
@@ -61,6 +69,9 @@ class LossLog {
   // Key: second << 32 | (from + 1) << 16 | (to + 1) (to is -1 for group frames).
   std::unordered_map<uint64_t, Counts> links_;
   bool finished_ = false;
+  LiveSink* live_ = nullptr;
+  int64_t next_live_second_ = 0;
+  std::vector<uint64_t> live_keys_;  // Keys of links_ made since their second was told.
 };
 
 // The LossLog of a run of `scenario` in `run_dir`: its robots' MACs, its radio's noise floor and

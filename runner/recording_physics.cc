@@ -1,5 +1,7 @@
 #include "runner/recording_physics.h"
 
+#include <cmath>
+
 #include "runner/outputs.h"
 
 namespace sitlnet::runner {
@@ -14,6 +16,7 @@ RecordingPhysics::RecordingPhysics(coordinator::Simulator* inner, const physics:
       period_ns_(period_ns) {}
 
 void RecordingPhysics::Record(TimeNs time_ns) {
+  live_poses_.resize(live_ != nullptr ? world_.robot_count() : 0);
   for (int i = 0; i < world_.robot_count(); ++i) {
     const physics::RobotPose pose = world_.Pose(i);
     PoseRow row;
@@ -34,7 +37,13 @@ void RecordingPhysics::Record(TimeNs time_ns) {
     row.longitude_deg = where.longitude_deg;
     row.altitude_m = where.altitude_m;
     csv_.Append(FormatPoseRow(row));
+    if (live_ != nullptr) {
+      live_poses_[i] = {row.x_m, row.y_m, row.z_m,
+                        std::sqrt(row.vx_m_s * row.vx_m_s + row.vy_m_s * row.vy_m_s +
+                                  row.vz_m_s * row.vz_m_s)};
+    }
   }
+  if (live_ != nullptr) live_->Poses(time_ns, live_poses_);
 }
 
 void RecordingPhysics::RunIteration(const proto::coord::Start& start, proto::coord::End* end,

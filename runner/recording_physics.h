@@ -3,11 +3,13 @@
 #define SITLNET_RUNNER_RECORDING_PHYSICS_H_
 
 #include <string>
+#include <vector>
 
 #include "common/common.h"
 #include "coordinator/connector.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "ros2_clock/ros2_clock.h"
+#include "runner/live_sink.h"
 
 namespace sitlnet::runner {
 
@@ -26,6 +28,8 @@ class RecordingPhysics final : public coordinator::Simulator {
   // /clock publishers read it).
   void ShareTimeWith(ros2_clock::SharedVirtualTime* shared) { shared_time_ = shared; }
   void Flush() { csv_.Flush(); }
+  // `sink` (may be null; outlives this) is told every sample too.
+  void SetLiveSink(LiveSink* sink) { live_ = sink; }
 
  private:
   void Record(TimeNs time_ns);
@@ -36,6 +40,8 @@ class RecordingPhysics final : public coordinator::Simulator {
   TimeNs period_ns_;
   TimeNs next_sample_ns_ = 0;
   ros2_clock::SharedVirtualTime* shared_time_ = nullptr;
+  LiveSink* live_ = nullptr;
+  std::vector<LivePose> live_poses_;  // Reused: no allocation per sample.
 };
 
 }  // namespace sitlnet::runner

@@ -90,6 +90,7 @@ void RunSetup::StartMedium() {
     medium = tapbridge::MakeMacPhySimMedium(scenario_);
     if (options_.record_losses) {
       loss_log_ = MakeLossLog(run_dir_, scenario_);
+      loss_log_->SetLiveSink(options_.live);
       medium->SetTraceSink([log = loss_log_.get()](const mac::TraceEvent& e) { log->Add(e); });
     }
   }

@@ -11,6 +11,7 @@
 
 #include "common/common.h"
 #include "network_side/network_side.h"
+#include "runner/live_sink.h"
 #include "scenario/scenario.h"
 
 namespace sitlnet::runner {
@@ -38,6 +39,9 @@ struct RunOptions {
   // SCHED_FIFO priority of sitlnet's own threads in realtime pacing (0: normal scheduling;
   // refused without CAP_SYS_NICE: a warning, then normal). Images run at normal priority.
   int realtime_priority = 10;
+  // `sitlnet run --view` (may be null; outlives the run): told the poses and each second's
+  // links while the run goes, on the run's threads; it never blocks them.
+  LiveSink* live = nullptr;
 };
 
 struct RunReport {

@@ -1,6 +1,8 @@
 #include "view/http_server.h"
 
 #include <arpa/inet.h>
+#include <dirent.h>
+#include <fcntl.h>
 #include <httplib.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -8,12 +10,13 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cmath>
-#include <cstring>
+#include <chrono>
+#include <condition_variable>
 #include <cstdlib>
+#include <cstring>
+#include <mutex>
 
 #include "common/common.h"
-#include "view/replay_json.h"
 
 namespace sitlnet::view {
 namespace {
@@ -52,70 +55,71 @@ std::string BindFailure(const ListenAddress& address) {
   return why;
 }
 
+// Every socket of this process but stdin, stdout and stderr made close-on-exec. cpp-httplib
+// 0.11 accepts connections with accept(), without SOCK_CLOEXEC, and has no hook there; a robot
+// forked by `sitlnet run --view` would inherit a browser's connection. The run opens every
+// other descriptor close-on-exec (docs/run.md), so this changes none of its own.
+void MarkSocketsCloseOnExec() {
+  DIR* fds = opendir("/proc/self/fd");
+  if (fds == nullptr) return;
+  while (const dirent* entry = readdir(fds)) {
+    const int fd = std::atoi(entry->d_name);
+    if (fd <= 2 || fd == dirfd(fds)) continue;
+    const int flags = fcntl(fd, F_GETFD);
+    struct stat info {};
+    if (flags >= 0 && !(flags & FD_CLOEXEC) && fstat(fd, &info) == 0 && S_ISSOCK(info.st_mode)) {
+      fcntl(fd, F_SETFD, flags | FD_CLOEXEC);
+    }
+  }
+  closedir(fds);
+}
+
 bool IsFile(const std::string& path) {
   struct stat info {};
   return stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
-}
-
-// A query parameter as a number, or throws Error naming it.
-double NumberParam(const httplib::Request& request, const char* name, const double* fallback) {
-  if (!request.has_param(name)) {
-    if (fallback != nullptr) return *fallback;
-    throw Error(std::string("missing parameter ") + name);
-  }
-  const std::string text = request.get_param_value(name);
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(value)) {
-    throw Error(std::string("parameter ") + name + " \"" + text + "\" is not a number");
-  }
-  return value;
 }
 
 }  // namespace
 
 struct HttpServer::Impl {
   httplib::Server server;
+  std::mutex mutex;
+  std::condition_variable finished_changed;
+  bool finished = false;  // Run has returned.
 };
 
-HttpServer::HttpServer(const RunRecord& record, const std::string& web_dir)
-    : impl_(std::make_unique<Impl>()) {
+HttpServer::HttpServer(const std::string& web_dir) : impl_(std::make_unique<Impl>()) {
   for (const char* file : {"index.html", "app.js"}) {
     if (!IsFile(web_dir + "/" + file)) {
       throw Error("the page is not built: no " + web_dir + "/" + file +
                   " (scripts/setup installs view/web's npm packages; then build sitlnet_view_page)");
     }
   }
-  httplib::Server& server = impl_->server;
   // Everything the page loads comes from this server: no CDN, works offline.
-  server.set_default_headers({{"Content-Security-Policy", "default-src 'self'"},
-                              {"Cache-Control", "no-store"}});
-  server.set_mount_point("/", web_dir);
-  // The documents that do not change are built once.
-  auto run = std::make_shared<std::string>(RunJson(record));
-  auto trajectories = std::make_shared<std::string>(TrajectoriesJson(record));
-  auto links = std::make_shared<std::string>(LinksJson(record));
-  const auto constant = [](std::shared_ptr<std::string> json) {
-    return [json](const httplib::Request&, httplib::Response& response) {
-      response.set_content(*json, kJson);
-    };
-  };
-  server.Get("/api/run", constant(run));
-  server.Get("/api/trajectories", constant(trajectories));
-  server.Get("/api/links", constant(links));
-  server.Get("/api/summary", constant(std::make_shared<std::string>(record.summary_json)));
-  server.Get("/api/frames", [&record](const httplib::Request& request,
-                                      httplib::Response& response) {
+  impl_->server.set_default_headers({{"Content-Security-Policy", "default-src 'self'"},
+                                     {"Cache-Control", "no-store"}});
+  impl_->server.set_mount_point("/", web_dir);
+  // The listening socket: cpp-httplib's own options (SO_REUSEADDR), and close-on-exec.
+  impl_->server.set_socket_options([](int sock) {
+    const int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    fcntl(sock, F_SETFD, fcntl(sock, F_GETFD) | FD_CLOEXEC);
+  });
+  // Each connection, before it is answered (see MarkSocketsCloseOnExec).
+  impl_->server.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
+    MarkSocketsCloseOnExec();
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
+}
+
+void HttpServer::Json(const std::string& path,
+                      std::function<std::string(const Params&)> document) {
+  impl_->server.Get(path, [document = std::move(document)](const httplib::Request& request,
+                                                           httplib::Response& response) {
+    Params params;
+    for (const auto& [name, value] : request.params) params.emplace(name, value);
     try {
-      const double one_second = 1;
-      const double from = NumberParam(request, "from", nullptr);
-      const double station = NumberParam(request, "to", nullptr);
-      const double end_s = NumberParam(request, "t", nullptr);
-      const double window_s = NumberParam(request, "window", &one_second);
-      response.set_content(FramesJson(record, static_cast<int>(from), static_cast<int>(station),
-                                      static_cast<TimeNs>(std::llround(end_s * kNsPerS)),
-                                      static_cast<TimeNs>(std::llround(window_s * kNsPerS))),
-                           kJson);
+      response.set_content(document(params), kJson);
     } catch (const Error& error) {
       response.status = 400;
       response.set_content(std::string(error.what()) + "\n", "text/plain");
@@ -140,8 +144,21 @@ ListenAddress HttpServer::Bind(const ListenAddress& address) {
   return bound;
 }
 
-void HttpServer::Run() { impl_->server.listen_after_bind(); }
+void HttpServer::Run() {
+  impl_->server.listen_after_bind();
+  std::lock_guard lock(impl_->mutex);
+  impl_->finished = true;
+  impl_->finished_changed.notify_all();
+}
 
-void HttpServer::Stop() { impl_->server.stop(); }
+void HttpServer::Stop() {
+  // cpp-httplib's stop() does nothing before its loop has started: ask again until Run returns.
+  constexpr std::chrono::milliseconds kRetry(10);
+  std::unique_lock lock(impl_->mutex);
+  while (!impl_->finished) {
+    impl_->server.stop();
+    impl_->finished_changed.wait_for(lock, kRetry);
+  }
+}
 
 }  // namespace sitlnet::view

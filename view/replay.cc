@@ -1,12 +1,17 @@
-// ServeReplay: the run folder, the server, and the signals that stop it.
+// ServeReplay: the run folder's documents, the server, and the signals that stop it.
 #include <pthread.h>
 #include <signal.h>
 
 #include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <optional>
 #include <thread>
 
 #include "common/common.h"
 #include "view/http_server.h"
+#include "view/replay_json.h"
 #include "view/run_record.h"
 #include "view/view.h"
 
@@ -42,12 +47,51 @@ class StopOnSignal {
   std::thread waiter_;
 };
 
+// A query parameter as a number; `fallback` when absent (none: required). Throws Error naming it.
+double NumberParam(const HttpServer::Params& params, const char* name,
+                   std::optional<double> fallback = std::nullopt) {
+  const auto it = params.find(name);
+  if (it == params.end()) {
+    if (fallback) return *fallback;
+    throw Error(std::string("missing parameter ") + name);
+  }
+  char* end = nullptr;
+  const double value = std::strtod(it->second.c_str(), &end);
+  if (it->second.empty() || *end != '\0' || !std::isfinite(value)) {
+    throw Error(std::string("parameter ") + name + " \"" + it->second + "\" is not a number");
+  }
+  return value;
+}
+
+// The documents of a run folder (docs/view-reference.md, "Endpoints"); `record` outlives the
+// server. Those that do not depend on a query are built once.
+void AddReplayDocuments(const RunRecord& record, HttpServer* server) {
+  const auto constant = [](std::string json) {
+    return [json = std::make_shared<const std::string>(std::move(json))](
+               const HttpServer::Params&) { return *json; };
+  };
+  server->Json("/api/run", constant(RunJson(record)));
+  server->Json("/api/trajectories", constant(TrajectoriesJson(record)));
+  server->Json("/api/links", constant(LinksJson(record)));
+  server->Json("/api/summary", constant(record.summary_json));
+  server->Json("/api/frames", [&record](const HttpServer::Params& params) {
+    const double from = NumberParam(params, "from");
+    const double station = NumberParam(params, "to");
+    const double end_s = NumberParam(params, "t");
+    const double window_s = NumberParam(params, "window", 1.0);
+    return FramesJson(record, static_cast<int>(from), static_cast<int>(station),
+                      static_cast<TimeNs>(std::llround(end_s * kNsPerS)),
+                      static_cast<TimeNs>(std::llround(window_s * kNsPerS)));
+  });
+}
+
 }  // namespace
 
 void ServeReplay(const ReplayOptions& options,
                  const std::function<void(const std::string& url)>& on_listening) {
   const RunRecord record = LoadRunRecord(options.run_dir);
-  HttpServer server(record, options.web_dir);
+  HttpServer server(options.web_dir);
+  AddReplayDocuments(record, &server);
   const ListenAddress bound = server.Bind(options.listen);
   StopOnSignal stop(&server);
   on_listening(PageUrl(bound));

@@ -1,59 +1,18 @@
 #include "view/replay_json.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <cstdio>
 
 #include "runner/loss_log.h"
+#include "view/json_text.h"
 
 namespace sitlnet::view {
-namespace {
 
-std::string Quote(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (static_cast<unsigned char>(c) < 0x20) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
-      out += escaped;
-    } else {
-      if (c == '"' || c == '\\') out += '\\';
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
-// The shortest text that reads back as `value` (so a position is the CSV's number).
-std::string Number(double value) {
-  if (!std::isfinite(value)) return "null";
-  char text[32];
-  const auto result = std::to_chars(text, text + sizeof text, value);
-  return std::string(text, result.ptr);
-}
-
-std::string Seconds(TimeNs ns) { return Number(static_cast<double>(ns) / kNsPerS); }
-
-template <typename Item, typename Format>
-std::string Array(const std::vector<Item>& items, Format format) {
-  std::string json = "[";
-  for (size_t i = 0; i < items.size(); ++i) json += (i ? "," : "") + format(items[i]);
-  return json + "]";
-}
-
-std::string Vec3(const proto::Vec3& v) {
-  return "[" + Number(v.x()) + "," + Number(v.y()) + "," + Number(v.z()) + "]";
-}
-
-}  // namespace
-
-std::string RunJson(const RunRecord& record) {
-  const Scenario& scenario = record.scenario;
-  TimeNs end_ns = 0;
-  for (const PoseSample& pose : record.poses) end_ns = std::max(end_ns, pose.time_ns);
+std::string RunJson(const Scenario& scenario, const std::string& run_dir, TimeNs end_ns,
+                    bool live) {
   std::string json = "{\"name\":" + Quote(scenario.name);
-  json += ",\"run_dir\":" + Quote(record.run_dir);
+  json += ",\"run_dir\":" + Quote(run_dir);
+  json += ",\"live\":" + std::string(live ? "true" : "false");
   json += ",\"end_s\":" + Seconds(end_ns);
   json += ",\"robots\":" + Array(scenario.robots, [](const RobotPlan& robot) {
             return "{\"index\":" + std::to_string(robot.index) + ",\"name\":" + Quote(robot.name) +
@@ -75,6 +34,12 @@ std::string RunJson(const RunRecord& record) {
   return json + "}";
 }
 
+std::string RunJson(const RunRecord& record) {
+  TimeNs end_ns = 0;
+  for (const PoseSample& pose : record.poses) end_ns = std::max(end_ns, pose.time_ns);
+  return RunJson(record.scenario, record.run_dir, end_ns, false);
+}
+
 std::string TrajectoriesJson(const RunRecord& record) {
   std::vector<std::string> per_robot(record.scenario.robots.size());
   for (const PoseSample& pose : record.poses) {
@@ -90,11 +55,8 @@ std::string TrajectoriesJson(const RunRecord& record) {
 
 std::string LinksJson(const RunRecord& record) {
   return "{\"links\":" + Array(record.links, [](const LinkSecond& link) {
-           return "[" + std::to_string(link.second) + "," + std::to_string(link.from) + "," +
-                  std::to_string(link.to) + "," + std::to_string(link.frames) + "," +
-                  std::to_string(link.delivered) + "," +
-                  (link.delivery_ratio < 0 ? "null" : Number(link.delivery_ratio)) + "," +
-                  Quote(link.main_cause) + "," + std::to_string(link.main_cause_frames) + "]";
+           return LinkArray(link.second, link.from, link.to, link.frames, link.delivered,
+                            link.delivery_ratio, link.main_cause, link.main_cause_frames);
          }) + "}";
 }
 

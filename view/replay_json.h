@@ -9,8 +9,11 @@
 
 namespace sitlnet::view {
 
-// /api/run: scenario name, robots (index, name), obstacles (centre, size, yaw), the time the
-// trajectories cover, and losses.csv.gz's columns.
+// /api/run: scenario name, run folder, live or replay, robots (index, name), obstacles (centre,
+// size, yaw), the time covered (`end_ns`), and losses.csv.gz's columns.
+std::string RunJson(const Scenario& scenario, const std::string& run_dir, TimeNs end_ns,
+                    bool live);
+// The same for a replay: the time the trajectories cover.
 std::string RunJson(const RunRecord& record);
 
 // /api/trajectories: per robot, its samples as [time_s, x_m, y_m, z_m, speed_m_s].

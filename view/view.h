@@ -1,12 +1,16 @@
 // sitlnet view: a web page of a run (docs/view.md). `sitlnet view RUN_DIR` replays a finished
 // run folder: the map from above, robots and trails, links coloured by delivery ratio, a time
-// slider, and each link's frames with the cause of each loss. The CLI's only way in.
+// slider, and each link's frames with the cause of each loss. `sitlnet run --view` shows the
+// same map while the run goes. The CLI's only way in.
 #ifndef SITLNET_VIEW_VIEW_H_
 #define SITLNET_VIEW_VIEW_H_
 
 #include <functional>
+#include <memory>
 #include <string>
 
+#include "runner/live_sink.h"
+#include "scenario/scenario.h"
 #include "view/listen_address.h"
 
 namespace sitlnet::view {
@@ -22,6 +26,26 @@ struct ReplayOptions {
 // folder or an unbuilt page, ListenError for an address it cannot bind.
 void ServeReplay(const ReplayOptions& options,
                  const std::function<void(const std::string& url)>& on_listening);
+
+// The live view of a run: binds at construction (throws ListenError, or Error for an unbuilt
+// page), then serves on a thread of its own until destroyed. Give sink() to the run
+// (runner::RunOptions::live); the run's threads never wait for the server or a browser.
+class LiveView {
+ public:
+  LiveView(const Scenario& scenario, const std::string& run_dir, const ListenAddress& listen,
+           const std::string& web_dir);
+  ~LiveView();
+  LiveView(const LiveView&) = delete;
+  LiveView& operator=(const LiveView&) = delete;
+
+  const std::string& url() const { return url_; }
+  runner::LiveSink* sink();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+  std::string url_;
+};
 
 }  // namespace sitlnet::view
 

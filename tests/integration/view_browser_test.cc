@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "tests/integration/run_test_util.h"
@@ -32,10 +33,9 @@ constexpr char kFlight[] =
     "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n"
     "robot { name: \"c\" position_m { x: 0 y: -6 z: 0.2 } image: \"flocker\" "
     "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n";
-constexpr char kExtra[] =
+constexpr char kObstacle[] =
     "obstacle { name: \"wall\" center_m { x: 10 y: -3 z: 5 } size_m { x: 1 y: 4 z: 10 } "
-    "yaw_deg: 30 }\n"
-    "timing { duration_ms: 4000 pacing: PACING_LOCKSTEP }\n";
+    "yaw_deg: 30 }\n";
 
 std::string PlaywrightDir() { return integration_test::SourceDir() + "/view/web"; }
 
@@ -59,7 +59,8 @@ const std::string& FlightFolder(std::string* why) {
   static bool done = false;
   if (!done) {
     done = true;
-    const RunScenario scenario = WriteScenario(7, kFlight, kExtra);
+    const RunScenario scenario = WriteScenario(
+        7, kFlight, std::string(kObstacle) + "timing { duration_ms: 4000 pacing: PACING_LOCKSTEP }\n");
     DownGuard guard(scenario.name);
     const std::string out = TempDir() + "/" + scenario.name + "-view";
     const CommandResult run = SitlnetRun(scenario, out, {});
@@ -85,6 +86,94 @@ std::vector<std::string> LossLines(const std::string& path) {
   return lines;
 }
 
+// A robot as the page drew it, with the map's scale then.
+struct DrawnRobot {
+  std::string time_s;  // The slider's time, or the live sample's.
+  int robot = -1;
+  double x_px = 0, y_px = 0;
+  double px_per_m = 0, min_x_m = 0, max_y_m = 0;
+};
+
+// What check_page.cjs printed (its header says each line).
+struct PageFacts {
+  std::vector<std::string> errors;
+  std::vector<DrawnRobot> robots;
+  int screenshots = 0;
+  // Replay: the clicked link's frame list.
+  long long from = -2, station = -2, start_ns = 0, end_ns = 0, total = -1;
+  std::vector<std::string> frame_rows;
+  // Live: per read, the links.csv second drawn and its links "from,to,frames,delivered".
+  std::vector<std::pair<long long, std::set<std::string>>> live_links;
+};
+
+PageFacts ParsePage(const std::string& out) {
+  PageFacts facts;
+  double px_per_m = 0, min_x_m = 0, max_y_m = 0;
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream fields(line);
+    std::string kind;
+    fields >> kind;
+    if (kind == "console_error") facts.errors.push_back(line);
+    if (kind == "load_ms") std::printf("page loaded and drawn in %s ms\n", line.c_str() + 8);
+    if (kind == "scale") fields >> px_per_m >> min_x_m >> max_y_m;
+    if (kind == "robot") {
+      DrawnRobot robot;
+      robot.px_per_m = px_per_m;
+      robot.min_x_m = min_x_m;
+      robot.max_y_m = max_y_m;
+      fields >> robot.time_s >> robot.robot >> robot.x_px >> robot.y_px;
+      facts.robots.push_back(robot);
+    }
+    if (kind == "frames") {
+      fields >> facts.from >> facts.station >> facts.start_ns >> facts.end_ns >> facts.total;
+    }
+    if (kind == "frame") facts.frame_rows.push_back(line.substr(6));
+    if (kind == "live") {
+      std::string time;
+      long long second = -1;
+      fields >> time >> second;
+      facts.live_links.push_back({second, {}});
+    }
+    if (kind == "link" && !facts.live_links.empty()) {
+      std::string from, to, frames, delivered;
+      fields >> from >> to >> frames >> delivered;
+      facts.live_links.back().second.insert(from + "," + to + "," + frames + "," + delivered);
+    }
+    if (kind == "screenshot") {
+      std::string path;
+      fields >> path;
+      EXPECT_GT(std::filesystem::file_size(path), 1000u) << path;
+      ++facts.screenshots;
+    }
+  }
+  return facts;
+}
+
+// Each drawn robot within kPixelTolerance of its trajectories.csv row at the time drawn, at
+// the page's scale then.
+void ExpectDrawnWhereTrajectoriesSay(const std::vector<DrawnRobot>& drawn,
+                                     const std::string& trajectories) {
+  ASSERT_FALSE(drawn.empty());
+  for (const DrawnRobot& robot : drawn) {
+    ASSERT_GT(robot.px_per_m, 0);
+    const std::vector<TrajectoryRow> rows = TrajectoryRows(trajectories, robot.robot);
+    const auto row = std::find_if(rows.begin(), rows.end(), [&](const TrajectoryRow& r) {
+      return std::abs(r.t_s - std::stod(robot.time_s)) < 1e-6;
+    });
+    ASSERT_NE(row, rows.end()) << "robot " << robot.robot << " at " << robot.time_s;
+    EXPECT_NEAR(robot.x_px, (row->x_m - robot.min_x_m) * robot.px_per_m, kPixelTolerance)
+        << "robot " << robot.robot << " at " << robot.time_s << " s";
+    EXPECT_NEAR(robot.y_px, (robot.max_y_m - row->y_m) * robot.px_per_m, kPixelTolerance)
+        << "robot " << robot.robot << " at " << robot.time_s << " s";
+  }
+}
+
+std::string ArtifactDir() {
+  const char* build = std::getenv("SITLNET_BINARY_DIR");
+  return std::string(build ? build : TempDir().c_str()) + "/tests/artifacts/view_browser";
+}
+
 // `sitlnet view DIR ARGS...` in the background, and the URL it prints.
 struct ViewServer {
   explicit ViewServer(const std::string& dir)
@@ -107,74 +196,31 @@ TEST(ViewBrowserTest, ReplayDrawsTheTrajectoriesAndListsALinksFramesAsTheLossFil
   ViewServer server(dir);
   ASSERT_FALSE(server.url.empty()) << server.child.out() << server.child.err();
 
-  const char* build = std::getenv("SITLNET_BINARY_DIR");
-  const std::string artifacts =
-      std::string(build ? build : TempDir().c_str()) + "/tests/artifacts/view_browser";
   std::vector<std::string> argv = {"node", PlaywrightDir() + "/test/check_page.cjs", server.url,
-                                   artifacts};
+                                   ArtifactDir()};
   argv.insert(argv.end(), kTimes.begin(), kTimes.end());
   const CommandResult page = RunCommand(argv, 120 * kNsPerS);
   ASSERT_EQ(page.exit_code, 0) << page.out << page.err;
+  const PageFacts facts = ParsePage(page.out);
+  EXPECT_TRUE(facts.errors.empty()) << page.out;
+  EXPECT_EQ(facts.screenshots, static_cast<int>(kTimes.size()) + 1);
 
-  double px_per_m = 0, min_x_m = 0, max_y_m = 0;
-  std::map<std::string, std::map<int, std::pair<double, double>>> drawn;  // time -> robot -> px
-  std::vector<std::string> frame_rows;
-  long long from = -2, station = -2, start_ns = 0, end_ns = 0, total = -1;
-  int screenshots = 0;
-  std::istringstream lines(page.out);
-  for (std::string line; std::getline(lines, line);) {
-    std::istringstream fields(line);
-    std::string kind;
-    fields >> kind;
-    EXPECT_NE(kind, "console_error") << line;
-    if (kind == "load_ms") std::printf("page loaded and drawn in %s\n", line.c_str() + 8);
-    if (kind == "scale") fields >> px_per_m >> min_x_m >> max_y_m;
-    if (kind == "robot") {
-      std::string time;
-      int robot = -1;
-      double x = 0, y = 0;
-      fields >> time >> robot >> x >> y;
-      drawn[time][robot] = {x, y};
-    }
-    if (kind == "frames") fields >> from >> station >> start_ns >> end_ns >> total;
-    if (kind == "frame") frame_rows.push_back(line.substr(6));
-    if (kind == "screenshot") {
-      std::string path;
-      fields >> path;
-      EXPECT_TRUE(std::filesystem::file_size(path) > 1000) << path;
-      ++screenshots;
-    }
-  }
-  EXPECT_EQ(screenshots, static_cast<int>(kTimes.size()) + 1);
-  ASSERT_GT(px_per_m, 0) << page.out;
-
-  // Each robot where trajectories.csv puts it at the slider's time, within kPixelTolerance at
-  // the page's scale; and the slider moved them.
+  // Each robot where trajectories.csv puts it at the slider's time, and moved by the slider.
   const std::string trajectories = integration_test::ReadAll(dir + "/trajectories.csv");
+  ASSERT_EQ(facts.robots.size(), 3 * kTimes.size()) << page.out;
+  ExpectDrawnWhereTrajectoriesSay(facts.robots, trajectories);
   for (int robot = 0; robot < 3; ++robot) {
-    const std::vector<TrajectoryRow> rows = TrajectoryRows(trajectories, robot);
-    std::vector<std::pair<double, double>> at_times;
-    for (const std::string& time : kTimes) {
-      const auto row = std::find_if(rows.begin(), rows.end(), [&](const TrajectoryRow& r) {
-        return std::abs(r.t_s - std::stod(time)) < 1e-6;
-      });
-      ASSERT_NE(row, rows.end()) << time;
-      ASSERT_EQ(drawn[time].count(robot), 1u) << "robot " << robot << " at " << time;
-      const auto [x_px, y_px] = drawn[time][robot];
-      EXPECT_NEAR(x_px, (row->x_m - min_x_m) * px_per_m, kPixelTolerance)
-          << "robot " << robot << " at " << time << " s";
-      EXPECT_NEAR(y_px, (max_y_m - row->y_m) * px_per_m, kPixelTolerance)
-          << "robot " << robot << " at " << time << " s";
-      at_times.push_back({row->x_m, row->y_m});
-    }
-    EXPECT_GT(std::hypot(at_times[1].first - at_times[0].first,
-                         at_times[1].second - at_times[0].second) * px_per_m, 5)
+    const DrawnRobot& before = facts.robots[robot];
+    const DrawnRobot& after = facts.robots[3 + robot];
+    EXPECT_GT(std::hypot(after.x_px - before.x_px, after.y_px - before.y_px), 5)
         << "robot " << robot << " did not move on the page";
   }
 
   // The clicked link's list: losses.csv.gz's rows of that link (transmitter `from`, station
   // `station`) in the last whole second before the slider's time, in time order.
   const long long second = static_cast<long long>(std::floor(std::stod(kTimes.back()))) - 1;
+  const long long from = facts.from, station = facts.station;
+  const long long start_ns = facts.start_ns, end_ns = facts.end_ns;
   EXPECT_EQ(start_ns, second * kNsPerS);
   EXPECT_EQ(end_ns, (second + 1) * kNsPerS);
   std::vector<std::pair<long long, std::string>> expected;
@@ -195,12 +241,69 @@ TEST(ViewBrowserTest, ReplayDrawsTheTrajectoriesAndListsALinksFramesAsTheLossFil
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   ASSERT_FALSE(expected.empty()) << "no losses.csv.gz row for link " << from << " -> "
                                  << station;
-  EXPECT_EQ(total, static_cast<long long>(expected.size()));
-  ASSERT_EQ(frame_rows.size(), expected.size());
-  for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(frame_rows[i], expected[i].second);
+  EXPECT_EQ(facts.total, static_cast<long long>(expected.size()));
+  ASSERT_EQ(facts.frame_rows.size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(facts.frame_rows[i], expected[i].second);
 
   kill(server.child.pid(), SIGTERM);
   EXPECT_EQ(server.child.Wait(10 * kNsPerS), 0) << server.child.err();
+}
+
+// `sitlnet run --view` while the flight goes: the page drawn twice, then the run interrupted;
+// what the page drew must be what the run then wrote (trajectories.csv, links.csv).
+TEST(ViewBrowserTest, LiveViewDrawsTheRunningFlightAsItsTrajectoriesAndLinks) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE(BrowserMissing());
+  // Long enough never to end by itself: the test stops it once the page has been read.
+  const RunScenario scenario = WriteScenario(
+      8, kFlight,
+      std::string(kObstacle) + "timing { duration_ms: 3600000 pacing: PACING_LOCKSTEP }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-live";
+  integration_test::Child run({integration_test::SitlnetBinary(), "run", scenario.path, "--out",
+                               out, "--no-progress", "--view", "127.0.0.1:0"});
+  ASSERT_TRUE(run.WaitForOutput(true, "/\n", 30 * kNsPerS)) << run.err();
+  const size_t at = run.err().find("live view at http://");
+  ASSERT_NE(at, std::string::npos) << run.err();
+  const std::string url = run.err().substr(at + 13, run.err().find('\n', at) - at - 13);
+
+  const CommandResult page = RunCommand(
+      {"node", PlaywrightDir() + "/test/check_page.cjs", "--live", url, ArtifactDir(), "2"},
+      120 * kNsPerS);
+  kill(run.pid(), SIGINT);
+  EXPECT_EQ(run.Wait(60 * kNsPerS), 130) << run.err();
+  ASSERT_EQ(page.exit_code, 0) << page.out << page.err;
+  const PageFacts facts = ParsePage(page.out);
+  // Errors after the page was read are the run's end (the server went with it).
+  EXPECT_TRUE(facts.errors.empty()) << page.out;
+  EXPECT_EQ(facts.screenshots, 2);
+
+  ASSERT_EQ(facts.robots.size(), 6u) << page.out;
+  EXPECT_NE(facts.robots[0].time_s, facts.robots[3].time_s);  // The page followed the run.
+  ExpectDrawnWhereTrajectoriesSay(facts.robots,
+                                  integration_test::ReadAll(out + "/trajectories.csv"));
+
+  // The links drawn: links.csv's rows of the second shown, those between two robots.
+  const std::string links = integration_test::ReadAll(out + "/links.csv");
+  ASSERT_EQ(facts.live_links.size(), 2u);
+  for (const auto& [second, drawn] : facts.live_links) {
+    std::set<std::string> expected;
+    std::istringstream rows(links);
+    for (std::string row; std::getline(rows, row);) {
+      long long row_second = -1;
+      int from = -1, to = -1;
+      unsigned long long frames = 0, delivered = 0;
+      if (std::sscanf(row.c_str(), "%lld,%d,%d,%llu,%llu", &row_second, &from, &to, &frames,
+                      &delivered) == 5 &&
+          row_second == second && to >= 0 && to != from) {
+        expected.insert(std::to_string(from) + "," + std::to_string(to) + "," +
+                        std::to_string(frames) + "," + std::to_string(delivered));
+      }
+    }
+    EXPECT_FALSE(expected.empty()) << "second " << second;
+    EXPECT_EQ(drawn, expected) << "second " << second;
+  }
+  ExpectNothingLeft(scenario.name);
 }
 
 // The refusals are one line each, before anything is served.

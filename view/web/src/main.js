@@ -1,9 +1,12 @@
 // The page of `sitlnet view`: loads the run, draws it at the slider's time, lists a clicked
-// link's frames. document.body's data-ready is "true" once the first drawing is done.
+// link's frames; or, for `sitlnet run --view`, follows the run (live.js). document.body's
+// data-ready is "true" once the first drawing is done.
 import { select } from 'd3-selection';
 import { loadFrames, loadLinks, loadRun, loadTrajectories } from './api.js';
 import { FrameList } from './frames.js';
-import { MapView, ratioColour } from './map.js';
+import { drawRobotTable } from './robots.js';
+import { runLive } from './live.js';
+import { MapView, pointsToShow, ratioColour } from './map.js';
 import { linkSecondAt, linksBySecond, sampleAt, trailUntil } from './timeline.js';
 
 function drawLegend() {
@@ -16,20 +19,8 @@ function drawLegend() {
   legend.append('span').text('only sender drops');
 }
 
-function drawRobotTable(run, positions) {
-  select('#robots tbody').selectAll('tr').data(run.robots.filter((r) => positions[r.index])).join('tr')
-    .selectAll('td')
-    .data((r) => {
-      const p = positions[r.index];
-      return [r.name, p[1].toFixed(2), p[2].toFixed(2), p[3].toFixed(2), p[4].toFixed(2)];
-    })
-    .join('td').text((c) => c);
-}
-
-async function main() {
-  const [run, trajectories, links] = await Promise.all([loadRun(), loadTrajectories(), loadLinks()]);
-  select('#title').text(`sitlnet view: ${run.name}`);
-  document.title = `sitlnet view: ${run.name}`;
+async function replay(run) {
+  const [trajectories, links] = await Promise.all([loadTrajectories(), loadLinks()]);
   const bySecond = linksBySecond(links.links);
   const robotName = (index) => run.robots[index]?.name ?? String(index);
   const frames = new FrameList('#frames', '#frames-title', '#frames-note', run.loss_columns);
@@ -43,7 +34,9 @@ async function main() {
     const answer = await loadFrames(from, station, linkSecondAt(currentTime()) + 1);
     if (request === frameRequest) frames.show(answer, robotName);
   };
-  const map = new MapView(document.getElementById('map'), run, trajectories, showFrames);
+  const everywhere = trajectories.robots.flatMap((samples) => samples.map((s) => [s[1], s[2]]));
+  const map = new MapView(document.getElementById('map'), run, pointsToShow(run, everywhere),
+    showFrames);
 
   const draw = () => {
     const t = currentTime();
@@ -59,9 +52,16 @@ async function main() {
     frames.clear();
     draw();
   });
-  drawLegend();
   draw();
   document.body.dataset.ready = 'true';
+}
+
+async function main() {
+  const run = await loadRun();
+  select('#title').text(`sitlnet ${run.live ? 'run (live)' : 'view'}: ${run.name}`);
+  document.title = `sitlnet: ${run.name}`;
+  drawLegend();
+  await (run.live ? runLive(run) : replay(run));
 }
 
 main().catch((error) => {

@@ -24,11 +24,15 @@ function corners(obstacle) {
   ]);
 }
 
+// The points [x, y] a map of `run` must show: its obstacles' corners and `positions`.
+export function pointsToShow(run, positions) {
+  return run.obstacles.flatMap(corners).concat(positions);
+}
+
 export class MapView {
-  constructor(svgElement, run, trajectories, onLinkClick) {
-    const points = run.obstacles.flatMap(corners);
-    for (const samples of trajectories.robots) for (const s of samples) points.push([s[1], s[2]]);
-    if (points.length === 0) points.push([0, 0]);
+  // Scaled to show `points` ([x, y] in metres) with a margin.
+  constructor(svgElement, run, points, onLinkClick) {
+    if (points.length === 0) points = [[0, 0]];
     const xs = points.map((p) => p[0]);
     const ys = points.map((p) => p[1]);
     this.minX = Math.min(...xs) - kMarginM;
@@ -36,6 +40,8 @@ export class MapView {
     const widthM = Math.max(...xs) + kMarginM - this.minX;
     const heightM = this.maxY - (Math.min(...ys) - kMarginM);
     this.pxPerM = Math.min(kMaxWidthPx / widthM, kMaxHeightPx / heightM);
+    this.bounds = [this.minX, this.minX + widthM, this.maxY - heightM, this.maxY];
+    select(svgElement).selectAll('*').remove();
     this.svg = select(svgElement)
       .attr('width', Math.ceil(widthM * this.pxPerM))
       .attr('height', Math.ceil(heightM * this.pxPerM))
@@ -52,6 +58,12 @@ export class MapView {
     this.trails = this.svg.append('g').attr('class', 'trails');
     this.links = this.svg.append('g').attr('class', 'links');
     this.robots = this.svg.append('g').attr('class', 'robots');
+  }
+
+  // Whether every point [x, y] is inside the map.
+  shows(points) {
+    const [x0, x1, y0, y1] = this.bounds;
+    return points.every(([x, y]) => x >= x0 && x <= x1 && y >= y0 && y <= y1);
   }
 
   px(xM) { return (xM - this.minX) * this.pxPerM; }
@@ -113,7 +125,9 @@ export class MapView {
     groups.select('line.link')
       .classed('drops-only', (l) => l[5] === null)
       .attr('stroke', (l) => (l[5] === null ? null : ratioColour(l[5])))
-      .attr('data-ratio', (l) => l[5]);
+      .attr('data-ratio', (l) => l[5])
+      .attr('data-frames', (l) => l[3])
+      .attr('data-delivered', (l) => l[4]);
     groups.select('title').text((l) =>
       `${l[1]} -> ${l[2]}: ${l[4]}/${l[3]} delivered` + (l[6] !== 'none' ? `, mostly ${l[6]} (${l[7]})` : ''));
     this.markSelected();

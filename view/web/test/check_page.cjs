@@ -2,6 +2,8 @@
 // own) for tests/integration/view_browser_test.cc, which holds the oracles (trajectories.csv,
 // losses.csv.gz). Usage: node check_page.cjs [--link FROM,TO] URL ARTIFACT_DIR TIME_S...
 // It clicks the link FROM -> TO (default: the first drawn) at the last time.
+// With --live (sitlnet run --view): node check_page.cjs --live URL ARTIFACT_DIR READS reads the
+// page READS times, each after the page has drawn a newer time.
 // Prints one fact a line:
 //   load_ms MS                      navigation to the page's first drawing
 //   console_error TEXT              every console error, page error and failed request
@@ -10,6 +12,10 @@
 //   frames FROM TO START_NS END_NS TOTAL   the clicked link's frame list, then each row:
 //   frame CELL,CELL,...
 //   screenshot PATH
+//   live TIME_S LINK_SECOND         (--live) the time and links.csv second drawn, then the
+//   scale ...                       map's scale then (it rescales when robots leave it),
+//   robot TIME_S INDEX CX_PX CY_PX  the robots and each drawn link:
+//   link FROM TO FRAMES DELIVERED
 const path = require('node:path');
 const fs = require('node:fs');
 const os = require('node:os');
@@ -27,8 +33,42 @@ async function robotCentres(page) {
   });
 }
 
+// The live page's time, robots and links, read in one go (the page draws between tasks).
+async function readLive(page) {
+  return page.evaluate(() => {
+    const svg = document.getElementById('map').getBoundingClientRect();
+    const robots = [...document.querySelectorAll('#map circle.robot')].map((c) => {
+      const box = c.getBoundingClientRect();
+      return [c.dataset.timeS, c.dataset.robot, box.x + box.width / 2 - svg.x,
+        box.y + box.height / 2 - svg.y];
+    });
+    const links = [...document.querySelectorAll('#map line.link')].map((l) =>
+      [l.dataset.from, l.dataset.to, l.dataset.frames, l.dataset.delivered]);
+    const map = document.getElementById('map').dataset;
+    return { time: document.body.dataset.liveTimeS, second: document.body.dataset.linkSecond,
+      scale: [map.pxPerM, map.minXM, map.maxYM], robots, links };
+  });
+}
+
+async function checkLive(page, reads, shot) {
+  let last = null;
+  for (let i = 0; i < reads; ++i) {
+    await page.waitForFunction((t) => document.body.dataset.liveTimeS !== undefined &&
+      document.body.dataset.liveTimeS !== t, last, { timeout: 30000 });
+    const live = await readLive(page);
+    last = live.time;
+    console.log(`live ${live.time} ${live.second}`);
+    console.log(`scale ${live.scale.join(' ')}`);
+    for (const [time, index, x, y] of live.robots) console.log(`robot ${time} ${index} ${x} ${y}`);
+    for (const link of live.links) console.log(`link ${link.join(' ')}`);
+    await shot(`live-${i}.png`);
+  }
+}
+
 async function main() {
   const args = process.argv.slice(2);
+  const liveAt = args.indexOf('--live');
+  if (liveAt >= 0) args.splice(liveAt, 1);
   const linkAt = args.indexOf('--link');
   const [linkFrom, linkTo] = linkAt >= 0 ? args.splice(linkAt, 2)[1].split(',') : [];
   const [url, artifacts, ...times] = args;
@@ -61,6 +101,10 @@ async function main() {
       await page.screenshot({ path: file, fullPage: true });
       console.log(`screenshot ${file}`);
     };
+    if (liveAt >= 0) {
+      await checkLive(page, Number(times[0]), shot);
+      return;
+    }
     for (const time of times) {
       await page.$eval('#time', (slider, t) => {
         slider.value = t;

@@ -1,0 +1,41 @@
+// What `sitlnet run --view` is told while the run goes (view/live_feed.h): the robots' poses at
+// every trajectories.csv sample and each second's links as links.csv will count them. Called on
+// the run's own threads (physics, coordinator): an implementation must never block or wait.
+#ifndef SITLNET_RUNNER_LIVE_SINK_H_
+#define SITLNET_RUNNER_LIVE_SINK_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/common.h"
+
+namespace sitlnet::runner {
+
+struct LivePose {
+  double x_m = 0, y_m = 0, z_m = 0;
+  double speed_m_s = 0;
+};
+
+// One links.csv row: DATA frames from `from` at station `to` in a second (to -1: sender drops
+// of group frames), those decoded, and the most frequent loss.
+struct LinkRow {
+  int64_t second = 0;
+  int from = 0, to = 0;
+  uint64_t frames = 0, delivered = 0;
+  const char* main_cause = "none";
+  uint64_t main_cause_frames = 0;
+};
+
+class LiveSink {
+ public:
+  virtual ~LiveSink() = default;
+  // Physics thread: every robot's pose (by index) at `time_ns`, as trajectories.csv samples it.
+  virtual void Poses(TimeNs time_ns, const std::vector<LivePose>& poses) = 0;
+  // Coordinator thread: the rows of a second no transmission can still add to.
+  virtual void Links(int64_t second, const std::vector<LinkRow>& rows) = 0;
+};
+
+}  // namespace sitlnet::runner
+
+#endif  // SITLNET_RUNNER_LIVE_SINK_H_

@@ -1,0 +1,80 @@
+// LiveView: `sitlnet run --view`, the run's LiveFeed served while the run goes.
+#include <pthread.h>
+#include <signal.h>
+
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "view/http_server.h"
+#include "view/live_feed.h"
+#include "view/live_json.h"
+#include "view/replay_json.h"
+#include "view/view.h"
+
+namespace sitlnet::view {
+namespace {
+
+// /api/live is built at most this often, however many browsers ask: a bounded cost.
+constexpr TimeNs kLiveDocumentPeriodNs = 200 * kNsPerMs;
+
+// /api/live, rebuilt from the feed when the last one is older than kLiveDocumentPeriodNs.
+class LiveDocument {
+ public:
+  explicit LiveDocument(const LiveFeed* feed) : feed_(*feed) {}
+  std::string Get() {
+    std::lock_guard lock(mutex_);
+    const TimeNs now_ns = MonotonicNowNs();
+    if (json_.empty() || now_ns >= built_ns_ + kLiveDocumentPeriodNs) {
+      json_ = LiveJson(feed_.Snapshot());
+      built_ns_ = now_ns;
+    }
+    return json_;
+  }
+
+ private:
+  const LiveFeed& feed_;
+  std::mutex mutex_;
+  std::string json_;
+  TimeNs built_ns_ = 0;
+};
+
+}  // namespace
+
+struct LiveView::State {
+  LiveFeed feed;
+  std::unique_ptr<LiveDocument> document;
+  std::unique_ptr<HttpServer> server;
+  std::thread thread;
+};
+
+LiveView::LiveView(const Scenario& scenario, const std::string& run_dir,
+                   const ListenAddress& listen, const std::string& web_dir)
+    : state_(std::make_unique<State>()) {
+  state_->document = std::make_unique<LiveDocument>(&state_->feed);
+  state_->server = std::make_unique<HttpServer>(web_dir);
+  auto run = std::make_shared<const std::string>(
+      RunJson(scenario, run_dir, scenario.duration_ns, /*live=*/true));
+  state_->server->Json("/api/run", [run](const HttpServer::Params&) { return *run; });
+  state_->server->Json("/api/live", [document = state_->document.get()](
+                                        const HttpServer::Params&) { return document->Get(); });
+  url_ = PageUrl(state_->server->Bind(listen));
+  // The server's threads take no SIGINT or SIGTERM: those are the run's (its StopSignal).
+  sigset_t signals, previous;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, &previous);
+  state_->thread = std::thread([server = state_->server.get()] { server->Run(); });
+  pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+}
+
+LiveView::~LiveView() {
+  state_->server->Stop();
+  state_->thread.join();
+}
+
+runner::LiveSink* LiveView::sink() { return &state_->feed; }
+
+}  // namespace sitlnet::view

@@ -1,0 +1,49 @@
+// What the live view shows of a running run: the latest poses, a trail per robot and the
+// latest second's links. The run's threads write it through runner::LiveSink without ever
+// waiting: an update that finds the server reading is skipped (and counted).
+#ifndef SITLNET_VIEW_LIVE_FEED_H_
+#define SITLNET_VIEW_LIVE_FEED_H_
+
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <vector>
+
+#include "runner/live_sink.h"
+
+namespace sitlnet::view {
+
+struct TrailPoint {
+  TimeNs time_ns = 0;
+  double x_m = 0, y_m = 0;
+};
+
+struct LiveSnapshot {
+  TimeNs time_ns = -1;  // Of `poses`; -1 before the first sample.
+  std::vector<runner::LivePose> poses;
+  std::vector<std::vector<TrailPoint>> trails;
+  int64_t link_second = -1;  // Of `links`; -1 before the first whole second.
+  std::vector<runner::LinkRow> links;
+  uint64_t skipped_updates = 0;
+};
+
+class LiveFeed final : public runner::LiveSink {
+ public:
+  // A trail keeps a point every kTrailPeriodNs of simulated time, the last kTrailPoints of them.
+  static constexpr TimeNs kTrailPeriodNs = 500 * kNsPerMs;
+  static constexpr size_t kTrailPoints = 240;
+
+  void Poses(TimeNs time_ns, const std::vector<runner::LivePose>& poses) override;
+  void Links(int64_t second, const std::vector<runner::LinkRow>& rows) override;
+  // The server's copy (it waits for the lock; the run's threads never do).
+  LiveSnapshot Snapshot() const;
+
+ private:
+  mutable std::mutex mutex_;
+  LiveSnapshot shared_;  // Under mutex_.
+  std::atomic<uint64_t> skipped_{0};
+};
+
+}  // namespace sitlnet::view
+
+#endif  // SITLNET_VIEW_LIVE_FEED_H_

@@ -1,0 +1,31 @@
+#include "view/live_json.h"
+
+#include "view/json_text.h"
+
+namespace sitlnet::view {
+
+std::string LiveJson(const LiveSnapshot& snapshot) {
+  const std::string time = Seconds(snapshot.time_ns);
+  std::string json = "{\"time_s\":" + (snapshot.time_ns < 0 ? "null" : time);
+  json += ",\"robots\":" + Array(snapshot.poses, [&](const runner::LivePose& pose) {
+            return "[" + time + "," + Number(pose.x_m) + "," + Number(pose.y_m) + "," +
+                   Number(pose.z_m) + "," + Number(pose.speed_m_s) + "]";
+          });
+  json += ",\"trails\":" + Array(snapshot.trails, [](const std::vector<TrailPoint>& trail) {
+            return Array(trail, [](const TrailPoint& p) {
+              return "[" + Seconds(p.time_ns) + "," + Number(p.x_m) + "," + Number(p.y_m) + "]";
+            });
+          });
+  json += ",\"link_second\":" + std::to_string(snapshot.link_second);
+  json += ",\"links\":" + Array(snapshot.links, [](const runner::LinkRow& row) {
+            const double ratio = row.frames > 0 ? static_cast<double>(row.delivered) /
+                                                      static_cast<double>(row.frames)
+                                                : -1;
+            return LinkArray(row.second, row.from, row.to, row.frames, row.delivered, ratio,
+                             row.main_cause, row.main_cause_frames);
+          });
+  json += ",\"skipped_updates\":" + std::to_string(snapshot.skipped_updates);
+  return json + "}";
+}
+
+}  // namespace sitlnet::view

@@ -1,0 +1,17 @@
+// /api/live: the live view's document, from a LiveFeed snapshot.
+#ifndef SITLNET_VIEW_LIVE_JSON_H_
+#define SITLNET_VIEW_LIVE_JSON_H_
+
+#include <string>
+
+#include "view/live_feed.h"
+
+namespace sitlnet::view {
+
+// {"time_s", "robots": [[time_s, x_m, y_m, z_m, speed_m_s] or null], "trails": [[[time_s, x_m,
+// y_m], ...], ...], "link_second", "links": [links.csv rows as /api/links], "skipped_updates"}.
+std::string LiveJson(const LiveSnapshot& snapshot);
+
+}  // namespace sitlnet::view
+
+#endif  // SITLNET_VIEW_LIVE_JSON_H_
