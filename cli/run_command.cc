@@ -146,6 +146,7 @@ Command AddRunCommand(CLI::App& sitlnet) {
                 options->live = live->sink();
               }
               code = runner::RunScenario(*options).exit_code;
+              if (live) std::fprintf(stderr, "sitlnet run: %s\n", live->CostLine().c_str());
               return static_cast<int>(kExitOk);
             });
             return status != kExitOk ? status : code;

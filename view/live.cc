@@ -2,7 +2,8 @@
 #include <pthread.h>
 #include <signal.h>
 
-#include <chrono>
+#include <atomic>
+#include <cstdio>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -44,6 +45,7 @@ class LiveDocument {
 
 struct LiveView::State {
   LiveFeed feed;
+  std::atomic<uint64_t> requests{0};  // /api/live answered.
   std::unique_ptr<LiveDocument> document;
   std::unique_ptr<HttpServer> server;
   std::thread thread;
@@ -57,8 +59,10 @@ LiveView::LiveView(const Scenario& scenario, const std::string& run_dir,
   auto run = std::make_shared<const std::string>(
       RunJson(scenario, run_dir, scenario.duration_ns, /*live=*/true));
   state_->server->Json("/api/run", [run](const HttpServer::Params&) { return *run; });
-  state_->server->Json("/api/live", [document = state_->document.get()](
-                                        const HttpServer::Params&) { return document->Get(); });
+  state_->server->Json("/api/live", [state = state_.get()](const HttpServer::Params&) {
+    ++state->requests;
+    return state->document->Get();
+  });
   url_ = PageUrl(state_->server->Bind(listen));
   // The server's threads take no SIGINT or SIGTERM: those are the run's (its StopSignal).
   sigset_t signals, previous;
@@ -76,5 +80,18 @@ LiveView::~LiveView() {
 }
 
 runner::LiveSink* LiveView::sink() { return &state_->feed; }
+
+std::string LiveView::CostLine() const {
+  const LiveFeed::Cost cost = state_->feed.cost();
+  char line[160];
+  std::snprintf(line, sizeof line,
+                "live view: %llu updates (%llu skipped: the server was reading), %.3f ms on the "
+                "run's threads, %llu documents served",
+                static_cast<unsigned long long>(cost.updates),
+                static_cast<unsigned long long>(cost.skipped),
+                static_cast<double>(cost.spent_ns) / kNsPerMs,
+                static_cast<unsigned long long>(state_->requests.load()));
+  return line;
+}
 
 }  // namespace sitlnet::view

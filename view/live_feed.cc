@@ -2,10 +2,17 @@
 
 namespace sitlnet::view {
 
+void LiveFeed::Count(TimeNs begin_ns) {
+  ++updates_;
+  spent_ns_ += MonotonicNowNs() - begin_ns;
+}
+
 void LiveFeed::Poses(TimeNs time_ns, const std::vector<runner::LivePose>& poses) {
+  const TimeNs begin_ns = MonotonicNowNs();
   std::unique_lock lock(mutex_, std::try_to_lock);
   if (!lock.owns_lock()) {
     ++skipped_;
+    Count(begin_ns);
     return;
   }
   shared_.time_ns = time_ns;
@@ -17,16 +24,22 @@ void LiveFeed::Poses(TimeNs time_ns, const std::vector<runner::LivePose>& poses)
     if (trail.size() == kTrailPoints) trail.erase(trail.begin());
     trail.push_back({time_ns, poses[i].x_m, poses[i].y_m});
   }
+  lock.unlock();
+  Count(begin_ns);
 }
 
 void LiveFeed::Links(int64_t second, const std::vector<runner::LinkRow>& rows) {
+  const TimeNs begin_ns = MonotonicNowNs();
   std::unique_lock lock(mutex_, std::try_to_lock);
   if (!lock.owns_lock()) {
     ++skipped_;
+    Count(begin_ns);
     return;
   }
   shared_.link_second = second;
   shared_.links = rows;
+  lock.unlock();
+  Count(begin_ns);
 }
 
 LiveSnapshot LiveFeed::Snapshot() const {

@@ -38,10 +38,21 @@ class LiveFeed final : public runner::LiveSink {
   // The server's copy (it waits for the lock; the run's threads never do).
   LiveSnapshot Snapshot() const;
 
+  // What the feed cost the run's threads: calls, those skipped, and the time spent in them.
+  struct Cost {
+    uint64_t updates = 0, skipped = 0;
+    TimeNs spent_ns = 0;
+  };
+  Cost cost() const { return {updates_, skipped_, spent_ns_}; }
+
  private:
+  // Counts one call that began at `begin_ns`.
+  void Count(TimeNs begin_ns);
+
   mutable std::mutex mutex_;
   LiveSnapshot shared_;  // Under mutex_.
-  std::atomic<uint64_t> skipped_{0};
+  std::atomic<uint64_t> updates_{0}, skipped_{0};
+  std::atomic<TimeNs> spent_ns_{0};
 };
 
 }  // namespace sitlnet::view

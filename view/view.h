@@ -40,6 +40,9 @@ class LiveView {
 
   const std::string& url() const { return url_; }
   runner::LiveSink* sink();
+  // "live view: N updates (S skipped: the server was reading), X ms on the run's threads, R
+  // requests answered": what the view cost the run.
+  std::string CostLine() const;
 
  private:
   struct State;

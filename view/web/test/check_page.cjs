@@ -53,8 +53,10 @@ async function readLive(page) {
 async function checkLive(page, reads, shot) {
   let last = null;
   for (let i = 0; i < reads; ++i) {
+    // A newer time, with a whole second of links.
     await page.waitForFunction((t) => document.body.dataset.liveTimeS !== undefined &&
-      document.body.dataset.liveTimeS !== t, last, { timeout: 30000 });
+      document.body.dataset.liveTimeS !== t && Number(document.body.dataset.linkSecond) >= 0,
+    last, { timeout: 30000 });
     const live = await readLive(page);
     last = live.time;
     console.log(`live ${live.time} ${live.second}`);
