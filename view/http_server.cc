@@ -99,6 +99,12 @@ HttpServer::HttpServer(const std::string& web_dir) : impl_(std::make_unique<Impl
   impl_->server.set_default_headers({{"Content-Security-Policy", "default-src 'self'"},
                                      {"Cache-Control", "no-store"}});
   impl_->server.set_mount_point("/", web_dir);
+  // A connection that sends nothing, reads nothing or idles holds a worker thread this long at
+  // most, and so delays the server's stop (at the end of a run) at most this long.
+  constexpr time_t kConnectionTimeoutS = 1;
+  impl_->server.set_read_timeout(kConnectionTimeoutS, 0);
+  impl_->server.set_write_timeout(kConnectionTimeoutS, 0);
+  impl_->server.set_keep_alive_timeout(kConnectionTimeoutS);
   // The listening socket: cpp-httplib's own options (SO_REUSEADDR), and close-on-exec.
   impl_->server.set_socket_options([](int sock) {
     const int yes = 1;
