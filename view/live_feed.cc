@@ -2,44 +2,40 @@
 
 namespace sitlnet::view {
 
-void LiveFeed::Count(TimeNs begin_ns) {
+template <typename Update>
+void LiveFeed::TryUpdate(Update&& update) {
+  const TimeNs begin_ns = MonotonicNowNs();
+  {
+    std::unique_lock lock(mutex_, std::try_to_lock);
+    if (lock.owns_lock()) {
+      update(shared_);
+    } else {
+      ++skipped_;
+    }
+  }
   ++updates_;
   spent_ns_ += MonotonicNowNs() - begin_ns;
 }
 
 void LiveFeed::Poses(TimeNs time_ns, const std::vector<runner::LivePose>& poses) {
-  const TimeNs begin_ns = MonotonicNowNs();
-  std::unique_lock lock(mutex_, std::try_to_lock);
-  if (!lock.owns_lock()) {
-    ++skipped_;
-    Count(begin_ns);
-    return;
-  }
-  shared_.time_ns = time_ns;
-  shared_.poses = poses;  // Same size every time: no allocation after the first.
-  shared_.trails.resize(poses.size());
-  for (size_t i = 0; i < poses.size(); ++i) {
-    std::vector<TrailPoint>& trail = shared_.trails[i];
-    if (!trail.empty() && time_ns < trail.back().time_ns + kTrailPeriodNs) continue;
-    if (trail.size() == kTrailPoints) trail.erase(trail.begin());
-    trail.push_back({time_ns, poses[i].x_m, poses[i].y_m});
-  }
-  lock.unlock();
-  Count(begin_ns);
+  TryUpdate([&](LiveSnapshot& shared) {
+    shared.time_ns = time_ns;
+    shared.poses = poses;  // Same size every time: no allocation after the first.
+    shared.trails.resize(poses.size());
+    for (size_t i = 0; i < poses.size(); ++i) {
+      std::vector<TrailPoint>& trail = shared.trails[i];
+      if (!trail.empty() && time_ns < trail.back().time_ns + kTrailPeriodNs) continue;
+      if (trail.size() == kTrailPoints) trail.erase(trail.begin());
+      trail.push_back({time_ns, poses[i].x_m, poses[i].y_m});
+    }
+  });
 }
 
 void LiveFeed::Links(int64_t second, const std::vector<runner::LinkRow>& rows) {
-  const TimeNs begin_ns = MonotonicNowNs();
-  std::unique_lock lock(mutex_, std::try_to_lock);
-  if (!lock.owns_lock()) {
-    ++skipped_;
-    Count(begin_ns);
-    return;
-  }
-  shared_.link_second = second;
-  shared_.links = rows;
-  lock.unlock();
-  Count(begin_ns);
+  TryUpdate([&](LiveSnapshot& shared) {
+    shared.link_second = second;
+    shared.links = rows;
+  });
 }
 
 LiveSnapshot LiveFeed::Snapshot() const {

@@ -46,8 +46,10 @@ class LiveFeed final : public runner::LiveSink {
   Cost cost() const { return {updates_, skipped_, spent_ns_}; }
 
  private:
-  // Counts one call that began at `begin_ns`.
-  void Count(TimeNs begin_ns);
+  // Runs `update` on the shared snapshot if the lock is free at once (else counts a skip): the
+  // run's threads never wait for a reader. Counts the call and its time either way.
+  template <typename Update>
+  void TryUpdate(Update&& update);
 
   mutable std::mutex mutex_;
   LiveSnapshot shared_;  // Under mutex_.
