@@ -44,7 +44,7 @@ using Row = TrajectoryRow;
 // The UDP payloads between addresses `a` and `b` in OUT/medium.pcap: source -> bytes.
 std::map<std::string, std::string> PayloadsBetween(const std::string& out, const std::string& a,
                                                    const std::string& b) {
-  return UdpPayloads(out,
+  return UdpPayloads(out, "udp and host " + a + " and host " + b,
                      "(ip.src == " + a + " && ip.dst == " + b + ") || (ip.src == " + b +
                          " && ip.dst == " + a + ")",
                      "ip.src");

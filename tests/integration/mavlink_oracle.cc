@@ -52,12 +52,18 @@ Crossed DecodeMavlink(const std::string& bytes, const std::string& file) {
   return crossed;
 }
 
-std::map<std::string, std::string> UdpPayloads(const std::string& out, const std::string& filter,
+std::map<std::string, std::string> UdpPayloads(const std::string& out, const std::string& prefilter,
+                                               const std::string& filter,
                                                const std::string& key_field) {
-  const CommandResult tshark = RunCommand({"tshark", "-r", out + "/medium.pcap", "-Y",
-                                           "udp && (" + filter + ") && wlan.fc.retry == 0 && !icmp",
-                                           "-T", "fields", "-e", key_field, "-e", "data.data"},
-                                          120 * kNsPerS);
+  const std::string kept = out + "/prefiltered.pcap";
+  const CommandResult tcpdump =
+      RunCommand({"tcpdump", "-r", out + "/medium.pcap", "-w", kept, prefilter}, 120 * kNsPerS);
+  EXPECT_EQ(tcpdump.exit_code, 0) << tcpdump.err;
+  const CommandResult tshark = RunCommand(
+      {"tshark", "-r", kept, "-Y", "udp && (" + filter + ") && wlan.fc.retry == 0 && !icmp", "-T",
+       "fields", "-e", key_field, "-e", "data.data"},
+      120 * kNsPerS);
+  std::remove(kept.c_str());
   EXPECT_EQ(tshark.exit_code, 0) << tshark.err;
   std::map<std::string, std::string> payloads;
   std::istringstream lines(tshark.out);

@@ -32,9 +32,12 @@ struct Crossed {
 Crossed DecodeMavlink(const std::string& bytes, const std::string& file);
 
 // The UDP payloads in OUT/medium.pcap that match the tshark display `filter` (first
-// transmissions, no ICMP quoting them), in one tshark pass (seconds per pass on a long capture),
-// by the value of the tshark field `key_field` (e.g. "ip.src") -> bytes.
-std::map<std::string, std::string> UdpPayloads(const std::string& out, const std::string& filter,
+// transmissions, no ICMP quoting them), by the value of the tshark field `key_field` (e.g.
+// "ip.src") -> bytes. tshark dissects every frame (15 s for a run of four ArduCopters), so
+// tcpdump first keeps only the frames that match the BPF filter `prefilter` (2 s), which must
+// keep every frame `filter` matches.
+std::map<std::string, std::string> UdpPayloads(const std::string& out, const std::string& prefilter,
+                                               const std::string& filter,
                                                const std::string& key_field);
 
 // An event a GCS script printed, with the autopilot's time (s): guided_flight_plan.cjs's
