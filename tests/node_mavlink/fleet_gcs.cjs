@@ -15,22 +15,24 @@ const dgram = require('dgram');
 const { fleetFlight } = require('./fleet_flight_plan.cjs');
 
 const [port, ...fleetArgs] = process.argv.slice(2);
-const socket = dgram.createSocket('udp4');
-let heartbeats = null;
-const fleet = fleetFlight({
-  script: 'fleet_gcs.cjs',
-  usage: 'usage: node fleet_gcs.cjs PORT ALT_M HOLD_S NORTH,EAST/... px4|arducopter:SYSID...\n',
-  args: fleetArgs,
-  send: (bytes, address, toPort) => socket.send(bytes, toPort, address),
-  onAllDone: () => {
-    clearInterval(heartbeats);
-    socket.close();
-  },
-});
 if (Number.isNaN(Number(port))) {
   process.stderr.write('fleet_gcs.cjs: PORT is not a number\n');
   process.exit(2);
 }
+const socket = dgram.createSocket('udp4');
+let heartbeats = null;
+let closed = false;  // once every vehicle is done; a plan may still answer a report after that
+const fleet = fleetFlight({
+  script: 'fleet_gcs.cjs',
+  usage: 'usage: node fleet_gcs.cjs PORT ALT_M HOLD_S NORTH,EAST/... px4|arducopter:SYSID...\n',
+  args: fleetArgs,
+  send: (bytes, address, toPort) => { if (!closed) socket.send(bytes, toPort, address); },
+  onAllDone: () => {
+    clearInterval(heartbeats);
+    closed = true;
+    socket.close();
+  },
+});
 socket.on('message', fleet.take);
 socket.on('error', (error) => {
   process.stdout.write(`ERROR ${error.message}\n`);
