@@ -24,7 +24,6 @@
 namespace sitlnet::nns::testing {
 namespace {
 
-using integration_test::Child;
 using integration_test::ReadAll;
 using integration_test::SourceDir;
 using integration_test::TempDir;
@@ -55,6 +54,7 @@ class GcsFolder {
  private:
   bool made_ = false;
 };
+
 constexpr int kVehicles = 4;  // robots 1..4 of both scenarios, system id = robot index
 // The wlan0 addresses of the scenarios' default subnet (docs/scenario.md): host index + 1.
 std::string WlanAddress(int robot) { return "10.77.0." + std::to_string(robot + 1); }
@@ -80,7 +80,7 @@ struct Autopilot {
   double landed_m;   // its height above where it armed when it disarmed, at most
 };
 
-// The VehiclesHeard of the relay's log: its "vehicle ADDR:PORT" lines, by address.
+// The vehicles the station's relay heard: its log's "vehicle ADDR:PORT" lines, by address.
 std::set<std::string> VehiclesHeard(const std::string& relay_log) {
   std::set<std::string> addresses;
   std::istringstream lines(relay_log);
