@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/integration/mavlink_oracle.h"
 #include "tests/integration/run_test_util.h"
 
 namespace sitlnet::nns::testing {
@@ -27,15 +28,6 @@ using integration_test::Child;
 // datagram to a closed port would draw an ICMP error), the vehicle robot 1.
 constexpr int kStation = 0;
 constexpr int kVehicle = 1;
-
-// Skips (fails under CI=true) when root, the autopilot of `why_missing` or node-mavlink is
-// missing.
-#define SITLNET_REQUIRE_FLIGHT(why_missing) \
-  do {                                      \
-    SITLNET_REQUIRE_NNS_PRIVILEGES();       \
-    SITLNET_REQUIRE(why_missing);           \
-    SITLNET_REQUIRE(NodeMavlinkMissing());  \
-  } while (0)
 
 // A ground station robot's image: node-mavlink's GCS script `script` with `args`, ready once it
 // printed `LISTENING` (bound to its UDP port).
@@ -49,79 +41,13 @@ std::string StationManifest(const std::string& script, const std::vector<std::st
 
 using Row = TrajectoryRow;
 
-// The row at or just before `t_s` (rows every 100 ms).
-const Row& RowAt(const std::vector<Row>& rows, double t_s) {
-  size_t i = 0;
-  while (i + 1 < rows.size() && rows[i + 1].t_s <= t_s + 1e-9) ++i;
-  return rows.at(i);
-}
-
-// MAVLink messages that crossed the medium one way, as node-mavlink decoded them
-// (tests/node_mavlink/decode.cjs, CRC and CRC_EXTRA checked): message name -> count, and the
-// COMMAND_LONG commands' ids -> count.
-struct Crossed {
-  std::map<std::string, int> messages;
-  std::map<std::string, int> commands;
-  std::map<std::string, int> systems;  // sender's MAVLink system id -> messages
-  std::string counts;                  // "COUNTS valid=.. invalid=.. unknown=.."
-  int Messages(const std::string& name) const {
-    const auto it = messages.find(name);
-    return it == messages.end() ? 0 : it->second;
-  }
-  int Commands(int id) const {
-    const auto it = commands.find(std::to_string(id));
-    return it == commands.end() ? 0 : it->second;
-  }
-};
-
-// `bytes` (MAVLink frames) decoded by node-mavlink; `file` holds them for node's stdin.
-Crossed DecodeMavlink(const std::string& bytes, const std::string& file) {
-  std::ofstream(file, std::ios::binary) << bytes;
-  const CommandResult node = RunCommand(
-      {"sh", "-c", "node \"$0/decode.cjs\" < \"$1\"", NodeMavlinkDir(), file}, 120 * kNsPerS);
-  EXPECT_EQ(node.exit_code, 0) << node.err;
-  Crossed crossed;
-  std::istringstream decoded(node.out);
-  for (std::string line; std::getline(decoded, line);) {
-    std::istringstream words(line);
-    std::string kind, id, name;
-    words >> kind >> id >> name;
-    if (kind == "COUNTS") crossed.counts = line;
-    if (kind != "MSG") continue;
-    ++crossed.messages[name];
-    for (std::string word; words >> word;) {
-      if (word.rfind("sysid=", 0) == 0) ++crossed.systems[word.substr(6)];
-      if (name == "COMMAND_LONG" && word.rfind("command=", 0) == 0) {
-        ++crossed.commands[word.substr(8)];
-      }
-    }
-  }
-  return crossed;
-}
-
-// The UDP payloads between addresses `a` and `b` in OUT/medium.pcap (first transmissions, no
-// ICMP quoting them), one tshark pass (seconds per pass on a long capture): source -> bytes.
+// The UDP payloads between addresses `a` and `b` in OUT/medium.pcap: source -> bytes.
 std::map<std::string, std::string> PayloadsBetween(const std::string& out, const std::string& a,
                                                    const std::string& b) {
-  const CommandResult tshark =
-      RunCommand({"tshark", "-r", out + "/medium.pcap", "-Y",
-                  "udp && ((ip.src == " + a + " && ip.dst == " + b + ") || (ip.src == " + b +
-                      " && ip.dst == " + a + ")) && wlan.fc.retry == 0 && !icmp",
-                  "-T", "fields", "-e", "ip.src", "-e", "data.data"},
-                 120 * kNsPerS);
-  EXPECT_EQ(tshark.exit_code, 0) << tshark.err;
-  std::map<std::string, std::string> payloads;
-  std::istringstream lines(tshark.out);
-  for (std::string line; std::getline(lines, line);) {
-    std::istringstream fields(line);
-    std::string source, hex;
-    fields >> source >> hex;
-    std::string& bytes = payloads[source];
-    for (size_t i = 0; i + 1 < hex.size(); i += 2) {
-      bytes.push_back(static_cast<char>(std::stoi(hex.substr(i, 2), nullptr, 16)));
-    }
-  }
-  return payloads;
+  return UdpPayloads(out, "udp and host " + a + " and host " + b,
+                     "(ip.src == " + a + " && ip.dst == " + b + ") || (ip.src == " + b +
+                         " && ip.dst == " + a + ")",
+                     "ip.src");
 }
 
 // Frames the medium delivered from robot `from` to robot `to` (deliveries.csv:
@@ -135,29 +61,6 @@ int Delivered(const std::string& out, int from, int to) {
     if (std::sscanf(line.c_str(), "%lld,%d,%d", &t, &f, &d) == 3 && f == from && d == to) ++n;
   }
   return n;
-}
-
-// What a GCS script printed: events with the autopilot's time (s), as guided_flight.cjs prints
-// them ("NAME t=S") or fly_px4.cjs ("EVENT NAME t_ms=MS [since_ms=MS]": since when the steady
-// state the event ends held). `since_s` is the event's own time when there is none.
-struct Event {
-  double t_s = 0;
-  double since_s = 0;
-};
-
-std::map<std::string, Event> Events(const std::string& log) {
-  std::map<std::string, Event> events;
-  std::istringstream lines(log);
-  for (std::string line; std::getline(lines, line);) {
-    char name[32];
-    double t = 0, since = -1;
-    if (std::sscanf(line.c_str(), "EVENT %31s t_ms=%lf since_ms=%lf", name, &t, &since) >= 2) {
-      events[name] = {t / 1000, since < 0 ? t / 1000 : since / 1000};
-    } else if (std::sscanf(line.c_str(), "%31[A-Z_] t=%lf", name, &t) == 2) {
-      events[name] = {t, t};
-    }
-  }
-  return events;
 }
 
 // The route both tests fly: 5 m up, 20 m north, down. The station stands mid-route: at
@@ -174,7 +77,7 @@ struct RadioFlight {
   std::string station, vehicle;  // wlan0 addresses
   std::string out;
   std::string log;  // the station's
-  std::map<std::string, Event> events;
+  std::map<std::string, FlightEvent> events;
   std::vector<Row> rows;  // the vehicle's truth
   double wall_s = 0;
 };
@@ -199,7 +102,7 @@ RadioFlight FlyOverTheMedium(int slot, const std::string& manifest,
   flight.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_EQ(run.exit_code, 0) << run.err;
   flight.log = ReadAll(gcs_output.empty() ? flight.out + "/robots/gcs.log" : gcs_output);
-  flight.events = Events(flight.log);
+  flight.events = FlightEvents(flight.log);
   for (const std::string& event : expected_events) {
     EXPECT_EQ(flight.events.count(event), 1u) << event << "\n" << flight.log;
   }
@@ -341,26 +244,13 @@ TEST(AutopilotRadioTest, AGcsOnTheHostFliesArduCopterThroughTheRelayInLockstep) 
   WriteGcsRelayManifest(folder, manifest_path);
   // The GCS on the host, on a free port; its output to a file (it prints every report).
   const std::string gcs_output = folder + "/gcs.out";
-  std::string command = "exec node \"$0/guided_flight.cjs\" udpin 0";
-  for (const std::string& arg : GuidedRoute()) command += " " + arg;
-  Child gcs({"sh", "-c", command + " > \"$1\" 2>&1", NodeMavlinkDir(), gcs_output});
-  int port = 0;
-  ASSERT_TRUE(WaitForFiles(
-      folder,
-      [&] {
-        return std::sscanf(ReadAll(gcs_output).c_str(), "LISTENING on UDP port %d", &port) == 1;
-      },
-      30 * kNsPerS))
-      << ReadAll(gcs_output);
-  Child host_side(
-      {"socat",
-       "UNIX-SENDTO:" + folder + "/commands.sock,bind=" + folder + "/mavlink.sock,unlink-early",
-       "UDP4:127.0.0.1:" + std::to_string(port)});
-  ASSERT_TRUE(WaitForFiles(
-      folder, [&] { return std::filesystem::exists(folder + "/mavlink.sock"); }, 30 * kNsPerS));
+  std::vector<std::string> args = {"udpin", "0"};
+  for (const std::string& arg : GuidedRoute()) args.push_back(arg);
+  HostGcs host(folder, "guided_flight.cjs", args, gcs_output);
+  ASSERT_TRUE(host.started()) << ReadAll(gcs_output);
   const RadioFlight flight = FlyOverTheMedium(4, manifest_path, ArduCopterBlock(4), 80000,
                                               kGuidedFlightEvents, gcs_output);
-  EXPECT_EQ(gcs.Wait(30 * kNsPerS), 0) << ReadAll(gcs_output);
+  EXPECT_EQ(host.gcs().Wait(30 * kNsPerS), 0) << ReadAll(gcs_output);
   if (HasFailure()) return;
   ExpectArduCopterFlight(flight, "GCS on the host through gcs_relay");
   EXPECT_NE(ReadAll(flight.out + "/robots/gcs.log").find("vehicle " + flight.vehicle + ":"),

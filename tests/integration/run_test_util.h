@@ -3,6 +3,7 @@
 #ifndef SITLNET_TESTS_INTEGRATION_RUN_TEST_UTIL_H_
 #define SITLNET_TESTS_INTEGRATION_RUN_TEST_UTIL_H_
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,25 @@ std::vector<TrajectoryRow> TrajectoryRows(const std::string& csv, int robot);
 // /run/sitlnet-gcs replaced by `folder` (a test's own).
 void WriteGcsRelayManifest(const std::string& folder, const std::string& path);
 
+// A GCS on the host and the host side of a gcs_relay image whose host folder is `folder`, as
+// docs/howto-autopilot-fleet.md (step 4) joins them: the GCS is `script` of tests/node_mavlink run
+// by node with `args`, which make it bind a free UDP port and print "LISTENING on UDP port N"; its
+// output goes to the file `output`. Then one socat joins the relay's two Unix sockets to that port.
+// Both are killed with this object unless the GCS exited first.
+class HostGcs {
+ public:
+  HostGcs(const std::string& folder, const std::string& script,
+          const std::vector<std::string>& args, const std::string& output);
+  // The GCS bound its port and socat the relay's telemetry socket, each within 30 s.
+  bool started() const { return started_; }
+  integration_test::Child& gcs() { return *gcs_; }
+
+ private:
+  std::optional<integration_test::Child> gcs_;
+  std::optional<integration_test::Child> socat_;
+  bool started_ = false;
+};
+
 // Skips the test when `why_missing` (a ...Missing() above or below) is not empty, saying why; under
 // CI=true fails it instead.
 #define SITLNET_REQUIRE(why_missing)                                    \
@@ -55,6 +75,15 @@ void WriteGcsRelayManifest(const std::string& folder, const std::string& path);
       if (::sitlnet::integration_test::IsCi()) FAIL() << missing;       \
       GTEST_SKIP() << missing;                                          \
     }                                                                   \
+  } while (0)
+
+// Skips (fails under CI=true) when root, the autopilot of `why_missing` or node-mavlink is
+// missing: what flying a real autopilot with a node-mavlink GCS needs.
+#define SITLNET_REQUIRE_FLIGHT(why_missing)                         \
+  do {                                                              \
+    SITLNET_REQUIRE_NNS_PRIVILEGES();                               \
+    SITLNET_REQUIRE(why_missing);                                   \
+    SITLNET_REQUIRE(::sitlnet::nns::testing::NodeMavlinkMissing()); \
   } while (0)
 
 // A lockstep ground station's robot image (tests/node_mavlink/lockstep_station.cjs): `script` of

@@ -1,0 +1,44 @@
+// A GCS on the host that flies a fleet of PX4 and ArduCopter vehicles through a ground station
+// robot's gcs_relay image, as docs/howto-autopilot-fleet.md flies the shipped scenarios: one
+// socat joins the relay's Unix sockets to this UDP port. The fleet's flight and the lines it
+// prints: fleet_flight_plan.cjs.
+//   node fleet_gcs.cjs PORT ALT_M HOLD_S ROUTE VEHICLE...
+// PORT 0: any free port. Prints "LISTENING on UDP port N" once bound. Every vehicle's datagrams
+// come from socat, and the commands go back there: the relay sends each to every vehicle it has
+// heard, and a vehicle ignores commands for another system id. Sends each PX4 a HEARTBEAT each
+// wall second, as fly_px4.cjs does. Exits 0 once every vehicle disarmed after landing. Its
+// commands reach the vehicles when the host schedules it: a lockstep run with it is not
+// reproducible.
+// Used by tests/integration/shipped_fleet_scenarios_test.cc.
+'use strict';
+const dgram = require('dgram');
+const { fleetFlight } = require('./fleet_flight_plan.cjs');
+
+const [port, ...fleetArgs] = process.argv.slice(2);
+if (Number.isNaN(Number(port))) {
+  process.stderr.write('fleet_gcs.cjs: PORT is not a number\n');
+  process.exit(2);
+}
+const socket = dgram.createSocket('udp4');
+let heartbeats = null;
+let closed = false;  // once every vehicle is done; a plan may still answer a report after that
+const fleet = fleetFlight({
+  script: 'fleet_gcs.cjs',
+  usage: 'usage: node fleet_gcs.cjs PORT ALT_M HOLD_S NORTH,EAST/... px4|arducopter:SYSID...\n',
+  args: fleetArgs,
+  send: (bytes, address, toPort) => { if (!closed) socket.send(bytes, toPort, address); },
+  onAllDone: () => {
+    clearInterval(heartbeats);
+    closed = true;
+    socket.close();
+  },
+});
+socket.on('message', fleet.take);
+socket.on('error', (error) => {
+  process.stdout.write(`ERROR ${error.message}\n`);
+  process.exit(1);
+});
+socket.bind(Number(port), () => {
+  process.stdout.write(`LISTENING on UDP port ${socket.address().port}\n`);
+  heartbeats = setInterval(fleet.heartbeatPx4s, 1000);
+});
