@@ -230,33 +230,8 @@ TEST(AutopilotRadioTest, AStationRobotFliesArduCopterOverTheMediumInLockstep) {
   RunCommand({"rm", "-rf", flight.out});
 }
 
-// Issue 31, item 4, the host GCS relay both ways: the shipped gcs_relay image in the station,
-// the host side as its manifest says (one socat between the relay's two Unix sockets and the
-// GCS's UDP port), and a GCS on the host (guided_flight.cjs, node-mavlink) flying ArduCopter
-// as above. The host GCS has no route to the vehicle: its commands cross the medium from the
-// station (NnsUpTest checks that no robot namespace has a route off its own links).
-TEST(AutopilotRadioTest, AGcsOnTheHostFliesArduCopterThroughTheRelayInLockstep) {
-  SITLNET_REQUIRE_FLIGHT(ArduPilotMissing());
-  const std::string folder = TempDir() + "/gcs_host";
-  ASSERT_EQ(RunCommand({"mkdir", "-p", folder}).exit_code, 0);
-  // The shipped manifest, its host folder replaced by the test's.
-  const std::string manifest_path = TempDir() + "/gcs_relay_two_way.textproto";
-  WriteGcsRelayManifest(folder, manifest_path);
-  // The GCS on the host, on a free port; its output to a file (it prints every report).
-  const std::string gcs_output = folder + "/gcs.out";
-  std::vector<std::string> args = {"udpin", "0"};
-  for (const std::string& arg : GuidedRoute()) args.push_back(arg);
-  HostGcs host(folder, "guided_flight.cjs", args, gcs_output);
-  ASSERT_TRUE(host.started()) << ReadAll(gcs_output);
-  const RadioFlight flight = FlyOverTheMedium(4, manifest_path, ArduCopterBlock(4), 80000,
-                                              kGuidedFlightEvents, gcs_output);
-  EXPECT_EQ(host.gcs().Wait(30 * kNsPerS), 0) << ReadAll(gcs_output);
-  if (HasFailure()) return;
-  ExpectArduCopterFlight(flight, "GCS on the host through gcs_relay");
-  EXPECT_NE(ReadAll(flight.out + "/robots/gcs.log").find("vehicle " + flight.vehicle + ":"),
-            std::string::npos);
-  RunCommand({"rm", "-rf", flight.out, folder, manifest_path});
-}
+// Issue 31, item 4, the host GCS relay both ways: ShippedFleetScenariosTest flies the shipped
+// fleets from a GCS on the host through the shipped gcs_relay and the how-to's socat.
 
 // Issue 31, item 4, PX4: the station (fly_px4.cjs) arms (COMMAND_LONG COMPONENT_ARM_DISARM),
 // takes off (NAV_TAKEOFF), climbs and flies to the waypoint (COMMAND_INT DO_REPOSITION) and
