@@ -250,7 +250,7 @@ TEST(AutopilotRadioTest, AStationRobotFliesPx4OverTheMediumInLockstep) {
       "position_m { x: 0 y: 0 z: 0.2 } px4_sim_port: 4560 image: \"px4\" "
       "args: [\"--gcs\", \"" +
           station + "\", \"--sysid\", \"7\"]",
-      60000, {"ARMED", "TAKEOFF", "HOLD", "WAYPOINT", "ARRIVED", "LAND", "DISARMED"});
+      70000, {"ARMED", "TAKEOFF", "HOLD", "WAYPOINT", "ARRIVED", "LAND", "DISARMED"});
   if (HasFailure()) return;
   const auto& events = flight.events;
   const FlightErrors hold =

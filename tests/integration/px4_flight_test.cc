@@ -147,7 +147,7 @@ void FlyPx4(int slot, const char* pacing) {
   CommandResult fly = RunCommand(
       {SitlnetBinary(), "exec", "--scenario", scenario.name, "px", "--", "node",
        integration_test::SourceDir() + "/tests/node_mavlink/fly_px4.cjs", std::to_string(kAltitudeM),
-       std::to_string(kNorthM), "0", "300"},
+       std::to_string(kNorthM), "0", "300", "estimates"},
       320 * kNsPerS);
   ASSERT_EQ(run.Wait(400 * kNsPerS), 0) << run.err();
   const double wall_s =

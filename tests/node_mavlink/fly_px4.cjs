@@ -3,7 +3,7 @@
 // 14550, where PX4's GCS links send (its own on the robot's localhost, from port 18570; the px4
 // manifest's `--gcs ADDR` link over wlan0, from 14556), and answers the address PX4's first
 // datagram came from, as a GCS does. Prints `LISTENING` once bound.
-//   node fly_px4.cjs <altitude_m> <north_m> <east_m> <timeout_s>
+//   node fly_px4.cjs <altitude_m> <north_m> <east_m> <timeout_s> [estimates]
 // Exits 0 once PX4 disarmed after landing, 1 on timeout (wall clock). It sends a HEARTBEAT each
 // wall second, and its commands reach PX4 when the host schedules it: a lockstep run with it is
 // not reproducible (fly_px4_lockstep.cjs's is closer, docs/autopilots-evidence.md).
@@ -13,11 +13,12 @@ const dgram = require('dgram');
 const { px4Flight } = require('./px4_flight_plan.cjs');
 
 const args = process.argv.slice(2);
-if (args.length !== 4) {
-  process.stderr.write('usage: node fly_px4.cjs <altitude_m> <north_m> <east_m> <timeout_s>\n');
+if ((args.length !== 4 && args.length !== 5) || (args.length === 5 && args[4] !== 'estimates')) {
+  process.stderr.write('usage: node fly_px4.cjs <altitude_m> <north_m> <east_m> <timeout_s> [estimates]\n');
   process.exit(2);
 }
-const [altitudeM, northM, eastM, timeoutS] = args.map(Number);
+const [altitudeM, northM, eastM, timeoutS] = args.slice(0, 4).map(Number);
+const estimates = args[4] === 'estimates';  // ODOMETRY and the origin too (px4_flight_plan.cjs)
 
 const GCS_PORT = 14550;  // where PX4's GCS links send before they have heard from anyone
 
@@ -31,7 +32,7 @@ function finish(code) {
   process.exitCode = code;
 }
 const flight = px4Flight({
-  altitudeM, northM, eastM,
+  altitudeM, northM, eastM, estimates,
   write: (bytes) => { if (vehicle !== null) socket.send(bytes, vehicle.port, vehicle.address); },
   say: (line) => process.stdout.write(line + '\n'),
   onDone: () => finish(0),

@@ -9,7 +9,8 @@
 //                               with `waypoints`, WAYPOINT and ARRIVED: index=.. for each)
 //   POS t_ms=.. lat=.. lon=.. alt=.. relative_alt=..   every GLOBAL_POSITION_INT (degE7, mm)
 //   HOME lat=.. lon=.. alt=..                          where it armed (degE7, mm)
-//   ODOM t_us=.. x=.. y=.. z=..     every ODOMETRY (asked for at 20 Hz): PX4's estimate, local
+//   ODOM t_us=.. x=.. y=.. z=..     with `estimates` only (a 40 kB/s radio link of PX4's has no
+//                                   room for it): every ODOMETRY (asked for at 20 Hz), local
 //                                   NED (m) from its origin, stamped with the instant it estimates
 //                                   (GLOBAL_POSITION_INT is stamped when ekf2 published it, later
 //                                   by ekf2's own lag on a busy host)
@@ -35,7 +36,7 @@ const REGISTRY = { ...minimal.REGISTRY, ...common.REGISTRY };
 // onDone() is called once it disarmed after landing. Feed it PX4's datagrams with
 // splitter.write(datagram); heartbeat() sends a GCS HEARTBEAT. `waypoints`: [{ northM, eastM },
 // ...], else the one point northM, eastM.
-function px4Flight({ altitudeM, northM, eastM, waypoints, write, say, onDone }) {
+function px4Flight({ altitudeM, northM, eastM, waypoints, estimates, write, say, onDone }) {
   const route = waypoints || [{ northM, eastM }];
   const legName = (leg) => (waypoints ? ` index=${leg}` : '');
   let leg = 0;  // the index in `route` of the waypoint flown to
@@ -83,6 +84,7 @@ function px4Flight({ altitudeM, northM, eastM, waypoints, write, say, onDone }) 
   // PX4's time until they come (the origin once armed: it is set before PX4 can arm).
   let odometrySeen = false, originSeen = false, lastAskMs = -1e9;
   function askForEstimates(tMs) {
+    if (!estimates) return;
     if ((odometrySeen && (originSeen || !armed)) || tMs - lastAskMs < 1000) return;
     lastAskMs = tMs;
     if (!odometrySeen) commandLong(MAV_CMD.SET_MESSAGE_INTERVAL, [ODOMETRY_ID, ODOMETRY_INTERVAL_US, 0, 0, 0, 0, 0]);
