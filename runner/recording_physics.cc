@@ -38,9 +38,7 @@ void RecordingPhysics::Record(TimeNs time_ns) {
     row.altitude_m = where.altitude_m;
     csv_.Append(FormatPoseRow(row));
     if (live_ != nullptr) {
-      live_poses_[i] = {row.x_m, row.y_m, row.z_m,
-                        std::sqrt(row.vx_m_s * row.vx_m_s + row.vy_m_s * row.vy_m_s +
-                                  row.vz_m_s * row.vz_m_s)};
+      live_poses_[i] = {row.x_m, row.y_m, row.z_m, std::hypot(row.vx_m_s, row.vy_m_s, row.vz_m_s)};
     }
   }
   if (live_ != nullptr) live_->Poses(time_ns, live_poses_);
