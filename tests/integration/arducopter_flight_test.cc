@@ -2,6 +2,8 @@
 // robot_images/arducopter, found through SITLNET_ARDUPILOT_DIR: a ground station on the robot's
 // own loopback (node-mavlink, tests/node_mavlink/guided_flight.cjs) sets GUIDED, arms, takes off
 // to 10 m, flies to a waypoint, lands; ArduCopter disarms by itself.
+#include <signal.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -69,34 +71,62 @@ class ArduCopterFlightTest : public ::testing::Test {
   }
 };
 
-// 100 virtual seconds, in lockstep or realtime pacing. Oracles: ArduPilot's own multicopter model (`arducopter
+// Up to 150 virtual seconds (the test stops the run once ArduCopter has disarmed, at about 86 s),
+// in lockstep or realtime pacing. Oracles: ArduPilot's own multicopter model (`arducopter
 // --model quad`, the same binary and parameters, its GCS the same script) reports "EKF3 IMU0 is
 // using GPS" at 41.4 s and arms at 41.9 s, with "Gyros inconsistent" until 23 s and "Need
 // Position Estimate" until then; the physics step (1 ms) against SIM_RATE_HZ (1200): one frame
 // per step is the most the JSON backend can get; ArduPilot's own loop-rate checks.
-void FlyGuided(bool lockstep) {
+// Returns true, having checked nothing, when `may_retry` and ArduPilot said the host did not
+// keep its loop in realtime pacing (below).
+bool FlyGuided(bool lockstep, bool may_retry) {
   const RunScenario scenario =
       WriteScenario(9,
                     "robot { name: \"c1\" position_m { x: 0 y: 0 z: 0.1 } "
                     "ardupilot_json_port: 9002 image: \"arducopter\" }\n",
-                    std::string("timing { duration_ms: 100000 pacing: ") +
+                    std::string("timing { duration_ms: 150000 pacing: ") +
                         (lockstep ? "PACING_LOCKSTEP" : "PACING_REALTIME") + " }\n");
   DownGuard guard(scenario.name);
   const std::string out =
       TempDir() + "/" + scenario.name + (lockstep ? "-lockstep" : "-realtime");
   Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress"});
   const std::string log = out + "/robots/c1.log";
-  ASSERT_TRUE(WaitForFiles(
+  bool serial_up = false;
+  EXPECT_TRUE(serial_up = WaitForFiles(
       out + "/robots",
       [&] { return ReadAll(log).find("SERIAL0 on TCP port 5760") != std::string::npos; },
       60 * kNsPerS))
       << ReadAll(log) << run.err();
+  if (!serial_up) return false;
   Child gcs({"ip", "netns", "exec", scenario.name + "-c1", "node",
              NodeMavlinkDir() + "/guided_flight.cjs", "127.0.0.1", "5760",
              std::to_string(kAltitudeM), std::to_string(kHoldS), std::to_string(kNorthM), "0"});
-  ASSERT_EQ(run.Wait(300 * kNsPerS), 0) << run.err();
-  gcs.Wait(10 * kNsPerS);
+  // The GCS exits once ArduCopter disarmed (or its link closed first); then the run stops in
+  // order, its outputs complete. The GCS acts on the wall clock, outside the lock-step, so when
+  // ArduCopter disarms in virtual time depends on the host's speed.
+  gcs.Wait(250 * kNsPerS);
+  kill(run.pid(), SIGINT);
+  const int run_exit = run.Wait(60 * kNsPerS);
+  EXPECT_TRUE(run_exit == 130 || run_exit == 0) << run_exit << " " << run.err();
+  if (run_exit != 130 && run_exit != 0) return false;
   const Flight flight = ParseFlight(gcs.out());
+
+  // ArduPilot's own verdict that the host did not keep its loop in realtime pacing: each frame
+  // must come within its millisecond of wall time. On a shared host some do not (a neighbour
+  // takes the CPU: CI's load average was 0.6 when it said so), and SITL's IMU misses samples
+  // (docs/autopilots.md). Such a flight says nothing of sitlnet: it is flown once more.
+  if (!lockstep && may_retry) {
+    for (const auto& [t, text] : flight.texts) {
+      if (text.find("Main loop slow") == std::string::npos &&
+          text.find(" rate ") == std::string::npos) {
+        continue;
+      }
+      std::printf("ArduPilot at %.3f s: \"%s\" (%s); flying once more\n", t, text.c_str(),
+                  integration_test::HostLoad().c_str());
+      ExpectNothingLeft(scenario.name);
+      return true;
+    }
+  }
 
   // Home is the scenario's geodetic_origin (the default one).
   EXPECT_NE(ReadAll(log).find("Home: 47.397742 8.545594 alt=488.000000m"), std::string::npos);
@@ -104,24 +134,28 @@ void FlyGuided(bool lockstep) {
   // One JSON frame per physics step (1 ms), none resent; faster than real time.
   const std::string summary = ReadAll(out + "/summary.json");
   long frames = 0, resends = -1;
-  double stf = 0;
+  double stf = 0, simulated_s = 0;
+  std::sscanf(summary.c_str() + summary.find("\"simulated_s\":"), "\"simulated_s\":%lf",
+              &simulated_s);
   std::sscanf(summary.c_str() + summary.find("\"json_frames\":"), "\"json_frames\":%ld", &frames);
   std::sscanf(summary.c_str() + summary.find("\"json_resends\":"), "\"json_resends\":%ld",
               &resends);
   std::sscanf(summary.c_str() + summary.find("\"stf\":{\"mean\":"), "\"stf\":{\"mean\":%lf", &stf);
   EXPECT_EQ(resends, 0);
   if (lockstep) {
-    EXPECT_NEAR(frames, 100000, 2) << summary;
+    EXPECT_NEAR(frames, simulated_s * 1000, 2) << summary;
     EXPECT_LT(stf, 1) << "lockstep slower than real time";
   } else {
     // A frame that comes after its step's wall instant is answered with a longer step: fewer.
-    EXPECT_LE(frames, 100001) << summary;
+    EXPECT_LE(frames, simulated_s * 1000 + 1) << summary;
   }
 
   // The flight, in the autopilot's time.
   for (const char* event : {"ARMED", "TAKEOFF_REACHED", "WAYPOINT_REACHED", "LAND", "DISARMED"}) {
-    ASSERT_EQ(flight.events.count(event), 1u)
-        << event << "\n" << integration_test::HostLoad() << "\n" << gcs.out() << gcs.err();
+    EXPECT_EQ(flight.events.count(event), 1u)
+        << event << "\n" << integration_test::HostLoad() << "\n"
+        << integration_test::WithoutLines(gcs.out(), {"POS "}) << gcs.err();
+    if (flight.events.count(event) != 1) return false;
   }
   const double armed_s = flight.events.at("ARMED");
   const double takeoff_s = flight.events.at("TAKEOFF_REACHED");
@@ -151,7 +185,8 @@ void FlyGuided(bool lockstep) {
 
   // Truth: trajectories.csv (ENU, every 100 ms). Altitude above where it stood when it armed.
   const std::vector<Row> rows = TrajectoryRows(ReadAll(out + "/trajectories.csv"), 0);
-  ASSERT_GT(rows.size(), 990u);
+  EXPECT_GT(static_cast<double>(rows.size()), simulated_s * 10 - 10);
+  if (rows.size() < 100) return false;
   const double ground_z = RowAt(rows, armed_s).z_m;
   int held = 0;
   double worst_altitude_m = 0;
@@ -176,21 +211,22 @@ void FlyGuided(bool lockstep) {
   EXPECT_NEAR(at_waypoint.x_m, 0, 1);
   EXPECT_GT(waypoint_s, takeoff_s);
   EXPECT_NEAR(RowAt(rows, flight.events.at("DISARMED")).z_m, ground_z, 0.05);
-  std::printf("ArduCopter %s: %ld JSON frames in 100 s, STF %.3f, armed at %.2f s, EKF "
+  std::printf("ArduCopter %s: %ld JSON frames in %.1f s, STF %.3f, armed at %.2f s, EKF "
               "uses GPS at %.2f s, took off at %.2f s, waypoint at %.2f s, disarmed at %.2f s; "
               "altitude off 10 m by %.3f m at most, its estimate off the truth by %.3f m\n",
-              lockstep ? "lockstep" : "realtime", frames, stf, armed_s, using_gps_s, takeoff_s, waypoint_s,
+              lockstep ? "lockstep" : "realtime", frames, simulated_s, stf, armed_s, using_gps_s, takeoff_s, waypoint_s,
               flight.events.at("DISARMED"), worst_altitude_m, worst_estimate_m);
   ExpectNothingLeft(scenario.name);
+  return false;
 }
 
 TEST_F(ArduCopterFlightTest, ArmsTakesOffFliesToAWaypointLandsAndDisarmsInLockstep) {
-  FlyGuided(true);
+  FlyGuided(true, false);
 }
 
-// 100 s of wall time.
+// About 90 s of wall time a flight.
 TEST_F(ArduCopterFlightTest, ArmsTakesOffFliesToAWaypointLandsAndDisarmsInRealtime) {
-  FlyGuided(false);
+  if (FlyGuided(false, true)) FlyGuided(false, false);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -183,14 +184,61 @@ std::string ReadAll(const std::string& path) {
   return text.str();
 }
 
+namespace {
+
+// The first line of /proc/stat: jiffies of all CPUs by state (user nice system idle iowait irq
+// softirq steal).
+struct CpuJiffies {
+  unsigned long long busy = 0, idle = 0, steal = 0;
+};
+
+CpuJiffies ReadCpuJiffies() {
+  unsigned long long user = 0, nice = 0, system = 0, idle = 0, iowait = 0, irq = 0, softirq = 0,
+                     steal = 0;
+  const std::string stat = ReadAll("/proc/stat");
+  std::sscanf(stat.c_str(), "cpu %llu %llu %llu %llu %llu %llu %llu %llu", &user, &nice, &system,
+              &idle, &iowait, &irq, &softirq, &steal);
+  return {user + nice + system + irq + softirq, idle + iowait, steal};
+}
+
+// Taken when the test process starts: ctest runs one test per process, so the shares since
+// then are the test's.
+const CpuJiffies kCpuAtStart = ReadCpuJiffies();
+
+}  // namespace
+
 std::string HostLoad() {
   double one = 0, five = 0, fifteen = 0;
   const std::string loadavg = ReadAll("/proc/loadavg");
   std::sscanf(loadavg.c_str(), "%lf %lf %lf", &one, &five, &fifteen);
-  char line[96];
-  std::snprintf(line, sizeof line, "host load average %.2f, %.2f, %.2f on %u cores", one, five,
-                fifteen, std::thread::hardware_concurrency());
+  const CpuJiffies now = ReadCpuJiffies();
+  const double busy = static_cast<double>(now.busy - kCpuAtStart.busy);
+  const double steal = static_cast<double>(now.steal - kCpuAtStart.steal);
+  const double total = busy + steal + static_cast<double>(now.idle - kCpuAtStart.idle);
+  char line[192];
+  std::snprintf(line, sizeof line,
+                "host load average %.2f, %.2f, %.2f on %u cores; since the test began the CPUs "
+                "were %.0f %% busy, %.0f %% stolen by the hypervisor",
+                one, five, fifteen, std::thread::hardware_concurrency(),
+                total > 0 ? 100 * busy / total : 0.0, total > 0 ? 100 * steal / total : 0.0);
   return line;
+}
+
+std::string WithoutLines(const std::string& text, const std::vector<std::string>& prefixes) {
+  std::string kept;
+  size_t left_out = 0;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    const bool drop = std::any_of(prefixes.begin(), prefixes.end(), [&](const std::string& p) {
+      return line.rfind(p, 0) == 0;
+    });
+    if (drop) {
+      ++left_out;
+    } else {
+      kept += line + "\n";
+    }
+  }
+  return kept + "(" + std::to_string(left_out) + " lines left out)\n";
 }
 
 std::string TempDir() {

@@ -108,9 +108,13 @@ CommandResult RunWithoutCapabilities(const std::vector<std::string>& argv, uint6
 std::string ReadAll(const std::string& path);
 // A folder private to this test process under $TMPDIR (or /tmp), removed at normal exit.
 std::string TempDir();
-// "host load average X, Y, Z on N cores" (/proc/loadavg): printed with a realtime flight's
-// failure, where an autopilot short of CPU misses its own clock (docs/autopilots.md).
+// "host load average X, Y, Z on N cores" (/proc/loadavg) and the CPUs' busy and stolen shares
+// since the test process began (/proc/stat): printed with a realtime flight's failure, where an
+// autopilot short of CPU misses its own clock (docs/autopilots.md).
 std::string HostLoad();
+// `text` without its lines that start with one of `prefixes`, and a last line saying how many
+// were left out: a flight's failure prints the ground station's events, not its position reports.
+std::string WithoutLines(const std::string& text, const std::vector<std::string>& prefixes);
 // <build>/bin/sitlnet of the tree under test ($SITLNET_BINARY_DIR, else from /proc/self/exe).
 std::string SitlnetBinary();
 // $SITLNET_SOURCE_DIR, else ".".
