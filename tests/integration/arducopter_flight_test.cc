@@ -104,9 +104,13 @@ bool FlyGuided(bool lockstep, bool may_retry) {
   // The GCS exits once ArduCopter disarmed (or its link closed first); then the run stops in
   // order, its outputs complete. The GCS acts on the wall clock, outside the lock-step, so when
   // ArduCopter disarms in virtual time depends on the host's speed.
-  gcs.Wait(250 * kNsPerS);
+  // A flight that may be flown again ends as soon as ArduPilot says its loop is slow (below).
+  const bool slow_loop = !lockstep && may_retry &&
+                         gcs.WaitForOutput(false, "Main loop slow", 250 * kNsPerS);
+  if (!slow_loop) gcs.Wait(250 * kNsPerS);
   kill(run.pid(), SIGINT);
   const int run_exit = run.Wait(60 * kNsPerS);
+  if (slow_loop) gcs.Wait(10 * kNsPerS);  // Its link closed with the run.
   EXPECT_TRUE(run_exit == 130 || run_exit == 0) << run_exit << " " << run.err();
   if (run_exit != 130 && run_exit != 0) return false;
   const Flight flight = ParseFlight(gcs.out());
