@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/integration/realtime_judge.h"
 #include "tests/integration/run_test_util.h"
 
 namespace sitlnet::nns::testing {
@@ -78,7 +79,7 @@ class ArduCopterFlightTest : public ::testing::Test {
 // Position Estimate" until then; the physics step (1 ms) against SIM_RATE_HZ (1200): one frame
 // per step is the most the JSON backend can get; ArduPilot's own loop-rate checks.
 // Returns true, having checked nothing, when `may_retry` and ArduPilot said the host did not
-// keep its loop in realtime pacing (below).
+// keep its loop in realtime pacing (below; realtime_judge.h).
 bool FlyGuided(bool lockstep, bool may_retry) {
   const RunScenario scenario =
       WriteScenario(9,
@@ -89,6 +90,7 @@ bool FlyGuided(bool lockstep, bool may_retry) {
   DownGuard guard(scenario.name);
   const std::string out =
       TempDir() + "/" + scenario.name + (lockstep ? "-lockstep" : "-realtime");
+  RunCommand({"rm", "-rf", out});  // A flight flown once more starts from nothing.
   Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress"});
   const std::string log = out + "/robots/c1.log";
   bool serial_up = false;
@@ -105,8 +107,9 @@ bool FlyGuided(bool lockstep, bool may_retry) {
   // order, its outputs complete. The GCS acts on the wall clock, outside the lock-step, so when
   // ArduCopter disarms in virtual time depends on the host's speed.
   // A flight that may be flown again ends as soon as ArduPilot says its loop is slow (below).
+  // Both of ArduPilot's loop-rate complaints say "...Hz < ...Hz".
   const bool slow_loop = !lockstep && may_retry &&
-                         gcs.WaitForOutput(false, "Main loop slow", 250 * kNsPerS);
+                         gcs.WaitForOutput(false, "Hz < ", 250 * kNsPerS);
   if (!slow_loop) gcs.Wait(250 * kNsPerS);
   kill(run.pid(), SIGINT);
   const int run_exit = run.Wait(60 * kNsPerS);
@@ -116,17 +119,12 @@ bool FlyGuided(bool lockstep, bool may_retry) {
   const Flight flight = ParseFlight(gcs.out());
 
   // ArduPilot's own verdict that the host did not keep its loop in realtime pacing: each frame
-  // must come within its millisecond of wall time. On a shared host some do not (a neighbour
-  // takes the CPU: CI's load average was 0.6 when it said so), and SITL's IMU misses samples
-  // (docs/autopilots.md). Such a flight says nothing of sitlnet: it is flown once more.
+  // must come within its millisecond of wall time. On a shared host some do not, and SITL's IMU
+  // misses samples (docs/autopilots.md; realtime_judge.h flies it once more).
   if (!lockstep && may_retry) {
     for (const auto& [t, text] : flight.texts) {
-      if (text.find("Main loop slow") == std::string::npos &&
-          text.find(" rate ") == std::string::npos) {
-        continue;
-      }
-      std::printf("ArduPilot at %.3f s: \"%s\" (%s); flying once more\n", t, text.c_str(),
-                  integration_test::HostLoad().c_str());
+      if (text.find("Hz < ") == std::string::npos) continue;
+      std::printf("ArduPilot at %.3f s: \"%s\"\n", t, text.c_str());
       ExpectNothingLeft(scenario.name);
       return true;
     }
@@ -193,22 +191,32 @@ bool FlyGuided(bool lockstep, bool may_retry) {
   if (rows.size() < 100) return false;
   const double ground_z = RowAt(rows, armed_s).z_m;
   int held = 0;
-  double worst_altitude_m = 0;
+  double worst_altitude_m = 0, worst_altitude_at_s = 0;
   for (const Row& row : rows) {
     if (row.t_s < takeoff_s + 2 || row.t_s >= land_s) continue;
-    EXPECT_NEAR(row.z_m - ground_z, kAltitudeM, 0.3) << "at " << row.t_s << " s";
-    worst_altitude_m = std::max(worst_altitude_m, std::fabs(row.z_m - ground_z - kAltitudeM));
+    const double off_m = std::fabs(row.z_m - ground_z - kAltitudeM);
+    if (off_m > worst_altitude_m) {
+      worst_altitude_m = off_m;
+      worst_altitude_at_s = row.t_s;
+    }
     ++held;
   }
   EXPECT_GT(held, 50);
+  EXPECT_LT(worst_altitude_m, 0.3) << "off " << kAltitudeM << " m at " << worst_altitude_at_s
+                                   << " s; " << integration_test::HostLoad();
   // ArduPilot's own altitude estimate against the truth at the same time (its clock is the
   // replies' timestamps, the world's).
-  double worst_estimate_m = 0;
+  double worst_estimate_m = 0, worst_estimate_at_s = 0;
   for (const auto& [t, alt] : flight.altitudes) {
     if (t < takeoff_s + 2 || t >= land_s) continue;
-    EXPECT_NEAR(alt, RowAt(rows, t).z_m - ground_z, 0.3) << "at " << t << " s";
-    worst_estimate_m = std::max(worst_estimate_m, std::fabs(alt - (RowAt(rows, t).z_m - ground_z)));
+    const double off_m = std::fabs(alt - (RowAt(rows, t).z_m - ground_z));
+    if (off_m > worst_estimate_m) {
+      worst_estimate_m = off_m;
+      worst_estimate_at_s = t;
+    }
   }
+  EXPECT_LT(worst_estimate_m, 0.3) << "its altitude estimate off the truth at "
+                                   << worst_estimate_at_s << " s";
   // At the waypoint (north = ENU y) when it lands, and back on the ground when it disarms.
   const Row& at_waypoint = RowAt(rows, land_s);
   EXPECT_NEAR(at_waypoint.y_m, kNorthM, 1);
@@ -230,7 +238,8 @@ TEST_F(ArduCopterFlightTest, ArmsTakesOffFliesToAWaypointLandsAndDisarmsInLockst
 
 // About 90 s of wall time a flight.
 TEST_F(ArduCopterFlightTest, ArmsTakesOffFliesToAWaypointLandsAndDisarmsInRealtime) {
-  if (FlyGuided(false, true)) FlyGuided(false, false);
+  integration_test::FlyJudgedOnAHostThatKeptUp(
+      [](bool may_fly_again) { return FlyGuided(false, may_fly_again); });
 }
 
 }  // namespace

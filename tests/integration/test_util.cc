@@ -18,6 +18,7 @@
 #include <fstream>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 namespace sitlnet::integration_test {
 namespace {
@@ -189,7 +190,7 @@ namespace {
 // The first line of /proc/stat: jiffies of all CPUs by state (user nice system idle iowait irq
 // softirq steal).
 struct CpuJiffies {
-  unsigned long long busy = 0, idle = 0, steal = 0;
+  unsigned long long busy = 0, idle = 0, stolen = 0;
 };
 
 CpuJiffies ReadCpuJiffies() {
@@ -201,26 +202,49 @@ CpuJiffies ReadCpuJiffies() {
   return {user + nice + system + irq + softirq, idle + iowait, steal};
 }
 
-// Taken when the test process starts: ctest runs one test per process, so the shares since
-// then are the test's.
-const CpuJiffies kCpuAtStart = ReadCpuJiffies();
+// Made when the test process starts: ctest runs one test per process, so the shares since then
+// are the test's.
+const HostCpuWatch kSinceProcessStart;
 
 }  // namespace
 
-std::string HostLoad() {
+HostCpuWatch::HostCpuWatch() {
+  const CpuJiffies now = ReadCpuJiffies();
+  busy_ = now.busy;
+  idle_ = now.idle;
+  stolen_ = now.stolen;
+}
+
+namespace {
+
+// Busy and stolen shares of the CPUs' time from `start` to now.
+std::pair<double, double> SharesSince(unsigned long long busy, unsigned long long idle,
+                                      unsigned long long stolen) {
+  const CpuJiffies now = ReadCpuJiffies();
+  const double total =
+      static_cast<double>((now.busy - busy) + (now.idle - idle) + (now.stolen - stolen));
+  if (total <= 0) return {0, 0};
+  return {static_cast<double>(now.busy - busy) / total,
+          static_cast<double>(now.stolen - stolen) / total};
+}
+
+}  // namespace
+
+double HostCpuWatch::busy_share() const { return SharesSince(busy_, idle_, stolen_).first; }
+
+double HostCpuWatch::stolen_share() const { return SharesSince(busy_, idle_, stolen_).second; }
+
+std::string HostLoad(const HostCpuWatch* since) {
   double one = 0, five = 0, fifteen = 0;
   const std::string loadavg = ReadAll("/proc/loadavg");
   std::sscanf(loadavg.c_str(), "%lf %lf %lf", &one, &five, &fifteen);
-  const CpuJiffies now = ReadCpuJiffies();
-  const double busy = static_cast<double>(now.busy - kCpuAtStart.busy);
-  const double steal = static_cast<double>(now.steal - kCpuAtStart.steal);
-  const double total = busy + steal + static_cast<double>(now.idle - kCpuAtStart.idle);
+  const HostCpuWatch& watch = since ? *since : kSinceProcessStart;
   char line[192];
   std::snprintf(line, sizeof line,
                 "host load average %.2f, %.2f, %.2f on %u cores; since the test began the CPUs "
                 "were %.0f %% busy, %.0f %% stolen by the hypervisor",
-                one, five, fifteen, std::thread::hardware_concurrency(),
-                total > 0 ? 100 * busy / total : 0.0, total > 0 ? 100 * steal / total : 0.0);
+                one, five, fifteen, std::thread::hardware_concurrency(), 100 * watch.busy_share(),
+                100 * watch.stolen_share());
   return line;
 }
 

@@ -108,10 +108,22 @@ CommandResult RunWithoutCapabilities(const std::vector<std::string>& argv, uint6
 std::string ReadAll(const std::string& path);
 // A folder private to this test process under $TMPDIR (or /tmp), removed at normal exit.
 std::string TempDir();
+// The host's CPUs over an interval, from /proc/stat: the share of their time busy (user, system,
+// interrupts: this process's children included) and the share a hypervisor took (stolen).
+class HostCpuWatch {
+ public:
+  HostCpuWatch();  // The interval starts now.
+  double busy_share() const;    // 0..1, up to now.
+  double stolen_share() const;  // 0..1, up to now.
+
+ private:
+  unsigned long long busy_ = 0, idle_ = 0, stolen_ = 0;  // jiffies of all CPUs at the start
+};
+
 // "host load average X, Y, Z on N cores" (/proc/loadavg) and the CPUs' busy and stolen shares
-// since the test process began (/proc/stat): printed with a realtime flight's failure, where an
-// autopilot short of CPU misses its own clock (docs/autopilots.md).
-std::string HostLoad();
+// since `since` began (by default since the test process began): printed with a realtime
+// flight's failure, where an autopilot short of CPU misses its own clock (docs/autopilots.md).
+std::string HostLoad(const HostCpuWatch* since = nullptr);
 // `text` without its lines that start with one of `prefixes`, and a last line saying how many
 // were left out: a flight's failure prints the ground station's events, not its position reports.
 std::string WithoutLines(const std::string& text, const std::vector<std::string>& prefixes);
