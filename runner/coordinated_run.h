@@ -13,9 +13,9 @@
 #include "runner/progress_line.h"
 #include "runner/recording_physics.h"
 #include "runner/robot_supervisor.h"
-#include "runner/second_timing.h"
 #include "runner/run_setup.h"
 #include "runner/runner.h"
+#include "runner/second_timing.h"
 
 namespace sitlnet::runner {
 
@@ -52,8 +52,8 @@ class CoordinatedRun {
   coordinator::CoordinatorOptions run_options_;
   coordinator::MetricsCsvWriter metrics_csv_;
   coordinator::MetricsCollector metrics_;
-  LiveSink* live_;                         // May be null.
-  SecondTimingAccumulator live_timing_;    // For live_, on the coordinator's thread.
+  LiveSink* live_;                       // May be null.
+  SecondTimingAccumulator live_timing_;  // For live_, on the coordinator's thread.
 };
 
 }  // namespace sitlnet::runner

@@ -1,6 +1,7 @@
-// What the live view shows of a running run: the latest poses, a trail per robot, the
-// latest second's links, and the timeline (connectivity components, timing per second). The run's threads write it through runner::LiveSink without ever
-// waiting: an update that finds the server reading is skipped (and counted).
+// What the live view shows of a running run: the latest poses, a trail per robot, the latest
+// second's links, and the timeline (connectivity components, timing per second). The run's
+// threads write it through runner::LiveSink without ever waiting: an update that finds the
+// server reading is skipped (and counted).
 #ifndef SITLNET_VIEW_LIVE_FEED_H_
 #define SITLNET_VIEW_LIVE_FEED_H_
 

@@ -178,12 +178,12 @@ void ExpectDrawnWhereTrajectoriesSay(const std::vector<DrawnRobot>& drawn,
 
 // The timeline as check_page.cjs printed it, as numbers ("-": absent, -1).
 struct DrawnTimeline {
-  double time_s = 0;                // The slider's time, or the live sample's.
+  double time_s = 0;  // The slider's time, or the live sample's.
   int max_components = 0;
-  double cursor_time_s = -1;        // Where its red line is (live: the latest sample).
-  double components_time_s = -1;    // The connectivity.csv row shown, where it began.
+  double cursor_time_s = -1;      // Where its red line is (live: the latest sample).
+  double components_time_s = -1;  // The connectivity.csv row shown, where it began.
   int components = -1;
-  std::string component_of;         // "c0,c1,..."
+  std::string component_of;  // "c0,c1,..."
   long long timing_second = -1;
   long long iterations = -1;
   double stf_mean = 0, stf_max = 0, lag_max_ms = 0;
@@ -243,7 +243,9 @@ void ExpectTimelineAsTheRunsFiles(const std::vector<std::vector<std::string>>& p
     long long iteration = 0, start_ns = 0, phy = 0, net = 0, total = 0, overhead = 0, lag = 0;
     double stf = 0;
     ASSERT_EQ(std::sscanf(line.c_str(), "%lld,%lld,%lld,%lld,%lld,%lld,%lf,%lld", &iteration,
-                          &start_ns, &phy, &net, &total, &overhead, &stf, &lag), 8) << line;
+                          &start_ns, &phy, &net, &total, &overhead, &stf, &lag),
+              8)
+        << line;
     by_second[start_ns / kNsPerS].push_back({stf, lag});
   }
 

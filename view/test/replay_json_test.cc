@@ -39,7 +39,8 @@ TEST(ReplayJsonTest, RunTrajectoriesAndLinks) {
   const std::string run = RunJson(record);
   EXPECT_NE(run.find("\"robots\":[{\"index\":0,\"name\":\"a\",\"autopilot\":null},"
                      "{\"index\":1,\"name\":\"b\",\"autopilot\":null}]"),
-            std::string::npos) << run;
+            std::string::npos)
+      << run;
   EXPECT_NE(run.find("{\"name\":\"wall\",\"center_m\":[5,5,2],\"size_m\":[2,4,4],\"yaw_deg\":90}"),
             std::string::npos) << run;
   EXPECT_NE(run.find("\"end_s\":0.2,"), std::string::npos) << run;
