@@ -13,6 +13,7 @@ constexpr const char* kViewDescription =
     "Serves a web page that replays the finished run folder RUN_DIR: the map\n"
     "from above with the obstacles, each robot's position and trail, links\n"
     "coloured by delivery ratio over the last second, and a time slider.\n"
+    "A timeline shows the connectivity components, STF and lag over time.\n"
     "Clicking a link lists its frames of that second with the cause of each\n"
     "loss (losses.csv.gz). Prints the page's URL, then serves until Ctrl-C.\n"
     "Listens on loopback unless --allow-remote; port 0 takes a free port.\n"

@@ -158,6 +158,7 @@ RunResult RunCoordinator(Connector& physics, Connector& network,
     m.lag_ns = decision.lag_ns;
     if (options.metrics_csv) options.metrics_csv->Append(m);
     if (options.metrics) options.metrics->Add(m);
+    if (options.on_iteration) options.on_iteration(m);
     if (lag_warner.ShouldWarn(m.lag_ns, t1)) {
       Warn(options, LagWarning(m, options.iteration_ns, pacer.timebase()));
     }

@@ -54,6 +54,8 @@ struct CoordinatorOptions {
   int interrupt_fd = -1;                    // StopSignal::fd(); -1: none.
   MetricsCsvWriter* metrics_csv = nullptr;  // May be null.
   MetricsCollector* metrics = nullptr;      // May be null.
+  // Each iteration's metrics row, on the coordinator's thread; may be empty. It must not block.
+  std::function<void(const IterationMetrics&)> on_iteration;
   // Receives warnings (one line each); empty: printed to stderr.
   std::function<void(const std::string&)> warn;
 };

@@ -59,6 +59,7 @@ void ConnectivityTracker::SampleUntilBefore(TimeNs time_ns) {
       sample.component_of[i] = Find(parent, i);
       if (sample.component_of[i] == i) ++sample.components;
     }
+    if (live_ != nullptr) live_->Components(t, sample.components, sample.component_of);
     samples_.push_back(std::move(sample));
   }
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/common.h"
+#include "runner/live_sink.h"
 
 namespace sitlnet::runner {
 
@@ -27,6 +28,9 @@ class ConnectivityTracker {
   // out of range and self-deliveries are ignored.
   void Heard(TimeNs time_ns, int from, int to);
 
+  // `sink` (may be null; outlives this) is told each sample as it is taken.
+  void SetLiveSink(LiveSink* sink) { live_ = sink; }
+
   // Takes every sample up to `end_ns` (inclusive) and returns them all.
   std::vector<ConnectivitySample> Finish(TimeNs end_ns);
 
@@ -38,6 +42,7 @@ class ConnectivityTracker {
   TimeNs next_sample_ns_;
   std::vector<TimeNs> last_heard_;  // [a * robots + b], a < b: latest delivery either way.
   std::vector<ConnectivitySample> samples_;
+  LiveSink* live_ = nullptr;
 };
 
 }  // namespace sitlnet::runner

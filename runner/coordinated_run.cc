@@ -43,12 +43,18 @@ CoordinatedRun::CoordinatedRun(RunSetup* setup, const RunOptions& options,
                                                    &observed_network_,
                                                    coordinator::Threading::kCallerThread)),
       run_options_(coordinator::OptionsFromScenario(setup->scenario())),
-      metrics_csv_(run_dir + "/metrics.csv") {
+      metrics_csv_(run_dir + "/metrics.csv"),
+      live_(options.live) {
   if (setup->shared_time() != nullptr) recording_.ShareTimeWith(setup->shared_time());
   recording_.SetLiveSink(options.live);
   run_options_.timebase_out = &setup->run_timebase();
   run_options_.metrics_csv = &metrics_csv_;
   run_options_.metrics = &metrics_;
+  if (live_ != nullptr) {  // Once per simulated second, not per iteration.
+    run_options_.on_iteration = [this](const coordinator::IterationMetrics& m) {
+      if (auto second = live_timing_.Add(m.start_ns, m.stf, m.lag_ns)) live_->Timing(*second);
+    };
+  }
   run_options_.interrupt_fd = interrupt_fd;
   run_options_.lockstep_robots = setup->lockstep();
 }
@@ -64,6 +70,9 @@ LoopOutcome CoordinatedRun::Run() {
   outcome.end_ns = MonotonicNowNs();
   outcome.self_cpu_s = CpuSeconds(RUSAGE_SELF);
   progress_.Finish();
+  if (live_ != nullptr) {
+    if (auto second = live_timing_.Finish()) live_->Timing(*second);
+  }
   metrics_csv_.Flush();
   recording_.Flush();
   outcome.metrics = metrics_.Summarize();

@@ -15,6 +15,7 @@
 #include "runner/robot_supervisor.h"
 #include "runner/run_setup.h"
 #include "runner/runner.h"
+#include "runner/second_timing.h"
 
 namespace sitlnet::runner {
 
@@ -51,6 +52,8 @@ class CoordinatedRun {
   coordinator::CoordinatorOptions run_options_;
   coordinator::MetricsCsvWriter metrics_csv_;
   coordinator::MetricsCollector metrics_;
+  LiveSink* live_;                       // May be null.
+  SecondTimingAccumulator live_timing_;  // For live_, on the coordinator's thread.
 };
 
 }  // namespace sitlnet::runner

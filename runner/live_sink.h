@@ -1,6 +1,8 @@
 // What `sitlnet run --view` is told while the run goes (view/live_feed.h): the robots' poses at
-// every trajectories.csv sample and each second's links as links.csv will count them. Called on
-// the run's own threads (physics, coordinator): an implementation must never block or wait.
+// every trajectories.csv sample, each second's links as links.csv will count them, each
+// connectivity.csv sample and each second's iteration timing. Called on the run's own threads
+// (physics, coordinator), at most every 100 ms of simulated time each: an implementation must
+// never block or wait.
 #ifndef SITLNET_RUNNER_LIVE_SINK_H_
 #define SITLNET_RUNNER_LIVE_SINK_H_
 
@@ -9,6 +11,7 @@
 #include <vector>
 
 #include "common/common.h"
+#include "runner/second_timing.h"
 
 namespace sitlnet::runner {
 
@@ -34,6 +37,12 @@ class LiveSink {
   virtual void Poses(TimeNs time_ns, const std::vector<LivePose>& poses) = 0;
   // Coordinator thread: the rows of a second no transmission can still add to.
   virtual void Links(int64_t second, const std::vector<LinkRow>& rows) = 0;
+  // Coordinator thread: connectivity.csv's row at `time_ns` (every 100 ms of simulated time,
+  // once a later delivery or the run's end shows it): the count of components and, per robot,
+  // its component's smallest robot index.
+  virtual void Components(TimeNs time_ns, int components, const std::vector<int>& component_of) = 0;
+  // Coordinator thread: a simulated second's iterations (metrics.csv), once the next began.
+  virtual void Timing(const SecondTiming& second) = 0;
 };
 
 }  // namespace sitlnet::runner

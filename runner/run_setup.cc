@@ -98,6 +98,7 @@ void RunSetup::StartMedium() {
   bridge_->AttachAll();
   medium_records_ = std::make_unique<MediumRecords>(
       run_dir_, static_cast<int>(scenario_.robots.size()), lockstep_, loss_log_.get());
+  medium_records_->connectivity().SetLiveSink(options_.live);
   medium_records_->Attach(bridge_.get());
 }
 

@@ -1,7 +1,4 @@
 // LiveView: `sitlnet run --view`, the run's LiveFeed served while the run goes.
-#include <pthread.h>
-#include <signal.h>
-
 #include <atomic>
 #include <cstdio>
 #include <memory>
@@ -12,6 +9,7 @@
 #include "view/live_feed.h"
 #include "view/live_json.h"
 #include "view/replay_json.h"
+#include "view/stop_signals_blocked.h"
 #include "view/view.h"
 
 namespace sitlnet::view {
@@ -65,13 +63,8 @@ LiveView::LiveView(const Scenario& scenario, const std::string& run_dir,
   });
   url_ = PageUrl(state_->server->Bind(listen));
   // The server's threads take no SIGINT or SIGTERM: those are the run's (its StopSignal).
-  sigset_t signals, previous;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, &previous);
+  StopSignalsBlocked blocked;
   state_->thread = std::thread([server = state_->server.get()] { server->Run(); });
-  pthread_sigmask(SIG_SETMASK, &previous, nullptr);
 }
 
 LiveView::~LiveView() {

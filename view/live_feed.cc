@@ -38,6 +38,23 @@ void LiveFeed::Links(int64_t second, const std::vector<runner::LinkRow>& rows) {
   });
 }
 
+void LiveFeed::Components(TimeNs time_ns, int components, const std::vector<int>& component_of) {
+  TryUpdate([&](LiveSnapshot& shared) {
+    shared.components_time_ns = time_ns;
+    if (shared.connectivity.size() == kTimelineChanges) {
+      shared.connectivity.erase(shared.connectivity.begin());
+    }
+    AppendIfChanged(time_ns, components, component_of, &shared.connectivity);
+  });
+}
+
+void LiveFeed::Timing(const runner::SecondTiming& second) {
+  TryUpdate([&](LiveSnapshot& shared) {
+    if (shared.timing.size() == kTimingSeconds) shared.timing.erase(shared.timing.begin());
+    shared.timing.push_back(second);
+  });
+}
+
 LiveSnapshot LiveFeed::Snapshot() const {
   std::lock_guard lock(mutex_);
   LiveSnapshot copy = shared_;

@@ -1,6 +1,7 @@
-// What the live view shows of a running run: the latest poses, a trail per robot and the
-// latest second's links. The run's threads write it through runner::LiveSink without ever
-// waiting: an update that finds the server reading is skipped (and counted).
+// What the live view shows of a running run: the latest poses, a trail per robot, the latest
+// second's links, and the timeline (connectivity components, timing per second). The run's
+// threads write it through runner::LiveSink without ever waiting: an update that finds the
+// server reading is skipped (and counted).
 #ifndef SITLNET_VIEW_LIVE_FEED_H_
 #define SITLNET_VIEW_LIVE_FEED_H_
 
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "runner/live_sink.h"
+#include "view/timeline_json.h"
 
 namespace sitlnet::view {
 
@@ -24,6 +26,9 @@ struct LiveSnapshot {
   std::vector<std::vector<TrailPoint>> trails;
   int64_t link_second = -1;  // Of `links`; -1 before the first whole second.
   std::vector<runner::LinkRow> links;
+  TimeNs components_time_ns = -1;  // Of the latest connectivity sample; -1 before the first.
+  std::vector<ComponentsChange> connectivity;  // Where the components changed, the last ones.
+  std::vector<runner::SecondTiming> timing;    // The last seconds' timing.
   uint64_t skipped_updates = 0;
 };
 
@@ -32,9 +37,15 @@ class LiveFeed final : public runner::LiveSink {
   // A trail keeps a point every kTrailPeriodNs of simulated time, the last kTrailPoints of them.
   static constexpr TimeNs kTrailPeriodNs = 500 * kNsPerMs;
   static constexpr size_t kTrailPoints = 240;
+  // The timeline keeps the last kTimelineChanges changes of components and kTimingSeconds
+  // seconds of timing: a document of bounded size however long the run.
+  static constexpr size_t kTimelineChanges = 1000;
+  static constexpr size_t kTimingSeconds = 600;
 
   void Poses(TimeNs time_ns, const std::vector<runner::LivePose>& poses) override;
   void Links(int64_t second, const std::vector<runner::LinkRow>& rows) override;
+  void Components(TimeNs time_ns, int components, const std::vector<int>& component_of) override;
+  void Timing(const runner::SecondTiming& second) override;
   // The server's copy (it waits for the lock; the run's threads never do).
   LiveSnapshot Snapshot() const;
 

@@ -1,6 +1,7 @@
 #include "view/live_json.h"
 
 #include "view/json_text.h"
+#include "view/timeline_json.h"
 
 namespace sitlnet::view {
 
@@ -24,6 +25,9 @@ std::string LiveJson(const LiveSnapshot& snapshot) {
             return LinkArray(row.second, row.from, row.to, row.frames, row.delivered, ratio,
                              row.main_cause, row.main_cause_frames);
           });
+  json += ",\"components_time_s\":" +
+          (snapshot.components_time_ns < 0 ? "null" : Seconds(snapshot.components_time_ns));
+  json += "," + TimelineMembers(snapshot.connectivity, snapshot.timing);
   json += ",\"skipped_updates\":" + std::to_string(snapshot.skipped_updates);
   return json + "}";
 }

@@ -9,7 +9,8 @@
 namespace sitlnet::view {
 
 // {"time_s", "robots": [[time_s, x_m, y_m, z_m, speed_m_s] or null], "trails": [[[time_s, x_m,
-// y_m], ...], ...], "link_second", "links": [links.csv rows as /api/links], "skipped_updates"}.
+// y_m], ...], ...], "link_second", "links": [links.csv rows as /api/links],
+// "components_time_s", "connectivity", "timing" (view/timeline_json.h), "skipped_updates"}.
 std::string LiveJson(const LiveSnapshot& snapshot);
 
 }  // namespace sitlnet::view

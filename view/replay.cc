@@ -1,8 +1,7 @@
 // ServeReplay: the run folder's documents, the server, and the signals that stop it.
-#include <pthread.h>
-#include <signal.h>
+#include <poll.h>
 
-#include <atomic>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -10,42 +9,34 @@
 #include <thread>
 
 #include "common/common.h"
+#include "coordinator/stop_signal.h"
 #include "view/http_server.h"
 #include "view/replay_json.h"
 #include "view/run_record.h"
+#include "view/stop_signals_blocked.h"
 #include "view/view.h"
 
 namespace sitlnet::view {
 namespace {
 
-// SIGINT and SIGTERM are blocked in every thread (cpp-httplib's workers inherit the mask) and
-// taken by sigwait in one thread, which stops the server: no work in a signal handler.
-class StopOnSignal {
- public:
-  explicit StopOnSignal(HttpServer* server) {
-    sigemptyset(&signals_);
-    sigaddset(&signals_, SIGINT);
-    sigaddset(&signals_, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &signals_, &previous_);
-    waiter_ = std::thread([this, server] {
-      int signal = 0;
-      sigwait(&signals_, &signal);
-      signalled_ = true;
-      server->Stop();
-    });
+// Runs `server` until SIGINT or SIGTERM, taken by coordinator::StopSignal as `sitlnet run` takes
+// them (its handler only writes to a pipe). One thread waits on that pipe and stops the server.
+// The server's threads block both signals, so the handler runs in the waiting thread.
+void ServeUntilStopSignal(HttpServer* server) {
+  coordinator::StopSignal stop;
+  std::thread waiter([&stop, server] {
+    pollfd ready{stop.fd(), POLLIN, 0};
+    while (poll(&ready, 1, -1) < 0 && errno == EINTR) {
+    }
+    server->Stop();
+  });
+  {
+    StopSignalsBlocked blocked;
+    server->Run();
   }
-  // The server stopped: wake the waiter (if no signal did) and restore the mask.
-  ~StopOnSignal() {
-    if (!signalled_) pthread_kill(waiter_.native_handle(), SIGTERM);
-    waiter_.join();
-    pthread_sigmask(SIG_SETMASK, &previous_, nullptr);
-  }
-
- private:
-  sigset_t signals_{}, previous_{};
-  std::atomic<bool> signalled_ = false;
-  std::thread waiter_;
-};
+  stop.Request();  // Wakes the waiter if no signal did.
+  waiter.join();
+}
 
 // A query parameter as a number; `fallback` when absent (none: required). Throws Error naming it.
 double NumberParam(const HttpServer::Params& params, const char* name,
@@ -73,6 +64,7 @@ void AddReplayDocuments(const RunRecord& record, HttpServer* server) {
   server->Json("/api/run", constant(RunJson(record)));
   server->Json("/api/trajectories", constant(TrajectoriesJson(record)));
   server->Json("/api/links", constant(LinksJson(record)));
+  server->Json("/api/timeline", constant(TimelineJson(record)));
   server->Json("/api/summary", constant(record.summary_json));
   server->Json("/api/frames", [&record](const HttpServer::Params& params) {
     const double from = NumberParam(params, "from");
@@ -93,9 +85,8 @@ void ServeReplay(const ReplayOptions& options,
   HttpServer server(options.web_dir);
   AddReplayDocuments(record, &server);
   const ListenAddress bound = server.Bind(options.listen);
-  StopOnSignal stop(&server);
   on_listening(PageUrl(bound));
-  server.Run();
+  ServeUntilStopSignal(&server);
 }
 
 }  // namespace sitlnet::view

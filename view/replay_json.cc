@@ -7,6 +7,16 @@
 #include "view/json_text.h"
 
 namespace sitlnet::view {
+namespace {
+
+// The robot's autopilot interface, as its scenario declares it: "px4", "ardupilot" or null.
+std::string AutopilotOf(const RobotPlan& robot) {
+  if (robot.spec.px4_sim_port() > 0) return "\"px4\"";
+  if (robot.spec.ardupilot_json_port() > 0) return "\"ardupilot\"";
+  return "null";
+}
+
+}  // namespace
 
 std::string RunJson(const Scenario& scenario, const std::string& run_dir, TimeNs end_ns,
                     bool live) {
@@ -16,7 +26,7 @@ std::string RunJson(const Scenario& scenario, const std::string& run_dir, TimeNs
   json += ",\"end_s\":" + Seconds(end_ns);
   json += ",\"robots\":" + Array(scenario.robots, [](const RobotPlan& robot) {
             return "{\"index\":" + std::to_string(robot.index) + ",\"name\":" + Quote(robot.name) +
-                   "}";
+                   ",\"autopilot\":" + AutopilotOf(robot) + "}";
           });
   std::vector<const proto::Obstacle*> obstacles;
   for (const proto::Obstacle& obstacle : scenario.spec.obstacle()) obstacles.push_back(&obstacle);
@@ -58,6 +68,10 @@ std::string LinksJson(const RunRecord& record) {
            return LinkArray(link.second, link.from, link.to, link.frames, link.delivered,
                             link.delivery_ratio, link.main_cause, link.main_cause_frames);
          }) + "}";
+}
+
+std::string TimelineJson(const RunRecord& record) {
+  return "{" + TimelineMembers(record.connectivity, record.timing) + "}";
 }
 
 std::string FramesJson(const RunRecord& record, int from, int station, TimeNs end_ns,

@@ -23,6 +23,9 @@ std::string TrajectoriesJson(const RunRecord& record);
 // main_cause, main_cause_frames].
 std::string LinksJson(const RunRecord& record);
 
+// /api/timeline: {"connectivity", "timing"} (view/timeline_json.h) of the whole run.
+std::string TimelineJson(const RunRecord& record);
+
 // At most this many rows in a /api/frames answer (its `total` counts them all).
 inline constexpr size_t kMaxFrameRows = 2000;
 

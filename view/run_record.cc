@@ -4,10 +4,12 @@
 #include <zlib.h>
 
 #include <charconv>
+#include <cmath>
 #include <fstream>
 #include <functional>
 #include <sstream>
 
+#include "coordinator/metrics.h"
 #include "runner/loss_log.h"
 #include "runner/outputs.h"
 
@@ -132,6 +134,43 @@ void ReadLinks(const std::string& path, RunRecord* record) {
   }
 }
 
+void ReadConnectivity(const std::string& path, RunRecord* record) {
+  std::istringstream text(ReadText(path));
+  const size_t robots = record->scenario.robots.size();
+  std::string header = "time_s,components";
+  for (size_t i = 0; i < robots; ++i) header += ",robot_" + std::to_string(i);
+  CsvReader csv(path, header.c_str(),
+                [&](std::string* line) { return static_cast<bool>(std::getline(text, *line)); });
+  std::vector<std::string> cells;
+  std::vector<int> component_of(robots);
+  while (csv.Next(2 + robots, &cells)) {
+    // Written with microsecond precision (std::to_string of seconds).
+    const TimeNs time_ns =
+        std::llround(csv.Parse<double>(cells[0], "time_s") * 1e6) * (kNsPerS / 1000000);
+    for (size_t i = 0; i < robots; ++i) component_of[i] = csv.Parse<int>(cells[2 + i], "robot");
+    AppendIfChanged(time_ns, csv.Parse<int>(cells[1], "components"), component_of,
+                    &record->connectivity);
+  }
+}
+
+void ReadMetrics(const std::string& path, RunRecord* record) {
+  std::istringstream text(ReadText(path));
+  std::string header = coordinator::MetricsCsvWriter::Header();
+  header.pop_back();  // Its '\n'.
+  CsvReader csv(path, header.c_str(),
+                [&](std::string* line) { return static_cast<bool>(std::getline(text, *line)); });
+  std::vector<std::string> cells;
+  runner::SecondTimingAccumulator seconds;
+  const auto keep = [&](std::optional<runner::SecondTiming> second) {
+    if (second) record->timing.push_back(*second);
+  };
+  while (csv.Next(8, &cells)) {
+    keep(seconds.Add(csv.Parse<TimeNs>(cells[1], "start_ns"), csv.Parse<double>(cells[6], "stf"),
+                     csv.Parse<TimeNs>(cells[7], "lag_ns")));
+  }
+  keep(seconds.Finish());
+}
+
 void ReadLosses(const std::string& path, RunRecord* record) {
   gzFile file = gzopen(path.c_str(), "rb");
   if (file == nullptr) throw Error(SystemErrorMessage("open \"" + path + "\"", errno));
@@ -176,6 +215,8 @@ RunRecord LoadRunRecord(const std::string& run_dir) {
   const std::string summary = RequireFile(run_dir, "summary.json", unfinished);
   const std::string scenario = RequireFile(run_dir, "scenario.textproto", unfinished);
   const std::string trajectories = RequireFile(run_dir, "trajectories.csv", unfinished);
+  const std::string connectivity = RequireFile(run_dir, "connectivity.csv", unfinished);
+  const std::string metrics = RequireFile(run_dir, "metrics.csv", unfinished);
   const char* no_losses =
       "a run of an older sitlnet, or one with --no-losses or --remote network";
   const std::string links = RequireFile(run_dir, "links.csv", no_losses);
@@ -187,6 +228,8 @@ RunRecord LoadRunRecord(const std::string& run_dir) {
   }
   record.scenario = LoadScenarioFile(scenario);
   ReadTrajectories(trajectories, &record);
+  ReadConnectivity(connectivity, &record);
+  ReadMetrics(metrics, &record);
   ReadLinks(links, &record);
   ReadLosses(losses, &record);
   return record;

@@ -1,5 +1,6 @@
 // A finished run folder (docs/run.md) as `sitlnet view` replays it: the effective scenario
-// (robots, obstacles), trajectories.csv, links.csv, losses.csv.gz and summary.json.
+// (robots, obstacles), trajectories.csv, links.csv, losses.csv.gz, connectivity.csv, metrics.csv
+// and summary.json.
 #ifndef SITLNET_VIEW_RUN_RECORD_H_
 #define SITLNET_VIEW_RUN_RECORD_H_
 
@@ -9,7 +10,9 @@
 #include <vector>
 
 #include "common/common.h"
+#include "runner/second_timing.h"
 #include "scenario/scenario.h"
+#include "view/timeline_json.h"
 
 namespace sitlnet::view {
 
@@ -45,6 +48,8 @@ struct RunRecord {
   std::vector<PoseSample> poses;      // trajectories.csv, in file order
   std::vector<LinkSecond> links;      // links.csv, in file order
   std::vector<LossRow> losses;        // losses.csv.gz, in file order (by end of transmission)
+  std::vector<ComponentsChange> connectivity;  // connectivity.csv's rows where they change
+  std::vector<runner::SecondTiming> timing;    // metrics.csv per simulated second
   std::string summary_json;           // summary.json as written
   // Indices into `losses` per (from, station), in file order.
   std::map<std::pair<int, int>, std::vector<size_t>> losses_by_link;

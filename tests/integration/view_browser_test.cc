@@ -1,6 +1,7 @@
 // `sitlnet view` on a real run folder: a short lockstep flight of three flockers past an
 // obstacle, replayed in Debian's Chromium driven by playwright-core
-// (view/web/test/check_page.cjs). Oracles: the run's own trajectories.csv and losses.csv.gz.
+// (view/web/test/check_page.cjs). Oracles: the run's own trajectories.csv, losses.csv.gz,
+// connectivity.csv, metrics.csv and summary.json.
 // Screenshots go to <build>/tests/artifacts/view_browser/. Label `browser` (docs/view.md).
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -104,6 +105,8 @@ struct PageFacts {
   std::vector<std::string> frame_rows;
   // Live: per read, the links.csv second drawn and its links "from,to,frames,delivered".
   std::vector<std::pair<long long, std::set<std::string>>> live_links;
+  // Per time (replay) or read (live), the timeline's fields after "timeline TIME_S".
+  std::vector<std::vector<std::string>> timelines;
 };
 
 PageFacts ParsePage(const std::string& out) {
@@ -140,6 +143,10 @@ PageFacts ParsePage(const std::string& out) {
       fields >> from >> to >> frames >> delivered;
       facts.live_links.back().second.insert(from + "," + to + "," + frames + "," + delivered);
     }
+    if (kind == "timeline") {
+      facts.timelines.emplace_back();
+      for (std::string field; fields >> field;) facts.timelines.back().push_back(field);
+    }
     if (kind == "screenshot") {
       std::string path;
       fields >> path;
@@ -166,6 +173,119 @@ void ExpectDrawnWhereTrajectoriesSay(const std::vector<DrawnRobot>& drawn,
         << "robot " << robot.robot << " at " << robot.time_s << " s";
     EXPECT_NEAR(robot.y_px, (robot.max_y_m - row->y_m) * robot.px_per_m, kPixelTolerance)
         << "robot " << robot.robot << " at " << robot.time_s << " s";
+  }
+}
+
+// The timeline as check_page.cjs printed it, as numbers ("-": absent, -1).
+struct DrawnTimeline {
+  double time_s = 0;  // The slider's time, or the live sample's.
+  int max_components = 0;
+  double cursor_time_s = -1;      // Where its red line is (live: the latest sample).
+  double components_time_s = -1;  // The connectivity.csv row shown, where it began.
+  int components = -1;
+  std::string component_of;  // "c0,c1,..."
+  long long timing_second = -1;
+  long long iterations = -1;
+  double stf_mean = 0, stf_max = 0, lag_max_ms = 0;
+};
+
+DrawnTimeline ParseTimeline(const std::vector<std::string>& f) {
+  DrawnTimeline t;
+  EXPECT_EQ(f.size(), 11u);
+  if (f.size() != 11) return t;
+  const auto number = [](const std::string& text) { return text == "-" ? -1 : std::stod(text); };
+  t.time_s = number(f[0]);
+  t.max_components = static_cast<int>(number(f[1]));
+  t.cursor_time_s = number(f[2]);
+  t.components_time_s = number(f[3]);
+  t.components = static_cast<int>(number(f[4]));
+  t.component_of = f[5];
+  t.timing_second = static_cast<long long>(number(f[6]));
+  t.iterations = static_cast<long long>(number(f[7]));
+  t.stf_mean = number(f[8]);
+  t.stf_max = number(f[9]);
+  t.lag_max_ms = number(f[10]);
+  return t;
+}
+
+// What the page's timeline showed is what the run's files say: the components of the last
+// connectivity.csv row at or before its red line (a replay's slider time, the live feed's
+// latest sample), the largest count summary.json gives, and the second's iterations in
+// metrics.csv.
+void ExpectTimelineAsTheRunsFiles(const std::vector<std::vector<std::string>>& printed,
+                                  const std::string& dir, bool replay) {
+  ASSERT_FALSE(printed.empty());
+  struct Row {
+    double time_s;
+    int components;
+    std::string component_of;
+  };
+  std::vector<Row> rows;
+  std::istringstream connectivity(integration_test::ReadAll(dir + "/connectivity.csv"));
+  std::string line;
+  std::getline(connectivity, line);  // The header.
+  while (std::getline(connectivity, line)) {
+    const size_t first = line.find(','), second = line.find(',', first + 1);
+    rows.push_back({std::stod(line.substr(0, first)),
+                    std::stoi(line.substr(first + 1, second - first - 1)),
+                    line.substr(second + 1)});
+  }
+  ASSERT_FALSE(rows.empty());
+  const std::string summary = integration_test::ReadAll(dir + "/summary.json");
+  const size_t at = summary.find("\"max_components\":");
+  ASSERT_NE(at, std::string::npos) << summary;
+  const int max_components = std::stoi(summary.substr(at + 17));
+  // metrics.csv: iteration,start_ns,t_phy_ns,t_net_ns,t_total_ns,t_overhead_ns,stf,lag_ns
+  std::map<long long, std::vector<std::pair<double, long long>>> by_second;
+  std::istringstream metrics(integration_test::ReadAll(dir + "/metrics.csv"));
+  std::getline(metrics, line);
+  while (std::getline(metrics, line)) {
+    long long iteration = 0, start_ns = 0, phy = 0, net = 0, total = 0, overhead = 0, lag = 0;
+    double stf = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lld,%lld,%lld,%lld,%lld,%lld,%lf,%lld", &iteration,
+                          &start_ns, &phy, &net, &total, &overhead, &stf, &lag),
+              8)
+        << line;
+    by_second[start_ns / kNsPerS].push_back({stf, lag});
+  }
+
+  for (const std::vector<std::string>& fields : printed) {
+    const DrawnTimeline drawn = ParseTimeline(fields);
+    SCOPED_TRACE("timeline at " + std::to_string(drawn.time_s) + " s");
+    if (replay) {
+      EXPECT_EQ(drawn.max_components, max_components);
+      EXPECT_NEAR(drawn.cursor_time_s, drawn.time_s, 1e-9);
+    } else {  // The latest sample is a row of the file.
+      EXPECT_TRUE(std::any_of(rows.begin(), rows.end(), [&](const Row& r) {
+        return std::abs(r.time_s - drawn.cursor_time_s) < 1e-6;
+      })) << drawn.cursor_time_s;
+    }
+    const auto row = std::find_if(rows.rbegin(), rows.rend(), [&](const Row& r) {
+      return r.time_s <= drawn.cursor_time_s + 1e-6;
+    });
+    ASSERT_NE(row, rows.rend());
+    EXPECT_LE(drawn.components_time_s, row->time_s + 1e-6);
+    EXPECT_EQ(drawn.components, row->components);
+    EXPECT_EQ(drawn.component_of, row->component_of);
+    ASSERT_GE(drawn.timing_second, 0);
+    if (replay) {
+      EXPECT_EQ(drawn.timing_second, static_cast<long long>(std::floor(drawn.time_s)) - 1);
+    }
+    const auto& iterations = by_second[drawn.timing_second];
+    ASSERT_FALSE(iterations.empty());
+    double sum = 0, max_stf = 0;
+    long long max_lag_ns = 0;
+    for (const auto& [stf, lag_ns] : iterations) {
+      sum += stf;
+      max_stf = std::max(max_stf, stf);
+      max_lag_ns = std::max(max_lag_ns, lag_ns);
+    }
+    // metrics.csv writes stf to 1e-6; the live feed has it unrounded.
+    const double stf_tolerance = replay ? 1e-9 : 1e-6;
+    EXPECT_EQ(drawn.iterations, static_cast<long long>(iterations.size()));
+    EXPECT_NEAR(drawn.stf_mean, sum / static_cast<double>(iterations.size()), stf_tolerance);
+    EXPECT_NEAR(drawn.stf_max, max_stf, stf_tolerance);
+    EXPECT_NEAR(drawn.lag_max_ms, static_cast<double>(max_lag_ns) / 1e6, 1e-9);
   }
 }
 
@@ -215,6 +335,8 @@ TEST(ViewBrowserTest, ReplayDrawsTheTrajectoriesAndListsALinksFramesAsTheLossFil
     EXPECT_GT(std::hypot(after.x_px - before.x_px, after.y_px - before.y_px), 5)
         << "robot " << robot << " did not move on the page";
   }
+  ASSERT_EQ(facts.timelines.size(), kTimes.size()) << page.out;
+  ExpectTimelineAsTheRunsFiles(facts.timelines, dir, /*replay=*/true);
 
   // The clicked link's list: losses.csv.gz's rows of that link (transmitter `from`, station
   // `station`) in the last whole second before the slider's time, in time order.
@@ -303,6 +425,8 @@ TEST(ViewBrowserTest, LiveViewDrawsTheRunningFlightAsItsTrajectoriesAndLinks) {
     EXPECT_FALSE(expected.empty()) << "second " << second;
     EXPECT_EQ(drawn, expected) << "second " << second;
   }
+  ASSERT_EQ(facts.timelines.size(), 2u) << page.out;
+  ExpectTimelineAsTheRunsFiles(facts.timelines, out, /*replay=*/false);
   ExpectNothingLeft(scenario.name);
 }
 

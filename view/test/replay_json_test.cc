@@ -37,8 +37,10 @@ TEST(ReplayJsonTest, FramesOfALinkInASecondInTimeOrder) {
 TEST(ReplayJsonTest, RunTrajectoriesAndLinks) {
   const RunRecord record = LoadRunRecord(testing::WriteRunFolder("replay_json_run", ""));
   const std::string run = RunJson(record);
-  EXPECT_NE(run.find("\"robots\":[{\"index\":0,\"name\":\"a\"},{\"index\":1,\"name\":\"b\"}]"),
-            std::string::npos) << run;
+  EXPECT_NE(run.find("\"robots\":[{\"index\":0,\"name\":\"a\",\"autopilot\":null},"
+                     "{\"index\":1,\"name\":\"b\",\"autopilot\":null}]"),
+            std::string::npos)
+      << run;
   EXPECT_NE(run.find("{\"name\":\"wall\",\"center_m\":[5,5,2],\"size_m\":[2,4,4],\"yaw_deg\":90}"),
             std::string::npos) << run;
   EXPECT_NE(run.find("\"end_s\":0.2,"), std::string::npos) << run;
@@ -49,6 +51,15 @@ TEST(ReplayJsonTest, RunTrajectoriesAndLinks) {
             "[[0,10,0,0.2,5],[0.1,10,-0.25,1,5],[0.2,9.5,-0.5,2,5]]]}");
   EXPECT_EQ(LinksJson(record),
             "{\"links\":[[0,0,1,4,3,0.75,\"collision\",1],[0,1,-1,0,0,null,\"queue_full\",2]]}");
+}
+
+// The components where they change (the third row repeats the second), and per second the
+// mean and largest STF and the largest lag of its iterations.
+TEST(ReplayJsonTest, TimelineOfComponentsAndTimingPerSecond) {
+  const RunRecord record = LoadRunRecord(testing::WriteRunFolder("replay_json_timeline", ""));
+  EXPECT_EQ(TimelineJson(record),
+            "{\"connectivity\":[[0.1,2,[0,1]],[0.2,1,[0,0]]],"
+            "\"timing\":[[0,2,0.375,0.5,2],[1,1,1.5,1.5,0]]}");
 }
 
 }  // namespace

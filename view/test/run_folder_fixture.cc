@@ -45,6 +45,15 @@ std::string WriteRunFolder(const std::string& name, const std::string& losses) {
   WriteFile(dir + "/links.csv", std::string(runner::kLinkHeader) +
                                     "\n0,0,1,4,3,0.75,collision,1\n0,1,-1,0,0,,queue_full,2\n");
   WriteFile(dir + "/losses.csv.gz", std::string(runner::kLossHeader) + "\n" + losses, true);
+  // Apart at 0.1 s, together at 0.2 s and 0.3 s (the last is no change).
+  WriteFile(dir + "/connectivity.csv",
+            "time_s,components,robot_0,robot_1\n0.100000,2,0,1\n0.200000,1,0,0\n"
+            "0.300000,1,0,0\n");
+  // Two iterations in second 0, one in second 1.
+  WriteFile(dir + "/metrics.csv",
+            "iteration,start_ns,t_phy_ns,t_net_ns,t_total_ns,t_overhead_ns,stf,lag_ns\n"
+            "0,0,1,1,1,0,0.500000,0\n1,500000000,1,1,1,0,0.250000,2000000\n"
+            "2,1000000000,1,1,1,0,1.500000,0\n");
   WriteFile(dir + "/summary.json", "{\"scenario\":\"vt\"}\n");
   return dir;
 }

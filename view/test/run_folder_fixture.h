@@ -1,5 +1,6 @@
 // A small run folder written by hand for the view's unit tests: two robots "a" and "b", one
-// obstacle, three trajectory samples each, links.csv and losses.csv.gz rows.
+// obstacle, three trajectory samples each, links.csv, losses.csv.gz, connectivity.csv and
+// metrics.csv rows.
 #ifndef SITLNET_VIEW_TEST_RUN_FOLDER_FIXTURE_H_
 #define SITLNET_VIEW_TEST_RUN_FOLDER_FIXTURE_H_
 

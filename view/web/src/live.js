@@ -1,8 +1,10 @@
 // The live page of `sitlnet run --view`: asks for /api/live every kPollMs (one request at a
 // time, so a slow page never piles requests up), draws the latest poses, trails and the last
-// whole second's links. Clicking a link shows its counts (the frame list is the replay's).
+// whole second's links, and the timeline (components, STF, lag) so far. Clicking a link shows its
+// counts (the frame list is the replay's).
 import { select } from 'd3-selection';
 import { loadLive } from './api.js';
+import { TimelineChart } from './chart.js';
 import { MapView, pointsToShow } from './map.js';
 import { drawRobotTable } from './robots.js';
 
@@ -21,6 +23,8 @@ export async function runLive(run) {
   select('#time').property('disabled', true);
   let map = null;
   let latest = null;
+  const chart = new TimelineChart(document.getElementById('timeline'), '#timeline-note');
+  const name = (i) => run.robots[i]?.name ?? String(i);
   const onLinkClick = (from, to) => {
     const link = latest?.links.find((l) => l[1] === from && l[2] === to);
     if (link) showLink(run, link);
@@ -45,7 +49,12 @@ export async function runLive(run) {
       }
       const trails = live.trails.map((t) => t.map((p) => [p[0], p[1], p[2]]));
       map.draw(run, live.robots, trails, live.links);
-      drawRobotTable(run, live.robots);
+      const now = live.connectivity[live.connectivity.length - 1];
+      drawRobotTable(run, live.robots, now?.[2]);
+      const lastSecond = live.timing[live.timing.length - 1]?.[0] ?? -1;
+      chart.draw(live.connectivity, live.timing, Math.max(live.time_s, 1),
+        live.components_time_s ?? 0, lastSecond, name);
+      document.body.dataset.componentsTimeS = live.components_time_s ?? '';
       select('#time-label').text(`${live.time_s.toFixed(1)} s (live)`);
       select('#time').property('value', live.time_s).property('max', run.end_s);
       document.body.dataset.liveTimeS = live.time_s;

@@ -2,12 +2,13 @@
 // link's frames; or, for `sitlnet run --view`, follows the run (live.js). document.body's
 // data-ready is "true" once the first drawing is done.
 import { select } from 'd3-selection';
-import { loadFrames, loadLinks, loadRun, loadTrajectories } from './api.js';
+import { loadFrames, loadLinks, loadRun, loadTimeline, loadTrajectories } from './api.js';
+import { TimelineChart } from './chart.js';
 import { FrameList } from './frames.js';
 import { drawRobotTable } from './robots.js';
 import { runLive } from './live.js';
 import { MapView, pointsToShow, ratioColour } from './map.js';
-import { linkSecondAt, linksBySecond, sampleAt, trailUntil } from './timeline.js';
+import { componentsAt, linkSecondAt, linksBySecond, sampleAt, trailUntil } from './timeline.js';
 
 function drawLegend() {
   const legend = select('#legend');
@@ -20,7 +21,8 @@ function drawLegend() {
 }
 
 async function replay(run) {
-  const [trajectories, links] = await Promise.all([loadTrajectories(), loadLinks()]);
+  const [trajectories, links, timeline] =
+    await Promise.all([loadTrajectories(), loadLinks(), loadTimeline()]);
   const bySecond = linksBySecond(links.links);
   const robotName = (index) => run.robots[index]?.name ?? String(index);
   const frames = new FrameList('#frames', '#frames-title', '#frames-note', run.loss_columns);
@@ -37,6 +39,7 @@ async function replay(run) {
   const everywhere = trajectories.robots.flatMap((samples) => samples.map((s) => [s[1], s[2]]));
   const map = new MapView(document.getElementById('map'), run, pointsToShow(run, everywhere),
     showFrames);
+  const chart = new TimelineChart(document.getElementById('timeline'), '#timeline-note');
 
   const draw = () => {
     const t = currentTime();
@@ -44,7 +47,8 @@ async function replay(run) {
     const positions = trajectories.robots.map((samples) => sampleAt(samples, t));
     const trails = trajectories.robots.map((samples) => trailUntil(samples, t));
     map.draw(run, positions, trails, bySecond.get(linkSecondAt(t)) ?? []);
-    drawRobotTable(run, positions);
+    drawRobotTable(run, positions, componentsAt(timeline.connectivity, t)?.[2]);
+    chart.draw(timeline.connectivity, timeline.timing, run.end_s, t, linkSecondAt(t), robotName);
   };
   slider.addEventListener('input', () => {
     frameRequest++;

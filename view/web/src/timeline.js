@@ -1,4 +1,5 @@
-// What the run looked like at a time: each robot's last sample and the links of a second.
+// What the run looked like at a time: each robot's last sample, the links of a second, the
+// connectivity components.
 
 // The last sample at or before `timeS` ([time_s, x, y, z, speed]), or the first one.
 export function sampleAt(samples, timeS) {
@@ -14,6 +15,13 @@ export function sampleAt(samples, timeS) {
     else high = middle - 1;
   }
   return samples[low];
+}
+
+// The last change of components at or before `timeS` ([time_s, components, component_of]), or
+// null before the first.
+export function componentsAt(changes, timeS) {
+  const change = sampleAt(changes, timeS);
+  return change && change[0] <= timeS + 1e-6 ? change : null;
 }
 
 // The samples up to `timeS`: a robot's trail.

@@ -11,6 +11,9 @@
 //   robot TIME_S INDEX CX_PX CY_PX  a robot's drawn centre, CSS px from the svg's top-left corner
 //   frames FROM TO START_NS END_NS TOTAL   the clicked link's frame list, then each row:
 //   frame CELL,CELL,...
+//   timeline TIME_S MAX_COMPONENTS CURSOR_TIME_S COMPONENTS_TIME_S COMPONENTS COMPONENT_OF
+//            TIMING_SECOND ITERATIONS STF_MEAN STF_MAX LAG_MAX_MS   the timeline at each time
+//            (live: at each read; COMPONENT_OF is comma-separated; a field left empty is "-")
 //   screenshot PATH
 //   live TIME_S LINK_SECOND         (--live) the time and links.csv second drawn, then the
 //   scale ...                       map's scale then (it rescales when robots leave it),
@@ -22,6 +25,15 @@ const os = require('node:os');
 const { chromium } = require('playwright-core');
 
 const kChromium = '/usr/bin/chromium';
+
+// The timeline's facts at the time shown (data attributes of svg#timeline).
+async function timelineFacts(page) {
+  return page.$eval('#timeline', (svg) => {
+    const d = svg.dataset;
+    return [d.maxComponents, d.cursorTimeS, d.componentsTimeS, d.components, d.componentOf, d.timingSecond,
+      d.iterations, d.stfMean, d.stfMax, d.lagMaxMs].map((v) => (v === undefined || v === '' ? '-' : v));
+  });
+}
 
 async function robotCentres(page) {
   return page.$$eval('#map circle.robot', (circles) => {
@@ -63,6 +75,8 @@ async function checkLive(page, reads, shot) {
     console.log(`scale ${live.scale.join(' ')}`);
     for (const [time, index, x, y] of live.robots) console.log(`robot ${time} ${index} ${x} ${y}`);
     for (const link of live.links) console.log(`link ${link.join(' ')}`);
+    // Its own times say what it shows: read apart from the map, it may be of the next poll.
+    console.log(`timeline ${live.time} ${(await timelineFacts(page)).join(' ')}`);
     await shot(`live-${i}.png`);
   }
 }
@@ -113,6 +127,7 @@ async function main() {
         slider.dispatchEvent(new Event('input'));
       }, time);
       for (const [index, x, y] of await robotCentres(page)) console.log(`robot ${time} ${index} ${x} ${y}`);
+      console.log(`timeline ${time} ${(await timelineFacts(page)).join(' ')}`);
       await shot(`replay-${time}s.png`);
     }
     // The link asked for, or the first drawn, at the last time; the table says which link the
