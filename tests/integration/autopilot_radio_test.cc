@@ -4,7 +4,9 @@
 // medium. The vehicle's MAVLink goes to the station's wlan0 address, set by the robot's args
 // (ArduPilot: --serial0 udpclient:ADDR:14550; PX4: the px4 manifest's --gcs ADDR). Oracles: the
 // truth in trajectories.csv, the MAVLink frames in medium.pcap as node-mavlink decodes them, and
-// the medium's own record of what crossed it (deliveries.csv).
+// the medium's own record of what crossed it (deliveries.csv). Each flight flies in both pacings.
+#include <signal.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +25,7 @@ namespace sitlnet::nns::testing {
 namespace {
 
 using integration_test::Child;
+using integration_test::WaitForFiles;
 
 // The station is robot 0 (listed first, so that its GCS listens before the vehicle boots: a
 // datagram to a closed port would draw an ICMP error), the vehicle robot 1.
@@ -70,9 +73,13 @@ constexpr double kAltitudeM = 5;
 constexpr double kNorthM = 20;
 constexpr const char* kStationPose = "position_m { x: 5 y: 10 z: 2 }";
 
-// A lockstep run of `duration_ms` with a ground station robot "gcs" running the node-mavlink
-// script `script` `script_args` and the vehicle robot `vehicle_block` (a robot block's fields
-// after its name), and what came out of it.
+// Virtual seconds a run may last. The station's GCS acts on the wall clock, outside the
+// lock-step, so the virtual instant the vehicle disarms depends on the host's speed (measured:
+// ArduCopter at 72 s, PX4 at 50 s); the test stops the run then (below), well before this cap.
+constexpr int kDurationCapMs = 150000;
+
+// A run in `pacing` with a ground station robot "gcs" of image `manifest` and the vehicle robot
+// `vehicle_block` (a robot block's fields after its name), and what came out of it.
 struct RadioFlight {
   std::string station, vehicle;  // wlan0 addresses
   std::string out;
@@ -82,11 +89,10 @@ struct RadioFlight {
   double wall_s = 0;
 };
 
-// `gcs_output`: where the GCS prints its events; "" for the station's log.
-RadioFlight FlyOverTheMedium(int slot, const std::string& manifest,
-                             const std::string& vehicle_block, int duration_ms,
-                             const std::vector<std::string>& expected_events,
-                             const std::string& gcs_output = "") {
+// Flies it: once the station's log says DISARMED (both GCS scripts then exit), the run is stopped
+// with SIGINT, in order, its outputs complete.
+RadioFlight FlyOverTheMedium(int slot, const std::string& pacing, const std::string& manifest,
+                             const std::string& vehicle_block) {
   RadioFlight flight;
   flight.station = WlanPrefix(slot) + std::to_string(kStation + 1);
   flight.vehicle = WlanPrefix(slot) + std::to_string(kVehicle + 1);
@@ -94,22 +100,41 @@ RadioFlight FlyOverTheMedium(int slot, const std::string& manifest,
       slot,
       std::string("robot { name: \"gcs\" ") + kStationPose + " ground_station: true image: \"" +
           manifest + "\" }\nrobot { name: \"v\" " + vehicle_block + " }\n",
-      "timing { duration_ms: " + std::to_string(duration_ms) + " pacing: PACING_LOCKSTEP }\n");
+      "timing { duration_ms: " + std::to_string(kDurationCapMs) + " pacing: " + pacing + " }\n");
   DownGuard guard(scenario.name);
   flight.out = TempDir() + "/" + scenario.name + "-out";
+  RunCommand({"rm", "-rf", flight.out});  // a flight flown once more
+  const std::string log = flight.out + "/robots/gcs.log";
   const auto start = std::chrono::steady_clock::now();
-  const CommandResult run = SitlnetRun(scenario, flight.out, {});
+  Child run({SitlnetBinary(), "run", scenario.path, "--out", flight.out, "--no-progress"});
+  // "DISARMED t=" (guided_flight_plan.cjs) or "EVENT DISARMED t_ms=" (px4_flight_plan.cjs).
+  WaitForFiles(
+      flight.out + "/robots",
+      [&] { return run.Poll() >= 0 || ReadAll(log).find("DISARMED t") != std::string::npos; },
+      2 * kDurationCapMs * kNsPerMs);
+  if (run.Poll() < 0) kill(run.pid(), SIGINT);
+  const int run_exit = run.Wait(60 * kNsPerS);
   flight.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  EXPECT_EQ(run.exit_code, 0) << run.err;
-  flight.log = ReadAll(gcs_output.empty() ? flight.out + "/robots/gcs.log" : gcs_output);
+  EXPECT_TRUE(run_exit == 130 || run_exit == 0) << run_exit << " " << run.err();
+  flight.log = ReadAll(log);
   flight.events = FlightEvents(flight.log);
-  for (const std::string& event : expected_events) {
-    EXPECT_EQ(flight.events.count(event), 1u) << event << "\n" << flight.log;
-  }
   flight.rows = TrajectoryRows(ReadAll(flight.out + "/trajectories.csv"), kVehicle);
   EXPECT_FALSE(flight.rows.empty());
   ExpectNothingLeft(scenario.name);
   return flight;
+}
+
+// Whether the station saw every one of `events`, each once; says which not, with the host's load
+// and the station's events.
+bool SawEvents(const RadioFlight& flight, const std::vector<std::string>& events) {
+  bool all = true;
+  for (const std::string& event : events) {
+    all = all && flight.events.count(event) == 1;
+    EXPECT_EQ(flight.events.count(event), 1u)
+        << event << "\n" << integration_test::HostLoad() << "\n"
+        << integration_test::WithoutLines(flight.log, {"POS "});
+  }
+  return all;
 }
 
 // The truth of a flight: the largest altitude error above where it armed over [from_s, to_s),
@@ -168,11 +193,26 @@ std::string CrossingSummary(const RadioFlight& flight) {
          std::to_string(Delivered(flight.out, kVehicle, kStation));
 }
 
+// ArduPilot's own verdict that the host did not keep its loop in realtime pacing: the first
+// STATUSTEXT the station printed that says "Main loop slow" or " rate " (e.g. "Gyro 1 rate 674Hz
+// < loop ratex1.8 720Hz"), or "". Each JSON frame must come within its millisecond of wall
+// time; on a shared host some do not and SITL's IMU misses samples (docs/autopilots.md).
+std::string LoopRateComplaint(const std::string& log) {
+  std::istringstream lines(log);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("STATUSTEXT ", 0) != 0) continue;
+    if (line.find("Main loop slow") != std::string::npos) return line;
+    if (line.find(" rate ") != std::string::npos) return line;
+  }
+  return "";
+}
+
 // The ArduCopter flight of guided_flight.cjs (GUIDED, arm, take off, waypoint, land) and what
-// crossed the medium, checked; `how` names the GCS in the printed measurements. ArduCopter's own
-// oracle: it arms once its EKF uses GPS (about 42 s of its time, as with its own quad model,
-// arducopter_flight_test.cc).
-void ExpectArduCopterFlight(const RadioFlight& flight, const char* how) {
+// crossed the medium, checked; `pacing` is printed with the measurements. ArduCopter's own
+// oracles: it arms once its EKF uses GPS (about 42 s of its time, as with its own quad model,
+// arducopter_flight_test.cc), and it does not say the host missed its loop.
+void ExpectArduCopterFlight(const RadioFlight& flight, const std::string& pacing) {
+  EXPECT_EQ(LoopRateComplaint(flight.log), "") << integration_test::HostLoad();
   const auto at = [&](const char* event) { return flight.events.at(event).t_s; };
   EXPECT_LT(at("ARMED"), 45) << "ArduPilot's own quad model arms at 41.9 s";
   // Held from 1 s after it reached the altitude until it was told to land; at the waypoint then.
@@ -190,10 +230,10 @@ void ExpectArduCopterFlight(const RadioFlight& flight, const char* how) {
   EXPECT_GT(commands.Commands(22), 0) << "NAV_TAKEOFF";
   EXPECT_GT(commands.Messages("SET_POSITION_TARGET_LOCAL_NED"), 0);
   std::printf(
-      "[ measured ] ArduCopter, %s: armed %.1f s, took off %.1f s, waypoint %.1f s, "
+      "[ measured ] ArduCopter over the medium, %s: armed %.1f s, took off %.1f s, waypoint %.1f s, "
       "disarmed %.1f s (virtual); altitude off by %.3f m, waypoint by %.3f m; %d "
       "COMMAND_LONG, %d position targets, %d GLOBAL_POSITION_INT; %s; %.1f s wall\n",
-      how, at("ARMED"), at("TAKEOFF_REACHED"), at("WAYPOINT_REACHED"), at("DISARMED"),
+      pacing.c_str(), at("ARMED"), at("TAKEOFF_REACHED"), at("WAYPOINT_REACHED"), at("DISARMED"),
       errors.altitude_m, errors.waypoint_m, commands.Messages("COMMAND_LONG"),
       commands.Messages("SET_POSITION_TARGET_LOCAL_NED"), telemetry.Messages("GLOBAL_POSITION_INT"),
       CrossingSummary(flight).c_str(), flight.wall_s);
@@ -216,18 +256,36 @@ std::vector<std::string> GuidedRoute() {
 
 // Issue 31, item 4, ArduCopter: the station sets GUIDED and arms (COMMAND_LONG DO_SET_MODE,
 // COMPONENT_ARM_DISARM), takes off (NAV_TAKEOFF), flies to the waypoint
-// (SET_POSITION_TARGET_LOCAL_NED) and lands (DO_SET_MODE LAND), all over the medium, in
-// lockstep pacing; ArduCopter's --serial0 udpclient sends to the station. Measured: 80 virtual
-// seconds in 16-25 s of wall time, 24-39 s for the whole test.
-TEST(AutopilotRadioTest, AStationRobotFliesArduCopterOverTheMediumInLockstep) {
-  SITLNET_REQUIRE_FLIGHT(ArduPilotMissing());
+// (SET_POSITION_TARGET_LOCAL_NED) and lands (DO_SET_MODE LAND), all over the medium, in `pacing`;
+// ArduCopter's --serial0 udpclient sends to the station. In realtime pacing a flight in which
+// ArduPilot says the host did not keep its loop says nothing of sitlnet: it is flown once more,
+// and the second must pass everything.
+void FlyArduCopterOverTheMedium(const std::string& pacing) {
   std::vector<std::string> args = {"udpin", "14550"};
   for (const std::string& arg : GuidedRoute()) args.push_back(arg);
-  const RadioFlight flight = FlyOverTheMedium(2, StationManifest("guided_flight.cjs", args),
-                                              ArduCopterBlock(2), 80000, kGuidedFlightEvents);
-  if (HasFailure()) return;
-  ExpectArduCopterFlight(flight, "GCS in the station robot");
+  const std::string manifest = StationManifest("guided_flight.cjs", args);
+  RadioFlight flight = FlyOverTheMedium(2, pacing, manifest, ArduCopterBlock(2));
+  const std::string complaint = LoopRateComplaint(flight.log);
+  if (pacing == "PACING_REALTIME" && !complaint.empty()) {
+    std::printf("ArduPilot said \"%s\" (%s); flying once more\n", complaint.c_str(),
+                integration_test::HostLoad().c_str());
+    flight = FlyOverTheMedium(2, pacing, manifest, ArduCopterBlock(2));
+  }
+  if (::testing::Test::HasFailure() || !SawEvents(flight, kGuidedFlightEvents)) return;
+  ExpectArduCopterFlight(flight, pacing);
   RunCommand({"rm", "-rf", flight.out});
+}
+
+// Measured: disarmed at 72.0 s virtual, the run 16 s of wall time, the test 19 s.
+TEST(AutopilotRadioTest, AStationRobotFliesArduCopterOverTheMediumInLockstep) {
+  SITLNET_REQUIRE_FLIGHT(ArduPilotMissing());
+  FlyArduCopterOverTheMedium("PACING_LOCKSTEP");
+}
+
+// Measured: disarmed at 72.0 s virtual, the run 75 s of wall time, the test 79 s (one flight).
+TEST(AutopilotRadioTest, AStationRobotFliesArduCopterOverTheMediumInRealtime) {
+  SITLNET_REQUIRE_FLIGHT(ArduPilotMissing());
+  FlyArduCopterOverTheMedium("PACING_REALTIME");
 }
 
 // Issue 31, item 4, the host GCS relay both ways: ShippedFleetScenariosTest flies the shipped
@@ -235,23 +293,24 @@ TEST(AutopilotRadioTest, AStationRobotFliesArduCopterOverTheMediumInLockstep) {
 
 // Issue 31, item 4, PX4: the station (fly_px4.cjs) arms (COMMAND_LONG COMPONENT_ARM_DISARM),
 // takes off (NAV_TAKEOFF), climbs and flies to the waypoint (COMMAND_INT DO_REPOSITION) and
-// lands (NAV_LAND), all over the medium, in lockstep pacing; PX4's radio link is the px4
+// lands (NAV_LAND), all over the medium, in `pacing`; PX4's radio link is the px4
 // manifest's `--gcs ADDR` (mavlink start -t ADDR), its system id the manifest's `--sysid 7`. Bounds
 // as px4_flight_test.cc's: the hold within 0.3 m of the commanded altitude, the arrival within 1 m
 // of the waypoint, over the steady windows fly_px4.cjs names.
-TEST(AutopilotRadioTest, AStationRobotFliesPx4OverTheMediumInLockstep) {
-  SITLNET_REQUIRE_FLIGHT(Px4Missing());
+void FlyPx4OverTheMedium(const std::string& pacing) {
   const int slot = 3;
   const std::string station = WlanPrefix(slot) + std::to_string(kStation + 1);
   const RadioFlight flight = FlyOverTheMedium(
-      slot,
+      slot, pacing,
       StationManifest("fly_px4.cjs",
                       {std::to_string(kAltitudeM), std::to_string(kNorthM), "0", "300"}),
       "position_m { x: 0 y: 0 z: 0.2 } px4_sim_port: 4560 image: \"px4\" "
       "args: [\"--gcs\", \"" +
-          station + "\", \"--sysid\", \"7\"]",
-      70000, {"ARMED", "TAKEOFF", "HOLD", "WAYPOINT", "ARRIVED", "LAND", "DISARMED"});
-  if (HasFailure()) return;
+          station + "\", \"--sysid\", \"7\"]");
+  if (::testing::Test::HasFailure() ||
+      !SawEvents(flight, {"ARMED", "TAKEOFF", "HOLD", "WAYPOINT", "ARRIVED", "LAND", "DISARMED"})) {
+    return;
+  }
   const auto& events = flight.events;
   const FlightErrors hold =
       Errors(flight, events.at("ARMED").t_s, events.at("HOLD").since_s, events.at("HOLD").t_s,
@@ -280,14 +339,26 @@ TEST(AutopilotRadioTest, AStationRobotFliesPx4OverTheMediumInLockstep) {
   EXPECT_EQ(telemetry.systems.size(), 1u);
   EXPECT_GT(telemetry.systems.count("7"), 0u);
   std::printf(
-      "[ measured ] PX4 over the medium: armed %.1f s, hold to %.1f s, arrived %.1f s, "
+      "[ measured ] PX4 over the medium, %s: armed %.1f s, hold to %.1f s, arrived %.1f s, "
       "disarmed %.1f s (virtual); altitude off by %.3f m, waypoint by %.3f m; %d "
       "COMMAND_LONG, %d COMMAND_INT, %d GLOBAL_POSITION_INT; %s; %.1f s wall\n",
-      events.at("ARMED").t_s, events.at("HOLD").t_s, events.at("ARRIVED").t_s,
+      pacing.c_str(), events.at("ARMED").t_s, events.at("HOLD").t_s, events.at("ARRIVED").t_s,
       events.at("DISARMED").t_s, hold.altitude_m, arrival.waypoint_m,
       commands.Messages("COMMAND_LONG"), commands.Messages("COMMAND_INT"),
       telemetry.Messages("GLOBAL_POSITION_INT"), CrossingSummary(flight).c_str(), flight.wall_s);
   RunCommand({"rm", "-rf", flight.out});
+}
+
+// Measured: disarmed at 49.8 s virtual, the run 8 s of wall time, the test 9 s.
+TEST(AutopilotRadioTest, AStationRobotFliesPx4OverTheMediumInLockstep) {
+  SITLNET_REQUIRE_FLIGHT(Px4Missing());
+  FlyPx4OverTheMedium("PACING_LOCKSTEP");
+}
+
+// Measured: disarmed at 50.1 s virtual, the run 51 s of wall time, the test 53 s.
+TEST(AutopilotRadioTest, AStationRobotFliesPx4OverTheMediumInRealtime) {
+  SITLNET_REQUIRE_FLIGHT(Px4Missing());
+  FlyPx4OverTheMedium("PACING_REALTIME");
 }
 
 }  // namespace
