@@ -12,7 +12,7 @@
 # slow", only to a ground station, so it is not counted here).
 # The autopilots come from SITLNET_PX4_DIR and SITLNET_ARDUPILOT_DIR, as in the tests.
 # The flight of a mixed fleet with a ground station is AutopilotFleetTest
-# (SITLNET_FLEET_EACH=4 for 4 + 4).
+# (4 + 4; SITLNET_FLEET_EACH=N for N + N).
 #
 #   sudo -E bench/autopilots/real_fleet.sh [BUILD=build] [SECONDS=20] [RUNS=3] [SIZES="1 4 8"] \
 #       [PACING=lockstep]

@@ -3,18 +3,18 @@
 // that commands every one of them over wlan0 and the medium, telling them apart by their MAVLink
 // system ids (the manifests' --sysid). The formation mission: every vehicle takes off, flies the
 // same four waypoints from its own home, and lands. Oracle: the truth in trajectories.csv.
-// The fleet's size here is set by CI's time: 2 PX4 + 2 ArduCopter, 82 s virtual in 56-106 s of
-// wall time on this 2-core host shared with other work, where 4 + 4 took 98-127 s.
-// SITLNET_FLEET_EACH=N flies N of each instead (bench/autopilots/real_fleet.sh runs 4 + 4;
-// docs/performance.md, "The real autopilots in lock-step").
+// 4 PX4 + 4 ArduCopter (SITLNET_FLEET_EACH=N flies N of each instead; docs/performance.md,
+// "The real autopilots in lock-step").
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <string>
 #include <vector>
 
+#include "tests/integration/mavlink_oracle.h"
 #include "tests/integration/run_test_util.h"
 
 namespace sitlnet::nns::testing {
@@ -23,11 +23,11 @@ namespace {
 using integration_test::ReadAll;
 using integration_test::TempDir;
 
-// How many vehicles of each kind: SITLNET_FLEET_EACH, else 2. Up to 4: beyond, the formation
+// How many vehicles of each kind: SITLNET_FLEET_EACH, else 4. Up to 4: beyond, the formation
 // outgrows the radio's range from the station.
 int EachKind() {
   const char* each = std::getenv("SITLNET_FLEET_EACH");
-  return each != nullptr && std::atoi(each) > 0 ? std::atoi(each) : 2;
+  return each != nullptr && std::atoi(each) > 0 ? std::atoi(each) : 4;
 }
 constexpr double kAltitudeM = 5;
 constexpr double kSpacingM = 3;  // between neighbours of the formation
@@ -38,8 +38,9 @@ struct Waypoint {
 constexpr Waypoint kRoute[] = {{4, 0}, {4, 4}, {0, 4}, {0, 0}};
 constexpr const char* kRouteArg = "4,0/4,4/0,4/0,0";
 // ArduCopter arms once its EKF uses GPS, about 42 s of its clock (arducopter_flight_test.cc);
-// then about 35 s of flight (take-off, four legs with a 1 s hold at each, landing).
-constexpr int kDurationMs = 82000;
+// then about 35 s of flight (take-off, four legs with a 1 s hold at each, landing). The run may
+// last up to this; the test stops it once every vehicle has disarmed.
+constexpr int kDurationCapMs = 150000;
 
 // The first row at or after `from` where the vehicle is within 1 m of `target` (x east, y north,
 // z up, world metres), or rows.size().
@@ -90,16 +91,28 @@ TEST(AutopilotFleetTest, EveryVehicleOfAMixedFleetReachesEveryWaypointWithin1M) 
                  WriteStationImage("fleet_lockstep.cjs", station_args));
   const RunScenario scenario = WriteScenario(
       slot, robots,
-      "timing { duration_ms: " + std::to_string(kDurationMs) + " pacing: PACING_LOCKSTEP }\n");
+      "timing { duration_ms: " + std::to_string(kDurationCapMs) + " pacing: PACING_LOCKSTEP }\n");
   DownGuard guard(scenario.name);
   const std::string out = TempDir() + "/" + scenario.name + "-out";
   const auto start = std::chrono::steady_clock::now();
-  const CommandResult run = SitlnetRun(scenario, out, {});
+  // Each vehicle's "sys=N DISARMED t=" (ArduCopter) or "sys=N EVENT DISARMED t_ms=" (PX4).
+  const auto disarmed = [&] {
+    const std::string log = ReadAll(out + "/robots/gcs.log");
+    int seen = 0;
+    for (size_t at = log.find("DISARMED t"); at != std::string::npos;
+         at = log.find("DISARMED t", at + 1)) {
+      ++seen;
+    }
+    return seen;
+  };
+  const CommandResult run = SitlnetRunUntil(
+      scenario, out, [&] { return disarmed() == vehicles; }, 2 * kDurationCapMs * kNsPerMs);
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  ASSERT_EQ(run.exit_code, 0) << run.err;
+  ASSERT_TRUE(run.exit_code == 130 || run.exit_code == 0) << run.exit_code << " " << run.err;
   const std::string log = ReadAll(out + "/robots/gcs.log");
   const std::string csv = ReadAll(out + "/trajectories.csv");
+  double run_s = 0;  // virtual seconds the run lasted
   for (int id = 1; id <= vehicles; ++id) {
     const bool px4 = id <= px4s;
     const std::string who = std::string(px4 ? "PX4" : "ArduCopter") + " sys=" + std::to_string(id);
@@ -129,11 +142,14 @@ TEST(AutopilotFleetTest, EveryVehicleOfAMixedFleetReachesEveryWaypointWithin1M) 
       measured += reached;
     }
     EXPECT_LT(rows.back().z_m - home.z_m, 0.1) << who << " landed";
-    std::printf("[ measured ] %s: waypoints within 1 m at%s (virtual)\n", who.c_str(),
-                measured.c_str());
+    const std::map<std::string, FlightEvent> events = FlightEvents(log, prefix);
+    std::printf("[ measured ] %s: waypoints within 1 m at%s, disarmed at %.1f s (virtual)\n",
+                who.c_str(), measured.c_str(),
+                events.count("DISARMED") == 1 ? events.at("DISARMED").t_s : -1.0);
+    run_s = rows.back().t_s;
   }
-  std::printf("[ measured ] %d PX4 + %d ArduCopter, %d s virtual in %.1f s wall\n", px4s, px4s,
-              kDurationMs / 1000, wall_s);
+  std::printf("[ measured ] %d PX4 + %d ArduCopter, %.1f s virtual in %.1f s wall\n", px4s, px4s,
+              run_s, wall_s);
   RunCommand({"rm", "-rf", out});
   ExpectNothingLeft(scenario.name);
 }

@@ -5,8 +5,6 @@
 // (ArduPilot: --serial0 udpclient:ADDR:14550; PX4: the px4 manifest's --gcs ADDR). Oracles: the
 // truth in trajectories.csv, the MAVLink frames in medium.pcap as node-mavlink decodes them, and
 // the medium's own record of what crossed it (deliveries.csv). Each flight flies in both pacings.
-#include <signal.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -24,8 +22,6 @@
 namespace sitlnet::nns::testing {
 namespace {
 
-using integration_test::Child;
-using integration_test::WaitForFiles;
 
 // The station is robot 0 (listed first, so that its GCS listens before the vehicle boots: a
 // datagram to a closed port would draw an ICMP error), the vehicle robot 1.
@@ -106,16 +102,12 @@ RadioFlight FlyOverTheMedium(int slot, const std::string& pacing, const std::str
   RunCommand({"rm", "-rf", flight.out});  // a flight flown once more
   const std::string log = flight.out + "/robots/gcs.log";
   const auto start = std::chrono::steady_clock::now();
-  Child run({SitlnetBinary(), "run", scenario.path, "--out", flight.out, "--no-progress"});
   // "DISARMED t=" (guided_flight_plan.cjs) or "EVENT DISARMED t_ms=" (px4_flight_plan.cjs).
-  WaitForFiles(
-      flight.out + "/robots",
-      [&] { return run.Poll() >= 0 || ReadAll(log).find("DISARMED t") != std::string::npos; },
+  const CommandResult run = SitlnetRunUntil(
+      scenario, flight.out, [&] { return ReadAll(log).find("DISARMED t") != std::string::npos; },
       2 * kDurationCapMs * kNsPerMs);
-  if (run.Poll() < 0) kill(run.pid(), SIGINT);
-  const int run_exit = run.Wait(60 * kNsPerS);
   flight.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  EXPECT_TRUE(run_exit == 130 || run_exit == 0) << run_exit << " " << run.err();
+  EXPECT_TRUE(run.exit_code == 130 || run.exit_code == 0) << run.exit_code << " " << run.err;
   flight.log = ReadAll(log);
   flight.events = FlightEvents(flight.log);
   flight.rows = TrajectoryRows(ReadAll(flight.out + "/trajectories.csv"), kVehicle);

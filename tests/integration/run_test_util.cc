@@ -1,5 +1,6 @@
 #include "tests/integration/run_test_util.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -36,6 +37,17 @@ CommandResult SitlnetRun(const RunScenario& scenario, const std::string& out,
                                    "--out",         out,   "--no-progress"};
   argv.insert(argv.end(), extra_args.begin(), extra_args.end());
   return RunCommand(argv, 300 * kNsPerS);
+}
+
+CommandResult SitlnetRunUntil(const RunScenario& scenario, const std::string& out,
+                              const std::function<bool()>& done, TimeNs timeout_ns) {
+  integration_test::Child run(
+      {SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress"});
+  integration_test::WaitForFiles(
+      out + "/robots", [&] { return run.Poll() >= 0 || done(); }, timeout_ns);
+  if (run.Poll() < 0) kill(run.pid(), SIGINT);
+  const int exit_code = run.Wait(60 * kNsPerS);
+  return {exit_code, run.out(), run.err()};
 }
 
 void ExpectNothingLeft(const std::string& name) {

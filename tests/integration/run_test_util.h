@@ -3,6 +3,7 @@
 #ifndef SITLNET_TESTS_INTEGRATION_RUN_TEST_UTIL_H_
 #define SITLNET_TESTS_INTEGRATION_RUN_TEST_UTIL_H_
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +27,14 @@ std::string WlanPrefix(int slot);
 // `sitlnet run SCENARIO --out OUT --no-progress EXTRA...`, 300 s at most.
 CommandResult SitlnetRun(const RunScenario& scenario, const std::string& out,
                          std::vector<std::string> extra_args);
+
+// `sitlnet run SCENARIO --out OUT --no-progress`, stopped with SIGINT (in order, its outputs
+// complete) once `done()` holds, checked whenever a file under OUT/robots changes (a GCS robot's
+// log), or after `timeout_ns`; the run may also end by itself. For a flight that ends at a virtual
+// instant nobody knows beforehand: its scenario's duration is a generous cap. exit_code: 130 if
+// stopped, 0 if it ended by itself.
+CommandResult SitlnetRunUntil(const RunScenario& scenario, const std::string& out,
+                              const std::function<bool()>& done, TimeNs timeout_ns);
 
 // No state, no namespace of robots "a" and "b", no ctl link of the scenario is left.
 void ExpectNothingLeft(const std::string& name);
