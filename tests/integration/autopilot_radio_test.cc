@@ -211,7 +211,7 @@ void ExpectArduCopterFlight(const RadioFlight& flight, const std::string& pacing
   const FlightErrors errors = Errors(flight, at("ARMED"), at("TAKEOFF_REACHED") + 1, at("LAND"),
                                      at("LAND"), at("DISARMED"));
   EXPECT_GT(errors.rows_held, 20);
-  EXPECT_LT(errors.altitude_m, 0.3);
+  EXPECT_LT(errors.altitude_m, 0.3) << integration_test::HostLoad();
   EXPECT_LT(errors.waypoint_m, 1);
   EXPECT_NEAR(errors.landed_m, 0, 0.05);
 
@@ -268,13 +268,13 @@ void FlyArduCopterOverTheMedium(const std::string& pacing) {
   RunCommand({"rm", "-rf", flight.out});
 }
 
-// Measured: disarmed at 72.0 s virtual, the run 16 s of wall time, the test 19 s.
+// Measured: disarmed at 71.0-72.0 s virtual, the run 16-17 s of wall time, the test 19-21 s.
 TEST(AutopilotRadioTest, AStationRobotFliesArduCopterOverTheMediumInLockstep) {
   SITLNET_REQUIRE_FLIGHT(ArduPilotMissing());
   FlyArduCopterOverTheMedium("PACING_LOCKSTEP");
 }
 
-// Measured: disarmed at 72.0 s virtual, the run 75 s of wall time, the test 79 s (one flight).
+// Measured: disarmed at 72.0 s virtual, the run 75 s of wall time, the test 79-82 s (one flight).
 TEST(AutopilotRadioTest, AStationRobotFliesArduCopterOverTheMediumInRealtime) {
   SITLNET_REQUIRE_FLIGHT(ArduPilotMissing());
   FlyArduCopterOverTheMedium("PACING_REALTIME");
@@ -311,7 +311,7 @@ void FlyPx4OverTheMedium(const std::string& pacing) {
       Errors(flight, events.at("ARMED").t_s, events.at("ARRIVED").since_s, events.at("ARRIVED").t_s,
              events.at("ARRIVED").since_s, events.at("DISARMED").t_s);
   EXPECT_GT(hold.rows_held, 20);
-  EXPECT_LT(hold.altitude_m, 0.3);
+  EXPECT_LT(hold.altitude_m, 0.3) << integration_test::HostLoad();
   EXPECT_LT(arrival.waypoint_m, 1);
   EXPECT_LT(hold.waypoint_m, 1);
   EXPECT_LT(hold.landed_m, 0.1);
@@ -341,13 +341,13 @@ void FlyPx4OverTheMedium(const std::string& pacing) {
   RunCommand({"rm", "-rf", flight.out});
 }
 
-// Measured: disarmed at 49.8 s virtual, the run 8 s of wall time, the test 9 s.
+// Measured: disarmed at 49.8-51.1 s virtual, the run 6-8 s of wall time, the test 8-9 s.
 TEST(AutopilotRadioTest, AStationRobotFliesPx4OverTheMediumInLockstep) {
   SITLNET_REQUIRE_FLIGHT(Px4Missing());
   FlyPx4OverTheMedium("PACING_LOCKSTEP");
 }
 
-// Measured: disarmed at 50.1 s virtual, the run 51 s of wall time, the test 53 s.
+// Measured: disarmed at 49.6-50.1 s virtual, the run 50-51 s of wall time, the test 53 s.
 TEST(AutopilotRadioTest, AStationRobotFliesPx4OverTheMediumInRealtime) {
   SITLNET_REQUIRE_FLIGHT(Px4Missing());
   FlyPx4OverTheMedium("PACING_REALTIME");
