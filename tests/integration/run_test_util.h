@@ -29,8 +29,8 @@ CommandResult SitlnetRun(const RunScenario& scenario, const std::string& out,
                          std::vector<std::string> extra_args);
 
 // `sitlnet run SCENARIO --out OUT --no-progress`, stopped with SIGINT (in order, its outputs
-// complete) once `done()` holds, checked whenever a file under OUT/robots changes (a GCS robot's
-// log), or after `timeout_ns`; the run may also end by itself. For a flight that ends at a virtual
+// complete) once `done()` holds, checked when a file under OUT/robots changes (a GCS robot's
+// log) and at least every 200 ms, or after `timeout_ns`; the run may also end by itself. For a flight that ends at a virtual
 // instant nobody knows beforehand: its scenario's duration is a generous cap. exit_code: 130 if
 // stopped, 0 if it ended by itself.
 CommandResult SitlnetRunUntil(const RunScenario& scenario, const std::string& out,
