@@ -216,7 +216,8 @@ void ExpectArduCopterFlight(const RadioFlight& flight, const std::string& pacing
   const FlightErrors errors = Errors(flight, at("ARMED"), at("TAKEOFF_REACHED") + 1, at("LAND"),
                                      at("LAND"), at("DISARMED"));
   EXPECT_GT(errors.rows_held, 20);
-  EXPECT_LT(errors.altitude_m, 0.3) << integration_test::HostLoad();
+  EXPECT_LT(errors.altitude_m, 0.3) << integration_test::HostLoad() << "\n"
+                                    << integration_test::WithoutLines(flight.log, {"POS "});
   EXPECT_LT(errors.waypoint_m, 1);
   EXPECT_NEAR(errors.landed_m, 0, 0.05);
 
