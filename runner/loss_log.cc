@@ -122,8 +122,10 @@ LossLog::LossLog(const std::string& run_dir, std::vector<MacAddress> stations,
       detect_min_rssi_dbm_(detect_min_rssi_dbm),
       file_(std::make_unique<LineFile>(run_dir + "/losses.csv.gz", "", 4, "losses")),
       z_(std::make_unique<ZStream>()) {
-  // windowBits 15 + 16: a gzip stream (zcat, Python's gzip read it).
-  if (deflateInit2(&z_->z, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15 + 16, 8,
+  // windowBits 15 + 16: a gzip stream (zcat, Python's gzip read it). Level 1 (Z_BEST_SPEED):
+  // deflate is most of the file's cost, and level 1 halves it for a file 35 % larger, still
+  // smaller than medium.pcap (docs/performance.md, "Loss recording").
+  if (deflateInit2(&z_->z, Z_BEST_SPEED, Z_DEFLATED, 15 + 16, 8,
                    Z_DEFAULT_STRATEGY) != Z_OK) {
     throw Error("losses.csv.gz: zlib deflateInit2 failed");
   }
