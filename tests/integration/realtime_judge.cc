@@ -44,8 +44,8 @@ void FlyJudgedOnAHostThatKeptUp(const std::function<bool(bool may_fly_again)>& f
         ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ALL_THREADS, &first);
     starved = flight(true);
   }
-  const bool disturbed =
-      watch.busy_share() > kBusyShare || watch.stolen_share() > kStolenShare;
+  const HostCpuWatch::Shares shares = watch.SharesUpToNow();
+  const bool disturbed = shares.busy > kBusyShare || shares.stolen > kStolenShare;
   if (!starved && !(Failed(first) && disturbed)) {
     Report(first);
     return;

@@ -18,7 +18,6 @@
 #include <fstream>
 #include <sstream>
 #include <thread>
-#include <utility>
 
 namespace sitlnet::integration_test {
 namespace {
@@ -215,36 +214,26 @@ HostCpuWatch::HostCpuWatch() {
   stolen_ = now.stolen;
 }
 
-namespace {
-
-// Busy and stolen shares of the CPUs' time from `start` to now.
-std::pair<double, double> SharesSince(unsigned long long busy, unsigned long long idle,
-                                      unsigned long long stolen) {
+HostCpuWatch::Shares HostCpuWatch::SharesUpToNow() const {
   const CpuJiffies now = ReadCpuJiffies();
   const double total =
-      static_cast<double>((now.busy - busy) + (now.idle - idle) + (now.stolen - stolen));
-  if (total <= 0) return {0, 0};
-  return {static_cast<double>(now.busy - busy) / total,
-          static_cast<double>(now.stolen - stolen) / total};
+      static_cast<double>((now.busy - busy_) + (now.idle - idle_) + (now.stolen - stolen_));
+  if (total <= 0) return {};
+  return {static_cast<double>(now.busy - busy_) / total,
+          static_cast<double>(now.stolen - stolen_) / total};
 }
-
-}  // namespace
-
-double HostCpuWatch::busy_share() const { return SharesSince(busy_, idle_, stolen_).first; }
-
-double HostCpuWatch::stolen_share() const { return SharesSince(busy_, idle_, stolen_).second; }
 
 std::string HostLoad(const HostCpuWatch* since) {
   double one = 0, five = 0, fifteen = 0;
   const std::string loadavg = ReadAll("/proc/loadavg");
   std::sscanf(loadavg.c_str(), "%lf %lf %lf", &one, &five, &fifteen);
-  const HostCpuWatch& watch = since ? *since : kSinceProcessStart;
+  const HostCpuWatch::Shares shares = (since ? *since : kSinceProcessStart).SharesUpToNow();
   char line[192];
   std::snprintf(line, sizeof line,
                 "host load average %.2f, %.2f, %.2f on %u cores; since the test began the CPUs "
                 "were %.0f %% busy, %.0f %% stolen by the hypervisor",
-                one, five, fifteen, std::thread::hardware_concurrency(), 100 * watch.busy_share(),
-                100 * watch.stolen_share());
+                one, five, fifteen, std::thread::hardware_concurrency(), 100 * shares.busy,
+                100 * shares.stolen);
   return line;
 }
 

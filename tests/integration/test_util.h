@@ -113,8 +113,11 @@ std::string TempDir();
 class HostCpuWatch {
  public:
   HostCpuWatch();  // The interval starts now.
-  double busy_share() const;    // 0..1, up to now.
-  double stolen_share() const;  // 0..1, up to now.
+  struct Shares {
+    double busy = 0;    // 0..1
+    double stolen = 0;  // 0..1
+  };
+  Shares SharesUpToNow() const;  // One read of /proc/stat.
 
  private:
   unsigned long long busy_ = 0, idle_ = 0, stolen_ = 0;  // jiffies of all CPUs at the start
