@@ -13,6 +13,11 @@
 namespace sitlnet::physics {
 namespace {
 
+// How far behind the world's clock SITL's may fall in realtime pacing and still catch up frame
+// by frame (docs/protocols.md). Behind by more, SITL is not keeping up rather than briefly
+// delayed, and its clock jumps to the world's.
+int64_t kMaxCatchUpSteps(const World& world) { return 100 * kNsPerMs / world.step_ns(); }
+
 class ArduPilotJsonLink final : public RobotLink {
  public:
   ArduPilotJsonLink(const RobotLinkSetup& setup, uint16_t port)
@@ -42,8 +47,12 @@ class ArduPilotJsonLink final : public RobotLink {
     if (!DueNow()) return;
     pending_ = false;
     const int robot = robot_.robot;
-    start_steps_ = world_.steps(robot);
-    last_reply_ = FormatJsonState(world_.time_ns(robot), world_.Pose(robot), world_.Imu(robot));
+    // The reply carries the frame's end; in realtime pacing a late frame's end lies behind the
+    // world's clock (SITL catching up), the state is the world's now.
+    const TimeNs reply_time_ns =
+        world_.time_ns(robot) - (world_.steps(robot) - due_steps_) * world_.step_ns();
+    start_steps_ = due_steps_;
+    last_reply_ = FormatJsonState(reply_time_ns, world_.Pose(robot), world_.Imu(robot));
     robot_.Send(socket_, last_reply_, reply_to_);
   }
 
@@ -104,11 +113,17 @@ class ArduPilotJsonLink final : public RobotLink {
     // Frame n ends at n / frame_rate: whole physics steps, the remainder carried (exact over
     // many frames when 1/frame_rate is not a multiple of the step).
     int64_t due_steps = base_steps_ + clock::TickTimeNs(frames_, rate_hz_) / world_.step_ns();
-    if (due_steps < now_steps) {
-      // Late (realtime pacing, SITL slower than the clock): frames count from now on.
+    if (due_steps < now_steps - kMaxCatchUpSteps(world_)) {
+      // Late by more than SITL may catch up (realtime pacing, SITL slower than the clock for a
+      // while): its clock jumps to now, and frames count from here.
+      ++counters.json_clock_jumps;
       base_steps_ += now_steps - due_steps;
       due_steps = now_steps;
     }
+    // Late by less (realtime pacing, SITL was not given the CPU in time): the frame is answered
+    // at once with its own end, and so are the next ones until SITL's clock is the world's
+    // again. Every frame still ends 1 / frame_rate after the last: SITL's main loop keeps its
+    // rate in its own clock, which a jump would break ("Main loop slow", issue 31).
     if (due_steps <= start_steps_) {
       // A frame shorter than what is left of the step: it still ends a step after it starts.
       // SITL takes a reply with the last one's timestamp as no time passed (SIM_JSON's dt = 0):

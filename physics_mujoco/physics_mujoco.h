@@ -181,6 +181,8 @@ struct RobotCounters {
   uint64_t json_restarts = 0;  // Smaller frame_count: robot reset.
   uint64_t json_missed_frames = 0;
   uint64_t json_dropped = 0;  // Bad magic/size, foreign source.
+  // Realtime pacing: SITL fell too far behind the clock to catch up; its clock jumped to now.
+  uint64_t json_clock_jumps = 0;
 };
 
 struct ServerOptions {

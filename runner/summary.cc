@@ -97,7 +97,8 @@ std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& 
           ",\"json_resends\":" + std::to_string(phys.json_resends) +
           ",\"json_restarts\":" + std::to_string(phys.json_restarts) +
           ",\"json_missed_frames\":" + std::to_string(phys.json_missed_frames) +
-          ",\"json_dropped\":" + std::to_string(phys.json_dropped) + ",\"px4\":";
+          ",\"json_dropped\":" + std::to_string(phys.json_dropped) +
+          ",\"json_clock_jumps\":" + std::to_string(phys.json_clock_jumps) + ",\"px4\":";
   if (const std::optional<physics::Px4Counters> px4 = physics.px4_counters(index)) {
     json += "{\"connections\":" + std::to_string(px4->connections) +
             ",\"sensors_sent\":" + std::to_string(px4->sensors_sent) +

@@ -18,7 +18,7 @@
 # (4 + 4; SITLNET_FLEET_EACH=N for N + N).
 #
 #   sudo -E bench/autopilots/real_fleet.sh [BUILD=build] [SECONDS=20] [RUNS=3] [SIZES="1 4 8"] \
-#       [PACING=lockstep]
+#       [PACING=lockstep]   (KINDS="px4 arducopter" by default: the kinds flown)
 set -euo pipefail
 build=${1:-build} seconds=${2:-20} runs=${3:-3} sizes=${4:-"1 4 8"} pacing=${5:-lockstep}
 : "${SITLNET_PX4_DIR:?point it at a PX4 build (docs/autopilots.md)}"
@@ -61,7 +61,7 @@ listen_to_arducopters() {
 echo "kind,robots,run,pacing,stf_mean,loop_s,cpu_s_per_autopilot_per_virtual_s,lag_p99_ms,timing_complaints,load1,min_frames_per_virtual_s"
 for run in $(seq 1 "$runs"); do
   for n in $sizes; do
-    for kind in px4 arducopter; do
+    for kind in ${KINDS:-px4 arducopter}; do
       scenario "$kind" "$n" "$out/s.textproto"
       rm -rf "$out/run" "$out"/status_texts.*
       load=$(cut -d' ' -f1 /proc/loadavg)

@@ -167,6 +167,40 @@ TEST_F(ArduPilotJsonTest, AFrameShorterThanAStepEndsAStepAfterTheLastReply) {
   }
 }
 
+// Realtime pacing, SITL late (the host gave it no CPU for 50 ms): each late frame is answered at
+// once with its own end, 1 / frame_rate after the last, until SITL's clock is the world's
+// again. A reply at the world's now would jump SITL's clock, and its main loop would run fewer
+// times per second of its clock ("Main loop slow", issue 31).
+TEST_F(ArduPilotJsonTest, ALateFrameIsAnsweredAtOnceWithItsOwnEndUntilSitlCatchesUp) {
+  ASSERT_DOUBLE_EQ(Field(Exchange(ServoPacket16(400, 1, 1500)), "timestamp")[0], 0.002);
+  server_.Advance(50);  // The world's clock: 52 ms.
+  std::vector<double> replies_s;
+  // Frames 2 to 21 end at 5 to 52 ms: each is due when it comes (no step is taken).
+  for (uint32_t frame = 2; frame <= 21; ++frame) {
+    const std::string reply =
+        physics::Exchange(server_, client_, ServoPacket16(400, frame, 1500), 0);
+    ASSERT_FALSE(reply.empty()) << "frame " << frame;
+    replies_s.push_back(Field(reply, "timestamp")[0]);
+  }
+  for (uint32_t frame = 2; frame <= 21; ++frame) {
+    EXPECT_NEAR(replies_s[frame - 2], std::floor(frame * 2.5) / 1000, 1e-12) << "frame " << frame;
+  }
+  EXPECT_EQ(server_.world().steps(0), 52);  // Caught up without the world moving.
+  // Frame 22 ends at 55 ms, ahead of the world: answered when the world gets there.
+  EXPECT_DOUBLE_EQ(Field(Exchange(ServoPacket16(400, 22, 1500)), "timestamp")[0], 0.055);
+  EXPECT_EQ(server_.counters(0).json_clock_jumps, 0u);
+}
+
+// Behind by more than SITL may catch up (100 ms): its clock jumps to the world's, counted.
+TEST_F(ArduPilotJsonTest, AFrameLateByMoreThan100MsJumpsToTheWorldsClock) {
+  ASSERT_DOUBLE_EQ(Field(Exchange(ServoPacket16(400, 1, 1500)), "timestamp")[0], 0.002);
+  server_.Advance(150);  // 152 ms: frame 2 (5 ms) is 147 ms late.
+  EXPECT_DOUBLE_EQ(Field(Exchange(ServoPacket16(400, 2, 1500)), "timestamp")[0], 0.152);
+  EXPECT_EQ(server_.counters(0).json_clock_jumps, 1u);
+  // Frames count from there again.
+  EXPECT_DOUBLE_EQ(Field(Exchange(ServoPacket16(400, 3, 1500)), "timestamp")[0], 0.154);
+}
+
 TEST_F(ArduPilotJsonTest, RepeatedFrameCountResendsWithoutAdvancing) {
   Exchange(ServoPacket16(1000, 7, 1000));
   const std::string reply = Exchange(ServoPacket16(1000, 8, 1000));

@@ -130,7 +130,21 @@ std::vector<std::string> Complaints(const std::string& log, const std::string& b
   return found;
 }
 
-void FlyPx4(int slot, const char* pacing) {
+// PX4 v1.14.4's own lockstep race, not the host's load or sitlnet: its HRT thread, the one that
+// runs every module's timer, sleeps in the lockstep clock, and the SIGCONT that should wake it
+// for a sooner timer does not end a wait on a condition variable (hrt_queue.c, drv_hrt.cpp,
+// lockstep_scheduler.cpp). When another thread re-arms a timer while the HRT thread scans its
+// queue (cancel, then queue), it sees no work and sleeps one second of PX4's clock. The battery
+// simulator then misses its turn; after 5 s without a battery_status PX4 says "Preflight Fail:
+// Battery unhealthy" and starts a failsafe (batteryCheck.cpp). Seen once in CI, lockstep, with
+// the flight still within every bound; never in 26 lockstep flights here (a faster host).
+bool Px4SaysItsTimersStalled(const std::string& log) {
+  return log.find("Battery unhealthy") != std::string::npos;
+}
+
+// Flies PX4 and checks the flight; sets `*starved` instead when `may_fly_again` and PX4's own
+// timers stalled (above): that flight says nothing about sitlnet.
+void FlyPx4(int slot, const char* pacing, bool may_fly_again, bool* starved) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   SITLNET_REQUIRE(Px4Missing());
   SITLNET_REQUIRE(NodeMavlinkMissing());
@@ -162,10 +176,17 @@ void FlyPx4(int slot, const char* pacing) {
   ASSERT_TRUE(run_exit == 130 || run_exit == 0) << run_exit << " " << run.err();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::string log = ReadAll(out + "/robots/px.log");
+  if (may_fly_again && Px4SaysItsTimersStalled(log)) {
+    std::printf("PX4's timers stalled (\"Battery unhealthy\"; px4_flight_test.cc says why)\n");
+    *starved = true;
+    ExpectNothingLeft(scenario.name);
+    RunCommand({"rm", "-rf", out});
+    return;
+  }
   ASSERT_EQ(fly.exit_code, 0) << integration_test::HostLoad() << "\n"
                               << integration_test::WithoutLines(fly.out, {"POS ", "ODOM "}) << fly.err;
 
-  const std::string log = ReadAll(out + "/robots/px.log");
   EXPECT_NE(log.find("Ready for takeoff"), std::string::npos) << log;
   EXPECT_EQ(Complaints(log, "Startup script returned successfully"), std::vector<std::string>{})
       << log;
@@ -242,13 +263,18 @@ void FlyPx4(int slot, const char* pacing) {
 }
 
 TEST(Px4FlightTest, InLockstepPacingPx4TakesOffHoldsFliesToAWaypointAndLands) {
-  FlyPx4(0, "PACING_LOCKSTEP");
+  integration_test::FlyAgainIfTheAutopilotSaysItWasStarved([](bool may_fly_again) {
+    bool starved = false;
+    FlyPx4(0, "PACING_LOCKSTEP", may_fly_again, &starved);
+    return starved;
+  });
 }
 
 TEST(Px4FlightTest, InRealtimePacingPx4TakesOffHoldsFliesToAWaypointAndLands) {
-  integration_test::FlyJudgedOnAHostThatKeptUp([](bool) {
-    FlyPx4(1, "PACING_REALTIME");
-    return false;
+  integration_test::FlyJudgedOnAHostThatKeptUp([](bool may_fly_again) {
+    bool starved = false;
+    FlyPx4(1, "PACING_REALTIME", may_fly_again, &starved);
+    return starved;
   });
 }
 
