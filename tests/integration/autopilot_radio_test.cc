@@ -70,16 +70,14 @@ constexpr double kAltitudeM = 5;
 constexpr double kNorthM = 20;
 constexpr const char* kStationPose = "position_m { x: 5 y: 10 z: 2 }";
 
-// ArduPilot's own verdict that the host did not keep its loop in realtime pacing: the first
-// STATUSTEXT the station printed that says "Main loop slow" or " rate " (e.g. "Gyro 1 rate 674Hz
-// < loop ratex1.8 720Hz"), or "". Each JSON frame must come within its millisecond of wall
-// time; on a shared host some do not and SITL's IMU misses samples (docs/autopilots.md).
+// The first STATUSTEXT the station printed in which ArduPilot says the host starved its loop
+// in realtime pacing (realtime_judge.h), or "".
 std::string LoopRateComplaint(const std::string& log) {
   std::istringstream lines(log);
   for (std::string line; std::getline(lines, line);) {
-    if (line.rfind("STATUSTEXT ", 0) != 0) continue;
-    if (line.find("Main loop slow") != std::string::npos) return line;
-    if (line.find(" rate ") != std::string::npos) return line;
+    if (line.rfind("STATUSTEXT ", 0) == 0 && integration_test::ArduPilotSaysItsLoopIsSlow(line)) {
+      return line;
+    }
   }
   return "";
 }
