@@ -1,4 +1,4 @@
-// BridgeCore: TAP ports <-> medium, with the realtime and lockstep drivers.
+// BridgeCore: the robots' ports <-> medium, with the realtime and lockstep drivers.
 // Realtime: every frame is stamped with the virtual time of the instant it
 // was read; the medium is advanced to "now" after every batch of wakeups, and
 // a timerfd armed on the absolute wall instant of the medium's next event
@@ -24,11 +24,6 @@ namespace sitlnet::tapbridge {
 namespace {
 
 constexpr size_t kReadBufferBytes = 65536 + 64;  // Largest TAP frame (64 KB MTU) fits.
-// Frames read from one robot's TAP per wake-up (realtime) or per step (lockstep); the rest wait in
-// the TAP's queue for the next turn, after the other robots': a robot that writes as fast as the
-// bridge reads cannot hold the loop (audit finding 16, docs/tapbridge.md). 256 frames in a 10 ms
-// step is 25 600 frames/s per robot, about ten times what 802.11a carries at 54 Mbit/s.
-constexpr size_t kMaxFramesPerRobotPerTurn = 256;
 
 // Lateness histogram: 1 µs buckets up to 100 ms, the last bucket open-ended.
 // Fixed memory, O(1) per delivery, percentiles to the microsecond.
@@ -78,7 +73,7 @@ struct BridgeCore::Impl {
   Scenario scenario;
   std::unique_ptr<MediumModel> medium;
   BridgeOptions options;
-  std::vector<std::unique_ptr<TapPort>> ports;  // Null when not attached.
+  std::vector<std::unique_ptr<Port>> ports;  // Null when not attached.
   std::vector<PortCounters> counters;
   std::vector<bool> warned_unknown_source;
   std::vector<AirFrameObserver> observers;
@@ -123,7 +118,7 @@ struct BridgeCore::Impl {
     }
     for (const Delivery& d : deliveries) {
       for (const auto& observer : delivery_observers) observer(d);
-      TapPort* port = ports[d.station].get();
+      Port* port = ports[d.station].get();
       if (!port) continue;
       PortCounters& c = counters[d.station];
       if (port->Write(d.ethernet_frame) == 0) {
@@ -173,7 +168,7 @@ struct BridgeCore::Impl {
   void DrainRealtime(int robot) {
     // epoll is level-triggered: what is left is read on the next wake-up.
     for (size_t turn = 0; turn < kMaxFramesPerRobotPerTurn; ++turn) {
-      TapPort* port = ports[robot].get();
+      Port* port = ports[robot].get();
       if (port == nullptr) return;
       const ssize_t n = port->Read(buffer);
       if (n == 0) return;
@@ -219,15 +214,21 @@ struct BridgeCore::Impl {
   }
 
   bool AttachRobot(int robot) {
-    const RobotPlan& plan = scenario.robots[robot];
-    ports[robot] = std::make_unique<TapPort>(plan.netns, "wlan0");
+    if (options.open_port) {
+      ports[robot] = options.open_port(robot);
+      SITLNET_DEMAND(ports[robot] != nullptr);
+    } else {
+      ports[robot] = std::make_unique<TapPort>(scenario.robots[robot].netns, "wlan0");
+    }
     counters[robot].attached = true;
     medium->SetStationEnabled(robot, true);
     if (loop) RegisterPort(robot);
     return true;
   }
 
+  // A port without a descriptor is fed by its owner, not polled (Port::fd).
   void RegisterPort(int robot) {
+    if (ports[robot]->fd() < 0) return;
     loop->Add(ports[robot]->fd(), EPOLLIN, [this, robot](uint32_t events) {
       if (events & (EPOLLERR | EPOLLHUP)) {
         DetachRobot(robot, "wlan0 TAP reported an error or hangup");
@@ -239,7 +240,7 @@ struct BridgeCore::Impl {
 
   void DetachRobot(int robot, const std::string& reason) {
     if (!ports[robot]) return;
-    if (loop) loop->Remove(ports[robot]->fd());
+    if (loop && ports[robot]->fd() >= 0) loop->Remove(ports[robot]->fd());
     ports[robot].reset();
     counters[robot].attached = false;
     medium->SetStationEnabled(robot, false);
@@ -338,7 +339,7 @@ void BridgeCore::StopRealtime() {
   // core); then there is nothing to unregister from.
   if (!impl.loop_lifetime.expired()) {
     for (auto& port : impl.ports) {
-      if (port) impl.loop->Remove(port->fd());
+      if (port && port->fd() >= 0) impl.loop->Remove(port->fd());
     }
     impl.loop->Remove(impl.timer_fd);
     impl.loop->SetAfterBatch(nullptr);
@@ -369,7 +370,7 @@ void BridgeCore::StepLockstep(TimeNs until_ns) {
   // gets a seeded instant in [from, until), sorted per robot so a robot's own
   // frames keep their order (docs/tapbridge.md, lockstep).
   for (size_t robot = 0; robot < impl_->ports.size(); ++robot) {
-    TapPort* port = impl_->ports[robot].get();
+    Port* port = impl_->ports[robot].get();
     if (!port) continue;
     std::vector<std::vector<uint8_t>> frames;
     while (frames.size() < kMaxFramesPerRobotPerTurn) {

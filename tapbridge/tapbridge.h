@@ -7,6 +7,8 @@
 #ifndef SITLNET_TAPBRIDGE_TAPBRIDGE_H_
 #define SITLNET_TAPBRIDGE_TAPBRIDGE_H_
 
+#include <sys/types.h>
+
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -100,6 +102,33 @@ std::unique_ptr<MediumModel> MakeRelayMedium(const std::vector<MacAddress>& stat
 // frame: 14-byte header + 2304 - 8 bytes of LLC/SNAP = 2310 bytes.
 inline constexpr size_t kMax80211EthernetFrameBytes = 14 + 2304 - 8;
 
+//------------------------------------- Ports ---------------------------------
+
+// Frames read from one robot's port per wake-up (realtime) or per step (lockstep); the rest wait
+// in the port's queue for the next turn, after the other robots': a robot that writes as fast as
+// the bridge reads cannot hold the loop (audit finding 16, docs/tapbridge.md). 256 frames in a
+// 10 ms step is 25 600 frames/s per robot, about ten times what 802.11a carries at 54 Mbit/s.
+inline constexpr size_t kMaxFramesPerRobotPerTurn = 256;
+
+// A robot's end of the medium: the bridge reads what the robot sent from it and writes what the
+// medium delivered to the robot into it. TapPort is the robot's wlan0 TAP on this host;
+// fleet::RemotePorts holds those of robots on node hosts (docs/protocols.md). One thread.
+class Port {
+ public:
+  virtual ~Port() = default;
+  // One frame into `buffer` (cut to its size): its length, 0 when none waits, -errno when the
+  // port failed (the bridge then detaches the robot).
+  virtual ssize_t Read(std::span<uint8_t> buffer) = 0;
+  // One frame to the robot: 0, or -errno when it was not written (counted in write_errors).
+  virtual int Write(std::span<const uint8_t> frame) = 0;
+  // A descriptor that polls readable while frames wait, for the realtime driver; -1 when there
+  // is none, and then only the lockstep driver reads the port.
+  virtual int fd() const { return -1; }
+  // Frames the robot sent that the port's own queue dropped before the bridge read them (a
+  // TAP's tx_dropped); nullopt when unknown.
+  virtual std::optional<uint64_t> KernelTxDropped() = 0;
+};
+
 //------------------------------------ Bridge ---------------------------------
 
 // Per-robot counters kept by the bridge (medium counters are separate).
@@ -132,6 +161,9 @@ struct BridgeOptions {
   std::function<void(const std::string&)> log;
   // Attach only these robots (indices); empty: all.
   std::vector<int> robots;
+  // Opens robot `robot`'s port (never null; throws Error saying why it cannot). Empty: the
+  // robot's wlan0 TAP in its namespace (TapPort).
+  std::function<std::unique_ptr<Port>(int robot)> open_port;
 };
 
 class EventLoop;
@@ -139,7 +171,7 @@ class EventLoop;
 // Receives every on-air frame (pcap writer, live subscribers).
 using AirFrameObserver = std::function<void(const AirFrame&)>;
 
-// Owns the TAP ports and the medium. Use from one thread.
+// Owns the robots' ports and the medium. Use from one thread.
 class BridgeCore {
  public:
   BridgeCore(const Scenario& scenario, std::unique_ptr<MediumModel> medium, BridgeOptions options);
@@ -147,8 +179,8 @@ class BridgeCore {
   BridgeCore(const BridgeCore&) = delete;
   BridgeCore& operator=(const BridgeCore&) = delete;
 
-  // Opens every robot's persistent wlan0 TAP in its namespace. Throws Error
-  // naming the robot and namespace on failure (scenario not up).
+  // Opens every robot's port (BridgeOptions::open_port; by default its persistent wlan0 TAP in
+  // its namespace). Throws Error naming the robot and why on failure (scenario not up).
   void AttachAll();
 
   void AddAirFrameObserver(AirFrameObserver observer);
@@ -159,7 +191,7 @@ class BridgeCore {
   // so an unobserved medium does not pay for its trace. Default: enabled.
   void SetAirFrameCapture(bool enabled);
 
-  //---- Realtime driver: registers TAPs and a timerfd on `loop`; virtual time
+  //---- Realtime driver: registers ports and a timerfd on `loop`; virtual time
   //---- follows `timebase` (the run's origin and realtime factor, clock/clock.h).
   void StartRealtime(EventLoop* loop, const clock::Timebase& timebase);
   TimeNs VirtualNowNs() const;
@@ -167,7 +199,7 @@ class BridgeCore {
   // destroyed afterwards. Virtual time stays where it stopped.
   void StopRealtime();
 
-  //---- Lockstep driver: drains every TAP, enters the frames during
+  //---- Lockstep driver: drains every port, enters the frames during
   //---- (previous until, until_ns] at seeded instants in robot order, runs the
   //---- medium to until_ns and writes every delivery due by then.
   void StepLockstep(TimeNs until_ns);
@@ -175,7 +207,7 @@ class BridgeCore {
   // Position update from the coordinator or the control socket.
   void SetPosition(int robot, double x_m, double y_m, double z_m);
 
-  // Robot whose namespace vanished: close its TAP, disable its station, log.
+  // Robot whose namespace vanished: close its port, disable its station, log.
   void Detach(int robot, const std::string& reason);
   // Tries to attach a detached robot again (its namespace came back); true if
   // attached afterwards.
@@ -189,7 +221,7 @@ class BridgeCore {
   LatenessStats TakeLateness();
   // Lateness since StartRealtime.
   LatenessStats TotalLateness() const;
-  // Refreshes kernel_tx_dropped from the namespaces' /proc/net/dev.
+  // Refreshes kernel_tx_dropped from the ports (a TAP: its namespace's /proc/net/dev).
   void RefreshKernelCounters();
 
  private:
