@@ -11,6 +11,7 @@
 const {
   MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, minimal, common, ardupilotmega,
 } = require('node-mavlink');
+const { requestDataStream } = require('./request_stream.cjs');
 
 const REGISTRY = { ...minimal.REGISTRY, ...common.REGISTRY, ...ardupilotmega.REGISTRY };
 const COPTER_GUIDED = 4;
@@ -56,13 +57,7 @@ function guidedFlight({ altM, holdS, northM, eastM, waypoints, sysid = 1, write,
     switch (phase) {
       case 'boot':
         if (due(1)) {
-          const streams = new common.RequestDataStream();
-          streams.targetSystem = sysid;
-          streams.targetComponent = 1;
-          streams.reqStreamId = 0;  // MAV_DATA_STREAM_ALL
-          streams.reqMessageRate = 10;
-          streams.startStop = 1;
-          send(streams);
+          requestDataStream(send, sysid, 0, 10);  // MAV_DATA_STREAM_ALL
           command(176, [1, COPTER_GUIDED, 0, 0, 0, 0, 0]);  // MAV_CMD_DO_SET_MODE
           command(400, [1, 0, 0, 0, 0, 0, 0]);              // MAV_CMD_COMPONENT_ARM_DISARM
         }

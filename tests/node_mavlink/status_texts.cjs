@@ -12,6 +12,7 @@ const net = require('net');
 const {
   MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, minimal, common,
 } = require('node-mavlink');
+const { requestDataStream } = require('./request_stream.cjs');
 
 const REGISTRY = { ...minimal.REGISTRY, ...common.REGISTRY };
 const [host, port, sysidText] = process.argv.slice(2);
@@ -31,13 +32,8 @@ function askEverySecond() {
   heartbeat.type = minimal.MavType.GCS;
   heartbeat.autopilot = minimal.MavAutopilot.INVALID;
   send(heartbeat);
-  const streams = new common.RequestDataStream();  // SYSTEM_TIME (EXTRA3), for the times printed
-  streams.targetSystem = sysid;
-  streams.targetComponent = 1;
-  streams.reqStreamId = 12;  // MAV_DATA_STREAM_EXTRA3
-  streams.reqMessageRate = 1;
-  streams.startStop = 1;
-  send(streams);
+  // SYSTEM_TIME (MAV_DATA_STREAM_EXTRA3), for the times printed.
+  requestDataStream(send, sysid, 12, 1);
   const checks = new common.CommandLong();
   checks.targetSystem = sysid;
   checks.targetComponent = 1;
