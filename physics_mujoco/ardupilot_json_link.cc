@@ -16,7 +16,7 @@ namespace {
 // How far behind the world's clock SITL's may fall in realtime pacing and still catch up frame
 // by frame (docs/protocols.md). Behind by more, SITL is not keeping up rather than briefly
 // delayed, and its clock jumps to the world's.
-int64_t kMaxCatchUpSteps(const World& world) { return 100 * kNsPerMs / world.step_ns(); }
+int64_t MaxCatchUpSteps(const World& world) { return 100 * kNsPerMs / world.step_ns(); }
 
 class ArduPilotJsonLink final : public RobotLink {
  public:
@@ -113,7 +113,7 @@ class ArduPilotJsonLink final : public RobotLink {
     // Frame n ends at n / frame_rate: whole physics steps, the remainder carried (exact over
     // many frames when 1/frame_rate is not a multiple of the step).
     int64_t due_steps = base_steps_ + clock::TickTimeNs(frames_, rate_hz_) / world_.step_ns();
-    if (due_steps < now_steps - kMaxCatchUpSteps(world_)) {
+    if (due_steps < now_steps - MaxCatchUpSteps(world_)) {
       // Late by more than SITL may catch up (realtime pacing, SITL slower than the clock for a
       // while): its clock jumps to now, and frames count from here.
       ++counters.json_clock_jumps;
