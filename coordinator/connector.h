@@ -3,11 +3,13 @@
 // Simulator side: a `Simulator` runs one iteration when asked. Coordinator
 // side: a `Connector` sends START and waits for END, either by a direct call
 // into a Simulator in this process (InProcessConnector) or over a socket to a
-// connector process (RemoteConnector, served there by ServeCoordinator()).
+// connector process (RemoteConnector, coordinator/remote_connector.h, served
+// there by ServeCoordinator()).
 #ifndef SITLNET_COORDINATOR_CONNECTOR_H_
 #define SITLNET_COORDINATOR_CONNECTOR_H_
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,8 +22,9 @@ namespace sitlnet::coordinator {
 
 inline constexpr uint32_t kProtocolVersion = proto::coord::PROTOCOL_VERSION_CURRENT;
 
-enum class Role { kPhysics, kNetwork };
-std::string RoleName(Role role);  // "physics" / "network"
+// kNode: a node host of a fleet (fleet/fleet.h), which only a fleet's coordinator accepts.
+enum class Role { kPhysics, kNetwork, kNode };
+std::string RoleName(Role role);  // "physics" / "network" / "node"
 
 //------------------------------ Simulator side ------------------------------
 
@@ -32,6 +35,12 @@ class IterationContext {
   // Physics in lockstep-robots mode: every robot's command for this iteration
   // has arrived; the coordinator may start the network's iteration now.
   virtual void CommandsCollected() = 0;
+  // The same, with data for the coordinator (CommandsCollected.payload: a node host's frames).
+  // Only a coordinator over a socket receives it; in this process it must be empty.
+  virtual void CommandsCollectedWithPayload(std::string payload) {
+    SITLNET_DEMAND(payload.empty());
+    CommandsCollected();
+  }
 };
 
 // A simulator the coordinator can step. Implementations: the physics side
@@ -55,6 +64,7 @@ class Simulator {
 // Error, closes the connection, or the simulator throws (then the coordinator
 // is told with an Error message first). Returns "interrupted" if
 // interrupt_fd fires while waiting for the coordinator.
+// It is HandshakeWithCoordinator followed by ServeIterations.
 struct ConnectorIdentity {
   std::string name;
   Role role = Role::kPhysics;
@@ -66,6 +76,23 @@ struct ConnectorIdentity {
 std::string ServeCoordinator(Channel& channel, Simulator& simulator,
                              const ConnectorIdentity& identity, TimeNs handshake_timeout_ns,
                              int interrupt_fd = -1);
+
+// The first half of ServeCoordinator: sends a Hello of `identity`, with the fields of
+// `hello_extra` too (initial poses; a node's robots), and authenticates when identity has a
+// secret. Returns the coordinator's Welcome, or nullopt if interrupt_fd fired. Throws Error as
+// ServeCoordinator does. A node host handshakes before it creates anything (fleet/).
+std::optional<proto::coord::Welcome> HandshakeWithCoordinator(
+    Channel& channel, const ConnectorIdentity& identity, const proto::coord::Hello& hello_extra,
+    TimeNs handshake_timeout_ns, int interrupt_fd = -1);
+
+// The second half: answers every Start with End until Stop; returns Stop's reason.
+std::string ServeIterations(Channel& channel, Simulator& simulator, int interrupt_fd = -1);
+
+// "Start", "CommandsCollected", ...: a message's kind in error lines.
+const char* KindName(proto::coord::CoordinatorMessage::KindCase kind);
+
+// Sends Error(message) within 1 s if the peer still listens; never throws.
+void SendErrorQuietly(Channel& channel, const std::string& message);
 
 //----------------------------- Coordinator side -----------------------------
 
@@ -81,11 +108,13 @@ struct WaitLimits {
 // 'phys0' did not answer START of iteration 42 with END within 5000 ms".
 class Connector {
  public:
-  Connector(std::string name, Role role) : name_(std::move(name)), role_(role) {}
+  // `description`: how messages name it; empty: "<role> connector '<name>'".
+  Connector(std::string name, Role role, std::string description = {})
+      : name_(std::move(name)), role_(role), description_(std::move(description)) {}
   virtual ~Connector() = default;
   const std::string& name() const { return name_; }
   Role role() const { return role_; }
-  // "physics connector 'phys0'".
+  // "physics connector 'phys0'", or the description given.
   std::string Describe() const;
 
   virtual const proto::coord::Poses& initial_poses() const = 0;
@@ -104,6 +133,7 @@ class Connector {
  private:
   std::string name_;
   Role role_;
+  std::string description_;
 };
 
 // Calls a Simulator in this process. kOwnThread runs it on a worker thread so
@@ -130,6 +160,18 @@ struct HandshakeExpectation {
   // The shared secret (LoadSecretFile); empty: none. With one, a connector that does not prove
   // it holds the same secret is a stray connection: sent Error, not accepted, not fatal.
   std::string secret;
+  // Checked last, before Welcome, on the handshake's own thread: a non-empty line refuses the
+  // peer as another scenario would (a fleet's node with robots not its own). May be empty.
+  std::function<std::string(const proto::coord::Hello&)> refuse_hello;
+};
+
+// A peer that completed the handshake: Welcome was sent on `channel`.
+struct AcceptedPeer {
+  Channel channel;
+  proto::coord::Hello hello;
+  Role role = Role::kPhysics;
+  // hello.connector_name() as printed: printable ASCII, at most 64 bytes (a stranger chose it).
+  std::string name;
 };
 
 // Accepts connections on `listener` until one physics and one network
@@ -154,9 +196,24 @@ class StrayConnectionError : public Error {
   using Error::Error;
 };
 
-// Handshake on an already-accepted channel (AcceptConnectors uses it).
+// Handshake on an already-accepted channel (AcceptConnectors uses it). Returns
+// nullopt if interrupted. Refuses a node unless expect.role is kNode. Throws
+// StrayConnectionError or, for a refused peer, Error (after sending it Error).
+std::optional<AcceptedPeer> AcceptPeer(Channel channel, const HandshakeExpectation& expect,
+                                       const WaitLimits& limits);
+// AcceptPeer, then a RemoteConnector over the channel; null if interrupted.
 std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpectation& expect,
                                            const WaitLimits& limits);
+
+// Accepts connections on `listener`, their handshakes (AcceptPeer) side by side, at most 16 at
+// once, and hands each accepted peer to `take` until it returns true. Stray connections are
+// logged and skipped. Returns false if limits.interrupt_fd fired; throws a handshake's refusal
+// or what `take` throws. At limits.deadline_ns throws Error "<missing()> to <endpoint> within
+// <timeout> ms", e.g. missing() = "no physics connector connected".
+bool AcceptUntil(Listener& listener, const HandshakeExpectation& expect, const WaitLimits& limits,
+                 const std::function<bool(AcceptedPeer)>& take,
+                 const std::function<std::string()>& missing, FrameCodecOptions codec = {},
+                 TimeNs spin_ns = 0);
 
 // Accepts connections on `listener` until one connector of `role` completed
 // the handshake (stray connections are logged and skipped, as above). Throws

@@ -199,9 +199,13 @@ class OwnThreadConnector final : public Connector, private IterationContext {
 
 }  // namespace
 
-std::string RoleName(Role role) { return role == Role::kPhysics ? "physics" : "network"; }
+std::string RoleName(Role role) {
+  return role == Role::kPhysics ? "physics" : role == Role::kNetwork ? "network" : "node";
+}
 
-std::string Connector::Describe() const { return RoleName(role_) + " connector '" + name_ + "'"; }
+std::string Connector::Describe() const {
+  return description_.empty() ? RoleName(role_) + " connector '" + name_ + "'" : description_;
+}
 
 std::unique_ptr<Connector> MakeInProcessConnector(std::string name, Role role, Simulator* simulator,
                                                   Threading threading, TimeNs spin_ns) {

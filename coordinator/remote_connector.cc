@@ -16,8 +16,9 @@
 #include <thread>
 #include <vector>
 
+#include "coordinator/remote_connector.h"
+
 #include "coordinator/authentication.h"
-#include "coordinator/connector.h"
 
 namespace sitlnet::coordinator {
 namespace {
@@ -34,6 +35,8 @@ std::string Hex(uint64_t value) {
   std::snprintf(text, sizeof text, "0x%016llx", static_cast<unsigned long long>(value));
   return text;
 }
+
+}  // namespace
 
 const char* KindName(CoordinatorMessage::KindCase kind) {
   switch (kind) {
@@ -60,129 +63,6 @@ const char* KindName(CoordinatorMessage::KindCase kind) {
   }
 }
 
-class RemoteConnector final : public Connector {
- public:
-  RemoteConnector(std::string name, Role role, Channel channel, proto::coord::Poses poses)
-      : Connector(std::move(name), role), channel_(std::move(channel)), poses_(std::move(poses)) {}
-
-  const proto::coord::Poses& initial_poses() const override { return poses_; }
-
-  void Begin(const proto::coord::Start& start, const WaitLimits& limits) override {
-    *out_.mutable_start() = start;
-    outstanding_ = true;
-    outstanding_iteration_ = start.iteration();
-    try {
-      channel_.Send(out_, limits.deadline_ns);
-    } catch (const TransportError& e) {
-      throw Error(Describe() + ": sending START of iteration " + std::to_string(start.iteration()) +
-                  ": " + Explain(e, limits));
-    }
-  }
-
-  bool AwaitCommandsCollected(uint64_t iteration, const WaitLimits& limits) override {
-    if (!ReceiveExpected(iteration, "CommandsCollected", limits)) return false;
-    // A physics connector without robots in lock-step may finish without
-    // reporting CommandsCollected: its END then opens the gate too.
-    if (in_.kind_case() == CoordinatorMessage::kEnd && in_.end().iteration() == iteration) {
-      early_end_ = true;
-      return true;
-    }
-    if (in_.kind_case() != CoordinatorMessage::kCommandsCollected ||
-        in_.commands_collected().iteration() != iteration) {
-      throw Unexpected(iteration, "CommandsCollected");
-    }
-    return true;
-  }
-
-  bool Finish(uint64_t iteration, proto::coord::End* end, const WaitLimits& limits) override {
-    if (early_end_) {
-      early_end_ = false;  // Received by AwaitCommandsCollected; still in in_.
-    } else if (!ReceiveExpected(iteration, "END", limits)) {
-      return false;
-    }
-    if (in_.kind_case() != CoordinatorMessage::kEnd || in_.end().iteration() != iteration) {
-      throw Unexpected(iteration, "END");
-    }
-    end->Swap(in_.mutable_end());
-    outstanding_ = false;
-    return true;
-  }
-
-  void Stop(const std::string& reason) override {
-    // An iteration still running (the run was interrupted): let it finish
-    // and drop its END, so the connector sees an orderly Stop rather than a
-    // closed socket when it answers.
-    const TimeNs deadline = MonotonicNowNs() + kDrainTimeoutNs;
-    try {
-      while (outstanding_ && channel_.Receive(&in_, deadline)) {
-        if (in_.has_error() || (in_.has_end() && in_.end().iteration() == outstanding_iteration_)) {
-          outstanding_ = false;
-        }
-      }
-    } catch (const Error&) {
-      // Gone or stuck: Stop below is best effort either way.
-    }
-    CoordinatorMessage stop;
-    stop.mutable_stop()->set_reason(reason);
-    try {
-      channel_.Send(stop, MonotonicNowNs() + kNsPerS);
-    } catch (const Error&) {
-      // Already gone: nothing to tell it.
-    }
-  }
-
- private:
-  std::string Explain(const TransportError& e, const WaitLimits& limits) const {
-    if (e.kind() == TransportError::Kind::kClosed) {
-      return std::string(e.what()) + " (connector crashed or exited)";
-    }
-    return e.what();
-  }
-
-  // Receives the answer to START of `iteration`; turns transport failures
-  // into messages naming this connector.
-  bool ReceiveExpected(uint64_t iteration, const char* what, const WaitLimits& limits) {
-    try {
-      if (!channel_.Receive(&in_, limits.deadline_ns, limits.interrupt_fd)) return false;
-    } catch (const TransportError& e) {
-      outstanding_ = false;  // Failed or stuck: Stop() must not wait for it.
-      const std::string k = std::to_string(iteration);
-      if (e.kind() == TransportError::Kind::kTimeout) {
-        throw Error(Describe() + " did not answer START of iteration " + k + " with " + what +
-                    " within " + Ms(limits.timeout_ns));
-      }
-      throw Error(Describe() + " failed during iteration " + k + ": " + Explain(e, limits));
-    }
-    if (in_.kind_case() == CoordinatorMessage::kError) {
-      outstanding_ = false;
-      throw Error(Describe() + " reported an error in iteration " + std::to_string(iteration) +
-                  ": " + in_.error().message());
-    }
-    return true;
-  }
-
-  Error Unexpected(uint64_t iteration, const char* what) const {
-    std::string got = KindName(in_.kind_case());
-    if (in_.has_end()) got += " of iteration " + std::to_string(in_.end().iteration());
-    if (in_.has_commands_collected()) {
-      got += " of iteration " + std::to_string(in_.commands_collected().iteration());
-    }
-    return Error(Describe() + ": protocol error: expected " + what + " of iteration " +
-                 std::to_string(iteration) + ", got " + got);
-  }
-
-  // Longest wait for the END of an interrupted iteration at Stop.
-  static constexpr TimeNs kDrainTimeoutNs = 2 * kNsPerS;
-
-  Channel channel_;
-  proto::coord::Poses poses_;
-  bool outstanding_ = false;  // START sent, END not yet received.
-  bool early_end_ = false;    // END arrived instead of CommandsCollected; it is in in_.
-  uint64_t outstanding_iteration_ = 0;
-  CoordinatorMessage out_;
-  CoordinatorMessage in_;
-};
-
 void SendErrorQuietly(Channel& channel, const std::string& message) {
   CoordinatorMessage error;
   error.mutable_error()->set_message(message);
@@ -191,6 +71,126 @@ void SendErrorQuietly(Channel& channel, const std::string& message) {
   } catch (const Error&) {
   }
 }
+
+RemoteConnector::RemoteConnector(std::string name, Role role, Channel channel,
+                                 proto::coord::Poses poses, std::string description)
+    : Connector(std::move(name), role, std::move(description)),
+      channel_(std::move(channel)),
+      poses_(std::move(poses)) {}
+
+void RemoteConnector::Begin(const proto::coord::Start& start, const WaitLimits& limits) {
+  *out_.mutable_start() = start;
+  outstanding_ = true;
+  outstanding_iteration_ = start.iteration();
+  try {
+    channel_.Send(out_, limits.deadline_ns);
+  } catch (const TransportError& e) {
+    throw Error(Describe() + ": sending START of iteration " + std::to_string(start.iteration()) +
+                ": " + Explain(e));
+  }
+}
+
+bool RemoteConnector::AwaitCommandsCollected(uint64_t iteration, const WaitLimits& limits) {
+  if (!ReceiveExpected(iteration, "CommandsCollected", limits)) return false;
+  // A physics connector without robots in lock-step may finish without
+  // reporting CommandsCollected: its END then opens the gate too.
+  if (in_.kind_case() == CoordinatorMessage::kEnd && in_.end().iteration() == iteration) {
+    early_end_ = true;
+    return true;
+  }
+  if (in_.kind_case() != CoordinatorMessage::kCommandsCollected ||
+      in_.commands_collected().iteration() != iteration) {
+    throw Unexpected(iteration, "CommandsCollected");
+  }
+  return true;
+}
+
+std::string RemoteConnector::TakeCommandsCollectedPayload() {
+  std::string payload;
+  if (in_.has_commands_collected()) payload.swap(*in_.mutable_commands_collected()->mutable_payload());
+  return payload;
+}
+
+bool RemoteConnector::Finish(uint64_t iteration, proto::coord::End* end,
+                             const WaitLimits& limits) {
+  if (early_end_) {
+    early_end_ = false;  // Received by AwaitCommandsCollected; still in in_.
+  } else if (!ReceiveExpected(iteration, "END", limits)) {
+    return false;
+  }
+  if (in_.kind_case() != CoordinatorMessage::kEnd || in_.end().iteration() != iteration) {
+    throw Unexpected(iteration, "END");
+  }
+  end->Swap(in_.mutable_end());
+  outstanding_ = false;
+  return true;
+}
+
+void RemoteConnector::Stop(const std::string& reason) {
+  // An iteration still running (the run was interrupted): let it finish
+  // and drop its END, so the connector sees an orderly Stop rather than a
+  // closed socket when it answers.
+  const TimeNs deadline = MonotonicNowNs() + kDrainTimeoutNs;
+  try {
+    while (outstanding_ && channel_.Receive(&in_, deadline)) {
+      if (in_.has_error() || (in_.has_end() && in_.end().iteration() == outstanding_iteration_)) {
+        outstanding_ = false;
+      }
+    }
+  } catch (const Error&) {
+    // Gone or stuck: Stop below is best effort either way.
+  }
+  CoordinatorMessage stop;
+  stop.mutable_stop()->set_reason(reason);
+  try {
+    channel_.Send(stop, MonotonicNowNs() + kNsPerS);
+  } catch (const Error&) {
+    // Already gone: nothing to tell it.
+  }
+}
+
+std::string RemoteConnector::Explain(const TransportError& e) const {
+  if (e.kind() == TransportError::Kind::kClosed) {
+    return std::string(e.what()) +
+           (role() == Role::kNode ? " (node crashed or exited)" : " (connector crashed or exited)");
+  }
+  return e.what();
+}
+
+// Receives the answer to START of `iteration`; turns transport failures
+// into messages naming this connector.
+bool RemoteConnector::ReceiveExpected(uint64_t iteration, const char* what,
+                                      const WaitLimits& limits) {
+  try {
+    if (!channel_.Receive(&in_, limits.deadline_ns, limits.interrupt_fd)) return false;
+  } catch (const TransportError& e) {
+    outstanding_ = false;  // Failed or stuck: Stop() must not wait for it.
+    const std::string k = std::to_string(iteration);
+    if (e.kind() == TransportError::Kind::kTimeout) {
+      throw Error(Describe() + " did not answer START of iteration " + k + " with " + what +
+                  " within " + Ms(limits.timeout_ns));
+    }
+    throw Error(Describe() + " failed during iteration " + k + ": " + Explain(e));
+  }
+  if (in_.kind_case() == CoordinatorMessage::kError) {
+    outstanding_ = false;
+    throw Error(Describe() + " reported an error in iteration " + std::to_string(iteration) +
+                ": " + in_.error().message());
+  }
+  return true;
+}
+
+Error RemoteConnector::Unexpected(uint64_t iteration, const char* what) const {
+  std::string got = KindName(in_.kind_case());
+  if (in_.has_end()) got += " of iteration " + std::to_string(in_.end().iteration());
+  if (in_.has_commands_collected()) {
+    got += " of iteration " + std::to_string(in_.commands_collected().iteration());
+  }
+  return Error(Describe() + ": protocol error: expected " + what + " of iteration " +
+               std::to_string(iteration) + ", got " + got);
+}
+
+namespace {
 
 // The coordinator's side of the shared-secret handshake: Challenge (its nonce and proof), then
 // the connector's Proof. A connector that cannot prove the secret is a stray connection.
@@ -242,8 +242,18 @@ void Authenticate(Channel& channel, const std::string& secret, const std::string
 
 }  // namespace
 
-std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpectation& expect,
-                                           const WaitLimits& limits) {
+namespace {
+
+std::unique_ptr<Connector> ConnectorOf(AcceptedPeer peer) {
+  return std::make_unique<RemoteConnector>(std::move(peer.name), peer.role,
+                                           std::move(peer.channel),
+                                           std::move(*peer.hello.mutable_initial_poses()));
+}
+
+}  // namespace
+
+std::optional<AcceptedPeer> AcceptPeer(Channel channel, const HandshakeExpectation& expect,
+                                       const WaitLimits& limits) {
   // With a secret, the Hello is part of what the proofs cover (Authenticate).
   if (!expect.secret.empty()) channel.RecordTranscript();
   CoordinatorMessage hello;
@@ -251,7 +261,7 @@ std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpec
   // would let a silent stray connection hold the real connectors back.
   const TimeNs hello_deadline_ns = std::min(limits.deadline_ns, MonotonicNowNs() + kHelloTimeoutNs);
   try {
-    if (!channel.Receive(&hello, hello_deadline_ns, limits.interrupt_fd)) return nullptr;
+    if (!channel.Receive(&hello, hello_deadline_ns, limits.interrupt_fd)) return std::nullopt;
   } catch (const TransportError& e) {
     throw StrayConnectionError(std::string("connector handshake: ") + e.what());
   }
@@ -262,29 +272,37 @@ std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpec
     throw StrayConnectionError(what);
   }
   const proto::coord::Hello& h = hello.hello();
-  const Role role = h.role() == proto::coord::ROLE_NETWORK ? Role::kNetwork : Role::kPhysics;
+  const Role role = h.role() == proto::coord::ROLE_NETWORK ? Role::kNetwork
+                    : h.role() == proto::coord::ROLE_NODE  ? Role::kNode
+                                                           : Role::kPhysics;
   // The name is the peer's, maybe a stranger's: printable ASCII only, 64 bytes at most.
   std::string name = h.connector_name().substr(0, 64);
   for (char& c : name) {
     if (c < 0x20 || c > 0x7e) c = '?';
   }
-  const std::string who = RoleName(role) + " connector '" + name + "'";
+  const std::string who =
+      role == Role::kNode ? "node '" + name + "'" : RoleName(role) + " connector '" + name + "'";
   // Authentication first: a peer without the secret learns nothing of the run.
   if (!expect.secret.empty() || !h.nonce().empty()) {
     Authenticate(channel, expect.secret, h.nonce(), who, hello_deadline_ns, limits.interrupt_fd);
   }
   std::string refusal;
-  if (h.role() != proto::coord::ROLE_PHYSICS && h.role() != proto::coord::ROLE_NETWORK) {
+  if (h.role() != proto::coord::ROLE_PHYSICS && h.role() != proto::coord::ROLE_NETWORK &&
+      h.role() != proto::coord::ROLE_NODE) {
     refusal = "connector '" + name + "' has no role (physics or network)";
   } else if (h.protocol_version() != kProtocolVersion) {
     refusal = who + " speaks protocol version " + std::to_string(h.protocol_version()) +
               ", the coordinator " + std::to_string(kProtocolVersion);
   } else if (expect.role && role != *expect.role) {
     refusal = who + " connected, but this coordinator waits for a " + RoleName(*expect.role) +
-              " connector";
+              (*expect.role == Role::kNode ? "" : " connector");
+  } else if (!expect.role && role == Role::kNode) {
+    refusal = who + " connected, but this coordinator runs no fleet (its scenario has no nodes)";
   } else if (h.scenario_hash() != expect.scenario_hash) {
     refusal = who + " loaded a different scenario: hash " + Hex(h.scenario_hash()) +
               ", the coordinator's is " + Hex(expect.scenario_hash);
+  } else if (expect.refuse_hello) {
+    refusal = expect.refuse_hello(h);
   }
   if (!refusal.empty()) {
     SendErrorQuietly(channel, refusal);
@@ -299,8 +317,16 @@ std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpec
   } catch (const TransportError& e) {
     throw Error(who + ": sending Welcome: " + e.what());
   }
-  proto::coord::Poses poses = h.initial_poses();
-  return std::make_unique<RemoteConnector>(name, role, std::move(channel), std::move(poses));
+  AcceptedPeer peer{std::move(channel), {}, role, std::move(name)};
+  peer.hello.Swap(hello.mutable_hello());
+  return peer;
+}
+
+std::unique_ptr<Connector> AcceptConnector(Channel channel, const HandshakeExpectation& expect,
+                                           const WaitLimits& limits) {
+  std::optional<AcceptedPeer> peer = AcceptPeer(std::move(channel), expect, limits);
+  if (!peer) return nullptr;
+  return ConnectorOf(std::move(*peer));
 }
 
 namespace {
@@ -312,7 +338,7 @@ namespace {
 class ConcurrentHandshakes {
  public:
   struct Outcome {
-    std::unique_ptr<Connector> connector;  // Accepted; or null, and one of:
+    std::optional<AcceptedPeer> peer;       // Accepted; or none, and one of:
     std::string stray;                     // a stray connection's warning,
     std::exception_ptr refusal;            // a refused connector's Error, to pass on.
   };
@@ -389,7 +415,7 @@ class ConcurrentHandshakes {
     try {
       Channel channel(std::move(fd), codec_);
       channel.set_spin_ns(spin_ns_);
-      outcome.connector = AcceptConnector(std::move(channel), expect_, limits_);
+      outcome.peer = AcceptPeer(std::move(channel), expect_, limits_);
     } catch (const StrayConnectionError& e) {
       outcome.stray = e.what();
     } catch (...) {
@@ -400,7 +426,7 @@ class ConcurrentHandshakes {
       close(watch->second);  // Before the outcome is out: an accepted socket is never shut.
       watched_.erase(watch);
     }
-    if (outcome.connector || !outcome.stray.empty() || outcome.refusal) {
+    if (outcome.peer || !outcome.stray.empty() || outcome.refusal) {
       finished_.push_back(std::move(outcome));
     }
     done_.push_back(id);
@@ -432,14 +458,12 @@ void WarnIgnored(const Listener& listener, const std::string& why) {
                listener.endpoint().ToString().c_str(), why.c_str());
 }
 
-// Accepts connections on `listener`, their handshakes side by side, and hands each accepted
-// connector to `take` until it returns true. Stray connections are logged and skipped. Returns
-// false if limits.interrupt_fd fired; throws a handshake's refusal, or Error "no <missing()>
-// connector connected to ... within ..." at the deadline.
+}  // namespace
+
 bool AcceptUntil(Listener& listener, const HandshakeExpectation& expect, const WaitLimits& limits,
-                 FrameCodecOptions codec, TimeNs spin_ns,
-                 const std::function<bool(std::unique_ptr<Connector>)>& take,
-                 const std::function<std::string()>& missing) {
+                 const std::function<bool(AcceptedPeer)>& take,
+                 const std::function<std::string()>& missing, FrameCodecOptions codec,
+                 TimeNs spin_ns) {
   ConcurrentHandshakes handshakes(expect, limits, codec, spin_ns);
   for (;;) {
     // At kMaxConcurrentHandshakes, new connections wait in the backlog (poll skips fd -1).
@@ -448,8 +472,8 @@ bool AcceptUntil(Listener& listener, const HandshakeExpectation& expect, const W
                      {limits.interrupt_fd, POLLIN, 0}};
     const TimeNs now = MonotonicNowNs();
     if (limits.deadline_ns != kNoDeadline && now >= limits.deadline_ns) {
-      throw Error("no " + missing() + " connector connected to " + listener.endpoint().ToString() +
-                  " within " + Ms(limits.timeout_ns));
+      throw Error(missing() + " to " + listener.endpoint().ToString() + " within " +
+                  Ms(limits.timeout_ns));
     }
     const int timeout_ms =
         limits.deadline_ns == kNoDeadline
@@ -465,7 +489,7 @@ bool AcceptUntil(Listener& listener, const HandshakeExpectation& expect, const W
       for (ConcurrentHandshakes::Outcome& outcome : handshakes.TakeFinished()) {
         if (outcome.refusal) std::rethrow_exception(outcome.refusal);
         if (!outcome.stray.empty()) WarnIgnored(listener, outcome.stray);
-        if (outcome.connector && take(std::move(outcome.connector))) return true;
+        if (outcome.peer && take(std::move(*outcome.peer))) return true;
       }
     }
     if (fds[0].revents & POLLIN) {
@@ -481,15 +505,14 @@ bool AcceptUntil(Listener& listener, const HandshakeExpectation& expect, const W
   }
 }
 
-}  // namespace
-
 AcceptedConnectors AcceptConnectors(Listener& listener, const HandshakeExpectation& expect,
                                     const WaitLimits& limits, FrameCodecOptions codec,
                                     TimeNs spin_ns) {
   AcceptedConnectors accepted;
   AcceptUntil(
-      listener, expect, limits, codec, spin_ns,
-      [&](std::unique_ptr<Connector> connector) {
+      listener, expect, limits,
+      [&](AcceptedPeer peer) {
+        std::unique_ptr<Connector> connector = ConnectorOf(std::move(peer));
         auto& slot = connector->role() == Role::kPhysics ? accepted.physics : accepted.network;
         if (slot) {
           const std::string what =
@@ -501,10 +524,13 @@ AcceptedConnectors AcceptConnectors(Listener& listener, const HandshakeExpectati
         return accepted.physics && accepted.network;
       },
       [&] {
-        return !accepted.physics && !accepted.network ? "physics and network"
-               : !accepted.physics                    ? "physics"
-                                                      : "network";
-      });
+        return std::string("no ") +
+               (!accepted.physics && !accepted.network ? "physics and network"
+                : !accepted.physics                    ? "physics"
+                                                       : "network") +
+               " connector connected";
+      },
+      codec, spin_ns);
   return accepted;
 }
 
@@ -514,12 +540,12 @@ std::unique_ptr<Connector> AcceptConnectorOfRole(Listener& listener, Role role,
   expect.role = role;
   std::unique_ptr<Connector> accepted;
   AcceptUntil(
-      listener, expect, limits, {}, 0,
-      [&](std::unique_ptr<Connector> connector) {
-        accepted = std::move(connector);
+      listener, expect, limits,
+      [&](AcceptedPeer peer) {
+        accepted = ConnectorOf(std::move(peer));
         return true;
       },
-      [&] { return RoleName(role); });
+      [&] { return "no " + RoleName(role) + " connector connected"; });
   return accepted;
 }
 
@@ -529,9 +555,11 @@ namespace {
 class RemoteContext final : public IterationContext {
  public:
   RemoteContext(Channel& channel, uint64_t iteration) : channel_(channel), iteration_(iteration) {}
-  void CommandsCollected() override {
+  void CommandsCollected() override { CommandsCollectedWithPayload({}); }
+  void CommandsCollectedWithPayload(std::string payload) override {
     CoordinatorMessage message;
     message.mutable_commands_collected()->set_iteration(iteration_);
+    message.mutable_commands_collected()->set_payload(std::move(payload));
     channel_.Send(message);
   }
 
@@ -544,14 +572,26 @@ class RemoteContext final : public IterationContext {
 std::string ServeCoordinator(Channel& channel, Simulator& simulator,
                              const ConnectorIdentity& identity, TimeNs handshake_timeout_ns,
                              int interrupt_fd) {
+  proto::coord::Hello hello;
+  *hello.mutable_initial_poses() = simulator.InitialPoses();
+  if (!HandshakeWithCoordinator(channel, identity, hello, handshake_timeout_ns, interrupt_fd)) {
+    return "interrupted";
+  }
+  return ServeIterations(channel, simulator, interrupt_fd);
+}
+
+std::optional<proto::coord::Welcome> HandshakeWithCoordinator(
+    Channel& channel, const ConnectorIdentity& identity, const proto::coord::Hello& hello_extra,
+    TimeNs handshake_timeout_ns, int interrupt_fd) {
   CoordinatorMessage out;
   proto::coord::Hello* hello = out.mutable_hello();
+  *hello = hello_extra;
   hello->set_protocol_version(kProtocolVersion);
   hello->set_scenario_hash(identity.scenario_hash);
-  hello->set_role(identity.role == Role::kPhysics ? proto::coord::ROLE_PHYSICS
-                                                  : proto::coord::ROLE_NETWORK);
+  hello->set_role(identity.role == Role::kPhysics   ? proto::coord::ROLE_PHYSICS
+                  : identity.role == Role::kNetwork ? proto::coord::ROLE_NETWORK
+                                                    : proto::coord::ROLE_NODE);
   hello->set_connector_name(identity.name);
-  *hello->mutable_initial_poses() = simulator.InitialPoses();
   const std::string nonce = identity.secret.empty() ? std::string() : RandomNonce();
   hello->set_nonce(nonce);
   const TimeNs deadline = MonotonicNowNs() + handshake_timeout_ns;
@@ -563,7 +603,7 @@ std::string ServeCoordinator(Channel& channel, Simulator& simulator,
     channel.Send(out, deadline);
     const std::string hello_sent =
         identity.secret.empty() ? std::string() : channel.TranscriptDigest();
-    if (!channel.Receive(&in, deadline, interrupt_fd)) return "interrupted";
+    if (!channel.Receive(&in, deadline, interrupt_fd)) return std::nullopt;
     if (in.has_challenge() && !identity.secret.empty()) {
       // The coordinator proves the secret first: a connector tells nothing to an impostor.
       const proto::coord::Challenge& challenge = in.challenge();
@@ -583,7 +623,7 @@ std::string ServeCoordinator(Channel& channel, Simulator& simulator,
           DeriveSessionKeys(identity.secret, challenge.nonce(), nonce + hello_and_challenge);
       channel.AuthenticateMessages(keys.connector_to_coordinator, keys.coordinator_to_connector);
       authenticated = true;
-      if (!channel.Receive(&in, deadline, interrupt_fd)) return "interrupted";
+      if (!channel.Receive(&in, deadline, interrupt_fd)) return std::nullopt;
     }
   } catch (const TransportError& e) {
     throw Error("handshake with the coordinator: " + std::string(e.what()));
@@ -601,6 +641,12 @@ std::string ServeCoordinator(Channel& channel, Simulator& simulator,
     throw Error(std::string("handshake with the coordinator: expected Welcome, got ") +
                 KindName(in.kind_case()));
   }
+  return in.welcome();
+}
+
+std::string ServeIterations(Channel& channel, Simulator& simulator, int interrupt_fd) {
+  CoordinatorMessage in;
+  CoordinatorMessage out;
   for (;;) {
     try {
       if (!channel.Receive(&in, kNoDeadline, interrupt_fd)) return "interrupted";
