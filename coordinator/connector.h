@@ -91,6 +91,9 @@ std::string ServeIterations(Channel& channel, Simulator& simulator, int interrup
 // "Start", "CommandsCollected", ...: a message's kind in error lines.
 const char* KindName(proto::coord::CoordinatorMessage::KindCase kind);
 
+// A peer-chosen name as messages print it: printable ASCII ('?' for others), 64 bytes at most.
+std::string PrintableName(const std::string& name);
+
 // Sends Error(message) within 1 s if the peer still listens; never throws.
 void SendErrorQuietly(Channel& channel, const std::string& message);
 
@@ -170,7 +173,7 @@ struct AcceptedPeer {
   Channel channel;
   proto::coord::Hello hello;
   Role role = Role::kPhysics;
-  // hello.connector_name() as printed: printable ASCII, at most 64 bytes (a stranger chose it).
+  // PrintableName(hello.connector_name()).
   std::string name;
 };
 

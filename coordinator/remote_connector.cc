@@ -63,6 +63,15 @@ const char* KindName(CoordinatorMessage::KindCase kind) {
   }
 }
 
+std::string PrintableName(const std::string& name) {
+  // Maybe a stranger's: printable ASCII only, 64 bytes at most.
+  std::string printable = name.substr(0, 64);
+  for (char& c : printable) {
+    if (c < 0x20 || c > 0x7e) c = '?';
+  }
+  return printable;
+}
+
 void SendErrorQuietly(Channel& channel, const std::string& message) {
   CoordinatorMessage error;
   error.mutable_error()->set_message(message);
@@ -275,11 +284,7 @@ std::optional<AcceptedPeer> AcceptPeer(Channel channel, const HandshakeExpectati
   const Role role = h.role() == proto::coord::ROLE_NETWORK ? Role::kNetwork
                     : h.role() == proto::coord::ROLE_NODE  ? Role::kNode
                                                            : Role::kPhysics;
-  // The name is the peer's, maybe a stranger's: printable ASCII only, 64 bytes at most.
-  std::string name = h.connector_name().substr(0, 64);
-  for (char& c : name) {
-    if (c < 0x20 || c > 0x7e) c = '?';
-  }
+  std::string name = PrintableName(h.connector_name());
   const std::string who =
       role == Role::kNode ? "node '" + name + "'" : RoleName(role) + " connector '" + name + "'";
   // Authentication first: a peer without the secret learns nothing of the run.

@@ -1,0 +1,121 @@
+#include "fleet/node_ports.h"
+
+#include <algorithm>
+
+#include "fleet/node_frames_bounds.h"
+
+namespace sitlnet::fleet {
+
+NodePorts::NodePorts(NodeSlice slice, const OpenPort& open)
+    : slice_(std::move(slice)), buffer_(kMaxNodeFrameBytes) {
+  // Ascending: Find looks robots up by binary search, and Drain keeps scenario order.
+  SITLNET_DEMAND(std::ranges::is_sorted(slice_.robots) &&
+                 std::ranges::adjacent_find(slice_.robots) == slice_.robots.end());
+  for (const int robot : slice_.robots) robots_.push_back({robot, open(robot)});
+}
+
+NodePorts::Robot* NodePorts::Find(int robot) {
+  const auto found = std::ranges::lower_bound(robots_, robot, {}, &Robot::index);
+  return found != robots_.end() && found->index == robot ? &*found : nullptr;
+}
+
+void NodePorts::Drain(proto::node::NodeFrames* frames) {
+  frames->Clear();
+  for (Robot& robot : robots_) {
+    if (robot.read_failed) continue;
+    proto::node::FrameBatch* batch = nullptr;
+    const auto open_batch = [&] {
+      if (batch == nullptr) {
+        batch = frames->add_batches();
+        batch->set_robot(robot.index);
+      }
+      return batch;
+    };
+    // One turn, as BridgeCore reads a local port; the buffer cuts a longer frame to
+    // kMaxNodeFrameBytes, as a TAP read into it does, and the bridge still drops it as oversize.
+    for (size_t turn = 0; turn < tapbridge::kMaxFramesPerRobotPerTurn; ++turn) {
+      const ssize_t length = robot.port->Read(buffer_);
+      if (length == 0) break;
+      if (length < 0) {
+        open_batch()->set_read_errno(static_cast<int>(-length));
+        robot.read_failed = true;
+        break;
+      }
+      open_batch()->add_frames(buffer_.data(), static_cast<size_t>(length));
+    }
+  }
+}
+
+void NodePorts::Write(const proto::node::NodeWrites& writes) {
+  for (const proto::node::NodeWrites::Write& write : writes.writes()) {
+    if (Find(write.robot()) == nullptr) {
+      throw Error("the coordinator wrote to robot " + std::to_string(write.robot()) +
+                  ", which is not one of this node's");
+    }
+    if (write.frame_index() < 0 || write.frame_index() >= writes.frames_size()) {
+      throw Error("the coordinator wrote frame " + std::to_string(write.frame_index()) + " of " +
+                  std::to_string(writes.frames_size()));
+    }
+  }
+  for (const proto::node::NodeWrites::Write& write : writes.writes()) {
+    const std::string& frame = writes.frames(write.frame_index());
+    Robot& robot = *Find(write.robot());
+    const int written = robot.port->Write(
+        std::span(reinterpret_cast<const uint8_t*>(frame.data()), frame.size()));
+    if (written < 0) ++robot.write_errors;
+  }
+}
+
+uint64_t NodePorts::write_errors(int robot) const {
+  const auto found = std::ranges::find(robots_, robot, &Robot::index);
+  SITLNET_DEMAND(found != robots_.end());
+  return found->write_errors;
+}
+
+namespace {
+
+// The physics' context, which drains the node's ports when every command has arrived and sends
+// their frames up with CommandsCollected.
+class DrainingContext final : public coordinator::IterationContext {
+ public:
+  DrainingContext(coordinator::IterationContext& outer, NodePorts& ports)
+      : outer_(outer), ports_(ports) {}
+  void CommandsCollected() override {
+    SITLNET_DEMAND(!reported_);
+    reported_ = true;
+    ports_.Drain(&frames_);
+    outer_.CommandsCollectedWithPayload(frames_.SerializeAsString());
+  }
+  bool reported() const { return reported_; }
+
+ private:
+  coordinator::IterationContext& outer_;
+  NodePorts& ports_;
+  proto::node::NodeFrames frames_;
+  bool reported_ = false;
+};
+
+}  // namespace
+
+void NodeSimulator::RunIteration(const proto::coord::Start& start, proto::coord::End* end,
+                                 coordinator::IterationContext& context) {
+  proto::node::NodeStart node_start;
+  if (!node_start.ParseFromString(start.payload())) {
+    throw Error("the coordinator's Start of iteration " + std::to_string(start.iteration()) +
+                " carries no NodeStart that parses");
+  }
+  // Deliveries reach the robots before this iteration's states and commands.
+  ports_.Write(node_start.writes());
+  DrainingContext draining(context, ports_);
+  physics_.RunIteration(start, end, draining);
+  if (!draining.reported()) draining.CommandsCollected();
+}
+
+proto::coord::Hello NodeHello(const NodeSlice& slice, coordinator::Simulator& node) {
+  proto::coord::Hello hello;
+  hello.mutable_robots()->Add(slice.robots.begin(), slice.robots.end());
+  *hello.mutable_initial_poses() = node.InitialPoses();
+  return hello;
+}
+
+}  // namespace sitlnet::fleet

@@ -1,0 +1,75 @@
+// The node host's end of the node link (issue 35): its robots' ports (their wlan0 TAPs), drained
+// up and written from what comes down, around the physics of its robots.
+#ifndef SITLNET_FLEET_NODE_PORTS_H_
+#define SITLNET_FLEET_NODE_PORTS_H_
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "coordinator/connector.h"
+#include "fleet/fleet.h"
+
+namespace sitlnet::fleet {
+
+// The ports of one node's robots. Drain reads them as the central bridge reads local ports: per
+// robot in scenario order, up to the bridge's turn (tapbridge::kMaxFramesPerRobotPerTurn), each
+// frame cut to kMaxNodeFrameBytes. A robot whose read failed is read no more: the bridge detaches
+// it when the error reaches it (FrameBatch.read_errno).
+class NodePorts {
+ public:
+  using OpenPort = std::function<std::unique_ptr<tapbridge::Port>(int robot)>;
+  // Opens the port of every robot of `slice` (for TAPs: tapbridge::TapPort).
+  NodePorts(NodeSlice slice, const OpenPort& open);
+
+  const NodeSlice& slice() const { return slice_; }
+  // One turn of every robot into `frames` (cleared first); robots with nothing to say are left
+  // out.
+  void Drain(proto::node::NodeFrames* frames);
+  // Writes `writes` to the robots' ports in order. Throws Error, writing none, if one names a
+  // robot not of this node or a frame that is not there (the central is broken).
+  void Write(const proto::node::NodeWrites& writes);
+  // Writes to `robot` that its port refused (tapbridge::Port::Write's -errno), so far.
+  uint64_t write_errors(int robot) const;
+
+ private:
+  struct Robot {
+    int index = 0;
+    std::unique_ptr<tapbridge::Port> port;
+    bool read_failed = false;
+    uint64_t write_errors = 0;
+  };
+  Robot* Find(int robot);
+
+  NodeSlice slice_;
+  std::vector<Robot> robots_;  // In slice order.
+  std::vector<uint8_t> buffer_;
+};
+
+// A node host's Simulator for ServeIterations: around its robots' physics (`physics`, poses of
+// its robots only, in slice order), it writes what each Start brings down (a NodeStart) to the
+// robots' ports first, and drains them when the physics reports CommandsCollected, whose payload
+// then carries the frames (a NodeFrames) up. The physics must report it at most once an
+// iteration; if it does not, it is reported after the iteration, before End.
+class NodeSimulator final : public coordinator::Simulator {
+ public:
+  NodeSimulator(coordinator::Simulator* physics, NodePorts* ports)
+      : physics_(*physics), ports_(*ports) {}
+
+  proto::coord::Poses InitialPoses() override { return physics_.InitialPoses(); }
+  // Throws Error if the Start carries no NodeStart that parses, or NodePorts::Write refuses it.
+  void RunIteration(const proto::coord::Start& start, proto::coord::End* end,
+                    coordinator::IterationContext& context) override;
+
+ private:
+  coordinator::Simulator& physics_;
+  NodePorts& ports_;
+};
+
+// The Hello of a node host: its robots and their initial poses, for HandshakeWithCoordinator.
+proto::coord::Hello NodeHello(const NodeSlice& slice, coordinator::Simulator& node);
+
+}  // namespace sitlnet::fleet
+
+#endif  // SITLNET_FLEET_NODE_PORTS_H_

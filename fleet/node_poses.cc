@@ -1,0 +1,27 @@
+#include "fleet/node_poses.h"
+
+namespace sitlnet::fleet {
+
+std::optional<std::string> FindBrokenPoses(const proto::coord::Poses& poses, size_t robots) {
+  const size_t positions = static_cast<size_t>(poses.position_m_size());
+  const size_t orientations = static_cast<size_t>(poses.orientation_wxyz_size());
+  if (positions != 3 * robots || orientations != 4 * robots) {
+    return "sent " + std::to_string(positions) + " position and " + std::to_string(orientations) +
+           " orientation numbers, not 3 and 4 for each of its " + std::to_string(robots) +
+           " robots";
+  }
+  return std::nullopt;
+}
+
+void PlacePoses(const proto::coord::Poses& node, const std::vector<int>& robots,
+                proto::coord::Poses* all) {
+  for (size_t i = 0; i < robots.size(); ++i) {
+    const int robot = robots[i];
+    for (int c = 0; c < 3; ++c) all->set_position_m(3 * robot + c, node.position_m(3 * i + c));
+    for (int c = 0; c < 4; ++c) {
+      all->set_orientation_wxyz(4 * robot + c, node.orientation_wxyz(4 * i + c));
+    }
+  }
+}
+
+}  // namespace sitlnet::fleet
