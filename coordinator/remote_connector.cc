@@ -1,5 +1,7 @@
 // Socket side of connectors: the coordinator's RemoteConnector, its
 // handshake, and ServeCoordinator() that runs inside a connector process.
+#include "coordinator/remote_connector.h"
+
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/eventfd.h>
@@ -15,8 +17,6 @@
 #include <mutex>
 #include <thread>
 #include <vector>
-
-#include "coordinator/remote_connector.h"
 
 #include "coordinator/authentication.h"
 
@@ -116,12 +116,13 @@ bool RemoteConnector::AwaitCommandsCollected(uint64_t iteration, const WaitLimit
 
 std::string RemoteConnector::TakeCommandsCollectedPayload() {
   std::string payload;
-  if (in_.has_commands_collected()) payload.swap(*in_.mutable_commands_collected()->mutable_payload());
+  if (in_.has_commands_collected()) {
+    payload.swap(*in_.mutable_commands_collected()->mutable_payload());
+  }
   return payload;
 }
 
-bool RemoteConnector::Finish(uint64_t iteration, proto::coord::End* end,
-                             const WaitLimits& limits) {
+bool RemoteConnector::Finish(uint64_t iteration, proto::coord::End* end, const WaitLimits& limits) {
   if (early_end_) {
     early_end_ = false;  // Received by AwaitCommandsCollected; still in in_.
   } else if (!ReceiveExpected(iteration, "END", limits)) {
@@ -183,8 +184,8 @@ bool RemoteConnector::ReceiveExpected(uint64_t iteration, const char* what,
   }
   if (in_.kind_case() == CoordinatorMessage::kError) {
     outstanding_ = false;
-    throw Error(Describe() + " reported an error in iteration " + std::to_string(iteration) +
-                ": " + in_.error().message());
+    throw Error(Describe() + " reported an error in iteration " + std::to_string(iteration) + ": " +
+                in_.error().message());
   }
   return true;
 }
@@ -254,8 +255,7 @@ void Authenticate(Channel& channel, const std::string& secret, const std::string
 namespace {
 
 std::unique_ptr<Connector> ConnectorOf(AcceptedPeer peer) {
-  return std::make_unique<RemoteConnector>(std::move(peer.name), peer.role,
-                                           std::move(peer.channel),
+  return std::make_unique<RemoteConnector>(std::move(peer.name), peer.role, std::move(peer.channel),
                                            std::move(*peer.hello.mutable_initial_poses()));
 }
 
@@ -343,9 +343,9 @@ namespace {
 class ConcurrentHandshakes {
  public:
   struct Outcome {
-    std::optional<AcceptedPeer> peer;       // Accepted; or none, and one of:
-    std::string stray;                     // a stray connection's warning,
-    std::exception_ptr refusal;            // a refused connector's Error, to pass on.
+    std::optional<AcceptedPeer> peer;  // Accepted; or none, and one of:
+    std::string stray;                 // a stray connection's warning,
+    std::exception_ptr refusal;        // a refused connector's Error, to pass on.
   };
   static constexpr size_t kMaxConcurrentHandshakes = 16;
 

@@ -60,8 +60,8 @@ void NodePorts::Write(const proto::node::NodeWrites& writes) {
   for (const proto::node::NodeWrites::Write& write : writes.writes()) {
     const std::string& frame = writes.frames(write.frame_index());
     Robot& robot = *Find(write.robot());
-    const int written = robot.port->Write(
-        std::span(reinterpret_cast<const uint8_t*>(frame.data()), frame.size()));
+    const int written =
+        robot.port->Write(std::span(reinterpret_cast<const uint8_t*>(frame.data()), frame.size()));
     if (written < 0) ++robot.write_errors;
   }
 }

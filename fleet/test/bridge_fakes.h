@@ -108,7 +108,7 @@ inline Scenario EightRobots() {
 // Frames robot `robot` sends in one step: mostly unicast and broadcast, some runts, oversize
 // frames and foreign source MACs, which the bridge counts; `burst` more unicasts on top.
 inline std::vector<Frame> RobotTraffic(const Scenario& scenario, int robot, std::mt19937_64* rng,
-                                int burst) {
+                                       int burst) {
   std::vector<Frame> frames;
   const int count = static_cast<int>((*rng)() % 3) + burst;
   for (int k = 0; k < count; ++k) {
@@ -154,8 +154,8 @@ inline void Observe(tapbridge::BridgeCore* core, BridgeLog* log) {
 }
 
 // The first line where two logs part, or their lengths.
-inline void ExpectSameLines(const std::vector<std::string>& local, const std::vector<std::string>& remote,
-                     const std::string& what) {
+inline void ExpectSameLines(const std::vector<std::string>& local,
+                            const std::vector<std::string>& remote, const std::string& what) {
   for (size_t i = 0; i < std::min(local.size(), remote.size()); ++i) {
     if (local[i] != remote[i]) {
       ADD_FAILURE() << what << " part at line " << i << ": local \"" << local[i] << "\", remote \""

@@ -38,26 +38,31 @@ constexpr int kJumpIteration = 10;  // Robot 0 leaves everyone's range.
 
 // A node host's physics stand-in for some robots: each iteration every robot sends its traffic
 // (RobotTraffic, seeded by the robot's index) to its tap before its command, then all commands
-// are in; poses follow a rule of robot and time. It may crash (throw NodeCrash, which
-// ServeIterations does not catch: the thread ends and the socket closes) or hang at an iteration.
+// are in; poses follow a rule of robot and time. Its faults, at an iteration:
+struct Faults {
+  int crash_at = -1;  // Throws NodeCrash, which ServeIterations does not catch: the socket closes.
+  int hang_at = -1;   // Waits for `released` before anything.
+  std::shared_future<void> released = {};
+  int short_poses_at = -1;  // Ends with the poses of all robots but one.
+};
 struct NodeCrash {};
 class FakePhysics final : public coordinator::Simulator {
  public:
   FakePhysics(const Scenario& scenario, std::vector<int> robots,
-              std::function<MemoryTap&(int robot)> tap)
-      : scenario_(scenario), robots_(std::move(robots)), tap_(std::move(tap)) {
+              std::function<MemoryTap&(int robot)> tap, Faults faults = {})
+      : scenario_(scenario),
+        robots_(std::move(robots)),
+        tap_(std::move(tap)),
+        faults_(std::move(faults)) {
     for (const int robot : robots_) rngs_.emplace(robot, std::mt19937_64(1000 + robot));
   }
-  int crash_at = -1;
-  int hang_at = -1;
-  std::shared_future<void> released;  // What a hang waits for.
 
   proto::coord::Poses InitialPoses() override { return PosesAt(0); }
   void RunIteration(const proto::coord::Start& start, proto::coord::End* end,
                     coordinator::IterationContext& context) override {
     const int k = static_cast<int>(start.iteration());
-    if (k == crash_at) throw NodeCrash{};
-    if (k == hang_at) released.wait();
+    if (k == faults_.crash_at) throw NodeCrash{};
+    if (k == faults_.hang_at) faults_.released.wait();
     for (const int robot : robots_) {
       const int burst = k == kBurstIteration && robot == kBurstRobot ? kBurstFrames : 0;
       MemoryTap& tap = tap_(robot);
@@ -68,6 +73,10 @@ class FakePhysics final : public coordinator::Simulator {
     }
     context.CommandsCollected();
     *end->mutable_poses() = PosesAt(start.end_ns());
+    if (k == faults_.short_poses_at) {
+      end->mutable_poses()->mutable_position_m()->Truncate(3 * (robots_.size() - 1));
+      end->mutable_poses()->mutable_orientation_wxyz()->Truncate(4 * (robots_.size() - 1));
+    }
   }
 
  private:
@@ -87,6 +96,7 @@ class FakePhysics final : public coordinator::Simulator {
   const Scenario& scenario_;
   std::vector<int> robots_;
   std::function<MemoryTap&(int)> tap_;
+  Faults faults_;
   std::map<int, std::mt19937_64> rngs_;
 };
 
@@ -94,24 +104,20 @@ class FakePhysics final : public coordinator::Simulator {
 // and the node's end of the link (HandshakeWithCoordinator, ServeIterations).
 class NodeHost {
  public:
-  NodeHost(const Endpoint& endpoint, const Scenario& scenario, NodeSlice slice,
-           int crash_at = -1, int hang_at = -1, std::shared_future<void> released = {})
+  NodeHost(const Endpoint& endpoint, const Scenario& scenario, NodeSlice slice, Faults faults = {},
+           std::string secret = {})
       : thread_([=, this, &scenario] {
-          FakePhysics physics(scenario, slice.robots, [this](int robot) -> MemoryTap& {
-            return taps_[robot];
-          });
-          physics.crash_at = crash_at;
-          physics.hang_at = hang_at;
-          physics.released = released;
-          NodePorts ports(slice,
-                          [this](int robot) { return std::make_unique<MemoryPort>(&taps_[robot]); });
+          FakePhysics physics(
+              scenario, slice.robots, [this](int robot) -> MemoryTap& { return taps_[robot]; },
+              faults);
+          NodePorts ports(
+              slice, [this](int robot) { return std::make_unique<MemoryPort>(&taps_[robot]); });
           NodeSimulator node(&physics, &ports);
           try {
             Channel channel(coordinator::Connect(endpoint, MonotonicNowNs() + 5 * kNsPerS));
             const coordinator::ConnectorIdentity identity{
-                slice.name, coordinator::Role::kNode, coordinator::ScenarioHash(scenario), {}};
-            if (!HandshakeWithCoordinator(channel, identity, NodeHello(slice, node),
-                                          5 * kNsPerS)) {
+                slice.name, coordinator::Role::kNode, coordinator::ScenarioHash(scenario), secret};
+            if (!HandshakeWithCoordinator(channel, identity, NodeHello(slice, node), 5 * kNsPerS)) {
               return;
             }
             stop_reason_ = ServeIterations(channel, node);
@@ -145,11 +151,14 @@ Listener UnixListener(const std::string& test) {
                                              std::to_string(getpid())));
 }
 
-coordinator::HandshakeExpectation Expect(const Scenario& scenario) {
+const std::string kSecret = "the fleet link test's shared secret";
+
+coordinator::HandshakeExpectation Expect(const Scenario& scenario, std::string secret = {}) {
   coordinator::HandshakeExpectation expect;
   expect.scenario_hash = coordinator::ScenarioHash(scenario);
   expect.iteration_ns = scenario.iteration_ns;
   expect.lockstep_robots = true;
+  expect.secret = std::move(secret);
   return expect;
 }
 
@@ -178,7 +187,7 @@ tapbridge::BridgeOptions BridgeOver(std::function<std::unique_ptr<tapbridge::Por
 // The central host of a two-node run: the nodes accepted, the bridge over their RemotePorts,
 // the fleet as physics and the bridge as network, ready for RunCoordinator.
 struct Central {
-  Central(const Scenario& scenario, Listener& listener, BridgeLog* log)
+  Central(const Scenario& scenario, Listener& listener, BridgeLog* log, std::string secret = {})
       : ports(scenario, {kN0, kN1}),
         bridge(scenario, std::make_unique<RecordingMedium>(scenario, &log->calls),
                BridgeOver([this](int robot) { return ports.Open(robot); })),
@@ -190,7 +199,8 @@ struct Central {
     bridge.AttachAll();
     physics = std::make_unique<FleetPhysicsConnector>(
         scenario, coordinator::Pacing::kLockstep,
-        AcceptNodes(listener, scenario, {kN0, kN1}, Expect(scenario), Within(5 * kNsPerS)),
+        AcceptNodes(listener, scenario, {kN0, kN1}, Expect(scenario, std::move(secret)),
+                    Within(5 * kNsPerS)),
         &ports);
   }
   RemotePorts ports;
@@ -217,9 +227,8 @@ TEST(FleetLink, ALockstepRunOverTwoNodesDoesWhatItDoesOverLocalPorts) {
                                               1.0);
   const auto local_physics_connector = coordinator::MakeInProcessConnector(
       "physics", coordinator::Role::kPhysics, &local_physics, coordinator::Threading::kOwnThread);
-  const auto local_network_connector =
-      coordinator::MakeInProcessConnector("bridge", coordinator::Role::kNetwork, &local_network,
-                                          coordinator::Threading::kCallerThread);
+  const auto local_network_connector = coordinator::MakeInProcessConnector(
+      "bridge", coordinator::Role::kNetwork, &local_network, coordinator::Threading::kCallerThread);
   // What the robots had received before the last iteration: a node gets that iteration's
   // deliveries with the next Start, which a run of kIterations never sends.
   std::vector<size_t> written_before_last(kRobots);
@@ -230,17 +239,17 @@ TEST(FleetLink, ALockstepRunOverTwoNodesDoesWhatItDoesOverLocalPorts) {
       written_before_last[robot] = local_taps[robot].written.size();
     }
   };
-  EXPECT_EQ(coordinator::RunCoordinator(*local_physics_connector, *local_network_connector,
-                                        local_options)
-                .iterations_done,
-            kIterations);
+  EXPECT_EQ(
+      coordinator::RunCoordinator(*local_physics_connector, *local_network_connector, local_options)
+          .iterations_done,
+      kIterations);
 
-  // Two node hosts.
+  // Two node hosts, their links authenticated (an HMAC tag per message).
   Listener listener = UnixListener("run");
-  NodeHost n0(listener.endpoint(), scenario, kN0);
-  NodeHost n1(listener.endpoint(), scenario, kN1);
+  NodeHost n0(listener.endpoint(), scenario, kN0, {}, kSecret);
+  NodeHost n1(listener.endpoint(), scenario, kN1, {}, kSecret);
   BridgeLog remote_log;
-  Central central(scenario, listener, &remote_log);
+  Central central(scenario, listener, &remote_log, kSecret);
   EXPECT_EQ(coordinator::RunCoordinator(*central.physics, *central.network,
                                         LockstepRobots(scenario, kIterations))
                 .iterations_done,
@@ -290,50 +299,66 @@ TEST(FleetLink, ALockstepRunOverTwoNodesDoesWhatItDoesOverLocalPorts) {
   EXPECT_THAT(remote_log.calls, ::testing::Contains(HasSubstr("position 0 200")));
 }
 
-TEST(FleetLink, ANodeThatClosesMidRunIsNamedWithItsRobotsAndTheIteration) {
+// How a two-node run whose nodes have `faults` ended: its error, and each node's.
+struct FaultyRun {
+  std::string error;
+  std::string node_errors[2];
+  std::string node_stop_reasons[2];
+};
+FaultyRun RunWithFaults(
+    const std::string& test, const Faults (&faults)[2], TimeNs answer_timeout_ns = 5 * kNsPerS,
+    const std::function<void()>& after_run = [] {}) {
   const Scenario scenario = EightRobots();
-  Listener listener = UnixListener("close");
-  NodeHost n0(listener.endpoint(), scenario, kN0);
-  NodeHost n1(listener.endpoint(), scenario, kN1, /*crash_at=*/5);
-  BridgeLog log;
-  Central central(scenario, listener, &log);
-  try {
-    coordinator::RunCoordinator(*central.physics, *central.network, LockstepRobots(scenario, 10));
-    ADD_FAILURE() << "the run went on without n1";
-  } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "node 'n1' (robots r1, r2, r4, r7) failed during iteration 5: peer closed the "
-              "connection (node crashed or exited)");
-  }
-  n0.Join();
-  n1.Join();
-  EXPECT_EQ(n1.error(), "crashed");
-  EXPECT_EQ(n0.error(), "");
-  EXPECT_EQ(n0.stop_reason(), "coordinator failed");  // The survivor is stopped.
-}
-
-TEST(FleetLink, ASilentNodeIsNamedAtTheAnswerTimeout) {
-  const Scenario scenario = EightRobots();
-  Listener listener = UnixListener("silent");
-  std::promise<void> release;
-  NodeHost n0(listener.endpoint(), scenario, kN0, -1, /*hang_at=*/3, release.get_future().share());
-  NodeHost n1(listener.endpoint(), scenario, kN1);
+  Listener listener = UnixListener(test);
+  NodeHost n0(listener.endpoint(), scenario, kN0, faults[0]);
+  NodeHost n1(listener.endpoint(), scenario, kN1, faults[1]);
   BridgeLog log;
   Central central(scenario, listener, &log);
   coordinator::CoordinatorOptions options = LockstepRobots(scenario, 10);
-  options.answer_timeout_ns = 200 * kNsPerMs;
+  options.answer_timeout_ns = answer_timeout_ns;
+  FaultyRun run;
   try {
     coordinator::RunCoordinator(*central.physics, *central.network, options);
-    ADD_FAILURE() << "the run went on without n0";
   } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "node 'n0' (robots r0, r3, r5, r6) did not answer START of iteration 3 with "
-              "CommandsCollected within 200 ms");
+    run.error = e.what();
   }
-  release.set_value();
+  after_run();
   n0.Join();
   n1.Join();
-  EXPECT_EQ(n1.stop_reason(), "coordinator failed");
+  for (int node = 0; node < 2; ++node) {
+    run.node_errors[node] = (node == 0 ? n0 : n1).error();
+    run.node_stop_reasons[node] = (node == 0 ? n0 : n1).stop_reason();
+  }
+  return run;
+}
+
+TEST(FleetLink, ANodeThatClosesMidRunIsNamedWithItsRobotsAndTheIteration) {
+  const FaultyRun run = RunWithFaults("close", {{}, {.crash_at = 5}});
+  EXPECT_EQ(run.error,
+            "node 'n1' (robots r1, r2, r4, r7) failed during iteration 5: peer closed the "
+            "connection (node crashed or exited)");
+  EXPECT_EQ(run.node_errors[1], "crashed");
+  EXPECT_EQ(run.node_errors[0], "");
+  EXPECT_EQ(run.node_stop_reasons[0], "coordinator failed");  // The survivor is stopped.
+}
+
+TEST(FleetLink, ASilentNodeIsNamedAtTheAnswerTimeout) {
+  std::promise<void> release;
+  const FaultyRun run =
+      RunWithFaults("silent", {{.hang_at = 3, .released = release.get_future().share()}, {}},
+                    200 * kNsPerMs, [&] { release.set_value(); });
+  EXPECT_EQ(run.error,
+            "node 'n0' (robots r0, r3, r5, r6) did not answer START of iteration 3 with "
+            "CommandsCollected within 200 ms");
+  EXPECT_EQ(run.node_stop_reasons[1], "coordinator failed");
+}
+
+TEST(FleetLink, ANodeEndingWithTooFewPosesIsNamed) {
+  const FaultyRun run = RunWithFaults("poses", {{}, {.short_poses_at = 2}});
+  EXPECT_EQ(run.error,
+            "node 'n1' (robots r1, r2, r4, r7): End of iteration 2: sent 9 position and 12 "
+            "orientation numbers, not 3 and 4 for each of its 4 robots");
+  EXPECT_EQ(run.node_stop_reasons[1], "coordinator failed");
 }
 
 TEST(FleetLink, MoreThanOneNetworkStepPerIterationIsRefused) {
@@ -355,10 +380,11 @@ TEST(FleetLink, MoreThanOneNetworkStepPerIterationIsRefused) {
 //-------------------------------- AcceptNodes --------------------------------
 
 // AcceptNodes' error, or "" when it accepted every node (then it stops them).
-std::string AcceptError(Listener& listener, const Scenario& scenario, TimeNs timeout_ns) {
+std::string AcceptError(Listener& listener, const Scenario& scenario, TimeNs timeout_ns,
+                        std::string secret = {}) {
   try {
-    for (const auto& link :
-         AcceptNodes(listener, scenario, {kN0, kN1}, Expect(scenario), Within(timeout_ns))) {
+    for (const auto& link : AcceptNodes(listener, scenario, {kN0, kN1},
+                                        Expect(scenario, std::move(secret)), Within(timeout_ns))) {
       link->connector().Stop("test over");
     }
   } catch (const Error& e) {
@@ -395,8 +421,9 @@ TEST(AcceptNodes, TwoNodesOfOneNameAreRefusedWithTheirAddresses) {
   NodeHost first(listener.endpoint(), scenario, kN0);
   NodeHost second(listener.endpoint(), scenario, kN0);
   const std::string error = AcceptError(listener, scenario, 5 * kNsPerS);
-  EXPECT_THAT(error, MatchesRegex("two nodes claim robot 'r0': node 'n0' from 127\\.0\\.0\\.1:[0-9]+"
-                                  " and node 'n0' from 127\\.0\\.0\\.1:[0-9]+"));
+  EXPECT_THAT(error,
+              MatchesRegex("two nodes claim robot 'r0': node 'n0' from 127\\.0\\.0\\.1:[0-9]+"
+                           " and node 'n0' from 127\\.0\\.0\\.1:[0-9]+"));
   first.Join();
   second.Join();
   EXPECT_EQ(first.stop_reason(), error);  // Both told why, and ended.
@@ -414,6 +441,22 @@ TEST(AcceptNodes, AMissingNodeIsNamedWithItsRobotsAtTheDeadline) {
   EXPECT_EQ(n0.stop_reason(), error);  // The node that came is stopped, told why.
 }
 
+TEST(AcceptNodes, ANodeWithAnotherSecretIsIgnoredAndNamedAtTheDeadline) {
+  const Scenario scenario = EightRobots();
+  Listener listener = UnixListener("secret");
+  NodeHost n0(listener.endpoint(), scenario, kN0, {}, kSecret);
+  NodeHost n1(listener.endpoint(), scenario, kN1, {}, "another secret of enough bytes");
+  const std::string error = AcceptError(listener, scenario, 300 * kNsPerMs, kSecret);
+  EXPECT_EQ(error, "node 'n1' (robots r1, r2, r4, r7) did not connect to " +
+                       listener.endpoint().ToString() + " within 300 ms");
+  n0.Join();
+  n1.Join();
+  EXPECT_EQ(n0.stop_reason(), error);
+  EXPECT_EQ(n1.error(),
+            "the coordinator failed to prove the shared secret (a different --secret-file, or not "
+            "sitlnet's coordinator)");
+}
+
 TEST(AcceptNodes, APhysicsConnectorIsRefusedByAFleetAndANodeByAPlainCoordinator) {
   const Scenario scenario = EightRobots();
   Listener listener = UnixListener("roles");
@@ -422,9 +465,8 @@ TEST(AcceptNodes, APhysicsConnectorIsRefusedByAFleetAndANodeByAPlainCoordinator)
     try {
       Channel channel(coordinator::Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS));
       coordinator::HandshakeWithCoordinator(
-          channel,
-          {"phys", coordinator::Role::kPhysics, coordinator::ScenarioHash(scenario), {}}, {},
-          kNsPerS);
+          channel, {"phys", coordinator::Role::kPhysics, coordinator::ScenarioHash(scenario), {}},
+          {}, kNsPerS);
     } catch (const Error& e) {
       refusal = e.what();
     }
