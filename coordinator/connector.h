@@ -165,7 +165,7 @@ struct HandshakeExpectation {
   std::string secret;
   // Checked last, before Welcome, on the handshake's own thread: a non-empty line refuses the
   // peer as another scenario would (a fleet's node with robots not its own). May be empty.
-  std::function<std::string(const proto::coord::Hello&)> refuse_hello;
+  std::function<std::string(const proto::coord::Hello&)> refuse_hello = {};
 };
 
 // A peer that completed the handshake: Welcome was sent on `channel`.
