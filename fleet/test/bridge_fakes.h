@@ -95,8 +95,9 @@ class MemoryPort : public tapbridge::Port {
 
 inline constexpr int kRobots = 8;
 
-inline Scenario EightRobots() {
-  std::string text = "name: \"fleet\"\ntiming { pacing: PACING_LOCKSTEP seed: 5 }\n";
+inline Scenario EightRobots(int seed = 5) {
+  std::string text =
+      "name: \"fleet\"\ntiming { pacing: PACING_LOCKSTEP seed: " + std::to_string(seed) + " }\n";
   for (int i = 0; i < kRobots; ++i) {
     text += "robot { name: \"r" + std::to_string(i) +
             "\" position_m { x: " + std::to_string(15 * (i % 4)) +

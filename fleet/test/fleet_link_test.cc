@@ -44,6 +44,7 @@ struct Faults {
   int hang_at = -1;   // Waits for `released` before anything.
   std::shared_future<void> released = {};
   int short_poses_at = -1;  // Ends with the poses of all robots but one.
+  int fail_at = -1;         // Throws Error, as a node whose robot failed would.
 };
 struct NodeCrash {};
 class FakePhysics final : public coordinator::Simulator {
@@ -73,6 +74,7 @@ class FakePhysics final : public coordinator::Simulator {
     }
     context.CommandsCollected();
     *end->mutable_poses() = PosesAt(start.end_ns());
+    if (k == faults_.fail_at) throw Error("robot 'r2' exited with status 1");
     if (k == faults_.short_poses_at) {
       end->mutable_poses()->mutable_position_m()->Truncate(3 * (robots_.size() - 1));
       end->mutable_poses()->mutable_orientation_wxyz()->Truncate(4 * (robots_.size() - 1));
@@ -361,6 +363,15 @@ TEST(FleetLink, ANodeEndingWithTooFewPosesIsNamed) {
   EXPECT_EQ(run.node_stop_reasons[1], "coordinator failed");
 }
 
+TEST(FleetLink, ANodesOwnErrorReachesTheCentralNamingTheNode) {
+  const FaultyRun run = RunWithFaults("error", {{}, {.fail_at = 4}});
+  EXPECT_EQ(run.error,
+            "node 'n1' (robots r1, r2, r4, r7) reported an error in iteration 4: robot 'r2' exited "
+            "with status 1");
+  EXPECT_EQ(run.node_errors[1], "robot 'r2' exited with status 1");
+  EXPECT_EQ(run.node_stop_reasons[0], "coordinator failed");
+}
+
 TEST(FleetLink, MoreThanOneNetworkStepPerIterationIsRefused) {
   const Scenario scenario = LoadScenarioText(
       "name: \"fleet\"\ntiming { pacing: PACING_LOCKSTEP network_step_us: 5000 }\n"
@@ -401,6 +412,18 @@ TEST(AcceptNodes, AnUnknownNodeIsRefusedNamingTheNodes) {
   EXPECT_EQ(error, "node 'n9' is not one of this run's nodes (n0, n1)");
   n9.Join();
   EXPECT_EQ(n9.error(), "the coordinator refused: " + error);
+}
+
+TEST(AcceptNodes, ANodeOfAnotherScenarioIsRefusedWithBothHashes) {
+  const Scenario scenario = EightRobots();
+  const Scenario another_seed = EightRobots(6);
+  Listener listener = UnixListener("hash");
+  NodeHost n0(listener.endpoint(), another_seed, kN0);
+  const std::string error = AcceptError(listener, scenario, 5 * kNsPerS);
+  EXPECT_THAT(error, MatchesRegex("node 'n0' loaded a different scenario: hash 0x[0-9a-f]{16}, "
+                                  "the coordinator's is 0x[0-9a-f]{16}"));
+  n0.Join();
+  EXPECT_EQ(n0.error(), "the coordinator refused: " + error);
 }
 
 TEST(AcceptNodes, ANodeClaimingOtherRobotsIsRefused) {
