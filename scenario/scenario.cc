@@ -48,6 +48,13 @@ int Scenario::RobotIndex(std::string_view robot_name) const {
   return -1;
 }
 
+int Scenario::NodeIndex(std::string_view node_name) const {
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    if (nodes[i].name == node_name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
 void ParseTextProtoOrThrow(std::string_view text, const std::string& source_name,
                            google::protobuf::Message* message,
                            google::protobuf::TextFormat::ParseInfoTree* locations) {

@@ -29,6 +29,13 @@ struct RobotPlan {
   Ipv4 ctl_robot_address;    // Robot side of the ctl0 /30 (ctl0 inside the robot).
   proto::Robot spec;         // The robot as written, defaults readable via accessors.
   proto::Airframe airframe;  // Resolved airframe (the named one or the default).
+  int node = -1;             // Index in Scenario::nodes of the host that runs it; -1: no nodes.
+};
+
+// A node host of the scenario (issue 35) and the robots it runs.
+struct NodePlan {
+  std::string name;         // A DNS label, as written.
+  std::vector<int> robots;  // Global robot indices, ascending.
 };
 
 // The names the plan gives a robot's namespace and its root-side veth (RobotPlan::netns,
@@ -50,9 +57,12 @@ struct Scenario {
   TimeNs duration_ns = 0;
   int physics_steps_per_iteration = 0;  // N_phy
   int network_steps_per_iteration = 0;  // N_net
+  std::vector<NodePlan> nodes;          // Empty: every robot runs on one host.
 
   // Index of the robot called `name`, or -1.
   int RobotIndex(std::string_view robot_name) const;
+  // Index of the node called `name`, or -1.
+  int NodeIndex(std::string_view node_name) const;
 };
 
 //-------------------------------- Loading -----------------------------------
@@ -69,6 +79,7 @@ Scenario LoadScenarioText(std::string_view text, const std::string& source_name)
 inline constexpr int kMaxScenarioNameLength = 10;
 inline constexpr int kMaxRobots = 1000;
 inline constexpr int kMaxRobotNameLength = 32;
+inline constexpr int kMaxNodeNameLength = 63;  // A DNS label (RFC 1035 2.3.4)
 inline constexpr double kMaxRos2ClockHz = 1000;  // Timing.ros2_clock_hz
 // Largest duration_ms: a year of virtual time keeps every derived nanosecond count (and sums of
 // them) far from int64's end; nothing a scenario needs comes near it.

@@ -458,6 +458,89 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
   }
 }
 
+// A DNS label (RFC 1123 2.1): a-z, 0-9 and '-', 1..63, no '-' at either end. A node's name
+// is its pod's hostname, so a StatefulSet pod can pass `--node "$(hostname)"`.
+bool IsDnsLabel(const std::string& name) {
+  if (name.empty() || name.size() > static_cast<size_t>(kMaxNodeNameLength)) return false;
+  if (name.front() == '-' || name.back() == '-') return false;
+  for (char c : name) {
+    if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-')) return false;
+  }
+  return true;
+}
+
+std::string NodeNames(const std::vector<NodePlan>& nodes) {
+  std::string names;
+  for (const NodePlan& node : nodes) names += (names.empty() ? "" : ", ") + node.name;
+  return names;
+}
+
+// The node of robot `i` under NODE_ASSIGNMENT_EXPLICIT: the one its `node` field names.
+int ExplicitNode(const SourceLocator& at, const Scenario& scenario, int i) {
+  const proto::Robot& robot = scenario.spec.robot(i);
+  const std::string who = "robot \"" + robot.name() + "\": ";
+  if (!robot.has_node()) {
+    at.Fail({{"robot", i}}, who +
+                                "on no node (the scenario has nodes: give it node: or "
+                                "node_assignment: NODE_ASSIGNMENT_BLOCKS)");
+  }
+  const int node = scenario.NodeIndex(robot.node());
+  if (node < 0) {
+    at.Fail({{"robot", i}, {"node"}}, who + "node \"" + robot.node() + "\" is not one of nodes (" +
+                                          NodeNames(scenario.nodes) + ")");
+  }
+  return node;
+}
+
+// Nodes (issue 35): names, then each robot's node, then every node must run a robot.
+void ValidateAndDeriveNodes(const SourceLocator& at, Scenario* scenario) {
+  const proto::Scenario& spec = scenario->spec;
+  const bool blocks = spec.node_assignment() == proto::Scenario::NODE_ASSIGNMENT_BLOCKS;
+  if (spec.nodes_size() == 0) {
+    for (int i = 0; i < spec.robot_size(); ++i) {
+      if (spec.robot(i).has_node()) {
+        at.Fail({{"robot", i}, {"node"}}, "robot \"" + spec.robot(i).name() + "\": node \"" +
+                                              spec.robot(i).node() +
+                                              "\" given, but the scenario has no nodes");
+      }
+    }
+    if (blocks) {
+      at.Fail({{"node_assignment"}},
+              "node_assignment: NODE_ASSIGNMENT_BLOCKS given, but the scenario has no nodes");
+    }
+    return;
+  }
+  for (int j = 0; j < spec.nodes_size(); ++j) {
+    const std::string& name = spec.nodes(j).name();
+    if (!IsDnsLabel(name)) {
+      at.Fail({{"nodes", j}, {"name"}},
+              "node \"" + name + "\": a node name is a DNS label ([a-z0-9-], 1.." +
+                  std::to_string(kMaxNodeNameLength) + ", no '-' at either end)");
+    }
+    if (scenario->NodeIndex(name) >= 0) {
+      at.Fail({{"nodes", j}, {"name"}}, "nodes: \"" + name + "\" twice");
+    }
+    scenario->nodes.push_back(NodePlan{name, {}});
+  }
+  const int64_t robots = spec.robot_size();
+  const int64_t nodes = spec.nodes_size();
+  for (int i = 0; i < spec.robot_size(); ++i) {
+    if (blocks && spec.robot(i).has_node()) {
+      at.Fail({{"robot", i}, {"node"}},
+              "robot \"" + spec.robot(i).name() +
+                  "\": node given, but node_assignment NODE_ASSIGNMENT_BLOCKS places every robot");
+    }
+    const int node = blocks ? static_cast<int>(i * nodes / robots) : ExplicitNode(at, *scenario, i);
+    scenario->robots[i].node = node;
+    scenario->nodes[node].robots.push_back(i);  // i ascends, so each list does.
+  }
+  for (int j = 0; j < spec.nodes_size(); ++j) {
+    if (scenario->nodes[j].robots.empty()) {
+      at.Fail({{"nodes", j}}, "node \"" + scenario->nodes[j].name + "\" has no robot");
+    }
+  }
+}
+
 }  // namespace
 
 void ValidateAndDerive(const SourceLocator& locator, Scenario* scenario) {
@@ -474,6 +557,7 @@ void ValidateAndDerive(const SourceLocator& locator, Scenario* scenario) {
   ValidateGeodeticOrigin(locator, scenario->spec);
   ValidateAddresses(locator, scenario);
   ValidateAndDeriveRobots(locator, scenario);
+  ValidateAndDeriveNodes(locator, scenario);
 }
 
 }  // namespace sitlnet::scenario_internal

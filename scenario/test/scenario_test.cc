@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 namespace sitlnet {
 namespace {
@@ -219,6 +220,118 @@ TEST(ScenarioTest, RejectsBadAutopilotPorts) {
       "t.textproto:2:", "has both ardupilot_json_port and px4_sim_port");
   ExpectRejected("name: \"t\"\nrobot { name: \"a\" ground_station: true px4_sim_port: 4560 }\n",
                  "t.textproto:2:", "is a ground station: it has no physics");
+}
+
+//--------------------------------- Nodes ------------------------------------
+
+// Robot names r0..r<count-1>, one per line from line 3 (after the name and node lines).
+std::string Robots(int count, const std::string& extra = "") {
+  std::string text;
+  for (int i = 0; i < count; ++i) {
+    text += "robot { name: \"r" + std::to_string(i) + "\"" + extra + " }\n";
+  }
+  return text;
+}
+
+std::vector<std::vector<int>> NodeRobots(const Scenario& scenario) {
+  std::vector<std::vector<int>> robots;
+  for (const NodePlan& node : scenario.nodes) robots.push_back(node.robots);
+  return robots;
+}
+
+TEST(ScenarioTest, WithoutNodesEveryRobotIsOnNoNode) {
+  const Scenario scenario = LoadScenarioText(kTwo, "t.textproto");
+  EXPECT_TRUE(scenario.nodes.empty());
+  EXPECT_EQ(scenario.robots[0].node, -1);
+  EXPECT_EQ(scenario.robots[1].node, -1);
+}
+
+TEST(ScenarioTest, ExplicitNodesCollectTheirRobotsAscending) {
+  const Scenario scenario = LoadScenarioText(
+      "name: \"t\"\nnodes { name: \"n0\" }\nnodes { name: \"node-1\" }\n"
+      "robot { name: \"a\" node: \"node-1\" }\nrobot { name: \"b\" node: \"n0\" }\n"
+      "robot { name: \"c\" node: \"node-1\" }\n",
+      "t.textproto");
+  ASSERT_EQ(scenario.nodes.size(), 2u);
+  EXPECT_EQ(scenario.nodes[0].name, "n0");
+  EXPECT_EQ(scenario.nodes[1].name, "node-1");
+  EXPECT_EQ(NodeRobots(scenario), (std::vector<std::vector<int>>{{1}, {0, 2}}));
+  EXPECT_EQ(scenario.robots[0].node, 1);
+  EXPECT_EQ(scenario.robots[1].node, 0);
+  EXPECT_EQ(scenario.robots[2].node, 1);
+  EXPECT_EQ(scenario.NodeIndex("node-1"), 1);
+  EXPECT_EQ(scenario.NodeIndex("n9"), -1);
+}
+
+TEST(ScenarioTest, BlocksPutRobotIOnNodeIAndNodesOverRobots) {
+  const std::string blocks = "node_assignment: NODE_ASSIGNMENT_BLOCKS\n";
+  // 5 robots on 2 nodes: floor(i * 2 / 5) = 0 0 0 1 1.
+  const Scenario five = LoadScenarioText(
+      "name: \"t\"\nnodes { name: \"a\" }\nnodes { name: \"b\" }\n" + blocks + Robots(5),
+      "t.textproto");
+  EXPECT_EQ(NodeRobots(five), (std::vector<std::vector<int>>{{0, 1, 2}, {3, 4}}));
+  EXPECT_EQ(five.robots[3].node, 1);
+  // 4 robots on 3 nodes: floor(i * 3 / 4) = 0 0 1 2.
+  const Scenario four = LoadScenarioText(
+      "name: \"t\"\nnodes { name: \"a\" }\nnodes { name: \"b\" }\nnodes { name: \"c\" }\n" +
+          blocks + Robots(4),
+      "t.textproto");
+  EXPECT_EQ(NodeRobots(four), (std::vector<std::vector<int>>{{0, 1}, {2}, {3}}));
+  // As many nodes as robots: one each.
+  const Scenario one_each = LoadScenarioText(
+      "name: \"t\"\nnodes { name: \"a\" }\nnodes { name: \"b\" }\n" + blocks + Robots(2),
+      "t.textproto");
+  EXPECT_EQ(NodeRobots(one_each), (std::vector<std::vector<int>>{{0}, {1}}));
+}
+
+TEST(ScenarioTest, RejectsARobotOnNoNodeAndAnUnknownNode) {
+  ExpectRejected("name: \"t\"\nnodes { name: \"n0\" }\nrobot { name: \"a\" node: \"n0\" }\n"
+                 "robot { name: \"c\" }\n",
+                 "t.textproto:4:1:",
+                 "robot \"c\": on no node (the scenario has nodes: give it node: or "
+                 "node_assignment: NODE_ASSIGNMENT_BLOCKS)");
+  ExpectRejected("name: \"t\"\nnodes { name: \"n0\" }\nnodes { name: \"n1\" }\n"
+                 "robot { name: \"c\" node: \"n9\" }\n",
+                 "t.textproto:4:19:", "robot \"c\": node \"n9\" is not one of nodes (n0, n1)");
+}
+
+TEST(ScenarioTest, RejectsANodeTwiceAndANodeWithNoRobot) {
+  ExpectRejected("name: \"t\"\nnodes { name: \"n1\" }\nnodes { name: \"n1\" }\n" + Robots(2),
+                 "t.textproto:3:9:", "nodes: \"n1\" twice");
+  ExpectRejected("name: \"t\"\nnodes { name: \"n0\" }\nnodes { name: \"n2\" }\n" +
+                     Robots(2, " node: \"n0\""),
+                 "t.textproto:3:1:", "node \"n2\" has no robot");
+  // BLOCKS with more nodes than robots leaves one empty.
+  ExpectRejected("name: \"t\"\nnodes { name: \"a\" }\nnodes { name: \"b\" }\n"
+                 "node_assignment: NODE_ASSIGNMENT_BLOCKS\n" + Robots(1),
+                 "t.textproto:3:1:", "node \"b\" has no robot");
+}
+
+TEST(ScenarioTest, RejectsNodeNamesThatAreNotDnsLabels) {
+  for (const std::string& name :
+       std::vector<std::string>{"N1", "n 1", "n_1", "-n1", "n1-", "", std::string(64, 'n')}) {
+    ExpectRejected("name: \"t\"\nnodes { name: \"" + name + "\" }\n" + Robots(1),
+                   "t.textproto:2:9:",
+                   "node \"" + name + "\": a node name is a DNS label ([a-z0-9-], 1..63");
+  }
+  const Scenario longest = LoadScenarioText("name: \"t\"\nnodes { name: \"" +
+                                                std::string(63, '7') + "\" }\n" +
+                                                Robots(1, " node: \"" + std::string(63, '7') + "\""),
+                                            "t.textproto");
+  EXPECT_EQ(longest.nodes.size(), 1u);
+}
+
+TEST(ScenarioTest, RejectsNodeFieldsWithoutNodes) {
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" node: \"n0\" }\n", "t.textproto:2:19:",
+                 "robot \"a\": node \"n0\" given, but the scenario has no nodes");
+  ExpectRejected("name: \"t\"\nnode_assignment: NODE_ASSIGNMENT_BLOCKS\n" + Robots(1),
+                 "t.textproto:2:1:",
+                 "node_assignment: NODE_ASSIGNMENT_BLOCKS given, but the scenario has no nodes");
+  ExpectRejected("name: \"t\"\nnodes { name: \"n0\" }\nnode_assignment: NODE_ASSIGNMENT_BLOCKS\n"
+                 "robot { name: \"a\" node: \"n0\" }\n",
+                 "t.textproto:4:19:",
+                 "robot \"a\": node given, but node_assignment NODE_ASSIGNMENT_BLOCKS places "
+                 "every robot");
 }
 
 }  // namespace
