@@ -96,20 +96,31 @@ struct WorldOptions {
   // Tile models are compiled when the World is built if at most this many tiles are near an
   // obstacle, else each on first use, inside a step (docs/physics.md, "Obstacle culling").
   int64_t cull_tiles_compiled_up_front = 1024;
+  // The robots this World simulates, by global index (RobotPlan::index), ascending; empty:
+  // every robot of the scenario. A node host (issue 35) simulates its own robots only: each
+  // robot's model, seeds and results depend on its global index alone, not on the others.
+  std::vector<int> robots = {};
 };
 
 // The MuJoCo world of a scenario. Not thread-safe: one caller at a time.
 class World {
  public:
   // Builds one model per airframe and one mjData per robot at its start pose. Throws Error
-  // naming the airframe if MuJoCo rejects a model. `scenario` must outlive the World.
+  // naming the airframe if MuJoCo rejects a model, or if options.robots is not ascending
+  // indices of the scenario. `scenario` must outlive the World. Every `robot` argument below
+  // is a global index of a robot the World simulates.
   explicit World(const Scenario& scenario, const WorldOptions& options = {});
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;
 
+  // How many robots the World simulates, and their global indices, ascending.
   int robot_count() const;
+  const std::vector<int>& robots() const;
+  bool simulates(int robot) const;
   TimeNs step_ns() const;
+  // The world's virtual time: every robot's (one clock, kept by resets).
+  TimeNs now_ns() const;
   // Virtual time of a robot (steps taken x step_ns).
   TimeNs time_ns(int robot) const;
   int64_t steps(int robot) const;
@@ -186,6 +197,7 @@ struct RobotCounters {
 };
 
 struct ServerOptions {
+  // world.robots also chooses the robots the server makes links for (empty: every robot).
   WorldOptions world;
   // Called with the work that makes every socket of the server, to run it: a caller wraps it to
   // make them in another network namespace (runs: the scenario's ctl namespace, nns::InNetns).

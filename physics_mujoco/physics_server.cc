@@ -19,7 +19,8 @@ namespace sitlnet::physics {
 
 struct PhysicsServer::Impl {
   World world;
-  // Per robot: what its links share; then every link, robot by robot, in protocol order.
+  // Per scenario robot (global index): what its links share (unused for robots the world does
+  // not simulate); then every link, robot by robot, in protocol order.
   std::vector<RobotLinkContext> robots;
   std::vector<std::unique_ptr<RobotLink>> links;
   std::vector<size_t> link_begin;  // Robot r's links: [link_begin[r], link_begin[r + 1]).
@@ -86,7 +87,7 @@ struct PhysicsServer::Impl {
   // answer has not come by then.
   bool AwaitAnswersOnWallClock() {
     return AwaitAnswers(
-        realtime->WallOf(world.time_ns(0) + world.step_ns()),
+        realtime->WallOf(world.now_ns() + world.step_ns()),
         [](const std::unique_ptr<RobotLink>& link) { return link->AnswerOutstanding(); });
   }
 
@@ -94,7 +95,7 @@ struct PhysicsServer::Impl {
     epoll_event events[64];
     // Enough rounds to see every socket once (epoll rotates its ready list; two sockets a
     // robot), no more: a sustained flood cannot keep Poll from returning.
-    const size_t rounds = 1 + 2 * robots.size() / 64;
+    const size_t rounds = 1 + 2 * static_cast<size_t>(world.robot_count()) / 64;
     for (size_t round = 0; round < rounds; ++round) {
       const int n = epoll_wait(epoll_fd, events, 64, 0);
       if (n <= 0) return;
@@ -128,7 +129,7 @@ struct PhysicsServer::Impl {
       return;
     }
     // The coordinator's timebase is on CLOCK_MONOTONIC (clock::SystemWallClock), as here.
-    const TimeNs wall_ns = realtime->WallOf(world.time_ns(0));
+    const TimeNs wall_ns = realtime->WallOf(world.now_ns());
     if (wall_ns > MonotonicNowNs()) clock::SystemWallClock().SleepUntilNs(wall_ns);
   }
 
@@ -170,6 +171,8 @@ PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& opti
   if (impl_->epoll_fd < 0) throw Error(SystemErrorMessage("physics server: epoll_create1", errno));
   const auto make_sockets = [&] {
     for (const RobotPlan& plan : scenario.robots) {
+      impl_->link_begin.push_back(impl_->links.size());
+      if (!impl_->world.simulates(plan.index)) continue;  // Another host's robot: no links.
       RobotLinkContext& robot = impl_->robots[plan.index];
       robot.world = &impl_->world;
       robot.robot = plan.index;
@@ -180,7 +183,6 @@ PhysicsServer::PhysicsServer(const Scenario& scenario, const ServerOptions& opti
       setup.who = scenario.source_path + ": robot \"" + plan.name + "\"";
       setup.periodic_states = options.periodic_states;
       setup.watch = [impl = impl_.get()](RobotLink* link, int fd) { impl->Watch(link, fd); };
-      impl_->link_begin.push_back(impl_->links.size());
       for (std::unique_ptr<RobotLink>& link : MakeRobotLinks(setup)) {
         impl_->has_autopilots |= link->paced();
         impl_->links.push_back(std::move(link));

@@ -105,6 +105,24 @@ void MoveState(const mjModel* from_m, const mjData* from, const mjModel* to_m, m
   CopyArray(to->qpos, from->qpos, to_m->nq);
 }
 
+// The global indices a World simulates: `requested` (checked) or every robot.
+std::vector<int> SimulatedRobots(const Scenario& scenario, const std::vector<int>& requested) {
+  const int count = static_cast<int>(scenario.robots.size());
+  std::vector<int> indices;
+  if (requested.empty()) {
+    for (int i = 0; i < count; ++i) indices.push_back(i);
+    return indices;
+  }
+  for (int robot : requested) {
+    if (robot < 0 || robot >= count || (!indices.empty() && robot <= indices.back())) {
+      throw Error(scenario.source_path + ": physics of robot index " + std::to_string(robot) +
+                  ": a World's robots must be ascending indices below " + std::to_string(count));
+    }
+    indices.push_back(robot);
+  }
+  return indices;
+}
+
 }  // namespace
 
 struct World::Impl {
@@ -115,14 +133,16 @@ struct World::Impl {
   std::map<std::string, std::unique_ptr<AirframeModels>> models;  // by airframe name
   mutable std::mutex models_mutex;  // tile models are compiled while robots step in threads
   int models_compiled = 0;
-  std::vector<std::unique_ptr<RobotSlot>> robots;
+  std::vector<std::unique_ptr<RobotSlot>> robots;  // The simulated robots, ascending.
+  std::vector<int> indices;                          // Their global indices.
+  std::vector<int> slot_of;  // Per scenario robot: its place in `robots`, or -1.
   StepPool pool;
 
   explicit Impl(int threads) : pool(std::max(1, threads)) {}
 
   RobotSlot& Robot(int index) {
-    SITLNET_DEMAND(index >= 0 && index < static_cast<int>(robots.size()));
-    return *robots[index];
+    SITLNET_DEMAND(index >= 0 && index < static_cast<int>(slot_of.size()) && slot_of[index] >= 0);
+    return *robots[slot_of[index]];
   }
 
   std::unique_ptr<CompiledModel> Compile(const AirframeModels& am,
@@ -254,7 +274,8 @@ World::World(const Scenario& scenario, const WorldOptions& options)
                                                     ? Integrator::kEuler
                                                     : Integrator::kRk4);
   if (options.cull_obstacles) {
-    // Reach: the longest lidar ray, or the body's bounding sphere plus one step's travel.
+    // Reach: the longest lidar ray, or the body's bounding sphere plus one step's travel. Over
+    // every robot of the scenario, simulated or not: each node host cuts the same tiles.
     double reach_m = 0;
     for (const RobotPlan& plan : scenario.robots) {
       const auto half = BodyHalfSize(plan.airframe);
@@ -265,7 +286,11 @@ World::World(const Scenario& scenario, const WorldOptions& options)
     impl.tiles.emplace(scenario, options.cull_tile_m, reach_m);
     impl.max_speed_m_s = kStepTravel_m * kNsPerS / static_cast<double>(scenario.physics_step_ns);
   }
-  for (const RobotPlan& plan : scenario.robots) {
+  impl.indices = SimulatedRobots(scenario, options.robots);
+  impl.slot_of.assign(scenario.robots.size(), -1);
+  for (const int index : impl.indices) {
+    const RobotPlan& plan = scenario.robots[index];
+    impl.slot_of[index] = static_cast<int>(impl.robots.size());
     auto& am = impl.models[plan.airframe.name()];
     if (!am) {
       am.reset(new AirframeModels{
@@ -322,7 +347,13 @@ World::World(const Scenario& scenario, const WorldOptions& options)
 World::~World() = default;
 
 int World::robot_count() const { return static_cast<int>(impl_->robots.size()); }
+const std::vector<int>& World::robots() const { return impl_->indices; }
+bool World::simulates(int robot) const {
+  return robot >= 0 && robot < static_cast<int>(impl_->slot_of.size()) &&
+         impl_->slot_of[robot] >= 0;
+}
 TimeNs World::step_ns() const { return impl_->scenario->physics_step_ns; }
+TimeNs World::now_ns() const { return impl_->robots.front()->steps * step_ns(); }
 TimeNs World::time_ns(int robot) const { return impl_->Robot(robot).steps * step_ns(); }
 int64_t World::steps(int robot) const { return impl_->Robot(robot).steps; }
 

@@ -20,7 +20,8 @@ namespace sitlnet::physics_side {
 using coordinator::IterationContext;
 using coordinator::Simulator;
 
-// Appends every robot's position (ENU m) and orientation (w, x, y, z).
+// Appends the position (ENU m), orientation (w, x, y, z) and velocity (ENU m/s) of every robot
+// the world simulates, in ascending global index.
 void PosesFromWorld(const physics::World& world, proto::coord::Poses* poses);
 
 // Steps a World (not owned, must outlive this).

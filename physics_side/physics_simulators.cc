@@ -5,8 +5,8 @@
 namespace sitlnet::physics_side {
 
 void PosesFromWorld(const physics::World& world, proto::coord::Poses* poses) {
-  for (int i = 0; i < world.robot_count(); ++i) {
-    const physics::RobotPose pose = world.Pose(i);
+  for (const int robot : world.robots()) {
+    const physics::RobotPose pose = world.Pose(robot);
     poses->add_position_m(pose.position_m.x);
     poses->add_position_m(pose.position_m.y);
     poses->add_position_m(pose.position_m.z);
@@ -14,6 +14,9 @@ void PosesFromWorld(const physics::World& world, proto::coord::Poses* poses) {
     poses->add_orientation_wxyz(pose.orientation.x);
     poses->add_orientation_wxyz(pose.orientation.y);
     poses->add_orientation_wxyz(pose.orientation.z);
+    poses->add_velocity_m_s(pose.velocity_m_s.x);
+    poses->add_velocity_m_s(pose.velocity_m_s.y);
+    poses->add_velocity_m_s(pose.velocity_m_s.z);
   }
 }
 

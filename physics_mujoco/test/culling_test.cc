@@ -13,6 +13,7 @@
 namespace sitlnet::physics {
 namespace {
 
+using testing::ExpectSamePose;
 using testing::MakeScenario;
 
 constexpr double kG = 9.81;
@@ -68,22 +69,6 @@ void StartFlights(World* world) {
   world->SetVelocity(1, {10, 0, 0});  // motors off
   world->SetRotorSpeeds(2, {w, w, w, w});
   world->SetVelocity(2, {2, 0, 0});
-}
-
-void ExpectSamePose(const RobotPose& a, const RobotPose& b, const std::string& where) {
-  EXPECT_EQ(a.position_m.x, b.position_m.x) << where;
-  EXPECT_EQ(a.position_m.y, b.position_m.y) << where;
-  EXPECT_EQ(a.position_m.z, b.position_m.z) << where;
-  EXPECT_EQ(a.orientation.w, b.orientation.w) << where;
-  EXPECT_EQ(a.orientation.x, b.orientation.x) << where;
-  EXPECT_EQ(a.orientation.y, b.orientation.y) << where;
-  EXPECT_EQ(a.orientation.z, b.orientation.z) << where;
-  EXPECT_EQ(a.velocity_m_s.x, b.velocity_m_s.x) << where;
-  EXPECT_EQ(a.velocity_m_s.y, b.velocity_m_s.y) << where;
-  EXPECT_EQ(a.velocity_m_s.z, b.velocity_m_s.z) << where;
-  EXPECT_EQ(a.angular_velocity_rad_s.x, b.angular_velocity_rad_s.x) << where;
-  EXPECT_EQ(a.angular_velocity_rad_s.y, b.angular_velocity_rad_s.y) << where;
-  EXPECT_EQ(a.angular_velocity_rad_s.z, b.angular_velocity_rad_s.z) << where;
 }
 
 WorldOptions Culled(double tile_m) {

@@ -1,5 +1,6 @@
 #include "physics_mujoco/test/test_scenarios.h"
 
+#include <gtest/gtest.h>
 #include <poll.h>
 #include <unistd.h>
 
@@ -27,6 +28,24 @@ ServerOptions FrameGate(TimeNs timeout_ns) {
   ServerOptions options;
   options.frame_gate_timeout_ns = timeout_ns;
   return options;
+}
+
+namespace {
+void ExpectSameVector(const Vec3d& a, const Vec3d& b, const std::string& where) {
+  EXPECT_EQ(a.x, b.x) << where;
+  EXPECT_EQ(a.y, b.y) << where;
+  EXPECT_EQ(a.z, b.z) << where;
+}
+}  // namespace
+
+void ExpectSamePose(const RobotPose& a, const RobotPose& b, const std::string& where) {
+  ExpectSameVector(a.position_m, b.position_m, where + ": position");
+  EXPECT_EQ(a.orientation.w, b.orientation.w) << where;
+  EXPECT_EQ(a.orientation.x, b.orientation.x) << where;
+  EXPECT_EQ(a.orientation.y, b.orientation.y) << where;
+  EXPECT_EQ(a.orientation.z, b.orientation.z) << where;
+  ExpectSameVector(a.velocity_m_s, b.velocity_m_s, where + ": velocity");
+  ExpectSameVector(a.angular_velocity_rad_s, b.angular_velocity_rad_s, where + ": angular velocity");
 }
 
 std::vector<int> TakeSilentRobots(PhysicsServer* server) {

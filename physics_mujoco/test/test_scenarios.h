@@ -28,6 +28,9 @@ bool WaitReadable(int fd, int timeout_ms);
 
 // Server options with the frame gate (lockstep pacing) at `timeout_ns`.
 ServerOptions FrameGate(TimeNs timeout_ns);
+// Expects every double of the two poses equal (==, bit for bit); `where` names the place.
+void ExpectSamePose(const RobotPose& a, const RobotPose& b, const std::string& where);
+
 // The robots of server->TakeSilentAutopilots(), in its order.
 std::vector<int> TakeSilentRobots(PhysicsServer* server);
 
