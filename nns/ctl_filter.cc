@@ -39,7 +39,7 @@ std::string TableName(const std::string& scenario) { return "sitlnet-" + scenari
 
 }  // namespace
 
-void AddCtlFilter(const Scenario& scenario) {
+void AddCtlFilter(const Scenario& scenario, const std::vector<int>& robots) {
   const uint32_t physics_port = scenario.spec.addresses().physics_port();
   std::string veths;
   std::string own;
@@ -47,7 +47,8 @@ void AddCtlFilter(const Scenario& scenario) {
   const auto add = [](std::string* list, const std::string& element) {
     *list += (list->empty() ? "" : ", ") + element;
   };
-  for (const RobotPlan& robot : scenario.robots) {
+  for (const int index : robots) {
+    const RobotPlan& robot = scenario.robots[index];
     const std::string veth = "\"" + robot.root_veth + "\"";
     const std::string root = veth + " . " + FormatIpv4(robot.ctl_root_address);
     add(&veths, veth);

@@ -149,9 +149,10 @@ void RemoveState(const std::string& scenario);
 void RemoveRegisteredContainers(const std::string& scenario, DownReport* report);
 // The scenario's nftables table on the root side of its ctl0 links (ctl_filter.cc), added in the
 // CALLING THREAD's namespace (the scenario's ctl namespace; it goes with it): a robot reaches
-// only its own ctl0's root address, on the physics server's ports for it, and ping. Throws Error
-// naming the scenario and nft's message.
-void AddCtlFilter(const Scenario& scenario);
+// only its own ctl0's root address, on the physics server's ports for it, and ping. For the
+// robots of `robots` (global indices, the ones `up` creates). Throws Error naming the scenario
+// and nft's message.
+void AddCtlFilter(const Scenario& scenario, const std::vector<int>& robots);
 // Kills what is left in the scenario's robots' cgroups and removes their folders (RobotCgroup);
 // the number of robots' v2 cgroups removed.
 int RemoveScenarioCgroups(const std::string& scenario);

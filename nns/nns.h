@@ -147,7 +147,8 @@ struct ScenarioState {
   std::string PhysicsAddress(const OwnedRobot& robot) const;
 };
 
-ScenarioState StateFromScenario(const Scenario& scenario);
+// The state of the robots of `robots` (Scenario::RobotSlice: empty means all).
+ScenarioState StateFromScenario(const Scenario& scenario, const std::vector<int>& robots = {});
 std::string FormatState(const ScenarioState& state);
 // Throws Error naming `source` and the line on malformed text.
 ScenarioState ParseState(const std::string& text, const std::string& source);
@@ -278,9 +279,13 @@ struct UpOptions {
   // under the state lock, as the scenario's "run" daemon, so that another `up` or `run` of it
   // is refused instead of tearing it down, and `down` stops it.
   bool register_caller_as_run = false;
+  // The robots to bring up, by global index, ascending (Scenario::RobotSlice); empty: all. A
+  // node host (issue 35) brings up its own robots only, under their usual names; the state file
+  // lists only them, so `down` removes exactly them.
+  std::vector<int> robots = {};
 };
 
-// Brings the scenario's robots up (see docs/nns.md for the exact devices):
+// Brings the scenario's robots (options.robots) up (see docs/nns.md for the exact devices):
 // privileges, `down` of our own leftovers, refusal of foreign objects with our
 // names and of address clashes with host routes (nothing touched), then per
 // robot: namespace, lo, wlan0 TAP, ctl0 veth, addresses, isolation. Any

@@ -62,12 +62,13 @@ std::string ScenarioState::PhysicsAddress(const OwnedRobot& robot) const {
   return FormatIpv4(robot.ctl_root_address) + ":" + std::to_string(physics_port);
 }
 
-ScenarioState StateFromScenario(const Scenario& scenario) {
+ScenarioState StateFromScenario(const Scenario& scenario, const std::vector<int>& robots) {
   ScenarioState state;
   state.name = scenario.name;
   state.source_path = scenario.source_path;
   state.physics_port = static_cast<int>(scenario.spec.addresses().physics_port());
-  for (const RobotPlan& plan : scenario.robots) {
+  for (const int index : scenario.RobotSlice(robots)) {
+    const RobotPlan& plan = scenario.robots[index];
     state.robots.push_back(OwnedRobot{plan.index, plan.name, plan.netns, plan.root_veth,
                                       plan.wlan_address, plan.ctl_root_address,
                                       plan.ctl_robot_address});

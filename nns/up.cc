@@ -24,9 +24,10 @@ constexpr int kCtlPrefixLength = 30;
 // (measured in docs/performance.md).
 constexpr int kUpThreads = 2;
 
-void RefuseForeignObjects(const Scenario& scenario) {
+void RefuseForeignObjects(const Scenario& scenario, const std::vector<int>& robots) {
   const std::string hint = "; nothing was changed";
-  for (const RobotPlan& robot : scenario.robots) {
+  for (const int index : robots) {
+    const RobotPlan& robot = scenario.robots[index];
     if (NetnsExists(robot.netns)) {
       throw Error("namespace \"" + robot.netns + "\" of robot \"" + robot.name +
                   "\" exists but scenario \"" + scenario.name +
@@ -119,7 +120,9 @@ void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket
   // No default route, ever: the robot reaches its wlan subnet and its /30.
 }
 
-void UpAllRobots(const Scenario& scenario, const UpOptions& options) {
+// The robots of `robots` (global indices).
+void UpAllRobots(const Scenario& scenario, const std::vector<int>& robots,
+                 const UpOptions& options) {
   std::atomic<size_t> next{0};
   std::atomic<bool> failed{false};
   std::mutex mutex;
@@ -130,8 +133,8 @@ void UpAllRobots(const Scenario& scenario, const UpOptions& options) {
       // The root sides are made in the ctl namespace (their sysctls are this thread's).
       ScopedNetns in_ctl(CtlNetnsName(scenario.name));
       RouteSocket ctl;  // One per thread: libnl sockets are not thread-safe.
-      for (size_t i = next++; i < scenario.robots.size() && !failed; i = next++) {
-        UpRobot(scenario, scenario.robots[i], ctl);
+      for (size_t i = next++; i < robots.size() && !failed; i = next++) {
+        UpRobot(scenario, scenario.robots[robots[i]], ctl);
         std::lock_guard<std::mutex> lock(mutex);
         ++robots_done;
         if (options.on_robot_done) options.on_robot_done(robots_done);
@@ -142,7 +145,7 @@ void UpAllRobots(const Scenario& scenario, const UpOptions& options) {
       failed = true;
     }
   };
-  const int threads = std::min<int>(kUpThreads, static_cast<int>(scenario.robots.size()));
+  const int threads = std::min<int>(kUpThreads, static_cast<int>(robots.size()));
   std::vector<std::thread> pool;
   for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
   worker();
@@ -165,15 +168,16 @@ void RefuseIfInUse(const std::string& scenario) {
 }
 
 void Up(const Scenario& scenario, const UpOptions& options) {
+  const std::vector<int> robots = scenario.RobotSlice(options.robots);  // Bad input: touch nothing.
   RequirePrivileges();
   internal::StateLock lock;
   RefuseIfInUse(scenario.name);         // Never torn down from under its run (audit finding 6).
   internal::DownLocked(scenario.name);  // Our own leftovers (a crash, a previous up).
-  RefuseForeignObjects(scenario);
+  RefuseForeignObjects(scenario, robots);
   const std::vector<HostRoute> routes = ReadHostRoutes();
   CheckAddressPlanAgainstRoutes(scenario, routes);
   // Ownership first: from here on, whatever exists under our names is ours.
-  internal::WriteState(StateFromScenario(scenario));
+  internal::WriteState(StateFromScenario(scenario, robots));
   try {
     if (options.register_caller_as_run) internal::WritePidFile(scenario.name, "run");
     {
@@ -186,9 +190,9 @@ void Up(const Scenario& scenario, const UpOptions& options) {
       RouteSocket ctl;
       internal::SetLinkUp(ctl, internal::LinkIndex(ctl, "lo"),
                           "scenario \"" + scenario.name + "\": ctl namespace lo");
-      internal::AddCtlFilter(scenario);
+      internal::AddCtlFilter(scenario, robots);
     }
-    UpAllRobots(scenario, options);
+    UpAllRobots(scenario, robots, options);
   } catch (...) {
     try {
       internal::DownLocked(scenario.name);

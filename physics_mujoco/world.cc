@@ -105,24 +105,6 @@ void MoveState(const mjModel* from_m, const mjData* from, const mjModel* to_m, m
   CopyArray(to->qpos, from->qpos, to_m->nq);
 }
 
-// The global indices a World simulates: `requested` (checked) or every robot.
-std::vector<int> SimulatedRobots(const Scenario& scenario, const std::vector<int>& requested) {
-  const int count = static_cast<int>(scenario.robots.size());
-  std::vector<int> indices;
-  if (requested.empty()) {
-    for (int i = 0; i < count; ++i) indices.push_back(i);
-    return indices;
-  }
-  for (int robot : requested) {
-    if (robot < 0 || robot >= count || (!indices.empty() && robot <= indices.back())) {
-      throw Error(scenario.source_path + ": physics of robot index " + std::to_string(robot) +
-                  ": a World's robots must be ascending indices below " + std::to_string(count));
-    }
-    indices.push_back(robot);
-  }
-  return indices;
-}
-
 }  // namespace
 
 struct World::Impl {
@@ -286,7 +268,7 @@ World::World(const Scenario& scenario, const WorldOptions& options)
     impl.tiles.emplace(scenario, options.cull_tile_m, reach_m);
     impl.max_speed_m_s = kStepTravel_m * kNsPerS / static_cast<double>(scenario.physics_step_ns);
   }
-  impl.indices = SimulatedRobots(scenario, options.robots);
+  impl.indices = scenario.RobotSlice(options.robots);
   impl.slot_of.assign(scenario.robots.size(), -1);
   for (const int index : impl.indices) {
     const RobotPlan& plan = scenario.robots[index];

@@ -55,6 +55,24 @@ int Scenario::NodeIndex(std::string_view node_name) const {
   return -1;
 }
 
+std::vector<int> Scenario::RobotSlice(const std::vector<int>& requested) const {
+  const int count = static_cast<int>(robots.size());
+  std::vector<int> slice;
+  if (requested.empty()) {
+    for (int i = 0; i < count; ++i) slice.push_back(i);
+    return slice;
+  }
+  for (int robot : requested) {
+    if (robot < 0 || robot >= count || (!slice.empty() && robot <= slice.back())) {
+      throw Error(source_path + ": robot index " + std::to_string(robot) +
+                  " in a slice of robots: a slice holds ascending indices below " +
+                  std::to_string(count));
+    }
+    slice.push_back(robot);
+  }
+  return slice;
+}
+
 void ParseTextProtoOrThrow(std::string_view text, const std::string& source_name,
                            google::protobuf::Message* message,
                            google::protobuf::TextFormat::ParseInfoTree* locations) {

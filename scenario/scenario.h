@@ -63,6 +63,9 @@ struct Scenario {
   int RobotIndex(std::string_view robot_name) const;
   // Index of the node called `name`, or -1.
   int NodeIndex(std::string_view node_name) const;
+  // The robots of a slice (a node host's share, issue 35): `requested` if it is ascending
+  // indices of this scenario's robots, every index if it is empty. Throws Error otherwise.
+  std::vector<int> RobotSlice(const std::vector<int>& requested) const;
 };
 
 //-------------------------------- Loading -----------------------------------

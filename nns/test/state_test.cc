@@ -37,6 +37,24 @@ TEST(StateTest, RoundTripsEveryField) {
             FormatIpv4(state.robots[1].ctl_root_address) + ":9600");
 }
 
+// A node host's state (issue 35) lists its slice only, with the robots' global indices and
+// names, and reads back so.
+TEST(StateTest, ASliceListsOnlyItsRobotsWithTheirGlobalIndices) {
+  const Scenario scenario = LoadScenarioText(
+      "name: \"beta\" robot { name: \"a\" } robot { name: \"b\" } robot { name: \"c\" }",
+      "beta.textproto");
+  const ScenarioState state = ParseState(FormatState(StateFromScenario(scenario, {1})), "state");
+  ASSERT_EQ(state.robots.size(), 1u);
+  EXPECT_EQ(state.robots[0].index, 1);
+  EXPECT_EQ(state.robots[0].name, "b");
+  EXPECT_EQ(state.robots[0].netns, "beta-b");
+  EXPECT_EQ(state.robots[0].root_veth, "beta-c1");
+  EXPECT_EQ(state.robots[0].wlan_address, scenario.robots[1].wlan_address);
+  EXPECT_EQ(StateFromScenario(scenario).robots.size(), 3u);
+  EXPECT_THROW(StateFromScenario(scenario, {2, 0}), Error);  // Not ascending.
+  EXPECT_THROW(StateFromScenario(scenario, {3}), Error);     // No such robot.
+}
+
 TEST(StateTest, MalformedLineNamesFileAndLine) {
   try {
     ParseState("scenario x\nrobot 0 a\n", "/run/sitlnet/x/state");

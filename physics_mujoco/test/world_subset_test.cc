@@ -104,7 +104,7 @@ TEST(WorldSubsetTest, RobotsMustBeAscendingIndicesOfTheScenario) {
       World world(scenario, options);
       ADD_FAILURE() << "accepted robots starting " << robots.front();
     } catch (const Error& error) {
-      EXPECT_NE(std::string(error.what()).find("ascending indices below 4"), std::string::npos)
+      EXPECT_NE(std::string(error.what()).find("a slice holds ascending indices below 4"), std::string::npos)
           << error.what();
     }
   }

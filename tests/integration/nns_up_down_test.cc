@@ -10,6 +10,7 @@
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include "tests/integration/nns_test_util.h"
@@ -269,6 +270,47 @@ TEST(NnsUpTest, LockstepScenarioHasPermanentNeighboursSoNoArpIsSent) {
   EXPECT_EQ(frame[12], 0x08);  // IPv4, not ARP (0x0806).
   EXPECT_EQ(frame[13], 0x00);
   EXPECT_EQ(sender.Wait(5 * kNsPerS), 0);
+}
+
+// A node host (issue 35) brings up its slice of a scenario's robots under their usual names, and
+// `down` removes exactly that slice. Robots 0 and 2 of 3 here; robot 1's namespace name is held
+// by a namespace the slice does not own (as another node's would be in a shared root).
+TEST(NnsDownTest, ASliceOfRobotsComesUpAloneAndDownRemovesExactlyIt) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const TestScenario test = MakeScenario("slc", 5, 3);
+  const Scenario& s = test.scenario;
+  const std::string other = s.robots[1].netns;
+  ASSERT_EQ(RunCommand({"ip", "netns", "add", other}).exit_code, 0);
+  CommandGuard netns_guard({"ip", "netns", "del", other});
+  DownGuard guard(s.name);
+  UpOptions options;
+  options.robots = {0, 2};
+  Up(s, options);
+  const std::optional<ScenarioState> state = ReadScenarioState(s.name);
+  ASSERT_TRUE(state.has_value());
+  ASSERT_EQ(state->robots.size(), 2u);
+  EXPECT_EQ(state->robots[0].index, 0);
+  EXPECT_EQ(state->robots[1].index, 2);
+  for (const int index : {0, 2}) {
+    const RobotPlan& robot = s.robots[index];
+    EXPECT_TRUE(Contains(IpIn(robot.netns, {"link", "show", "dev", "wlan0"}).out, ",UP"))
+        << robot.name;
+    EXPECT_TRUE(LinkExistsInCtl(s.name, robot.root_veth)) << robot.root_veth;
+    EXPECT_EQ(UdpRoundTrip(s.name, robot.netns, robot.ctl_robot_address), "") << robot.name;
+  }
+  EXPECT_FALSE(LinkExistsInCtl(s.name, s.robots[1].root_veth));
+  // The namespace of robot 1 was not entered: it holds its loopback only.
+  const std::string links = IpIn(other, {"link", "show"}).out;
+  EXPECT_EQ(std::count(links.begin(), links.end(), '\n'), 1) << links;
+
+  const DownReport report = Down(s.name);
+  EXPECT_EQ(report.namespaces_removed, 3);  // Robots 0 and 2, and the ctl namespace.
+  EXPECT_EQ(report.links_removed, 2);
+  EXPECT_TRUE(NetnsExists(other));
+  EXPECT_FALSE(NetnsExists(s.robots[0].netns));
+  EXPECT_FALSE(NetnsExists(s.robots[2].netns));
+  EXPECT_FALSE(NetnsExists(CtlNetnsName(s.name)));
+  EXPECT_FALSE(StateExists(s.name));
 }
 
 TEST(NnsDownTest, DownLeavesNoNamespaceLinkProcessOrState) {
