@@ -22,8 +22,7 @@ CoordinatedRun::CoordinatedRun(RunSetup* setup, const RunOptions& options,
                                const std::string& run_dir, int interrupt_fd)
     : physics_sim_(setup->scenario(), &setup->physics_server(),
                    RobotLockstep(setup->scenario(), setup->lockstep())),
-      recording_(&physics_sim_, &setup->physics_server().world(),
-                 physics::GeodeticFrame(setup->scenario().spec.geodetic_origin()),
+      recording_(&physics_sim_, physics::GeodeticFrame(setup->scenario().spec.geodetic_origin()),
                  run_dir + "/trajectories.csv", options.trajectory_period_ns),
       bridge_sim_(
           setup->scenario(), &setup->bridge(),

@@ -10,38 +10,35 @@
 #include "physics_mujoco/physics_mujoco.h"
 #include "ros2_clock/ros2_clock.h"
 #include "runner/live_sink.h"
+#include "runner/trajectory_recorder.h"
 
 namespace sitlnet::runner {
 
-// Physics simulator + trajectories.csv every `period_ns` of virtual time. Runs on the physics
-// connector's thread, so it touches only its own simulator and world.
+// Physics simulator + trajectories.csv every `period_ns` of virtual time, from the poses the
+// simulator reports (its initial poses, then each iteration's End): what a central host
+// receives from its node hosts (issue 35). Runs on the physics connector's thread, so it
+// touches only its own simulator.
 class RecordingPhysics final : public coordinator::Simulator {
  public:
   // `frame`: the scenario's geodetic frame, for the rows' latitude, longitude and altitude.
-  RecordingPhysics(coordinator::Simulator* inner, const physics::World* world,
-                   const physics::GeodeticFrame& frame, const std::string& csv_path,
-                   TimeNs period_ns);
+  RecordingPhysics(coordinator::Simulator* inner, const physics::GeodeticFrame& frame,
+                   const std::string& csv_path, TimeNs period_ns);
   proto::coord::Poses InitialPoses() override { return inner_.InitialPoses(); }
   void RunIteration(const proto::coord::Start& start, proto::coord::End* end,
                     coordinator::IterationContext& context) override;
   // Each iteration's end time, once the physics has reached it, goes there too (the robots'
   // /clock publishers read it).
   void ShareTimeWith(ros2_clock::SharedVirtualTime* shared) { shared_time_ = shared; }
-  void Flush() { csv_.Flush(); }
+  void Flush() { recorder_.Flush(); }
   // `sink` (may be null; outlives this) is told every sample too.
-  void SetLiveSink(LiveSink* sink) { live_ = sink; }
+  void SetLiveSink(LiveSink* sink) { recorder_.SetLiveSink(sink); }
 
  private:
-  void Record(TimeNs time_ns);
   coordinator::Simulator& inner_;
-  const physics::World& world_;
-  physics::GeodeticFrame frame_;
-  LineFile csv_;
+  TrajectoryRecorder recorder_;
   TimeNs period_ns_;
   TimeNs next_sample_ns_ = 0;
   ros2_clock::SharedVirtualTime* shared_time_ = nullptr;
-  LiveSink* live_ = nullptr;
-  std::vector<LivePose> live_poses_;  // Reused: no allocation per sample.
 };
 
 }  // namespace sitlnet::runner
