@@ -50,7 +50,9 @@ export async function runLive(run) {
       const trails = live.trails.map((t) => t.map((p) => [p[0], p[1], p[2]]));
       map.draw(run, live.robots, trails, live.links);
       const now = live.connectivity[live.connectivity.length - 1];
-      drawRobotTable(run, live.robots, now?.[2]);
+      const modes = run.robots.map(() => null);
+      for (const [, robot, mode] of live.modes) modes[robot] = mode;
+      drawRobotTable(run, live.robots, now?.[2], modes);
       const lastSecond = live.timing[live.timing.length - 1]?.[0] ?? -1;
       chart.draw(live.connectivity, live.timing, Math.max(live.time_s, 1),
         live.components_time_s ?? 0, lastSecond, name);
