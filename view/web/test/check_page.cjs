@@ -133,8 +133,8 @@ async function main() {
     // The link asked for, or the first drawn, at the last time; the table says which link the
     // click selected (links drawn side by side may overlap).
     const link = linkFrom === undefined
-      ? page.locator('#map line.link-hit').first()
-      : page.locator(`#map line.link-hit[data-from="${linkFrom}"][data-to="${linkTo}"]`);
+      ? page.locator('#map line.link').first()
+      : page.locator(`#map line.link[data-from="${linkFrom}"][data-to="${linkTo}"]`);
     await link.click();
     await page.waitForSelector('#frames[data-from]', { timeout: 10000 });
     const frames = await page.$eval('#frames', (table) => ({
