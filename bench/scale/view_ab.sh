@@ -8,12 +8,14 @@
 # the browser's CPU seconds), then the medians and the per-round browser/alone ratios of the
 # loop's wall time and of sitlnet's CPU. The page served is the one built (build/view/web).
 #
-#   sudo bench/scale/view_ab.sh [BUILD=build] [N=64] [SECONDS=10] [ROUNDS=4] [OUT]
+# NICE (default 0) is the browser's nice value: 19 measures a browser started with `nice -n 19`.
+#
+#   sudo bench/scale/view_ab.sh [BUILD=build] [N=64] [SECONDS=10] [ROUNDS=4] [OUT] [NICE=0]
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 watcher=$here/../../view/web/test/watch_page.cjs
 build=${1:-build} n=${2:-64} seconds=${3:-10} rounds=${4:-4}
-out=${5:-/tmp/sitlnet-view-ab-$(date -u +%Y%m%d-%H%M%S)}
+out=${5:-/tmp/sitlnet-view-ab-$(date -u +%Y%m%d-%H%M%S)} browser_nice=${6:-0}
 mkdir -p "$out"
 "$here/gen_scenario.py" "$n" "$out/scale.textproto"
 echo "variant,$("$here/extract.py" --header),browser_cpu_s" > "$out/runs.csv"
@@ -34,7 +36,7 @@ for round in $(seq 1 "$rounds"); do
         url=$(sed -n 's/^sitlnet run: live view at //p' "$dir.log")
         [ -n "$url" ] || sleep 0.05
       done
-      browser_cpu=$(node "$watcher" "$url" | sed -n 's/^browser_cpu_s \([0-9.]*\).*/\1/p')
+      browser_cpu=$(nice -n "$browser_nice" node "$watcher" "$url" | sed -n 's/^browser_cpu_s \([0-9.]*\).*/\1/p')
     fi
     wait "$run"
     wall=$(awk -v a="$start" -v b="$(date +%s%N)" 'BEGIN { printf "%.3f", (b - a) / 1e9 }')
