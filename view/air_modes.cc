@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -144,7 +145,11 @@ std::vector<ModeChange> ReadAirModes(const std::string& pcap_path, int robots) {
     throw Error("\"" + pcap_path + "\": " + error.what());
   }
   close(fd);
-  return reader.changes();
+  // Each robot's frames are in time order; the file interleaves robots by end of transmission.
+  std::vector<ModeChange> changes = reader.changes();
+  std::stable_sort(changes.begin(), changes.end(),
+                   [](const ModeChange& a, const ModeChange& b) { return a.time_ns < b.time_ns; });
+  return changes;
 }
 
 }  // namespace sitlnet::view

@@ -47,7 +47,8 @@ class AirModeReader {
   std::vector<int> latest_;  // Index into changes_ per robot; -1: none.
 };
 
-// Every mode change of `pcap_path` (missing file: none). Throws Error naming the file.
+// Every mode change of `pcap_path` (missing file: none), in time order (stable). Throws Error
+// naming the file.
 std::vector<ModeChange> ReadAirModes(const std::string& pcap_path, int robots);
 
 }  // namespace sitlnet::view
