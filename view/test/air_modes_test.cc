@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "tapbridge/tapbridge.h"
+#include "view/live_modes.h"
 #include "view/replay_json.h"
 #include "view/test/run_folder_fixture.h"
 
@@ -114,6 +115,14 @@ class AirModesTest : public ::testing::Test {
     heartbeats_ = NodeHeartbeats();
     ASSERT_GT(heartbeats_.size(), 20u) << "copter_heartbeats.cjs printed no modes";
   }
+  // node-mavlink's HEARTBEAT of the mode `name`.
+  std::vector<uint8_t> Named(const std::string& name) const {
+    for (const auto& [bytes, mode] : heartbeats_) {
+      if (mode == name) return bytes;
+    }
+    ADD_FAILURE() << "no HEARTBEAT in " << name;
+    return {};
+  }
   std::vector<std::pair<std::vector<uint8_t>, std::string>> heartbeats_;
 };
 
@@ -147,20 +156,55 @@ TEST_F(AirModesTest, EveryCopterModeOfNodeMavlinkReadsBackByItsName) {
   EXPECT_EQ(reader.Latest(0), nullptr);
 }
 
+// The live view reads medium.pcap while the run writes it: a record cut in two shows once whole.
+TEST_F(AirModesTest, TheLiveViewReadsWhatWasAppendedSinceItsLastRead) {
+  const std::string dir = ::testing::TempDir() + "/air_modes_live";
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/medium.pcap";
+  std::filesystem::remove(path);
+  LiveModes modes(dir, 2);
+  modes.Update();  // No file yet: no modes.
+  EXPECT_TRUE(modes.Latest().empty());
+  const std::string guided = Record(1, kNsPerS, Named("GUIDED"));
+  const std::string land = Record(1, 2 * kNsPerS, Named("LAND"));
+  testing::WriteFile(path, tapbridge::PcapFileHeader() + guided.substr(0, 20));
+  modes.Update();
+  EXPECT_TRUE(modes.Latest().empty());
+  const auto append = [&](const std::string& bytes) {
+    FILE* file = std::fopen(path.c_str(), "ab");
+    ASSERT_NE(file, nullptr);
+    std::fwrite(bytes.data(), 1, bytes.size(), file);
+    std::fclose(file);
+  };
+  append(guided.substr(20));
+  modes.Update();
+  ASSERT_EQ(modes.Latest().size(), 1u);
+  EXPECT_EQ(modes.Latest()[0].mode, "GUIDED");
+  append(land);
+  modes.Update();
+  ASSERT_EQ(modes.Latest().size(), 1u);
+  EXPECT_EQ(modes.Latest()[0].mode, "LAND");
+  EXPECT_EQ(modes.Latest()[0].time_ns, 2 * kNsPerS);
+
+  // Not a pcap of sitlnet's: said once, and the modes stay as they were.
+  LiveModes broken(dir, 2);
+  testing::WriteFile(path, "not a pcap file, but long enough to have a header");
+  ::testing::internal::CaptureStderr();
+  broken.Update();
+  broken.Update();
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(),
+            "sitlnet run: live view: \"" + path + "\": not a pcap file of sitlnet's "
+            "(nanosecond pcap, radiotap link type); no autopilot modes shown\n");
+  EXPECT_TRUE(broken.Latest().empty());
+}
+
 TEST_F(AirModesTest, ReplayListsARunFoldersModeChanges) {
   const std::string dir = testing::WriteRunFolder("air_modes_replay", "");
   // GUIDED twice (one change), then LAND.
-  const auto named = [&](const std::string& name) {
-    for (const auto& [bytes, mode] : heartbeats_) {
-      if (mode == name) return bytes;
-    }
-    ADD_FAILURE() << name;
-    return std::vector<uint8_t>{};
-  };
   testing::WriteFile(dir + "/medium.pcap",
-                     tapbridge::PcapFileHeader() + Record(0, kNsPerS, named("GUIDED")) +
-                         Record(0, 2 * kNsPerS, named("GUIDED")) +
-                         Record(0, 3 * kNsPerS + 500 * kNsPerMs, named("LAND")));
+                     tapbridge::PcapFileHeader() + Record(0, kNsPerS, Named("GUIDED")) +
+                         Record(0, 2 * kNsPerS, Named("GUIDED")) +
+                         Record(0, 3 * kNsPerS + 500 * kNsPerMs, Named("LAND")));
   EXPECT_EQ(ModesJson(LoadRunRecord(dir)), "{\"modes\":[[1,0,\"GUIDED\"],[3.5,0,\"LAND\"]]}");
   testing::WriteFile(dir + "/medium.pcap", "not a pcap file, but long enough to have a header");
   try {
