@@ -26,9 +26,11 @@ std::string NodeMavlinkDir() {
   return std::string(source ? source : ".") + "/tests/node_mavlink";
 }
 
+using Heartbeats = std::vector<std::pair<std::vector<uint8_t>, std::string>>;
+
 // (frame bytes, expected mode or "-") per line of copter_heartbeats.cjs; empty if it failed.
-std::vector<std::pair<std::vector<uint8_t>, std::string>> NodeHeartbeats() {
-  std::vector<std::pair<std::vector<uint8_t>, std::string>> heartbeats;
+Heartbeats RunCopterHeartbeats() {
+  Heartbeats heartbeats;
   FILE* pipe = popen(("node " + NodeMavlinkDir() + "/copter_heartbeats.cjs").c_str(), "r");
   if (pipe == nullptr) return heartbeats;
   std::string out;
@@ -112,7 +114,8 @@ class AirModesTest : public ::testing::Test {
       if (ci != nullptr && std::string(ci) == "true") FAIL() << why;
       GTEST_SKIP() << why;
     }
-    heartbeats_ = NodeHeartbeats();
+    static const Heartbeats heartbeats = RunCopterHeartbeats();  // Node once per process.
+    heartbeats_ = heartbeats;
     ASSERT_GT(heartbeats_.size(), 20u) << "copter_heartbeats.cjs printed no modes";
   }
   // node-mavlink's HEARTBEAT of the mode `name`.
@@ -123,7 +126,7 @@ class AirModesTest : public ::testing::Test {
     ADD_FAILURE() << "no HEARTBEAT in " << name;
     return {};
   }
-  std::vector<std::pair<std::vector<uint8_t>, std::string>> heartbeats_;
+  Heartbeats heartbeats_;
 };
 
 TEST_F(AirModesTest, EveryCopterModeOfNodeMavlinkReadsBackByItsName) {
