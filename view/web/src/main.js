@@ -2,7 +2,9 @@
 // link's frames; or, for `sitlnet run --view`, follows the run (live.js). document.body's
 // data-ready is "true" once the first drawing is done.
 import { select } from 'd3-selection';
-import { loadFrames, loadLinks, loadModes, loadRun, loadTimeline, loadTrajectories } from './api.js';
+import {
+  loadFrames, loadLinks, loadModes, loadRun, loadTimeline, loadTrajectories,
+} from './api.js';
 import { TimelineChart } from './chart.js';
 import { FrameList } from './frames.js';
 import { drawRobotTable } from './robots.js';
