@@ -42,4 +42,11 @@ std::string LinkArray(int64_t second, int from, int to, uint64_t frames, uint64_
          std::to_string(main_cause_frames) + "]";
 }
 
+std::string ModeChangesArray(const std::vector<ModeChange>& changes) {
+  return Array(changes, [](const ModeChange& change) {
+    return "[" + Seconds(change.time_ns) + "," + std::to_string(change.robot) + "," +
+           Quote(change.mode) + "]";
+  });
+}
+
 }  // namespace sitlnet::view

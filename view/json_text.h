@@ -8,6 +8,7 @@
 #include "common/common.h"
 #include "runner/live_sink.h"
 #include "sitlnet/scenario.pb.h"
+#include "view/air_modes.h"
 
 namespace sitlnet::view {
 
@@ -29,6 +30,9 @@ std::string Array(const std::vector<Item>& items, Format format) {
 // main_cause, main_cause_frames]; `ratio` < 0 for none.
 std::string LinkArray(int64_t second, int from, int to, uint64_t frames, uint64_t delivered,
                       double ratio, const std::string& main_cause, uint64_t main_cause_frames);
+
+// Autopilot mode changes as [[time_s, robot, mode], ...], in the order given.
+std::string ModeChangesArray(const std::vector<ModeChange>& changes);
 
 }  // namespace sitlnet::view
 

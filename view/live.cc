@@ -8,6 +8,7 @@
 #include "view/http_server.h"
 #include "view/live_feed.h"
 #include "view/live_json.h"
+#include "view/live_modes.h"
 #include "view/replay_json.h"
 #include "view/stop_signals_blocked.h"
 #include "view/view.h"
@@ -18,15 +19,20 @@ namespace {
 // /api/live is built at most this often, however many browsers ask: a bounded cost.
 constexpr TimeNs kLiveDocumentPeriodNs = 200 * kNsPerMs;
 
-// /api/live, rebuilt from the feed when the last one is older than kLiveDocumentPeriodNs.
+// /api/live, rebuilt from the feed and medium.pcap when the last one is older than
+// kLiveDocumentPeriodNs.
 class LiveDocument {
  public:
-  explicit LiveDocument(const LiveFeed* feed) : feed_(*feed) {}
+  LiveDocument(const LiveFeed* feed, const std::string& run_dir, int robots)
+      : feed_(*feed), modes_(run_dir, robots) {}
   std::string Get() {
     std::lock_guard lock(mutex_);
     const TimeNs now_ns = MonotonicNowNs();
     if (json_.empty() || now_ns >= built_ns_ + kLiveDocumentPeriodNs) {
-      json_ = LiveJson(feed_.Snapshot());
+      const LiveSnapshot snapshot = feed_.Snapshot();
+      // A first pose means the loop began: medium.pcap is this run's.
+      if (snapshot.time_ns >= 0) modes_.Update();
+      json_ = LiveJson(snapshot, modes_.Latest());
       built_ns_ = now_ns;
     }
     return json_;
@@ -34,6 +40,7 @@ class LiveDocument {
 
  private:
   const LiveFeed& feed_;
+  LiveModes modes_;
   std::mutex mutex_;
   std::string json_;
   TimeNs built_ns_ = 0;
@@ -52,7 +59,8 @@ struct LiveView::State {
 LiveView::LiveView(const Scenario& scenario, const std::string& run_dir,
                    const ListenAddress& listen, const std::string& web_dir)
     : state_(std::make_unique<State>()) {
-  state_->document = std::make_unique<LiveDocument>(&state_->feed);
+  state_->document = std::make_unique<LiveDocument>(&state_->feed, run_dir,
+                                                    static_cast<int>(scenario.robots.size()));
   state_->server = std::make_unique<HttpServer>(web_dir);
   auto run = std::make_shared<const std::string>(
       RunJson(scenario, run_dir, scenario.duration_ns, /*live=*/true));

@@ -5,7 +5,7 @@
 
 namespace sitlnet::view {
 
-std::string LiveJson(const LiveSnapshot& snapshot) {
+std::string LiveJson(const LiveSnapshot& snapshot, const std::vector<ModeChange>& modes) {
   const std::string time = Seconds(snapshot.time_ns);
   std::string json = "{\"time_s\":" + (snapshot.time_ns < 0 ? "null" : time);
   json += ",\"robots\":" + Array(snapshot.poses, [&](const runner::LivePose& pose) {
@@ -29,6 +29,7 @@ std::string LiveJson(const LiveSnapshot& snapshot) {
           (snapshot.components_time_ns < 0 ? "null" : Seconds(snapshot.components_time_ns));
   json += "," + TimelineMembers(snapshot.connectivity, snapshot.timing);
   json += ",\"skipped_updates\":" + std::to_string(snapshot.skipped_updates);
+  json += ",\"modes\":" + ModeChangesArray(modes);
   return json + "}";
 }
 

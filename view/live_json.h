@@ -3,15 +3,18 @@
 #define SITLNET_VIEW_LIVE_JSON_H_
 
 #include <string>
+#include <vector>
 
+#include "view/air_modes.h"
 #include "view/live_feed.h"
 
 namespace sitlnet::view {
 
 // {"time_s", "robots": [[time_s, x_m, y_m, z_m, speed_m_s] or null], "trails": [[[time_s, x_m,
 // y_m], ...], ...], "link_second", "links": [links.csv rows as /api/links],
-// "components_time_s", "connectivity", "timing" (view/timeline_json.h), "skipped_updates"}.
-std::string LiveJson(const LiveSnapshot& snapshot);
+// "components_time_s", "connectivity", "timing" (view/timeline_json.h), "skipped_updates",
+// "modes": each robot's latest autopilot mode change as [time_s, robot, mode]}.
+std::string LiveJson(const LiveSnapshot& snapshot, const std::vector<ModeChange>& modes);
 
 }  // namespace sitlnet::view
 

@@ -50,6 +50,10 @@ std::string RunJson(const RunRecord& record) {
   return RunJson(record.scenario, record.run_dir, end_ns, false);
 }
 
+std::string ModesJson(const RunRecord& record) {
+  return "{\"modes\":" + ModeChangesArray(record.modes) + "}";
+}
+
 std::string TrajectoriesJson(const RunRecord& record) {
   std::vector<std::string> per_robot(record.scenario.robots.size());
   for (const PoseSample& pose : record.poses) {

@@ -11,8 +11,7 @@ namespace sitlnet::view {
 
 // /api/run: scenario name, run folder, live or replay, robots (index, name), obstacles (centre,
 // size, yaw), the time covered (`end_ns`), and losses.csv.gz's columns.
-std::string RunJson(const Scenario& scenario, const std::string& run_dir, TimeNs end_ns,
-                    bool live);
+std::string RunJson(const Scenario& scenario, const std::string& run_dir, TimeNs end_ns, bool live);
 // The same for a replay: the time the trajectories cover.
 std::string RunJson(const RunRecord& record);
 
@@ -25,6 +24,10 @@ std::string LinksJson(const RunRecord& record);
 
 // /api/timeline: {"connectivity", "timing"} (view/timeline_json.h) of the whole run.
 std::string TimelineJson(const RunRecord& record);
+
+// /api/modes: {"modes": [[time_s, robot, mode], ...]}, each robot's autopilot mode changes heard
+// in medium.pcap (view/air_modes.h), in time order.
+std::string ModesJson(const RunRecord& record);
 
 // At most this many rows in a /api/frames answer (its `total` counts them all).
 inline constexpr size_t kMaxFrameRows = 2000;

@@ -232,6 +232,8 @@ RunRecord LoadRunRecord(const std::string& run_dir) {
   ReadMetrics(metrics, &record);
   ReadLinks(links, &record);
   ReadLosses(losses, &record);
+  record.modes =
+      ReadAirModes(run_dir + "/medium.pcap", static_cast<int>(record.scenario.robots.size()));
   return record;
 }
 

@@ -1,6 +1,6 @@
 // A finished run folder (docs/run.md) as `sitlnet view` replays it: the effective scenario
-// (robots, obstacles), trajectories.csv, links.csv, losses.csv.gz, connectivity.csv, metrics.csv
-// and summary.json.
+// (robots, obstacles), trajectories.csv, links.csv, losses.csv.gz, connectivity.csv, metrics.csv,
+// summary.json, and the autopilots' modes heard in medium.pcap.
 #ifndef SITLNET_VIEW_RUN_RECORD_H_
 #define SITLNET_VIEW_RUN_RECORD_H_
 
@@ -12,6 +12,7 @@
 #include "common/common.h"
 #include "runner/second_timing.h"
 #include "scenario/scenario.h"
+#include "view/air_modes.h"
 #include "view/timeline_json.h"
 
 namespace sitlnet::view {
@@ -51,6 +52,7 @@ struct RunRecord {
   std::vector<ComponentsChange> connectivity;  // connectivity.csv's rows where they change
   std::vector<runner::SecondTiming> timing;    // metrics.csv per simulated second
   std::string summary_json;           // summary.json as written
+  std::vector<ModeChange> modes;      // heard in medium.pcap (view/air_modes.h); none without it
   // Indices into `losses` per (from, station), in file order.
   std::map<std::pair<int, int>, std::vector<size_t>> losses_by_link;
 };

@@ -19,6 +19,7 @@
 #include "tests/integration/mavlink_oracle.h"
 #include "tests/integration/realtime_judge.h"
 #include "tests/integration/run_test_util.h"
+#include "view/air_modes.h"
 
 namespace sitlnet::nns::testing {
 namespace {
@@ -97,6 +98,49 @@ struct RadioFlight {
   std::vector<Row> rows;  // the vehicle's truth
   double wall_s = 0;
 };
+
+// Issue 34, item 2: the vehicle's autopilot modes as `sitlnet view` reads them from medium.pcap
+// (view/air_modes.h), named from the numbers the real autopilot sent, must be the modes its
+// flight shows in trajectories.csv: `climb` halfway up the first climb, `cruise` at the fastest
+// horizontal move between, `descent` halfway down the last descent. A HEARTBEAT comes every
+// second; each of those moments is seconds into its mode.
+void ExpectModesOfTheFlight(const RadioFlight& flight, const std::string& climb,
+                            const std::string& cruise, const std::string& descent) {
+  const std::vector<view::ModeChange> changes =
+      view::ReadAirModes(flight.out + "/medium.pcap", kVehicle + 1);
+  std::string heard;
+  for (const view::ModeChange& change : changes) {
+    if (change.robot == kVehicle)
+      heard += " " + change.mode + "@" + std::to_string(change.time_ns / 1e9);
+  }
+  const auto mode_at = [&](double t_s) {
+    std::string mode = "(none yet)";
+    for (const view::ModeChange& change : changes) {
+      if (change.robot == kVehicle && change.time_ns <= t_s * 1e9) mode = change.mode;
+    }
+    return mode;
+  };
+  const auto& rows = flight.rows;
+  size_t up = 0, down = rows.size();
+  while (up < rows.size() && rows[up].z_m < kAltitudeM / 2) ++up;
+  while (down > up && rows[down - 1].z_m < kAltitudeM / 2) --down;
+  ASSERT_LT(up + 1, down) << "the vehicle never flew above half its altitude";
+  size_t fastest = up;
+  double fastest_m = 0;
+  for (size_t i = up + 1; i < down; ++i) {
+    const double moved_m = std::hypot(rows[i].x_m - rows[i - 1].x_m, rows[i].y_m - rows[i - 1].y_m);
+    if (moved_m > fastest_m) fastest = i, fastest_m = moved_m;
+  }
+  EXPECT_EQ(mode_at(rows[up].t_s), climb) << "at " << rows[up].t_s << " s; heard:" << heard;
+  EXPECT_EQ(mode_at(rows[fastest].t_s), cruise)
+      << "at " << rows[fastest].t_s << " s; heard:" << heard;
+  EXPECT_EQ(mode_at(rows[down - 1].t_s), descent)
+      << "at " << rows[down - 1].t_s << " s; heard:" << heard;
+  std::printf(
+      "[ measured ] the vehicle's modes over the air (at s):%s; climb %.1f s, cruise %.1f s, "
+      "descent %.1f s\n",
+      heard.c_str(), rows[up].t_s, rows[fastest].t_s, rows[down - 1].t_s);
+}
 
 // Flies it: once the station's log says DISARMED (both GCS scripts then exit), or
 // `ends_on_loop_complaint` and ArduPilot said it missed its loop (a flight to fly once more), the
@@ -226,6 +270,7 @@ void ExpectArduCopterFlight(const RadioFlight& flight, const std::string& pacing
   EXPECT_GT(commands.Commands(400), 0) << "COMPONENT_ARM_DISARM";
   EXPECT_GT(commands.Commands(22), 0) << "NAV_TAKEOFF";
   EXPECT_GT(commands.Messages("SET_POSITION_TARGET_LOCAL_NED"), 0);
+  ExpectModesOfTheFlight(flight, "GUIDED", "GUIDED", "LAND");  // DO_SET_MODE GUIDED, then LAND
   std::printf(
       "[ measured ] ArduCopter over the medium, %s: armed %.1f s, took off %.1f s, waypoint %.1f s, "
       "disarmed %.1f s (virtual); altitude off by %.3f m, waypoint by %.3f m; %d "
@@ -335,6 +380,8 @@ void FlyPx4OverTheMedium(const std::string& pacing) {
   EXPECT_GT(commands.Commands(21), 0) << "NAV_LAND";
   EXPECT_GT(commands.Messages("COMMAND_INT"), 0) << "DO_REPOSITION";
   EXPECT_GT(commands.Messages("HEARTBEAT"), 0);
+  // NAV_TAKEOFF, DO_REPOSITION (PX4's Hold), NAV_LAND: PX4's Takeoff, Hold and Land modes.
+  ExpectModesOfTheFlight(flight, "AUTO.TAKEOFF", "AUTO.LOITER", "AUTO.LAND");
   // The manifest's --sysid: every message PX4 sent over the radio carries it.
   EXPECT_EQ(telemetry.systems.size(), 1u);
   EXPECT_GT(telemetry.systems.count("7"), 0u);

@@ -107,6 +107,8 @@ struct PageFacts {
   std::vector<std::pair<long long, std::set<std::string>>> live_links;
   // Per time (replay) or read (live), the timeline's fields after "timeline TIME_S".
   std::vector<std::vector<std::string>> timelines;
+  // Replay: the robot table's mode, "TIME_S ROBOT" -> mode.
+  std::map<std::string, std::string> modes;
 };
 
 PageFacts ParsePage(const std::string& out) {
@@ -120,6 +122,11 @@ PageFacts ParsePage(const std::string& out) {
     if (kind == "console_error") facts.errors.push_back(line);
     if (kind == "load_ms") std::printf("page loaded and drawn in %s ms\n", line.c_str() + 8);
     if (kind == "scale") fields >> px_per_m >> min_x_m >> max_y_m;
+    if (kind == "mode") {
+      std::string time_s, robot, mode;
+      fields >> time_s >> robot >> mode;
+      facts.modes[time_s + " " + robot] = mode;
+    }
     if (kind == "robot") {
       DrawnRobot robot;
       robot.px_per_m = px_per_m;
@@ -310,9 +317,16 @@ struct ViewServer {
 TEST(ViewBrowserTest, ReplayDrawsTheTrajectoriesAndListsALinksFramesAsTheLossFile) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   SITLNET_REQUIRE(BrowserMissing());
+  SITLNET_REQUIRE(NodeMavlinkMissing());
   std::string why;
   const std::string& dir = FlightFolder(&why);
   ASSERT_FALSE(dir.empty()) << why;
+  // Issue 34, item 2: robot 0's frame at 3.0 s carries an ArduCopter HEARTBEAT in GUIDED,
+  // encoded by node-mavlink and written apart from sitlnet's pcap writer.
+  const CommandResult heartbeat =
+      RunCommand({"node", NodeMavlinkDir() + "/append_heartbeat.cjs", dir + "/medium.pcap", "0",
+                  "3000000000", "GUIDED"});
+  ASSERT_EQ(heartbeat.exit_code, 0) << heartbeat.err;
   ViewServer server(dir);
   ASSERT_FALSE(server.url.empty()) << server.child.out() << server.child.err();
 
@@ -334,6 +348,13 @@ TEST(ViewBrowserTest, ReplayDrawsTheTrajectoriesAndListsALinksFramesAsTheLossFil
     const DrawnRobot& after = facts.robots[3 + robot];
     EXPECT_GT(std::hypot(after.x_px - before.x_px, after.y_px - before.y_px), 5)
         << "robot " << robot << " did not move on the page";
+  }
+  // The robot table's mode: flockers have no autopilot ("none") until robot 0's HEARTBEAT.
+  const std::map<std::string, std::string> modes = {
+      {"2.0 0", "none"}, {"2.0 1", "none"}, {"3.5 0", "GUIDED"}, {"3.5 1", "none"}};
+  for (const auto& [time_and_robot, mode] : modes) {
+    EXPECT_EQ(facts.modes.count(time_and_robot) ? facts.modes.at(time_and_robot) : "(no row)", mode)
+        << time_and_robot << "\n" << page.out;
   }
   ASSERT_EQ(facts.timelines.size(), kTimes.size()) << page.out;
   ExpectTimelineAsTheRunsFiles(facts.timelines, dir, /*replay=*/true);

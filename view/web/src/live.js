@@ -23,6 +23,7 @@ export async function runLive(run) {
   select('#time').property('disabled', true);
   let map = null;
   let latest = null;
+  let drawnNews = null;
   const chart = new TimelineChart(document.getElementById('timeline'), '#timeline-note');
   const name = (i) => run.robots[i]?.name ?? String(i);
   const onLinkClick = (from, to) => {
@@ -39,7 +40,12 @@ export async function runLive(run) {
       return;
     }
     latest = live;
-    if (live.time_s !== null) {
+    // Drawn only when something new came: the server rebuilds the document at most every
+    // 200 ms, and a paused or slow run sends the same one again.
+    const news = JSON.stringify([live.time_s, live.link_second, live.components_time_s,
+      live.timing.length, live.modes]);
+    if (live.time_s !== null && news !== drawnNews) {
+      drawnNews = news;
       const here = live.robots.map((r) => [r[1], r[2]]);
       const trailPoints = live.trails.flatMap((t) => t.map((p) => [p[1], p[2]]));
       if (!map || !map.shows(here.concat(trailPoints))) {
@@ -50,7 +56,9 @@ export async function runLive(run) {
       const trails = live.trails.map((t) => t.map((p) => [p[0], p[1], p[2]]));
       map.draw(run, live.robots, trails, live.links);
       const now = live.connectivity[live.connectivity.length - 1];
-      drawRobotTable(run, live.robots, now?.[2]);
+      const modes = run.robots.map(() => null);
+      for (const [, robot, mode] of live.modes) modes[robot] = mode;
+      drawRobotTable(run, live.robots, now?.[2], modes);
       const lastSecond = live.timing[live.timing.length - 1]?.[0] ?? -1;
       chart.draw(live.connectivity, live.timing, Math.max(live.time_s, 1),
         live.components_time_s ?? 0, lastSecond, name);

@@ -2,13 +2,17 @@
 // link's frames; or, for `sitlnet run --view`, follows the run (live.js). document.body's
 // data-ready is "true" once the first drawing is done.
 import { select } from 'd3-selection';
-import { loadFrames, loadLinks, loadRun, loadTimeline, loadTrajectories } from './api.js';
+import {
+  loadFrames, loadLinks, loadModes, loadRun, loadTimeline, loadTrajectories,
+} from './api.js';
 import { TimelineChart } from './chart.js';
 import { FrameList } from './frames.js';
 import { drawRobotTable } from './robots.js';
 import { runLive } from './live.js';
 import { MapView, pointsToShow, ratioColour } from './map.js';
-import { componentsAt, linkSecondAt, linksBySecond, sampleAt, trailUntil } from './timeline.js';
+import {
+  componentsAt, linkSecondAt, linksBySecond, modesAt, modesByRobot, sampleAt, trailUntil,
+} from './timeline.js';
 
 function drawLegend() {
   const legend = select('#legend');
@@ -21,9 +25,10 @@ function drawLegend() {
 }
 
 async function replay(run) {
-  const [trajectories, links, timeline] =
-    await Promise.all([loadTrajectories(), loadLinks(), loadTimeline()]);
+  const [trajectories, links, timeline, modes] =
+    await Promise.all([loadTrajectories(), loadLinks(), loadTimeline(), loadModes()]);
   const bySecond = linksBySecond(links.links);
+  const modesOfRobots = modesByRobot(modes.modes, run.robots.length);
   const robotName = (index) => run.robots[index]?.name ?? String(index);
   const frames = new FrameList('#frames', '#frames-title', '#frames-note', run.loss_columns);
   const slider = document.getElementById('time');
@@ -47,7 +52,8 @@ async function replay(run) {
     const positions = trajectories.robots.map((samples) => sampleAt(samples, t));
     const trails = trajectories.robots.map((samples) => trailUntil(samples, t));
     map.draw(run, positions, trails, bySecond.get(linkSecondAt(t)) ?? []);
-    drawRobotTable(run, positions, componentsAt(timeline.connectivity, t)?.[2]);
+    drawRobotTable(run, positions, componentsAt(timeline.connectivity, t)?.[2],
+      modesAt(modesOfRobots, t));
     chart.draw(timeline.connectivity, timeline.timing, run.end_s, t, linkSecondAt(t), robotName);
   };
   slider.addEventListener('input', () => {

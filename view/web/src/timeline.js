@@ -42,3 +42,15 @@ export function linksBySecond(rows) {
   }
   return bySecond;
 }
+
+// Autopilot mode changes ([time_s, robot, mode], in time order) per robot: an array by robot
+// index of [time_s, mode] lists.
+export function modesByRobot(changes, robotCount) {
+  const byRobot = Array.from({ length: robotCount }, () => []);
+  for (const [t, robot, mode] of changes) byRobot[robot]?.push([t, mode]);
+  return byRobot;
+}
+
+// Each robot's mode at `timeS` (its last change at or before it), or null before the first.
+export const modesAt = (byRobot, timeS) =>
+  byRobot.map((changes) => componentsAt(changes, timeS)?.[1] ?? null);

@@ -9,6 +9,7 @@
 //   console_error TEXT              every console error, page error and failed request
 //   scale PX_PER_M MIN_X_M MAX_Y_M  the map's projection (data attributes of the svg)
 //   robot TIME_S INDEX CX_PX CY_PX  a robot's drawn centre, CSS px from the svg's top-left corner
+//   mode TIME_S INDEX MODE          (replay) a robot's autopilot mode in the robot table
 //   frames FROM TO START_NS END_NS TOTAL   the clicked link's frame list, then each row:
 //   frame CELL,CELL,...
 //   timeline TIME_S MAX_COMPONENTS CURSOR_TIME_S COMPONENTS_TIME_S COMPONENTS COMPONENT_OF
@@ -127,14 +128,17 @@ async function main() {
         slider.dispatchEvent(new Event('input'));
       }, time);
       for (const [index, x, y] of await robotCentres(page)) console.log(`robot ${time} ${index} ${x} ${y}`);
+      const modes = await page.$$eval('#robots tbody tr', (rows) =>
+        rows.map((tr) => [tr.dataset.robot, tr.dataset.mode]));
+      for (const [index, mode] of modes) console.log(`mode ${time} ${index} ${mode}`);
       console.log(`timeline ${time} ${(await timelineFacts(page)).join(' ')}`);
       await shot(`replay-${time}s.png`);
     }
     // The link asked for, or the first drawn, at the last time; the table says which link the
     // click selected (links drawn side by side may overlap).
     const link = linkFrom === undefined
-      ? page.locator('#map line.link-hit').first()
-      : page.locator(`#map line.link-hit[data-from="${linkFrom}"][data-to="${linkTo}"]`);
+      ? page.locator('#map line.link').first()
+      : page.locator(`#map line.link[data-from="${linkFrom}"][data-to="${linkTo}"]`);
     await link.click();
     await page.waitForSelector('#frames[data-from]', { timeout: 10000 });
     const frames = await page.$eval('#frames', (table) => ({
