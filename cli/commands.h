@@ -11,6 +11,10 @@
 
 #include "scenario/scenario.h"
 
+namespace sitlnet::runner {
+struct RunOptions;
+}  // namespace sitlnet::runner
+
 namespace sitlnet::cli {
 
 // Exit codes shared by every command (exec passes the program's own through).
@@ -39,6 +43,11 @@ Command AddMediumCommand(CLI::App& sitlnet);   // cli/medium_command.cc (tapbrid
 Command AddCaptureCommand(CLI::App& sitlnet);  // cli/capture_command.cc (tapbridge)
 Command AddPhysicsCommand(CLI::App& sitlnet);  // cli/physics_command.cc (physics_mujoco)
 Command AddViewCommand(CLI::App& sitlnet);     // cli/view_command.cc (view)
+Command AddNodeCommand(CLI::App& sitlnet);     // cli/node_command.cc (runner)
+
+// This binary and the folder of the image manifests ($SITLNET_IMAGES, else the source tree's
+// robot_images/), for the images `run` and `node` start (cli/run_command.cc).
+void LocateImages(runner::RunOptions* options);
 
 // A scenario file, or the name of a scenario that is up (its state file names
 // the file). Throws Error.

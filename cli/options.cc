@@ -25,7 +25,7 @@ CLI::Option* AddNoShadowingOption(CLI::App& command, bool* no_shadowing) {
 CLI::Option* AddSecretFileOption(CLI::App& command, std::string* secret_file) {
   return command
       .add_option("--secret-file", *secret_file,
-                  "the shared secret both ends of the remote medium prove they hold before "
+                  "the shared secret both ends of a link (a remote medium, a node host) prove they hold before "
                   "anything else: the same file at both ends, owner-only, 16 to 4096 bytes "
                   "(head -c 32 /dev/urandom > PATH; chmod 600 PATH). Required when the run "
                   "listens on an address other hosts can reach (not loopback, not unix:). It "
@@ -60,13 +60,14 @@ CLI::Validator SecondsIn(double min_s, bool min_allowed, double max_s) {
 }
 
 CLI::Option* AddPeerTimeoutOption(CLI::App& command, const std::string& name,
-                                  const std::string& help, TimeNs* timeout_ns) {
+                                  const std::string& help, TimeNs* timeout_ns,
+                                  int default_s) {
   constexpr double kMaxSeconds = 86400;  // A day: S x 1e9 fits int64 nanoseconds with room.
   return command
       .add_option_function<double>(
           name,
           [timeout_ns](double seconds) { *timeout_ns = static_cast<TimeNs>(seconds * kNsPerS); },
-          help + " (default 60)")
+          help + " (default " + std::to_string(default_s) + ")")
       ->type_name("S")
       ->check(SecondsIn(0, false, kMaxSeconds));
 }

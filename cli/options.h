@@ -21,7 +21,7 @@ CLI::Option* AddSeedOption(CLI::App& command, std::optional<uint64_t>* seed);
 // --no-shadowing: radio.shadowing = false.
 CLI::Option* AddNoShadowingOption(CLI::App& command, bool* no_shadowing);
 
-// --secret-file PATH: the remote medium's shared secret (docs/coordinator.md).
+// --secret-file PATH: a link's shared secret (docs/coordinator.md).
 CLI::Option* AddSecretFileOption(CLI::App& command, std::string* secret_file);
 
 // --rt-priority P: SCHED_FIFO priority 0..99 of sitlnet's own threads (0: normal).
@@ -31,10 +31,12 @@ CLI::Option* AddRtPriorityOption(CLI::App& command, int* priority);
 // at most `max_s`; its message says so ("not 0 < S <= 86400 seconds").
 CLI::Validator SecondsIn(double min_s, bool min_allowed, double max_s);
 
-// A wait for the remote medium's peer, in seconds: 0 < S <= 86400 (S x 1e9 must fit the
-// int64 nanoseconds added to the clock), stored as nanoseconds.
+// A wait for a remote peer (the medium, a node host), in seconds: 0 < S <= 86400 (S x 1e9 must
+// fit the int64 nanoseconds added to the clock), stored as nanoseconds. `default_s` is only what
+// the help says: *timeout_ns holds the default.
 CLI::Option* AddPeerTimeoutOption(CLI::App& command, const std::string& name,
-                                  const std::string& help, TimeNs* timeout_ns);
+                                  const std::string& help, TimeNs* timeout_ns,
+                                  int default_s = 60);
 
 }  // namespace sitlnet::cli
 

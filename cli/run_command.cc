@@ -69,6 +69,12 @@ std::string SelfExe() {
 
 }  // namespace
 
+void LocateImages(runner::RunOptions* options) {
+  options->sitlnet_exe = SelfExe();
+  const char* images = std::getenv("SITLNET_IMAGES");
+  options->images_root = images ? images : SITLNET_DEFAULT_IMAGES_DIR;
+}
+
 Command AddRunCommand(CLI::App& sitlnet) {
   CLI::App* run =
       sitlnet.add_subcommand("run", "fly a scenario: robots, medium, physics, images, outputs");
@@ -99,11 +105,15 @@ Command AddRunCommand(CLI::App& sitlnet) {
   AddRtPriorityOption(*run, &options->realtime_priority);
   CLI::Option* listen =
       run->add_option("--listen", options->listen,
-                      "with --remote network: the 802.11 medium model runs on another host. "
-                      "Listen on HOST:PORT (0.0.0.0:7100; port 0 picks one, printed; or "
-                      "unix:/path), wait for `sitlnet medium SCENARIO --connect THIS_HOST:PORT` "
-                      "there (same scenario file, same --seed and --no-shadowing), then run; "
-                      "the robots' TAPs and physics stay here. Lockstep pacing only")
+                      "listen on HOST:PORT (0.0.0.0:7100; port 0 picks one, printed; or "
+                      "unix:/path) for peers on other hosts, then run. With --remote network: "
+                      "the 802.11 medium model runs on another host; wait for `sitlnet medium "
+                      "SCENARIO --connect THIS_HOST:PORT` there (same scenario file, same --seed "
+                      "and --no-shadowing); the robots' TAPs and physics stay here. For a "
+                      "scenario with nodes: wait for every node's `sitlnet node SCENARIO --node "
+                      "NAME --connect THIS_HOST:PORT` (same --seed and --pacing); the robots run "
+                      "there, the medium and every output here (docs/scale-out.md). Lockstep "
+                      "pacing only")
           ->type_name("HOST:PORT");
   auto remote = std::make_shared<std::string>();
   CLI::Option* remote_option =
@@ -112,10 +122,17 @@ Command AddRunCommand(CLI::App& sitlnet) {
                       "ctl0 here; docs/coordinator.md)")
           ->type_name("network")
           ->check(CLI::IsMember({"network"}).description(""));
-  listen->needs(remote_option);
   remote_option->needs(listen);
   AddPeerTimeoutOption(*run, "--remote-timeout", "longest wait for the medium to connect",
                        &options->remote_wait_ns);
+  AddPeerTimeoutOption(*run, "--node-timeout",
+                       "a scenario with nodes: longest wait for every node to connect",
+                       &options->node_wait_ns, 120)
+      ->needs(listen);
+  run->add_flag("--one-host", options->one_host,
+                "a scenario with nodes: run every robot here, ignoring `nodes` (the reference "
+                "of a run over node hosts: the same outputs, byte for byte)")
+      ->excludes(listen);
   AddSecretFileOption(*run, &options->secret_file)->needs(listen);
   auto view_arguments = std::make_shared<LiveViewArguments>();
   view_arguments->option =
@@ -130,9 +147,8 @@ Command AddRunCommand(CLI::App& sitlnet) {
                 "let --view listen on an address other than loopback")
       ->needs(view_arguments->option);
   return {run, [options, remote, view_arguments] {
-            options->sitlnet_exe = SelfExe();
-            const char* images = std::getenv("SITLNET_IMAGES");
-            options->images_root = images ? images : SITLNET_DEFAULT_IMAGES_DIR;
+            options->remote_network = !remote->empty();
+            LocateImages(options.get());
             int code = kExitOk;
             const int status = ReportErrors("run", kExitUsage, [&] {
               std::unique_ptr<view::LiveView> live;

@@ -5,9 +5,13 @@ namespace sitlnet::fleet {
 std::optional<std::string> FindBrokenPoses(const proto::coord::Poses& poses, size_t robots) {
   const size_t positions = static_cast<size_t>(poses.position_m_size());
   const size_t orientations = static_cast<size_t>(poses.orientation_wxyz_size());
-  if (positions != 3 * robots || orientations != 4 * robots) {
-    return "sent " + std::to_string(positions) + " position and " + std::to_string(orientations) +
-           " orientation numbers, not 3 and 4 for each of its " + std::to_string(robots) +
+  const size_t velocities = static_cast<size_t>(poses.velocity_m_s_size());
+  // Velocities are optional as a whole (a physics without them sends none), never in part.
+  if (positions != 3 * robots || orientations != 4 * robots ||
+      (velocities != 0 && velocities != 3 * robots)) {
+    return "sent " + std::to_string(positions) + " position, " + std::to_string(orientations) +
+           " orientation and " + std::to_string(velocities) +
+           " velocity numbers, not 3, 4 and 3 (or 0) for each of its " + std::to_string(robots) +
            " robots";
   }
   return std::nullopt;
@@ -15,11 +19,19 @@ std::optional<std::string> FindBrokenPoses(const proto::coord::Poses& poses, siz
 
 void PlacePoses(const proto::coord::Poses& node, const std::vector<int>& robots,
                 proto::coord::Poses* all) {
+  const bool velocities = node.velocity_m_s_size() > 0;
+  if (velocities && all->velocity_m_s_size() == 0) {
+    all->mutable_velocity_m_s()->Resize(all->position_m_size(), 0.0);
+  }
   for (size_t i = 0; i < robots.size(); ++i) {
     const int robot = robots[i];
     for (int c = 0; c < 3; ++c) all->set_position_m(3 * robot + c, node.position_m(3 * i + c));
     for (int c = 0; c < 4; ++c) {
       all->set_orientation_wxyz(4 * robot + c, node.orientation_wxyz(4 * i + c));
+    }
+    if (!velocities) continue;
+    for (int c = 0; c < 3; ++c) {
+      all->set_velocity_m_s(3 * robot + c, node.velocity_m_s(3 * i + c));
     }
   }
 }

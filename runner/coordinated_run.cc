@@ -5,25 +5,10 @@
 #include "runner/cpu_time.h"
 
 namespace sitlnet::runner {
-namespace {
 
-physics_side::RobotLockstepOptions RobotLockstep(const Scenario& scenario, bool lockstep) {
-  physics_side::RobotLockstepOptions robot_lockstep;
-  robot_lockstep.enabled = lockstep;
-  robot_lockstep.command_timeout_ns = scenario.spec.silent_robot_timeout_ms() * kNsPerMs;
-  robot_lockstep.drop_silent =
-      scenario.spec.on_silent_robot() == proto::Scenario::SILENT_ROBOT_DROP;
-  return robot_lockstep;
-}
-
-}  // namespace
-
-CoordinatedRun::CoordinatedRun(RunSetup* setup, const RunOptions& options,
+CoordinatedRun::CoordinatedRun(RunParts* setup, RunPhysics* physics, const RunOptions& options,
                                const std::string& run_dir, int interrupt_fd)
-    : physics_sim_(setup->scenario(), &setup->physics_server(),
-                   RobotLockstep(setup->scenario(), setup->lockstep())),
-      recording_(&physics_sim_, physics::GeodeticFrame(setup->scenario().spec.geodetic_origin()),
-                 run_dir + "/trajectories.csv", options.trajectory_period_ns),
+    : physics_(*physics),
       bridge_sim_(
           setup->scenario(), &setup->bridge(),
           setup->lockstep() ? coordinator::Pacing::kLockstep : coordinator::Pacing::kRealtime,
@@ -35,8 +20,6 @@ CoordinatedRun::CoordinatedRun(RunSetup* setup, const RunOptions& options,
                   &progress_),
       // The supervisor first: a robot that exited is counted out on the same line.
       observed_network_(&bridge_sim_, {&supervisor_, &progress_}),
-      physics_(coordinator::MakeInProcessConnector(
-          "physics", coordinator::Role::kPhysics, &recording_, coordinator::Threading::kOwnThread)),
       // The bridge is single-threaded: always the coordinator's own thread.
       network_(coordinator::MakeInProcessConnector("network", coordinator::Role::kNetwork,
                                                    &observed_network_,
@@ -44,8 +27,6 @@ CoordinatedRun::CoordinatedRun(RunSetup* setup, const RunOptions& options,
       run_options_(coordinator::OptionsFromScenario(setup->scenario())),
       metrics_csv_(run_dir + "/metrics.csv"),
       live_(options.live) {
-  if (setup->shared_time() != nullptr) recording_.ShareTimeWith(setup->shared_time());
-  recording_.SetLiveSink(options.live);
   run_options_.timebase_out = &setup->run_timebase();
   run_options_.metrics_csv = &metrics_csv_;
   run_options_.metrics = &metrics_;
@@ -62,7 +43,7 @@ LoopOutcome CoordinatedRun::Run() {
   LoopOutcome outcome;
   outcome.begin_ns = MonotonicNowNs();
   try {
-    outcome.result = coordinator::RunCoordinator(*physics_, *network_, run_options_);
+    outcome.result = coordinator::RunCoordinator(physics_.connector(), *network_, run_options_);
   } catch (const Error& error) {
     outcome.failure = error.what();
   }
@@ -73,7 +54,7 @@ LoopOutcome CoordinatedRun::Run() {
     if (auto second = live_timing_.Finish()) live_->Timing(*second);
   }
   metrics_csv_.Flush();
-  recording_.Flush();
+  physics_.Flush();
   outcome.metrics = metrics_.Summarize();
   return outcome;
 }

@@ -1,5 +1,5 @@
-// The run stage of `sitlnet run`: the coordinator steps the physics side (recording
-// trajectories.csv) and the network side, whose iterations the robot supervisor and the progress
+// The run stage of `sitlnet run`: the coordinator steps the physics side (here or on node hosts,
+// recording trajectories.csv) and the network side, whose iterations the robot supervisor and the progress
 // line observe; metrics.csv is written as it goes.
 #ifndef SITLNET_RUNNER_COORDINATED_RUN_H_
 #define SITLNET_RUNNER_COORDINATED_RUN_H_
@@ -9,11 +9,9 @@
 
 #include "coordinator/coordinator.h"
 #include "network_side/network_side.h"
-#include "physics_side/physics_side.h"
 #include "runner/progress_line.h"
-#include "runner/recording_physics.h"
 #include "runner/robot_supervisor.h"
-#include "runner/run_setup.h"
+#include "runner/run_parts.h"
 #include "runner/runner.h"
 #include "runner/second_timing.h"
 
@@ -31,23 +29,21 @@ struct LoopOutcome {
 
 class CoordinatedRun {
  public:
-  // Creates trajectories.csv and metrics.csv (throws Error naming the file). `setup` must
-  // outlive this; `interrupt_fd`: the run's StopSignal.
-  CoordinatedRun(RunSetup* setup, const RunOptions& options, const std::string& run_dir,
-                 int interrupt_fd);
+  // Creates metrics.csv (throws Error naming the file). `setup` and `physics` must outlive this;
+  // `interrupt_fd`: the run's StopSignal.
+  CoordinatedRun(RunParts* setup, RunPhysics* physics, const RunOptions& options,
+                 const std::string& run_dir, int interrupt_fd);
   // Runs every iteration (or until interrupted, or until a connector fails: the Error is the
   // outcome's failure, not thrown), then ends the progress line and flushes metrics.csv and
   // trajectories.csv (throws Error naming the file that cannot be written).
   LoopOutcome Run();
 
  private:
-  physics_side::PhysicsServerSimulator physics_sim_;
-  RecordingPhysics recording_;
+  RunPhysics& physics_;
   network_side::BridgeSimulator bridge_sim_;
   ProgressLine progress_;
   RobotSupervisor supervisor_;
   ObservedSimulator observed_network_;
-  std::unique_ptr<coordinator::Connector> physics_;
   std::unique_ptr<coordinator::Connector> network_;
   coordinator::CoordinatorOptions run_options_;
   coordinator::MetricsCsvWriter metrics_csv_;

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/common.h"
+#include "nns/nns.h"
 
 namespace sitlnet::runner {
 
@@ -39,6 +40,34 @@ physics::ServerOptions PhysicsOptionsFromEnvironment() {
     if (value > 0) options.world.cull_tile_m = value;
   }
   return options;
+}
+
+physics::ServerOptions RunPhysicsOptions(const Scenario& scenario, bool lockstep,
+                                         const clock::Timebase* wall_clock,
+                                         const std::vector<int>& robots) {
+  physics::ServerOptions options = PhysicsOptionsFromEnvironment();
+  options.world.robots = robots;
+  // Its sockets in the scenario's ctl namespace, where the robots' ctl0 links end: no one else
+  // can bind their ports there (nns.h, CtlNetnsName).
+  options.make_sockets = nns::InNetns(nns::CtlNetnsName(scenario.name));
+  // The autopilots' pacing: in lockstep the frame gate (silent after the scenario's timeout),
+  // in realtime the run's timebase (the coordinator begins it before iteration 0).
+  if (lockstep) {
+    options.periodic_states = false;  // one state per iteration, from the gate
+    options.frame_gate_timeout_ns = scenario.spec.silent_robot_timeout_ms() * kNsPerMs;
+  } else {
+    options.autopilot_wall_clock = wall_clock;
+  }
+  return options;
+}
+
+physics_side::RobotLockstepOptions RobotLockstep(const Scenario& scenario, bool lockstep) {
+  physics_side::RobotLockstepOptions robot_lockstep;
+  robot_lockstep.enabled = lockstep;
+  robot_lockstep.command_timeout_ns = scenario.spec.silent_robot_timeout_ms() * kNsPerMs;
+  robot_lockstep.drop_silent =
+      scenario.spec.on_silent_robot() == proto::Scenario::SILENT_ROBOT_DROP;
+  return robot_lockstep;
 }
 
 }  // namespace sitlnet::runner

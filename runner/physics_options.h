@@ -2,7 +2,12 @@
 #ifndef SITLNET_RUNNER_PHYSICS_OPTIONS_H_
 #define SITLNET_RUNNER_PHYSICS_OPTIONS_H_
 
+#include <vector>
+
+#include "clock/clock.h"
+#include "physics_side/physics_side.h"
 #include "physics_mujoco/physics_mujoco.h"
+#include "scenario/scenario.h"
 
 namespace sitlnet::runner {
 
@@ -12,6 +17,17 @@ namespace sitlnet::runner {
 // timing.physics_integrator (Euler trades RK4's accuracy, docs/physics.md, for about a
 // third of its cost). Anything else is a one-line error.
 physics::ServerOptions PhysicsOptionsFromEnvironment();
+
+// The physics server's options in a run of `scenario` (the environment's knobs included): its
+// sockets in the scenario's ctl namespace, the autopilots paced by the frame gate in lockstep or
+// by `wall_clock` (the run's timebase) in realtime. `robots`: those it simulates (empty: all).
+physics::ServerOptions RunPhysicsOptions(const Scenario& scenario, bool lockstep,
+                                         const clock::Timebase* wall_clock,
+                                         const std::vector<int>& robots = {});
+
+// The robots' lock-step with the physics (lockstep pacing), by the scenario's silent-robot
+// timeout and policy.
+physics_side::RobotLockstepOptions RobotLockstep(const Scenario& scenario, bool lockstep);
 
 }  // namespace sitlnet::runner
 

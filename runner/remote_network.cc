@@ -7,34 +7,41 @@
 
 namespace sitlnet::runner {
 
-std::unique_ptr<coordinator::Connector> AcceptRemoteNetwork(const Scenario& scenario,
-                                                            const RunOptions& options,
-                                                            int interrupt_fd) {
+PeerListener ListenForPeers(const Scenario& scenario, const RunOptions& options,
+                            const PeerWait& wait, int interrupt_fd) {
   const coordinator::Endpoint endpoint = coordinator::ParseEndpoint(options.listen);
   if (options.secret_file.empty() && !coordinator::IsLocalOnly(endpoint)) {
     throw Error("--listen " + options.listen +
-                " can be reached from other hosts: give --secret-file PATH, the same file as "
-                "`sitlnet medium --connect`'s (docs/coordinator.md, \"Authentication\")");
+                " can be reached from other hosts: give --secret-file PATH, the same file as `" +
+                wait.peer_command + "`'s (docs/coordinator.md, \"Authentication\")");
   }
-  const std::string secret = options.secret_file.empty()
-                                 ? std::string()
-                                 : coordinator::LoadSecretFile(options.secret_file);
-  coordinator::Listener listener(endpoint);
-  std::fprintf(stderr,
-               "sitlnet run: %s: waiting %lld s for the network connector on %s "
-               "(sitlnet medium FILE --connect HOST:PORT)\n",
-               scenario.name.c_str(), static_cast<long long>(options.remote_wait_ns / kNsPerS),
-               listener.endpoint().ToString().c_str());
-  coordinator::HandshakeExpectation expect;
-  expect.scenario_hash = network_side::MediumScenarioHash(scenario);
-  expect.iteration_ns = scenario.iteration_ns;
-  expect.secret = secret;
-  coordinator::WaitLimits limits;
-  limits.timeout_ns = options.remote_wait_ns;
-  limits.deadline_ns = MonotonicNowNs() + options.remote_wait_ns;
-  limits.interrupt_fd = interrupt_fd;
-  auto connector =
-      coordinator::AcceptConnectorOfRole(listener, coordinator::Role::kNetwork, expect, limits);
+  PeerListener peers;
+  peers.expect.secret = options.secret_file.empty()
+                            ? std::string()
+                            : coordinator::LoadSecretFile(options.secret_file);
+  peers.listener = std::make_unique<coordinator::Listener>(endpoint);
+  std::fprintf(stderr, "sitlnet run: %s: waiting %lld s for %s on %s (%s)\n",
+               scenario.name.c_str(), static_cast<long long>(wait.timeout_ns / kNsPerS),
+               wait.what.c_str(), peers.listener->endpoint().ToString().c_str(),
+               wait.peer_command.c_str());
+  peers.expect.scenario_hash = wait.scenario_hash;
+  peers.expect.iteration_ns = scenario.iteration_ns;
+  peers.limits.timeout_ns = wait.timeout_ns;
+  peers.limits.deadline_ns = MonotonicNowNs() + wait.timeout_ns;
+  peers.limits.interrupt_fd = interrupt_fd;
+  return peers;
+}
+
+std::unique_ptr<coordinator::Connector> AcceptRemoteNetwork(const Scenario& scenario,
+                                                            const RunOptions& options,
+                                                            int interrupt_fd) {
+  const PeerListener peers =
+      ListenForPeers(scenario, options,
+                     {"the network connector", "sitlnet medium FILE --connect HOST:PORT",
+                      network_side::MediumScenarioHash(scenario), options.remote_wait_ns},
+                     interrupt_fd);
+  auto connector = coordinator::AcceptConnectorOfRole(*peers.listener, coordinator::Role::kNetwork,
+                                                      peers.expect, peers.limits);
   if (connector) std::fprintf(stderr, "sitlnet run: %s connected\n", connector->Describe().c_str());
   return connector;  // The listener closes: nothing else can connect.
 }

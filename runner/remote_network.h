@@ -2,7 +2,9 @@
 #ifndef SITLNET_RUNNER_REMOTE_NETWORK_H_
 #define SITLNET_RUNNER_REMOTE_NETWORK_H_
 
+#include <cstdint>
 #include <memory>
+#include <string>
 
 #include "coordinator/connector.h"
 #include "network_side/network_side.h"
@@ -10,6 +12,27 @@
 #include "scenario/scenario.h"
 
 namespace sitlnet::runner {
+
+// What a run listens for on --listen: peers (`what`, "the network connector") that run
+// `peer_command`, proving `scenario_hash`, within `timeout_ns`.
+struct PeerWait {
+  std::string what;
+  std::string peer_command;
+  uint64_t scenario_hash = 0;
+  TimeNs timeout_ns = 0;
+};
+
+// The listener on options.listen, and the handshake's expectation and limits from now on.
+struct PeerListener {
+  std::unique_ptr<coordinator::Listener> listener;
+  coordinator::HandshakeExpectation expect;
+  coordinator::WaitLimits limits;
+};
+
+// Listens on options.listen and says on stderr what it waits for. Throws Error if the address is
+// reachable from other hosts without options.secret_file, or if the secret file is refused.
+PeerListener ListenForPeers(const Scenario& scenario, const RunOptions& options,
+                            const PeerWait& wait, int interrupt_fd);
 
 // `--listen ... --remote network`: waits for the medium's network connector
 // (another host's `sitlnet medium FILE --connect`) before anything is

@@ -61,13 +61,14 @@ std::unique_ptr<nns::RobotCgroup> MakeCgroup(const Scenario& scenario, const std
 }  // namespace
 
 std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& options,
-                                   const std::string& run_dir) {
+                                   const std::string& run_dir, const std::vector<int>& only) {
   std::vector<RobotSlot> robots(scenario.robots.size());
   bool warned_no_cgroup = false;
   for (const RobotPlan& plan : scenario.robots) {
     RobotSlot& slot = robots[plan.index];
     slot.name = plan.name;
     if (plan.spec.image().empty()) continue;
+    if (!only.empty() && !std::binary_search(only.begin(), only.end(), plan.index)) continue;
     const images::Image image = images::LoadImage(options.images_root, plan.spec.image());
     images::LaunchContext context = RobotContext(scenario, options, plan);
     context.robot_args.assign(plan.spec.args().begin(), plan.spec.args().end());

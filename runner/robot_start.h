@@ -16,11 +16,11 @@
 
 namespace sitlnet::runner {
 
-// Starts every robot's image (one slot per robot, indexed as the scenario's robots; a robot
-// without an image has no process); throws Error naming the robot and its log if one cannot
-// start or exits at once.
+// Starts the image of every robot of `robots` (empty: of all; one slot per robot of the scenario,
+// indexed as its robots; a robot without an image, or not of `robots`, has no process); throws
+// Error naming the robot and its log if one cannot start or exits at once.
 std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& options,
-                                   const std::string& run_dir);
+                                   const std::string& run_dir, const std::vector<int>& robots = {});
 
 // Timing.ros2_clock_hz > 0: one /clock publisher per robot (ros2_clock/), started like an image
 // (sandboxed, in the robot's namespace, log <run>/robots/<robot>.ros2_clock.log) and handed the

@@ -1,16 +1,17 @@
 // `sitlnet run`: the stages of a run of one scenario (setup, run, report), in order.
 #include <google/protobuf/text_format.h>
-#include <sys/prctl.h>
 #include <sys/resource.h>
 
 #include <ctime>
 #include <memory>
 
 #include "coordinator/coordinator.h"
-#include "nns/nns.h"
 #include "runner/coordinated_run.h"
 #include "runner/cpu_time.h"
+#include "runner/fleet_run.h"
+#include "runner/local_physics.h"
 #include "runner/remote_network.h"
+#include "runner/robot_host.h"
 #include "runner/robot_stop.h"
 #include "runner/run_folder.h"
 #include "runner/run_report.h"
@@ -31,6 +32,16 @@ std::string DefaultRunDir(const std::string& scenario_name) {
   return "runs/" + scenario_name + "-" + stamp;
 }
 
+// `--listen` is for the medium (--remote network) or for node hosts (a scenario with nodes).
+bool RunsOnNodeHosts(const Scenario& scenario, const RunOptions& options) {
+  if (!scenario.nodes.empty() && !options.one_host) return true;
+  if (!options.listen.empty() && !options.remote_network) {
+    throw Error("--listen is for --remote network, or for the node hosts of a scenario with nodes" +
+                std::string(options.one_host ? " (not with --one-host)" : ""));
+  }
+  return false;
+}
+
 // `--remote network` is refused in realtime pacing, before anything is created.
 void RefuseRemoteInRealtime(const Scenario& scenario, const RunOptions& options) {
   if (!options.listen.empty() &&
@@ -39,32 +50,6 @@ void RefuseRemoteInRealtime(const Scenario& scenario, const RunOptions& options)
         "--remote network needs lockstep pacing (--pacing lockstep): in realtime the bridge "
         "asks its medium for the next event at every frame, a network round trip each");
   }
-}
-
-// What the host must grant before anything of the run exists: privileges, the scenario's name
-// free, this process as the robots' subreaper, enough open files.
-void PrepareHost(const Scenario& scenario) {
-  nns::RequirePrivileges();
-  nns::RefuseIfInUse(scenario.name);  // Before the run folder: a refused run leaves nothing.
-  // A sandboxed robot's init outlives bubblewrap by a moment (docs/security.md); as the
-  // subreaper, this process reaps it, so its CPU time (the image's) is in RUSAGE_CHILDREN.
-  prctl(PR_SET_CHILD_SUBREAPER, 1);
-  // Per robot: its TAP, physics socket, log, pidfds and the medium's and bridge's own; 64 for
-  // the rest (outputs, sockets, pipes). Debian's default soft limit (1024) ran out near 250.
-  constexpr uint64_t kOpenFilesPerRobot = 8;
-  constexpr uint64_t kOpenFilesBase = 64;
-  RaiseOpenFileLimit(kOpenFilesBase + kOpenFilesPerRobot * scenario.robots.size(),
-                     "a run of " + std::to_string(scenario.robots.size()) + " robots");
-}
-
-// <run_dir>/scenario.textproto: the scenario with the command line's overrides.
-void WriteEffectiveScenario(const Scenario& scenario, const std::string& run_dir) {
-  std::string text;
-  google::protobuf::TextFormat::PrintToString(scenario.spec, &text);
-  LineFile(run_dir + "/scenario.textproto",
-           "# Effective scenario of this run (from " + scenario.source_path + ")", 1,
-           "effective scenario")
-      .AppendRecord(text);
 }
 
 }  // namespace
@@ -97,8 +82,12 @@ RunReport RunScenario(const RunOptions& options) {
   const Scenario scenario = LoadWithOverrides(options);
   RunReport report;
   report.run_dir = options.out_dir.empty() ? DefaultRunDir(scenario.name) : options.out_dir;
+  // The robots on node hosts: this host runs the medium and the coordinator only.
+  if (RunsOnNodeHosts(scenario, options)) {
+    return RunOnNodeHosts(scenario, options, std::move(report), begin_ns);
+  }
   RefuseRemoteInRealtime(scenario, options);
-  PrepareHost(scenario);
+  PrepareRobotHost(scenario, scenario.robots.size());
   coordinator::StopSignal stop;  // Ctrl-C from here on stops in order.
   MakeRunFolder(report.run_dir);
   WriteEffectiveScenario(scenario, report.run_dir);
@@ -108,7 +97,8 @@ RunReport RunScenario(const RunOptions& options) {
   // Setup: namespaces, physics, medium, images. Torn down in reverse when `setup` goes.
   RunSetup setup(scenario, options, report.run_dir, std::move(remote_medium));
   // Run: the coordinator's iterations, the robots supervised.
-  CoordinatedRun run(&setup, options, report.run_dir, stop.fd());
+  LocalPhysics physics(&setup, options, report.run_dir);
+  CoordinatedRun run(&setup, &physics, options, report.run_dir, stop.fd());
   const LoopOutcome loop = run.Run();
   report.startup_ns = loop.begin_ns - begin_ns;
   report.loop_ns = loop.end_ns - loop.begin_ns;

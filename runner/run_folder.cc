@@ -4,6 +4,8 @@
 // and a file's creation, and make root write through it (audit finding 7, docs/security.md).
 #include "runner/run_folder.h"
 
+#include <google/protobuf/text_format.h>
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -63,6 +65,15 @@ void MakeRunFolder(const std::string& run_dir) {
   MakeParents(folder);
   MakeOwnedFolder(folder);
   MakeOwnedFolder(folder + "/robots");
+}
+
+void WriteEffectiveScenario(const Scenario& scenario, const std::string& run_dir) {
+  std::string text;
+  google::protobuf::TextFormat::PrintToString(scenario.spec, &text);
+  LineFile(run_dir + "/scenario.textproto",
+           "# Effective scenario of this run (from " + scenario.source_path + ")", 1,
+           "effective scenario")
+      .AppendRecord(text);
 }
 
 }  // namespace sitlnet::runner

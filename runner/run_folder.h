@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "scenario/scenario.h"
+
 namespace sitlnet::runner {
 
 // Makes `run_dir` and `run_dir/robots` (and missing parents), or accepts each if it exists as a
@@ -11,6 +13,9 @@ namespace sitlnet::runner {
 // others can write. Throws Error naming the folder otherwise (a symbolic link, someone else's,
 // writable by others).
 void MakeRunFolder(const std::string& run_dir);
+
+// <run_dir>/scenario.textproto: the scenario with the command line's overrides.
+void WriteEffectiveScenario(const Scenario& scenario, const std::string& run_dir);
 
 }  // namespace sitlnet::runner
 

@@ -24,7 +24,7 @@ void ReportMediumLink(const network_side::RemoteMedium& remote_medium, RunReport
 
 }  // namespace
 
-void ReportRun(RunSetup& setup, const LoopOutcome& loop, RunReport* report) {
+void ReportRun(RunParts& setup, const LoopOutcome& loop, RunReport* report) {
   const std::string& failure = loop.failure;
   report->interrupted = loop.result.interrupted;
   report->exit_code = !failure.empty() ? 1 : loop.result.interrupted ? 130 : 0;
@@ -35,7 +35,7 @@ void ReportRun(RunSetup& setup, const LoopOutcome& loop, RunReport* report) {
   // metrics have one row per iteration done.
   WriteSummaryAndPlots(setup.scenario(), *report, loop.metrics,
                        std::max<int64_t>(loop.result.iterations_done, loop.metrics.iterations),
-                       setup.robots(), setup.bridge(), setup.physics_server(),
+                       setup.robots(), setup.bridge(), setup.local_physics(),
                        &setup.medium_records().connectivity(), failure);
   if (remote_medium) {
     remote_medium->Stop(failure.empty() ? (loop.result.interrupted ? "interrupted" : "run finished")

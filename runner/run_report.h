@@ -4,7 +4,7 @@
 #define SITLNET_RUNNER_RUN_REPORT_H_
 
 #include "runner/coordinated_run.h"
-#include "runner/run_setup.h"
+#include "runner/run_parts.h"
 #include "runner/runner.h"
 
 namespace sitlnet::runner {
@@ -12,7 +12,7 @@ namespace sitlnet::runner {
 // Sets report->exit_code (0 done, 1 failed, 130 interrupted) and interrupted from `loop`, prints
 // its failure, writes the summary and plots, and tells a remote medium the run is over. The
 // robots are stopped by then (their usage is in the summary).
-void ReportRun(RunSetup& setup, const LoopOutcome& loop, RunReport* report);
+void ReportRun(RunParts& setup, const LoopOutcome& loop, RunReport* report);
 
 }  // namespace sitlnet::runner
 

@@ -2,34 +2,11 @@
 
 #include <cstdio>
 
-#include "nns/nns.h"
+#include "runner/robot_host.h"
 #include "runner/physics_options.h"
 #include "runner/robot_start.h"
 
 namespace sitlnet::runner {
-
-// Brings the scenario up (registering this process as its run: another run of it is refused,
-// not torn down) and tears it down however the run ends.
-class ScenarioNamespaces {
- public:
-  explicit ScenarioNamespaces(const Scenario& scenario) : name_(scenario.name) {
-    nns::UpOptions up_options;
-    up_options.register_caller_as_run = true;
-    nns::Up(scenario, up_options);
-  }
-  ~ScenarioNamespaces() {
-    try {
-      nns::Down(name_);
-    } catch (const std::exception& error) {
-      std::fprintf(stderr, "sitlnet run: down %s: %s\n", name_.c_str(), error.what());
-    }
-  }
-  ScenarioNamespaces(const ScenarioNamespaces&) = delete;
-  ScenarioNamespaces& operator=(const ScenarioNamespaces&) = delete;
-
- private:
-  std::string name_;
-};
 
 RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options, const std::string& run_dir,
                    std::unique_ptr<network_side::RemoteMedium> remote)
@@ -64,42 +41,12 @@ void RunSetup::StartPhysics() {
       std::fprintf(stderr, "sitlnet run: warning: %s\n", refused.c_str());
     }
   }
-  // Its sockets in the scenario's ctl namespace, where the robots' ctl0 links end: no one else
-  // can bind their ports there (nns.h, CtlNetnsName).
-  physics::ServerOptions physics_options = PhysicsOptionsFromEnvironment();
-  physics_options.make_sockets = nns::InNetns(nns::CtlNetnsName(scenario_.name));
-  // The autopilots' pacing: in lockstep the frame gate (silent after the scenario's timeout),
-  // in realtime the run's timebase (the coordinator begins it before iteration 0).
-  if (lockstep_) {
-    physics_options.periodic_states = false;  // one state per iteration, from the gate
-    physics_options.frame_gate_timeout_ns = scenario_.spec.silent_robot_timeout_ms() * kNsPerMs;
-  } else {
-    physics_options.autopilot_wall_clock = &run_timebase_;
-  }
-  physics_server_ = std::make_unique<physics::PhysicsServer>(scenario_, physics_options);
+  physics_server_ = std::make_unique<physics::PhysicsServer>(
+      scenario_, RunPhysicsOptions(scenario_, lockstep_, &run_timebase_));
 }
 
 void RunSetup::StartMedium() {
-  tapbridge::BridgeOptions bridge_options;
-  bridge_options.seed = scenario_.spec.timing().seed();
-  std::unique_ptr<tapbridge::MediumModel> medium;
-  if (remote_owned_) {
-    remote_medium_ = remote_owned_.get();
-    medium = std::move(remote_owned_);
-  } else {
-    medium = tapbridge::MakeMacPhySimMedium(scenario_);
-    if (options_.record_losses) {
-      loss_log_ = MakeLossLog(run_dir_, scenario_);
-      loss_log_->SetLiveSink(options_.live);
-      medium->SetTraceSink([log = loss_log_.get()](const mac::TraceEvent& e) { log->Add(e); });
-    }
-  }
-  bridge_ = std::make_unique<tapbridge::BridgeCore>(scenario_, std::move(medium), bridge_options);
-  bridge_->AttachAll();
-  medium_records_ = std::make_unique<MediumRecords>(
-      run_dir_, static_cast<int>(scenario_.robots.size()), lockstep_, loss_log_.get());
-  medium_records_->connectivity().SetLiveSink(options_.live);
-  medium_records_->Attach(bridge_.get());
+  medium_ = std::make_unique<RunMedium>(scenario_, options_, run_dir_, std::move(remote_owned_));
 }
 
 void RunSetup::StartRobots() {

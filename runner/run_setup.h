@@ -14,8 +14,10 @@
 #include "physics_mujoco/physics_mujoco.h"
 #include "robot_images/robot_images.h"
 #include "ros2_clock/ros2_clock.h"
-#include "runner/loss_log.h"
 #include "runner/medium_records.h"
+#include "runner/run_medium.h"
+#include "runner/run_parts.h"
+#include "runner/robot_host.h"
 #include "runner/robot_slot.h"
 #include "runner/runner.h"
 #include "scenario/scenario.h"
@@ -23,9 +25,7 @@
 
 namespace sitlnet::runner {
 
-class ScenarioNamespaces;  // The scenario's namespaces, up while it lives (run_setup.cc).
-
-class RunSetup {
+class RunSetup final : public RunParts {
  public:
   // Brings everything up, ready for iteration 0 (in lockstep, and in realtime with
   // wait_for_robots, every image has spoken to physics). `remote`: the accepted remote medium
@@ -37,21 +37,20 @@ class RunSetup {
   RunSetup& operator=(const RunSetup&) = delete;
   ~RunSetup();
 
-  const Scenario& scenario() const { return scenario_; }
-  bool lockstep() const { return lockstep_; }
+  const Scenario& scenario() const override { return scenario_; }
+  bool lockstep() const override { return lockstep_; }
   physics::PhysicsServer& physics_server() { return *physics_server_; }
-  tapbridge::BridgeCore& bridge() { return *bridge_; }
-  MediumRecords& medium_records() { return *medium_records_; }
-  std::vector<RobotSlot>& robots() { return robots_; }
-  // The run's timebase: the coordinator begins it before iteration 0 (realtime pacing).
-  clock::Timebase& run_timebase() { return run_timebase_; }
+  const physics::PhysicsServer* local_physics() const override { return physics_server_.get(); }
+  tapbridge::BridgeCore& bridge() override { return medium_->bridge(); }
+  MediumRecords& medium_records() override { return medium_->records(); }
+  std::vector<RobotSlot>& robots() override { return robots_; }
+  clock::Timebase& run_timebase() override { return run_timebase_; }
   // The virtual time the robots' /clock publishers read; null without timing.ros2_clock_hz.
   ros2_clock::SharedVirtualTime* shared_time() { return shared_time_ ? &*shared_time_ : nullptr; }
   std::vector<std::unique_ptr<images::RobotProcess>>& clock_publishers() {
     return clock_publishers_;
   }
-  // The medium on another host (owned by the bridge), or null.
-  network_side::RemoteMedium* remote_medium() { return remote_medium_; }
+  network_side::RemoteMedium* remote_medium() override { return medium_->remote_medium(); }
 
  private:
   // The stages of the setup, in the order the constructor calls them.
@@ -66,14 +65,11 @@ class RunSetup {
   const bool lockstep_;
   // Until the bridge takes it: dropped on a failure before, it tells the remote side why.
   std::unique_ptr<network_side::RemoteMedium> remote_owned_;
-  network_side::RemoteMedium* remote_medium_ = nullptr;
   // Members are destroyed in the reverse order: images, then the medium, physics, namespaces.
   std::unique_ptr<ScenarioNamespaces> namespaces_;
   clock::Timebase run_timebase_;
   std::unique_ptr<physics::PhysicsServer> physics_server_;
-  std::unique_ptr<LossLog> loss_log_;  // Outlives the bridge: its medium writes to it.
-  std::unique_ptr<tapbridge::BridgeCore> bridge_;
-  std::unique_ptr<MediumRecords> medium_records_;
+  std::unique_ptr<RunMedium> medium_;
   std::vector<RobotSlot> robots_;
   std::optional<ros2_clock::SharedVirtualTime> shared_time_;
   std::vector<std::unique_ptr<images::RobotProcess>> clock_publishers_;

@@ -21,7 +21,12 @@ struct RunOptions {
   // (`host:port`, `unix:/path`) for its network connector (`sitlnet medium
   // FILE --connect`), waiting at most remote_wait_ns. Lockstep pacing only.
   std::string listen;
+  bool remote_network = false;  // --remote network: `listen` is for the medium.
   TimeNs remote_wait_ns = 60 * kNsPerS;
+  // A scenario with nodes (issue 35): its node hosts (`sitlnet node`) connect to `listen`,
+  // each within node_wait_ns; with one_host, every robot runs here and `nodes` is ignored.
+  TimeNs node_wait_ns = 120 * kNsPerS;
+  bool one_host = false;
   // The shared secret both ends prove (docs/coordinator.md, "Authentication"); required when
   // `listen` is reachable from other hosts (coordinator::IsLocalOnly).
   std::string secret_file;

@@ -50,11 +50,41 @@ std::string ConnectivityJson(const std::vector<ConnectivitySample>& samples) {
          std::to_string(samples.empty() ? 0 : samples.back().components) + "}";
 }
 
+// The robot's physics counters; "null" when its physics ran on a node host (issue 35).
+std::string PhysicsJson(const physics::PhysicsServer* physics, int index) {
+  if (physics == nullptr) return "null";
+  const physics::RobotCounters& phys = physics->counters(index);
+  std::string json = "{\"commands_accepted\":" + std::to_string(phys.commands_accepted) +
+          ",\"states_sent\":" + std::to_string(phys.states_sent) + ",\"dropped\":" +
+          std::to_string(phys.dropped_malformed + phys.dropped_invalid + phys.dropped_wrong_robot +
+                         phys.dropped_foreign_source) +
+          ",\"failsafe_cuts\":" + std::to_string(phys.failsafe_cuts) +
+          ",\"json_frames\":" + std::to_string(phys.json_frames) +
+          ",\"json_resends\":" + std::to_string(phys.json_resends) +
+          ",\"json_restarts\":" + std::to_string(phys.json_restarts) +
+          ",\"json_missed_frames\":" + std::to_string(phys.json_missed_frames) +
+          ",\"json_dropped\":" + std::to_string(phys.json_dropped) +
+          ",\"json_clock_jumps\":" + std::to_string(phys.json_clock_jumps) + ",\"px4\":";
+  if (const std::optional<physics::Px4Counters> px4 = physics->px4_counters(index)) {
+    json += "{\"connections\":" + std::to_string(px4->connections) +
+            ",\"sensors_sent\":" + std::to_string(px4->sensors_sent) +
+            ",\"gps_sent\":" + std::to_string(px4->gps_sent) +
+            ",\"actuator_controls\":" + std::to_string(px4->actuator_controls) +
+            ",\"heartbeats_received\":" + std::to_string(px4->heartbeats_received) +
+            ",\"ignored\":" + std::to_string(px4->ignored) +
+            ",\"dropped\":" + std::to_string(px4->dropped) +
+            ",\"bytes_skipped\":" + std::to_string(px4->bytes_skipped) +
+            ",\"send_errors\":" + std::to_string(px4->send_errors) + "}";
+  } else {
+    json += "null";
+  }
+  return json + "}";
+}
+
 std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& bridge,
-                      const physics::PhysicsServer& physics) {
+                      const physics::PhysicsServer* physics) {
   const tapbridge::MediumCounters medium = bridge.medium_counters(index);
   const tapbridge::PortCounters& port = bridge.port_counters(index);
-  const physics::RobotCounters& phys = physics.counters(index);
   std::string lost = "{";
   for (const auto& [reason, count] : medium.lost) {
     lost += (lost.size() > 1 ? "," : "") + Quote(reason) + ":" + std::to_string(count);
@@ -88,31 +118,7 @@ std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& 
           ",\"queue_expired\":" + std::to_string(medium.queue_expired) + ",\"lost\":" + lost +
           ",\"other\":" + other + ",\"oversize_dropped\":" + std::to_string(port.oversize_dropped) +
           ",\"unknown_source_dropped\":" + std::to_string(port.unknown_source_dropped) + "}";
-  json += ",\"physics\":{\"commands_accepted\":" + std::to_string(phys.commands_accepted) +
-          ",\"states_sent\":" + std::to_string(phys.states_sent) + ",\"dropped\":" +
-          std::to_string(phys.dropped_malformed + phys.dropped_invalid + phys.dropped_wrong_robot +
-                         phys.dropped_foreign_source) +
-          ",\"failsafe_cuts\":" + std::to_string(phys.failsafe_cuts) +
-          ",\"json_frames\":" + std::to_string(phys.json_frames) +
-          ",\"json_resends\":" + std::to_string(phys.json_resends) +
-          ",\"json_restarts\":" + std::to_string(phys.json_restarts) +
-          ",\"json_missed_frames\":" + std::to_string(phys.json_missed_frames) +
-          ",\"json_dropped\":" + std::to_string(phys.json_dropped) +
-          ",\"json_clock_jumps\":" + std::to_string(phys.json_clock_jumps) + ",\"px4\":";
-  if (const std::optional<physics::Px4Counters> px4 = physics.px4_counters(index)) {
-    json += "{\"connections\":" + std::to_string(px4->connections) +
-            ",\"sensors_sent\":" + std::to_string(px4->sensors_sent) +
-            ",\"gps_sent\":" + std::to_string(px4->gps_sent) +
-            ",\"actuator_controls\":" + std::to_string(px4->actuator_controls) +
-            ",\"heartbeats_received\":" + std::to_string(px4->heartbeats_received) +
-            ",\"ignored\":" + std::to_string(px4->ignored) +
-            ",\"dropped\":" + std::to_string(px4->dropped) +
-            ",\"bytes_skipped\":" + std::to_string(px4->bytes_skipped) +
-            ",\"send_errors\":" + std::to_string(px4->send_errors) + "}";
-  } else {
-    json += "null";
-  }
-  json += "}}";
+  json += ",\"physics\":" + PhysicsJson(physics, index) + "}";
   return json;
 }
 
@@ -121,7 +127,7 @@ std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& 
 void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
                           const coordinator::MetricsSummary& metrics, int64_t iterations_done,
                           const std::vector<RobotSlot>& robots, tapbridge::BridgeCore& bridge,
-                          const physics::PhysicsServer& physics, ConnectivityTracker* connectivity,
+                          const physics::PhysicsServer* physics, ConnectivityTracker* connectivity,
                           const std::string& failure) {
   const std::string& dir = report.run_dir;
   const int robot_count = static_cast<int>(scenario.robots.size());

@@ -19,10 +19,11 @@ namespace sitlnet::runner {
 inline constexpr TimeNs kConnectivityWindowNs = 2 * kNsPerS;
 inline constexpr TimeNs kConnectivitySampleNs = 100 * kNsPerMs;
 
+// `physics`: null when the robots' physics ran on node hosts (each robot's "physics": null).
 void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
                           const coordinator::MetricsSummary& metrics, int64_t iterations_done,
                           const std::vector<RobotSlot>& robots, tapbridge::BridgeCore& bridge,
-                          const physics::PhysicsServer& physics, ConnectivityTracker* connectivity,
+                          const physics::PhysicsServer* physics, ConnectivityTracker* connectivity,
                           const std::string& failure);
 
 }  // namespace sitlnet::runner

@@ -358,8 +358,8 @@ TEST(FleetLink, ASilentNodeIsNamedAtTheAnswerTimeout) {
 TEST(FleetLink, ANodeEndingWithTooFewPosesIsNamed) {
   const FaultyRun run = RunWithFaults("poses", {{}, {.short_poses_at = 2}});
   EXPECT_EQ(run.error,
-            "node 'n1' (robots r1, r2, r4, r7): End of iteration 2: sent 9 position and 12 "
-            "orientation numbers, not 3 and 4 for each of its 4 robots");
+            "node 'n1' (robots r1, r2, r4, r7): End of iteration 2: sent 9 position, 12 "
+            "orientation and 0 velocity numbers, not 3, 4 and 3 (or 0) for each of its 4 robots");
   EXPECT_EQ(run.node_stop_reasons[1], "coordinator failed");
 }
 

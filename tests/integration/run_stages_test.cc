@@ -8,6 +8,7 @@
 #include <string>
 
 #include "runner/coordinated_run.h"
+#include "runner/local_physics.h"
 #include "runner/robot_stop.h"
 #include "runner/run_folder.h"
 #include "runner/run_report.h"
@@ -65,7 +66,8 @@ runner::RunReport RunAndReport(runner::RunSetup* setup, const runner::RunOptions
                                const std::string& dir, runner::LoopOutcome* loop) {
   runner::RunReport report;
   report.run_dir = dir;
-  runner::CoordinatedRun run(setup, options, dir, -1);
+  runner::LocalPhysics physics(setup, options, dir);
+  runner::CoordinatedRun run(setup, &physics, options, dir, -1);
   *loop = run.Run();
   runner::StopRobots(&setup->robots(), &setup->clock_publishers(), &report);
   setup->medium_records().Flush();

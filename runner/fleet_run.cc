@@ -1,0 +1,151 @@
+#include "runner/fleet_run.h"
+
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "coordinator/coordinator.h"
+#include "fleet/node_link.h"
+#include "runner/coordinated_run.h"
+#include "runner/cpu_time.h"
+#include "runner/recording_connector.h"
+#include "runner/remote_network.h"
+#include "runner/run_folder.h"
+#include "runner/run_medium.h"
+#include "runner/run_parts.h"
+#include "runner/run_report.h"
+
+namespace sitlnet::runner {
+namespace {
+
+std::vector<fleet::NodeSlice> Slices(const Scenario& scenario) {
+  std::vector<fleet::NodeSlice> slices;
+  for (const NodePlan& node : scenario.nodes) slices.push_back({node.name, node.robots});
+  return slices;
+}
+
+// What a central host refuses before it listens.
+void RefuseFleetOptions(const Scenario& scenario, const RunOptions& options) {
+  if (options.remote_network) {
+    throw Error("scenario " + scenario.name +
+                " has nodes: its robots run on node hosts, and --remote network moves the medium "
+                "away from them; give one or the other (or --one-host)");
+  }
+  if (options.listen.empty()) {
+    throw Error("scenario " + scenario.name +
+                " has nodes: give --listen HOST:PORT for their `sitlnet node` (or --one-host to "
+                "run every robot here)");
+  }
+  if (scenario.spec.timing().pacing() != proto::Timing::PACING_LOCKSTEP) {
+    throw Error("scenario " + scenario.name +
+                ": robots on node hosts run in lockstep pacing for now (--pacing lockstep; "
+                "issue 35)");
+  }
+}
+
+// Every node host, accepted on options.listen; empty if interrupted (Ctrl-C). Throws Error
+// naming a node that did not come, or was refused.
+std::vector<std::unique_ptr<fleet::NodeLink>> AcceptNodeHosts(const Scenario& scenario,
+                                                              const RunOptions& options,
+                                                              int interrupt_fd) {
+  PeerListener peers = ListenForPeers(
+      scenario, options,
+      {std::to_string(scenario.nodes.size()) + " nodes",
+       "sitlnet node FILE --node NAME --connect HOST:PORT", coordinator::ScenarioHash(scenario),
+       options.node_wait_ns},
+      interrupt_fd);
+  peers.expect.lockstep_robots = true;
+  auto nodes = fleet::AcceptNodes(*peers.listener, scenario, Slices(scenario), peers.expect,
+                                  peers.limits);
+  for (const auto& node : nodes) {
+    std::fprintf(stderr, "sitlnet run: %s connected\n", node->Describe().c_str());
+  }
+  return nodes;  // The listener closes: nothing else can connect.
+}
+
+// The physics of the node hosts, as one connector, recording trajectories.csv centrally.
+class FleetPhysics final : public RunPhysics {
+ public:
+  FleetPhysics(const Scenario& scenario, std::vector<std::unique_ptr<fleet::NodeLink>> nodes,
+               fleet::RemotePorts* ports, const RunOptions& options, const std::string& run_dir)
+      : fleet_(scenario, coordinator::Pacing::kLockstep, std::move(nodes), ports),
+        recording_(&fleet_, physics::GeodeticFrame(scenario.spec.geodetic_origin()),
+                   run_dir + "/trajectories.csv", options.trajectory_period_ns) {}
+  coordinator::Connector& connector() override { return recording_; }
+  void Flush() override { recording_.Flush(); }
+
+ private:
+  fleet::FleetPhysicsConnector fleet_;
+  RecordingConnector recording_;
+};
+
+// The central host's setup: the bridge over the node hosts' robots (RemotePorts), the medium and
+// its records, the fleet as the physics. No namespace, no image: they are the nodes'.
+class FleetSetup final : public RunParts {
+ public:
+  FleetSetup(const Scenario& scenario, const RunOptions& options, const std::string& run_dir,
+             std::vector<std::unique_ptr<fleet::NodeLink>> nodes)
+      : scenario_(scenario),
+        ports_(scenario, Slices(scenario)),
+        run_timebase_(scenario.spec.timing().realtime_factor()),
+        robots_(scenario.robots.size()) {
+    for (const RobotPlan& plan : scenario.robots) robots_[plan.index].name = plan.name;
+    // The nodes' link first: the medium's records need the run folder only.
+    physics_ = std::make_unique<FleetPhysics>(scenario, std::move(nodes), &ports_, options,
+                                              run_dir);
+    medium_ = std::make_unique<RunMedium>(scenario, options, run_dir, nullptr,
+                                          [this](int robot) { return ports_.Open(robot); });
+  }
+
+  RunPhysics& physics() { return *physics_; }
+  const Scenario& scenario() const override { return scenario_; }
+  bool lockstep() const override { return true; }
+  tapbridge::BridgeCore& bridge() override { return medium_->bridge(); }
+  MediumRecords& medium_records() override { return medium_->records(); }
+  std::vector<RobotSlot>& robots() override { return robots_; }
+  clock::Timebase& run_timebase() override { return run_timebase_; }
+  network_side::RemoteMedium* remote_medium() override { return nullptr; }
+  const physics::PhysicsServer* local_physics() const override { return nullptr; }
+
+ private:
+  const Scenario& scenario_;
+  fleet::RemotePorts ports_;  // Outlives the bridge, whose ports are its.
+  clock::Timebase run_timebase_;
+  std::vector<RobotSlot> robots_;  // Names only: the images run on the nodes.
+  std::unique_ptr<RunMedium> medium_;
+  std::unique_ptr<FleetPhysics> physics_;  // Destroyed first: the nodes hear Stop before.
+};
+
+}  // namespace
+
+RunReport RunOnNodeHosts(const Scenario& scenario, const RunOptions& options, RunReport report,
+                         TimeNs begin_ns) {
+  RefuseFleetOptions(scenario, options);
+  coordinator::StopSignal stop;  // Ctrl-C from here on stops in order.
+  std::vector<std::unique_ptr<fleet::NodeLink>> nodes;
+  try {
+    nodes = AcceptNodeHosts(scenario, options, stop.fd());
+  } catch (const Error& error) {
+    std::fprintf(stderr, "sitlnet run: %s\n", error.what());
+    report.exit_code = 1;
+    return report;
+  }
+  if (nodes.empty()) {
+    report.interrupted = true;
+    report.exit_code = 130;
+    return report;
+  }
+  MakeRunFolder(report.run_dir);
+  WriteEffectiveScenario(scenario, report.run_dir);
+  FleetSetup setup(scenario, options, report.run_dir, std::move(nodes));
+  CoordinatedRun run(&setup, &setup.physics(), options, report.run_dir, stop.fd());
+  const LoopOutcome loop = run.Run();
+  report.startup_ns = loop.begin_ns - begin_ns;
+  report.loop_ns = loop.end_ns - loop.begin_ns;
+  report.self_cpu_s = loop.self_cpu_s;
+  setup.medium_records().Flush();
+  ReportRun(setup, loop, &report);
+  return report;
+}
+
+}  // namespace sitlnet::runner

@@ -1,0 +1,128 @@
+// A fleet's robots on two node hosts (issue 35, design step 1): the central `sitlnet run` of a
+// scenario with nodes and two `sitlnet node` children, each in a network and mount namespace of
+// its own (as pods are: their namespaces' names cannot clash), linked to the central over unix:
+// sockets, authenticated. The run is the one-host run of the same scenario and seed (`sitlnet run
+// --one-host`), byte for byte: trajectories.csv, medium.pcap and deliveries.csv.
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <fstream>
+#include <memory>
+
+#include "tests/integration/run_test_util.h"
+
+namespace sitlnet::nns::testing {
+namespace {
+
+constexpr TimeNs kRunTimeoutNs = 120 * kNsPerS;
+const std::vector<std::string> kRobots = {"a", "b", "c", "d"};
+
+// Four flockers, interleaved over nodes n0 (a, c) and n1 (b, d): the nodes' order is not the
+// scenario's. 3 s in lockstep.
+RunScenario WriteFleetScenario(int slot) {
+  std::string robots;
+  const char* positions[] = {"x: 0 y: -2", "x: 0 y: 2", "x: -4 y: -2", "x: -4 y: 2"};
+  for (size_t i = 0; i < kRobots.size(); ++i) {
+    robots += "robot { name: \"" + kRobots[i] + "\" node: \"n" + std::to_string(i % 2) +
+              "\" position_m { " + positions[i] +
+              " z: 0.2 } image: \"flocker\" args: [\"--target\", \"40,0\", \"--altitude-m\", "
+              "\"5\"] lidar { rays: 8 } }\n";
+  }
+  return WriteScenario(slot, robots,
+                       "nodes { name: \"n0\" } nodes { name: \"n1\" }\n"
+                       "timing { duration_ms: 3000 }\n");
+}
+
+// A `sitlnet node` child in a network and mount namespace of its own, with private tmpfs on
+// /run/netns and /run/sitlnet: the robots' namespaces and the state are its own, as in a pod.
+// Told SIGTERM on destruction if it still runs (it stops its robots and takes its slice down),
+// then killed if it has not exited within 30 s.
+class NodeChild {
+ public:
+  NodeChild(const RunScenario& scenario, const std::string& node, const std::string& endpoint,
+            const std::string& key, const std::string& out)
+      : child_({"unshare", "--net", "--mount", "--propagation", "private", "sh", "-c",
+                "mkdir -p /run/netns /run/sitlnet && mount -t tmpfs -o mode=0755 fleet-test "
+                "/run/netns && mount -t tmpfs -o mode=0755 fleet-test /run/sitlnet && exec "
+                "\"$@\"",
+                "sh", SitlnetBinary(), "node", scenario.path, "--node", node, "--connect",
+                endpoint, "--secret-file", key, "--out", out, "--pacing", "lockstep", "--seed",
+                "5"}) {}
+  ~NodeChild() {
+    if (child_.Poll() < 0) {
+      kill(child_.pid(), SIGTERM);
+      child_.Wait(30 * kNsPerS);
+    }
+  }
+  integration_test::Child& child() { return child_; }
+
+ private:
+  integration_test::Child child_;
+};
+
+void ExpectNoRobotLeft(const std::string& name) {
+  ExpectNothingLeft(name);
+  for (const std::string& robot : kRobots) EXPECT_FALSE(NetnsExists(name + "-" + robot)) << robot;
+}
+
+TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteFleetScenario(3);
+  DownGuard guard(scenario.name);
+  const std::string base = TempDir() + "/" + scenario.name;
+  const std::string key = base + ".key";
+  std::ofstream(key) << "the fleet run test's shared secret";
+  ASSERT_EQ(chmod(key.c_str(), 0600), 0);
+  const std::string endpoint = "unix:" + base + ".sock";
+  const std::vector<std::string> same_run = {"--pacing", "lockstep", "--seed", "5"};
+
+  std::vector<std::string> central_argv = {SitlnetBinary(), "run",         scenario.path,
+                                           "--out",         base + "-fleet", "--no-progress",
+                                           "--listen",      endpoint,      "--secret-file",
+                                           key};
+  central_argv.insert(central_argv.end(), same_run.begin(), same_run.end());
+  {
+    integration_test::Child central(central_argv);
+    ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
+    NodeChild n0(scenario, "n0", endpoint, key, base + "-n0");
+    NodeChild n1(scenario, "n1", endpoint, key, base + "-n1");
+    ASSERT_EQ(central.Wait(kRunTimeoutNs), 0) << central.err();
+    for (NodeChild* node : {&n0, &n1}) {
+      EXPECT_EQ(node->child().Wait(kRunTimeoutNs), 0) << node->child().err();
+      EXPECT_NE(node->child().err().find("stopped: run complete"), std::string::npos)
+          << node->child().err();
+    }
+  }
+  // Each node wrote its own robots' logs; nothing of the robots was made here.
+  for (size_t i = 0; i < kRobots.size(); ++i) {
+    const std::string node_out = base + "-n" + std::to_string(i % 2);
+    const std::string other_out = base + "-n" + std::to_string(1 - i % 2);
+    EXPECT_TRUE(access((node_out + "/robots/" + kRobots[i] + ".log").c_str(), F_OK) == 0)
+        << kRobots[i];
+    EXPECT_FALSE(access((other_out + "/robots/" + kRobots[i] + ".log").c_str(), F_OK) == 0)
+        << kRobots[i];
+  }
+  ExpectNoRobotLeft(scenario.name);
+
+  std::vector<std::string> one_host = {"--one-host"};
+  one_host.insert(one_host.end(), same_run.begin(), same_run.end());
+  const CommandResult reference = SitlnetRun(scenario, base + "-one", one_host);
+  ASSERT_EQ(reference.exit_code, 0) << reference.err;
+
+  const std::string trajectories = ReadAll(base + "-one/trajectories.csv");
+  const std::string pcap = ReadAll(base + "-one/medium.pcap");
+  // 3 s at 10 Hz for 4 robots plus t=0 and the header; the robots beaconed to each other.
+  EXPECT_GE(std::count(trajectories.begin(), trajectories.end(), '\n'), 4 * 31 + 1);
+  EXPECT_GT(pcap.size(), 24u + 4 * 20 * 50u);
+  EXPECT_EQ(trajectories, ReadAll(base + "-fleet/trajectories.csv"));
+  EXPECT_EQ(pcap, ReadAll(base + "-fleet/medium.pcap"));
+  const std::string deliveries = ReadAll(base + "-one/deliveries.csv");
+  EXPECT_GT(std::count(deliveries.begin(), deliveries.end(), '\n'), 100);
+  EXPECT_EQ(deliveries, ReadAll(base + "-fleet/deliveries.csv"));
+  ExpectNoRobotLeft(scenario.name);
+}
+
+}  // namespace
+}  // namespace sitlnet::nns::testing
