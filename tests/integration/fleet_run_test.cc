@@ -62,6 +62,22 @@ class NodeChild {
   integration_test::Child child_;
 };
 
+// Where `fleet` first differs from `one_host` ("" if it does not): the line and both versions of
+// it, or the byte offset if no line differs. Whole files would flood the log.
+std::string FirstDifference(const std::string& one_host, const std::string& fleet) {
+  if (one_host == fleet) return "";
+  const auto [at, _] = std::mismatch(one_host.begin(), one_host.end(), fleet.begin(), fleet.end());
+  const size_t offset = static_cast<size_t>(at - one_host.begin());
+  const size_t line_start = one_host.rfind('\n', offset == 0 ? 0 : offset - 1);
+  const size_t begin = line_start == std::string::npos || offset == 0 ? 0 : line_start + 1;
+  const auto line_of = [begin](const std::string& text) {
+    return text.substr(begin, std::min<size_t>(text.find('\n', begin) - begin, 200));
+  };
+  return "sizes " + std::to_string(one_host.size()) + " and " + std::to_string(fleet.size()) +
+         ", first difference at byte " + std::to_string(offset) + ": one host \"" +
+         line_of(one_host) + "\", fleet \"" + line_of(fleet) + "\"";
+}
+
 void ExpectNoRobotLeft(const std::string& name) {
   ExpectNothingLeft(name);
   for (const std::string& robot : kRobots) EXPECT_FALSE(NetnsExists(name + "-" + robot)) << robot;
@@ -116,11 +132,34 @@ TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
   // 3 s at 10 Hz for 4 robots plus t=0 and the header; the robots beaconed to each other.
   EXPECT_GE(std::count(trajectories.begin(), trajectories.end(), '\n'), 4 * 31 + 1);
   EXPECT_GT(pcap.size(), 24u + 4 * 20 * 50u);
-  EXPECT_EQ(trajectories, ReadAll(base + "-fleet/trajectories.csv"));
-  EXPECT_EQ(pcap, ReadAll(base + "-fleet/medium.pcap"));
+  EXPECT_EQ(FirstDifference(trajectories, ReadAll(base + "-fleet/trajectories.csv")), "");
+  EXPECT_EQ(FirstDifference(pcap, ReadAll(base + "-fleet/medium.pcap")), "");
   const std::string deliveries = ReadAll(base + "-one/deliveries.csv");
   EXPECT_GT(std::count(deliveries.begin(), deliveries.end(), '\n'), 100);
-  EXPECT_EQ(deliveries, ReadAll(base + "-fleet/deliveries.csv"));
+  EXPECT_EQ(FirstDifference(deliveries, ReadAll(base + "-fleet/deliveries.csv")), "");
+  ExpectNoRobotLeft(scenario.name);
+}
+
+// Bad input to either end is one line and a non-zero exit, before anything is created.
+TEST(FleetRunTest, ACentralWithoutListenAndAnUnknownNodeAreRefusedInOneLine) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteFleetScenario(4);
+  DownGuard guard(scenario.name);
+  const std::string base = TempDir() + "/" + scenario.name;
+  const CommandResult central = SitlnetRun(scenario, base + "-fleet", {"--pacing", "lockstep"});
+  EXPECT_EQ(central.exit_code, 2) << central.err;
+  EXPECT_EQ(central.err, "sitlnet run: scenario " + scenario.name +
+                             " has nodes: give --listen HOST:PORT for their `sitlnet node` (or "
+                             "--one-host to run every robot here)\n");
+  EXPECT_FALSE(access((base + "-fleet").c_str(), F_OK) == 0);
+
+  const CommandResult node = integration_test::RunCommand(
+      {SitlnetBinary(), "node", scenario.path, "--node", "n9", "--connect",
+       "unix:" + base + ".sock", "--out", base + "-n9"});
+  EXPECT_EQ(node.exit_code, 1) << node.err;
+  EXPECT_EQ(node.err, "sitlnet node: node 'n9' is not in scenario " + scenario.name +
+                          " (nodes: n0, n1)\n");
+  EXPECT_FALSE(access((base + "-n9").c_str(), F_OK) == 0);
   ExpectNoRobotLeft(scenario.name);
 }
 
