@@ -1,4 +1,5 @@
-// `sitlnet node SCENARIO --node NAME --connect HOST:PORT`: a node host of a fleet (runner/node_run.h).
+// `sitlnet node SCENARIO --node NAME --connect HOST:PORT`: a node host of a fleet
+// (runner/node_run.h).
 #include <signal.h>
 
 #include <cstdio>

@@ -25,7 +25,8 @@ CLI::Option* AddNoShadowingOption(CLI::App& command, bool* no_shadowing) {
 CLI::Option* AddSecretFileOption(CLI::App& command, std::string* secret_file) {
   return command
       .add_option("--secret-file", *secret_file,
-                  "the shared secret both ends of a link (a remote medium, a node host) prove they hold before "
+                  "the shared secret both ends of a link (a remote medium, a node host) prove they "
+                  "hold before "
                   "anything else: the same file at both ends, owner-only, 16 to 4096 bytes "
                   "(head -c 32 /dev/urandom > PATH; chmod 600 PATH). Required when the run "
                   "listens on an address other hosts can reach (not loopback, not unix:). It "
@@ -60,8 +61,7 @@ CLI::Validator SecondsIn(double min_s, bool min_allowed, double max_s) {
 }
 
 CLI::Option* AddPeerTimeoutOption(CLI::App& command, const std::string& name,
-                                  const std::string& help, TimeNs* timeout_ns,
-                                  int default_s) {
+                                  const std::string& help, TimeNs* timeout_ns, int default_s) {
   constexpr double kMaxSeconds = 86400;  // A day: S x 1e9 fits int64 nanoseconds with room.
   return command
       .add_option_function<double>(

@@ -35,8 +35,7 @@ CLI::Validator SecondsIn(double min_s, bool min_allowed, double max_s);
 // fit the int64 nanoseconds added to the clock), stored as nanoseconds. `default_s` is only what
 // the help says: *timeout_ns holds the default.
 CLI::Option* AddPeerTimeoutOption(CLI::App& command, const std::string& name,
-                                  const std::string& help, TimeNs* timeout_ns,
-                                  int default_s = 60);
+                                  const std::string& help, TimeNs* timeout_ns, int default_s = 60);
 
 }  // namespace sitlnet::cli
 

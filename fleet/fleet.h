@@ -27,6 +27,10 @@ struct NodeSlice {
 // "node 'n1' (robots c, d)": how every message names a node.
 std::string DescribeNode(const Scenario& scenario, const NodeSlice& node);
 
+// The scenario hash a node host and its central prove to each other: coordinator::ScenarioHash
+// without timing.duration_ms, so that the central's --duration alone sets how long the run goes.
+uint64_t NodeScenarioHash(const Scenario& scenario);
+
 //--------------------------- Central host: remote ports ----------------------
 
 // The central host's ports of the robots on node hosts. A node's NodeFrames are queued per

@@ -1,3 +1,4 @@
+#include "coordinator/coordinator.h"
 #include "fleet/fleet.h"
 
 namespace sitlnet::fleet {
@@ -9,6 +10,12 @@ std::string DescribeNode(const Scenario& scenario, const NodeSlice& node) {
     robots += scenario.robots.at(robot).name;
   }
   return "node '" + node.name + "' (robots " + robots + ")";
+}
+
+uint64_t NodeScenarioHash(const Scenario& scenario) {
+  Scenario copy = scenario;
+  copy.spec.mutable_timing()->clear_duration_ms();
+  return coordinator::ScenarioHash(copy);
 }
 
 }  // namespace sitlnet::fleet

@@ -1,6 +1,6 @@
 // The run stage of `sitlnet run`: the coordinator steps the physics side (here or on node hosts,
-// recording trajectories.csv) and the network side, whose iterations the robot supervisor and the progress
-// line observe; metrics.csv is written as it goes.
+// recording trajectories.csv) and the network side, whose iterations the robot supervisor and the
+// progress line observe; metrics.csv is written as it goes.
 #ifndef SITLNET_RUNNER_COORDINATED_RUN_H_
 #define SITLNET_RUNNER_COORDINATED_RUN_H_
 

@@ -48,15 +48,14 @@ void RefuseFleetOptions(const Scenario& scenario, const RunOptions& options) {
 std::vector<std::unique_ptr<fleet::NodeLink>> AcceptNodeHosts(const Scenario& scenario,
                                                               const RunOptions& options,
                                                               int interrupt_fd) {
-  PeerListener peers = ListenForPeers(
-      scenario, options,
-      {std::to_string(scenario.nodes.size()) + " nodes",
-       "sitlnet node FILE --node NAME --connect HOST:PORT", coordinator::ScenarioHash(scenario),
-       options.node_wait_ns},
-      interrupt_fd);
+  PeerListener peers = ListenForPeers(scenario, options,
+                                      {std::to_string(scenario.nodes.size()) + " nodes",
+                                       "sitlnet node FILE --node NAME --connect HOST:PORT",
+                                       fleet::NodeScenarioHash(scenario), options.node_wait_ns},
+                                      interrupt_fd);
   peers.expect.lockstep_robots = true;
-  auto nodes = fleet::AcceptNodes(*peers.listener, scenario, Slices(scenario), peers.expect,
-                                  peers.limits);
+  auto nodes =
+      fleet::AcceptNodes(*peers.listener, scenario, Slices(scenario), peers.expect, peers.limits);
   for (const auto& node : nodes) {
     std::fprintf(stderr, "sitlnet run: %s connected\n", node->Describe().c_str());
   }
@@ -91,8 +90,8 @@ class FleetSetup final : public RunParts {
         robots_(scenario.robots.size()) {
     for (const RobotPlan& plan : scenario.robots) robots_[plan.index].name = plan.name;
     // The nodes' link first: the medium's records need the run folder only.
-    physics_ = std::make_unique<FleetPhysics>(scenario, std::move(nodes), &ports_, options,
-                                              run_dir);
+    physics_ =
+        std::make_unique<FleetPhysics>(scenario, std::move(nodes), &ports_, options, run_dir);
     medium_ = std::make_unique<RunMedium>(scenario, options, run_dir, nullptr,
                                           [this](int robot) { return ports_.Open(robot); });
   }

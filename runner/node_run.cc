@@ -26,8 +26,8 @@ fleet::NodeSlice SliceOf(const Scenario& scenario, const std::string& name) {
   if (node < 0) {
     std::string names;
     for (const NodePlan& plan : scenario.nodes) names += (names.empty() ? "" : ", ") + plan.name;
-    throw Error("node '" + name + "' is not in scenario " + scenario.name + " (nodes: " +
-                (names.empty() ? "none" : names) + ")");
+    throw Error("node '" + name + "' is not in scenario " + scenario.name +
+                " (nodes: " + (names.empty() ? "none" : names) + ")");
   }
   return {scenario.nodes[node].name, scenario.nodes[node].robots};
 }
@@ -51,8 +51,8 @@ class NodeSetup {
   NodeSetup(const Scenario& scenario, const RunOptions& options, const std::string& out_dir,
             const fleet::NodeSlice& slice)
       : namespaces_(scenario, slice.robots),
-        physics_server_(scenario, RunPhysicsOptions(scenario, /*lockstep=*/true, nullptr,
-                                                    slice.robots)),
+        physics_server_(scenario,
+                        RunPhysicsOptions(scenario, /*lockstep=*/true, nullptr, slice.robots)),
         robots_(StartImages(scenario, options, out_dir, slice.robots)) {
     WaitForRobotsToSpeak(scenario, robots_, &physics_server_, "lockstep");
   }
@@ -118,9 +118,8 @@ std::string ServeNodeHost(const NodeOptions& options) {
                described.c_str(), endpoint.ToString().c_str());
   coordinator::Channel channel = ConnectToCentral(endpoint, options.connect_timeout_ns);
   const coordinator::ConnectorIdentity identity{slice.name, coordinator::Role::kNode,
-                                                coordinator::ScenarioHash(scenario), secret};
-  if (!coordinator::HandshakeWithCoordinator(channel, identity,
-                                             fleet::NodeHello(slice, supervised),
+                                                fleet::NodeScenarioHash(scenario), secret};
+  if (!coordinator::HandshakeWithCoordinator(channel, identity, fleet::NodeHello(slice, supervised),
                                              options.connect_timeout_ns, stop.fd())) {
     return "interrupted";
   }

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "clock/clock.h"
-#include "physics_side/physics_side.h"
 #include "physics_mujoco/physics_mujoco.h"
+#include "physics_side/physics_side.h"
 #include "scenario/scenario.h"
 
 namespace sitlnet::runner {

@@ -22,8 +22,7 @@ class RecordingConnector final : public coordinator::Connector {
 
   const proto::coord::Poses& initial_poses() const override { return inner_.initial_poses(); }
   void Begin(const proto::coord::Start& start, const coordinator::WaitLimits& limits) override;
-  bool AwaitCommandsCollected(uint64_t iteration,
-                              const coordinator::WaitLimits& limits) override {
+  bool AwaitCommandsCollected(uint64_t iteration, const coordinator::WaitLimits& limits) override {
     return inner_.AwaitCommandsCollected(iteration, limits);
   }
   bool Finish(uint64_t iteration, proto::coord::End* end,

@@ -20,10 +20,9 @@ PeerListener ListenForPeers(const Scenario& scenario, const RunOptions& options,
                             ? std::string()
                             : coordinator::LoadSecretFile(options.secret_file);
   peers.listener = std::make_unique<coordinator::Listener>(endpoint);
-  std::fprintf(stderr, "sitlnet run: %s: waiting %lld s for %s on %s (%s)\n",
-               scenario.name.c_str(), static_cast<long long>(wait.timeout_ns / kNsPerS),
-               wait.what.c_str(), peers.listener->endpoint().ToString().c_str(),
-               wait.peer_command.c_str());
+  std::fprintf(stderr, "sitlnet run: %s: waiting %lld s for %s on %s (%s)\n", scenario.name.c_str(),
+               static_cast<long long>(wait.timeout_ns / kNsPerS), wait.what.c_str(),
+               peers.listener->endpoint().ToString().c_str(), wait.peer_command.c_str());
   peers.expect.scenario_hash = wait.scenario_hash;
   peers.expect.iteration_ns = scenario.iteration_ns;
   peers.limits.timeout_ns = wait.timeout_ns;

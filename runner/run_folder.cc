@@ -4,9 +4,8 @@
 // and a file's creation, and make root write through it (audit finding 7, docs/security.md).
 #include "runner/run_folder.h"
 
-#include <google/protobuf/text_format.h>
-
 #include <fcntl.h>
+#include <google/protobuf/text_format.h>
 #include <sys/stat.h>
 #include <unistd.h>
 

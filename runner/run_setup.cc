@@ -2,8 +2,8 @@
 
 #include <cstdio>
 
-#include "runner/robot_host.h"
 #include "runner/physics_options.h"
+#include "runner/robot_host.h"
 #include "runner/robot_start.h"
 
 namespace sitlnet::runner {

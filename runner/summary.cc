@@ -55,16 +55,16 @@ std::string PhysicsJson(const physics::PhysicsServer* physics, int index) {
   if (physics == nullptr) return "null";
   const physics::RobotCounters& phys = physics->counters(index);
   std::string json = "{\"commands_accepted\":" + std::to_string(phys.commands_accepted) +
-          ",\"states_sent\":" + std::to_string(phys.states_sent) + ",\"dropped\":" +
-          std::to_string(phys.dropped_malformed + phys.dropped_invalid + phys.dropped_wrong_robot +
-                         phys.dropped_foreign_source) +
-          ",\"failsafe_cuts\":" + std::to_string(phys.failsafe_cuts) +
-          ",\"json_frames\":" + std::to_string(phys.json_frames) +
-          ",\"json_resends\":" + std::to_string(phys.json_resends) +
-          ",\"json_restarts\":" + std::to_string(phys.json_restarts) +
-          ",\"json_missed_frames\":" + std::to_string(phys.json_missed_frames) +
-          ",\"json_dropped\":" + std::to_string(phys.json_dropped) +
-          ",\"json_clock_jumps\":" + std::to_string(phys.json_clock_jumps) + ",\"px4\":";
+                     ",\"states_sent\":" + std::to_string(phys.states_sent) + ",\"dropped\":" +
+                     std::to_string(phys.dropped_malformed + phys.dropped_invalid +
+                                    phys.dropped_wrong_robot + phys.dropped_foreign_source) +
+                     ",\"failsafe_cuts\":" + std::to_string(phys.failsafe_cuts) +
+                     ",\"json_frames\":" + std::to_string(phys.json_frames) +
+                     ",\"json_resends\":" + std::to_string(phys.json_resends) +
+                     ",\"json_restarts\":" + std::to_string(phys.json_restarts) +
+                     ",\"json_missed_frames\":" + std::to_string(phys.json_missed_frames) +
+                     ",\"json_dropped\":" + std::to_string(phys.json_dropped) +
+                     ",\"json_clock_jumps\":" + std::to_string(phys.json_clock_jumps) + ",\"px4\":";
   if (const std::optional<physics::Px4Counters> px4 = physics->px4_counters(index)) {
     json += "{\"connections\":" + std::to_string(px4->connections) +
             ",\"sensors_sent\":" + std::to_string(px4->sensors_sent) +

@@ -20,7 +20,7 @@ constexpr TimeNs kRunTimeoutNs = 120 * kNsPerS;
 const std::vector<std::string> kRobots = {"a", "b", "c", "d"};
 
 // Four flockers, interleaved over nodes n0 (a, c) and n1 (b, d): the nodes' order is not the
-// scenario's. 3 s in lockstep.
+// scenario's. Ten minutes, of which a run takes 3 s (--duration 3): the central alone sets it.
 RunScenario WriteFleetScenario(int slot) {
   std::string robots;
   const char* positions[] = {"x: 0 y: -2", "x: 0 y: 2", "x: -4 y: -2", "x: -4 y: 2"};
@@ -32,7 +32,7 @@ RunScenario WriteFleetScenario(int slot) {
   }
   return WriteScenario(slot, robots,
                        "nodes { name: \"n0\" } nodes { name: \"n1\" }\n"
-                       "timing { duration_ms: 3000 }\n");
+                       "timing { duration_ms: 600000 }\n");
 }
 
 // A `sitlnet node` child in a network and mount namespace of its own, with private tmpfs on
@@ -43,12 +43,31 @@ class NodeChild {
  public:
   NodeChild(const RunScenario& scenario, const std::string& node, const std::string& endpoint,
             const std::string& key, const std::string& out)
-      : child_({"unshare", "--net", "--mount", "--propagation", "private", "sh", "-c",
+      : child_({"unshare",
+                "--net",
+                "--mount",
+                "--propagation",
+                "private",
+                "sh",
+                "-c",
                 "mkdir -p /run/netns /run/sitlnet && mount -t tmpfs -o mode=0755 fleet-test "
                 "/run/netns && mount -t tmpfs -o mode=0755 fleet-test /run/sitlnet && exec "
                 "\"$@\"",
-                "sh", SitlnetBinary(), "node", scenario.path, "--node", node, "--connect",
-                endpoint, "--secret-file", key, "--out", out, "--pacing", "lockstep", "--seed",
+                "sh",
+                SitlnetBinary(),
+                "node",
+                scenario.path,
+                "--node",
+                node,
+                "--connect",
+                endpoint,
+                "--secret-file",
+                key,
+                "--out",
+                out,
+                "--pacing",
+                "lockstep",
+                "--seed",
                 "5"}) {}
   ~NodeChild() {
     if (child_.Poll() < 0) {
@@ -94,11 +113,11 @@ TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
   const std::string endpoint = "unix:" + base + ".sock";
   const std::vector<std::string> same_run = {"--pacing", "lockstep", "--seed", "5"};
 
-  std::vector<std::string> central_argv = {SitlnetBinary(), "run",         scenario.path,
-                                           "--out",         base + "-fleet", "--no-progress",
-                                           "--listen",      endpoint,      "--secret-file",
-                                           key};
+  std::vector<std::string> central_argv = {
+      SitlnetBinary(), "run",      scenario.path, "--out",         base + "-fleet",
+      "--no-progress", "--listen", endpoint,      "--secret-file", key};
   central_argv.insert(central_argv.end(), same_run.begin(), same_run.end());
+  central_argv.insert(central_argv.end(), {"--duration", "3"});
   {
     integration_test::Child central(central_argv);
     ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
@@ -122,7 +141,7 @@ TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
   }
   ExpectNoRobotLeft(scenario.name);
 
-  std::vector<std::string> one_host = {"--one-host"};
+  std::vector<std::string> one_host = {"--one-host", "--duration", "3"};
   one_host.insert(one_host.end(), same_run.begin(), same_run.end());
   const CommandResult reference = SitlnetRun(scenario, base + "-one", one_host);
   ASSERT_EQ(reference.exit_code, 0) << reference.err;
@@ -153,12 +172,12 @@ TEST(FleetRunTest, ACentralWithoutListenAndAnUnknownNodeAreRefusedInOneLine) {
                              "--one-host to run every robot here)\n");
   EXPECT_FALSE(access((base + "-fleet").c_str(), F_OK) == 0);
 
-  const CommandResult node = integration_test::RunCommand(
-      {SitlnetBinary(), "node", scenario.path, "--node", "n9", "--connect",
-       "unix:" + base + ".sock", "--out", base + "-n9"});
+  const CommandResult node =
+      integration_test::RunCommand({SitlnetBinary(), "node", scenario.path, "--node", "n9",
+                                    "--connect", "unix:" + base + ".sock", "--out", base + "-n9"});
   EXPECT_EQ(node.exit_code, 1) << node.err;
-  EXPECT_EQ(node.err, "sitlnet node: node 'n9' is not in scenario " + scenario.name +
-                          " (nodes: n0, n1)\n");
+  EXPECT_EQ(node.err,
+            "sitlnet node: node 'n9' is not in scenario " + scenario.name + " (nodes: n0, n1)\n");
   EXPECT_FALSE(access((base + "-n9").c_str(), F_OK) == 0);
   ExpectNoRobotLeft(scenario.name);
 }
