@@ -3,11 +3,13 @@
 // its own (as pods are: their namespaces' names cannot clash), linked to the central over unix:
 // sockets, authenticated. The run is the one-host run of the same scenario and seed (`sitlnet run
 // --one-host`), byte for byte: trajectories.csv, medium.pcap and deliveries.csv.
+#include <gmock/gmock.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 
@@ -21,14 +23,15 @@ const std::vector<std::string> kRobots = {"a", "b", "c", "d"};
 
 // Four flockers, interleaved over nodes n0 (a, c) and n1 (b, d): the nodes' order is not the
 // scenario's. Ten minutes, of which a run takes 3 s (--duration 3): the central alone sets it.
-RunScenario WriteFleetScenario(int slot) {
+// `target`: the flockers' --target, "x,y" (a marker in their command lines).
+RunScenario WriteFleetScenario(int slot, const std::string& target = "40,0") {
   std::string robots;
   const char* positions[] = {"x: 0 y: -2", "x: 0 y: 2", "x: -4 y: -2", "x: -4 y: 2"};
   for (size_t i = 0; i < kRobots.size(); ++i) {
     robots += "robot { name: \"" + kRobots[i] + "\" node: \"n" + std::to_string(i % 2) +
               "\" position_m { " + positions[i] +
-              " z: 0.2 } image: \"flocker\" args: [\"--target\", \"40,0\", \"--altitude-m\", "
-              "\"5\"] lidar { rays: 8 } }\n";
+              " z: 0.2 } image: \"flocker\" args: [\"--target\", \"" + target +
+              "\", \"--altitude-m\", \"5\"] lidar { rays: 8 } }\n";
   }
   return WriteScenario(slot, robots,
                        "nodes { name: \"n0\" } nodes { name: \"n1\" }\n"
@@ -180,6 +183,63 @@ TEST(FleetRunTest, ACentralWithoutListenAndAnUnknownNodeAreRefusedInOneLine) {
             "sitlnet node: node 'n9' is not in scenario " + scenario.name + " (nodes: n0, n1)\n");
   EXPECT_FALSE(access((base + "-n9").c_str(), F_OK) == 0);
   ExpectNoRobotLeft(scenario.name);
+}
+
+// Processes whose command line holds `marker`.
+int ProcessesWith(const std::string& marker) {
+  int found = 0;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc", error)) {
+    std::string cmdline = ReadAll(entry.path().string() + "/cmdline");
+    std::replace(cmdline.begin(), cmdline.end(), '\0', ' ');
+    if (cmdline.find(marker) != std::string::npos) ++found;
+  }
+  return found;
+}
+
+// A node killed mid-run (as a pod is): the central names it and exits 1; the other node stops
+// its robots, takes its slice down and exits 0; the killed node's images die with it.
+TEST(FleetRunTest, ANodeKilledMidRunStopsTheRunNamingItAndLeavesNothing) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const std::string marker = "40,0." + std::to_string(getpid());
+  const RunScenario scenario = WriteFleetScenario(5, marker);
+  DownGuard guard(scenario.name);
+  const std::string base = TempDir() + "/" + scenario.name;
+  const std::string key = base + ".key";
+  std::ofstream(key) << "the fleet run test's shared secret";
+  ASSERT_EQ(chmod(key.c_str(), 0600), 0);
+  const std::string endpoint = "unix:" + base + ".sock";
+  {
+    integration_test::Child central({SitlnetBinary(), "run", scenario.path, "--out",
+                                     base + "-fleet", "--no-progress", "--listen", endpoint,
+                                     "--secret-file", key, "--pacing", "lockstep", "--seed", "5"});
+    ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
+    NodeChild n0(scenario, "n0", endpoint, key, base + "-n0");
+    NodeChild n1(scenario, "n1", endpoint, key, base + "-n1");
+    // Mid-run: robot b has logged a second of virtual time.
+    ASSERT_TRUE(WaitForFiles(
+        base + "-n1/robots",
+        [&] { return ReadAll(base + "-n1/robots/b.log").find("t=1.00") != std::string::npos; },
+        60 * kNsPerS))
+        << central.err();
+    EXPECT_GE(ProcessesWith(marker), 4);  // The four images: the marker finds them.
+    kill(n1.child().pid(), SIGKILL);
+    EXPECT_EQ(n1.child().Wait(kRunTimeoutNs), 128 + SIGKILL);
+    EXPECT_EQ(central.Wait(kRunTimeoutNs), 1) << central.err();
+    // The socket closes or is reset, as the kernel tears it down.
+    EXPECT_THAT(central.err(),
+                ::testing::ContainsRegex("sitlnet run: node 'n1' \\(robots b, d\\) failed during "
+                                         "iteration [0-9]+: peer [a-z]+ the connection \\(node "
+                                         "crashed or exited\\)"));
+    EXPECT_EQ(n0.child().Wait(kRunTimeoutNs), 0) << n0.child().err();
+    EXPECT_NE(n0.child().err().find("n0: stopped: "), std::string::npos) << n0.child().err();
+  }
+  ExpectNoRobotLeft(scenario.name);
+  // The killed node's images get SIGKILL from the kernel when it dies (bubblewrap's
+  // --die-with-parent), a moment later: a bounded wait for that, not a synchronization.
+  const TimeNs deadline_ns = MonotonicNowNs() + 5 * kNsPerS;
+  while (ProcessesWith(marker) > 0 && MonotonicNowNs() < deadline_ns) usleep(50 * 1000);
+  EXPECT_EQ(ProcessesWith(marker), 0);
 }
 
 }  // namespace
