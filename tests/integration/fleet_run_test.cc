@@ -105,24 +105,38 @@ void ExpectNoRobotLeft(const std::string& name) {
   for (const std::string& robot : kRobots) EXPECT_FALSE(NetnsExists(name + "-" + robot)) << robot;
 }
 
+// The files of a fleet run under `base` (TempDir()/<scenario>): the shared secret (written),
+// the central's unix: endpoint, and the central's command line with `extra` arguments.
+struct FleetFiles {
+  explicit FleetFiles(const RunScenario& scenario)
+      : base(TempDir() + "/" + scenario.name),
+        key(base + ".key"),
+        endpoint("unix:" + base + ".sock") {
+    std::ofstream(key) << "the fleet run test's shared secret";
+    SITLNET_DEMAND(chmod(key.c_str(), 0600) == 0);
+  }
+  std::vector<std::string> Central(const RunScenario& scenario,
+                                   const std::vector<std::string>& extra) const {
+    std::vector<std::string> argv = {
+        SitlnetBinary(), "run",    scenario.path,   "--out", base + "-fleet", "--no-progress",
+        "--listen",      endpoint, "--secret-file", key,     "--pacing",      "lockstep",
+        "--seed",        "5"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return argv;
+  }
+  std::string base, key, endpoint;
+};
+
 TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const RunScenario scenario = WriteFleetScenario(3);
   DownGuard guard(scenario.name);
-  const std::string base = TempDir() + "/" + scenario.name;
-  const std::string key = base + ".key";
-  std::ofstream(key) << "the fleet run test's shared secret";
-  ASSERT_EQ(chmod(key.c_str(), 0600), 0);
-  const std::string endpoint = "unix:" + base + ".sock";
-  const std::vector<std::string> same_run = {"--pacing", "lockstep", "--seed", "5"};
-
-  std::vector<std::string> central_argv = {
-      SitlnetBinary(), "run",      scenario.path, "--out",         base + "-fleet",
-      "--no-progress", "--listen", endpoint,      "--secret-file", key};
-  central_argv.insert(central_argv.end(), same_run.begin(), same_run.end());
-  central_argv.insert(central_argv.end(), {"--duration", "3"});
+  const FleetFiles files(scenario);
+  const std::string& base = files.base;
+  const std::string& key = files.key;
+  const std::string& endpoint = files.endpoint;
   {
-    integration_test::Child central(central_argv);
+    integration_test::Child central(files.Central(scenario, {"--duration", "3"}));
     ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
     NodeChild n0(scenario, "n0", endpoint, key, base + "-n0");
     NodeChild n1(scenario, "n1", endpoint, key, base + "-n1");
@@ -144,9 +158,9 @@ TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
   }
   ExpectNoRobotLeft(scenario.name);
 
-  std::vector<std::string> one_host = {"--one-host", "--duration", "3"};
-  one_host.insert(one_host.end(), same_run.begin(), same_run.end());
-  const CommandResult reference = SitlnetRun(scenario, base + "-one", one_host);
+  const CommandResult reference =
+      SitlnetRun(scenario, base + "-one",
+                 {"--one-host", "--duration", "3", "--pacing", "lockstep", "--seed", "5"});
   ASSERT_EQ(reference.exit_code, 0) << reference.err;
 
   const std::string trajectories = ReadAll(base + "-one/trajectories.csv");
@@ -204,15 +218,12 @@ TEST(FleetRunTest, ANodeKilledMidRunStopsTheRunNamingItAndLeavesNothing) {
   const std::string marker = "40,0." + std::to_string(getpid());
   const RunScenario scenario = WriteFleetScenario(5, marker);
   DownGuard guard(scenario.name);
-  const std::string base = TempDir() + "/" + scenario.name;
-  const std::string key = base + ".key";
-  std::ofstream(key) << "the fleet run test's shared secret";
-  ASSERT_EQ(chmod(key.c_str(), 0600), 0);
-  const std::string endpoint = "unix:" + base + ".sock";
+  const FleetFiles files(scenario);
+  const std::string& base = files.base;
+  const std::string& key = files.key;
+  const std::string& endpoint = files.endpoint;
   {
-    integration_test::Child central({SitlnetBinary(), "run", scenario.path, "--out",
-                                     base + "-fleet", "--no-progress", "--listen", endpoint,
-                                     "--secret-file", key, "--pacing", "lockstep", "--seed", "5"});
+    integration_test::Child central(files.Central(scenario, {}));
     ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
     NodeChild n0(scenario, "n0", endpoint, key, base + "-n0");
     NodeChild n1(scenario, "n1", endpoint, key, base + "-n1");
