@@ -237,11 +237,11 @@ TEST(FleetRunTest, ANodeKilledMidRunStopsTheRunNamingItAndLeavesNothing) {
     kill(n1.child().pid(), SIGKILL);
     EXPECT_EQ(n1.child().Wait(kRunTimeoutNs), 128 + SIGKILL);
     EXPECT_EQ(central.Wait(kRunTimeoutNs), 1) << central.err();
-    // The socket closes or is reset, as the kernel tears it down.
+    // The socket closes or is reset, maybe mid-frame, as the kernel tears it down.
     EXPECT_THAT(central.err(),
                 ::testing::ContainsRegex("sitlnet run: node 'n1' \\(robots b, d\\) failed during "
-                                         "iteration [0-9]+: peer [a-z]+ the connection \\(node "
-                                         "crashed or exited\\)"));
+                                         "iteration [0-9]+: peer [^\n]* the connection[^\n]* "
+                                         "\\(node crashed or exited\\)"));
     EXPECT_EQ(n0.child().Wait(kRunTimeoutNs), 0) << n0.child().err();
     EXPECT_NE(n0.child().err().find("n0: stopped: "), std::string::npos) << n0.child().err();
   }
