@@ -31,5 +31,7 @@ COPY . .
 # Compiled once here: a ccache folder in the image would only make it larger.
 ENV CCACHE_DISABLE=1
 RUN scripts/setup
+# `sitlnet` by name, as deploy/kubernetes/ calls it.
+ENV PATH=/tmp/sitlnet/build/bin:$PATH
 ENV CI=true
 CMD ["scripts/test"]
