@@ -129,13 +129,16 @@ if [[ $mode == kill ]]; then
     { echo "kube_fleet_test: FAILED: the coordinator ran on 30 s after the kill" >&2; exit 1; }
   echo "kube_fleet_test: the coordinator exited $coordinator_exit $((SECONDS - killed_s)) s after the kill"
   expected="node 'sitlnet-node-1' (robots b, d) failed during iteration"
-  if [[ $coordinator_exit != 1 ]] || ! podman logs "$coordinator" 2>&1 | grep -qF "$expected"; then
+  # Logs read whole first: `grep -q` ending a pipe early would fail it (pipefail, SIGPIPE).
+  coordinator_log=$(podman logs "$coordinator" 2>&1)
+  if [[ $coordinator_exit != 1 || $coordinator_log != *"$expected"* ]]; then
     echo "kube_fleet_test: FAILED: expected exit 1 and \"$expected\"" >&2
     show_logs
     status=1
   fi
   # The survivor lingers (so that a StatefulSet does not restart it), its robots gone.
-  if ! podman logs sitlnet-node-0$suffix-node 2>&1 | grep -q 'sitlnet-node-0: stopped: ' ||
+  survivor_log=$(podman logs sitlnet-node-0$suffix-node 2>&1)
+  if [[ $survivor_log != *'sitlnet-node-0: stopped: '* ]] ||
     [[ -n $(podman exec sitlnet-node-0$suffix-node ip netns list) ]]; then
     echo "kube_fleet_test: FAILED: node 0 did not stop and take its robots down" >&2
     show_logs
