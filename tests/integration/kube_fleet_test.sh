@@ -34,22 +34,15 @@ podman image exists "$image" ||
   missing "no image $image (sudo scripts/container-test --prepare makes it)"
 [[ -x "$source_dir/build/bin/sitlnet" ]] || missing "no build in $source_dir/build (the pods run it)"
 
-# Names of this run only: every cleanup below is by these exact names.
-suffix=-kt$$
-network=sitlnet$suffix
-subnet_prefix=10.$((180 + $$ % 60)).$(($$ / 60 % 250))
+source "$source_dir/deploy/kubernetes/podman-fleet.sh"
 work=$(mktemp -d /tmp/sitlnet-kube-test.XXXXXX)
 netns_before=$(ip netns list | sort)
 links_before=$(ip -o link show | awk -F': ' '{print $2}' | sort)
-played=()
+FLEET_PLAYED=()
 
 cleanup() {
   local status=$?
-  for file in "${played[@]}"; do podman kube down "$file" >/dev/null 2>&1 || true; done
-  for pod in sitlnet-coordinator$suffix sitlnet-node-0$suffix sitlnet-node-1$suffix; do
-    podman pod rm -f "$pod" >/dev/null 2>&1 || true
-  done
-  podman network rm "$network" >/dev/null 2>&1 || true
+  [[ -n ${FLEET_NETWORK:-} ]] && fleet_pods_end
   rm -rf "$work"
   exit "$status"
 }
@@ -57,7 +50,7 @@ trap cleanup EXIT
 trap 'exit 130' INT TERM
 
 # The scenario: four flockers, interleaved over the StatefulSet's two pods (their hostnames).
-mkdir -p "$work/scenario" "$work/runs"
+mkdir -p "$work/scenario"
 scenario=$work/scenario/fleet.textproto
 name=kt$(($$ % 100000))
 {
@@ -74,49 +67,16 @@ name=kt$(($$ % 100000))
   echo "timing { duration_ms: $([[ $mode == kill ]] && echo 600000 || echo 3000)" \
     "pacing: PACING_LOCKSTEP seed: 5 }"
 } >"$scenario"
-head -c 32 /dev/urandom >"$work/key"
-chmod 600 "$work/key"
 
-# podman 4.3's kube play takes no runtime or ulimit flags: a containers.conf of this run's own.
-# runc: crun refuses hybrid cgroup hosts. Limits at or below the host's hard ones (podman's
-# defaults are above this host's, and a container may not raise them).
-hard_files=$(ulimit -Hn)
-[[ $hard_files == unlimited ]] && hard_files=1048576
-cat >"$work/containers.conf" <<EOF
-[containers]
-default_ulimits = ["nofile=$hard_files:$hard_files", "nproc=4096:4096"]
-[engine]
-runtime = "runc"
-EOF
-export CONTAINERS_CONF=$work/containers.conf
-
-"$source_dir/deploy/kubernetes/render-for-podman" --out "$work/pods" --suffix="$suffix" \
-  --image "$image" --checkout "$source_dir" --key "$work/key" --scenario "$scenario" \
-  --runs "$work/runs" --coordinator-ip "$subnet_prefix.10" >/dev/null
-podman network create --subnet "$subnet_prefix.0/24" "$network" >/dev/null
-
+fleet_pods_begin "$work" "$source_dir" "$image" "$scenario" 2
 started_s=$SECONDS
-play() {  # FILE IP
-  played+=("$1")
-  # Its warnings (e.g. "No more static macs left") go to a file, shown if the run fails.
-  podman kube play --network "$network" --ip "$2" --configmap "$work/pods/env.yaml" "$1" \
-    >/dev/null 2>>"$work/play.log" || { cat "$work/play.log" >&2; exit 1; }
-}
-play "$work/pods/coordinator.yaml" "$subnet_prefix.10"
-play "$work/pods/node-0.yaml" "$subnet_prefix.11"
-play "$work/pods/node-1.yaml" "$subnet_prefix.12"
-coordinator=sitlnet-coordinator$suffix-coordinator
-show_logs() {
-  for container in $coordinator sitlnet-node-0$suffix-node sitlnet-node-1$suffix-node; do
-    echo "--- $container" >&2
-    podman logs "$container" 2>&1 | tail -15 >&2
-  done
-}
+fleet_pods_play
+coordinator=$FLEET_COORDINATOR
+show_logs() { fleet_pods_show_logs; }
 status=0
 if [[ $mode == kill ]]; then
-  # Mid-run: robot b (on node 1) has flown a simulated second. Polled: the file is on a hostPath,
-  # the pod's claim, in which the node writes its folder /runs/$(hostname).
-  b_log=$work/runs/sitlnet-node-1/sitlnet-node-1/robots/b.log
+  # Mid-run: robot b (on node 1) has flown a simulated second. Polled: the file is on a hostPath.
+  b_log=${FLEET_NODE_DIRS[1]}/robots/b.log
   for ((tries = 0; tries < 600; tries++)); do
     grep -q 't=1.00' "$b_log" 2>/dev/null && break
     sleep 0.1
@@ -124,7 +84,7 @@ if [[ $mode == kill ]]; then
   grep -q 't=1.00' "$b_log" 2>/dev/null ||
     { echo "kube_fleet_test: FAILED: robot b never reached 1 s" >&2; show_logs; exit 1; }
   killed_s=$SECONDS
-  podman kill sitlnet-node-1$suffix-node >/dev/null
+  podman kill "${FLEET_NODE_CONTAINERS[1]}" >/dev/null
   coordinator_exit=$(timeout 30 podman wait "$coordinator") ||
     { echo "kube_fleet_test: FAILED: the coordinator ran on 30 s after the kill" >&2; exit 1; }
   echo "kube_fleet_test: the coordinator exited $coordinator_exit $((SECONDS - killed_s)) s after the kill"
@@ -137,9 +97,9 @@ if [[ $mode == kill ]]; then
     status=1
   fi
   # The survivor lingers (so that a StatefulSet does not restart it), its robots gone.
-  survivor_log=$(podman logs sitlnet-node-0$suffix-node 2>&1)
+  survivor_log=$(podman logs "${FLEET_NODE_CONTAINERS[0]}" 2>&1)
   if [[ $survivor_log != *'sitlnet-node-0: stopped: '* ]] ||
-    [[ -n $(podman exec sitlnet-node-0$suffix-node ip netns list) ]]; then
+    [[ -n $(podman exec "${FLEET_NODE_CONTAINERS[0]}" ip netns list) ]]; then
     echo "kube_fleet_test: FAILED: node 0 did not stop and take its robots down" >&2
     show_logs
     status=1
@@ -162,7 +122,7 @@ else
     2>"$work/one-host.err" ||
     { echo "kube_fleet_test: FAILED: the one-host run" >&2; cat "$work/one-host.err" >&2; exit 1; }
   for file in trajectories.csv medium.pcap deliveries.csv; do
-    if cmp "$work/one-host/$file" "$work/runs/sitlnet-coordinator/run/$file"; then
+    if cmp "$work/one-host/$file" "$FLEET_RUN_DIR/$file"; then
       echo "kube_fleet_test: $file equal ($(stat -c %s "$work/one-host/$file") B)"
     else
       echo "kube_fleet_test: FAILED: $file differs between the pods and one host" >&2
@@ -171,20 +131,19 @@ else
   done
 fi
 
-# podman kube down, as a user would, and the network removed: nothing of the run may be left.
-for file in "${played[@]}"; do podman kube down "$file" >/dev/null; done
-played=()
-for pod in sitlnet-coordinator$suffix sitlnet-node-0$suffix sitlnet-node-1$suffix; do
+# podman kube down, as a user would, then the network: nothing of the run may be left.
+for file in "${FLEET_PLAYED[@]}"; do podman kube down "$file" >/dev/null; done
+for pod in sitlnet-coordinator$FLEET_SUFFIX sitlnet-node-0$FLEET_SUFFIX sitlnet-node-1$FLEET_SUFFIX; do
   if podman pod exists "$pod"; then
     echo "kube_fleet_test: FAILED: pod $pod left after kube down" >&2
     status=1
   fi
 done
+fleet_pods_end
 if [[ $(ip netns list | sort) != "$netns_before" ]]; then
   echo "kube_fleet_test: FAILED: network namespaces changed on the host" >&2
   status=1
 fi
-podman network rm "$network" >/dev/null
 if [[ $(ip -o link show | awk -F': ' '{print $2}' | sort) != "$links_before" ]]; then
   echo "kube_fleet_test: FAILED: links on the host changed:" \
     "$(diff <(echo "$links_before") <(ip -o link show | awk -F': ' '{print $2}' | sort) | grep '^[<>]')" >&2
