@@ -19,10 +19,8 @@ namespace sitlnet::fleet {
 //------------------------------------ Nodes ----------------------------------
 
 // The robots one node host runs: the node's name and their indices in the scenario, ascending.
-struct NodeSlice {
-  std::string name;
-  std::vector<int> robots;
-};
+// The scenario's own plan of a node (Scenario::nodes), so a run passes scenario.nodes as is.
+using NodeSlice = NodePlan;
 
 // "node 'n1' (robots c, d)": how every message names a node.
 std::string DescribeNode(const Scenario& scenario, const NodeSlice& node);

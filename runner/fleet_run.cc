@@ -18,12 +18,6 @@
 namespace sitlnet::runner {
 namespace {
 
-std::vector<fleet::NodeSlice> Slices(const Scenario& scenario) {
-  std::vector<fleet::NodeSlice> slices;
-  for (const NodePlan& node : scenario.nodes) slices.push_back({node.name, node.robots});
-  return slices;
-}
-
 // What a central host refuses before it listens.
 void RefuseFleetOptions(const Scenario& scenario, const RunOptions& options) {
   if (options.remote_network) {
@@ -55,7 +49,7 @@ std::vector<std::unique_ptr<fleet::NodeLink>> AcceptNodeHosts(const Scenario& sc
                                       interrupt_fd);
   peers.expect.lockstep_robots = true;
   auto nodes =
-      fleet::AcceptNodes(*peers.listener, scenario, Slices(scenario), peers.expect, peers.limits);
+      fleet::AcceptNodes(*peers.listener, scenario, scenario.nodes, peers.expect, peers.limits);
   for (const auto& node : nodes) {
     std::fprintf(stderr, "sitlnet run: %s connected\n", node->Describe().c_str());
   }
@@ -85,7 +79,7 @@ class FleetSetup final : public RunParts {
   FleetSetup(const Scenario& scenario, const RunOptions& options, const std::string& run_dir,
              std::vector<std::unique_ptr<fleet::NodeLink>> nodes)
       : scenario_(scenario),
-        ports_(scenario, Slices(scenario)),
+        ports_(scenario, scenario.nodes),
         run_timebase_(scenario.spec.timing().realtime_factor()),
         robots_(scenario.robots.size()) {
     for (const RobotPlan& plan : scenario.robots) robots_[plan.index].name = plan.name;
