@@ -8,7 +8,7 @@
 
 #include <algorithm>
 
-#include "fleet/node_poses.h"
+#include "fleet/node_hello_check.h"
 
 namespace sitlnet::fleet {
 namespace {
@@ -32,42 +32,6 @@ std::string PeerAddress(int fd) {
     return "[" + std::string(text) + "]:" + std::to_string(ntohs(in6.sin6_port));
   }
   return "a unix socket";
-}
-
-// "c, d"; an index outside the scenario as a number.
-std::string RobotNames(const Scenario& scenario, const std::vector<int>& robots) {
-  std::string names;
-  for (const int robot : robots) {
-    if (!names.empty()) names += ", ";
-    names += robot >= 0 && robot < static_cast<int>(scenario.robots.size())
-                 ? scenario.robots[robot].name
-                 : std::to_string(robot);
-  }
-  return names.empty() ? "none" : names;
-}
-
-// Why a node's Hello is refused, or "": run on the handshakes' threads, so it reads only its
-// arguments.
-std::string RefuseNodeHello(const Scenario& scenario, const std::vector<NodeSlice>& nodes,
-                            const proto::coord::Hello& hello) {
-  const std::string name = coordinator::PrintableName(hello.connector_name());
-  const auto node = std::ranges::find(nodes, hello.connector_name(), &NodeSlice::name);
-  if (node == nodes.end()) {
-    std::string names;
-    for (const NodeSlice& slice : nodes) names += (names.empty() ? "" : ", ") + slice.name;
-    return "node '" + name + "' is not one of this run's nodes (" + names + ")";
-  }
-  const std::vector<int> claimed(hello.robots().begin(), hello.robots().end());
-  if (claimed != node->robots) {
-    return "node '" + name + "' claims robots " + RobotNames(scenario, claimed) +
-           ", but the scenario gives it " + RobotNames(scenario, node->robots) +
-           " (another scenario or --node?)";
-  }
-  if (const std::optional<std::string> broken =
-          FindBrokenPoses(hello.initial_poses(), node->robots.size())) {
-    return DescribeNode(scenario, *node) + ": initial poses: " + *broken;
-  }
-  return "";
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // What several fuzz targets make from the fuzzer's bytes: numbers that include the values
 // decoders get wrong (NaN, infinities, anything), the small lockstep scenario the network targets
-// run on, and little-endian fields of the streams they check.
+// run on, poses as a peer sends them, and little-endian fields of the streams they check.
 #ifndef SITLNET_FUZZ_FUZZ_INPUTS_H_
 #define SITLNET_FUZZ_FUZZ_INPUTS_H_
 
@@ -12,6 +12,7 @@
 #include <string>
 
 #include "scenario/scenario.h"
+#include "sitlnet/coordinator.pb.h"
 
 namespace sitlnet::fuzz {
 
@@ -39,17 +40,36 @@ inline constexpr char kEveryEffectRadio[] =
     "obstacle { name: \"wall\" center_m { x: 10 y: 5 z: 1 } size_m { x: 1 y: 4 z: 4 } }\n";
 
 // Robots a, b, c (b 20 m from a, c 60 m from a), lockstep, δ_net 2 ms; the default radio, or
-// kEveryEffectRadio.
-inline Scenario ThreeRobotScenario(const std::string& name, bool every_effect = false) {
-  return LoadScenarioText("name: \"" + name +
-                              "\"\n"
-                              "robot { name: \"a\" position_m { x: 0 y: 0 z: 1 } }\n"
-                              "robot { name: \"b\" position_m { x: 20 y: 0 z: 1 } }\n"
-                              "robot { name: \"c\" position_m { x: 0 y: 60 z: 1 } }\n"
-                              "timing { iteration_us: 10000 physics_step_us: 1000 "
-                              "network_step_us: 2000 pacing: PACING_LOCKSTEP seed: 1 }\n" +
-                              (every_effect ? kEveryEffectRadio : ""),
-                          name + "_fuzz");
+// kEveryEffectRadio. `on_two_nodes`: a fleet (issue 35), a and c on node n0, b on n1.
+inline Scenario ThreeRobotScenario(const std::string& name, bool every_effect = false,
+                                   bool on_two_nodes = false) {
+  const auto robot = [on_two_nodes](const char* robot, const char* node, const char* position) {
+    return std::string("robot { name: \"") + robot + "\" " +
+           (on_two_nodes ? std::string("node: \"") + node + "\" " : "") + "position_m { " +
+           position + " } }\n";
+  };
+  return LoadScenarioText(
+      "name: \"" + name + "\"\n" + robot("a", "n0", "x: 0 y: 0 z: 1") +
+          robot("b", "n1", "x: 20 y: 0 z: 1") + robot("c", "n0", "x: 0 y: 60 z: 1") +
+          (on_two_nodes ? "nodes { name: \"n0\" } nodes { name: \"n1\" }\n" : "") +
+          "timing { iteration_us: 10000 physics_step_us: 1000 "
+          "network_step_us: 2000 pacing: PACING_LOCKSTEP seed: 1 }\n" +
+          (every_effect ? kEveryEffectRadio : ""),
+      name + "_fuzz");
+}
+
+// Poses of `robots` robots as a peer may send them: mostly with the counts of numbers a
+// physics sends (velocities or none), sometimes any count; NaN, infinities and any double.
+inline void FillPoses(FuzzedDataProvider& in, size_t robots, proto::coord::Poses* poses) {
+  const bool any_count = in.ConsumeIntegralInRange(0, 3) == 3;
+  const auto count = [&](size_t per_robot) {
+    return any_count ? in.ConsumeIntegralInRange<size_t>(0, 4 * robots + 2) : per_robot * robots;
+  };
+  const size_t positions = count(3), orientations = count(4);
+  const size_t velocities = in.ConsumeBool() ? count(3) : 0;
+  for (size_t i = 0; i < positions; ++i) poses->add_position_m(OddOrInRange(in, -100, 100));
+  for (size_t i = 0; i < orientations; ++i) poses->add_orientation_wxyz(OddOrInRange(in, -1, 1));
+  for (size_t i = 0; i < velocities; ++i) poses->add_velocity_m_s(OddOrInRange(in, -20, 20));
 }
 
 inline uint32_t Le32(const std::string& bytes, size_t at) {

@@ -12,7 +12,8 @@ shift || true
 targets=("$@")
 ((${#targets[@]})) || targets=(scenario_text_fuzz motor_command_fuzz servo_packet_fuzz
   coordinator_frame_fuzz medium_frame_fuzz image_manifest_fuzz state_file_fuzz
-  remote_medium_reply_fuzz remote_medium_request_fuzz control_socket_fuzz)
+  remote_medium_reply_fuzz remote_medium_request_fuzz control_socket_fuzz node_to_central_fuzz
+  central_to_node_fuzz)
 
 build=build-fuzz
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSITLNET_FUZZ=ON \
