@@ -91,8 +91,11 @@ void RemoteConnector::Begin(const proto::coord::Start& start, const WaitLimits& 
   *out_.mutable_start() = start;
   outstanding_ = true;
   outstanding_iteration_ = start.iteration();
+  const uint64_t sent_before = channel_.bytes_sent();
+  const TimeNs sending_ns = MonotonicNowNs();  // The round trip includes encoding and tagging.
   try {
     channel_.Send(out_, limits.deadline_ns);
+    meter_.StartSent(sending_ns, channel_.bytes_sent() - sent_before);
   } catch (const TransportError& e) {
     throw Error(Describe() + ": sending START of iteration " + std::to_string(start.iteration()) +
                 ": " + Explain(e));
@@ -131,6 +134,7 @@ bool RemoteConnector::Finish(uint64_t iteration, proto::coord::End* end, const W
   if (in_.kind_case() != CoordinatorMessage::kEnd || in_.end().iteration() != iteration) {
     throw Unexpected(iteration, "END");
   }
+  meter_.EndReceived(MonotonicNowNs());
   end->Swap(in_.mutable_end());
   outstanding_ = false;
   return true;
@@ -171,8 +175,10 @@ std::string RemoteConnector::Explain(const TransportError& e) const {
 // into messages naming this connector.
 bool RemoteConnector::ReceiveExpected(uint64_t iteration, const char* what,
                                       const WaitLimits& limits) {
+  const uint64_t received_before = channel_.bytes_received();
   try {
     if (!channel_.Receive(&in_, limits.deadline_ns, limits.interrupt_fd)) return false;
+    meter_.Received(channel_.bytes_received() - received_before);
   } catch (const TransportError& e) {
     outstanding_ = false;  // Failed or stuck: Stop() must not wait for it.
     const std::string k = std::to_string(iteration);

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "coordinator/connector.h"
+#include "coordinator/link_meter.h"
 
 namespace sitlnet::coordinator {
 
@@ -25,6 +26,9 @@ class RemoteConnector final : public Connector {
   // End came in its place); left empty here.
   std::string TakeCommandsCollectedPayload();
 
+  // The link's round trips so far: START sent until END read, and the bytes each way.
+  LinkStats link_stats() const { return meter_.Stats(); }
+
  private:
   std::string Explain(const TransportError& e) const;
   bool ReceiveExpected(uint64_t iteration, const char* what, const WaitLimits& limits);
@@ -40,6 +44,7 @@ class RemoteConnector final : public Connector {
   uint64_t outstanding_iteration_ = 0;
   proto::coord::CoordinatorMessage out_;
   proto::coord::CoordinatorMessage in_;
+  LinkMeter meter_;
 };
 
 }  // namespace sitlnet::coordinator

@@ -307,6 +307,7 @@ bool Channel::Receive(proto::coord::CoordinatorMessage* message, TimeNs deadline
     transcript_->Add(std::string_view(inbox_.data() + inbox_begin_, kFrameHeaderBytes + body));
   const std::string_view body_bytes(inbox_.data() + inbox_begin_ + kFrameHeaderBytes, body);
   inbox_begin_ += kFrameHeaderBytes + body + tag_bytes;
+  bytes_received_ += kFrameHeaderBytes + body + tag_bytes;
   if (inbox_begin_ == inbox_end_) inbox_begin_ = inbox_end_ = 0;  // Decoded below before reuse.
   try {
     DecodeFrameBody(encoding, body_bytes, max_frame_bytes_, &scratch_, message);

@@ -96,7 +96,9 @@ class Channel {
   void set_spin_ns(TimeNs spin_ns) { spin_ns_ = spin_ns; }
   // Frames sent compressed so far (for benchmarks and tests).
   uint64_t compressed_frames_sent() const { return compressed_frames_sent_; }
+  // Bytes that crossed the socket as whole frames (header, body and tag), each way.
   uint64_t bytes_sent() const { return bytes_sent_; }
+  uint64_t bytes_received() const { return bytes_received_; }
 
  private:
   // Waits until fd is ready for `events`; false if interrupt_fd fired.
@@ -117,6 +119,7 @@ class Channel {
   std::unique_ptr<TranscriptHash> transcript_;     // Set by RecordTranscript.
   uint64_t compressed_frames_sent_ = 0;
   uint64_t bytes_sent_ = 0;
+  uint64_t bytes_received_ = 0;
 };
 
 // A listening socket. A Unix socket path is unlinked before bind and on

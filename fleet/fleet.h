@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "coordinator/link_meter.h"
 #include "scenario/scenario.h"
 #include "sitlnet/node_link.pb.h"
 #include "tapbridge/tapbridge.h"
@@ -24,6 +25,14 @@ using NodeSlice = NodePlan;
 
 // "node 'n1' (robots c, d)": how every message names a node.
 std::string DescribeNode(const Scenario& scenario, const NodeSlice& node);
+
+// What a node's link cost over a run, measured by the central (summary.json "fleet_links"):
+// one round trip per iteration, from sending its Start to reading its End.
+struct FleetLinkStats {
+  std::string node;         // Its name.
+  std::string description;  // DescribeNode.
+  coordinator::LinkStats link;
+};
 
 // The scenario hash a node host and its central prove to each other: coordinator::ScenarioHash
 // without timing.duration_ms, so that the central's --duration alone sets how long the run goes.

@@ -73,6 +73,14 @@ bool FleetPhysicsConnector::Finish(uint64_t iteration, proto::coord::End* end,
   return true;
 }
 
+std::vector<FleetLinkStats> FleetPhysicsConnector::link_stats() const {
+  std::vector<FleetLinkStats> stats;
+  for (const std::unique_ptr<NodeLink>& node : nodes_) {
+    stats.push_back({node->slice().name, node->Describe(), node->connector().link_stats()});
+  }
+  return stats;
+}
+
 void FleetPhysicsConnector::Stop(const std::string& reason) {
   for (const std::unique_ptr<NodeLink>& node : nodes_) node->connector().Stop(reason);
 }

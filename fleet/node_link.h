@@ -70,6 +70,9 @@ class FleetPhysicsConnector final : public coordinator::Connector {
               const coordinator::WaitLimits& limits) override;
   void Stop(const std::string& reason) override;
 
+  // Each node's link so far, in the order of `nodes`.
+  std::vector<FleetLinkStats> link_stats() const;
+
  private:
   size_t robot_count_;
   std::vector<std::unique_ptr<NodeLink>> nodes_;

@@ -66,6 +66,7 @@ class FleetPhysics final : public RunPhysics {
                    run_dir + "/trajectories.csv", options.trajectory_period_ns) {}
   coordinator::Connector& connector() override { return recording_; }
   void Flush() override { recording_.Flush(); }
+  std::vector<fleet::FleetLinkStats> link_stats() const { return fleet_.link_stats(); }
 
  private:
   fleet::FleetPhysicsConnector fleet_;
@@ -90,7 +91,7 @@ class FleetSetup final : public RunParts {
                                           [this](int robot) { return ports_.Open(robot); });
   }
 
-  RunPhysics& physics() { return *physics_; }
+  FleetPhysics& physics() { return *physics_; }
   const Scenario& scenario() const override { return scenario_; }
   bool lockstep() const override { return true; }
   tapbridge::BridgeCore& bridge() override { return medium_->bridge(); }
@@ -137,6 +138,7 @@ RunReport RunOnNodeHosts(const Scenario& scenario, const RunOptions& options, Ru
   report.loop_ns = loop.end_ns - loop.begin_ns;
   report.self_cpu_s = loop.self_cpu_s;
   setup.medium_records().Flush();
+  report.fleet_links = setup.physics().link_stats();
   ReportRun(setup, loop, &report);
   return report;
 }

@@ -125,7 +125,16 @@ std::string ServeNodeHost(const NodeOptions& options) {
   }
   // Readiness is timed from the run's start: the images waited for the central meanwhile.
   for (RobotSlot& robot : setup.robots()) robot.started_wall_ns = MonotonicNowNs();
-  return coordinator::ServeIterations(channel, supervised, stop.fd());
+  const uint64_t sent_before = channel.bytes_sent(), received_before = channel.bytes_received();
+  const std::string reason = coordinator::ServeIterations(channel, supervised, stop.fd());
+  // The node's count of its link, the other end of the central's (summary.json "fleet_links").
+  std::fprintf(stderr,
+               "sitlnet node: %s: %llu B sent to the central host and %llu B received after the "
+               "handshake\n",
+               described.c_str(),
+               static_cast<unsigned long long>(channel.bytes_sent() - sent_before),
+               static_cast<unsigned long long>(channel.bytes_received() - received_before));
+  return reason;
 }
 
 }  // namespace sitlnet::runner

@@ -22,6 +22,22 @@ void ReportMediumLink(const network_side::RemoteMedium& remote_medium, RunReport
                mean.transport_us, mean.request_bytes, mean.reply_bytes);
 }
 
+// A fleet's central: each node link's round trips and bytes on stderr.
+void ReportFleetLinks(const std::vector<fleet::FleetLinkStats>& links) {
+  for (const fleet::FleetLinkStats& node : links) {
+    const coordinator::LinkStats& link = node.link;
+    const auto us = [](TimeNs ns) { return static_cast<double>(ns) / kNsPerUs; };
+    std::fprintf(stderr,
+                 "sitlnet run: link to %s: %lld round trips (Start sent to End read: p50 %.1f us, "
+                 "p99 %.1f us, max %.1f us), %.0f B up and %.0f B down per iteration (%lld B and "
+                 "%lld B in all)\n",
+                 node.description.c_str(), static_cast<long long>(link.round_trips),
+                 us(link.round_trip_p50_ns), us(link.round_trip_p99_ns), us(link.round_trip_max_ns),
+                 link.BytesUpPerRoundTrip(), link.BytesDownPerRoundTrip(),
+                 static_cast<long long>(link.bytes_up), static_cast<long long>(link.bytes_down));
+  }
+}
+
 }  // namespace
 
 void ReportRun(RunParts& setup, const LoopOutcome& loop, RunReport* report) {
@@ -31,6 +47,7 @@ void ReportRun(RunParts& setup, const LoopOutcome& loop, RunReport* report) {
   if (!failure.empty()) std::fprintf(stderr, "sitlnet run: %s\n", failure.c_str());
   network_side::RemoteMedium* remote_medium = setup.remote_medium();
   if (remote_medium) ReportMediumLink(*remote_medium, report);
+  ReportFleetLinks(report->fleet_links);
   // A failed run throws out of RunCoordinator before it returns a count: the
   // metrics have one row per iteration done.
   WriteSummaryAndPlots(setup.scenario(), *report, loop.metrics,

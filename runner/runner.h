@@ -8,8 +8,10 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/common.h"
+#include "fleet/fleet.h"
 #include "network_side/network_side.h"
 #include "runner/live_sink.h"
 #include "scenario/scenario.h"
@@ -65,6 +67,7 @@ struct RunReport {
   int64_t robot_max_rss_kib = 0;
   int64_t robot_median_rss_kib = 0;
   std::optional<network_side::MediumLinkStats> medium_link;  // --remote network only.
+  std::vector<fleet::FleetLinkStats> fleet_links;            // A fleet's central only.
 };
 
 // `scenario` with the overrides of `options` (duration_s, lockstep, seed, no_shadowing) applied

@@ -122,6 +122,25 @@ std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& 
   return json;
 }
 
+// Each node link's round trips and bytes (a fleet's central), else null.
+std::string FleetLinksJson(const RunReport& report) {
+  if (report.fleet_links.empty()) return "null";
+  std::string json = "[";
+  for (const fleet::FleetLinkStats& node : report.fleet_links) {
+    const coordinator::LinkStats& link = node.link;
+    json += (json.size() > 1 ? ",{\"node\":" : "{\"node\":") + Quote(node.node) +
+            ",\"round_trips\":" + std::to_string(link.round_trips) +
+            ",\"round_trip_ns\":{\"p50\":" + std::to_string(link.round_trip_p50_ns) +
+            ",\"p99\":" + std::to_string(link.round_trip_p99_ns) +
+            ",\"max\":" + std::to_string(link.round_trip_max_ns) +
+            "},\"bytes_up_per_iteration\":" + std::to_string(link.BytesUpPerRoundTrip()) +
+            ",\"bytes_down_per_iteration\":" + std::to_string(link.BytesDownPerRoundTrip()) +
+            ",\"bytes_up_total\":" + std::to_string(link.bytes_up) +
+            ",\"bytes_down_total\":" + std::to_string(link.bytes_down) + "}";
+  }
+  return json + "]";
+}
+
 }  // namespace
 
 void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
@@ -180,6 +199,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
   } else {
     json += "null";
   }
+  json += ",\"fleet_links\":" + FleetLinksJson(report);
   json += ",\"robots\":[";
   for (int i = 0; i < robot_count; ++i) {
     json += (i ? "," : "") + RobotJson(robots[i], i, bridge, physics);

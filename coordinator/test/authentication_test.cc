@@ -270,8 +270,12 @@ TEST(Authentication, ATaggedChannelRefusesARepeatedAnUntaggedAndAReflectedFrame)
       " of the connection failed authentication (changed, added, dropped or repeated on the way)";
   deliver(sent);
   EXPECT_EQ(refusal(receiver), "accepted iteration 7");
+  // Counted as they crossed the socket, frame and tag, the same at both ends.
+  EXPECT_EQ(sender.bytes_sent(), sent.size());
+  EXPECT_EQ(receiver.bytes_received(), sent.size());
   deliver(sent);  // The same frame again: its sequence number is now 1.
   EXPECT_EQ(refusal(receiver), "message 1" + kFailed);
+  EXPECT_EQ(receiver.bytes_received(), sent.size());  // A refused frame is no message.
   // A frame without a tag: what follows it (a longer message) is read as its tag.
   auto [plain_fd, plain_receiver_fd] = SocketPair();
   Channel plain_receiver(std::move(plain_receiver_fd));

@@ -12,7 +12,10 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <regex>
 
+#include "coordinator/authentication.h"
+#include "coordinator/frame_codec.h"
 #include "tests/integration/run_test_util.h"
 
 namespace sitlnet::nns::testing {
@@ -127,6 +130,62 @@ struct FleetFiles {
   std::string base, key, endpoint;
 };
 
+// summary.json's "fleet_links" of a finished run over nodes n0 and n1, of two robots each, against
+// what each node counted at its own end of the socket (`node_logs`: their stderr): a round trip
+// per iteration of the run (metrics.csv's rows); the bytes the central read from a node are the
+// bytes the node sent, and the node read what the central sent plus the Stop that ended the run.
+// Every iteration's End carries the node's poses (10 doubles per robot), every message its
+// frame header and tag. The central logs a line per node.
+void ExpectLinkStatsAsTheNodesCountedThem(const std::string& run_dir,
+                                          const std::string& central_log,
+                                          const std::vector<std::string>& node_logs) {
+  const std::string summary = ReadAll(run_dir + "/summary.json");
+  const std::string metrics = ReadAll(run_dir + "/metrics.csv");
+  const long iterations = std::count(metrics.begin(), metrics.end(), '\n') - 1;  // Less the header.
+  proto::coord::CoordinatorMessage stop;
+  stop.mutable_stop()->set_reason("run complete");
+  const size_t stop_bytes =
+      coordinator::FrameEncoder().Encode(stop).size() + coordinator::kMessageTagBytes;
+  constexpr double kFrameBytes = coordinator::kFrameHeaderBytes + coordinator::kMessageTagBytes;
+  constexpr double kPosesBytes = 2 * 10 * sizeof(double);
+  for (size_t n = 0; n < node_logs.size(); ++n) {
+    const std::string node = "n" + std::to_string(n);
+    std::smatch link;
+    ASSERT_TRUE(std::regex_search(
+        summary, link,
+        std::regex("\\{\"node\":\"" + node +
+                   "\",\"round_trips\":([0-9]+),\"round_trip_ns\":\\{\"p50\":([0-9]+),\"p99\":"
+                   "([0-9]+),\"max\":([0-9]+)\\},\"bytes_up_per_iteration\":([0-9.]+),"
+                   "\"bytes_down_per_iteration\":([0-9.]+),\"bytes_up_total\":([0-9]+),"
+                   "\"bytes_down_total\":([0-9]+)\\}")))
+        << summary;
+    const long round_trips = std::stol(link[1]);
+    const long p50_ns = std::stol(link[2]), p99_ns = std::stol(link[3]),
+               max_ns = std::stol(link[4]);
+    const double up_per_iteration = std::stod(link[5]), down_per_iteration = std::stod(link[6]);
+    const long up = std::stol(link[7]), down = std::stol(link[8]);
+    std::smatch counted;
+    ASSERT_TRUE(std::regex_search(node_logs[n], counted,
+                                  std::regex("sitlnet node: node '" + node +
+                                             "' \\([^)]*\\): ([0-9]+) B sent to the central host "
+                                             "and ([0-9]+) B received after the handshake")))
+        << node_logs[n];
+    EXPECT_EQ(round_trips, iterations) << node;
+    EXPECT_GT(p50_ns, 0) << node;
+    EXPECT_LE(p50_ns, p99_ns) << node;
+    EXPECT_LE(p99_ns, max_ns) << node;
+    EXPECT_EQ(up, std::stol(counted[1])) << node;
+    EXPECT_EQ(down + static_cast<long>(stop_bytes), std::stol(counted[2])) << node;
+    EXPECT_NEAR(up_per_iteration, static_cast<double>(up) / iterations, 1e-5) << node;
+    EXPECT_NEAR(down_per_iteration, static_cast<double>(down) / iterations, 1e-5) << node;
+    EXPECT_GE(up_per_iteration, 2 * kFrameBytes + kPosesBytes) << node;  // CommandsCollected, End.
+    EXPECT_GE(down_per_iteration, kFrameBytes) << node;                  // Start.
+    EXPECT_NE(central_log.find("sitlnet run: link to node '" + node + "' (robots "),
+              std::string::npos)
+        << central_log;
+  }
+}
+
 TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const RunScenario scenario = WriteFleetScenario(3);
@@ -146,6 +205,8 @@ TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
       EXPECT_NE(node->child().err().find("stopped: run complete"), std::string::npos)
           << node->child().err();
     }
+    ExpectLinkStatsAsTheNodesCountedThem(base + "-fleet", central.err(),
+                                         {n0.child().err(), n1.child().err()});
   }
   // Each node wrote its own robots' logs; nothing of the robots was made here.
   for (size_t i = 0; i < kRobots.size(); ++i) {
