@@ -119,9 +119,9 @@ std::vector<std::string> DilatedTimeEnvironment(const Image& image, const Launch
                   image.manifest_path + " to run it on the host's clock, or realtime_factor 1)");
     case Linkage::kGo:
       std::fprintf(stderr,
-                   "sitlnet run: warning: %s: %s is a Go program, which reads its clock around "
+                   "%s: warning: %s: %s is a Go program, which reads its clock around "
                    "libc: its time is not dilated (docs/time.md)\n",
-                   robot.c_str(), program.c_str());
+                   context.program.c_str(), robot.c_str(), program.c_str());
       break;
     default:
       break;

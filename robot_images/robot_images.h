@@ -49,6 +49,8 @@ struct LaunchContext {
   // cgroup.procs files (open for writing) the robot's process joins before it runs anything, so
   // that all its processes are in the robot's cgroup (nns::RobotCgroup); none: no cgroup.
   std::vector<int> cgroup_join_fds;
+  // Who starts the robot, as its warnings begin: "sitlnet run", or "sitlnet node" on a node host.
+  std::string program = "sitlnet run";
 };
 inline constexpr int kPassedFd = 4;
 

@@ -17,7 +17,7 @@ CoordinatedRun::CoordinatedRun(RunParts* setup, RunPhysics* physics, const RunOp
                 setup->scenario().duration_ns),
       supervisor_(&setup->robots(),
                   setup->scenario().spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP,
-                  &progress_),
+                  &progress_, options.program),
       // The supervisor first: a robot that exited is counted out on the same line.
       observed_network_(&bridge_sim_, {&supervisor_, &progress_}),
       // The bridge is single-threaded: always the coordinator's own thread.

@@ -111,7 +111,7 @@ std::string ServeNodeHost(const NodeOptions& options) {
   fleet::NodeSimulator node(&physics, &ports);
   RobotSupervisor supervisor(
       &setup.robots(), scenario.spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP,
-      nullptr);
+      nullptr, options.run.program);
   ObservedSimulator supervised(&node, {&supervisor});
 
   std::fprintf(stderr, "sitlnet node: %s: connecting to the central host at %s\n",

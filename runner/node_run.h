@@ -15,8 +15,13 @@ namespace sitlnet::runner {
 
 struct NodeOptions {
   // scenario_path, seed and lockstep (as the central's, so both hash the same scenario),
-  // secret_file, out_dir (empty: runs/<scenario>-<node>), sitlnet_exe and images_root.
-  RunOptions run;
+  // secret_file, out_dir (empty: runs/<scenario>-<node>), sitlnet_exe and images_root. The
+  // robots' shared setup and supervision begin their lines with "sitlnet node".
+  RunOptions run = [] {
+    RunOptions node;
+    node.program = "sitlnet node";
+    return node;
+  }();
   std::string node;                           // Its name in the scenario's nodes.
   std::string connect;                        // The central's --listen: HOST:PORT or unix:/path.
   TimeNs connect_timeout_ns = 120 * kNsPerS;  // Retrying while nothing listens.

@@ -22,6 +22,7 @@ images::LaunchContext RobotContext(const Scenario& scenario, const RunOptions& o
                                    const RobotPlan& plan) {
   images::LaunchContext context;
   context.sitlnet_bin_dir = BinDir(options);
+  context.program = options.program;
   context.scenario = scenario.name;
   context.robot = plan.name;
   context.robot_index = plan.index;
@@ -39,7 +40,8 @@ images::LaunchContext RobotContext(const Scenario& scenario, const RunOptions& o
 // none and the image asks for no limit; throws Error naming the robot for a limit that cannot be
 // applied.
 std::unique_ptr<nns::RobotCgroup> MakeCgroup(const Scenario& scenario, const std::string& robot,
-                                             const images::Image& image, bool* warned) {
+                                             const images::Image& image, const std::string& program,
+                                             bool* warned) {
   const proto::ImageManifest::Limits& limits = image.manifest.limits();
   nns::CgroupLimits cgroup_limits;
   cgroup_limits.memory_max_bytes = static_cast<int64_t>(limits.memory_max_mib()) << 20;
@@ -49,10 +51,10 @@ std::unique_ptr<nns::RobotCgroup> MakeCgroup(const Scenario& scenario, const std
   if (cgroup->unavailable().empty()) return cgroup;
   if (!*warned) {
     std::fprintf(stderr,
-                 "sitlnet run: warning: the robots run without a cgroup (%s): their CPU time and "
+                 "%s: warning: the robots run without a cgroup (%s): their CPU time and "
                  "memory are not accounted, and a robot's process that leaves its sandbox's "
                  "namespaces may outlive it (docs/security.md)\n",
-                 cgroup->unavailable().c_str());
+                 program.c_str(), cgroup->unavailable().c_str());
     *warned = true;
   }
   return nullptr;
@@ -81,10 +83,11 @@ std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& o
     images::CheckFiles(image, context);
     if (image.manifest.sandbox() == proto::ImageManifest::NONE) {
       std::fprintf(stderr,
-                   "sitlnet run: warning: robot \"%s\": image \"%s\" runs without a sandbox "
+                   "%s: warning: robot \"%s\": image \"%s\" runs without a sandbox "
                    "(sandbox: NONE in %s): it shares the host's files, processes and privileges "
                    "(docs/security.md)\n",
-                   plan.name.c_str(), image.manifest.name().c_str(), image.manifest_path.c_str());
+                   options.program.c_str(), plan.name.c_str(), image.manifest.name().c_str(),
+                   image.manifest_path.c_str());
     }
     // Recorded before it exists: `down` removes it by name even if this run is killed while
     // podman creates it.
@@ -92,7 +95,7 @@ std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& o
       slot.container = std::make_unique<nns::ContainerRegistration>(
           scenario.name, container->engine_exe, container->name);
     } else {
-      slot.cgroup = MakeCgroup(scenario, plan.name, image, &warned_no_cgroup);
+      slot.cgroup = MakeCgroup(scenario, plan.name, image, options.program, &warned_no_cgroup);
       if (slot.cgroup) context.cgroup_join_fds = slot.cgroup->join_fds();
     }
     slot.process = std::make_unique<images::RobotProcess>(

@@ -5,8 +5,11 @@
 namespace sitlnet::runner {
 
 RobotSupervisor::RobotSupervisor(std::vector<RobotSlot>* robots, bool stop_on_failure,
-                                 ProgressLine* progress)
-    : robots_(*robots), stop_on_failure_(stop_on_failure), progress_(progress) {}
+                                 ProgressLine* progress, std::string program)
+    : robots_(*robots),
+      stop_on_failure_(stop_on_failure),
+      progress_(progress),
+      program_(std::move(program)) {}
 
 void RobotSupervisor::EndProgressLine() {
   if (progress_ != nullptr) progress_->Finish();
@@ -27,9 +30,9 @@ void RobotSupervisor::CheckRobots(TimeNs now_ns) {
     if (robot.cgroup) robot.cgroup->KillAll();
     const int status = *robot.exit_status;
     EndProgressLine();
-    std::fprintf(stderr, "sitlnet run: robot \"%s\" exited with status %d at t=%.2f s (log: %s)\n",
-                 robot.name.c_str(), status, static_cast<double>(now_ns) / kNsPerS,
-                 robot.process->log_path().c_str());
+    std::fprintf(stderr, "%s: robot \"%s\" exited with status %d at t=%.2f s (log: %s)\n",
+                 program_.c_str(), robot.name.c_str(), status,
+                 static_cast<double>(now_ns) / kNsPerS, robot.process->log_path().c_str());
     if (status != 0) HandleFailure(robot, "failed with status " + std::to_string(status));
   }
 }
@@ -45,8 +48,8 @@ void RobotSupervisor::CheckReadiness(RobotSlot& robot, TimeNs now_ns) {
   const std::string what = "not ready within " +
                            std::to_string(robot.image.manifest.ready_timeout_ms()) + " ms (no \"" +
                            robot.image.manifest.ready_log_line() + "\" in its log)";
-  std::fprintf(stderr, "sitlnet run: robot \"%s\" %s (log: %s)\n", robot.name.c_str(), what.c_str(),
-               robot.process->log_path().c_str());
+  std::fprintf(stderr, "%s: robot \"%s\" %s (log: %s)\n", program_.c_str(), robot.name.c_str(),
+               what.c_str(), robot.process->log_path().c_str());
   robot.process->Stop();
   robot.exit_status = robot.process->PollExit();
   HandleFailure(robot, what);
@@ -57,7 +60,7 @@ void RobotSupervisor::HandleFailure(RobotSlot& robot, const std::string& what) {
   if (manifest.restart() == proto::ImageManifest::RESTART_ON_FAILURE &&
       robot.restarts < manifest.max_restarts()) {
     ++robot.restarts;
-    std::fprintf(stderr, "sitlnet run: restarting robot \"%s\" (%u of at most %u)\n",
+    std::fprintf(stderr, "%s: restarting robot \"%s\" (%u of at most %u)\n", program_.c_str(),
                  robot.name.c_str(), robot.restarts, manifest.max_restarts());
     const std::string log_path = robot.process->log_path();
     robot.process.reset();  // reaped already; stops it if not

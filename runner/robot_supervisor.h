@@ -20,7 +20,9 @@ namespace sitlnet::runner {
 class RobotSupervisor final : public IterationObserver {
  public:
   // `progress` (may be null) is ended before each line this prints. Both must outlive this.
-  RobotSupervisor(std::vector<RobotSlot>* robots, bool stop_on_failure, ProgressLine* progress);
+  // `program` begins those lines ("sitlnet run", "sitlnet node").
+  RobotSupervisor(std::vector<RobotSlot>* robots, bool stop_on_failure, ProgressLine* progress,
+                  std::string program);
   void IterationEnded(const proto::coord::Start& start) override { CheckRobots(start.end_ns()); }
 
  private:
@@ -34,6 +36,7 @@ class RobotSupervisor final : public IterationObserver {
   std::vector<RobotSlot>& robots_;
   bool stop_on_failure_;
   ProgressLine* progress_;
+  std::string program_;
   TimeNs next_ready_check_wall_ns_ = 0;
 };
 

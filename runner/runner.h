@@ -19,6 +19,9 @@
 namespace sitlnet::runner {
 
 struct RunOptions {
+  // How this program's log lines start: the robots' setup and supervision are shared with
+  // `sitlnet node`, whose lines say so.
+  std::string program = "sitlnet run";
   // The medium model on another host (network_side/network_side.h): listen here
   // (`host:port`, `unix:/path`) for its network connector (`sitlnet medium
   // FILE --connect`), waiting at most remote_wait_ns. Lockstep pacing only.

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <memory>
 #include <regex>
+#include <sstream>
 
 #include "coordinator/authentication.h"
 #include "coordinator/frame_codec.h"
@@ -44,11 +45,12 @@ RunScenario WriteFleetScenario(int slot, const std::string& target = "40,0") {
 // A `sitlnet node` child in a network and mount namespace of its own, with private tmpfs on
 // /run/netns and /run/sitlnet: the robots' namespaces and the state are its own, as in a pod.
 // Told SIGTERM on destruction if it still runs (it stops its robots and takes its slice down),
-// then killed if it has not exited within 30 s.
+// then killed if it has not exited within 30 s. `without_cgroups`: a tmpfs hides the host's
+// cgroup2 file system from it too, as on a host (or pod) that offers none.
 class NodeChild {
  public:
   NodeChild(const RunScenario& scenario, const std::string& node, const std::string& endpoint,
-            const std::string& key, const std::string& out)
+            const std::string& key, const std::string& out, bool without_cgroups = false)
       : child_({"unshare",
                 "--net",
                 "--mount",
@@ -56,9 +58,11 @@ class NodeChild {
                 "private",
                 "sh",
                 "-c",
-                "mkdir -p /run/netns /run/sitlnet && mount -t tmpfs -o mode=0755 fleet-test "
-                "/run/netns && mount -t tmpfs -o mode=0755 fleet-test /run/sitlnet && exec "
-                "\"$@\"",
+                std::string("mkdir -p /run/netns /run/sitlnet && mount -t tmpfs -o mode=0755 "
+                            "fleet-test /run/netns && mount -t tmpfs -o mode=0755 fleet-test "
+                            "/run/sitlnet && ") +
+                    (without_cgroups ? "mount -t tmpfs fleet-test /sys/fs/cgroup && " : "") +
+                    "exec \"$@\"",
                 "sh",
                 SitlnetBinary(),
                 "node",
@@ -287,7 +291,9 @@ TEST(FleetRunTest, ANodeKilledMidRunStopsTheRunNamingItAndLeavesNothing) {
     integration_test::Child central(files.Central(scenario, {}));
     ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
     NodeChild n0(scenario, "n0", endpoint, key, base + "-n0");
-    NodeChild n1(scenario, "n1", endpoint, key, base + "-n1");
+    // Without cgroups, the node to be killed leaves none behind (a survivor on this one machine
+    // would clean them up: a real host keeps its own until `sitlnet down`).
+    NodeChild n1(scenario, "n1", endpoint, key, base + "-n1", /*without_cgroups=*/true);
     // Mid-run: robot b has logged a second of virtual time.
     ASSERT_TRUE(WaitForFiles(
         base + "-n1/robots",
@@ -305,6 +311,17 @@ TEST(FleetRunTest, ANodeKilledMidRunStopsTheRunNamingItAndLeavesNothing) {
                                          "\\(node crashed or exited\\)"));
     EXPECT_EQ(n0.child().Wait(kRunTimeoutNs), 0) << n0.child().err();
     EXPECT_NE(n0.child().err().find("n0: stopped: "), std::string::npos) << n0.child().err();
+    // The robots' setup and supervision are the one-host run's code; on a node, its lines say
+    // "sitlnet node", the cgroup warning of the cgroup-less node among them.
+    EXPECT_NE(n1.child().err().find("sitlnet node: warning: the robots run without a cgroup"),
+              std::string::npos)
+        << n1.child().err();
+    for (NodeChild* node : {&n0, &n1}) {
+      std::istringstream lines(node->child().err());
+      for (std::string line; std::getline(lines, line);) {
+        EXPECT_TRUE(line.starts_with("sitlnet node: ")) << line;
+      }
+    }
   }
   ExpectNoRobotLeft(scenario.name);
   // The killed node's images get SIGKILL from the kernel when it dies (bubblewrap's
