@@ -9,9 +9,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
 
 #include "tests/integration/run_test_util.h"
 
@@ -45,7 +48,8 @@ RunScenario WriteFleetScenario(int slot, const std::string& target = "40,0") {
 class NodeChild {
  public:
   NodeChild(const RunScenario& scenario, const std::string& node, const std::string& endpoint,
-            const std::string& key, const std::string& out)
+            const std::string& key, const std::string& out,
+            const std::string& pacing = "lockstep")
       : child_({"unshare",
                 "--net",
                 "--mount",
@@ -69,7 +73,7 @@ class NodeChild {
                 "--out",
                 out,
                 "--pacing",
-                "lockstep",
+                pacing,
                 "--seed",
                 "5"}) {}
   ~NodeChild() {
@@ -116,10 +120,11 @@ struct FleetFiles {
     SITLNET_DEMAND(chmod(key.c_str(), 0600) == 0);
   }
   std::vector<std::string> Central(const RunScenario& scenario,
-                                   const std::vector<std::string>& extra) const {
+                                   const std::vector<std::string>& extra,
+                                   const std::string& pacing = "lockstep") const {
     std::vector<std::string> argv = {
         SitlnetBinary(), "run",    scenario.path,   "--out", base + "-fleet", "--no-progress",
-        "--listen",      endpoint, "--secret-file", key,     "--pacing",      "lockstep",
+        "--listen",      endpoint, "--secret-file", key,     "--pacing",      pacing,
         "--seed",        "5"};
     argv.insert(argv.end(), extra.begin(), extra.end());
     return argv;
@@ -173,6 +178,98 @@ TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
   const std::string deliveries = ReadAll(base + "-one/deliveries.csv");
   EXPECT_GT(std::count(deliveries.begin(), deliveries.end(), '\n'), 100);
   EXPECT_EQ(FirstDifference(deliveries, ReadAll(base + "-fleet/deliveries.csv")), "");
+  ExpectNoRobotLeft(scenario.name);
+}
+
+// A number of summary.json after `key` ("\"stf\":{\"mean\":"), within the text after `after`;
+// NaN if absent.
+double SummaryNumber(const std::string& summary, const std::string& after, const std::string& key) {
+  const size_t from = summary.find(after);
+  const size_t at = from == std::string::npos ? from : summary.find(key, from);
+  if (at == std::string::npos) return std::nan("");
+  return std::strtod(summary.c_str() + at + key.size(), nullptr);
+}
+
+// Deliveries (deliveries.csv: delivery_ns,source,station,...) from each robot to robots of the
+// other node, by source index; a robot's node is its index % 2 (WriteFleetScenario).
+std::vector<int> CrossNodeDeliveries(const std::string& deliveries) {
+  std::vector<int> by_source(kRobots.size(), 0);
+  std::istringstream lines(deliveries);
+  std::string line;
+  std::getline(lines, line);  // The header.
+  while (std::getline(lines, line)) {
+    long long at_ns = 0;
+    int source = -1, station = -1;
+    if (std::sscanf(line.c_str(), "%lld,%d,%d", &at_ns, &source, &station) == 3 && source >= 0 &&
+        source < static_cast<int>(kRobots.size()) && source % 2 != station % 2) {
+      ++by_source[source];
+    }
+  }
+  return by_source;
+}
+
+// Realtime pacing across hosts (docs/scale-out.md, "Realtime pacing"): the nodes' frames cross
+// once per iteration. A frame read in iteration k goes up with End k and enters the medium as the
+// central's turn k+1 begins; a delivery goes down with the next Start. So each waits for the end
+// of its iteration (at most Δ = 10 ms) and, at worst, enters or is written within the next turn
+// (under 2Δ). The oracle per node, with the host's own scheduling noise measured side by side
+// (the p99 lag of the same scenario on one host in realtime): p50 within Δ plus the noise, p99
+// and max within 2Δ plus the noise. Frames flow between robots of different nodes.
+TEST(FleetRunTest, RealtimeAcrossTwoNodesRunsWithEachNodesLagMeasured) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteFleetScenario(6);
+  DownGuard guard(scenario.name);
+  const FleetFiles files(scenario);
+  const std::string& base = files.base;
+  {
+    integration_test::Child central(files.Central(scenario, {"--duration", "3"}, "realtime"));
+    ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
+    NodeChild n0(scenario, "n0", files.endpoint, files.key, base + "-n0", "realtime");
+    NodeChild n1(scenario, "n1", files.endpoint, files.key, base + "-n1", "realtime");
+    ASSERT_EQ(central.Wait(kRunTimeoutNs), 0) << central.err();
+    for (NodeChild* node : {&n0, &n1}) {
+      EXPECT_EQ(node->child().Wait(kRunTimeoutNs), 0) << node->child().err();
+      EXPECT_NE(node->child().err().find("stopped: run complete"), std::string::npos)
+          << node->child().err();
+    }
+    // One line per node on the central's stderr.
+    EXPECT_THAT(central.err(), ::testing::ContainsRegex("node 'n0' \\(robots a, c\\): realtime: "
+                                                        "[0-9]+ frames entered the medium late"));
+    EXPECT_THAT(central.err(), ::testing::ContainsRegex("node 'n1' \\(robots b, d\\): realtime: "
+                                                        "[0-9]+ frames entered the medium late"));
+  }
+  ExpectNoRobotLeft(scenario.name);
+
+  const CommandResult reference = SitlnetRun(
+      scenario, base + "-one", {"--one-host", "--duration", "3", "--pacing", "realtime", "--seed", "5"});
+  ASSERT_EQ(reference.exit_code, 0) << reference.err;
+  const std::string one_host = ReadAll(base + "-one/summary.json");
+  const double noise_ms = SummaryNumber(one_host, "\"lag_ms\"", "\"p99\":");
+  ASSERT_FALSE(std::isnan(noise_ms)) << one_host;
+  constexpr double kIterationMs = 10;
+
+  const std::string summary = ReadAll(base + "-fleet/summary.json");
+  EXPECT_NE(summary.find("\"pacing\":\"PACING_REALTIME\""), std::string::npos) << summary;
+  EXPECT_NEAR(SummaryNumber(summary, "\"simulated_s\"", ":"), 3.0, 1e-9) << summary;
+  for (const std::string node : {"n0", "n1"}) {
+    const std::string at = "{\"node\":\"" + node + "\"";
+    for (const std::string measure : {"\"late_entries\"", "\"late_writes\""}) {
+      SCOPED_TRACE(node + " " + measure + ", one host's p99 lag " + std::to_string(noise_ms) +
+                   " ms: " + summary);
+      const size_t from = summary.find(at);
+      ASSERT_NE(from, std::string::npos);
+      const std::string part = summary.substr(summary.find(measure, from));
+      // Two robots beaconing at 10 Hz for 3 s, less their boot, each way.
+      EXPECT_GT(SummaryNumber(part, "", "\"count\":"), 20);
+      EXPECT_LE(SummaryNumber(part, "", "\"p50_ms\":"), kIterationMs + noise_ms);
+      EXPECT_LE(SummaryNumber(part, "", "\"p99_ms\":"), 2 * kIterationMs + noise_ms);
+      EXPECT_LE(SummaryNumber(part, "", "\"max_ms\":"), 2 * kIterationMs + noise_ms);
+    }
+  }
+  const std::vector<int> crossed = CrossNodeDeliveries(ReadAll(base + "-fleet/deliveries.csv"));
+  for (size_t robot = 0; robot < kRobots.size(); ++robot) {
+    EXPECT_GT(crossed[robot], 10) << kRobots[robot] << " reached no robot of the other node";
+  }
   ExpectNoRobotLeft(scenario.name);
 }
 
