@@ -61,9 +61,9 @@ void NodePorts::ReadUntil(TimeNs deadline_ns, const clock::Timebase& timebase,
     polled.clear();
     polled_robot.clear();
     for (size_t i = 0; i < robots_.size(); ++i) {
-      const bool full = batches[i] != nullptr &&
-                        batches[i]->frames_size() >=
-                            static_cast<int>(tapbridge::kMaxFramesPerRobotPerTurn);
+      const bool full =
+          batches[i] != nullptr &&
+          batches[i]->frames_size() >= static_cast<int>(tapbridge::kMaxFramesPerRobotPerTurn);
       if (robots_[i].read_failed || full || robots_[i].port->fd() < 0) continue;
       polled.push_back({robots_[i].port->fd(), POLLIN, 0});
       polled_robot.push_back(i);

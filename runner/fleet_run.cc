@@ -104,8 +104,8 @@ class FleetSetup final : public RunParts {
 
  private:
   const Scenario& scenario_;
-  clock::Timebase run_timebase_;  // Before ports_, which read it in realtime.
-  fleet::RemotePorts ports_;      // Outlives the bridge, whose ports are its.
+  clock::Timebase run_timebase_;   // Before ports_, which read it in realtime.
+  fleet::RemotePorts ports_;       // Outlives the bridge, whose ports are its.
   std::vector<RobotSlot> robots_;  // Names only: the images run on the nodes.
   std::unique_ptr<RunMedium> medium_;
   std::unique_ptr<FleetPhysics> physics_;  // Destroyed first: the nodes hear Stop before.
@@ -179,7 +179,8 @@ RunReport RunOnNodeHosts(const Scenario& scenario, const RunOptions& options, Ru
   report.loop_ns = loop.end_ns - loop.begin_ns;
   report.self_cpu_s = loop.self_cpu_s;
   setup.medium_records().Flush();
-  if (!Lockstep(scenario)) report.fleet_realtime_json = ReportRealtimeNodes(scenario, setup.ports());
+  if (!Lockstep(scenario))
+    report.fleet_realtime_json = ReportRealtimeNodes(scenario, setup.ports());
   ReportRun(setup, loop, &report);
   return report;
 }

@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "tests/integration/run_test_util.h"
+#include "tests/integration/served_on_time.h"
 
 namespace sitlnet::nns::testing {
 namespace {
@@ -48,8 +49,7 @@ RunScenario WriteFleetScenario(int slot, const std::string& target = "40,0") {
 class NodeChild {
  public:
   NodeChild(const RunScenario& scenario, const std::string& node, const std::string& endpoint,
-            const std::string& key, const std::string& out,
-            const std::string& pacing = "lockstep")
+            const std::string& key, const std::string& out, const std::string& pacing = "lockstep")
       : child_({"unshare",
                 "--net",
                 "--mount",
@@ -240,8 +240,9 @@ TEST(FleetRunTest, RealtimeAcrossTwoNodesRunsWithEachNodesLagMeasured) {
   }
   ExpectNoRobotLeft(scenario.name);
 
-  const CommandResult reference = SitlnetRun(
-      scenario, base + "-one", {"--one-host", "--duration", "3", "--pacing", "realtime", "--seed", "5"});
+  const CommandResult reference =
+      SitlnetRun(scenario, base + "-one",
+                 {"--one-host", "--duration", "3", "--pacing", "realtime", "--seed", "5"});
   ASSERT_EQ(reference.exit_code, 0) << reference.err;
   const std::string one_host = ReadAll(base + "-one/summary.json");
   const double noise_ms = SummaryNumber(one_host, "\"lag_ms\"", "\"p99\":");
@@ -271,6 +272,47 @@ TEST(FleetRunTest, RealtimeAcrossTwoNodesRunsWithEachNodesLagMeasured) {
     EXPECT_GT(crossed[robot], 10) << kRobots[robot] << " reached no robot of the other node";
   }
   ExpectNoRobotLeft(scenario.name);
+}
+
+// Realtime pacing on a node host serves its autopilots on the node's own clock of the run, begun
+// by the central's first Start: each message at the wall instant of its virtual time, as on one
+// host (autopilot_run_test.cc, InRealtimePacingAutopilotsAreServedAtTheWallInstantOfTheirTime,
+// whose oracle this is: within 2.5 ms, the medians of early- and late-phase messages' wall -
+// virtual offsets). The test autopilot speaks ArduPilot's JSON on node n0 and PX4's on n1.
+TEST(FleetRunTest, InRealtimeAutopilotsOnNodesAreServedAtTheWallInstantOfTheirTime) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteScenario(
+      7,
+      "robot { name: \"ap\" node: \"n0\" position_m { x: 0 y: 0 z: 0.2 } image: "
+      "\"test_autopilot\" ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", "
+      "\"--log-replies\"] }\n"
+      "robot { name: \"px\" node: \"n1\" position_m { x: 0 y: 4 z: 0.2 } image: "
+      "\"test_autopilot\" px4_sim_port: 4560 args: [\"--px4-port\", \"4560\", "
+      "\"--log-replies\"] }\n",
+      "nodes { name: \"n0\" } nodes { name: \"n1\" }\ntiming { duration_ms: 600000 }\n");
+  DownGuard guard(scenario.name);
+  const FleetFiles files(scenario);
+  const std::string& base = files.base;
+  {
+    integration_test::Child central(files.Central(scenario, {"--duration", "3"}, "realtime"));
+    ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
+    NodeChild n0(scenario, "n0", files.endpoint, files.key, base + "-n0", "realtime");
+    NodeChild n1(scenario, "n1", files.endpoint, files.key, base + "-n1", "realtime");
+    ASSERT_EQ(central.Wait(kRunTimeoutNs), 0) << central.err();
+    for (NodeChild* node : {&n0, &n1}) {
+      EXPECT_EQ(node->child().Wait(kRunTimeoutNs), 0) << node->child().err();
+    }
+  }
+  for (const auto& [robot, node] : {std::pair{"ap", "n0"}, std::pair{"px", "n1"}}) {
+    const ServedOnTime served =
+        MeasureServedOnTime(ReadAll(base + "-" + node + "/robots/" + robot + ".log"));
+    std::printf("%s\n", served.Describe(robot).c_str());
+    ASSERT_GT(served.observations, 500u) << robot;
+    ASSERT_GT(served.early_phase, 50u) << robot;
+    ASSERT_GT(served.late_phase, 50u) << robot;
+    EXPECT_LT(std::abs(served.phase_gap_ms), 2.5) << robot;
+  }
+  ExpectNothingLeft(scenario.name);
 }
 
 // Bad input to either end is one line and a non-zero exit, before anything is created.
