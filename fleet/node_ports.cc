@@ -173,9 +173,13 @@ void NodeSimulator::RunRealtimeIteration(const proto::coord::Start& start,
                                          const proto::node::NodeStart& node_start,
                                          proto::coord::End* end,
                                          coordinator::IterationContext& context) {
-  if (!realtime_begun_) {
-    // This host's clock: the central sent Start 0 at virtual 0, one link delay ago.
-    realtime_->BeginAt(start.start_ns(), MonotonicNowNs());
+  // The central sends Start k at the wall instant of its virtual start, never before: so it is
+  // that instant here, less one link delay at least. Keeping the earliest such estimate, the
+  // node's clock of the run is never later than the central's plus the link delay, however the
+  // hosts' clocks drift; a node clock running late would hold every End late.
+  const TimeNs now_ns = MonotonicNowNs();
+  if (!realtime_begun_ || now_ns < realtime_->WallOf(start.start_ns())) {
+    realtime_->BeginAt(start.start_ns(), now_ns);
     realtime_begun_ = true;
   }
   frames_.Clear();

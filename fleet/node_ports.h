@@ -64,7 +64,8 @@ class NodePorts {
 // iteration; if it does not, it is reported after the iteration, before End.
 //
 // Realtime pacing (a `realtime` timebase, shared with the physics' autopilot clock): the first
-// Start begins it (its virtual start is now on this host's clock). The deliveries are written at
+// Start begins it (its virtual start is now on this host's clock), and a Start that comes before
+// its instant on it moves it earlier. The deliveries are written at
 // once, then the physics runs, then the ports are read as frames arrive until the wall instant of
 // the iteration's end, and End carries the frames and the writes' lateness (a NodeFrames in
 // End.payload) and the physics' own wall time as busy_ns.

@@ -251,6 +251,12 @@ TEST(FleetRunTest, RealtimeAcrossTwoNodesRunsWithEachNodesLagMeasured) {
 
   const std::string summary = ReadAll(base + "-fleet/summary.json");
   EXPECT_NE(summary.find("\"pacing\":\"PACING_REALTIME\""), std::string::npos) << summary;
+  const size_t fleet_realtime = summary.find("\"fleet_realtime\"");
+  ASSERT_NE(fleet_realtime, std::string::npos) << summary;
+  std::printf("lag p99: fleet %.3f ms, one host %.3f ms; %s\n",
+              SummaryNumber(summary, "\"lag_ms\"", "\"p99\":"), noise_ms,
+              summary.substr(fleet_realtime, summary.find("]", fleet_realtime) + 1 - fleet_realtime)
+                  .c_str());
   EXPECT_NEAR(SummaryNumber(summary, "\"simulated_s\"", ":"), 3.0, 1e-9) << summary;
   for (const std::string node : {"n0", "n1"}) {
     const std::string at = "{\"node\":\"" + node + "\"";
