@@ -132,26 +132,32 @@ struct FleetFiles {
   std::string base, key, endpoint;
 };
 
+// Runs `scenario` for 3 s in `pacing` on a central (out folder <base>-fleet) and nodes n0 and n1
+// (<base>-n0, -n1), linked by `files`; expects every end to exit 0, the nodes saying "stopped:
+// run complete". The central's stderr goes to `central_err`.
+void RunOnTwoNodes(const RunScenario& scenario, const FleetFiles& files, const std::string& pacing,
+                   std::string* central_err) {
+  integration_test::Child central(files.Central(scenario, {"--duration", "3"}, pacing));
+  ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
+  NodeChild n0(scenario, "n0", files.endpoint, files.key, files.base + "-n0", pacing);
+  NodeChild n1(scenario, "n1", files.endpoint, files.key, files.base + "-n1", pacing);
+  ASSERT_EQ(central.Wait(kRunTimeoutNs), 0) << central.err();
+  for (NodeChild* node : {&n0, &n1}) {
+    EXPECT_EQ(node->child().Wait(kRunTimeoutNs), 0) << node->child().err();
+    EXPECT_NE(node->child().err().find("stopped: run complete"), std::string::npos)
+        << node->child().err();
+  }
+  *central_err = central.err();
+}
+
 TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const RunScenario scenario = WriteFleetScenario(3);
   DownGuard guard(scenario.name);
   const FleetFiles files(scenario);
   const std::string& base = files.base;
-  const std::string& key = files.key;
-  const std::string& endpoint = files.endpoint;
-  {
-    integration_test::Child central(files.Central(scenario, {"--duration", "3"}));
-    ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
-    NodeChild n0(scenario, "n0", endpoint, key, base + "-n0");
-    NodeChild n1(scenario, "n1", endpoint, key, base + "-n1");
-    ASSERT_EQ(central.Wait(kRunTimeoutNs), 0) << central.err();
-    for (NodeChild* node : {&n0, &n1}) {
-      EXPECT_EQ(node->child().Wait(kRunTimeoutNs), 0) << node->child().err();
-      EXPECT_NE(node->child().err().find("stopped: run complete"), std::string::npos)
-          << node->child().err();
-    }
-  }
+  std::string central_err;
+  ASSERT_NO_FATAL_FAILURE(RunOnTwoNodes(scenario, files, "lockstep", &central_err));
   // Each node wrote its own robots' logs; nothing of the robots was made here.
   for (size_t i = 0; i < kRobots.size(); ++i) {
     const std::string node_out = base + "-n" + std::to_string(i % 2);
@@ -221,23 +227,13 @@ TEST(FleetRunTest, RealtimeAcrossTwoNodesRunsWithEachNodesLagMeasured) {
   DownGuard guard(scenario.name);
   const FleetFiles files(scenario);
   const std::string& base = files.base;
-  {
-    integration_test::Child central(files.Central(scenario, {"--duration", "3"}, "realtime"));
-    ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
-    NodeChild n0(scenario, "n0", files.endpoint, files.key, base + "-n0", "realtime");
-    NodeChild n1(scenario, "n1", files.endpoint, files.key, base + "-n1", "realtime");
-    ASSERT_EQ(central.Wait(kRunTimeoutNs), 0) << central.err();
-    for (NodeChild* node : {&n0, &n1}) {
-      EXPECT_EQ(node->child().Wait(kRunTimeoutNs), 0) << node->child().err();
-      EXPECT_NE(node->child().err().find("stopped: run complete"), std::string::npos)
-          << node->child().err();
-    }
-    // One line per node on the central's stderr.
-    EXPECT_THAT(central.err(), ::testing::ContainsRegex("node 'n0' \\(robots a, c\\): realtime: "
-                                                        "[0-9]+ frames entered the medium late"));
-    EXPECT_THAT(central.err(), ::testing::ContainsRegex("node 'n1' \\(robots b, d\\): realtime: "
-                                                        "[0-9]+ frames entered the medium late"));
-  }
+  std::string central_err;
+  ASSERT_NO_FATAL_FAILURE(RunOnTwoNodes(scenario, files, "realtime", &central_err));
+  // One line per node on the central's stderr.
+  EXPECT_THAT(central_err, ::testing::ContainsRegex("node 'n0' \\(robots a, c\\): realtime: "
+                                                    "[0-9]+ frames entered the medium late"));
+  EXPECT_THAT(central_err, ::testing::ContainsRegex("node 'n1' \\(robots b, d\\): realtime: "
+                                                    "[0-9]+ frames entered the medium late"));
   ExpectNoRobotLeft(scenario.name);
 
   const CommandResult reference =
@@ -299,16 +295,8 @@ TEST(FleetRunTest, InRealtimeAutopilotsOnNodesAreServedAtTheWallInstantOfTheirTi
   DownGuard guard(scenario.name);
   const FleetFiles files(scenario);
   const std::string& base = files.base;
-  {
-    integration_test::Child central(files.Central(scenario, {"--duration", "3"}, "realtime"));
-    ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
-    NodeChild n0(scenario, "n0", files.endpoint, files.key, base + "-n0", "realtime");
-    NodeChild n1(scenario, "n1", files.endpoint, files.key, base + "-n1", "realtime");
-    ASSERT_EQ(central.Wait(kRunTimeoutNs), 0) << central.err();
-    for (NodeChild* node : {&n0, &n1}) {
-      EXPECT_EQ(node->child().Wait(kRunTimeoutNs), 0) << node->child().err();
-    }
-  }
+  std::string central_err;
+  ASSERT_NO_FATAL_FAILURE(RunOnTwoNodes(scenario, files, "realtime", &central_err));
   for (const auto& [robot, node] : {std::pair{"ap", "n0"}, std::pair{"px", "n1"}}) {
     const ServedOnTime served =
         MeasureServedOnTime(ReadAll(base + "-" + node + "/robots/" + robot + ".log"));
