@@ -44,9 +44,9 @@ uint64_t NodeScenarioHash(const Scenario& scenario);
 // Realtime pacing (a `realtime` timebase: the run's, begun by the coordinator before iteration
 // 0): each port has a descriptor that polls readable while frames wait, so the bridge's realtime
 // driver reads them as it reads a TAP, at the instant they are here. The ports measure, per
-// node, how late each frame entered (the bridge's virtual now minus the node's read_ns) and how
-// late the node wrote what came down (NodeFrames.write_late_ns), and stamp each write with the
-// virtual time it was written here (Write.due_ns).
+// node and in wall time, how late each frame entered (its read here past the node's read_ns)
+// and how late the node wrote what came down (NodeFrames.write_late_ns), and stamp each write
+// with the virtual time it was written here (Write.due_ns).
 class RemotePorts {
  public:
   // `nodes`: slices of `scenario`'s robots, no robot on two. `realtime`: null in lockstep; else
@@ -74,9 +74,10 @@ class RemotePorts {
   // Frames that arrived for `robot` while its port was closed (not opened yet, or detached).
   uint64_t frames_dropped_closed(int robot) const;
 
-  // Realtime: how late node `node`'s frames entered the medium (virtual time of their read here
-  // minus the node's read_ns, which includes the node clock's offset: one link delay), and how
-  // late the node wrote the deliveries sent to it (its own measure). Empty in lockstep.
+  // Realtime: how late node `node`'s frames entered the medium (the wall time of their read here
+  // past that of the node's read_ns, which includes the node clock's offset: one link delay), and
+  // how late the node wrote the deliveries sent to it (its own measure, in wall time too). Empty
+  // in lockstep.
   tapbridge::LatenessStats LateEntries(int node) const;
   tapbridge::LatenessStats LateWrites(int node) const;
 

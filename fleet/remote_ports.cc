@@ -68,8 +68,9 @@ class RemotePort : public tapbridge::Port {
     std::memcpy(buffer.data(), frame.data(), length);
     queue_->frames.pop_front();
     if (realtime_ != nullptr && !queue_->read_ns.empty()) {
-      // The bridge enters it at its virtual now, as it enters a TAP's frame it reads now.
-      lateness_->entries.Add(realtime_->VirtualOf(MonotonicNowNs()) - queue_->read_ns.front());
+      // The bridge enters it at its virtual now, as it enters a TAP's frame it reads now. Wall
+      // time, as the bridge's own delivery lateness.
+      lateness_->entries.Add(realtime_->LagNs(queue_->read_ns.front(), MonotonicNowNs()));
       queue_->read_ns.pop_front();
     }
     return static_cast<ssize_t>(length);
