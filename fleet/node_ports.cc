@@ -73,10 +73,17 @@ void NodePorts::ReadUntil(TimeNs deadline_ns, const clock::Timebase& timebase,
                            static_cast<long>(left_ns % kNsPerS)};
     const int ready = ppoll(polled.data(), polled.size(), &timeout, nullptr);
     if (ready < 0 && errno != EINTR) throw Error(SystemErrorMessage("ppoll on the TAPs", errno));
-    for (size_t p = 0; ready > 0 && p < polled.size(); ++p) {
-      if (polled[p].revents == 0) continue;
+    const TimeNs returned_ns = MonotonicNowNs();
+    for (size_t p = 0; p < polled.size(); ++p) {
       const size_t i = polled_robot[p];
       Robot& robot = robots_[i];
+      if (ready <= 0 || polled[p].revents == 0) {
+        robot.seen_empty_wall_ns = returned_ns;
+        continue;
+      }
+      // Its frames came after its TAP was last seen empty: the earliest they can have been
+      // written, so the central's late entries bound their wait from above (not before the run).
+      const TimeNs written_ns = std::max<TimeNs>(0, timebase.VirtualOf(robot.seen_empty_wall_ns));
       if (batches[i] == nullptr) {
         batches[i] = frames->add_batches();
         batches[i]->set_robot(robot.index);
@@ -84,14 +91,17 @@ void NodePorts::ReadUntil(TimeNs deadline_ns, const clock::Timebase& timebase,
       proto::node::FrameBatch& batch = *batches[i];
       while (batch.frames_size() < static_cast<int>(tapbridge::kMaxFramesPerRobotPerTurn)) {
         const ssize_t length = robot.port->Read(buffer_);
-        if (length == 0) break;
+        if (length == 0) {
+          robot.seen_empty_wall_ns = MonotonicNowNs();
+          break;
+        }
         if (length < 0) {
           batch.set_read_errno(static_cast<int>(-length));
           robot.read_failed = true;
           break;
         }
         batch.add_frames(buffer_.data(), static_cast<size_t>(length));
-        batch.add_read_ns(timebase.VirtualOf(MonotonicNowNs()));
+        batch.add_read_ns(written_ns);
       }
     }
     if (left_ns == 0) return;

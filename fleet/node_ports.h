@@ -29,9 +29,11 @@ class NodePorts {
   // out.
   void Drain(proto::node::NodeFrames* frames);
   // Realtime: reads the robots' ports as frames arrive, until wall instant `deadline_ns`
-  // (CLOCK_MONOTONIC; at least one pass), stamping each frame with `timebase`'s virtual time of
-  // its read (FrameBatch.read_ns), into `frames`' batches (one per robot, kept across calls
-  // until cleared). A robot's batch holds at most one bridge turn; the rest waits in its TAP.
+  // (CLOCK_MONOTONIC; at least one pass), into `frames`' batches (one per robot, kept across
+  // calls until cleared). A robot's batch holds at most one bridge turn; the rest waits in its
+  // TAP. Each frame's FrameBatch.read_ns is the earliest it can have been written: `timebase`'s
+  // virtual time when its port was last seen empty (while polled, its arrival; after the physics
+  // ran, the previous call's end), and not before 0.
   void ReadUntil(TimeNs deadline_ns, const clock::Timebase& timebase,
                  proto::node::NodeFrames* frames);
   // Writes `writes` to the robots' ports in order. Throws Error, writing none, if one names a
@@ -48,6 +50,7 @@ class NodePorts {
     int index = 0;
     std::unique_ptr<tapbridge::Port> port;
     bool read_failed = false;
+    TimeNs seen_empty_wall_ns = 0;  // When a poll or read last found its port empty.
     uint64_t write_errors = 0;
   };
   Robot* Find(int robot);

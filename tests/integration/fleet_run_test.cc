@@ -215,12 +215,13 @@ std::vector<int> CrossNodeDeliveries(const std::string& deliveries) {
 }
 
 // Realtime pacing across hosts (docs/scale-out.md, "Realtime pacing"): the nodes' frames cross
-// once per iteration. A frame read in iteration k goes up with End k and enters the medium as the
-// central's turn k+1 begins; a delivery goes down with the next Start. So each waits for the end
-// of its iteration (at most Δ = 10 ms) and, at worst, enters or is written within the next turn
-// (under 2Δ). The oracle per node, with the host's own scheduling noise measured side by side
-// (the p99 lag of the same scenario on one host in realtime): p50 within Δ plus the noise, p99
-// and max within 2Δ plus the noise. Frames flow between robots of different nodes.
+// once per iteration. A frame written in iteration k goes up with End k and enters the medium as
+// the central's turn k+1 begins; a delivery goes down with the next Start. So each waits for the
+// end of its iteration (at most Δ = 10 ms), then the link's delay, and, at worst, enters or is
+// written within the next turn (under 2Δ). The oracle per node: p50 within 1.5Δ (the link and the
+// central's turn take well under Δ/2 on one machine), p99 and max within 2Δ plus the host's own
+// scheduling noise, measured side by side (the p99 lag of the same scenario on one host in
+// realtime). Frames flow between robots of different nodes.
 TEST(FleetRunTest, RealtimeAcrossTwoNodesRunsWithEachNodesLagMeasured) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const RunScenario scenario = WriteFleetScenario(6);
@@ -264,7 +265,7 @@ TEST(FleetRunTest, RealtimeAcrossTwoNodesRunsWithEachNodesLagMeasured) {
       const std::string part = summary.substr(summary.find(measure, from));
       // Two robots beaconing at 10 Hz for 3 s, less their boot, each way.
       EXPECT_GT(SummaryNumber(part, "", "\"count\":"), 20);
-      EXPECT_LE(SummaryNumber(part, "", "\"p50_ms\":"), kIterationMs + noise_ms);
+      EXPECT_LE(SummaryNumber(part, "", "\"p50_ms\":"), 1.5 * kIterationMs);
       EXPECT_LE(SummaryNumber(part, "", "\"p99_ms\":"), 2 * kIterationMs + noise_ms);
       EXPECT_LE(SummaryNumber(part, "", "\"max_ms\":"), 2 * kIterationMs + noise_ms);
     }
