@@ -8,6 +8,7 @@
 #include "fleet/node_link.h"
 #include "runner/coordinated_run.h"
 #include "runner/cpu_time.h"
+#include "runner/physics_options.h"
 #include "runner/recording_connector.h"
 #include "runner/remote_network.h"
 #include "runner/run_folder.h"
@@ -165,13 +166,8 @@ RunReport RunOnNodeHosts(const Scenario& scenario, const RunOptions& options, Ru
   }
   MakeRunFolder(report.run_dir);
   WriteEffectiveScenario(scenario, report.run_dir);
-  // Realtime: the bridge at the priority one host gives it (RunSetup::StartPhysics).
-  if (!Lockstep(scenario) && options.realtime_priority > 0) {
-    if (const std::string refused = RequestRealtimePriority(options.realtime_priority);
-        !refused.empty()) {
-      std::fprintf(stderr, "sitlnet run: warning: %s\n", refused.c_str());
-    }
-  }
+  // Realtime: the bridge at the priority one host gives it.
+  if (!Lockstep(scenario)) RequestRealtimeRunPriority(options.realtime_priority, "sitlnet run");
   FleetSetup setup(scenario, options, report.run_dir, std::move(nodes));
   CoordinatedRun run(&setup, &setup.physics(), options, report.run_dir, stop.fd());
   const LoopOutcome loop = run.Run();

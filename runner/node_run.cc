@@ -43,17 +43,6 @@ void RefuseUnsupported(const Scenario& scenario) {
   }
 }
 
-// Realtime: the node's physics and TAP reads at the priority one host gives them
-// (RunSetup::StartPhysics), before their threads exist.
-void RequestNodePriority(const Scenario& scenario, const RunOptions& options) {
-  if (!Lockstep(scenario) && options.realtime_priority > 0) {
-    if (const std::string refused = RequestRealtimePriority(options.realtime_priority);
-        !refused.empty()) {
-      std::fprintf(stderr, "sitlnet node: warning: %s\n", refused.c_str());
-    }
-  }
-}
-
 // A node's robots brought up, in this order, and torn down in the reverse order however the
 // node ends: their namespaces, the physics of them only, their images (spoken to physics).
 // Realtime: the autopilots are served on `realtime`, this node's clock of the run (begun by the
@@ -117,7 +106,9 @@ std::string ServeNodeHost(const NodeOptions& options) {
   const std::string described = fleet::DescribeNode(scenario, slice);
   std::fprintf(stderr, "sitlnet node: %s: bringing up %s -> %s\n", scenario.name.c_str(),
                described.c_str(), out_dir.c_str());
-  RequestNodePriority(scenario, options.run);
+  // Realtime: the node's physics and TAP reads at the priority one host gives them.
+  if (!Lockstep(scenario))
+    RequestRealtimeRunPriority(options.run.realtime_priority, "sitlnet node");
   clock::Timebase realtime(scenario.spec.timing().realtime_factor());  // Lockstep: unused.
   NodeSetup setup(scenario, options.run, out_dir, slice, &realtime);
 
