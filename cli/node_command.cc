@@ -90,7 +90,7 @@ Command AddNodeCommand(CLI::App& sitlnet) {
   node->add_option_function<std::string>(
           "--pacing",
           [&options](const std::string& pacing) { options.run.lockstep = pacing == "lockstep"; },
-          "as the central's --pacing (overrides timing.pacing; node hosts need lockstep)")
+          "as the central's --pacing (overrides timing.pacing)")
       ->type_name("realtime|lockstep")
       ->check(CLI::IsMember({"realtime", "lockstep"}).description(""));
   AddSeedOption(*node, &options.run.seed);

@@ -53,7 +53,8 @@ class Simulator {
   virtual proto::coord::Poses InitialPoses() { return {}; }
   // Advances the simulation over [start.start_ns(), start.end_ns()) and fills
   // `end` (physics: poses at end_ns). `end` arrives cleared; iteration and
-  // busy_ns are filled by the caller. Throw Error to abort the run.
+  // busy_ns are filled by the caller (busy_ns only if the simulator left it 0: one that waits for
+  // the wall clock within its iteration sets its own). Throw Error to abort the run.
   virtual void RunIteration(const proto::coord::Start& start, proto::coord::End* end,
                             IterationContext& context) = 0;
 };

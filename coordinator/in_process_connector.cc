@@ -25,7 +25,7 @@ void RunOne(Simulator& simulator, const proto::coord::Start& start, proto::coord
   } catch (const std::exception& e) {
     *error = e.what();
   }
-  end->set_busy_ns(MonotonicNowNs() - begin);
+  if (end->busy_ns() == 0) end->set_busy_ns(MonotonicNowNs() - begin);  // Unless it set its own.
   end->set_iteration(start.iteration());
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "clock/clock.h"
 #include "coordinator/link_meter.h"
 #include "scenario/scenario.h"
 #include "sitlnet/node_link.pb.h"
@@ -48,10 +49,19 @@ uint64_t NodeScenarioHash(const Scenario& scenario);
 // there: an honest node never sends one, so its sender is broken or hostile (docs/security.md,
 // finding 4). What robots send (runts, oversize, foreign source MACs) is theirs: the bridge
 // counts it, as on one host.
+//
+// Realtime pacing (a `realtime` timebase: the run's, begun by the coordinator before iteration
+// 0): each port has a descriptor that polls readable while frames wait, so the bridge's realtime
+// driver reads them as it reads a TAP, at the instant they are here. The ports measure, per
+// node and in wall time, how late each frame entered (its read here past the node's read_ns)
+// and how late the node wrote what came down (NodeFrames.write_late_ns), and stamp each write
+// with the virtual time it was written here (Write.due_ns).
 class RemotePorts {
  public:
-  // `nodes`: slices of `scenario`'s robots, no robot on two.
-  RemotePorts(const Scenario& scenario, std::vector<NodeSlice> nodes);
+  // `nodes`: slices of `scenario`'s robots, no robot on two. `realtime`: null in lockstep; else
+  // not owned, and it must outlive this.
+  RemotePorts(const Scenario& scenario, std::vector<NodeSlice> nodes,
+              const clock::Timebase* realtime = nullptr);
   ~RemotePorts();
   RemotePorts(const RemotePorts&) = delete;
   RemotePorts& operator=(const RemotePorts&) = delete;
@@ -72,6 +82,13 @@ class RemotePorts {
 
   // Frames that arrived for `robot` while its port was closed (not opened yet, or detached).
   uint64_t frames_dropped_closed(int robot) const;
+
+  // Realtime: how late node `node`'s frames entered the medium (the wall time of their read here
+  // past that of the node's read_ns, which includes the node clock's offset: one link delay), and
+  // how late the node wrote the deliveries sent to it (its own measure, in wall time too). Empty
+  // in lockstep.
+  tapbridge::LatenessStats LateEntries(int node) const;
+  tapbridge::LatenessStats LateWrites(int node) const;
 
  private:
   struct Impl;

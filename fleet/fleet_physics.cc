@@ -1,5 +1,6 @@
 // The fleet's node hosts as the run's one physics connector: a round trip per node and
-// iteration, frames up with CommandsCollected, deliveries down with the next Start.
+// iteration, frames up with CommandsCollected (lockstep) or End (realtime), deliveries down with
+// the next Start.
 #include "fleet/node_link.h"
 #include "fleet/node_poses.h"
 
@@ -10,14 +11,16 @@ FleetPhysicsConnector::FleetPhysicsConnector(const Scenario& scenario, coordinat
                                              RemotePorts* ports)
     : Connector("fleet", coordinator::Role::kPhysics, "the fleet's node hosts"),
       robot_count_(scenario.robots.size()),
+      realtime_(pacing == coordinator::Pacing::kRealtime),
       nodes_(std::move(nodes)),
-      ports_(*ports) {
-  // A second network step would drain TAPs that were drained after the commands only (the
-  // NetStep round trip is not built yet), and realtime reads ports by their descriptors.
-  if (pacing != coordinator::Pacing::kLockstep || scenario.network_steps_per_iteration != 1) {
+      ports_(*ports),
+      writes_sent_(nodes_.size(), 0) {
+  // In lockstep a second network step would drain TAPs that were drained after the commands only
+  // (the NetStep round trip is not built yet).
+  if (!realtime_ && scenario.network_steps_per_iteration != 1) {
     throw Error("scenario " + scenario.name +
-                ": robots on node hosts run in lockstep pacing with one network step per "
-                "iteration for now (network_step_us equal to iteration_us; issue 35)");
+                ": robots on node hosts in lockstep pacing need one network step per iteration "
+                "for now (network_step_us equal to iteration_us; issue 35)");
   }
   for (int c = 0; c < 3 * static_cast<int>(robot_count_); ++c) initial_poses_.add_position_m(0);
   for (int c = 0; c < 4 * static_cast<int>(robot_count_); ++c) {
@@ -35,6 +38,7 @@ void FleetPhysicsConnector::Begin(const proto::coord::Start& start,
   proto::node::NodeStart node_start;
   for (size_t node = 0; node < nodes_.size(); ++node) {
     *node_start.mutable_writes() = ports_.TakeWrites(static_cast<int>(node));
+    writes_sent_[node] = node_start.writes().writes_size();
     node_start.SerializeToString(start_.mutable_payload());
     nodes_[node]->connector().Begin(start_, limits);
   }
@@ -60,8 +64,10 @@ bool FleetPhysicsConnector::Finish(uint64_t iteration, proto::coord::End* end,
   end->Clear();
   end->set_iteration(iteration);
   *end->mutable_poses() = initial_poses_;  // Every robot's place, each overwritten below.
-  for (const std::unique_ptr<NodeLink>& node : nodes_) {
+  for (size_t index = 0; index < nodes_.size(); ++index) {
+    const std::unique_ptr<NodeLink>& node = nodes_[index];
     if (!node->connector().Finish(iteration, &node_end_, limits)) return false;
+    if (realtime_) ReceiveRealtimeFrames(static_cast<int>(index), iteration);
     if (const std::optional<std::string> broken =
             FindBrokenPoses(node_end_.poses(), node->slice().robots.size())) {
       throw Error(node->Describe() + ": End of iteration " + std::to_string(iteration) + ": " +
@@ -71,6 +77,21 @@ bool FleetPhysicsConnector::Finish(uint64_t iteration, proto::coord::End* end,
     end->set_busy_ns(std::max(end->busy_ns(), node_end_.busy_ns()));
   }
   return true;
+}
+
+void FleetPhysicsConnector::ReceiveRealtimeFrames(int node, uint64_t iteration) {
+  proto::node::NodeFrames frames;
+  if (!frames.ParseFromString(node_end_.payload())) {
+    throw Error(nodes_[node]->Describe() + ": its End of iteration " + std::to_string(iteration) +
+                " carries no NodeFrames that parses");
+  }
+  // One lateness per frame written: at most what this iteration's Start took down.
+  if (frames.write_late_ns_size() > writes_sent_[node]) {
+    throw Error(nodes_[node]->Describe() + ": its End of iteration " + std::to_string(iteration) +
+                " reports " + std::to_string(frames.write_late_ns_size()) +
+                " writes, but its Start carried " + std::to_string(writes_sent_[node]));
+  }
+  ports_.Receive(node, frames);
 }
 
 std::vector<FleetLinkStats> FleetPhysicsConnector::link_stats() const {

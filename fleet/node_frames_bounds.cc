@@ -44,6 +44,11 @@ std::optional<std::string> FindBrokenBound(const proto::node::NodeFrames& frames
                " (a node cuts longer frames to that)";
       }
     }
+    // Realtime: one read instant per frame; lockstep: none.
+    if (batch.read_ns_size() != 0 && batch.read_ns_size() != batch.frames_size()) {
+      return "sent " + std::to_string(batch.read_ns_size()) + " read instants for " +
+             std::to_string(batch.frames_size()) + " frames of " + name();
+    }
     if (batch.read_errno() < 0 || batch.read_errno() > kMaxErrno) {
       return "sent read_errno " + std::to_string(batch.read_errno()) + " for " + name() +
              ", which is no errno (1 to " + std::to_string(kMaxErrno) + ")";

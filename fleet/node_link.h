@@ -55,8 +55,11 @@ std::vector<std::unique_ptr<NodeLink>> AcceptNodes(coordinator::Listener& listen
 // AwaitCommandsCollected waits for every node's CommandsCollected and hands its NodeFrames to
 // `ports`; Finish waits for every End and merges the poses in scenario order (busy_ns: the
 // largest). Stop stops every node. A node that fails, closes or stays silent throws one line
-// naming it, its robots and the iteration. Lockstep pacing with one network step per
-// iteration only, for now: the constructor refuses others in one line.
+// naming it, its robots and the iteration. Lockstep pacing needs one network step per
+// iteration, for now: the constructor refuses others in one line.
+// Realtime pacing (docs/scale-out.md, "Realtime pacing"): no CommandsCollected; each node's End
+// carries the frames it read during the iteration (a NodeFrames in End.payload), handed to
+// `ports` when it arrives, and how late it wrote the deliveries its Start carried.
 class FleetPhysicsConnector final : public coordinator::Connector {
  public:
   // `nodes[i]` feeds node i of `ports` (built from the same slices, in the same order).
@@ -74,9 +77,15 @@ class FleetPhysicsConnector final : public coordinator::Connector {
   std::vector<FleetLinkStats> link_stats() const;
 
  private:
+  // Realtime: hands the NodeFrames of node_end_ (node `node`'s End) to ports_; throws Error
+  // naming the node if it does not parse or reports more writes than its Start carried.
+  void ReceiveRealtimeFrames(int node, uint64_t iteration);
+
   size_t robot_count_;
+  bool realtime_;
   std::vector<std::unique_ptr<NodeLink>> nodes_;
   RemotePorts& ports_;
+  std::vector<int> writes_sent_;  // By node: the writes of its last Start.
   proto::coord::Poses initial_poses_;
   proto::coord::Start start_;  // Reused: one per node per iteration.
   proto::coord::End node_end_;

@@ -4,7 +4,7 @@
 
 namespace sitlnet::fleet {
 
-void NodeOutbox::Add(int robot, std::span<const uint8_t> frame) {
+void NodeOutbox::Add(int robot, std::span<const uint8_t> frame, TimeNs due_ns) {
   const std::string_view bytes(reinterpret_cast<const char*>(frame.data()), frame.size());
   int index = 0;
   if (const auto known = frame_index_.find(bytes); known != frame_index_.end()) {
@@ -18,6 +18,7 @@ void NodeOutbox::Add(int robot, std::span<const uint8_t> frame) {
   proto::node::NodeWrites::Write* write = writes_.add_writes();
   write->set_robot(robot);
   write->set_frame_index(index);
+  write->set_due_ns(due_ns);
 }
 
 proto::node::NodeWrites NodeOutbox::Take() {

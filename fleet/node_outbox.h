@@ -7,6 +7,7 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "common/common.h"
 #include "sitlnet/node_link.pb.h"
 
 namespace sitlnet::fleet {
@@ -15,8 +16,10 @@ namespace sitlnet::fleet {
 // each, and a node of many robots would otherwise get it as many times.
 class NodeOutbox {
  public:
-  // Records that `frame` was written to `robot`, after every earlier write.
-  void Add(int robot, std::span<const uint8_t> frame);
+  // Records that `frame` was written to `robot`, after every earlier write; `due_ns`: the
+  // virtual time it was written (realtime), 0 in lockstep.
+  void Add(int robot, std::span<const uint8_t> frame, TimeNs due_ns = 0);
+
   // Everything added since the last call, in order; the outbox is empty afterwards.
   proto::node::NodeWrites Take();
 

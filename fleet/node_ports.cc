@@ -1,5 +1,7 @@
 #include "fleet/node_ports.h"
 
+#include <poll.h>
+
 #include <algorithm>
 
 #include "fleet/node_frames_bounds.h"
@@ -46,7 +48,68 @@ void NodePorts::Drain(proto::node::NodeFrames* frames) {
   }
 }
 
-void NodePorts::Write(const proto::node::NodeWrites& writes) {
+void NodePorts::ReadUntil(TimeNs deadline_ns, const clock::Timebase& timebase,
+                          proto::node::NodeFrames* frames) {
+  // Each robot's batch, by its place in robots_ (one per robot: the central refuses two).
+  std::vector<proto::node::FrameBatch*> batches(robots_.size(), nullptr);
+  for (proto::node::FrameBatch& batch : *frames->mutable_batches()) {
+    if (Robot* robot = Find(batch.robot())) batches[robot - robots_.data()] = &batch;
+  }
+  std::vector<pollfd> polled;
+  std::vector<size_t> polled_robot;
+  for (;;) {
+    polled.clear();
+    polled_robot.clear();
+    for (size_t i = 0; i < robots_.size(); ++i) {
+      const bool full =
+          batches[i] != nullptr &&
+          batches[i]->frames_size() >= static_cast<int>(tapbridge::kMaxFramesPerRobotPerTurn);
+      if (robots_[i].read_failed || full || robots_[i].port->fd() < 0) continue;
+      polled.push_back({robots_[i].port->fd(), POLLIN, 0});
+      polled_robot.push_back(i);
+    }
+    const TimeNs left_ns = std::max<TimeNs>(0, deadline_ns - MonotonicNowNs());
+    const timespec timeout{static_cast<time_t>(left_ns / kNsPerS),
+                           static_cast<long>(left_ns % kNsPerS)};
+    const int ready = ppoll(polled.data(), polled.size(), &timeout, nullptr);
+    if (ready < 0 && errno != EINTR) throw Error(SystemErrorMessage("ppoll on the TAPs", errno));
+    const TimeNs returned_ns = MonotonicNowNs();
+    for (size_t p = 0; p < polled.size(); ++p) {
+      const size_t i = polled_robot[p];
+      Robot& robot = robots_[i];
+      if (ready <= 0 || polled[p].revents == 0) {
+        robot.seen_empty_wall_ns = returned_ns;
+        continue;
+      }
+      // Its frames came after its TAP was last seen empty: the earliest they can have been
+      // written, so the central's late entries bound their wait from above (not before the run).
+      const TimeNs written_ns = std::max<TimeNs>(0, timebase.VirtualOf(robot.seen_empty_wall_ns));
+      if (batches[i] == nullptr) {
+        batches[i] = frames->add_batches();
+        batches[i]->set_robot(robot.index);
+      }
+      proto::node::FrameBatch& batch = *batches[i];
+      while (batch.frames_size() < static_cast<int>(tapbridge::kMaxFramesPerRobotPerTurn)) {
+        const ssize_t length = robot.port->Read(buffer_);
+        if (length == 0) {
+          robot.seen_empty_wall_ns = MonotonicNowNs();
+          break;
+        }
+        if (length < 0) {
+          batch.set_read_errno(static_cast<int>(-length));
+          robot.read_failed = true;
+          break;
+        }
+        batch.add_frames(buffer_.data(), static_cast<size_t>(length));
+        batch.add_read_ns(written_ns);
+      }
+    }
+    if (left_ns == 0) return;
+  }
+}
+
+void NodePorts::Write(const proto::node::NodeWrites& writes, const clock::Timebase* realtime,
+                      google::protobuf::RepeatedField<int64_t>* late_ns) {
   for (const proto::node::NodeWrites::Write& write : writes.writes()) {
     if (Find(write.robot()) == nullptr) {
       throw Error("the coordinator wrote to robot " + std::to_string(write.robot()) +
@@ -63,6 +126,7 @@ void NodePorts::Write(const proto::node::NodeWrites& writes) {
     const int written =
         robot.port->Write(std::span(reinterpret_cast<const uint8_t*>(frame.data()), frame.size()));
     if (written < 0) ++robot.write_errors;
+    if (realtime != nullptr) late_ns->Add(realtime->LagNs(write.due_ns(), MonotonicNowNs()));
   }
 }
 
@@ -104,11 +168,39 @@ void NodeSimulator::RunIteration(const proto::coord::Start& start, proto::coord:
     throw Error("the coordinator's Start of iteration " + std::to_string(start.iteration()) +
                 " carries no NodeStart that parses");
   }
+  if (realtime_ != nullptr) {
+    RunRealtimeIteration(start, node_start, end, context);
+    return;
+  }
   // Deliveries reach the robots before this iteration's states and commands.
   ports_.Write(node_start.writes());
   DrainingContext draining(context, ports_);
   physics_.RunIteration(start, end, draining);
   if (!draining.reported()) draining.CommandsCollected();
+}
+
+void NodeSimulator::RunRealtimeIteration(const proto::coord::Start& start,
+                                         const proto::node::NodeStart& node_start,
+                                         proto::coord::End* end,
+                                         coordinator::IterationContext& context) {
+  // The central sends Start k at the wall instant of its virtual start, never before: so it is
+  // that instant here, less one link delay at least. Keeping the earliest such estimate, the
+  // node's clock of the run is never later than the central's plus the link delay, however the
+  // hosts' clocks drift; a node clock running late would hold every End late.
+  const TimeNs now_ns = MonotonicNowNs();
+  if (!realtime_begun_ || now_ns < realtime_->WallOf(start.start_ns())) {
+    realtime_->BeginAt(start.start_ns(), now_ns);
+    realtime_begun_ = true;
+  }
+  frames_.Clear();
+  // Due during the central's previous iteration: late already, so written now.
+  ports_.Write(node_start.writes(), realtime_, frames_.mutable_write_late_ns());
+  const TimeNs physics_begin_ns = MonotonicNowNs();
+  physics_.RunIteration(start, end, context);  // Realtime physics reports no CommandsCollected.
+  const TimeNs physics_ns = MonotonicNowNs() - physics_begin_ns;
+  ports_.ReadUntil(realtime_->WallOf(start.end_ns()), *realtime_, &frames_);
+  frames_.SerializeToString(end->mutable_payload());
+  end->set_busy_ns(std::max<TimeNs>(physics_ns, 1));  // Not the wait: ServeIterations keeps it.
 }
 
 proto::coord::Hello NodeHello(const NodeSlice& slice, coordinator::Simulator& node) {

@@ -8,6 +8,7 @@
 #include "fleet/node_link.h"
 #include "runner/coordinated_run.h"
 #include "runner/cpu_time.h"
+#include "runner/physics_options.h"
 #include "runner/recording_connector.h"
 #include "runner/remote_network.h"
 #include "runner/run_folder.h"
@@ -30,11 +31,10 @@ void RefuseFleetOptions(const Scenario& scenario, const RunOptions& options) {
                 " has nodes: give --listen HOST:PORT for their `sitlnet node` (or --one-host to "
                 "run every robot here)");
   }
-  if (scenario.spec.timing().pacing() != proto::Timing::PACING_LOCKSTEP) {
-    throw Error("scenario " + scenario.name +
-                ": robots on node hosts run in lockstep pacing for now (--pacing lockstep; "
-                "issue 35)");
-  }
+}
+
+bool Lockstep(const Scenario& scenario) {
+  return scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP;
 }
 
 // Every node host, accepted on options.listen; empty if interrupted (Ctrl-C). Throws Error
@@ -47,7 +47,7 @@ std::vector<std::unique_ptr<fleet::NodeLink>> AcceptNodeHosts(const Scenario& sc
                                        "sitlnet node FILE --node NAME --connect HOST:PORT",
                                        fleet::NodeScenarioHash(scenario), options.node_wait_ns},
                                       interrupt_fd);
-  peers.expect.lockstep_robots = true;
+  peers.expect.lockstep_robots = Lockstep(scenario);
   auto nodes =
       fleet::AcceptNodes(*peers.listener, scenario, scenario.nodes, peers.expect, peers.limits);
   for (const auto& node : nodes) {
@@ -61,7 +61,9 @@ class FleetPhysics final : public RunPhysics {
  public:
   FleetPhysics(const Scenario& scenario, std::vector<std::unique_ptr<fleet::NodeLink>> nodes,
                fleet::RemotePorts* ports, const RunOptions& options, const std::string& run_dir)
-      : fleet_(scenario, coordinator::Pacing::kLockstep, std::move(nodes), ports),
+      : fleet_(scenario,
+               Lockstep(scenario) ? coordinator::Pacing::kLockstep : coordinator::Pacing::kRealtime,
+               std::move(nodes), ports),
         recording_(&fleet_, physics::GeodeticFrame(scenario.spec.geodetic_origin()),
                    run_dir + "/trajectories.csv", options.trajectory_period_ns) {}
   coordinator::Connector& connector() override { return recording_; }
@@ -80,8 +82,8 @@ class FleetSetup final : public RunParts {
   FleetSetup(const Scenario& scenario, const RunOptions& options, const std::string& run_dir,
              std::vector<std::unique_ptr<fleet::NodeLink>> nodes)
       : scenario_(scenario),
-        ports_(scenario, scenario.nodes),
         run_timebase_(scenario.spec.timing().realtime_factor()),
+        ports_(scenario, scenario.nodes, Lockstep(scenario) ? nullptr : &run_timebase_),
         robots_(scenario.robots.size()) {
     for (const RobotPlan& plan : scenario.robots) robots_[plan.index].name = plan.name;
     // The nodes' link first: the medium's records need the run folder only.
@@ -93,7 +95,8 @@ class FleetSetup final : public RunParts {
 
   FleetPhysics& physics() { return *physics_; }
   const Scenario& scenario() const override { return scenario_; }
-  bool lockstep() const override { return true; }
+  bool lockstep() const override { return Lockstep(scenario_); }
+  const fleet::RemotePorts& ports() const { return ports_; }
   tapbridge::BridgeCore& bridge() override { return medium_->bridge(); }
   MediumRecords& medium_records() override { return medium_->records(); }
   std::vector<RobotSlot>& robots() override { return robots_; }
@@ -103,12 +106,45 @@ class FleetSetup final : public RunParts {
 
  private:
   const Scenario& scenario_;
-  fleet::RemotePorts ports_;  // Outlives the bridge, whose ports are its.
-  clock::Timebase run_timebase_;
+  clock::Timebase run_timebase_;   // Before ports_, which read it in realtime.
+  fleet::RemotePorts ports_;       // Outlives the bridge, whose ports are its.
   std::vector<RobotSlot> robots_;  // Names only: the images run on the nodes.
   std::unique_ptr<RunMedium> medium_;
   std::unique_ptr<FleetPhysics> physics_;  // Destroyed first: the nodes hear Stop before.
 };
+
+std::string Ms(TimeNs ns) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f", static_cast<double>(ns) / kNsPerMs);
+  return text;
+}
+
+std::string LatenessJson(const tapbridge::LatenessStats& stats) {
+  return "{\"count\":" + std::to_string(stats.count) + ",\"p50_ms\":" + Ms(stats.p50_ns) +
+         ",\"p99_ms\":" + Ms(stats.p99_ns) + ",\"max_ms\":" + Ms(stats.max_ns) + "}";
+}
+
+// Realtime: how late each node's frames entered the medium and its deliveries were written, on
+// stderr (one line per node) and as summary.json's "fleet_realtime".
+std::string ReportRealtimeNodes(const Scenario& scenario, const fleet::RemotePorts& ports) {
+  std::string json = "[";
+  for (size_t node = 0; node < scenario.nodes.size(); ++node) {
+    const tapbridge::LatenessStats entries = ports.LateEntries(static_cast<int>(node));
+    const tapbridge::LatenessStats writes = ports.LateWrites(static_cast<int>(node));
+    std::fprintf(stderr,
+                 "sitlnet run: %s: realtime: %llu frames entered the medium late by p50 %s, p99 "
+                 "%s, max %s ms; %llu deliveries written late by p50 %s, p99 %s, max %s ms\n",
+                 fleet::DescribeNode(scenario, scenario.nodes[node]).c_str(),
+                 static_cast<unsigned long long>(entries.count), Ms(entries.p50_ns).c_str(),
+                 Ms(entries.p99_ns).c_str(), Ms(entries.max_ns).c_str(),
+                 static_cast<unsigned long long>(writes.count), Ms(writes.p50_ns).c_str(),
+                 Ms(writes.p99_ns).c_str(), Ms(writes.max_ns).c_str());
+    json += std::string(node ? "," : "") + "{\"node\":\"" + scenario.nodes[node].name +
+            "\",\"late_entries\":" + LatenessJson(entries) +
+            ",\"late_writes\":" + LatenessJson(writes) + "}";
+  }
+  return json + "]";
+}
 
 }  // namespace
 
@@ -131,6 +167,8 @@ RunReport RunOnNodeHosts(const Scenario& scenario, const RunOptions& options, Ru
   }
   MakeRunFolder(report.run_dir);
   WriteEffectiveScenario(scenario, report.run_dir);
+  // Realtime: the bridge at the priority one host gives it.
+  if (!Lockstep(scenario)) RequestRealtimeRunPriority(options.realtime_priority, "sitlnet run");
   FleetSetup setup(scenario, options, report.run_dir, std::move(nodes));
   CoordinatedRun run(&setup, &setup.physics(), options, report.run_dir, stop.fd());
   const LoopOutcome loop = run.Run();
@@ -139,6 +177,8 @@ RunReport RunOnNodeHosts(const Scenario& scenario, const RunOptions& options, Ru
   report.self_cpu_s = loop.self_cpu_s;
   setup.medium_records().Flush();
   report.fleet_links = setup.physics().link_stats();
+  if (!Lockstep(scenario))
+    report.fleet_realtime_json = ReportRealtimeNodes(scenario, setup.ports());
   ReportRun(setup, loop, &report);
   return report;
 }

@@ -32,12 +32,11 @@ fleet::NodeSlice SliceOf(const Scenario& scenario, const std::string& name) {
   return {scenario.nodes[node].name, scenario.nodes[node].robots};
 }
 
+bool Lockstep(const Scenario& scenario) {
+  return scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP;
+}
+
 void RefuseUnsupported(const Scenario& scenario) {
-  if (scenario.spec.timing().pacing() != proto::Timing::PACING_LOCKSTEP) {
-    throw Error("scenario " + scenario.name +
-                ": robots on node hosts run in lockstep pacing for now (--pacing lockstep, as "
-                "the central's; issue 35)");
-  }
   if (scenario.spec.timing().ros2_clock_hz() > 0) {
     throw Error("scenario " + scenario.name +
                 ": timing.ros2_clock_hz is not served on node hosts yet (issue 35)");
@@ -46,15 +45,21 @@ void RefuseUnsupported(const Scenario& scenario) {
 
 // A node's robots brought up, in this order, and torn down in the reverse order however the
 // node ends: their namespaces, the physics of them only, their images (spoken to physics).
+// Realtime: the autopilots are served on `realtime`, this node's clock of the run (begun by the
+// central's first Start, fleet::NodeSimulator).
 class NodeSetup {
  public:
   NodeSetup(const Scenario& scenario, const RunOptions& options, const std::string& out_dir,
-            const fleet::NodeSlice& slice)
+            const fleet::NodeSlice& slice, const clock::Timebase* realtime)
       : namespaces_(scenario, slice.robots),
         physics_server_(scenario,
-                        RunPhysicsOptions(scenario, /*lockstep=*/true, nullptr, slice.robots)),
+                        RunPhysicsOptions(scenario, Lockstep(scenario), realtime, slice.robots)),
         robots_(StartImages(scenario, options, out_dir, slice.robots)) {
-    WaitForRobotsToSpeak(scenario, robots_, &physics_server_, "lockstep");
+    // As on one host (RunSetup::StartRobots).
+    if (Lockstep(scenario) || scenario.spec.timing().wait_for_robots()) {
+      WaitForRobotsToSpeak(scenario, robots_, &physics_server_,
+                           Lockstep(scenario) ? "lockstep" : "wait_for_robots");
+    }
   }
   ~NodeSetup() {
     RunReport ignored;  // The robots' usage is the central's business no more.
@@ -101,14 +106,18 @@ std::string ServeNodeHost(const NodeOptions& options) {
   const std::string described = fleet::DescribeNode(scenario, slice);
   std::fprintf(stderr, "sitlnet node: %s: bringing up %s -> %s\n", scenario.name.c_str(),
                described.c_str(), out_dir.c_str());
-  NodeSetup setup(scenario, options.run, out_dir, slice);
+  // Realtime: the node's physics and TAP reads at the priority one host gives them.
+  if (!Lockstep(scenario))
+    RequestRealtimeRunPriority(options.run.realtime_priority, "sitlnet node");
+  clock::Timebase realtime(scenario.spec.timing().realtime_factor());  // Lockstep: unused.
+  NodeSetup setup(scenario, options.run, out_dir, slice, &realtime);
 
   physics_side::PhysicsServerSimulator physics(scenario, &setup.physics_server(),
-                                               RobotLockstep(scenario, /*lockstep=*/true));
+                                               RobotLockstep(scenario, Lockstep(scenario)));
   fleet::NodePorts ports(slice, [&scenario](int robot) {
     return std::make_unique<tapbridge::TapPort>(scenario.robots[robot].netns, "wlan0");
   });
-  fleet::NodeSimulator node(&physics, &ports);
+  fleet::NodeSimulator node(&physics, &ports, Lockstep(scenario) ? nullptr : &realtime);
   RobotSupervisor supervisor(
       &setup.robots(), scenario.spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP,
       nullptr, options.run.program);

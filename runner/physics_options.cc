@@ -1,5 +1,6 @@
 #include "runner/physics_options.h"
 
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 
@@ -59,6 +60,13 @@ physics::ServerOptions RunPhysicsOptions(const Scenario& scenario, bool lockstep
     options.autopilot_wall_clock = wall_clock;
   }
   return options;
+}
+
+void RequestRealtimeRunPriority(int priority, const char* program) {
+  if (priority <= 0) return;
+  if (const std::string refused = RequestRealtimePriority(priority); !refused.empty()) {
+    std::fprintf(stderr, "%s: warning: %s\n", program, refused.c_str());
+  }
 }
 
 physics_side::RobotLockstepOptions RobotLockstep(const Scenario& scenario, bool lockstep) {

@@ -25,6 +25,12 @@ physics::ServerOptions RunPhysicsOptions(const Scenario& scenario, bool lockstep
                                          const clock::Timebase* wall_clock,
                                          const std::vector<int>& robots = {});
 
+// Realtime pacing on a busy host: a normal-priority loop waits milliseconds for a core
+// (docs/performance.md, "Realtime 64"). Asks SCHED_FIFO `priority` (0: none) for this process,
+// before its physics and bridge threads exist, so that they inherit it; children (images,
+// gnuplot) reset to normal scheduling. A refusal is one warning line on stderr from `program`.
+void RequestRealtimeRunPriority(int priority, const char* program);
+
 // The robots' lock-step with the physics (lockstep pacing), by the scenario's silent-robot
 // timeout and policy.
 physics_side::RobotLockstepOptions RobotLockstep(const Scenario& scenario, bool lockstep);

@@ -32,15 +32,7 @@ void RunSetup::BringUpNamespaces() {
 }
 
 void RunSetup::StartPhysics() {
-  // Realtime pacing on a busy host: a normal-priority loop waits milliseconds for a core
-  // (docs/performance.md, "Realtime 64"). Before the physics and bridge threads exist, so that
-  // they inherit it; children (images, gnuplot) reset to normal scheduling.
-  if (!lockstep_ && options_.realtime_priority > 0) {
-    if (const std::string refused = RequestRealtimePriority(options_.realtime_priority);
-        !refused.empty()) {
-      std::fprintf(stderr, "sitlnet run: warning: %s\n", refused.c_str());
-    }
-  }
+  if (!lockstep_) RequestRealtimeRunPriority(options_.realtime_priority, "sitlnet run");
   physics_server_ = std::make_unique<physics::PhysicsServer>(
       scenario_, RunPhysicsOptions(scenario_, lockstep_, &run_timebase_));
 }

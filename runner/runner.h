@@ -71,6 +71,9 @@ struct RunReport {
   int64_t robot_median_rss_kib = 0;
   std::optional<network_side::MediumLinkStats> medium_link;  // --remote network only.
   std::vector<fleet::FleetLinkStats> fleet_links;            // A fleet's central only.
+  // A fleet's central host in realtime pacing: per node, how late its frames entered the medium
+  // and its deliveries were written (a JSON array, runner/fleet_run.cc); empty otherwise.
+  std::string fleet_realtime_json;
 };
 
 // `scenario` with the overrides of `options` (duration_s, lockstep, seed, no_shadowing) applied

@@ -200,6 +200,8 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
     json += "null";
   }
   json += ",\"fleet_links\":" + FleetLinksJson(report);
+  json += ",\"fleet_realtime\":" +
+          (report.fleet_realtime_json.empty() ? std::string("null") : report.fleet_realtime_json);
   json += ",\"robots\":[";
   for (int i = 0; i < robot_count; ++i) {
     json += (i ? "," : "") + RobotJson(robots[i], i, bridge, physics);

@@ -383,8 +383,8 @@ TEST(FleetLink, MoreThanOneNetworkStepPerIterationIsRefused) {
     ADD_FAILURE() << "accepted two network steps per iteration";
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()),
-              "scenario fleet: robots on node hosts run in lockstep pacing with one network step "
-              "per iteration for now (network_step_us equal to iteration_us; issue 35)");
+              "scenario fleet: robots on node hosts in lockstep pacing need one network step per "
+              "iteration for now (network_step_us equal to iteration_us; issue 35)");
   }
 }
 

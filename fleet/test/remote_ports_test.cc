@@ -2,6 +2,7 @@
 // air frames, deliveries and writes as a bridge whose robots' ports are on its own host (the
 // identity that issue 35's byte-identical runs rest on).
 #include <gtest/gtest.h>
+#include <poll.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -138,6 +139,71 @@ TEST(RemotePorts, ABridgeOverTwoNodesDoesWhatItDoesOverLocalPorts) {
   late.mutable_batches(0)->add_frames("late frame");
   ports.Receive(0, late);
   EXPECT_EQ(ports.frames_dropped_closed(kFailRobot), 1u);
+}
+
+bool PollsReadable(int fd) {
+  pollfd polled{fd, POLLIN, 0};
+  return poll(&polled, 1, 0) == 1;
+}
+
+// Realtime: a port polls readable exactly while frames wait (the bridge's realtime driver reads
+// it then), and the ports measure how late each frame entered (now minus the node's read_ns, on
+// the run's timebase), pass on how late the node wrote, and stamp each write with its instant.
+TEST(RemotePorts, InRealtimeAPortPollsWhileFramesWaitAndTheLatenessIsMeasured) {
+  const Scenario scenario = EightRobots();
+  clock::Timebase timebase;
+  timebase.Begin(MonotonicNowNs());
+  RemotePorts ports(scenario, {{"n0", {0, 1}}, {"n1", {2, 3, 4, 5, 6, 7}}}, &timebase);
+  const std::unique_ptr<tapbridge::Port> port = ports.Open(0);
+  ASSERT_GE(port->fd(), 0);
+  EXPECT_FALSE(PollsReadable(port->fd()));
+
+  proto::node::NodeFrames frames;
+  proto::node::FrameBatch* batch = frames.add_batches();
+  batch->set_robot(0);
+  for (int i = 0; i < 2; ++i) {
+    const std::string frame(20, static_cast<char>('a' + i));
+    batch->add_frames(frame);
+    batch->add_read_ns(0);  // Read at virtual 0 on the node.
+  }
+  frames.add_write_late_ns(1 * kNsPerMs);
+  frames.add_write_late_ns(3 * kNsPerMs);
+  ports.Receive(0, frames);
+  EXPECT_TRUE(PollsReadable(port->fd()));
+
+  std::vector<uint8_t> buffer(64);
+  const TimeNs before_ns = timebase.VirtualOf(MonotonicNowNs());
+  EXPECT_EQ(port->Read(buffer), 20);
+  EXPECT_TRUE(PollsReadable(port->fd()));  // One more waits.
+  EXPECT_EQ(port->Read(buffer), 20);
+  const TimeNs after_ns = timebase.VirtualOf(MonotonicNowNs());
+  EXPECT_EQ(port->Read(buffer), 0);
+  EXPECT_FALSE(PollsReadable(port->fd()));
+
+  const tapbridge::LatenessStats entries = ports.LateEntries(0);
+  EXPECT_EQ(entries.count, 2u);
+  EXPECT_GE(entries.max_ns, before_ns);
+  EXPECT_LE(entries.max_ns, after_ns);
+  EXPECT_EQ(ports.LateEntries(1).count, 0u);
+  const tapbridge::LatenessStats writes = ports.LateWrites(0);
+  EXPECT_EQ(writes.count, 2u);
+  EXPECT_EQ(writes.max_ns, 3 * kNsPerMs);
+
+  const std::vector<uint8_t> delivery(20, 0x42);
+  const TimeNs written_after_ns = timebase.VirtualOf(MonotonicNowNs());
+  ASSERT_EQ(port->Write(delivery), 0);
+  const TimeNs written_before_ns = timebase.VirtualOf(MonotonicNowNs());
+  const proto::node::NodeWrites writes_down = ports.TakeWrites(0);
+  ASSERT_EQ(writes_down.writes_size(), 1);
+  EXPECT_GE(writes_down.writes(0).due_ns(), written_after_ns);
+  EXPECT_LE(writes_down.writes(0).due_ns(), written_before_ns);
+}
+
+// In lockstep a port has no descriptor: only the lockstep driver reads it.
+TEST(RemotePorts, InLockstepAPortHasNoDescriptor) {
+  RemotePorts ports(EightRobots(), {{"n0", {0, 1, 2, 3, 4, 5, 6, 7}}});
+  EXPECT_EQ(ports.Open(0)->fd(), -1);
+  EXPECT_EQ(ports.LateEntries(0).count, 0u);
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 #include <thread>
 
 #include "tests/integration/run_test_util.h"
+#include "tests/integration/served_on_time.h"
 
 namespace sitlnet::nns::testing {
 namespace {
@@ -317,43 +318,12 @@ TEST(RunTest, InRealtimePacingAutopilotsAreServedAtTheWallInstantOfTheirTime) {
   const CommandResult result = SitlnetRun(scenario, out, {});
   ASSERT_EQ(result.exit_code, 0) << result.err;
   for (const char* robot : {"ap", "px"}) {
-    std::vector<double> offsets_ms;  // wall - virtual
-    std::vector<double> early_phase_ms, late_phase_ms;  // the same, by phase in the iteration
-    std::istringstream lines(ReadAll(out + "/robots/" + robot + ".log"));
-    for (std::string line; std::getline(lines, line);) {
-      double t = 0;
-      long long wall_ns = 0;
-      unsigned long long n = 0;
-      double x = 0, y = 0, z = 0;
-      if (std::sscanf(line.c_str(), "reply %llu t=%lf pos=%lf,%lf,%lf wall_ns=%lld", &n, &t, &x, &y,
-                      &z, &wall_ns) == 6 &&
-          t >= 0.5) {  // From 0.5 s on: start-up over.
-        const double offset_ms = wall_ns / 1e6 - t * 1e3;
-        offsets_ms.push_back(offset_ms);
-        // Phase in the 10 ms iteration, from the microsecond-rounded virtual time.
-        const double phase_ms = static_cast<double>(std::llround(t * 1e6) % 10000) / 1e3;
-        if (phase_ms < 3) early_phase_ms.push_back(offset_ms);
-        if (phase_ms >= 6) late_phase_ms.push_back(offset_ms);
-      }
-    }
-    ASSERT_GT(offsets_ms.size(), 500u) << robot;
-    const auto median = [](std::vector<double> values) {
-      std::sort(values.begin(), values.end());
-      return values.empty() ? NAN : values[values.size() / 2];
-    };
-    const double phase_gap_ms = median(early_phase_ms) - median(late_phase_ms);
-    std::vector<double> sorted = offsets_ms;
-    std::sort(sorted.begin(), sorted.end());
-    const double median_ms = sorted[sorted.size() / 2];
-    std::printf("%s: %zu observations, wall - virtual: 5th percentile %.3f ms below the median, "
-                "95th %.3f ms above; median of phases < 3 ms less that of phases >= 6 ms: "
-                "%.3f ms (%zu and %zu observations)\n",
-                robot, offsets_ms.size(), median_ms - sorted[sorted.size() / 20],
-                sorted[sorted.size() * 19 / 20] - median_ms, phase_gap_ms, early_phase_ms.size(),
-                late_phase_ms.size());
-    ASSERT_GT(early_phase_ms.size(), 50u) << robot;
-    ASSERT_GT(late_phase_ms.size(), 50u) << robot;
-    EXPECT_LT(std::abs(phase_gap_ms), 2.5) << robot;
+    const ServedOnTime served = MeasureServedOnTime(ReadAll(out + "/robots/" + robot + ".log"));
+    ASSERT_GT(served.observations, 500u) << robot;
+    std::printf("%s\n", served.Describe(robot).c_str());
+    ASSERT_GT(served.early_phase, 50u) << robot;
+    ASSERT_GT(served.late_phase, 50u) << robot;
+    EXPECT_LT(std::abs(served.phase_gap_ms), 2.5) << robot;
   }
   ExpectNothingLeft(scenario.name);
   RunCommand({"rm", "-rf", out});

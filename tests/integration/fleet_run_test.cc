@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -18,6 +20,7 @@
 #include "coordinator/authentication.h"
 #include "coordinator/frame_codec.h"
 #include "tests/integration/run_test_util.h"
+#include "tests/integration/served_on_time.h"
 
 namespace sitlnet::nns::testing {
 namespace {
@@ -50,7 +53,8 @@ RunScenario WriteFleetScenario(int slot, const std::string& target = "40,0") {
 class NodeChild {
  public:
   NodeChild(const RunScenario& scenario, const std::string& node, const std::string& endpoint,
-            const std::string& key, const std::string& out, bool without_cgroups = false)
+            const std::string& key, const std::string& out, const std::string& pacing = "lockstep",
+            bool without_cgroups = false)
       : child_({"unshare",
                 "--net",
                 "--mount",
@@ -76,7 +80,7 @@ class NodeChild {
                 "--out",
                 out,
                 "--pacing",
-                "lockstep",
+                pacing,
                 "--seed",
                 "5"}) {}
   ~NodeChild() {
@@ -123,10 +127,11 @@ struct FleetFiles {
     SITLNET_DEMAND(chmod(key.c_str(), 0600) == 0);
   }
   std::vector<std::string> Central(const RunScenario& scenario,
-                                   const std::vector<std::string>& extra) const {
+                                   const std::vector<std::string>& extra,
+                                   const std::string& pacing = "lockstep") const {
     std::vector<std::string> argv = {
         SitlnetBinary(), "run",    scenario.path,   "--out", base + "-fleet", "--no-progress",
-        "--listen",      endpoint, "--secret-file", key,     "--pacing",      "lockstep",
+        "--listen",      endpoint, "--secret-file", key,     "--pacing",      pacing,
         "--seed",        "5"};
     argv.insert(argv.end(), extra.begin(), extra.end());
     return argv;
@@ -190,28 +195,36 @@ void ExpectLinkStatsAsTheNodesCountedThem(const std::string& run_dir,
   }
 }
 
+// Runs `scenario` for 3 s in `pacing` on a central (out folder <base>-fleet) and nodes n0 and n1
+// (<base>-n0, -n1), linked by `files`; expects every end to exit 0, the nodes saying "stopped:
+// run complete". The central's stderr goes to `central_err`, the nodes' to `node_errs` (n0, n1;
+// may be null).
+void RunOnTwoNodes(const RunScenario& scenario, const FleetFiles& files, const std::string& pacing,
+                   std::string* central_err, std::vector<std::string>* node_errs = nullptr) {
+  integration_test::Child central(files.Central(scenario, {"--duration", "3"}, pacing));
+  ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
+  NodeChild n0(scenario, "n0", files.endpoint, files.key, files.base + "-n0", pacing);
+  NodeChild n1(scenario, "n1", files.endpoint, files.key, files.base + "-n1", pacing);
+  ASSERT_EQ(central.Wait(kRunTimeoutNs), 0) << central.err();
+  for (NodeChild* node : {&n0, &n1}) {
+    EXPECT_EQ(node->child().Wait(kRunTimeoutNs), 0) << node->child().err();
+    EXPECT_NE(node->child().err().find("stopped: run complete"), std::string::npos)
+        << node->child().err();
+    if (node_errs != nullptr) node_errs->push_back(node->child().err());
+  }
+  *central_err = central.err();
+}
+
 TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const RunScenario scenario = WriteFleetScenario(3);
   DownGuard guard(scenario.name);
   const FleetFiles files(scenario);
   const std::string& base = files.base;
-  const std::string& key = files.key;
-  const std::string& endpoint = files.endpoint;
-  {
-    integration_test::Child central(files.Central(scenario, {"--duration", "3"}));
-    ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
-    NodeChild n0(scenario, "n0", endpoint, key, base + "-n0");
-    NodeChild n1(scenario, "n1", endpoint, key, base + "-n1");
-    ASSERT_EQ(central.Wait(kRunTimeoutNs), 0) << central.err();
-    for (NodeChild* node : {&n0, &n1}) {
-      EXPECT_EQ(node->child().Wait(kRunTimeoutNs), 0) << node->child().err();
-      EXPECT_NE(node->child().err().find("stopped: run complete"), std::string::npos)
-          << node->child().err();
-    }
-    ExpectLinkStatsAsTheNodesCountedThem(base + "-fleet", central.err(),
-                                         {n0.child().err(), n1.child().err()});
-  }
+  std::string central_err;
+  std::vector<std::string> node_errs;
+  ASSERT_NO_FATAL_FAILURE(RunOnTwoNodes(scenario, files, "lockstep", &central_err, &node_errs));
+  ExpectLinkStatsAsTheNodesCountedThem(base + "-fleet", central_err, node_errs);
   // Each node wrote its own robots' logs; nothing of the robots was made here.
   for (size_t i = 0; i < kRobots.size(); ++i) {
     const std::string node_out = base + "-n" + std::to_string(i % 2);
@@ -239,6 +252,129 @@ TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
   EXPECT_GT(std::count(deliveries.begin(), deliveries.end(), '\n'), 100);
   EXPECT_EQ(FirstDifference(deliveries, ReadAll(base + "-fleet/deliveries.csv")), "");
   ExpectNoRobotLeft(scenario.name);
+}
+
+// A number of summary.json after `key` ("\"stf\":{\"mean\":"), within the text after `after`;
+// NaN if absent.
+double SummaryNumber(const std::string& summary, const std::string& after, const std::string& key) {
+  const size_t from = summary.find(after);
+  const size_t at = from == std::string::npos ? from : summary.find(key, from);
+  if (at == std::string::npos) return std::nan("");
+  return std::strtod(summary.c_str() + at + key.size(), nullptr);
+}
+
+// Deliveries (deliveries.csv: delivery_ns,source,station,...) from each robot to robots of the
+// other node, by source index; a robot's node is its index % 2 (WriteFleetScenario).
+std::vector<int> CrossNodeDeliveries(const std::string& deliveries) {
+  std::vector<int> by_source(kRobots.size(), 0);
+  std::istringstream lines(deliveries);
+  std::string line;
+  std::getline(lines, line);  // The header.
+  while (std::getline(lines, line)) {
+    long long at_ns = 0;
+    int source = -1, station = -1;
+    if (std::sscanf(line.c_str(), "%lld,%d,%d", &at_ns, &source, &station) == 3 && source >= 0 &&
+        source < static_cast<int>(kRobots.size()) && source % 2 != station % 2) {
+      ++by_source[source];
+    }
+  }
+  return by_source;
+}
+
+// Realtime pacing across hosts (docs/scale-out.md, "Realtime pacing"): the nodes' frames cross
+// once per iteration. A frame written in iteration k goes up with End k and enters the medium as
+// the central's turn k+1 begins; a delivery goes down with the next Start. So each waits for the
+// end of its iteration (at most Δ = 10 ms), then the link's delay, and, at worst, enters or is
+// written within the next turn (under 2Δ). The oracle per node: p50 within 1.5Δ (the link and the
+// central's turn take well under Δ/2 on one machine), p99 and max within 2Δ plus the host's own
+// scheduling noise, measured side by side (the p99 lag of the same scenario on one host in
+// realtime). Frames flow between robots of different nodes.
+TEST(FleetRunTest, RealtimeAcrossTwoNodesRunsWithEachNodesLagMeasured) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteFleetScenario(6);
+  DownGuard guard(scenario.name);
+  const FleetFiles files(scenario);
+  const std::string& base = files.base;
+  std::string central_err;
+  ASSERT_NO_FATAL_FAILURE(RunOnTwoNodes(scenario, files, "realtime", &central_err));
+  // One line per node on the central's stderr.
+  EXPECT_THAT(central_err, ::testing::ContainsRegex("node 'n0' \\(robots a, c\\): realtime: "
+                                                    "[0-9]+ frames entered the medium late"));
+  EXPECT_THAT(central_err, ::testing::ContainsRegex("node 'n1' \\(robots b, d\\): realtime: "
+                                                    "[0-9]+ frames entered the medium late"));
+  ExpectNoRobotLeft(scenario.name);
+
+  const CommandResult reference =
+      SitlnetRun(scenario, base + "-one",
+                 {"--one-host", "--duration", "3", "--pacing", "realtime", "--seed", "5"});
+  ASSERT_EQ(reference.exit_code, 0) << reference.err;
+  const std::string one_host = ReadAll(base + "-one/summary.json");
+  const double noise_ms = SummaryNumber(one_host, "\"lag_ms\"", "\"p99\":");
+  ASSERT_FALSE(std::isnan(noise_ms)) << one_host;
+  constexpr double kIterationMs = 10;
+
+  const std::string summary = ReadAll(base + "-fleet/summary.json");
+  EXPECT_NE(summary.find("\"pacing\":\"PACING_REALTIME\""), std::string::npos) << summary;
+  const size_t fleet_realtime = summary.find("\"fleet_realtime\"");
+  ASSERT_NE(fleet_realtime, std::string::npos) << summary;
+  std::printf("lag p99: fleet %.3f ms, one host %.3f ms; %s\n",
+              SummaryNumber(summary, "\"lag_ms\"", "\"p99\":"), noise_ms,
+              summary.substr(fleet_realtime, summary.find("]", fleet_realtime) + 1 - fleet_realtime)
+                  .c_str());
+  EXPECT_NEAR(SummaryNumber(summary, "\"simulated_s\"", ":"), 3.0, 1e-9) << summary;
+  for (const std::string node : {"n0", "n1"}) {
+    const std::string at = "{\"node\":\"" + node + "\"";
+    for (const std::string measure : {"\"late_entries\"", "\"late_writes\""}) {
+      SCOPED_TRACE(node + " " + measure + ", one host's p99 lag " + std::to_string(noise_ms) +
+                   " ms: " + summary);
+      const size_t from = summary.find(at);
+      ASSERT_NE(from, std::string::npos);
+      const std::string part = summary.substr(summary.find(measure, from));
+      // Two robots beaconing at 10 Hz for 3 s, less their boot, each way.
+      EXPECT_GT(SummaryNumber(part, "", "\"count\":"), 20);
+      EXPECT_LE(SummaryNumber(part, "", "\"p50_ms\":"), 1.5 * kIterationMs);
+      EXPECT_LE(SummaryNumber(part, "", "\"p99_ms\":"), 2 * kIterationMs + noise_ms);
+      EXPECT_LE(SummaryNumber(part, "", "\"max_ms\":"), 2 * kIterationMs + noise_ms);
+    }
+  }
+  const std::vector<int> crossed = CrossNodeDeliveries(ReadAll(base + "-fleet/deliveries.csv"));
+  for (size_t robot = 0; robot < kRobots.size(); ++robot) {
+    EXPECT_GT(crossed[robot], 10) << kRobots[robot] << " reached no robot of the other node";
+  }
+  ExpectNoRobotLeft(scenario.name);
+}
+
+// Realtime pacing on a node host serves its autopilots on the node's own clock of the run, begun
+// by the central's first Start: each message at the wall instant of its virtual time, as on one
+// host (autopilot_run_test.cc, InRealtimePacingAutopilotsAreServedAtTheWallInstantOfTheirTime,
+// whose oracle this is: within 2.5 ms, the medians of early- and late-phase messages' wall -
+// virtual offsets). The test autopilot speaks ArduPilot's JSON on node n0 and PX4's on n1.
+TEST(FleetRunTest, InRealtimeAutopilotsOnNodesAreServedAtTheWallInstantOfTheirTime) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteScenario(
+      7,
+      "robot { name: \"ap\" node: \"n0\" position_m { x: 0 y: 0 z: 0.2 } image: "
+      "\"test_autopilot\" ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", "
+      "\"--log-replies\"] }\n"
+      "robot { name: \"px\" node: \"n1\" position_m { x: 0 y: 4 z: 0.2 } image: "
+      "\"test_autopilot\" px4_sim_port: 4560 args: [\"--px4-port\", \"4560\", "
+      "\"--log-replies\"] }\n",
+      "nodes { name: \"n0\" } nodes { name: \"n1\" }\ntiming { duration_ms: 600000 }\n");
+  DownGuard guard(scenario.name);
+  const FleetFiles files(scenario);
+  const std::string& base = files.base;
+  std::string central_err;
+  ASSERT_NO_FATAL_FAILURE(RunOnTwoNodes(scenario, files, "realtime", &central_err));
+  for (const auto& [robot, node] : {std::pair{"ap", "n0"}, std::pair{"px", "n1"}}) {
+    const ServedOnTime served =
+        MeasureServedOnTime(ReadAll(base + "-" + node + "/robots/" + robot + ".log"));
+    std::printf("%s\n", served.Describe(robot).c_str());
+    ASSERT_GT(served.observations, 500u) << robot;
+    ASSERT_GT(served.early_phase, 50u) << robot;
+    ASSERT_GT(served.late_phase, 50u) << robot;
+    EXPECT_LT(std::abs(served.phase_gap_ms), 2.5) << robot;
+  }
+  ExpectNothingLeft(scenario.name);
 }
 
 // Bad input to either end is one line and a non-zero exit, before anything is created.
@@ -293,7 +429,7 @@ TEST(FleetRunTest, ANodeKilledMidRunStopsTheRunNamingItAndLeavesNothing) {
     NodeChild n0(scenario, "n0", endpoint, key, base + "-n0");
     // Without cgroups, the node to be killed leaves none behind (a survivor on this one machine
     // would clean them up: a real host keeps its own until `sitlnet down`).
-    NodeChild n1(scenario, "n1", endpoint, key, base + "-n1", /*without_cgroups=*/true);
+    NodeChild n1(scenario, "n1", endpoint, key, base + "-n1", "lockstep", /*without_cgroups=*/true);
     // Mid-run: robot b has logged a second of virtual time.
     ASSERT_TRUE(WaitForFiles(
         base + "-n1/robots",
