@@ -1,6 +1,7 @@
 // The fleet's node hosts as the run's one physics connector: a round trip per node and
 // iteration, frames up with CommandsCollected (lockstep) or End (realtime), deliveries down with
 // the next Start.
+#include "fleet/node_frames_bounds.h"
 #include "fleet/node_link.h"
 #include "fleet/node_poses.h"
 
@@ -86,10 +87,10 @@ void FleetPhysicsConnector::ReceiveRealtimeFrames(int node, uint64_t iteration) 
                 " carries no NodeFrames that parses");
   }
   // One lateness per frame written: at most what this iteration's Start took down.
-  if (frames.write_late_ns_size() > writes_sent_[node]) {
+  if (const std::optional<std::string> broken =
+          FindBrokenWriteLateness(frames, writes_sent_[node])) {
     throw Error(nodes_[node]->Describe() + ": its End of iteration " + std::to_string(iteration) +
-                " reports " + std::to_string(frames.write_late_ns_size()) +
-                " writes, but its Start carried " + std::to_string(writes_sent_[node]));
+                " " + *broken);
   }
   ports_.Receive(node, frames);
 }

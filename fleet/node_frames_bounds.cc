@@ -13,7 +13,8 @@ constexpr int kMaxErrno = 4095;
 
 std::optional<std::string> FindBrokenBound(const proto::node::NodeFrames& frames,
                                            const NodeSlice& node,
-                                           std::span<const std::string> robot_names) {
+                                           std::span<const std::string> robot_names,
+                                           bool realtime) {
   const int robot_count = static_cast<int>(robot_names.size());
   std::vector<bool> seen(robot_names.size(), false);
   for (const proto::node::FrameBatch& batch : frames.batches()) {
@@ -44,8 +45,8 @@ std::optional<std::string> FindBrokenBound(const proto::node::NodeFrames& frames
                " (a node cuts longer frames to that)";
       }
     }
-    // Realtime: one read instant per frame; lockstep: none.
-    if (batch.read_ns_size() != 0 && batch.read_ns_size() != batch.frames_size()) {
+    // Realtime: one read instant per frame, or a frame would be timed by another's; lockstep: none.
+    if (batch.read_ns_size() != (realtime ? batch.frames_size() : 0)) {
       return "sent " + std::to_string(batch.read_ns_size()) + " read instants for " +
              std::to_string(batch.frames_size()) + " frames of " + name();
     }
@@ -55,6 +56,13 @@ std::optional<std::string> FindBrokenBound(const proto::node::NodeFrames& frames
     }
   }
   return std::nullopt;
+}
+
+std::optional<std::string> FindBrokenWriteLateness(const proto::node::NodeFrames& frames,
+                                                   int writes_sent) {
+  if (frames.write_late_ns_size() <= writes_sent) return std::nullopt;
+  return "reports " + std::to_string(frames.write_late_ns_size()) +
+         " writes, but its Start carried " + std::to_string(writes_sent);
 }
 
 }  // namespace sitlnet::fleet

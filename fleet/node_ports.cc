@@ -68,7 +68,10 @@ void NodePorts::ReadUntil(TimeNs deadline_ns, const clock::Timebase& timebase,
       polled.push_back({robots_[i].port->fd(), POLLIN, 0});
       polled_robot.push_back(i);
     }
-    const TimeNs left_ns = std::max<TimeNs>(0, deadline_ns - MonotonicNowNs());
+    // A Start far in the past (from a broken central) puts deadline_ns at the smallest TimeNs:
+    // subtracting now from it would overflow.
+    const TimeNs now_ns = MonotonicNowNs();
+    const TimeNs left_ns = deadline_ns > now_ns ? deadline_ns - now_ns : 0;
     const timespec timeout{static_cast<time_t>(left_ns / kNsPerS),
                            static_cast<long>(left_ns % kNsPerS)};
     const int ready = ppoll(polled.data(), polled.size(), &timeout, nullptr);

@@ -154,8 +154,8 @@ std::unique_ptr<tapbridge::Port> RemotePorts::Open(int robot) {
 void RemotePorts::Receive(int node, const proto::node::NodeFrames& frames) {
   SITLNET_DEMAND(node >= 0 && node < static_cast<int>(impl_->nodes.size()));
   // All checked before any is queued: a refused message leaves nothing behind.
-  if (const std::optional<std::string> broken =
-          FindBrokenBound(frames, impl_->nodes[node], impl_->robot_names)) {
+  if (const std::optional<std::string> broken = FindBrokenBound(
+          frames, impl_->nodes[node], impl_->robot_names, impl_->realtime != nullptr)) {
     throw Error(impl_->node_descriptions[node] + ": " + *broken);
   }
   for (const proto::node::FrameBatch& batch : frames.batches()) {

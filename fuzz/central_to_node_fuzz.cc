@@ -3,15 +3,20 @@
 // write to a robot that is not its own. Here node n0 (robots a and c of a three-robot fleet)
 // runs NodeSimulator, the production code between the link and its robots' TAPs, over in-memory
 // TAPs and a stand-in physics, for Starts whose payload is a NodeStart made up from the bytes
-// (frames, writes to any robot and frame index) or the bytes as they come. Checked each
-// iteration:
+// (frames, writes to any robot, frame index and due instant) or the bytes as they come, in
+// lockstep or realtime pacing (iterations of no length there: the wait to their end is the
+// central's to set). Checked each iteration:
 // - a refused Start writes nothing; an accepted one writes exactly its writes, in order, each
 //   robot its own frames;
-// - the frames the node drains and sends up (CommandsCollected.payload) parse as NodeFrames
-//   that the central's own check (FindBrokenBound) accepts, and are what the robots sent, in
-//   order, a bridge turn at most, each cut to kMaxNodeFrameBytes; a failed read ends a robot's
-//   batch with its errno and the robot is read no more.
+// - the frames the node drains and sends up (lockstep: CommandsCollected.payload; realtime:
+//   End.payload, with a read instant per frame and a lateness of 0 or more per write) parse as
+//   NodeFrames that the central's own checks (FindBrokenBound, FindBrokenWriteLateness) accept,
+//   and are what the robots sent, in order, a bridge turn at most, each cut to
+//   kMaxNodeFrameBytes; a failed read ends a robot's batch with its errno and the robot is read
+//   no more.
 #include <fuzzer/FuzzedDataProvider.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -23,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "clock/clock.h"
 #include "common/common.h"
 #include "fleet/fleet.h"
 #include "fleet/node_frames_bounds.h"
@@ -59,13 +65,28 @@ struct MemoryTap {
   int read_errno = 0;  // Reads fail with it once `sent` is empty.
   bool refuse_writes = false;
   std::vector<std::string> written;
+  int ready_fd = -1;  // An eventfd: readable while frames or an error wait, as a TAP polls.
+
+  void UpdateReady() const {
+    uint64_t value = 1;
+    [[maybe_unused]] const ssize_t n = sent.empty() && read_errno == 0
+                                           ? read(ready_fd, &value, sizeof value)
+                                           : write(ready_fd, &value, sizeof value);
+  }
 };
 
 class MemoryPort final : public sitlnet::tapbridge::Port {
  public:
-  explicit MemoryPort(MemoryTap* tap) : tap_(*tap) {}
+  explicit MemoryPort(MemoryTap* tap) : tap_(*tap) {
+    tap_.ready_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  }
+  ~MemoryPort() override { close(tap_.ready_fd); }
+  int fd() const override { return tap_.ready_fd; }
   ssize_t Read(std::span<uint8_t> buffer) override {
-    if (tap_.sent.empty()) return -tap_.read_errno;
+    if (tap_.sent.empty()) {
+      tap_.UpdateReady();
+      return -tap_.read_errno;
+    }
     const std::string frame = std::move(tap_.sent.front());
     tap_.sent.pop_front();
     const size_t length = std::min(frame.size(), buffer.size());  // Cut, as a TAP read does.
@@ -133,6 +154,7 @@ void RobotSends(FuzzedDataProvider& in, MemoryTap* tap) {
   }
   if (in.ConsumeIntegralInRange(0, 15) == 15) tap->read_errno = EIO;
   tap->refuse_writes = in.ConsumeIntegralInRange(0, 7) == 7;
+  tap->UpdateReady();
 }
 
 // A Start's payload: a NodeStart made up from the bytes, or the bytes as they come.
@@ -149,6 +171,9 @@ std::string StartPayload(FuzzedDataProvider& in) {
                                       : in.ConsumeIntegral<int32_t>());
     write->set_frame_index(in.ConsumeBool() ? in.ConsumeIntegralInRange(-1, frames)
                                             : in.ConsumeIntegral<int32_t>());
+    // Realtime: the virtual instant it was written on the central; near the run's start, or any.
+    write->set_due_ns(in.ConsumeBool() ? in.ConsumeIntegralInRange<int64_t>(-1, 1'000'000'000)
+                                       : in.ConsumeIntegral<int64_t>());
   }
   return start.SerializeAsString();
 }
@@ -180,8 +205,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::map<int, MemoryTap> taps;
   fleet::NodePorts ports(slice,
                          [&taps](int robot) { return std::make_unique<MemoryPort>(&taps[robot]); });
-  StandInPhysics physics(in.ConsumeBool());
-  fleet::NodeSimulator node(&physics, &ports);
+  // Realtime pacing one input in four: its physics reports no CommandsCollected.
+  const bool realtime = in.ConsumeIntegralInRange(0, 3) == 3;
+  sitlnet::clock::Timebase timebase;  // Begun by the first Start.
+  StandInPhysics physics(!realtime && in.ConsumeBool());
+  fleet::NodeSimulator node(&physics, &ports, realtime ? &timebase : nullptr);
   std::map<int, bool> read_failed;  // Robots the node reads no more.
 
   const int iterations = in.ConsumeIntegralInRange(1, 4);
@@ -193,6 +221,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     pc::Start start;
     start.set_iteration(k);
+    if (realtime) {  // No length: the node reads its ports once and answers.
+      start.set_start_ns(in.ConsumeBool() ? k * 10'000'000 : in.ConsumeIntegral<int64_t>());
+      start.set_end_ns(start.start_ns());
+    }
     start.set_payload(StartPayload(in));
     std::map<int, size_t> written_before;
     for (const int robot : slice.robots) written_before[robot] = taps[robot].written.size();
@@ -233,11 +265,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       }
     }
 
-    // Drained once, up with CommandsCollected, within the bounds the central checks.
-    if (!physics.ran() || context.reports_ != 1) __builtin_trap();
+    // Drained once, up with CommandsCollected (realtime: End), within the bounds the central
+    // checks.
+    if (!physics.ran() || context.reports_ != (realtime ? 0 : 1)) __builtin_trap();
     pn::NodeFrames up;
-    if (!up.ParseFromString(context.payload_)) __builtin_trap();
-    if (fleet::FindBrokenBound(up, slice, RobotNames())) __builtin_trap();
+    if (!up.ParseFromString(realtime ? end.payload() : context.payload_)) __builtin_trap();
+    if (fleet::FindBrokenBound(up, slice, RobotNames(), realtime)) __builtin_trap();
+    if (fleet::FindBrokenWriteLateness(up, sent.writes().writes_size())) __builtin_trap();
+    if (up.write_late_ns_size() != (realtime ? sent.writes().writes_size() : 0)) __builtin_trap();
+    for (const int64_t late_ns : up.write_late_ns()) {
+      if (late_ns < 0) __builtin_trap();
+    }
     for (const pn::FrameBatch& batch : up.batches()) {
       const auto want = expected.find(batch.robot());
       if (want == expected.end()) __builtin_trap();  // Not its robot, or one read no more.

@@ -4,10 +4,11 @@
 node_to_central_fuzz and central_to_node_fuzz read their input through libFuzzer's
 FuzzedDataProvider, so a seed is the byte string that makes each of them build valid messages:
 Hellos of both nodes, their frames, a bridge turn and their Ends; Starts that carry a broadcast
-to both of a node's robots. Encoder below: FuzzedDataProvider takes integers from the end of
-the input (most significant byte first) and strings from the front ('\\' doubled, '\\' and any
-other byte end one). The seeds follow the order in which the fuzzers read: after changing what
-a fuzzer reads, run this again (python3 fuzz/fleet_seeds.py) and commit the seeds.
+to both of a node's robots; in lockstep and in realtime pacing. Encoder below:
+FuzzedDataProvider takes integers from the end of the input (most significant byte first) and
+strings from the front ('\\' doubled, '\\' and any other byte end one). The seeds follow the
+order in which the fuzzers read: after changing what a fuzzer reads, run this again
+(python3 fuzz/fleet_seeds.py) and commit the seeds.
 """
 import pathlib
 import struct
@@ -67,23 +68,31 @@ def poses(seed, robots, ranges=((-100, 100), (-1, 1), (-20, 20))):
             seed.int_in_range(0, 3, 2).double_in_range(low, high, (low + high) / 2 + i % 3 * 0.25)
 
 
-def node_to_central():
-    """Nodes n0 (robots a, c) and n1 (b) join, send their frames, the bridge reads, both End."""
-    seed = ProviderInput()
+def node_to_central(realtime):
+    """Nodes n0 (robots a, c) and n1 (b) join, send their frames (realtime: read instants, and
+    the lateness of the Start's 2 writes), the bridge reads, both End."""
+    seed = ProviderInput().int_in_range(0, 7, 7 if realtime else 0)
     for node, robots in ((0, 2), (1, 1)):  # Hello: one of the nodes, its robots, their poses.
         seed.int_in_range(0, 1, node).int_in_range(0, 4, 0)
         seed.int_in_range(0, 2, 0).int_in_range(0, 1, node).boolean(True).int_in_range(0, 1, node)
         seed.int_in_range(0, 3, robots)
         poses(seed, robots)
+    writes_sent = 2 if realtime else 0
     for node, batches in ((0, ((0, 2), (2, 1))), (1, ((1, 1),))):  # NodeFrames in bounds.
-        seed.int_in_range(0, 1, node).int_in_range(0, 4, 1)
+        seed.int_in_range(0, 1, node).int_in_range(0, 4, 1).int_in_range(0, 3, writes_sent)
         seed.int_in_range(0, 7, 0).int_in_range(0, 4, len(batches))
         for robot, frames in batches:
             seed.boolean(True).int_in_range(-1, 3, robot).int_in_range(0, 15, 0)
             seed.int_in_range(0, 4, frames)
             for k in range(frames):
                 seed.int_in_range(0, 7, 0).string(broadcast_frame(robot, b"flock %d" % k))
+            seed.int_in_range(0, 7, 0).int_in_range(0, 1, int(realtime))  # Read instants.
+            for k in range(frames if realtime else 0):
+                seed.boolean(True).int_in_range(-1, 10**9, 2_000_000 * (k + 1))
             seed.int_in_range(0, 3, 2)  # No read error.
+        seed.int_in_range(0, 4, writes_sent)  # The writes' lateness.
+        for late_ns in (150_000, 2_500_000)[:writes_sent]:
+            seed.boolean(True).int_in_range(-1, 10**7, late_ns)
     seed.int_in_range(0, 1, 0).int_in_range(0, 4, 2)  # The bridge reads a turn.
     for node, robots in ((0, 2), (1, 1)):  # End: the node's poses.
         seed.int_in_range(0, 1, node).int_in_range(0, 4, 4).int_in_range(0, 7, 0)
@@ -91,16 +100,20 @@ def node_to_central():
     return seed.bytes()
 
 
-def central_to_node():
-    """Node n0 (robots a, c), two iterations: a and c each send a frame; b's broadcast comes
-    down to both with the first Start, nothing with the second."""
-    seed = ProviderInput()
-    seed.boolean(True).int_in_range(1, 4, 2)  # The physics reports its commands; 2 iterations.
+def central_to_node(realtime):
+    """Node n0 (robots a, c), two iterations (realtime: of no length): a and c each send a
+    frame; b's broadcast comes down to both with the first Start, nothing with the second."""
+    seed = ProviderInput().int_in_range(0, 3, 3 if realtime else 0)
+    if not realtime:
+        seed.boolean(True)  # The physics reports its commands.
+    seed.int_in_range(1, 4, 2)  # 2 iterations.
     for k in range(2):
         for robot in (0, 2):
             seed.int_in_range(0, 15, 0).int_in_range(0, 3, 1)
             seed.int_in_range(0, 5, 0).string(broadcast_frame(robot, b"flock %d" % k))
             seed.int_in_range(0, 15, 0).int_in_range(0, 7, 0)  # No read error; writes go.
+        if realtime:
+            seed.boolean(True)  # Starts at k * 10 ms.
         seed.int_in_range(0, 7, 0)  # A NodeStart.
         frames, writes = ((1, ((0, 0), (2, 0))), (0, ()))[k]
         seed.int_in_range(0, 3, frames)
@@ -109,12 +122,15 @@ def central_to_node():
         seed.int_in_range(0, 6, len(writes))
         for robot, frame in writes:
             seed.boolean(True).int_in_range(-1, 3, robot).boolean(True)
-            seed.int_in_range(-1, frames, frame)
+            seed.int_in_range(-1, frames, frame).boolean(True).int_in_range(-1, 10**9, 4_000_000)
     return seed.bytes()
 
 
-SEEDS = (("node_to_central_fuzz", "two_nodes_join_send_and_end", node_to_central()),
-         ("central_to_node_fuzz", "a_broadcast_down_to_two_robots", central_to_node()))
+SEEDS = (("node_to_central_fuzz", "two_nodes_join_send_and_end", node_to_central(False)),
+         ("node_to_central_fuzz", "realtime_frames_with_read_instants_and_lateness",
+          node_to_central(True)),
+         ("central_to_node_fuzz", "a_broadcast_down_to_two_robots", central_to_node(False)),
+         ("central_to_node_fuzz", "realtime_a_broadcast_due_at_4_ms", central_to_node(True)))
 for target, name, data in SEEDS:
     (CORPUS / target).mkdir(parents=True, exist_ok=True)
     (CORPUS / target / name).write_bytes(data)

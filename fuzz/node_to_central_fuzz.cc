@@ -3,14 +3,19 @@
 // the link keeps the bounds of every other peer (docs/security.md). Here two nodes of a fleet
 // (a, c on n0; b on n1) send, in any order, what the central checks with the production code:
 // - a Hello (name, claimed robots, initial poses): RefuseNodeHello, as AcceptNodes does;
-// - a CommandsCollected payload: parsed as NodeFrames and given to RemotePorts::Receive, as
-//   FleetPhysicsConnector does; or the bridge reading the robots' ports (a turn each);
+// - a CommandsCollected payload (lockstep) or an End payload (realtime): parsed as NodeFrames,
+//   its writes' lateness checked against the Start's writes (FindBrokenWriteLateness, realtime)
+//   and given to RemotePorts::Receive, as FleetPhysicsConnector does; or the bridge reading the
+//   robots' ports (a turn each);
 // - an End's poses: FindBrokenPoses, then PlacePoses among the fleet's, as Finish does.
 // Whatever is accepted must keep the bounds: only a node's own robots, a turn of at most
-// tapbridge::kMaxFramesPerRobotPerTurn frames of 1 to kMaxNodeFrameBytes bytes, read by the
-// bridge in the node's order (checked against a model queue); a refused NodeFrames queues
-// nothing; accepted poses are placed bit for bit where their robots are.
+// tapbridge::kMaxFramesPerRobotPerTurn frames of 1 to kMaxNodeFrameBytes bytes, no read instant
+// or one per frame, a lateness per write of the Start at most; read by the bridge in the node's
+// order (checked against a model queue), a port with frames waiting polls readable (realtime),
+// each read instant and lateness counted once; a refused NodeFrames queues nothing; accepted
+// poses are placed bit for bit where their robots are.
 #include <fuzzer/FuzzedDataProvider.h>
+#include <poll.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -22,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "clock/clock.h"
 #include "common/common.h"
 #include "fleet/fleet.h"
 #include "fleet/node_frames_bounds.h"
@@ -102,6 +108,15 @@ std::string FramesPayload(FuzzedDataProvider& in) {
         batch->add_frames(in.ConsumeRandomLengthString(120));
       }
     }
+    // Realtime read instants: none (lockstep), one per frame, or one too many; near the run's
+    // start, or anything.
+    const int instants = in.ConsumeIntegralInRange(0, 7) == 7   ? batch->frames_size() + 1
+                         : in.ConsumeIntegralInRange(0, 1) == 1 ? batch->frames_size()
+                                                                : 0;
+    for (int i = 0; i < instants; ++i) {
+      batch->add_read_ns(in.ConsumeBool() ? in.ConsumeIntegralInRange<int64_t>(-1, 1'000'000'000)
+                                          : in.ConsumeIntegral<int64_t>());
+    }
     switch (in.ConsumeIntegralInRange(0, 3)) {
       case 0:
         batch->set_read_errno(EIO);
@@ -113,6 +128,11 @@ std::string FramesPayload(FuzzedDataProvider& in) {
         break;  // The reads went well.
     }
   }
+  const int late = in.ConsumeIntegralInRange(0, 4);  // Realtime: the writes' lateness.
+  for (int i = 0; i < late; ++i) {
+    frames.add_write_late_ns(in.ConsumeBool() ? in.ConsumeIntegralInRange<int64_t>(-1, 10'000'000)
+                                              : in.ConsumeIntegral<int64_t>());
+  }
   return frames.SerializeAsString();
 }
 
@@ -121,13 +141,26 @@ struct RobotModel {
   std::unique_ptr<sitlnet::tapbridge::Port> port;  // Null: closed (detached).
   std::deque<std::string> queued;
   int read_errno = 0;
+  int node = 0;
 };
 
-// One turn of the bridge on every open port; the frames must be the model's, in its order.
-void ReadOneTurn(std::vector<RobotModel>& robots) {
+// What the central's lateness counts must hold, per node (realtime).
+struct LatenessModel {
+  uint64_t entries = 0;  // Frames read by the bridge (each came with its read instant).
+  uint64_t writes = 0;   // Latenesses of writes accepted.
+};
+
+// One turn of the bridge on every open port; the frames must be the model's, in its order. In
+// realtime a port with frames waiting polls readable, as a TAP does.
+void ReadOneTurn(std::vector<RobotModel>& robots, bool realtime,
+                 std::vector<LatenessModel>* lateness) {
   std::vector<uint8_t> buffer(fleet::kMaxNodeFrameBytes);
   for (RobotModel& robot : robots) {
     if (!robot.port) continue;
+    if (realtime && !robot.queued.empty()) {
+      pollfd ready{robot.port->fd(), POLLIN, 0};
+      if (poll(&ready, 1, 0) != 1) __builtin_trap();
+    }
     for (size_t turn = 0; turn < sitlnet::tapbridge::kMaxFramesPerRobotPerTurn; ++turn) {
       const ssize_t length = robot.port->Read(buffer);
       if (robot.queued.empty()) {
@@ -140,14 +173,15 @@ void ReadOneTurn(std::vector<RobotModel>& robots) {
         __builtin_trap();
       }
       robot.queued.pop_front();
+      if (realtime) ++(*lateness)[robot.node].entries;
     }
   }
 }
 
 // The bounds of node_link.proto, as the model of this fuzzer states them: each batch for one of
 // the node's robots, once; at most a bridge turn of frames of 1 to kMaxNodeFrameBytes bytes; an
-// errno of 0 to 4095.
-bool KeepsBounds(const pn::NodeFrames& frames, const fleet::NodeSlice& slice) {
+// errno of 0 to 4095; in realtime one read instant per frame, in lockstep none.
+bool KeepsBounds(const pn::NodeFrames& frames, const fleet::NodeSlice& slice, bool realtime) {
   std::vector<int> seen;
   for (const pn::FrameBatch& batch : frames.batches()) {
     if (std::ranges::find(slice.robots, batch.robot()) == slice.robots.end() ||
@@ -157,6 +191,7 @@ bool KeepsBounds(const pn::NodeFrames& frames, const fleet::NodeSlice& slice) {
       return false;
     }
     seen.push_back(batch.robot());
+    if (batch.read_ns_size() != (realtime ? batch.frames_size() : 0)) return false;
     for (const std::string& frame : batch.frames()) {
       if (frame.empty() || frame.size() > fleet::kMaxNodeFrameBytes) return false;
     }
@@ -198,9 +233,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const sitlnet::Scenario& scenario = Fleet();
   const size_t robot_count = scenario.robots.size();
   FuzzedDataProvider in(data, size);
-  fleet::RemotePorts ports(scenario, scenario.nodes);
+  // Realtime pacing: the run's timebase, begun as the coordinator begins it.
+  // One input in eight: a realtime central's ports zero and scan two 100000-bucket histograms
+  // per node (about 6 ms here, 20 times a lockstep input).
+  const bool realtime = in.ConsumeIntegralInRange(0, 7) == 7;
+  sitlnet::clock::Timebase timebase;
+  timebase.Begin(sitlnet::MonotonicNowNs());
+  fleet::RemotePorts ports(scenario, scenario.nodes, realtime ? &timebase : nullptr);
   std::vector<RobotModel> robots(robot_count);
-  for (size_t r = 0; r < robot_count; ++r) robots[r].port = ports.Open(static_cast<int>(r));
+  for (size_t r = 0; r < robot_count; ++r) {
+    robots[r].port = ports.Open(static_cast<int>(r));
+    robots[r].node = scenario.robots[r].node;
+  }
+  std::vector<LatenessModel> lateness(scenario.nodes.size());
   pc::Poses all;  // The fleet's poses, as FleetPhysicsConnector holds them: zeros to start.
   all.mutable_position_m()->Resize(static_cast<int>(3 * robot_count), 0.0);
   all.mutable_orientation_wxyz()->Resize(static_cast<int>(4 * robot_count), 0.0);
@@ -235,8 +280,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       }
       case 1: {
         pn::NodeFrames frames;
-        if (!frames.ParseFromString(FramesPayload(in))) break;  // Refused: no NodeFrames.
-        const bool keeps_bounds = KeepsBounds(frames, slice);
+        const int writes_sent = in.ConsumeIntegralInRange(0, 3);  // By the Start it answers.
+        if (!frames.ParseFromString(FramesPayload(in))) break;    // Refused: no NodeFrames.
+        if (realtime) {  // An End's frames: the writes' lateness first, as FleetPhysicsConnector.
+          const bool reports_at_most_sent = frames.write_late_ns_size() <= writes_sent;
+          if (fleet::FindBrokenWriteLateness(frames, writes_sent).has_value() ==
+              reports_at_most_sent) {
+            __builtin_trap();
+          }
+          if (!reports_at_most_sent) break;  // Refused: the link ends naming the node.
+        }
+        const bool keeps_bounds = KeepsBounds(frames, slice, realtime);
         try {
           ports.Receive(node, frames);
         } catch (const sitlnet::Error&) {
@@ -250,10 +304,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           robot.queued.insert(robot.queued.end(), batch.frames().begin(), batch.frames().end());
           if (batch.read_errno() != 0) robot.read_errno = batch.read_errno();
         }
+        if (realtime) lateness[node].writes += frames.write_late_ns_size();
         break;
       }
       case 2:
-        ReadOneTurn(robots);
+        ReadOneTurn(robots, realtime, &lateness);
         break;
       case 3: {  // The bridge detaches a robot: its port closes, its queue goes.
         RobotModel& robot = robots[in.ConsumeIntegralInRange<size_t>(0, robot_count - 1)];
@@ -280,6 +335,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         fleet::PlacePoses(poses, slice.robots, &all);
         CheckPlaced(poses, slice.robots, all, robot_count);
       }
+    }
+  }
+  // Each read instant and each lateness counted once, in realtime only.
+  for (size_t node = 0; node < scenario.nodes.size(); ++node) {
+    const int n = static_cast<int>(node);
+    if (ports.LateEntries(n).count != (realtime ? lateness[node].entries : 0) ||
+        ports.LateWrites(n).count != (realtime ? lateness[node].writes : 0)) {
+      __builtin_trap();
     }
   }
   return 0;

@@ -165,5 +165,38 @@ TEST_F(NodeFramesBounds, FramesForAClosedPortAreCountedAndAFailedReadFollowsItsF
   EXPECT_EQ(open_[0]->Read(buffer), 0);
 }
 
+// Realtime: each frame's read instant, or a frame would be timed by another's (a batch without
+// them let the next batch's instants time its frames; found while writing the model of
+// fuzz/node_to_central_fuzz.cc, not by a run). Lockstep: none.
+TEST(FindBrokenBound, WantsOneReadInstantPerFrameInRealtimeAndNoneInLockstep) {
+  const Scenario scenario = FourRobots();
+  const std::vector<std::string> names = {"a", "b", "c", "d"};
+  const NodeSlice n0{"n0", {0, 2}};
+  proto::node::NodeFrames frames;
+  proto::node::FrameBatch* batch = frames.add_batches();
+  batch->set_robot(0);
+  batch->add_frames("one");
+  batch->add_frames("two");
+  EXPECT_EQ(FindBrokenBound(frames, n0, names, /*realtime=*/false), std::nullopt);
+  EXPECT_EQ(FindBrokenBound(frames, n0, names, /*realtime=*/true),
+            "sent 0 read instants for 2 frames of robot 'a'");
+  batch->add_read_ns(5);
+  EXPECT_EQ(FindBrokenBound(frames, n0, names, /*realtime=*/true),
+            "sent 1 read instants for 2 frames of robot 'a'");
+  batch->add_read_ns(6);
+  EXPECT_EQ(FindBrokenBound(frames, n0, names, /*realtime=*/true), std::nullopt);
+  EXPECT_EQ(FindBrokenBound(frames, n0, names, /*realtime=*/false),
+            "sent 2 read instants for 2 frames of robot 'a'");
+}
+
+TEST(FindBrokenWriteLateness, AtMostOneLatenessPerWriteOfTheStart) {
+  proto::node::NodeFrames frames;
+  EXPECT_EQ(FindBrokenWriteLateness(frames, 0), std::nullopt);
+  frames.add_write_late_ns(0);
+  frames.add_write_late_ns(3 * kNsPerMs);
+  EXPECT_EQ(FindBrokenWriteLateness(frames, 2), std::nullopt);
+  EXPECT_EQ(FindBrokenWriteLateness(frames, 1), "reports 2 writes, but its Start carried 1");
+}
+
 }  // namespace
 }  // namespace sitlnet::fleet

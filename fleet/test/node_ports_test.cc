@@ -4,8 +4,11 @@
 #include "fleet/node_ports.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -115,6 +118,25 @@ class PayloadLog final : public coordinator::IterationContext {
   }
   std::vector<std::string> payloads;
 };
+
+// Realtime: a Start whose end lies before any wall instant (a broken central's) puts the read's
+// deadline at the smallest TimeNs; subtracting now from it overflowed (found by
+// fuzz/central_to_node_fuzz.cc under UBSan), and the wrapped wait was centuries long. The read
+// makes its one pass and returns: the child gets 5 s before SIGALRM fails the test.
+TEST(NodePorts, AReadUntilAnInstantBeforeAnyWallTimeMakesOnePassAndReturns) {
+  EXPECT_EXIT(
+      {
+        alarm(5);
+        TwoRobotNode node;
+        node.taps[2].sent.push_back(Frame(60, 1));
+        clock::Timebase timebase;
+        timebase.Begin(MonotonicNowNs());
+        proto::node::NodeFrames frames;
+        node.ports.ReadUntil(std::numeric_limits<TimeNs>::min(), timebase, &frames);
+        std::_Exit(frames.batches_size() == 0 ? 0 : 1);  // Memory taps never poll readable.
+      },
+      ::testing::ExitedWithCode(0), "");
+}
 
 TEST(NodeSimulator, WritesTheStartsFramesBeforeThePhysicsAndSendsTheDrainWithTheCommands) {
   for (const bool physics_collects : {true, false}) {
