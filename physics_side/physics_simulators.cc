@@ -21,12 +21,16 @@ void PosesFromWorld(const physics::World& world, proto::coord::Poses* poses) {
 }
 
 namespace {
-// START must cover exactly the steps this connector takes.
+// START must cover exactly the steps this connector takes. Its times come from another process,
+// maybe another host (a fleet's central), so their difference may not fit an int64.
 void CheckSpan(const proto::coord::Start& start, const physics::World& world, int steps) {
-  if (start.end_ns() - start.start_ns() != steps * world.step_ns()) {
+  TimeNs span_ns = 0;
+  const bool overflows = __builtin_sub_overflow(start.end_ns(), start.start_ns(), &span_ns);
+  if (overflows || span_ns != steps * world.step_ns()) {
     throw Error("physics connector: START of iteration " + std::to_string(start.iteration()) +
-                " spans " + std::to_string(start.end_ns() - start.start_ns()) + " ns, expected " +
-                std::to_string(steps) + " steps of " + std::to_string(world.step_ns()) + " ns");
+                " spans " + (overflows ? "more than an int64 of" : std::to_string(span_ns)) +
+                " ns, expected " + std::to_string(steps) + " steps of " +
+                std::to_string(world.step_ns()) + " ns");
   }
 }
 }  // namespace
