@@ -41,19 +41,13 @@ namespace fleet = sitlnet::fleet;
 namespace pn = sitlnet::proto::node;
 namespace pc = sitlnet::proto::coord;
 
-// Rare cases take the largest value of a range: an input that ran out of bytes reads the
-// smallest (FuzzedDataProvider), so short inputs stay on the common, cheap path.
-
-const sitlnet::Scenario& Fleet() {
-  static const sitlnet::Scenario scenario =
-      sitlnet::fuzz::ThreeRobotScenario("fzs", /*every_effect=*/false, /*on_two_nodes=*/true);
-  return scenario;
-}
+// Rare cases take the largest value of a range (fuzz_inputs.h).
 
 const std::vector<std::string>& RobotNames() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> all;
-    for (const sitlnet::RobotPlan& plan : Fleet().robots) all.push_back(plan.name);
+    for (const sitlnet::RobotPlan& plan : sitlnet::fuzz::ThreeRobotFleet().robots)
+      all.push_back(plan.name);
     return all;
   }();
   return names;
@@ -199,7 +193,7 @@ ExpectedBatch ExpectedDrain(const MemoryTap& tap) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const sitlnet::Scenario& scenario = Fleet();
+  const sitlnet::Scenario& scenario = sitlnet::fuzz::ThreeRobotFleet();
   const fleet::NodeSlice& slice = scenario.nodes[0];
   FuzzedDataProvider in(data, size);
   std::map<int, MemoryTap> taps;

@@ -58,6 +58,15 @@ inline Scenario ThreeRobotScenario(const std::string& name, bool every_effect = 
       name + "_fuzz");
 }
 
+// The fleet of the node link fuzzers: ThreeRobotScenario on two nodes (n0: a, c; n1: b). Their
+// rare cases take the largest value of a range: an input that ran out of bytes reads the
+// smallest (FuzzedDataProvider), so short inputs stay on the common, cheap path.
+inline const Scenario& ThreeRobotFleet() {
+  static const Scenario scenario =
+      ThreeRobotScenario("fzf", /*every_effect=*/false, /*on_two_nodes=*/true);
+  return scenario;
+}
+
 // Poses of `robots` robots as a peer may send them: mostly with the counts of numbers a
 // physics sends (velocities or none), sometimes any count; NaN, infinities and any double.
 inline void FillPoses(FuzzedDataProvider& in, size_t robots, proto::coord::Poses* poses) {

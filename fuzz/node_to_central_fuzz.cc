@@ -41,18 +41,11 @@ namespace fleet = sitlnet::fleet;
 namespace pn = sitlnet::proto::node;
 namespace pc = sitlnet::proto::coord;
 
-const sitlnet::Scenario& Fleet() {
-  static const sitlnet::Scenario scenario =
-      sitlnet::fuzz::ThreeRobotScenario("fzn", /*every_effect=*/false, /*on_two_nodes=*/true);
-  return scenario;
-}
+// Rare cases take the largest value of a range (fuzz_inputs.h).
 
 // Longest refusal of a Hello in this fleet: names of 64 bytes at most (PrintableName) and robot
 // lists that do not grow with the claim.
 constexpr size_t kMaxRefusalBytes = 512;
-
-// Rare cases take the largest value of a range: an input that ran out of bytes reads the
-// smallest (FuzzedDataProvider), so short inputs stay on the common, cheap path.
 
 // A robot index: the scenario's, just outside it, or anything.
 int RobotIndex(FuzzedDataProvider& in) {
@@ -60,7 +53,7 @@ int RobotIndex(FuzzedDataProvider& in) {
 }
 
 void FillHello(FuzzedDataProvider& in, pc::Hello* hello) {
-  const std::vector<fleet::NodeSlice>& nodes = Fleet().nodes;
+  const std::vector<fleet::NodeSlice>& nodes = sitlnet::fuzz::ThreeRobotFleet().nodes;
   switch (in.ConsumeIntegralInRange(0, 2)) {
     case 0:
       hello->set_connector_name(nodes[in.ConsumeIntegralInRange<size_t>(0, 1)].name);
@@ -230,7 +223,7 @@ void CheckPlaced(const pc::Poses& node, const std::vector<int>& robots, const pc
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const sitlnet::Scenario& scenario = Fleet();
+  const sitlnet::Scenario& scenario = sitlnet::fuzz::ThreeRobotFleet();
   const size_t robot_count = scenario.robots.size();
   FuzzedDataProvider in(data, size);
   // Realtime pacing: the run's timebase, begun as the coordinator begins it.
