@@ -286,9 +286,9 @@ std::vector<int> CrossNodeDeliveries(const std::string& deliveries) {
 // the central's turn k+1 begins; a delivery goes down with the next Start. So each waits for the
 // end of its iteration (at most Δ = 10 ms), then the link's delay, and, at worst, enters or is
 // written within the next turn (under 2Δ). The oracle per node: p50 within 1.5Δ (the link and the
-// central's turn take well under Δ/2 on one machine), p99 and max within 2Δ plus the host's own
-// scheduling noise, measured side by side (the p99 lag of the same scenario on one host in
-// realtime). Frames flow between robots of different nodes.
+// central's turn take well under Δ/2 on one machine), p99 (max) within 2Δ plus the central's own
+// p99 (max) lag in this run plus the host's scheduling noise, measured side by side (the p99 (max)
+// lag of the same scenario on one host in realtime). Frames flow between robots of other nodes.
 TEST(FleetRunTest, RealtimeAcrossTwoNodesRunsWithEachNodesLagMeasured) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const RunScenario scenario = WriteFleetScenario(6);
@@ -310,10 +310,17 @@ TEST(FleetRunTest, RealtimeAcrossTwoNodesRunsWithEachNodesLagMeasured) {
   ASSERT_EQ(reference.exit_code, 0) << reference.err;
   const std::string one_host = ReadAll(base + "-one/summary.json");
   const double noise_ms = SummaryNumber(one_host, "\"lag_ms\"", "\"p99\":");
-  ASSERT_FALSE(std::isnan(noise_ms)) << one_host;
+  const double noise_max_ms = SummaryNumber(one_host, "\"lag_ms\"", "\"max\":");
+  ASSERT_FALSE(std::isnan(noise_ms) || std::isnan(noise_max_ms)) << one_host;
   constexpr double kIterationMs = 10;
 
   const std::string summary = ReadAll(base + "-fleet/summary.json");
+  // A node's lateness adds the central's own (a late Start) to the node's scheduling noise,
+  // which the one-host run measures. Both vary run to run on a loaded host: rehearsal saw a
+  // node's late writes at 24.9 ms while the central's p99 lag was 5.6 ms.
+  const double central_lag_ms = SummaryNumber(summary, "\"lag_ms\"", "\"p99\":");
+  const double central_lag_max_ms = SummaryNumber(summary, "\"lag_ms\"", "\"max\":");
+  ASSERT_FALSE(std::isnan(central_lag_ms) || std::isnan(central_lag_max_ms)) << summary;
   EXPECT_NE(summary.find("\"pacing\":\"PACING_REALTIME\""), std::string::npos) << summary;
   const size_t fleet_realtime = summary.find("\"fleet_realtime\"");
   ASSERT_NE(fleet_realtime, std::string::npos) << summary;
@@ -333,8 +340,10 @@ TEST(FleetRunTest, RealtimeAcrossTwoNodesRunsWithEachNodesLagMeasured) {
       // Two robots beaconing at 10 Hz for 3 s, less their boot, each way.
       EXPECT_GT(SummaryNumber(part, "", "\"count\":"), 20);
       EXPECT_LE(SummaryNumber(part, "", "\"p50_ms\":"), 1.5 * kIterationMs);
-      EXPECT_LE(SummaryNumber(part, "", "\"p99_ms\":"), 2 * kIterationMs + noise_ms);
-      EXPECT_LE(SummaryNumber(part, "", "\"max_ms\":"), 2 * kIterationMs + noise_ms);
+      EXPECT_LE(SummaryNumber(part, "", "\"p99_ms\":"),
+                2 * kIterationMs + central_lag_ms + noise_ms);
+      EXPECT_LE(SummaryNumber(part, "", "\"max_ms\":"),
+                2 * kIterationMs + central_lag_max_ms + noise_max_ms);
     }
   }
   const std::vector<int> crossed = CrossNodeDeliveries(ReadAll(base + "-fleet/deliveries.csv"));
