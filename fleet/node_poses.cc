@@ -1,5 +1,7 @@
 #include "fleet/node_poses.h"
 
+#include <cmath>
+
 namespace sitlnet::fleet {
 
 std::optional<std::string> FindBrokenPoses(const proto::coord::Poses& poses, size_t robots) {
@@ -13,6 +15,27 @@ std::optional<std::string> FindBrokenPoses(const proto::coord::Poses& poses, siz
            " orientation and " + std::to_string(velocities) +
            " velocity numbers, not 3, 4 and 3 (or 0) for each of its " + std::to_string(robots) +
            " robots";
+  }
+  // A NaN or an infinity is no place a robot can be: the medium's distances and the run's
+  // trajectories.csv would carry it on. Only a broken or hostile peer sends one.
+  const auto first_not_finite = [](const google::protobuf::RepeatedField<double>& numbers) {
+    for (int i = 0; i < numbers.size(); ++i) {
+      if (!std::isfinite(numbers.Get(i))) return i;
+    }
+    return -1;
+  };
+  const struct {
+    const char* what;
+    int per_robot;
+    const google::protobuf::RepeatedField<double>& numbers;
+  } fields[] = {{"position", 3, poses.position_m()},
+                {"orientation", 4, poses.orientation_wxyz()},
+                {"velocity", 3, poses.velocity_m_s()}};
+  for (const auto& field : fields) {
+    if (const int at = first_not_finite(field.numbers); at >= 0) {
+      return "sent its robot " + std::to_string(at / field.per_robot + 1) + "'s " + field.what +
+             " (of " + std::to_string(robots) + " robots) with a number that is not finite";
+    }
   }
   return std::nullopt;
 }

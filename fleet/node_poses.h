@@ -12,7 +12,7 @@ namespace sitlnet::fleet {
 
 // What is wrong with `poses` from a node of `robots` robots, as the end of a sentence ("sent
 // poses of 3 robots, it has 2"); nullopt when it holds a position and an orientation per robot,
-// and a velocity per robot or none.
+// and a velocity per robot or none, every number finite.
 std::optional<std::string> FindBrokenPoses(const proto::coord::Poses& poses, size_t robots);
 
 // Writes `node`'s poses (checked by FindBrokenPoses) to the places of `robots` in `all`, which

@@ -192,6 +192,14 @@ bool KeepsBounds(const pn::NodeFrames& frames, const fleet::NodeSlice& slice, bo
   return true;
 }
 
+// The model of FindBrokenPoses' second rule: every number a place a robot can be.
+bool AllFinite(const pc::Poses& poses) {
+  const auto finite = [](double x) { return x - x == 0; };  // NaN and infinities give NaN.
+  return std::ranges::all_of(poses.position_m(), finite) &&
+         std::ranges::all_of(poses.orientation_wxyz(), finite) &&
+         std::ranges::all_of(poses.velocity_m_s(), finite);
+}
+
 void CheckPlaced(const pc::Poses& node, const std::vector<int>& robots, const pc::Poses& all,
                  size_t robot_count) {
   if (all.position_m_size() != static_cast<int>(3 * robot_count) ||
@@ -322,7 +330,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const bool well_formed = poses.position_m_size() == static_cast<int>(3 * n) &&
                                  poses.orientation_wxyz_size() == static_cast<int>(4 * n) &&
                                  (poses.velocity_m_s_size() == 0 ||
-                                  poses.velocity_m_s_size() == static_cast<int>(3 * n));
+                                  poses.velocity_m_s_size() == static_cast<int>(3 * n)) &&
+                                 AllFinite(poses);
         if (fleet::FindBrokenPoses(poses, n).has_value() == well_formed) __builtin_trap();
         if (!well_formed) break;  // Refused: the run ends naming the node.
         fleet::PlacePoses(poses, slice.robots, &all);

@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <future>
+#include <limits>
 #include <map>
 #include <memory>
 #include <random>
@@ -18,6 +19,7 @@
 #include "coordinator/coordinator.h"
 #include "fleet/node_link.h"
 #include "fleet/node_ports.h"
+#include "fleet/node_poses.h"
 #include "fleet/test/bridge_fakes.h"
 #include "network_side/network_side.h"
 
@@ -361,6 +363,21 @@ TEST(FleetLink, ANodeEndingWithTooFewPosesIsNamed) {
             "node 'n1' (robots r1, r2, r4, r7): End of iteration 2: sent 9 position, 12 "
             "orientation and 0 velocity numbers, not 3, 4 and 3 (or 0) for each of its 4 robots");
   EXPECT_EQ(run.node_stop_reasons[1], "coordinator failed");
+}
+
+TEST(FindBrokenPoses, ANumberThatIsNotFiniteIsNamedWithItsRobot) {
+  proto::coord::Poses poses;
+  for (int i = 0; i < 6; ++i) poses.add_position_m(1.5);
+  for (int i = 0; i < 8; ++i) poses.add_orientation_wxyz(0.5);
+  EXPECT_EQ(FindBrokenPoses(poses, 2), std::nullopt);
+  poses.set_orientation_wxyz(5, std::numeric_limits<double>::quiet_NaN());
+  EXPECT_EQ(FindBrokenPoses(poses, 2),
+            "sent its robot 2's orientation (of 2 robots) with a number that is not finite");
+  poses.set_orientation_wxyz(5, 0.5);
+  for (int i = 0; i < 6; ++i) poses.add_velocity_m_s(0);
+  poses.set_velocity_m_s(2, -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(FindBrokenPoses(poses, 2),
+            "sent its robot 1's velocity (of 2 robots) with a number that is not finite");
 }
 
 TEST(FleetLink, ANodesOwnErrorReachesTheCentralNamingTheNode) {
