@@ -454,6 +454,12 @@ TEST(FleetRunTest, ANodeKilledMidRunStopsTheRunNamingItAndLeavesNothing) {
                 ::testing::ContainsRegex("sitlnet run: node 'n1' \\(robots b, d\\) failed during "
                                          "iteration [0-9]+: peer [^\n]* the connection[^\n]* "
                                          "\\(node crashed or exited\\)"));
+    // The central writes what it has: the failure in summary.json, the trajectories until it
+    // (robot b had logged a second: 10 rows a second for each of 4 robots, and the header).
+    EXPECT_THAT(ReadAll(base + "-fleet/summary.json"),
+                ::testing::HasSubstr("\"failure\":\"node 'n1' (robots b, d) failed during"));
+    const std::string trajectories = ReadAll(base + "-fleet/trajectories.csv");
+    EXPECT_GE(std::count(trajectories.begin(), trajectories.end(), '\n'), 4 * 10 + 1);
     EXPECT_EQ(n0.child().Wait(kRunTimeoutNs), 0) << n0.child().err();
     EXPECT_NE(n0.child().err().find("n0: stopped: "), std::string::npos) << n0.child().err();
     // The robots' setup and supervision are the one-host run's code; on a node, its lines say
