@@ -13,6 +13,8 @@
 # ab_series BUILD OUT N SECONDS ROUNDS "VARIANT..." EXTRA_HEADER: runs the rounds, one row per
 # run into OUT/runs.csv (variant, extract.py's columns, then ab_after's), and each run's log
 # lines matching "live view:" into OUT/cost_lines.txt. Logs and DIR.while files stay in OUT.
+# With AB_UNTIL set (a time `date -d` reads), no round starts after it: a measurement fits a
+# quiet window of the host.
 ab_series() {
   local build=$1 out=$2 n=$3 seconds=$4 rounds=$5 variants=$6 extra_header=$7
   local here round order variant dir load1 start run wall args
@@ -21,6 +23,10 @@ ab_series() {
   "$here/gen_scenario.py" "$n" "$out/scale.textproto"
   echo "variant,$("$here/extract.py" --header),$extra_header" > "$out/runs.csv"
   for round in $(seq 1 "$rounds"); do
+    if [ -n "${AB_UNTIL:-}" ] && [ "$(date +%s)" -ge "$(date -d "$AB_UNTIL" +%s)" ]; then
+      echo "ab_series: $AB_UNTIL passed, $((round - 1)) rounds run" >&2
+      break
+    fi
     order=$variants
     [ $((round % 2)) = 0 ] && order=$(echo "$variants" | tr ' ' '\n' | tac | tr '\n' ' ')
     for variant in $order; do

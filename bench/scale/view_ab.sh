@@ -9,7 +9,8 @@
 #   nice     as browser, started with `nice -n 19`
 #   idle     as browser, in a cgroup of idle CPU (scripts/run-on-idle-cpu)
 # One row per run into OUT/runs.csv (extract.py, first column "variant", then the client's CPU
-# seconds: the poller's own, or the browser's processes'), the server's cost lines into
+# seconds: the poller's own, or the browser's processes'; the documents served and the server
+# threads' CPU milliseconds, from the run's cost line), the server's cost lines into
 # OUT/cost_lines.txt, then the per-round ratios to the first variant of the loop's wall time and
 # of sitlnet's CPU (ab_summary.py). The page served is the one built (BUILD/view/web).
 #
@@ -35,8 +36,14 @@ ab_while() {  # Prints the client's line (poll_live.cjs, watch_page.cjs).
     idle) "$run_on_idle_cpu" node "$web_test/watch_page.cjs" "$url" ;;
   esac || echo "view_ab.sh: the $variant client of $2 failed" >&2
 }
-ab_after() { sed -n 's/^\(client\|browser\)_cpu_s \([0-9.]*\).*/\2/p' "$2.while"; }
-ab_series "$build" "$out" "$n" "$seconds" "$rounds" "$variants" client_cpu_s
+ab_after() {  # The client's CPU, then the documents served and the server threads' CPU.
+  local client cost
+  client=$(sed -n 's/^\(client\|browser\)_cpu_s \([0-9.]*\).*/\2/p' "$2.while")
+  cost=$(sed -n 's/.* \([0-9]*\) documents served, \([0-9.]*\) ms CPU on the server.*/\1,\2/p' "$2.log")
+  echo "$client,${cost:-,}"
+}
+ab_series "$build" "$out" "$n" "$seconds" "$rounds" "$variants" client_cpu_s,documents,server_cpu_ms
 reference=${variants%% *}
-"$here/ab_summary.py" "$out/runs.csv" "$reference" loop_s sitlnet_cpu_s --medians loop_s client_cpu_s
+"$here/ab_summary.py" "$out/runs.csv" "$reference" loop_s sitlnet_cpu_s \
+  --medians loop_s sitlnet_cpu_s robots_cpu_s client_cpu_s documents server_cpu_ms
 echo "runs: $out/runs.csv"
