@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <httplib.h>
 #include <netinet/in.h>
+#include <pthread.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -14,14 +15,22 @@
 #include <condition_variable>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <mutex>
+#include <vector>
 
 #include "common/common.h"
 
 namespace sitlnet::view {
 namespace {
 
-constexpr char kJson[] = "application/json";
+// Content types cpp-httplib does not compress. It compresses "application/json", JavaScript
+// and text with brotli when the browser accepts it (every browser does), at brotli's default
+// quality 11: about 0.25 s of CPU for each 50 kB /api/live, twice a second, on the run's host
+// (docs/performance.md, "Live view"). Uncompressed, a document takes 2.5 ms; the page is local
+// or behind an SSH tunnel, where 100 kB/s is nothing.
+constexpr char kJson[] = "application/json; charset=utf-8";
+constexpr char kJavaScript[] = "application/javascript; charset=utf-8";
 
 // Why binding `address` fails, asked of the kernel with a socket of our own (cpp-httplib
 // reports only that it failed).
@@ -86,6 +95,21 @@ struct HttpServer::Impl {
   std::mutex mutex;
   std::condition_variable finished_changed;
   bool finished = false;  // Run has returned.
+  mutable std::mutex clocks_mutex;
+  std::vector<clockid_t> thread_clocks;  // Of the server's threads (CpuNs).
+
+  // Counts the calling thread's CPU time in CpuNs, once per thread, and names it (top -H and
+  // /proc/PID/task/TID/comm show "sitlnet-view").
+  void CountThisThread() {
+    thread_local const Impl* counted_for = nullptr;
+    if (counted_for == this) return;
+    pthread_setname_np(pthread_self(), "sitlnet-view");
+    clockid_t clock;
+    if (pthread_getcpuclockid(pthread_self(), &clock) != 0) return;
+    std::lock_guard lock(clocks_mutex);
+    thread_clocks.push_back(clock);
+    counted_for = this;
+  }
 };
 
 HttpServer::HttpServer(const std::string& web_dir) : impl_(std::make_unique<Impl>()) {
@@ -99,6 +123,7 @@ HttpServer::HttpServer(const std::string& web_dir) : impl_(std::make_unique<Impl
   impl_->server.set_default_headers({{"Content-Security-Policy", "default-src 'self'"},
                                      {"Cache-Control", "no-store"}});
   impl_->server.set_mount_point("/", web_dir);
+  impl_->server.set_file_extension_and_mimetype_mapping("js", kJavaScript);
   // A connection that sends nothing, reads nothing or idles holds a worker thread this long at
   // most, and so delays the server's stop (at the end of a run) at most this long.
   constexpr time_t kConnectionTimeoutS = 1;
@@ -112,7 +137,9 @@ HttpServer::HttpServer(const std::string& web_dir) : impl_(std::make_unique<Impl
     fcntl(sock, F_SETFD, fcntl(sock, F_GETFD) | FD_CLOEXEC);
   });
   // Each connection, before it is answered (see MarkSocketsCloseOnExec).
-  impl_->server.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
+  impl_->server.set_pre_routing_handler([impl = impl_.get()](const httplib::Request&,
+                                                             httplib::Response&) {
+    impl->CountThisThread();
     MarkSocketsCloseOnExec();
     return httplib::Server::HandlerResponse::Unhandled;
   });
@@ -151,6 +178,7 @@ ListenAddress HttpServer::Bind(const ListenAddress& address) {
 }
 
 void HttpServer::Run() {
+  impl_->CountThisThread();
   impl_->server.listen_after_bind();
   std::lock_guard lock(impl_->mutex);
   impl_->finished = true;
@@ -165,6 +193,17 @@ void HttpServer::Stop() {
     impl_->server.stop();
     impl_->finished_changed.wait_for(lock, kRetry);
   }
+}
+
+TimeNs HttpServer::CpuNs() const {
+  std::lock_guard lock(impl_->clocks_mutex);
+  TimeNs total_ns = 0;
+  for (const clockid_t clock : impl_->thread_clocks) {
+    timespec spent{};
+    // A thread that ended (cpp-httplib keeps its workers until Stop) is no longer counted.
+    if (clock_gettime(clock, &spent) == 0) total_ns += spent.tv_sec * kNsPerS + spent.tv_nsec;
+  }
+  return total_ns;
 }
 
 }  // namespace sitlnet::view

@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "common/common.h"
 #include "view/listen_address.h"
 
 namespace sitlnet::view {
@@ -34,6 +35,9 @@ class HttpServer {
   void Run();
   // Returns once Run has returned; Run must be running or about to run.
   void Stop();
+  // CPU time so far of the server's threads: the one in Run and every one that has answered a
+  // request (what serving costs, apart from the caller's threads). Call before Stop.
+  TimeNs CpuNs() const;
 
  private:
   struct Impl;

@@ -84,14 +84,15 @@ runner::LiveSink* LiveView::sink() { return &state_->feed; }
 
 std::string LiveView::CostLine() const {
   const LiveFeed::Cost cost = state_->feed.cost();
-  char line[160];
+  char line[224];
   std::snprintf(line, sizeof line,
                 "live view: %llu updates (%llu skipped: the server was reading), %.3f ms on the "
-                "run's threads, %llu documents served",
+                "run's threads, %llu documents served, %.3f ms CPU on the server's threads",
                 static_cast<unsigned long long>(cost.updates),
                 static_cast<unsigned long long>(cost.skipped),
                 static_cast<double>(cost.spent_ns) / kNsPerMs,
-                static_cast<unsigned long long>(state_->requests.load()));
+                static_cast<unsigned long long>(state_->requests.load()),
+                static_cast<double>(state_->server->CpuNs()) / kNsPerMs);
   return line;
 }
 
