@@ -33,10 +33,6 @@ void RefuseFleetOptions(const Scenario& scenario, const RunOptions& options) {
   }
 }
 
-bool Lockstep(const Scenario& scenario) {
-  return scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP;
-}
-
 // Every node host, accepted on options.listen; empty if interrupted (Ctrl-C). Throws Error
 // naming a node that did not come, or was refused.
 std::vector<std::unique_ptr<fleet::NodeLink>> AcceptNodeHosts(const Scenario& scenario,
@@ -47,7 +43,7 @@ std::vector<std::unique_ptr<fleet::NodeLink>> AcceptNodeHosts(const Scenario& sc
                                        "sitlnet node FILE --node NAME --connect HOST:PORT",
                                        fleet::NodeScenarioHash(scenario), options.node_wait_ns},
                                       interrupt_fd);
-  peers.expect.lockstep_robots = Lockstep(scenario);
+  peers.expect.lockstep_robots = scenario.lockstep();
   auto nodes =
       fleet::AcceptNodes(*peers.listener, scenario, scenario.nodes, peers.expect, peers.limits);
   for (const auto& node : nodes) {
@@ -61,9 +57,10 @@ class FleetPhysics final : public RunPhysics {
  public:
   FleetPhysics(const Scenario& scenario, std::vector<std::unique_ptr<fleet::NodeLink>> nodes,
                fleet::RemotePorts* ports, const RunOptions& options, const std::string& run_dir)
-      : fleet_(scenario,
-               Lockstep(scenario) ? coordinator::Pacing::kLockstep : coordinator::Pacing::kRealtime,
-               std::move(nodes), ports),
+      : fleet_(
+            scenario,
+            scenario.lockstep() ? coordinator::Pacing::kLockstep : coordinator::Pacing::kRealtime,
+            std::move(nodes), ports),
         recording_(&fleet_, physics::GeodeticFrame(scenario.spec.geodetic_origin()),
                    run_dir + "/trajectories.csv", options.trajectory_period_ns) {}
   coordinator::Connector& connector() override { return recording_; }
@@ -83,7 +80,7 @@ class FleetSetup final : public RunParts {
              std::vector<std::unique_ptr<fleet::NodeLink>> nodes)
       : scenario_(scenario),
         run_timebase_(scenario.spec.timing().realtime_factor()),
-        ports_(scenario, scenario.nodes, Lockstep(scenario) ? nullptr : &run_timebase_),
+        ports_(scenario, scenario.nodes, scenario.lockstep() ? nullptr : &run_timebase_),
         robots_(scenario.robots.size()) {
     for (const RobotPlan& plan : scenario.robots) robots_[plan.index].name = plan.name;
     // The nodes' link first: the medium's records need the run folder only.
@@ -95,7 +92,7 @@ class FleetSetup final : public RunParts {
 
   FleetPhysics& physics() { return *physics_; }
   const Scenario& scenario() const override { return scenario_; }
-  bool lockstep() const override { return Lockstep(scenario_); }
+  bool lockstep() const override { return scenario_.lockstep(); }
   const fleet::RemotePorts& ports() const { return ports_; }
   tapbridge::BridgeCore& bridge() override { return medium_->bridge(); }
   MediumRecords& medium_records() override { return medium_->records(); }
@@ -113,37 +110,17 @@ class FleetSetup final : public RunParts {
   std::unique_ptr<FleetPhysics> physics_;  // Destroyed first: the nodes hear Stop before.
 };
 
-std::string Ms(TimeNs ns) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3f", static_cast<double>(ns) / kNsPerMs);
-  return text;
-}
-
-std::string LatenessJson(const tapbridge::LatenessStats& stats) {
-  return "{\"count\":" + std::to_string(stats.count) + ",\"p50_ms\":" + Ms(stats.p50_ns) +
-         ",\"p99_ms\":" + Ms(stats.p99_ns) + ",\"max_ms\":" + Ms(stats.max_ns) + "}";
-}
-
-// Realtime: how late each node's frames entered the medium and its deliveries were written, on
-// stderr (one line per node) and as summary.json's "fleet_realtime".
-std::string ReportRealtimeNodes(const Scenario& scenario, const fleet::RemotePorts& ports) {
-  std::string json = "[";
+// Realtime: how late each node's frames entered the medium and its deliveries were written
+// (ReportRun logs them, summary.json's "fleet_realtime").
+std::vector<RunReport::NodeLateness> RealtimeNodes(const Scenario& scenario,
+                                                   const fleet::RemotePorts& ports) {
+  std::vector<RunReport::NodeLateness> nodes;
   for (size_t node = 0; node < scenario.nodes.size(); ++node) {
-    const tapbridge::LatenessStats entries = ports.LateEntries(static_cast<int>(node));
-    const tapbridge::LatenessStats writes = ports.LateWrites(static_cast<int>(node));
-    std::fprintf(stderr,
-                 "sitlnet run: %s: realtime: %llu frames entered the medium late by p50 %s, p99 "
-                 "%s, max %s ms; %llu deliveries written late by p50 %s, p99 %s, max %s ms\n",
-                 fleet::DescribeNode(scenario, scenario.nodes[node]).c_str(),
-                 static_cast<unsigned long long>(entries.count), Ms(entries.p50_ns).c_str(),
-                 Ms(entries.p99_ns).c_str(), Ms(entries.max_ns).c_str(),
-                 static_cast<unsigned long long>(writes.count), Ms(writes.p50_ns).c_str(),
-                 Ms(writes.p99_ns).c_str(), Ms(writes.max_ns).c_str());
-    json += std::string(node ? "," : "") + "{\"node\":\"" + scenario.nodes[node].name +
-            "\",\"late_entries\":" + LatenessJson(entries) +
-            ",\"late_writes\":" + LatenessJson(writes) + "}";
+    nodes.push_back({scenario.nodes[node].name, fleet::DescribeNode(scenario, scenario.nodes[node]),
+                     ports.LateEntries(static_cast<int>(node)),
+                     ports.LateWrites(static_cast<int>(node))});
   }
-  return json + "]";
+  return nodes;
 }
 
 }  // namespace
@@ -168,7 +145,7 @@ RunReport RunOnNodeHosts(const Scenario& scenario, const RunOptions& options, Ru
   MakeRunFolder(report.run_dir);
   WriteEffectiveScenario(scenario, report.run_dir);
   // Realtime: the bridge at the priority one host gives it.
-  if (!Lockstep(scenario)) RequestRealtimeRunPriority(options.realtime_priority, "sitlnet run");
+  if (!scenario.lockstep()) RequestRealtimeRunPriority(options.realtime_priority, "sitlnet run");
   FleetSetup setup(scenario, options, report.run_dir, std::move(nodes));
   CoordinatedRun run(&setup, &setup.physics(), options, report.run_dir, stop.fd());
   const LoopOutcome loop = run.Run();
@@ -177,8 +154,7 @@ RunReport RunOnNodeHosts(const Scenario& scenario, const RunOptions& options, Ru
   report.self_cpu_s = loop.self_cpu_s;
   setup.medium_records().Flush();
   report.fleet_links = setup.physics().link_stats();
-  if (!Lockstep(scenario))
-    report.fleet_realtime_json = ReportRealtimeNodes(scenario, setup.ports());
+  if (!scenario.lockstep()) report.fleet_realtime = RealtimeNodes(scenario, setup.ports());
   ReportRun(setup, loop, &report);
   return report;
 }

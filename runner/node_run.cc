@@ -32,10 +32,6 @@ fleet::NodeSlice SliceOf(const Scenario& scenario, const std::string& name) {
   return {scenario.nodes[node].name, scenario.nodes[node].robots};
 }
 
-bool Lockstep(const Scenario& scenario) {
-  return scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP;
-}
-
 void RefuseUnsupported(const Scenario& scenario) {
   if (scenario.spec.timing().ros2_clock_hz() > 0) {
     throw Error("scenario " + scenario.name +
@@ -53,12 +49,12 @@ class NodeSetup {
             const fleet::NodeSlice& slice, const clock::Timebase* realtime)
       : namespaces_(scenario, slice.robots),
         physics_server_(scenario,
-                        RunPhysicsOptions(scenario, Lockstep(scenario), realtime, slice.robots)),
+                        RunPhysicsOptions(scenario, scenario.lockstep(), realtime, slice.robots)),
         robots_(StartImages(scenario, options, out_dir, slice.robots)) {
     // As on one host (RunSetup::StartRobots).
-    if (Lockstep(scenario) || scenario.spec.timing().wait_for_robots()) {
+    if (scenario.lockstep() || scenario.spec.timing().wait_for_robots()) {
       WaitForRobotsToSpeak(scenario, robots_, &physics_server_,
-                           Lockstep(scenario) ? "lockstep" : "wait_for_robots");
+                           scenario.lockstep() ? "lockstep" : "wait_for_robots");
     }
   }
   ~NodeSetup() {
@@ -107,17 +103,17 @@ std::string ServeNodeHost(const NodeOptions& options) {
   std::fprintf(stderr, "sitlnet node: %s: bringing up %s -> %s\n", scenario.name.c_str(),
                described.c_str(), out_dir.c_str());
   // Realtime: the node's physics and TAP reads at the priority one host gives them.
-  if (!Lockstep(scenario))
+  if (!scenario.lockstep())
     RequestRealtimeRunPriority(options.run.realtime_priority, "sitlnet node");
   clock::Timebase realtime(scenario.spec.timing().realtime_factor());  // Lockstep: unused.
   NodeSetup setup(scenario, options.run, out_dir, slice, &realtime);
 
   physics_side::PhysicsServerSimulator physics(scenario, &setup.physics_server(),
-                                               RobotLockstep(scenario, Lockstep(scenario)));
+                                               RobotLockstep(scenario, scenario.lockstep()));
   fleet::NodePorts ports(slice, [&scenario](int robot) {
     return std::make_unique<tapbridge::TapPort>(scenario.robots[robot].netns, "wlan0");
   });
-  fleet::NodeSimulator node(&physics, &ports, Lockstep(scenario) ? nullptr : &realtime);
+  fleet::NodeSimulator node(&physics, &ports, scenario.lockstep() ? nullptr : &realtime);
   RobotSupervisor supervisor(
       &setup.robots(), scenario.spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP,
       nullptr, options.run.program);

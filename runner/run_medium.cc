@@ -5,7 +5,7 @@ namespace sitlnet::runner {
 RunMedium::RunMedium(const Scenario& scenario, const RunOptions& options,
                      const std::string& run_dir, std::unique_ptr<network_side::RemoteMedium> remote,
                      std::function<std::unique_ptr<tapbridge::Port>(int robot)> open_port) {
-  const bool lockstep = scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP;
+  const bool lockstep = scenario.lockstep();
   tapbridge::BridgeOptions bridge_options;
   bridge_options.seed = scenario.spec.timing().seed();
   bridge_options.open_port = std::move(open_port);

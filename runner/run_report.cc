@@ -38,6 +38,23 @@ void ReportFleetLinks(const std::vector<fleet::FleetLinkStats>& links) {
   }
 }
 
+// A fleet's central in realtime: each node's late entries and writes on stderr.
+void ReportFleetRealtime(const std::vector<RunReport::NodeLateness>& nodes) {
+  for (const RunReport::NodeLateness& node : nodes) {
+    const auto ms = [](TimeNs ns) { return static_cast<double>(ns) / kNsPerMs; };
+    const tapbridge::LatenessStats& entries = node.late_entries;
+    const tapbridge::LatenessStats& writes = node.late_writes;
+    std::fprintf(stderr,
+                 "sitlnet run: %s: realtime: %llu frames entered the medium late by p50 %.3f, p99 "
+                 "%.3f, max %.3f ms; %llu deliveries written late by p50 %.3f, p99 %.3f, max "
+                 "%.3f ms\n",
+                 node.description.c_str(), static_cast<unsigned long long>(entries.count),
+                 ms(entries.p50_ns), ms(entries.p99_ns), ms(entries.max_ns),
+                 static_cast<unsigned long long>(writes.count), ms(writes.p50_ns),
+                 ms(writes.p99_ns), ms(writes.max_ns));
+  }
+}
+
 }  // namespace
 
 void ReportRun(RunParts& setup, const LoopOutcome& loop, RunReport* report) {
@@ -47,6 +64,7 @@ void ReportRun(RunParts& setup, const LoopOutcome& loop, RunReport* report) {
   if (!failure.empty()) std::fprintf(stderr, "sitlnet run: %s\n", failure.c_str());
   network_side::RemoteMedium* remote_medium = setup.remote_medium();
   if (remote_medium) ReportMediumLink(*remote_medium, report);
+  ReportFleetRealtime(report->fleet_realtime);
   ReportFleetLinks(report->fleet_links);
   // A failed run throws out of RunCoordinator before it returns a count: the
   // metrics have one row per iteration done.

@@ -13,7 +13,7 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options, const st
     : scenario_(scenario),
       options_(options),
       run_dir_(run_dir),
-      lockstep_(scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP),
+      lockstep_(scenario.lockstep()),
       remote_owned_(std::move(remote)),
       run_timebase_(scenario.spec.timing().realtime_factor()) {
   BringUpNamespaces();

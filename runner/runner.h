@@ -72,8 +72,13 @@ struct RunReport {
   std::optional<network_side::MediumLinkStats> medium_link;  // --remote network only.
   std::vector<fleet::FleetLinkStats> fleet_links;            // A fleet's central only.
   // A fleet's central host in realtime pacing: per node, how late its frames entered the medium
-  // and its deliveries were written (a JSON array, runner/fleet_run.cc); empty otherwise.
-  std::string fleet_realtime_json;
+  // and its deliveries were written; empty otherwise.
+  struct NodeLateness {
+    std::string node;         // Its name in the scenario.
+    std::string description;  // "node 'n0' (robots a, c)", for the log.
+    tapbridge::LatenessStats late_entries, late_writes;
+  };
+  std::vector<NodeLateness> fleet_realtime;
 };
 
 // `scenario` with the overrides of `options` (duration_s, lockstep, seed, no_shadowing) applied

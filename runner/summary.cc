@@ -141,6 +141,26 @@ std::string FleetLinksJson(const RunReport& report) {
   return json + "]";
 }
 
+// Each node's lateness in realtime (a fleet's central), else null.
+std::string FleetRealtimeJson(const RunReport& report) {
+  if (report.fleet_realtime.empty()) return "null";
+  const auto lateness = [](const tapbridge::LatenessStats& stats) {
+    char text[160];
+    std::snprintf(
+        text, sizeof text, "{\"count\":%llu,\"p50_ms\":%.3f,\"p99_ms\":%.3f,\"max_ms\":%.3f}",
+        static_cast<unsigned long long>(stats.count), static_cast<double>(stats.p50_ns) / kNsPerMs,
+        static_cast<double>(stats.p99_ns) / kNsPerMs, static_cast<double>(stats.max_ns) / kNsPerMs);
+    return std::string(text);
+  };
+  std::string json = "[";
+  for (const RunReport::NodeLateness& node : report.fleet_realtime) {
+    json += (json.size() > 1 ? ",{\"node\":" : "{\"node\":") + Quote(node.node) +
+            ",\"late_entries\":" + lateness(node.late_entries) +
+            ",\"late_writes\":" + lateness(node.late_writes) + "}";
+  }
+  return json + "]";
+}
+
 }  // namespace
 
 void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
@@ -200,8 +220,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
     json += "null";
   }
   json += ",\"fleet_links\":" + FleetLinksJson(report);
-  json += ",\"fleet_realtime\":" +
-          (report.fleet_realtime_json.empty() ? std::string("null") : report.fleet_realtime_json);
+  json += ",\"fleet_realtime\":" + FleetRealtimeJson(report);
   json += ",\"robots\":[";
   for (int i = 0; i < robot_count; ++i) {
     json += (i ? "," : "") + RobotJson(robots[i], i, bridge, physics);

@@ -66,6 +66,8 @@ struct Scenario {
   // The robots of a slice (a node host's share, issue 35): `requested` if it is ascending
   // indices of this scenario's robots, every index if it is empty. Throws Error otherwise.
   std::vector<int> RobotSlice(const std::vector<int>& requested) const;
+  // Paced in lockstep (as fast as the host allows), not against the wall clock.
+  bool lockstep() const { return spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP; }
 };
 
 //-------------------------------- Loading -----------------------------------
@@ -82,7 +84,7 @@ Scenario LoadScenarioText(std::string_view text, const std::string& source_name)
 inline constexpr int kMaxScenarioNameLength = 10;
 inline constexpr int kMaxRobots = 1000;
 inline constexpr int kMaxRobotNameLength = 32;
-inline constexpr int kMaxNodeNameLength = 63;  // A DNS label (RFC 1035 2.3.4)
+inline constexpr int kMaxNodeNameLength = 63;    // A DNS label (RFC 1035 2.3.4)
 inline constexpr double kMaxRos2ClockHz = 1000;  // Timing.ros2_clock_hz
 // Largest duration_ms: a year of virtual time keeps every derived nanosecond count (and sums of
 // them) far from int64's end; nothing a scenario needs comes near it.
