@@ -72,6 +72,11 @@ void RemoveTestImages() {
   RunCommand({"podman", "rmi", "--force", Images().net, Images().flocker}, 120 * kNsPerS);
 }
 
+// "no podman" when podman is not installed (scripts/setup's group "containers"), else "".
+std::string PodmanMissing() {
+  return RunCommand({"podman", "--version"}).exit_code == 0 ? "" : "no podman";
+}
+
 // Skips or fails (CI=true) when podman cannot run containers here.
 #define SITLNET_REQUIRE_CONTAINER_IMAGES()                                                  \
   do {                                                                                      \
@@ -80,6 +85,7 @@ void RemoveTestImages() {
       GTEST_SKIP() << "podman needs more than CAP_NET_ADMIN + CAP_SYS_ADMIN to create a "   \
                       "container (CAP_SETUID, CAP_CHOWN, ... for its processes and files)"; \
     }                                                                                       \
+    SITLNET_REQUIRE_SETUP_GROUP("containers", PodmanMissing());                             \
     if (const TestImages& images = Images(); !images.error.empty()) {                       \
       if (IsCi()) FAIL() << images.error;                                                   \
       GTEST_SKIP() << images.error;                                                         \

@@ -242,9 +242,8 @@ std::string WithoutLines(const std::string& text, const std::vector<std::string>
   size_t left_out = 0;
   std::istringstream lines(text);
   for (std::string line; std::getline(lines, line);) {
-    const bool drop = std::any_of(prefixes.begin(), prefixes.end(), [&](const std::string& p) {
-      return line.rfind(p, 0) == 0;
-    });
+    const bool drop = std::any_of(prefixes.begin(), prefixes.end(),
+                                  [&](const std::string& p) { return line.rfind(p, 0) == 0; });
     if (drop) {
       ++left_out;
     } else {
@@ -289,6 +288,17 @@ std::string SitlnetBinary() {
 std::string SourceDir() {
   const char* dir = std::getenv("SITLNET_SOURCE_DIR");
   return dir ? dir : ".";
+}
+
+SetupVerdict AskSetup(const std::string& group) {
+  const CommandResult check =
+      RunCommand({SourceDir() + "/scripts/setup", "--check", group}, 120 * kNsPerS);
+  SetupVerdict verdict;
+  verdict.for_this_machine = check.exit_code != 77;
+  verdict.line = check.out + check.err;
+  while (!verdict.line.empty() && verdict.line.back() == '\n') verdict.line.pop_back();
+  if (verdict.line.empty()) verdict.line = "scripts/setup --check " + group + " said nothing";
+  return verdict;
 }
 
 std::string Base36(unsigned value) {

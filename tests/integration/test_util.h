@@ -42,6 +42,30 @@ bool HasCapability(int cap);
     }                                                                                             \
   } while (0)
 
+// What scripts/setup says of one of its optional groups of packages ("containers",
+// "browser"): `scripts/setup --check GROUP`, so the tests and the script agree on what this
+// machine should have.
+struct SetupVerdict {
+  bool for_this_machine = true;  // false: this machine cannot use it (the line says why).
+  std::string line;              // scripts/setup's line: what is missing and how to install it.
+};
+SetupVerdict AskSetup(const std::string& group);
+
+// Skips or fails when `why_missing` (a tool of scripts/setup's group `group`) is not empty: a
+// skip naming the capability when scripts/setup says the group is not for this machine, even
+// under CI=true; otherwise a failure under CI=true (scripts/setup should have installed it) and
+// a skip elsewhere, each with scripts/setup's line.
+#define SITLNET_REQUIRE_SETUP_GROUP(group, why_missing)                                   \
+  do {                                                                                    \
+    if (const std::string missing = (why_missing); !missing.empty()) {                    \
+      const ::sitlnet::integration_test::SetupVerdict verdict =                           \
+          ::sitlnet::integration_test::AskSetup(group);                                   \
+      if (!verdict.for_this_machine) GTEST_SKIP() << missing << "; " << verdict.line;     \
+      if (::sitlnet::integration_test::IsCi()) FAIL() << missing << "; " << verdict.line; \
+      GTEST_SKIP() << missing << "; " << verdict.line;                                    \
+    }                                                                                     \
+  } while (0)
+
 //-------------------------------- Processes ---------------------------------
 
 struct CommandResult {

@@ -40,13 +40,13 @@ constexpr char kObstacle[] =
 
 std::string PlaywrightDir() { return integration_test::SourceDir() + "/view/web"; }
 
-// Why the page cannot be driven here (and how to make it so), or "".
-std::string BrowserMissing() {
-  if (access(kChromium, X_OK) != 0) {
-    return std::string("no ") + kChromium +
-           " (Debian's Chromium: sudo apt-get install --no-install-recommends chromium, or "
-           "sudo scripts/setup)";
-  }
+// Why Chromium cannot be started here, or "": scripts/setup's group "browser" installs it.
+std::string ChromiumMissing() {
+  return access(kChromium, X_OK) == 0 ? "" : std::string("no ") + kChromium;
+}
+
+// Why the page's driver cannot run here (and how to make it so), or "".
+std::string PlaywrightMissing() {
   if (!std::filesystem::exists(PlaywrightDir() + "/node_modules/playwright-core")) {
     return "no view/web/node_modules/playwright-core (sudo scripts/setup runs npm ci there)";
   }
@@ -61,12 +61,15 @@ const std::string& FlightFolder(std::string* why) {
   if (!done) {
     done = true;
     const RunScenario scenario = WriteScenario(
-        7, kFlight, std::string(kObstacle) + "timing { duration_ms: 4000 pacing: PACING_LOCKSTEP }\n");
+        7, kFlight,
+        std::string(kObstacle) + "timing { duration_ms: 4000 pacing: PACING_LOCKSTEP }\n");
     DownGuard guard(scenario.name);
     const std::string out = TempDir() + "/" + scenario.name + "-view";
     const CommandResult run = SitlnetRun(scenario, out, {});
-    if (run.exit_code == 0) folder = out;
-    else failure = "sitlnet run exited " + std::to_string(run.exit_code) + ": " + run.err;
+    if (run.exit_code == 0)
+      folder = out;
+    else
+      failure = "sitlnet run exited " + std::to_string(run.exit_code) + ": " + run.err;
   }
   *why = failure;
   return folder;
@@ -316,16 +319,16 @@ struct ViewServer {
 
 TEST(ViewBrowserTest, ReplayDrawsTheTrajectoriesAndListsALinksFramesAsTheLossFile) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  SITLNET_REQUIRE(BrowserMissing());
+  SITLNET_REQUIRE_SETUP_GROUP("browser", ChromiumMissing());
+  SITLNET_REQUIRE(PlaywrightMissing());
   SITLNET_REQUIRE(NodeMavlinkMissing());
   std::string why;
   const std::string& dir = FlightFolder(&why);
   ASSERT_FALSE(dir.empty()) << why;
   // Issue 34, item 2: robot 0's frame at 3.0 s carries an ArduCopter HEARTBEAT in GUIDED,
   // encoded by node-mavlink and written apart from sitlnet's pcap writer.
-  const CommandResult heartbeat =
-      RunCommand({"node", NodeMavlinkDir() + "/append_heartbeat.cjs", dir + "/medium.pcap", "0",
-                  "3000000000", "GUIDED"});
+  const CommandResult heartbeat = RunCommand({"node", NodeMavlinkDir() + "/append_heartbeat.cjs",
+                                              dir + "/medium.pcap", "0", "3000000000", "GUIDED"});
   ASSERT_EQ(heartbeat.exit_code, 0) << heartbeat.err;
   ViewServer server(dir);
   ASSERT_FALSE(server.url.empty()) << server.child.out() << server.child.err();
@@ -354,7 +357,8 @@ TEST(ViewBrowserTest, ReplayDrawsTheTrajectoriesAndListsALinksFramesAsTheLossFil
       {"2.0 0", "none"}, {"2.0 1", "none"}, {"3.5 0", "GUIDED"}, {"3.5 1", "none"}};
   for (const auto& [time_and_robot, mode] : modes) {
     EXPECT_EQ(facts.modes.count(time_and_robot) ? facts.modes.at(time_and_robot) : "(no row)", mode)
-        << time_and_robot << "\n" << page.out;
+        << time_and_robot << "\n"
+        << page.out;
   }
   ASSERT_EQ(facts.timelines.size(), kTimes.size()) << page.out;
   ExpectTimelineAsTheRunsFiles(facts.timelines, dir, /*replay=*/true);
@@ -382,8 +386,7 @@ TEST(ViewBrowserTest, ReplayDrawsTheTrajectoriesAndListsALinksFramesAsTheLossFil
   }
   std::stable_sort(expected.begin(), expected.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
-  ASSERT_FALSE(expected.empty()) << "no losses.csv.gz row for link " << from << " -> "
-                                 << station;
+  ASSERT_FALSE(expected.empty()) << "no losses.csv.gz row for link " << from << " -> " << station;
   EXPECT_EQ(facts.total, static_cast<long long>(expected.size()));
   ASSERT_EQ(facts.frame_rows.size(), expected.size());
   for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(facts.frame_rows[i], expected[i].second);
@@ -396,7 +399,8 @@ TEST(ViewBrowserTest, ReplayDrawsTheTrajectoriesAndListsALinksFramesAsTheLossFil
 // what the page drew must be what the run then wrote (trajectories.csv, links.csv).
 TEST(ViewBrowserTest, LiveViewDrawsTheRunningFlightAsItsTrajectoriesAndLinks) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
-  SITLNET_REQUIRE(BrowserMissing());
+  SITLNET_REQUIRE_SETUP_GROUP("browser", ChromiumMissing());
+  SITLNET_REQUIRE(PlaywrightMissing());
   // Long enough never to end by itself: the test stops it once the page has been read.
   const RunScenario scenario = WriteScenario(
       8, kFlight,
