@@ -288,6 +288,37 @@ TEST_F(VisibilityTest, TheSandboxShowsWhatTheCheckLetsThrough) {
   EXPECT_TRUE(robot_reads("", kSocketTimeoutsModule));
 }
 
+// Issue 42: PX4 asks SCHED_FIFO for its threads and, refused, runs them at normal priority, where
+// its HRT thread can miss a timer (robot_images/px4/image.textproto). The oracle is the kernel:
+// in the shipped PX4 image's sandbox a process may take SCHED_FIFO; without the capability the
+// same sandbox refuses it.
+TEST_F(VisibilityTest, ThePx4ImageMayGiveItsThreadsTheRealtimePrioritiesPx4AsksFor) {
+  if (geteuid() != 0 || internal::FindProgram("bwrap").empty() ||
+      internal::FindProgram("chrt").empty()) {
+    if (std::getenv("CI") != nullptr && std::string(std::getenv("CI")) == "true") {
+      FAIL() << "needs root, bubblewrap and chrt (apt-get install bubblewrap util-linux)";
+    }
+    GTEST_SKIP() << "needs root, bubblewrap and chrt (apt-get install bubblewrap util-linux)";
+  }
+  const char* before = std::getenv("SITLNET_PX4_DIR");
+  const std::string saved = before ? before : "";
+  setenv("SITLNET_PX4_DIR", program_dir_.c_str(), 1);  // The manifest binds it in (`files`).
+  const auto takes_fifo = [](const Image& image) {
+    std::vector<std::string> argv = internal::ConfinementPrefix(image, Context());
+    argv.insert(argv.end(), {"chrt", "-f", "1", "true"});
+    return RunProgramQuietly(argv) == 0;
+  };
+  EXPECT_TRUE(takes_fifo(LoadImage(ImagesRoot(), "px4")));
+  const std::string path = image_dir_ + "/image.textproto";
+  std::ofstream(path) << "name: \"x\"\ncommand: \"" << program_ << "\"\n";
+  EXPECT_FALSE(takes_fifo(LoadImage("", path)));
+  if (before != nullptr) {
+    setenv("SITLNET_PX4_DIR", saved.c_str(), 1);
+  } else {
+    unsetenv("SITLNET_PX4_DIR");
+  }
+}
+
 // Issue 17: limits a cgroup cannot hold are refused naming the manifest and the field.
 TEST(ImageTest, LimitsOutsideWhatACgroupHoldsAreRefused) {
   const std::string path = ::testing::TempDir() + "/limits_image.textproto";

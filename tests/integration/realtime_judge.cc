@@ -35,9 +35,7 @@ void Report(const ::testing::TestPartResultArray& results) {
 
 }  // namespace
 
-namespace {
-
-void Judge(const std::function<bool(bool may_fly_again)>& flight, bool host_load_excuses) {
+void FlyJudgedOnAHostThatKeptUp(const std::function<bool(bool may_fly_again)>& flight) {
   const HostCpuWatch watch;
   ::testing::TestPartResultArray first;
   bool starved = false;
@@ -47,8 +45,7 @@ void Judge(const std::function<bool(bool may_fly_again)>& flight, bool host_load
     starved = flight(true);
   }
   const HostCpuWatch::Shares shares = watch.SharesUpToNow();
-  const bool disturbed =
-      host_load_excuses && (shares.busy > kBusyShare || shares.stolen > kStolenShare);
+  const bool disturbed = shares.busy > kBusyShare || shares.stolen > kStolenShare;
   if (!starved && !(Failed(first) && disturbed)) {
     Report(first);
     return;
@@ -65,16 +62,6 @@ void Judge(const std::function<bool(bool may_fly_again)>& flight, bool host_load
   }
   std::fflush(stdout);
   flight(false);
-}
-
-}  // namespace
-
-void FlyJudgedOnAHostThatKeptUp(const std::function<bool(bool may_fly_again)>& flight) {
-  Judge(flight, true);
-}
-
-void FlyAgainIfTheAutopilotSaysItWasStarved(const std::function<bool(bool may_fly_again)>& flight) {
-  Judge(flight, false);
 }
 
 }  // namespace sitlnet::integration_test

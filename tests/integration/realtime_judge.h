@@ -26,10 +26,6 @@ inline bool ArduPilotSaysItsLoopIsSlow(const std::string& status_text) {
 // take about a sixth). The first flight's failures are then printed, not counted.
 void FlyJudgedOnAHostThatKeptUp(const std::function<bool(bool may_fly_again)>& flight);
 
-// Lockstep flights: the host's load is no excuse (the run waits for the autopilot), but an
-// autopilot's own race may be. The flight is flown once more only when it says it was starved.
-void FlyAgainIfTheAutopilotSaysItWasStarved(const std::function<bool(bool may_fly_again)>& flight);
-
 }  // namespace sitlnet::integration_test
 
 #endif  // SITLNET_TESTS_INTEGRATION_REALTIME_JUDGE_H_
