@@ -10,6 +10,14 @@
 namespace sitlnet::mac {
 namespace {
 
+// MediumConfig's defaults let the library run without a scenario (its tests, tools); a scenario
+// that leaves every radio field out must give the very same config, so the proto's defaults and
+// the library's cannot drift apart.
+TEST(ScenarioAdapterTest, ScenarioDefaultsAreTheLibrarysDefaults) {
+  const Scenario scenario = LoadScenarioText("name: \"d\"\nrobot { name: \"a\" }\n", "d.textproto");
+  EXPECT_TRUE(MediumConfigFromScenario(scenario) == MediumConfig{});
+}
+
 TEST(ScenarioAdapterTest, BuildsStationsObstaclesAndRadio) {
   const Scenario scenario = LoadScenarioText(R"(
     name: "adapt"
