@@ -74,7 +74,8 @@ std::string RuleText(const FieldDescriptor* field) {
     const std::string lists = RateListsText();
     rule = "a rate of the standard: " + lists.substr(2, lists.size() - 3);
   }
-  const std::string& help = rules.GetExtension(proto::help);
+  const std::string& own_help = field->options().GetExtension(proto::help);
+  const std::string& help = own_help.empty() ? rules.GetExtension(proto::help) : own_help;
   if (rule.empty()) return help;
   return help.empty() ? rule : rule + "; " + help;
 }

@@ -34,18 +34,6 @@ bool InRange(double value, double low, double high) {
   return std::isfinite(value) && value >= low && value <= high;
 }
 
-// Fails unless `value` is finite and in [low, high]: "<who><field> <value> out of range [l, h]".
-void RequireInRange(const SourceLocator& at, std::initializer_list<SourceLocator::Step> path,
-                    const std::string& who, const char* field, double value, double low,
-                    double high) {
-  if (!InRange(value, low, high)) {
-    at.Fail(path,
-            who + field + " " + Num(value) + " out of range [" + Num(low) + ", " + Num(high) + "]");
-  }
-}
-
-constexpr uint32_t kMaxLidarRays = 4096;
-
 void ValidateName(const SourceLocator& at, Scenario* scenario) {
   const std::string& name = scenario->spec.name();
   if (!IsValidName(name, kMaxScenarioNameLength, false)) {
@@ -65,26 +53,7 @@ void ValidateAirframes(const SourceLocator& at, const proto::Scenario& spec) {
     if (!names.insert(airframe.name()).second) {
       at.Fail({{"airframe", i}, {"name"}}, who + "duplicate airframe name");
     }
-    const std::pair<const char*, double> positive[] = {
-        {"mass_kg", airframe.mass_kg()},
-        {"arm_x_m", airframe.arm_x_m()},
-        {"arm_y_m", airframe.arm_y_m()},
-        {"ixx_kg_m2", airframe.ixx_kg_m2()},
-        {"iyy_kg_m2", airframe.iyy_kg_m2()},
-        {"izz_kg_m2", airframe.izz_kg_m2()},
-        {"thrust_coefficient", airframe.thrust_coefficient()},
-        {"max_rotor_speed_rad_s", airframe.max_rotor_speed_rad_s()},
-        {"motor_time_constant_up_s", airframe.motor_time_constant_up_s()},
-        {"motor_time_constant_down_s", airframe.motor_time_constant_down_s()}};
-    for (const auto& [field, value] : positive) {
-      if (!(std::isfinite(value) && value > 0)) {
-        at.Fail({{"airframe", i}, {field}}, who + field + " " + Num(value) + " must be > 0");
-      }
-    }
-    RequireInRange(at, {{"airframe", i}, {"drag_coefficient"}}, who, "drag_coefficient",
-                   airframe.drag_coefficient(), 0, 1);
-    RequireInRange(at, {{"airframe", i}, {"linear_drag_n_s_per_m"}}, who, "linear_drag_n_s_per_m",
-                   airframe.linear_drag_n_s_per_m(), 0, 1e3);
+    CheckFieldRules(at, {{"airframe", i}}, who, airframe, spec.radio().standard());
   }
 }
 
@@ -114,7 +83,7 @@ void ValidateObstacles(const SourceLocator& at, const proto::Scenario& spec) {
         at.Fail({{"obstacle", i}, {"center_m"}}, who + "center_m must be finite, within 1e6 m");
       }
     }
-    RequireInRange(at, {{"obstacle", i}, {"yaw_deg"}}, who, "yaw_deg", box.yaw_deg(), -1e6, 1e6);
+    CheckFieldRules(at, {{"obstacle", i}}, who, box, spec.radio().standard());
   }
 }
 
@@ -243,17 +212,9 @@ void ValidateGeodeticOrigin(const SourceLocator& at, const proto::Scenario& spec
   check_field("intensity_gauss", field.intensity_gauss(), 0.1, 1, "[0.1, 1]");
 }
 
-// GPS, barometer and magnetometer figures of robot `i`.
+// GPS, barometer and magnetometer figures of robot `i` beyond their declared ranges.
 void ValidateHilSensors(const SourceLocator& at, int i, const proto::Robot& robot) {
   const std::string who = "robot \"" + robot.name() + "\": ";
-  if (!InRange(robot.gps().rate_hz(), 0.1, 1000)) {
-    at.Fail({{"robot", i}, {"gps"}, {"rate_hz"}},
-            who + "gps rate_hz " + Num(robot.gps().rate_hz()) + " out of range [0.1, 1000]");
-  }
-  if (!InRange(robot.gps().delay_ms(), 0, 10000)) {
-    at.Fail({{"robot", i}, {"gps"}, {"delay_ms"}},
-            who + "gps delay_ms " + Num(robot.gps().delay_ms()) + " out of range [0, 10000]");
-  }
   const std::tuple<const char*, const char*, double> noises[] = {
       {"gps", "horizontal_noise_m", robot.gps().horizontal_noise_m()},
       {"gps", "vertical_noise_m", robot.gps().vertical_noise_m()},
@@ -298,9 +259,8 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
         at.Fail({{"robot", i}, {"position_m"}}, who + "position_m must be finite, within 1e6 m");
       }
     }
-    RequireInRange(at, {{"robot", i}, {"yaw_deg"}}, who, "yaw_deg", robot.yaw_deg(), -1e6, 1e6);
-    RequireInRange(at, {{"robot", i}, {"state_rate_hz"}}, who, "state_rate_hz",
-                   robot.state_rate_hz(), 0.01, 1e5);
+    // Declared ranges and rates: the radio overrides' (same_rules_as), lidar, IMU and GPS figures.
+    CheckFieldRules(at, {{"robot", i}}, who, robot, spec.radio().standard());
     if (robot.command_timeout_ms() < 0 || robot.command_timeout_ms() > kMaxDurationMs) {
       at.Fail({{"robot", i}, {"command_timeout_ms"}},
               who + "command_timeout_ms must be in [0, " + std::to_string(kMaxDurationMs) + "]");
@@ -320,25 +280,6 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
       at.Fail({{"robot", i}, {"px4_sim_port"}},
               who + "has both ardupilot_json_port and px4_sim_port: one autopilot per robot");
     }
-    if (robot.lidar().rays() > kMaxLidarRays) {
-      at.Fail({{"robot", i}, {"lidar"}, {"rays"}},
-              who + "lidar rays " + std::to_string(robot.lidar().rays()) + " out of range [0, " +
-                  std::to_string(kMaxLidarRays) + "]");
-    }
-    RequireInRange(at, {{"robot", i}, {"lidar"}, {"max_range_m"}}, who, "lidar max_range_m",
-                   robot.lidar().max_range_m(), 0.01, 1e4);
-    RequireInRange(at, {{"robot", i}, {"lidar"}, {"fov_deg"}}, who, "lidar fov_deg",
-                   robot.lidar().fov_deg(), 0.01, 360);
-    const std::pair<const char*, double> imu[] = {
-        {"gyro_noise_rad_s", robot.imu().gyro_noise_rad_s()},
-        {"gyro_bias_rad_s", robot.imu().gyro_bias_rad_s()},
-        {"accel_noise_m_s2", robot.imu().accel_noise_m_s2()},
-        {"accel_bias_m_s2", robot.imu().accel_bias_m_s2()}};
-    for (const auto& [field, value] : imu) {
-      RequireInRange(at, {{"robot", i}, {"imu"}, {field}}, who + "imu ", field, value, 0, 1e3);
-    }
-    // Declared ranges and rates, the radio overrides' among them (same_rules_as).
-    CheckFieldRules(at, {{"robot", i}}, who, robot, spec.radio().standard());
     ValidateHilSensors(at, i, robot);
     if (!robot.airframe().empty() && FindAirframe(spec, robot.airframe()).name().empty()) {
       at.Fail({{"robot", i}, {"airframe"}}, who + "unknown airframe \"" + robot.airframe() + "\"");

@@ -89,6 +89,17 @@ TEST(FieldRulesTest, MessagesNameTheFieldTheValueAndTheRule) {
                 " (802.11a: 6 9 12 18 24 36 48 54; 802.11b: 1 2 5.5 11; 802.11g: both)");
 }
 
+// Airframes, obstacles and a robot's sub-messages (lidar, IMU, GPS) are walked the same way: the
+// sub-message's name prefixes the field.
+TEST(FieldRulesTest, NestedAndRepeatedMessagesNameTheirPlace) {
+  ExpectMessage("name: \"t\"\nairframe { name: \"x\" mass_kg: 0 }\nrobot { name: \"a\" }\n",
+                "t.textproto:2:22: airframe \"x\": mass_kg 0 must be > 0");
+  ExpectMessage("name: \"t\"\nrobot { name: \"a\" lidar { fov_deg: 361 } }\n",
+                "t.textproto:2:27: robot \"a\": lidar fov_deg 361 out of range [0.01, 360]");
+  ExpectMessage(std::string(kOne) + "obstacle { size_m { x: 1 y: 1 z: 1 } yaw_deg: 2e6 }\n",
+                "t.textproto:3:38: obstacle 0: yaw_deg 2e+06 out of range [-1e+06, 1e+06]");
+}
+
 // A robot's radio override takes the radio field's rules (same_rules_as), message and all.
 TEST(FieldRulesTest, RobotOverridesFollowTheRadioFieldsRules) {
   ExpectMessage("name: \"t\"\nrobot { name: \"a\" tx_power_dbm: -11 }\n",
