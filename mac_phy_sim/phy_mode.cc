@@ -13,12 +13,12 @@ bool SameRate(double a, double b) { return std::fabs(a - b) < 1e-9; }
 // DSSS/HR-DSSS (clauses 15, 16) first, then OFDM with Table 17-4's modulation and coding rate:
 // an ERP (11g) PHY tries them in this order, as ModeFor always has.
 constexpr PhyMode kModes[] = {
-    {1, Modulation::kDbpsk, 0, false},  {2, Modulation::kDqpsk, 0, false},
+    {1, Modulation::kDbpsk, 0, false},   {2, Modulation::kDqpsk, 0, false},
     {5.5, Modulation::kCck55, 0, false}, {11, Modulation::kCck11, 0, false},
-    {6, Modulation::kBpsk, 1, true},    {9, Modulation::kBpsk, 3, true},
-    {12, Modulation::kQpsk, 1, true},   {18, Modulation::kQpsk, 3, true},
-    {24, Modulation::kQam16, 1, true},  {36, Modulation::kQam16, 3, true},
-    {48, Modulation::kQam64, 2, true},  {54, Modulation::kQam64, 3, true},
+    {6, Modulation::kBpsk, 1, true},     {9, Modulation::kBpsk, 3, true},
+    {12, Modulation::kQpsk, 1, true},    {18, Modulation::kQpsk, 3, true},
+    {24, Modulation::kQam16, 1, true},   {36, Modulation::kQam16, 3, true},
+    {48, Modulation::kQam64, 2, true},   {54, Modulation::kQam64, 3, true},
 };
 
 // 11a is OFDM only, 11b DSSS/HR-DSSS only; an ERP (11g) PHY also has the DSSS rates (18.1.1).
@@ -150,8 +150,9 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
   }
   SITLNET_DEMAND(config.queue_max_delay_ns >= 0);
   // Nakagami's m >= 0.5 (the Gamma draw's shape); d1 <= d2 orders the distance bands.
-  SITLNET_DEMAND(!config.nakagami_fading || (config.nakagami_m0 >= 0.5 && config.nakagami_m1 >= 0.5 &&
-                                             config.nakagami_m2 >= 0.5));
+  SITLNET_DEMAND(
+      !config.nakagami_fading ||
+      (config.nakagami_m0 >= 0.5 && config.nakagami_m1 >= 0.5 && config.nakagami_m2 >= 0.5));
   SITLNET_DEMAND(config.nakagami_d1_m > 0 && config.nakagami_d2_m >= config.nakagami_d1_m);
   SITLNET_DEMAND(config.lognormal_shadowing_sigma_db >= 0);
   // aSlotTime, aSIFSTime: 17.4.4 (OFDM), 15.4.5 (DSSS), 18.4.5 (ERP).

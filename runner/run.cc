@@ -43,8 +43,7 @@ bool RunsOnNodeHosts(const Scenario& scenario, const RunOptions& options) {
 
 // `--remote network` is refused in realtime pacing, before anything is created.
 void RefuseRemoteInRealtime(const Scenario& scenario, const RunOptions& options) {
-  if (!options.listen.empty() &&
-      !scenario.lockstep()) {
+  if (!options.listen.empty() && !scenario.lockstep()) {
     throw Error(
         "--remote network needs lockstep pacing (--pacing lockstep): in realtime the bridge "
         "asks its medium for the next event at every frame, a network round trip each");

@@ -28,15 +28,6 @@ std::string FloatText(double value) {
   return text.str();
 }
 
-bool IsInteger(const FieldDescriptor* field) {
-  return field->cpp_type() != FieldDescriptor::CPPTYPE_DOUBLE &&
-         field->cpp_type() != FieldDescriptor::CPPTYPE_FLOAT;
-}
-
-std::string BoundText(const FieldDescriptor* field, double bound) {
-  return IsInteger(field) ? std::to_string(static_cast<int64_t>(bound)) : FloatText(bound);
-}
-
 std::optional<Value> NumericValue(const Message& message, const FieldDescriptor* field) {
   const Reflection* reflection = message.GetReflection();
   switch (field->cpp_type()) {
@@ -83,15 +74,21 @@ std::string RangeBreach(const FieldDescriptor* field, const FieldOptions& rules,
   const bool above = has_max && !(value.number <= max);
   if (finite && !below && !above) return "";
   if (has_min && has_max && !open) {
-    return "out of range [" + BoundText(field, min) + ", " + BoundText(field, max) + "]";
+    return "out of range [" + NumberText(field, min) + ", " + NumberText(field, max) + "]";
   }
   if (has_min && (below || !finite)) {
-    return (open ? "must be > " : "must be >= ") + BoundText(field, min);
+    return (open ? "must be > " : "must be >= ") + NumberText(field, min);
   }
-  return "must be at most " + BoundText(field, max);
+  return "must be at most " + NumberText(field, max);
 }
 
 }  // namespace
+
+std::string NumberText(const FieldDescriptor* field, double value) {
+  const bool integer = field->cpp_type() != FieldDescriptor::CPPTYPE_DOUBLE &&
+                       field->cpp_type() != FieldDescriptor::CPPTYPE_FLOAT;
+  return integer ? std::to_string(static_cast<int64_t>(value)) : FloatText(value);
+}
 
 const FieldDescriptor* RulesOf(const FieldDescriptor* field) {
   const std::string& name = field->options().GetExtension(proto::same_rules_as);
@@ -113,8 +110,8 @@ void CheckFieldRules(const SourceLocator& at, std::vector<SourceLocator::Step> p
     path.push_back({field->name()});
     if (field->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE) {
       if (set) {
-        CheckFieldRules(at, path, who + field->name() + " ",
-                        reflection->GetMessage(message, field), standard);
+        CheckFieldRules(at, path, who + field->name() + " ", reflection->GetMessage(message, field),
+                        standard);
       }
       path.pop_back();
       continue;

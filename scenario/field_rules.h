@@ -18,6 +18,10 @@ namespace sitlnet::scenario_internal {
 // The field whose rules `field` follows: the one its (same_rules_as) option names, else itself.
 const google::protobuf::FieldDescriptor* RulesOf(const google::protobuf::FieldDescriptor* field);
 
+// `value` of `field` as messages and docs print it: integer fields in full (31622400000),
+// floating-point ones as an ostream does (16.0206, 1e+06, nan).
+std::string NumberText(const google::protobuf::FieldDescriptor* field, double value);
+
 // Checks every field of `message` that has a value (set, or with a proto2 default), and the fields
 // of its set sub-messages, against its rules. `path` locates `message` in the file; `who`
 // prefixes the message ("radio: "; a sub-message adds its field name and a space: "imu ").

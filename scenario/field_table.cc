@@ -1,7 +1,5 @@
 #include "scenario/field_table.h"
 
-#include <sstream>
-
 #include "common/common.h"
 #include "scenario/field_rules.h"
 #include "scenario/radio_standard.h"
@@ -12,15 +10,10 @@ namespace sitlnet {
 namespace {
 
 using google::protobuf::FieldDescriptor;
+using scenario_internal::NumberText;
 
 constexpr char kBegin[] = "<!-- scenario-doc: ";
 constexpr char kEnd[] = "<!-- scenario-doc end -->";
-
-std::string FloatText(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
 
 std::string DefaultText(const FieldDescriptor* field) {
   if (!field->has_default_value()) {
@@ -29,7 +22,7 @@ std::string DefaultText(const FieldDescriptor* field) {
   }
   switch (field->cpp_type()) {
     case FieldDescriptor::CPPTYPE_DOUBLE:
-      return FloatText(field->default_value_double());
+      return NumberText(field, field->default_value_double());
     case FieldDescriptor::CPPTYPE_INT64:
       return std::to_string(field->default_value_int64());
     case FieldDescriptor::CPPTYPE_UINT32:
@@ -45,19 +38,13 @@ std::string DefaultText(const FieldDescriptor* field) {
   }
 }
 
-std::string BoundText(const FieldDescriptor* field, double bound) {
-  const bool integer = field->cpp_type() != FieldDescriptor::CPPTYPE_DOUBLE &&
-                       field->cpp_type() != FieldDescriptor::CPPTYPE_FLOAT;
-  return integer ? std::to_string(static_cast<int64_t>(bound)) : FloatText(bound);
-}
-
 // The declared rule, as field_rules.cc enforces it.
 std::string RuleText(const FieldDescriptor* field) {
   const auto& rules = scenario_internal::RulesOf(field)->options();
   const bool has_min = rules.HasExtension(proto::range_min);
   const bool has_max = rules.HasExtension(proto::range_max);
-  const std::string min = BoundText(field, rules.GetExtension(proto::range_min));
-  const std::string max = BoundText(field, rules.GetExtension(proto::range_max));
+  const std::string min = NumberText(field, rules.GetExtension(proto::range_min));
+  const std::string max = NumberText(field, rules.GetExtension(proto::range_max));
   std::string rule;
   if (rules.GetExtension(proto::range_min_open)) {
     rule = "> " + min + (has_max ? ", at most " + max : "");

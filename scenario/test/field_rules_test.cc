@@ -104,10 +104,11 @@ TEST(FieldRulesTest, NestedAndRepeatedMessagesNameTheirPlace) {
 TEST(FieldRulesTest, RobotOverridesFollowTheRadioFieldsRules) {
   ExpectMessage("name: \"t\"\nrobot { name: \"a\" tx_power_dbm: -11 }\n",
                 "t.textproto:2:19: robot \"a\": tx_power_dbm -11 out of range [-10, 30]");
-  ExpectMessage("name: \"t\"\nradio { standard: STANDARD_80211G }\n"
-                "robot { name: \"a\" rate_mbps: 5.5 }\nrobot { name: \"b\" rate_mbps: 7 }\n",
-                "t.textproto:4:19: robot \"b\": rate_mbps 7 is not a rate of STANDARD_80211G"
-                " (802.11a: 6 9 12 18 24 36 48 54; 802.11b: 1 2 5.5 11; 802.11g: both)");
+  ExpectMessage(
+      "name: \"t\"\nradio { standard: STANDARD_80211G }\n"
+      "robot { name: \"a\" rate_mbps: 5.5 }\nrobot { name: \"b\" rate_mbps: 7 }\n",
+      "t.textproto:4:19: robot \"b\": rate_mbps 7 is not a rate of STANDARD_80211G"
+      " (802.11a: 6 9 12 18 24 36 48 54; 802.11b: 1 2 5.5 11; 802.11g: both)");
 }
 
 }  // namespace
