@@ -30,7 +30,10 @@ enum class Standard : uint8_t {
 };
 
 // Plain values only; every field has the default ns-3 3.37 uses (see
-// docs/references.md#radio-defaults) unless noted. Validated by the Medium constructor.
+// docs/references.md#radio-defaults) unless noted. Validated by the Medium constructor. The
+// library's own defaults, so it runs without a scenario; a scenario that leaves a radio field
+// out yields the same config (scenario_adapter_test compares them), its ranges are the
+// scenario's (proto/sitlnet/scenario.proto) and only asserted here.
 struct MediumConfig {
   Standard standard = Standard::k80211a;
   double rate_mbps = 54;  // Data rate of every station (no rate control).
