@@ -1,4 +1,4 @@
-// How virtual time follows the wall clock (docs/design.md, "Time model"): the one pacing type,
+// How virtual time follows the wall clock (docs/time.md): the one pacing type,
 // from the command line (--pacing) through the scenario (Scenario::pacing()) to the coordinator.
 #ifndef SITLNET_CLOCK_PACING_H_
 #define SITLNET_CLOCK_PACING_H_
