@@ -89,7 +89,9 @@ Command AddNodeCommand(CLI::App& sitlnet) {
   AddSecretFileOption(*node, &options.run.secret_file);
   node->add_option_function<std::string>(
           "--pacing",
-          [&options](const std::string& pacing) { options.run.lockstep = pacing == "lockstep"; },
+          [&options](const std::string& pacing) {
+            options.run.pacing = clock::ParsePacing(pacing);
+          },
           "as the central's --pacing (overrides timing.pacing)")
       ->type_name("realtime|lockstep")
       ->check(CLI::IsMember({"realtime", "lockstep"}).description(""));

@@ -89,7 +89,7 @@ Command AddRunCommand(CLI::App& sitlnet) {
       ->type_name("S");
   run->add_option_function<std::string>(
          "--pacing",
-         [options](const std::string& pacing) { options->lockstep = pacing == "lockstep"; },
+         [options](const std::string& pacing) { options->pacing = clock::ParsePacing(pacing); },
          "realtime (against the wall clock) or lockstep (as fast as the host allows, "
          "reproducible); overrides timing.pacing")
       ->type_name("realtime|lockstep")

@@ -30,10 +30,8 @@ CoordinatorOptions OptionsFromScenario(const Scenario& scenario) {
   CoordinatorOptions options;
   options.iteration_ns = scenario.iteration_ns;
   options.iterations = scenario.duration_ns / scenario.iteration_ns;
-  const auto& timing = scenario.spec.timing();
-  options.pacing =
-      timing.pacing() == proto::Timing::PACING_LOCKSTEP ? Pacing::kLockstep : Pacing::kRealtime;
-  options.realtime_factor = timing.realtime_factor();
+  options.pacing = scenario.pacing();
+  options.realtime_factor = scenario.spec.timing().realtime_factor();
   return options;
 }
 

@@ -2,10 +2,6 @@
 
 namespace sitlnet::coordinator {
 
-std::string PacingName(Pacing pacing) {
-  return pacing == Pacing::kRealtime ? "realtime" : "lockstep";
-}
-
 Pacer::Pacer(Pacing pacing, double realtime_factor, TimeNs iteration_ns)
     : pacing_(pacing), timebase_(realtime_factor), iteration_ns_(iteration_ns) {
   SITLNET_DEMAND(iteration_ns > 0);

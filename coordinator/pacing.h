@@ -8,12 +8,14 @@
 #include <string>
 
 #include "clock/clock.h"
+#include "clock/pacing.h"
 #include "common/common.h"
 
 namespace sitlnet::coordinator {
 
-enum class Pacing { kRealtime, kLockstep };
-std::string PacingName(Pacing pacing);
+// The clock's pacing type, by its coordinator name (one type from the CLI to the Pacer).
+using clock::Pacing;
+using clock::PacingName;
 
 // Deadlines of iterations. Iteration k covers virtual time [kΔ, (k+1)Δ); in
 // realtime mode it must not end before the wall instant of (k+1)Δ.

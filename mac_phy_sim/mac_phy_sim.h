@@ -30,7 +30,10 @@ enum class Standard : uint8_t {
 };
 
 // Plain values only; every field has the default ns-3 3.37 uses (see
-// docs/references.md#radio-defaults) unless noted. Validated by the Medium constructor.
+// docs/references.md#radio-defaults) unless noted. Validated by the Medium constructor. The
+// library's own defaults, so it runs without a scenario; a scenario that leaves a radio field
+// out yields the same config (scenario_adapter_test compares them), its ranges are the
+// scenario's (proto/sitlnet/scenario.proto) and only asserted here.
 struct MediumConfig {
   Standard standard = Standard::k80211a;
   double rate_mbps = 54;  // Data rate of every station (no rate control).
@@ -94,6 +97,7 @@ struct MediumConfig {
   enum class ErrorModel : uint8_t { kNist, kTableBased };
   ErrorModel error_model = ErrorModel::kNist;
   uint64_t seed = 1;        // Every random draw derives from this (per-station streams).
+  friend bool operator==(const MediumConfig&, const MediumConfig&) = default;
 };
 
 // Derived PHY/MAC constants of a config (what the medium actually uses).
@@ -107,8 +111,17 @@ struct PhyInfo {
   int cw_min = 0, cw_max = 0;
 };
 
-// Computes the derived constants; throws Error("<field> <value> ...") on a bad config.
+// Computes the derived constants; throws Error("<field> <value> ...") for a rate the standard lacks
+// or bad contention/retry settings, and aborts (SITLNET_DEMAND) on a value no formula can take:
+// the scenario's field options bound the rest before a config is built.
 PhyInfo DerivePhyInfo(const MediumConfig& config);
+
+// The data rates of `standard` in Mb/s, from the one table of PHY modes (phy_mode.cc): DSSS/HR-DSSS
+// 1, 2, 5.5, 11, then OFDM 6 .. 54; 802.11g has both (an ERP PHY has the DSSS rates, 18.1.1).
+// The scenario's validation checks rates against it.
+std::vector<double> RatesMbps(Standard standard);
+// True if `rate_mbps` is one of RatesMbps(standard).
+bool HasRate(Standard standard, double rate_mbps);
 
 // Exact PPDU duration of a PSDU of `psdu_bytes` at `rate_mbps` (preamble,
 // header, and for 802.11g the 6 us signal extension). Throws Error for a rate
@@ -128,7 +141,7 @@ using StationId = int;  // Dense: 0 .. station_count()-1, in the order added.
 
 // Per-station radio settings; unset fields take the MediumConfig's.
 struct StationRadio {
-  std::optional<double> tx_power_dbm;  // [-30, 40]
+  std::optional<double> tx_power_dbm;  // Finite; the scenario bounds it (docs/scenario.md).
   std::optional<double> rate_mbps;     // A rate of the standard (kConstant rate control).
 };
 

@@ -106,10 +106,8 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
                              const StationRadio& radio) {
   State& s = *state_;
   const double tx_power_dbm = radio.tx_power_dbm.value_or(s.config.tx_power_dbm);
-  if (!(tx_power_dbm >= -30 && tx_power_dbm <= 40)) {
-    throw Error("station radio: tx_power_dbm " + std::to_string(tx_power_dbm) +
-                " out of range [-30, 40]");
-  }
+  // Its range is the scenario's (Radio.tx_power_dbm's options), checked at load.
+  SITLNET_DEMAND(std::isfinite(tx_power_dbm));
   const double rate_mbps = radio.rate_mbps.value_or(s.config.rate_mbps);
   try {
     ModeFor(s.config.standard, rate_mbps);

@@ -1,7 +1,7 @@
 #include "mac_phy_sim/phy_mode.h"
 
 #include <cmath>
-#include <optional>
+#include <sstream>
 #include <string>
 
 namespace sitlnet::mac {
@@ -9,24 +9,35 @@ namespace {
 
 bool SameRate(double a, double b) { return std::fabs(a - b) < 1e-9; }
 
-std::string RateList(Standard standard) {
-  switch (standard) {
-    case Standard::k80211b:
-      return "1, 2, 5.5, 11";
-    case Standard::k80211g:
-      return "1, 2, 5.5, 11, 6, 9, 12, 18, 24, 36, 48, 54";
-    default:
-      return "6, 9, 12, 18, 24, 36, 48, 54";
-  }
+// Every data rate's mode, the one table of them (validation reads it through RatesMbps too).
+// DSSS/HR-DSSS (clauses 15, 16) first, then OFDM with Table 17-4's modulation and coding rate:
+// an ERP (11g) PHY tries them in this order, as ModeFor always has.
+constexpr PhyMode kModes[] = {
+    {1, Modulation::kDbpsk, 0, false},   {2, Modulation::kDqpsk, 0, false},
+    {5.5, Modulation::kCck55, 0, false}, {11, Modulation::kCck11, 0, false},
+    {6, Modulation::kBpsk, 1, true},     {9, Modulation::kBpsk, 3, true},
+    {12, Modulation::kQpsk, 1, true},    {18, Modulation::kQpsk, 3, true},
+    {24, Modulation::kQam16, 1, true},   {36, Modulation::kQam16, 3, true},
+    {48, Modulation::kQam64, 2, true},   {54, Modulation::kQam64, 3, true},
+};
+
+// 11a is OFDM only, 11b DSSS/HR-DSSS only; an ERP (11g) PHY also has the DSSS rates (18.1.1).
+bool StandardHas(Standard standard, const PhyMode& mode) {
+  return mode.ofdm ? standard != Standard::k80211b : standard != Standard::k80211a;
 }
 
-// The DSSS/HR-DSSS mode of `rate_mbps` (clauses 15, 16), if it is one.
-std::optional<PhyMode> DsssMode(double rate_mbps) {
-  if (SameRate(rate_mbps, 1)) return PhyMode{1, Modulation::kDbpsk, 0, false};
-  if (SameRate(rate_mbps, 2)) return PhyMode{2, Modulation::kDqpsk, 0, false};
-  if (SameRate(rate_mbps, 5.5)) return PhyMode{5.5, Modulation::kCck55, 0, false};
-  if (SameRate(rate_mbps, 11)) return PhyMode{11, Modulation::kCck11, 0, false};
-  return std::nullopt;
+// The entry of `rate_mbps` in `standard`, or null.
+const PhyMode* FindMode(Standard standard, double rate_mbps) {
+  for (const PhyMode& mode : kModes) {
+    if (StandardHas(standard, mode) && SameRate(mode.rate_mbps, rate_mbps)) return &mode;
+  }
+  return nullptr;
+}
+
+std::string RateList(Standard standard) {
+  std::ostringstream text;
+  for (double rate : RatesMbps(standard)) text << (text.tellp() > 0 ? ", " : "") << rate;
+  return text.str();
 }
 
 // N_DBPS of an OFDM rate (Table 17-4): 4 data bits per symbol per Mb/s.
@@ -34,22 +45,20 @@ int DataBitsPerSymbol(double rate_mbps) { return static_cast<int>(std::lround(4 
 
 }  // namespace
 
+std::vector<double> RatesMbps(Standard standard) {
+  std::vector<double> rates;
+  for (const PhyMode& mode : kModes) {
+    if (StandardHas(standard, mode)) rates.push_back(mode.rate_mbps);
+  }
+  return rates;
+}
+
+bool HasRate(Standard standard, double rate_mbps) {
+  return FindMode(standard, rate_mbps) != nullptr;
+}
+
 PhyMode ModeFor(Standard standard, double rate_mbps) {
-  // 11b is DSSS/HR-DSSS only; an ERP (11g) PHY also has the DSSS rates (18.1.1).
-  if (standard != Standard::k80211a) {
-    if (const std::optional<PhyMode> dsss = DsssMode(rate_mbps)) return *dsss;
-  }
-  if (standard != Standard::k80211b) {
-    // Table 17-4: modulation and coding rate of each OFDM rate.
-    if (SameRate(rate_mbps, 6)) return {6, Modulation::kBpsk, 1, true};
-    if (SameRate(rate_mbps, 9)) return {9, Modulation::kBpsk, 3, true};
-    if (SameRate(rate_mbps, 12)) return {12, Modulation::kQpsk, 1, true};
-    if (SameRate(rate_mbps, 18)) return {18, Modulation::kQpsk, 3, true};
-    if (SameRate(rate_mbps, 24)) return {24, Modulation::kQam16, 1, true};
-    if (SameRate(rate_mbps, 36)) return {36, Modulation::kQam16, 3, true};
-    if (SameRate(rate_mbps, 48)) return {48, Modulation::kQam64, 2, true};
-    if (SameRate(rate_mbps, 54)) return {54, Modulation::kQam64, 3, true};
-  }
+  if (const PhyMode* mode = FindMode(standard, rate_mbps)) return *mode;
   throw Error("rate_mbps " + std::to_string(rate_mbps) + " is not a rate of this standard (" +
               RateList(standard) + ")");
 }
@@ -65,7 +74,7 @@ PhyHeader HeaderFor(Standard standard, const PhyMode& mode, bool short_preamble)
   }
   const bool use_short = short_preamble && mode.rate_mbps > 2;  // ns-3: HR/DSSS only.
   header.preamble_and_header_ns = (use_short ? 96 : 192) * kNsPerUs;
-  header.header_mode = *DsssMode(use_short ? 2 : 1);
+  header.header_mode = ModeFor(Standard::k80211b, use_short ? 2 : 1);
   header.header_bits = 48;
   return header;
 }
@@ -106,21 +115,17 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
     if (!ok) throw Error("medium config: " + what);
   };
   ModeFor(config.standard, config.rate_mbps);
-  demand(config.tx_power_dbm >= -30 && config.tx_power_dbm <= 40,
-         "tx_power_dbm " + std::to_string(config.tx_power_dbm) + " out of range [-30, 40]");
-  demand(config.noise_figure_db >= 0 && config.noise_figure_db <= 30,
-         "noise_figure_db out of range [0, 30]");
-  demand(config.path_loss_exponent > 0 && config.path_loss_exponent <= 10,
-         "path_loss_exponent out of range (0, 10]");
-  demand(!config.reference_loss_db || *config.reference_loss_db >= 0,
-         "reference_loss_db must be >= 0");
-  demand(config.shadowing_db_per_wall >= 0 && config.shadowing_db_per_m >= 0,
-         "shadowing_db_per_wall and shadowing_db_per_m must be >= 0");
-  demand(config.queue_limit_frames >= 1, "queue_limit_frames must be >= 1");
+  // The scenario's field options declare and check the ranges of what follows (docs/scenario.md);
+  // here only what the formulas need is asserted, so the two can never disagree again.
+  SITLNET_DEMAND(std::isfinite(config.tx_power_dbm));
+  SITLNET_DEMAND(std::isfinite(config.noise_figure_db));
+  SITLNET_DEMAND(config.path_loss_exponent > 0 && std::isfinite(config.path_loss_exponent));
+  SITLNET_DEMAND(!config.reference_loss_db || *config.reference_loss_db >= 0);
+  SITLNET_DEMAND(config.shadowing_db_per_wall >= 0 && config.shadowing_db_per_m >= 0);
+  SITLNET_DEMAND(config.queue_limit_frames >= 1);
+  SITLNET_DEMAND(!config.capture_margin_db || *config.capture_margin_db >= 0);
   demand(config.short_retry_limit >= 1 && config.long_retry_limit >= 1,
          "retry limits must be >= 1");
-  demand(!config.capture_margin_db || *config.capture_margin_db >= 0,
-         "capture_margin_db must be >= 0");
 
   PhyInfo info;
   const bool b = config.standard == Standard::k80211b;
@@ -143,14 +148,13 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
   } catch (const Error& e) {
     throw Error(std::string("medium config: group_") + e.what());
   }
-  demand(config.queue_max_delay_ns >= 0, "queue_max_delay_ns must be >= 0");
-  demand(!config.nakagami_fading ||
-             (config.nakagami_m0 >= 0.5 && config.nakagami_m1 >= 0.5 && config.nakagami_m2 >= 0.5),
-         "nakagami_m0/m1/m2 must be >= 0.5 (Nakagami's m)");
-  demand(config.nakagami_d1_m > 0 && config.nakagami_d2_m >= config.nakagami_d1_m,
-         "need 0 < nakagami_d1_m <= nakagami_d2_m");
-  demand(config.lognormal_shadowing_sigma_db >= 0 && config.lognormal_shadowing_sigma_db <= 30,
-         "lognormal_shadowing_sigma_db out of range [0, 30]");
+  SITLNET_DEMAND(config.queue_max_delay_ns >= 0);
+  // Nakagami's m >= 0.5 (the Gamma draw's shape); d1 <= d2 orders the distance bands.
+  SITLNET_DEMAND(
+      !config.nakagami_fading ||
+      (config.nakagami_m0 >= 0.5 && config.nakagami_m1 >= 0.5 && config.nakagami_m2 >= 0.5));
+  SITLNET_DEMAND(config.nakagami_d1_m > 0 && config.nakagami_d2_m >= config.nakagami_d1_m);
+  SITLNET_DEMAND(config.lognormal_shadowing_sigma_db >= 0);
   // aSlotTime, aSIFSTime: 17.4.4 (OFDM), 15.4.5 (DSSS), 18.4.5 (ERP).
   const int slot_us = a ? 9 : (b ? 20 : (config.short_slot ? 9 : 20));
   const int sifs_us = a ? 16 : 10;

@@ -1,5 +1,7 @@
 #include "mac_phy_sim/scenario_adapter.h"
 
+#include "scenario/radio_standard.h"
+
 namespace sitlnet::mac {
 namespace {
 
@@ -10,17 +12,7 @@ Vec3d ToVec3(const proto::Vec3& v) { return Vec3d{v.x(), v.y(), v.z()}; }
 MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
   const proto::Radio& radio = scenario.spec.radio();
   MediumConfig config;
-  switch (radio.standard()) {
-    case proto::Radio::STANDARD_80211B:
-      config.standard = Standard::k80211b;
-      break;
-    case proto::Radio::STANDARD_80211G:
-      config.standard = Standard::k80211g;
-      break;
-    default:
-      config.standard = Standard::k80211a;
-      break;
-  }
+  config.standard = MacStandard(radio.standard());
   config.rate_mbps = radio.rate_mbps();
   config.tx_power_dbm = radio.tx_power_dbm();
   config.noise_figure_db = radio.noise_figure_db();

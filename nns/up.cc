@@ -83,7 +83,7 @@ void UpRobot(const Scenario& scenario, const RobotPlan& robot, const RouteSocket
   internal::AddIpv4Address(*inside, wlan, robot.wlan_address, scenario.wlan_subnet.length,
                            who + ": wlan0");
   internal::SetLinkUp(*inside, wlan, who + ": wlan0");
-  if (scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP) {
+  if (scenario.lockstep()) {
     // Lockstep needs every frame to leave in the step that produced it; an
     // ARP exchange would delay the first send to a peer by the kernel's own
     // timers (docs/references.md#linux, "Lockstep and the TAP"). MACs are known in advance:

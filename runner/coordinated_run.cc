@@ -9,10 +9,8 @@ namespace sitlnet::runner {
 CoordinatedRun::CoordinatedRun(RunParts* setup, RunPhysics* physics, const RunOptions& options,
                                const std::string& run_dir, int interrupt_fd)
     : physics_(*physics),
-      bridge_sim_(
-          setup->scenario(), &setup->bridge(),
-          setup->lockstep() ? coordinator::Pacing::kLockstep : coordinator::Pacing::kRealtime,
-          setup->scenario().spec.timing().realtime_factor()),
+      bridge_sim_(setup->scenario(), &setup->bridge(), setup->scenario().pacing(),
+                  setup->scenario().spec.timing().realtime_factor()),
       progress_(options.progress, &setup->bridge(), &setup->robots(),
                 setup->scenario().duration_ns),
       supervisor_(&setup->robots(),

@@ -57,10 +57,7 @@ class FleetPhysics final : public RunPhysics {
  public:
   FleetPhysics(const Scenario& scenario, std::vector<std::unique_ptr<fleet::NodeLink>> nodes,
                fleet::RemotePorts* ports, const RunOptions& options, const std::string& run_dir)
-      : fleet_(
-            scenario,
-            scenario.lockstep() ? coordinator::Pacing::kLockstep : coordinator::Pacing::kRealtime,
-            std::move(nodes), ports),
+      : fleet_(scenario, scenario.pacing(), std::move(nodes), ports),
         recording_(&fleet_, physics::GeodeticFrame(scenario.spec.geodetic_origin()),
                    run_dir + "/trajectories.csv", options.trajectory_period_ns) {}
   coordinator::Connector& connector() override { return recording_; }

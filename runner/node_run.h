@@ -14,7 +14,7 @@
 namespace sitlnet::runner {
 
 struct NodeOptions {
-  // scenario_path, seed and lockstep (as the central's, so both hash the same scenario),
+  // scenario_path, seed and pacing (as the central's, so both hash the same scenario),
   // secret_file, out_dir (empty: runs/<scenario>-<node>), sitlnet_exe and images_root. The
   // robots' shared setup and supervision begin their lines with "sitlnet node".
   RunOptions run = [] {

@@ -74,9 +74,7 @@ std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& o
     const images::Image image = images::LoadImage(options.images_root, plan.spec.image());
     images::LaunchContext context = RobotContext(scenario, options, plan);
     context.robot_args.assign(plan.spec.args().begin(), plan.spec.args().end());
-    context.realtime_factor = scenario.spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP
-                                  ? 0
-                                  : scenario.spec.timing().realtime_factor();
+    context.realtime_factor = scenario.lockstep() ? 0 : scenario.spec.timing().realtime_factor();
     google::protobuf::TextFormat::Printer one_line;
     one_line.SetSingleLineMode(true);
     one_line.PrintToString(plan.airframe, &context.airframe_text);
@@ -130,7 +128,7 @@ std::vector<std::unique_ptr<images::RobotProcess>> StartClockPublishers(
   const proto::Timing& timing = scenario.spec.timing();
   if (timing.ros2_clock_hz() == 0) return publishers;
   const std::string bin_dir = BinDir(options);
-  const bool lockstep = timing.pacing() == proto::Timing::PACING_LOCKSTEP;
+  const bool lockstep = scenario.lockstep();
   // The shared time moves once per iteration: polling twice per iteration's wall time is
   // enough in realtime; in lockstep an iteration's wall time is not known, 1 ms it is.
   const int64_t poll_us =

@@ -1,5 +1,4 @@
 // `sitlnet run`: the stages of a run of one scenario (setup, run, report), in order.
-#include <google/protobuf/text_format.h>
 #include <sys/resource.h>
 
 #include <ctime>
@@ -44,8 +43,7 @@ bool RunsOnNodeHosts(const Scenario& scenario, const RunOptions& options) {
 
 // `--remote network` is refused in realtime pacing, before anything is created.
 void RefuseRemoteInRealtime(const Scenario& scenario, const RunOptions& options) {
-  if (!options.listen.empty() &&
-      scenario.spec.timing().pacing() != proto::Timing::PACING_LOCKSTEP) {
+  if (!options.listen.empty() && !scenario.lockstep()) {
     throw Error(
         "--remote network needs lockstep pacing (--pacing lockstep): in realtime the bridge "
         "asks its medium for the next event at every frame, a network round trip each");
@@ -64,15 +62,11 @@ Scenario ApplyRunOverrides(const Scenario& scenario, const RunOptions& options) 
     }
     spec.mutable_timing()->set_duration_ms(static_cast<int64_t>(*options.duration_s * 1000));
   }
-  if (options.lockstep) {
-    spec.mutable_timing()->set_pacing(*options.lockstep ? proto::Timing::PACING_LOCKSTEP
-                                                        : proto::Timing::PACING_REALTIME);
-  }
+  if (options.pacing) spec.mutable_timing()->set_pacing(ProtoPacing(*options.pacing));
   if (options.seed) spec.mutable_timing()->set_seed(*options.seed);
   if (options.no_shadowing) spec.mutable_radio()->set_shadowing(false);
-  std::string text;
-  google::protobuf::TextFormat::PrintToString(spec, &text);
-  Scenario effective = LoadScenarioText(text, scenario.source_path + " (with overrides)");
+  Scenario effective =
+      ValidateScenarioSpec(std::move(spec), scenario.source_path + " (with overrides)");
   effective.source_path = scenario.source_path;
   return effective;
 }

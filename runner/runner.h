@@ -38,7 +38,7 @@ struct RunOptions {
   std::string scenario_path;
   std::string out_dir;                           // Empty: runs/<scenario>-<UTC date-time>.
   std::optional<double> duration_s;              // Overrides timing.duration_ms.
-  std::optional<bool> lockstep;                  // Overrides timing.pacing.
+  std::optional<clock::Pacing> pacing;           // Overrides timing.pacing.
   std::optional<uint64_t> seed;                  // Overrides timing.seed.
   bool no_shadowing = false;                     // radio.shadowing = false.
   std::string sitlnet_exe;                       // For `sitlnet exec` of the images.
@@ -81,7 +81,7 @@ struct RunReport {
   std::vector<NodeLateness> fleet_realtime;
 };
 
-// `scenario` with the overrides of `options` (duration_s, lockstep, seed, no_shadowing) applied
+// `scenario` with the overrides of `options` (duration_s, pacing, seed, no_shadowing) applied
 // and validated again; source_path kept. `sitlnet medium --connect` applies the same ones, so that
 // both ends of a remote medium hash the same scenario.
 Scenario ApplyRunOverrides(const Scenario& scenario, const RunOptions& options);

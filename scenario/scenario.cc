@@ -102,6 +102,25 @@ Scenario LoadScenarioText(std::string_view text, const std::string& source_name)
   return scenario;
 }
 
+Scenario ValidateScenarioSpec(proto::Scenario spec, const std::string& source_name) {
+  Scenario scenario;
+  scenario.source_path = source_name;
+  scenario.spec = std::move(spec);
+  const SourceLocator locator(source_name, proto::Scenario::descriptor());  // No locations.
+  scenario_internal::ValidateAndDerive(locator, &scenario);
+  return scenario;
+}
+
+clock::Pacing Scenario::pacing() const {
+  return spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP ? clock::Pacing::kLockstep
+                                                                  : clock::Pacing::kRealtime;
+}
+
+proto::Timing::Pacing ProtoPacing(clock::Pacing pacing) {
+  return pacing == clock::Pacing::kLockstep ? proto::Timing::PACING_LOCKSTEP
+                                            : proto::Timing::PACING_REALTIME;
+}
+
 Scenario LoadScenarioFile(const std::string& path) {
   return LoadScenarioText(ReadFileOrThrow(path, "scenario"), path);
 }

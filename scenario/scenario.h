@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "clock/pacing.h"
 #include "common/common.h"
 #include "sitlnet/scenario.pb.h"
 
@@ -66,8 +67,10 @@ struct Scenario {
   // The robots of a slice (a node host's share, issue 35): `requested` if it is ascending
   // indices of this scenario's robots, every index if it is empty. Throws Error otherwise.
   std::vector<int> RobotSlice(const std::vector<int>& requested) const;
+  // timing.pacing as the clock's type: the one place that reads the proto's enum.
+  clock::Pacing pacing() const;
   // Paced in lockstep (as fast as the host allows), not against the wall clock.
-  bool lockstep() const { return spec.timing().pacing() == proto::Timing::PACING_LOCKSTEP; }
+  bool lockstep() const { return pacing() == clock::Pacing::kLockstep; }
 };
 
 //-------------------------------- Loading -----------------------------------
@@ -78,6 +81,13 @@ Scenario LoadScenarioFile(const std::string& path);
 
 // Same for text already in memory; `source_name` prefixes error messages.
 Scenario LoadScenarioText(std::string_view text, const std::string& source_name);
+
+// Validates a spec edited in memory (the command line's overrides): the same rules, with
+// messages that name `source_name` alone (an edited spec has no lines).
+Scenario ValidateScenarioSpec(proto::Scenario spec, const std::string& source_name);
+
+// The proto's spelling of `pacing`, for a spec edited in memory.
+proto::Timing::Pacing ProtoPacing(clock::Pacing pacing);
 
 // Longest scenario name: the root-side veth "<name>-c<index>" must fit the
 // kernel's 15-character interface names with up to 1000 robots.

@@ -9,7 +9,7 @@ using google::protobuf::TextFormat;
 SourceLocator::SourceLocator(std::string source_name, const Descriptor* root)
     : source_name_(std::move(source_name)), root_(root) {}
 
-std::string SourceLocator::Where(std::initializer_list<Step> path) const {
+std::string SourceLocator::Where(std::span<const Step> path) const {
   const Descriptor* descriptor = root_;
   // ParseInfoTree's getters are non-const in protobuf 3.21.
   auto* tree = const_cast<TextFormat::ParseInfoTree*>(&tree_);
@@ -31,7 +31,7 @@ std::string SourceLocator::Where(std::initializer_list<Step> path) const {
   return source_name_ + ":" + std::to_string(line + 1) + ":" + std::to_string(column + 1);
 }
 
-void SourceLocator::Fail(std::initializer_list<Step> path, const std::string& message) const {
+void SourceLocator::Fail(std::span<const Step> path, const std::string& message) const {
   throw Error(Where(path) + ": " + message);
 }
 

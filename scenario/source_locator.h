@@ -5,6 +5,7 @@
 #include <google/protobuf/text_format.h>
 
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -27,12 +28,21 @@ class SourceLocator {
   google::protobuf::TextFormat::ParseInfoTree* tree() { return &tree_; }
 
   // "source:line:col" for the path (line/col from 1), or "source" if unknown.
-  std::string Where(std::initializer_list<Step> path) const;
+  std::string Where(std::span<const Step> path) const;
+  std::string Where(std::initializer_list<Step> path) const { return Where(Span(path)); }
 
   // Throws Error("<Where(path)>: <message>").
-  [[noreturn]] void Fail(std::initializer_list<Step> path, const std::string& message) const;
+  [[noreturn]] void Fail(std::span<const Step> path, const std::string& message) const;
+  [[noreturn]] void Fail(std::initializer_list<Step> path, const std::string& message) const {
+    Fail(Span(path), message);
+  }
 
  private:
+  // C++20's span has no constructor from an initializer_list (C++26 adds one).
+  static std::span<const Step> Span(std::initializer_list<Step> path) {
+    return {path.begin(), path.size()};
+  }
+
   std::string source_name_;
   const google::protobuf::Descriptor* root_;
   google::protobuf::TextFormat::ParseInfoTree tree_;

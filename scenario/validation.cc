@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "clock/clock.h"
+#include "scenario/field_rules.h"
 
 namespace sitlnet::scenario_internal {
 namespace {
@@ -33,21 +34,6 @@ bool InRange(double value, double low, double high) {
   return std::isfinite(value) && value >= low && value <= high;
 }
 
-// Fails unless `value` is finite and in [low, high]: "<who><field> <value> out of range [l, h]".
-void RequireInRange(const SourceLocator& at, std::initializer_list<SourceLocator::Step> path,
-                    const std::string& who, const char* field, double value, double low,
-                    double high) {
-  if (!InRange(value, low, high)) {
-    at.Fail(path,
-            who + field + " " + Num(value) + " out of range [" + Num(low) + ", " + Num(high) + "]");
-  }
-}
-
-// Largest step that keeps derived nanosecond counts far from int64's end (kMaxDurationMs is
-// public: the remote medium bounds request times with it).
-constexpr int64_t kMaxStepUs = 60LL * 1000 * 1000;  // a minute per step
-constexpr uint32_t kMaxLidarRays = 4096;
-
 void ValidateName(const SourceLocator& at, Scenario* scenario) {
   const std::string& name = scenario->spec.name();
   if (!IsValidName(name, kMaxScenarioNameLength, false)) {
@@ -67,26 +53,7 @@ void ValidateAirframes(const SourceLocator& at, const proto::Scenario& spec) {
     if (!names.insert(airframe.name()).second) {
       at.Fail({{"airframe", i}, {"name"}}, who + "duplicate airframe name");
     }
-    const std::pair<const char*, double> positive[] = {
-        {"mass_kg", airframe.mass_kg()},
-        {"arm_x_m", airframe.arm_x_m()},
-        {"arm_y_m", airframe.arm_y_m()},
-        {"ixx_kg_m2", airframe.ixx_kg_m2()},
-        {"iyy_kg_m2", airframe.iyy_kg_m2()},
-        {"izz_kg_m2", airframe.izz_kg_m2()},
-        {"thrust_coefficient", airframe.thrust_coefficient()},
-        {"max_rotor_speed_rad_s", airframe.max_rotor_speed_rad_s()},
-        {"motor_time_constant_up_s", airframe.motor_time_constant_up_s()},
-        {"motor_time_constant_down_s", airframe.motor_time_constant_down_s()}};
-    for (const auto& [field, value] : positive) {
-      if (!(std::isfinite(value) && value > 0)) {
-        at.Fail({{"airframe", i}, {field}}, who + field + " " + Num(value) + " must be > 0");
-      }
-    }
-    RequireInRange(at, {{"airframe", i}, {"drag_coefficient"}}, who, "drag_coefficient",
-                   airframe.drag_coefficient(), 0, 1);
-    RequireInRange(at, {{"airframe", i}, {"linear_drag_n_s_per_m"}}, who, "linear_drag_n_s_per_m",
-                   airframe.linear_drag_n_s_per_m(), 0, 1e3);
+    CheckFieldRules(at, {{"airframe", i}}, who, airframe, spec.radio().standard());
   }
 }
 
@@ -116,41 +83,13 @@ void ValidateObstacles(const SourceLocator& at, const proto::Scenario& spec) {
         at.Fail({{"obstacle", i}, {"center_m"}}, who + "center_m must be finite, within 1e6 m");
       }
     }
-    RequireInRange(at, {{"obstacle", i}, {"yaw_deg"}}, who, "yaw_deg", box.yaw_deg(), -1e6, 1e6);
+    CheckFieldRules(at, {{"obstacle", i}}, who, box, spec.radio().standard());
   }
 }
 
-bool IsValidRate(proto::Radio::Standard standard, double rate_mbps) {
-  static const double kOfdm[] = {6, 9, 12, 18, 24, 36, 48, 54};
-  static const double kDsss[] = {1, 2, 5.5, 11};
-  // An ERP (11g) PHY has the DSSS rates too (IEEE 802.11-2016 18.1.1).
-  if (standard != proto::Radio::STANDARD_80211A) {
-    for (double rate : kDsss) {
-      if (rate == rate_mbps) return true;
-    }
-  }
-  if (standard != proto::Radio::STANDARD_80211B) {
-    for (double rate : kOfdm) {
-      if (rate == rate_mbps) return true;
-    }
-  }
-  return false;
-}
-
-constexpr const char* kRateLists =
-    " (802.11a: 6 9 12 18 24 36 48 54; 802.11b: 1 2 5.5 11; 802.11g: both)";
-
+// Ranges and rates come from the fields' options (field_rules.h); what follows relates fields.
 void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
-  if (!IsValidRate(radio.standard(), radio.rate_mbps())) {
-    at.Fail({{"radio"}, {"rate_mbps"}},
-            "radio: rate_mbps " + Num(radio.rate_mbps()) + " is not a rate of " +
-                proto::Radio::Standard_Name(radio.standard()) + kRateLists);
-  }
-  if (radio.has_group_rate_mbps() && !IsValidRate(radio.standard(), radio.group_rate_mbps())) {
-    at.Fail({{"radio"}, {"group_rate_mbps"}},
-            "radio: group_rate_mbps " + Num(radio.group_rate_mbps()) + " is not a rate of " +
-                proto::Radio::Standard_Name(radio.standard()) + kRateLists);
-  }
+  CheckFieldRules(at, {{"radio"}}, "radio: ", radio, radio.standard());
   if (radio.short_slot() && radio.standard() != proto::Radio::STANDARD_80211G) {
     at.Fail({{"radio"}, {"short_slot"}}, "radio: short_slot applies to STANDARD_80211G only");
   }
@@ -161,59 +100,12 @@ void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
   if (!(radio.nakagami_d1_m() > 0 && radio.nakagami_d2_m() >= radio.nakagami_d1_m())) {
     at.Fail({{"radio"}, {"nakagami_d1_m"}}, "radio: need 0 < nakagami_d1_m <= nakagami_d2_m");
   }
-  if (!InRange(radio.lognormal_shadowing_sigma_db(), 0, 30)) {
-    at.Fail({{"radio"}, {"lognormal_shadowing_sigma_db"}},
-            "radio: lognormal_shadowing_sigma_db " + Num(radio.lognormal_shadowing_sigma_db()) +
-                " out of range [0, 30]");
-  }
-  if (radio.has_capture_margin_db() && !InRange(radio.capture_margin_db(), 0, 100)) {
-    at.Fail(
-        {{"radio"}, {"capture_margin_db"}},
-        "radio: capture_margin_db " + Num(radio.capture_margin_db()) + " out of range [0, 100]");
-  }
-  if (!InRange(radio.tx_power_dbm(), -10, 30)) {
-    at.Fail({{"radio"}, {"tx_power_dbm"}},
-            "radio: tx_power_dbm " + Num(radio.tx_power_dbm()) + " out of range [-10, 30]");
-  }
-  if (!InRange(radio.path_loss_exponent(), 1, 10)) {
-    at.Fail(
-        {{"radio"}, {"path_loss_exponent"}},
-        "radio: path_loss_exponent " + Num(radio.path_loss_exponent()) + " out of range [1, 10]");
-  }
-  if (radio.has_reference_loss_db() && !InRange(radio.reference_loss_db(), 0, 200)) {
-    at.Fail({{"radio"}, {"reference_loss_db"}}, "radio: reference_loss_db out of range [0, 200]");
-  }
-  if (!InRange(radio.shadowing_db_per_wall(), 0, 200) ||
-      !InRange(radio.shadowing_db_per_m(), 0, 100)) {
-    at.Fail({{"radio"}},
-            "radio: shadowing_db_per_wall must be in [0, 200] and "
-            "shadowing_db_per_m in [0, 100]");
-  }
-  RequireInRange(at, {{"radio"}, {"noise_figure_db"}}, "radio: ", "noise_figure_db",
-                 radio.noise_figure_db(), 0, 50);
-  RequireInRange(at, {{"radio"}, {"rx_sensitivity_dbm"}}, "radio: ", "rx_sensitivity_dbm",
-                 radio.rx_sensitivity_dbm(), -200, 0);
-  RequireInRange(at, {{"radio"}, {"cca_energy_detect_dbm"}}, "radio: ", "cca_energy_detect_dbm",
-                 radio.cca_energy_detect_dbm(), -200, 0);
-  if (radio.queue_limit_frames() < 1) {
-    at.Fail({{"radio"}, {"queue_limit_frames"}}, "radio: queue_limit_frames must be >= 1");
-  }
 }
 
 void ValidateTiming(const SourceLocator& at, Scenario* scenario) {
   const proto::Timing& timing = scenario->spec.timing();
-  const std::pair<const char*, int64_t> positive[] = {{"iteration_us", timing.iteration_us()},
-                                                      {"physics_step_us", timing.physics_step_us()},
-                                                      {"network_step_us", timing.network_step_us()},
-                                                      {"duration_ms", timing.duration_ms()}};
-  for (const auto& [field, value] : positive) {
-    const int64_t max = std::string(field) == "duration_ms" ? kMaxDurationMs : kMaxStepUs;
-    if (value <= 0 || value > max) {
-      at.Fail({{"timing"}, {field}},
-              std::string("timing: ") + field + " " + std::to_string(value) +
-                  (value <= 0 ? " must be > 0" : " must be at most " + std::to_string(max)));
-    }
-  }
+  // Each step and the duration: positive and bounded, by their options (field_rules.h).
+  CheckFieldRules(at, {{"timing"}}, "timing: ", timing, scenario->spec.radio().standard());
   const std::pair<const char*, int64_t> steps[] = {{"physics_step_us", timing.physics_step_us()},
                                                    {"network_step_us", timing.network_step_us()}};
   for (const auto& [field, step] : steps) {
@@ -320,17 +212,9 @@ void ValidateGeodeticOrigin(const SourceLocator& at, const proto::Scenario& spec
   check_field("intensity_gauss", field.intensity_gauss(), 0.1, 1, "[0.1, 1]");
 }
 
-// GPS, barometer and magnetometer figures of robot `i`.
+// GPS, barometer and magnetometer figures of robot `i` beyond their declared ranges.
 void ValidateHilSensors(const SourceLocator& at, int i, const proto::Robot& robot) {
   const std::string who = "robot \"" + robot.name() + "\": ";
-  if (!InRange(robot.gps().rate_hz(), 0.1, 1000)) {
-    at.Fail({{"robot", i}, {"gps"}, {"rate_hz"}},
-            who + "gps rate_hz " + Num(robot.gps().rate_hz()) + " out of range [0.1, 1000]");
-  }
-  if (!InRange(robot.gps().delay_ms(), 0, 10000)) {
-    at.Fail({{"robot", i}, {"gps"}, {"delay_ms"}},
-            who + "gps delay_ms " + Num(robot.gps().delay_ms()) + " out of range [0, 10000]");
-  }
   const std::tuple<const char*, const char*, double> noises[] = {
       {"gps", "horizontal_noise_m", robot.gps().horizontal_noise_m()},
       {"gps", "vertical_noise_m", robot.gps().vertical_noise_m()},
@@ -375,9 +259,8 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
         at.Fail({{"robot", i}, {"position_m"}}, who + "position_m must be finite, within 1e6 m");
       }
     }
-    RequireInRange(at, {{"robot", i}, {"yaw_deg"}}, who, "yaw_deg", robot.yaw_deg(), -1e6, 1e6);
-    RequireInRange(at, {{"robot", i}, {"state_rate_hz"}}, who, "state_rate_hz",
-                   robot.state_rate_hz(), 0.01, 1e5);
+    // Declared ranges and rates: the radio overrides' (same_rules_as), lidar, IMU and GPS figures.
+    CheckFieldRules(at, {{"robot", i}}, who, robot, spec.radio().standard());
     if (robot.command_timeout_ms() < 0 || robot.command_timeout_ms() > kMaxDurationMs) {
       at.Fail({{"robot", i}, {"command_timeout_ms"}},
               who + "command_timeout_ms must be in [0, " + std::to_string(kMaxDurationMs) + "]");
@@ -396,32 +279,6 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
     if (robot.px4_sim_port() != 0 && robot.ardupilot_json_port() != 0) {
       at.Fail({{"robot", i}, {"px4_sim_port"}},
               who + "has both ardupilot_json_port and px4_sim_port: one autopilot per robot");
-    }
-    if (robot.lidar().rays() > kMaxLidarRays) {
-      at.Fail({{"robot", i}, {"lidar"}, {"rays"}},
-              who + "lidar rays " + std::to_string(robot.lidar().rays()) + " out of range [0, " +
-                  std::to_string(kMaxLidarRays) + "]");
-    }
-    RequireInRange(at, {{"robot", i}, {"lidar"}, {"max_range_m"}}, who, "lidar max_range_m",
-                   robot.lidar().max_range_m(), 0.01, 1e4);
-    RequireInRange(at, {{"robot", i}, {"lidar"}, {"fov_deg"}}, who, "lidar fov_deg",
-                   robot.lidar().fov_deg(), 0.01, 360);
-    const std::pair<const char*, double> imu[] = {
-        {"gyro_noise_rad_s", robot.imu().gyro_noise_rad_s()},
-        {"gyro_bias_rad_s", robot.imu().gyro_bias_rad_s()},
-        {"accel_noise_m_s2", robot.imu().accel_noise_m_s2()},
-        {"accel_bias_m_s2", robot.imu().accel_bias_m_s2()}};
-    for (const auto& [field, value] : imu) {
-      RequireInRange(at, {{"robot", i}, {"imu"}, {field}}, who + "imu ", field, value, 0, 1e3);
-    }
-    if (robot.has_tx_power_dbm() && !InRange(robot.tx_power_dbm(), -10, 30)) {
-      at.Fail({{"robot", i}, {"tx_power_dbm"}},
-              who + "tx_power_dbm " + Num(robot.tx_power_dbm()) + " out of range [-10, 30]");
-    }
-    if (robot.has_rate_mbps() && !IsValidRate(spec.radio().standard(), robot.rate_mbps())) {
-      at.Fail({{"robot", i}, {"rate_mbps"}},
-              who + "rate_mbps " + Num(robot.rate_mbps()) + " is not a rate of " +
-                  proto::Radio::Standard_Name(spec.radio().standard()) + kRateLists);
     }
     ValidateHilSensors(at, i, robot);
     if (!robot.airframe().empty() && FindAirframe(spec, robot.airframe()).name().empty()) {

@@ -6,9 +6,48 @@
 #include <vector>
 
 #include "mac_phy_sim/test/saturation_harness.h"
+#include "sitlnet/field_options.pb.h"
 
 namespace sitlnet::mac {
 namespace {
+
+// MediumConfig's defaults let the library run without a scenario (its tests, tools); a scenario
+// that leaves every radio field out must give the very same config, so the proto's defaults and
+// the library's cannot drift apart.
+TEST(ScenarioAdapterTest, ScenarioDefaultsAreTheLibrarysDefaults) {
+  const Scenario scenario = LoadScenarioText("name: \"d\"\nrobot { name: \"a\" }\n", "d.textproto");
+  EXPECT_TRUE(MediumConfigFromScenario(scenario) == MediumConfig{});
+}
+
+// The medium only asserts what the scenario's options bound (DerivePhyInfo): every radio value at
+// either end of its declared range, once loaded, must build a medium without tripping one.
+TEST(ScenarioAdapterTest, EveryRadioValueTheScenarioAcceptsBuildsAMedium) {
+  const google::protobuf::Descriptor* radio = proto::Radio::descriptor();
+  int built = 0;
+  for (int i = 0; i < radio->field_count(); ++i) {
+    const google::protobuf::FieldDescriptor* field = radio->field(i);
+    const auto& options = field->options();
+    for (const bool upper : {false, true}) {
+      const auto bound = upper ? proto::range_max : proto::range_min;
+      if (!options.HasExtension(bound)) continue;
+      double value = options.GetExtension(bound);
+      if (!upper && options.GetExtension(proto::range_min_open)) value += 1;
+      Scenario scenario = LoadScenarioText("name: \"b\"\nrobot { name: \"a\" }\n", "b.textproto");
+      proto::Radio* spec = scenario.spec.mutable_radio();
+      const auto* reflection = spec->GetReflection();
+      if (field->cpp_type() == google::protobuf::FieldDescriptor::CPPTYPE_DOUBLE) {
+        reflection->SetDouble(spec, field, value);
+      } else {
+        reflection->SetUInt32(spec, field, static_cast<uint32_t>(value));
+      }
+      scenario = ValidateScenarioSpec(scenario.spec, "b.textproto");
+      Medium medium = MakeMediumFromScenario(scenario);
+      EXPECT_EQ(medium.station_count(), 1) << field->name() << " " << value;
+      ++built;
+    }
+  }
+  EXPECT_GT(built, 15);
+}
 
 TEST(ScenarioAdapterTest, BuildsStationsObstaclesAndRadio) {
   const Scenario scenario = LoadScenarioText(R"(

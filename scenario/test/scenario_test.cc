@@ -56,6 +56,21 @@ TEST(ScenarioTest, DerivesNamesAddressesAndDefaults) {
   EXPECT_EQ(scenario.RobotIndex("zz"), -1);
 }
 
+// The command line's overrides edit the spec in memory and validate it again, never through text.
+TEST(ScenarioTest, EditedSpecValidatesWithoutText) {
+  proto::Scenario spec = LoadScenarioText(kTwo, "t.textproto").spec;
+  spec.mutable_timing()->set_pacing(ProtoPacing(clock::Pacing::kLockstep));
+  EXPECT_EQ(ValidateScenarioSpec(spec, "t.textproto").pacing(), clock::Pacing::kLockstep);
+  spec.mutable_radio()->set_tx_power_dbm(40);
+  try {
+    ValidateScenarioSpec(spec, "t.textproto (with overrides)");
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_STREQ(error.what(),
+                 "t.textproto (with overrides): radio: tx_power_dbm 40 out of range [-10, 30]");
+  }
+}
+
 TEST(ScenarioTest, SyntaxErrorNamesLineAndColumn) {
   ExpectRejected("name: \"t\"\nrobot { nme: \"a\" }\n", "t.textproto:2:", "no field named \"nme\"");
 }

@@ -29,7 +29,7 @@ runner::RunOptions OptionsFor(const RunScenario& scenario, bool lockstep) {
   options.images_root = integration_test::SourceDir() + "/robot_images";
   options.progress = false;
   options.realtime_priority = 0;
-  options.lockstep = lockstep;
+  options.pacing = lockstep ? clock::Pacing::kLockstep : clock::Pacing::kRealtime;
   return options;
 }
 

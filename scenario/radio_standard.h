@@ -1,0 +1,25 @@
+// The scenario's radio standard in mac_phy_sim's terms, and its data rates: validation and the
+// medium adapter both read mac_phy_sim's one table of PHY modes through here.
+#ifndef SITLNET_SCENARIO_RADIO_STANDARD_H_
+#define SITLNET_SCENARIO_RADIO_STANDARD_H_
+
+#include <string>
+
+#include "mac_phy_sim/mac_phy_sim.h"
+#include "sitlnet/scenario.pb.h"
+
+namespace sitlnet {
+
+// mac_phy_sim's Standard for the scenario's Radio.standard.
+mac::Standard MacStandard(proto::Radio::Standard standard);
+
+// True if `rate_mbps` is a data rate of `standard` (mac::RatesMbps).
+bool IsRateOf(proto::Radio::Standard standard, double rate_mbps);
+
+// The rates of every standard for a message:
+// " (802.11a: 6 9 12 18 24 36 48 54; 802.11b: 1 2 5.5 11; 802.11g: both)".
+std::string RateListsText();
+
+}  // namespace sitlnet
+
+#endif  // SITLNET_SCENARIO_RADIO_STANDARD_H_
