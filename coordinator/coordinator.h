@@ -5,7 +5,7 @@
 // explains the time model, the messages and the guarantees.
 //
 // Sections: connectors and transport (coordinator/connector.h,
-// coordinator/transport.h), pacing (coordinator/pacing.h), metrics
+// coordinator/transport.h), pacing (coordinator/pacer.h), metrics
 // (coordinator/metrics.h), signals (coordinator/stop_signal.h), and below the
 // run loop itself.
 #ifndef SITLNET_COORDINATOR_COORDINATOR_H_
@@ -19,7 +19,7 @@
 #include "coordinator/authentication.h"
 #include "coordinator/connector.h"
 #include "coordinator/metrics.h"
-#include "coordinator/pacing.h"
+#include "coordinator/pacer.h"
 #include "coordinator/stop_signal.h"
 #include "coordinator/transport.h"
 #include "scenario/scenario.h"

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "coordinator/pacing.h"
+#include "coordinator/pacer.h"
 
 namespace sitlnet::coordinator {
 

@@ -1,10 +1,10 @@
 // test_autopilot: a small autopilot for sitlnet's tests and demos (issue 14), standing in for
 // ArduPilot SITL and PX4 SITL where neither can be installed. It speaks either autopilot's
-// simulator protocol as that autopilot does (json_link.h: ArduPilot's JSON; px4_link.h: PX4's
-// simulator MAVLink), takes its clock from the simulator's messages, arms after --arm-after-s of
-// that clock once the protocol gave what flying needs, climbs to an altitude, holds it and flies
-// to a waypoint (pilot.h), and sends MAVLink telemetry (HEARTBEAT, GLOBAL_POSITION_INT) to a
-// ground station on the radio (telemetry.h).
+// simulator protocol as that autopilot does (json_autopilot_link.h: ArduPilot's JSON;
+// px4_autopilot_link.h: PX4's simulator MAVLink), takes its clock from the simulator's messages,
+// arms after --arm-after-s of that clock once the protocol gave what flying needs, climbs to an
+// altitude, holds it and flies to a waypoint (pilot.h), and sends MAVLink telemetry (HEARTBEAT,
+// GLOBAL_POSITION_INT) to a ground station on the radio (telemetry.h).
 //
 // Usage: test_autopilot (--json-port PORT [--rate-hz 400] | --px4-port PORT)
 //          [--altitude-m 10] [--waypoint X,Y] [--origin LAT,LON,ALT] [--arm-after-s 0.5]
@@ -28,9 +28,9 @@
 #include <memory>
 #include <string>
 
-#include "robot_images/test_autopilot/json_link.h"
+#include "robot_images/test_autopilot/json_autopilot_link.h"
 #include "robot_images/test_autopilot/pilot.h"
-#include "robot_images/test_autopilot/px4_link.h"
+#include "robot_images/test_autopilot/px4_autopilot_link.h"
 #include "robot_images/test_autopilot/telemetry.h"
 
 namespace {

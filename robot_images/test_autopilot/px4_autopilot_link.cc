@@ -1,4 +1,4 @@
-#include "robot_images/test_autopilot/px4_link.h"
+#include "robot_images/test_autopilot/px4_autopilot_link.h"
 
 #include <netinet/tcp.h>
 #include <poll.h>

@@ -1,4 +1,4 @@
-#include "robot_images/test_autopilot/json_link.h"
+#include "robot_images/test_autopilot/json_autopilot_link.h"
 
 #include <poll.h>
 #include <sys/socket.h>

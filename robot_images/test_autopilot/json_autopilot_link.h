@@ -1,8 +1,8 @@
 // ArduPilot's JSON physics protocol, client side, as ArduPilot SITL speaks it (docs/protocols.md):
 // a 40-byte servo frame with an increasing frame_count, then a wait for the JSON reply whose
 // timestamp is the autopilot's clock; the same frame again when no reply comes within a second.
-#ifndef SITLNET_ROBOT_IMAGES_TEST_AUTOPILOT_JSON_LINK_H_
-#define SITLNET_ROBOT_IMAGES_TEST_AUTOPILOT_JSON_LINK_H_
+#ifndef SITLNET_ROBOT_IMAGES_TEST_AUTOPILOT_JSON_AUTOPILOT_LINK_H_
+#define SITLNET_ROBOT_IMAGES_TEST_AUTOPILOT_JSON_AUTOPILOT_LINK_H_
 
 #include <netinet/in.h>
 
@@ -30,4 +30,4 @@ class JsonLink : public SimulatorLink {
 
 }  // namespace sitlnet::test_autopilot
 
-#endif  // SITLNET_ROBOT_IMAGES_TEST_AUTOPILOT_JSON_LINK_H_
+#endif  // SITLNET_ROBOT_IMAGES_TEST_AUTOPILOT_JSON_AUTOPILOT_LINK_H_

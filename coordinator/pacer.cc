@@ -1,4 +1,4 @@
-#include "coordinator/pacing.h"
+#include "coordinator/pacer.h"
 
 namespace sitlnet::coordinator {
 

@@ -2,8 +2,8 @@
 // clock times a real-time factor) or `lockstep` (as fast as possible).
 // Deadlines come from the run's clock::Timebase (clock/clock.h), the one owner
 // of the virtual<->wall mapping.
-#ifndef SITLNET_COORDINATOR_PACING_H_
-#define SITLNET_COORDINATOR_PACING_H_
+#ifndef SITLNET_COORDINATOR_PACER_H_
+#define SITLNET_COORDINATOR_PACER_H_
 
 #include <string>
 
@@ -65,4 +65,4 @@ class LagWarner {
 
 }  // namespace sitlnet::coordinator
 
-#endif  // SITLNET_COORDINATOR_PACING_H_
+#endif  // SITLNET_COORDINATOR_PACER_H_

@@ -9,8 +9,8 @@
 // ground truth, standing in for PX4's attitude estimator (so the test autopilot needs it, which
 // sitlnet sends by default). An observation is complete when the ground truth of the sensor's
 // time has arrived (sitlnet sends HIL_SENSOR, HIL_GPS, HIL_STATE_QUATERNION in that order).
-#ifndef SITLNET_ROBOT_IMAGES_TEST_AUTOPILOT_PX4_LINK_H_
-#define SITLNET_ROBOT_IMAGES_TEST_AUTOPILOT_PX4_LINK_H_
+#ifndef SITLNET_ROBOT_IMAGES_TEST_AUTOPILOT_PX4_AUTOPILOT_LINK_H_
+#define SITLNET_ROBOT_IMAGES_TEST_AUTOPILOT_PX4_AUTOPILOT_LINK_H_
 
 #include <netinet/in.h>
 
@@ -51,4 +51,4 @@ class Px4Link : public SimulatorLink {
 
 }  // namespace sitlnet::test_autopilot
 
-#endif  // SITLNET_ROBOT_IMAGES_TEST_AUTOPILOT_PX4_LINK_H_
+#endif  // SITLNET_ROBOT_IMAGES_TEST_AUTOPILOT_PX4_AUTOPILOT_LINK_H_
