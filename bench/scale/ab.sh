@@ -1,5 +1,5 @@
 #!/bin/bash
-# A/B of two builds on the end-to-end scale scenario (docs/performance.md, "House refactor").
+# A/B of two builds on the end-to-end scale scenario (docs/performance.md, "How to measure").
 #
 #   sudo bench/scale/ab.sh OLD_BUILD[:IMAGES] NEW_BUILD[:IMAGES] [ROUNDS] [OUT]
 #

@@ -4,7 +4,7 @@
 // system ids (the manifests' --sysid). The formation mission: every vehicle takes off, flies the
 // same four waypoints from its own home, and lands. Oracle: the truth in trajectories.csv.
 // 4 PX4 + 4 ArduCopter (SITLNET_FLEET_EACH=N flies N of each instead; docs/performance.md,
-// "The real autopilots in lock-step").
+// "The real autopilots").
 #include <algorithm>
 #include <chrono>
 #include <cmath>
