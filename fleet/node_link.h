@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "coordinator/connector.h"
-#include "coordinator/pacing.h"
+#include "coordinator/pacer.h"
 #include "coordinator/remote_connector.h"
 #include "fleet/fleet.h"
 

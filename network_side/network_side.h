@@ -12,7 +12,7 @@
 
 #include "common/common.h"
 #include "coordinator/connector.h"
-#include "coordinator/pacing.h"
+#include "coordinator/pacer.h"
 #include "mac_phy_sim/mac_phy_sim.h"
 #include "scenario/scenario.h"
 #include "sitlnet/medium_link.pb.h"
