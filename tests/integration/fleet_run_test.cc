@@ -254,15 +254,6 @@ TEST(FleetRunTest, TwoNodesInTheirOwnNamespacesGiveTheOneHostRunByteForByte) {
   ExpectNoRobotLeft(scenario.name);
 }
 
-// A number of summary.json after `key` ("\"stf\":{\"mean\":"), within the text after `after`;
-// NaN if absent.
-double SummaryNumber(const std::string& summary, const std::string& after, const std::string& key) {
-  const size_t from = summary.find(after);
-  const size_t at = from == std::string::npos ? from : summary.find(key, from);
-  if (at == std::string::npos) return std::nan("");
-  return std::strtod(summary.c_str() + at + key.size(), nullptr);
-}
-
 // Deliveries (deliveries.csv: delivery_ns,source,station,...) from each robot to robots of the
 // other node, by source index; a robot's node is its index % 2 (WriteFleetScenario).
 std::vector<int> CrossNodeDeliveries(const std::string& deliveries) {

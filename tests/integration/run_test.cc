@@ -488,8 +488,11 @@ TEST(RunTest, DilatedTimeAtAQuarterKeepsPingAndIperf3InVirtualTime) {
 // compared within 4 / sqrt(n) of that, plus two 10 ms iterations for where the first and last hello
 // were captured. About 35 hellos per robot make that about 11 %; on the host's clock the mean
 // would be twice the interval.
-TEST(RunTest, DilatedTimeAtTwiceRealTimeKeepsPingIperf3AndBabeldInVirtualTime) {
-  SITLNET_REQUIRE_NNS_PRIVILEGES();
+// The run at f = 2 and its checks. Dilated clocks follow the wall clock, the medium the run's
+// virtual time: they agree only while the run keeps real time. Returns true, checking nothing,
+// when `may_run_again` and the run fell behind (lag above 20 ms, against about 1 ms when it keeps
+// up): seen once in a CI rehearsal's container pass, ping's 8 intervals spanned 6.1 virtual s.
+bool DilatedTimeAtTwiceRealTime(bool may_run_again) {
   const std::string wlan =
       "10." + std::to_string(240 + 11) + "." + std::to_string(getpid() % 250) + ".";
   // The slot of the test above: the two never run at once (one process, one test at a time).
@@ -510,7 +513,18 @@ TEST(RunTest, DilatedTimeAtTwiceRealTimeKeepsPingIperf3AndBabeldInVirtualTime) {
   DownGuard guard(scenario.name);
   const std::string out = TempDir() + "/" + scenario.name + "-out";
   const CommandResult result = SitlnetRun(scenario, out, {});
-  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  if (result.exit_code != 0) return false;
+  const double lag_max_ms =
+      SummaryNumber(ReadAll(out + "/summary.json"), "\"lag_ms\"", "\"max\":");
+  if (may_run_again && !(lag_max_ms <= 20)) {
+    std::printf("the run fell behind real time (lag max %.1f ms; %s): run once more\n", lag_max_ms,
+                integration_test::HostLoad().c_str());
+    ExpectNothingLeft(scenario.name);
+    RunCommand({"rm", "-rf", out});
+    return true;
+  }
+  std::printf("lag max %.2f ms\n", lag_max_ms);
   const std::string ping_log = ReadAll(out + "/robots/c.log");
   const double requests_per_s = EchoRequestsPerVirtualSecond(out, wlan + "1", 9, ping_log);
   ExpectPingRateFollowsItsClock(requests_per_s, 1.0);
@@ -523,9 +537,10 @@ TEST(RunTest, DilatedTimeAtTwiceRealTimeKeepsPingIperf3AndBabeldInVirtualTime) {
                                                    nullptr, &sources);
   std::map<std::string, std::vector<double>> by_source;
   for (size_t i = 0; i < hellos.size(); ++i) by_source[sources[i]].push_back(hellos[i]);
-  ASSERT_EQ(by_source.size(), 2u) << ReadAll(out + "/robots/a.log");
+  EXPECT_EQ(by_source.size(), 2u) << ReadAll(out + "/robots/a.log");
   for (const auto& [source, times] : by_source) {
-    ASSERT_GT(times.size(), 20u) << source;
+    EXPECT_GT(times.size(), 20u) << source;
+    if (times.size() < 3) continue;
     const double intervals = static_cast<double>(times.size() - 2);
     const double mean_interval_s = (times.back() - times[1]) / intervals;
     const double interval_sd_s = 0.2 * 0.5 / std::sqrt(12.0);
@@ -535,6 +550,13 @@ TEST(RunTest, DilatedTimeAtTwiceRealTimeKeepsPingIperf3AndBabeldInVirtualTime) {
   }
   ExpectNothingLeft(scenario.name);
   RunCommand({"rm", "-rf", out});
+  return false;
+}
+
+TEST(RunTest, DilatedTimeAtTwiceRealTimeKeepsPingIperf3AndBabeldInVirtualTime) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  // Once more at most: the second run is judged whatever the host did.
+  if (DilatedTimeAtTwiceRealTime(/*may_run_again=*/true)) DilatedTimeAtTwiceRealTime(false);
 }
 // Issue 18: ROS 2's /clock in a robot, received by a Cyclone DDS subscriber with the same IDL and
 // QoS as ROS 2's time source (ros2_clock_echo), in both pacings; its times are the run's virtual

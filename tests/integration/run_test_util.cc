@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -37,6 +38,13 @@ CommandResult SitlnetRun(const RunScenario& scenario, const std::string& out,
                                    "--out",         out,   "--no-progress"};
   argv.insert(argv.end(), extra_args.begin(), extra_args.end());
   return RunCommand(argv, 300 * kNsPerS);
+}
+
+double SummaryNumber(const std::string& summary, const std::string& after, const std::string& key) {
+  const size_t from = summary.find(after);
+  const size_t at = from == std::string::npos ? from : summary.find(key, from);
+  if (at == std::string::npos) return std::nan("");
+  return std::strtod(summary.c_str() + at + key.size(), nullptr);
 }
 
 CommandResult SitlnetRunUntil(const RunScenario& scenario, const std::string& out,

@@ -28,6 +28,10 @@ std::string WlanPrefix(int slot);
 CommandResult SitlnetRun(const RunScenario& scenario, const std::string& out,
                          std::vector<std::string> extra_args);
 
+// A number of summary.json after `key` ("\"stf\":{\"mean\":"), within the text after `after`;
+// NaN if absent.
+double SummaryNumber(const std::string& summary, const std::string& after, const std::string& key);
+
 // `sitlnet run SCENARIO --out OUT --no-progress`, stopped with SIGINT (in order, its outputs
 // complete) once `done()` holds, checked when a file under OUT/robots changes (a GCS robot's
 // log) and at least every 200 ms, or after `timeout_ns`; the run may also end by itself. For a flight that ends at a virtual
