@@ -28,6 +28,11 @@ std::string FloatText(double value) {
   return text.str();
 }
 
+template <typename Integer>
+Value IntegerValue(Integer value) {
+  return Value{static_cast<double>(value), std::to_string(value)};
+}
+
 std::optional<Value> NumericValue(const Message& message, const FieldDescriptor* field) {
   const Reflection* reflection = message.GetReflection();
   switch (field->cpp_type()) {
@@ -39,22 +44,14 @@ std::optional<Value> NumericValue(const Message& message, const FieldDescriptor*
       const double value = reflection->GetFloat(message, field);
       return Value{value, FloatText(value)};
     }
-    case FieldDescriptor::CPPTYPE_INT32: {
-      const int32_t value = reflection->GetInt32(message, field);
-      return Value{static_cast<double>(value), std::to_string(value)};
-    }
-    case FieldDescriptor::CPPTYPE_INT64: {
-      const int64_t value = reflection->GetInt64(message, field);
-      return Value{static_cast<double>(value), std::to_string(value)};
-    }
-    case FieldDescriptor::CPPTYPE_UINT32: {
-      const uint32_t value = reflection->GetUInt32(message, field);
-      return Value{static_cast<double>(value), std::to_string(value)};
-    }
-    case FieldDescriptor::CPPTYPE_UINT64: {
-      const uint64_t value = reflection->GetUInt64(message, field);
-      return Value{static_cast<double>(value), std::to_string(value)};
-    }
+    case FieldDescriptor::CPPTYPE_INT32:
+      return IntegerValue(reflection->GetInt32(message, field));
+    case FieldDescriptor::CPPTYPE_INT64:
+      return IntegerValue(reflection->GetInt64(message, field));
+    case FieldDescriptor::CPPTYPE_UINT32:
+      return IntegerValue(reflection->GetUInt32(message, field));
+    case FieldDescriptor::CPPTYPE_UINT64:
+      return IntegerValue(reflection->GetUInt64(message, field));
     default:
       return std::nullopt;
   }

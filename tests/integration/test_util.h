@@ -60,8 +60,9 @@ SetupVerdict AskSetup(const std::string& group);
     if (const std::string missing = (why_missing); !missing.empty()) {                    \
       const ::sitlnet::integration_test::SetupVerdict verdict =                           \
           ::sitlnet::integration_test::AskSetup(group);                                   \
-      if (!verdict.for_this_machine) GTEST_SKIP() << missing << "; " << verdict.line;     \
-      if (::sitlnet::integration_test::IsCi()) FAIL() << missing << "; " << verdict.line; \
+      if (verdict.for_this_machine && ::sitlnet::integration_test::IsCi()) {              \
+        FAIL() << missing << "; " << verdict.line;                                        \
+      }                                                                                   \
       GTEST_SKIP() << missing << "; " << verdict.line;                                    \
     }                                                                                     \
   } while (0)
