@@ -128,6 +128,10 @@ Image LoadImage(const std::string& images_root, const std::string& name) {
   internal::CheckContainerFields(image);
   internal::CheckSandboxFields(image);
   CheckLimits(image);
+  // A day: far above any boot, far from int64's end once summed over a fleet.
+  if (image.manifest.boot_cost_ms() < 0 || image.manifest.boot_cost_ms() > 86400000) {
+    throw Error(image.manifest_path + ": boot_cost_ms: must be from 0 to 86400000 (a day)");
+  }
   return image;
 }
 

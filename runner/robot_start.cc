@@ -2,11 +2,14 @@
 
 #include <google/protobuf/text_format.h>
 #include <poll.h>
+#include <sched.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <vector>
 
+#include "runner/boot_progress.h"
 #include "runner/log_cause.h"
 
 namespace sitlnet::runner {
@@ -159,20 +162,47 @@ std::vector<std::unique_ptr<images::RobotProcess>> StartClockPublishers(
   return publishers;
 }
 
+namespace {
+
+// The start bound: the scenario's, else 10 s plus each booting robot's image's boot cost.
+TimeNs StartBoundNs(const Scenario& scenario, const std::vector<RobotSlot>& robots) {
+  const proto::Timing& timing = scenario.spec.timing();
+  if (timing.has_start_timeout_ms()) return timing.start_timeout_ms() * kNsPerMs;
+  TimeNs bound_ns = 10 * kNsPerS;
+  for (const RobotSlot& robot : robots) {
+    if (robot.process) bound_ns += robot.image.manifest.boot_cost_ms() * kNsPerMs;
+  }
+  return bound_ns;
+}
+
+// The CPUs this process (and the robots it starts) may run on.
+int UsableCpuCount() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return 1;
+  return std::max(1, CPU_COUNT(&set));
+}
+
+BootSample SampleBoot(const RobotSlot& robot) {
+  BootSample sample;
+  struct stat log {};
+  if (stat(robot.process->log_path().c_str(), &log) == 0) sample.log_bytes = log.st_size;
+  if (robot.cgroup) sample.cpu_ns = robot.cgroup->Usage().cpu_ns;
+  return sample;
+}
+
+}  // namespace
+
 void WaitForRobotsToSpeak(const Scenario& scenario, std::vector<RobotSlot>& robots,
                           physics::PhysicsServer* server, const std::string& why) {
-  const TimeNs allowed_ns =
-      10 * kNsPerS + 250 * kNsPerMs *
-                         std::count_if(robots.begin(), robots.end(),
-                                       [](const RobotSlot& r) { return r.process != nullptr; });
-  const TimeNs deadline = MonotonicNowNs() + allowed_ns;
+  const TimeNs bound_ns = StartBoundNs(scenario, robots);
+  const TimeNs start_ns = MonotonicNowNs();
+  const TimeNs deadline = start_ns + bound_ns;
+  BootProgress progress(static_cast<int>(robots.size()), UsableCpuCount(), start_ns);
   for (;;) {
     server->Poll();
-    std::string silent;
-    std::string first_silent_log;  // The first silent robot's log: what it is waiting for.
-    // Woken by the physics server or by a silent image that exits (named at once, not at the
-    // deadline: a PX4 that exits at boot may take a second or more on a busy host).
-    std::vector<pollfd> wait = {{server->wait_fd(), POLLIN, 0}};
+    const TimeNs now = MonotonicNowNs();
+    std::vector<int> silent;
     for (const RobotPlan& plan : scenario.robots) {
       RobotSlot& robot = robots[plan.index];
       // A ground station's software has no physics to speak to.
@@ -183,23 +213,39 @@ void WaitForRobotsToSpeak(const Scenario& scenario, std::vector<RobotSlot>& robo
                       LogSays(FirstErrorLine(ReadLogTail(robot.process->log_path()))) +
                       " (log: " + robot.process->log_path() + ")");
         }
-        if (silent.empty()) first_silent_log = robot.process->log_path();
-        if (robot.process->exit_fd() >= 0) wait.push_back({robot.process->exit_fd(), POLLIN, 0});
-        silent += (silent.empty() ? "" : ", ") + plan.name;
+        silent.push_back(plan.index);
       }
     }
     if (silent.empty()) return;
-    const TimeNs now = MonotonicNowNs();
-    if (now >= deadline) {
-      const std::string last = LastLine(ReadLogTail(first_silent_log));
-      throw Error(why + ": robots " + silent +
-                  " sent no MotorCommand (nor servo frame, nor PX4 connection) within " +
-                  std::to_string(allowed_ns / kNsPerMs) + " ms of starting" +
-                  (last.empty() ? "" : "; " + silent.substr(0, silent.find(',')) +
-                                           "'s log ends \"" + last + "\"") +
+    std::vector<int> still;  // Silent and still for the stall window: named before the bound.
+    for (int index : silent) {
+      progress.Observe(index, SampleBoot(robots[index]), static_cast<int>(silent.size()), now);
+      if (progress.StillForNs(index, now) >= kBootStallNs) still.push_back(index);
+    }
+    if (!still.empty() || now >= deadline) {
+      const std::vector<int>& named = still.empty() ? silent : still;
+      std::string names;
+      for (int index : named) names += (names.empty() ? "" : ", ") + robots[index].name;
+      const std::string last = LastLine(ReadLogTail(robots[named[0]].process->log_path()));
+      throw Error(why + ": robots " + names +
+                  " sent no MotorCommand (nor servo frame, nor PX4 connection) " +
+                  (still.empty() ? "within the start bound, " + std::to_string(bound_ns / kNsPerMs) +
+                                       " ms (timing.start_timeout_ms)"
+                                 : "and made no progress (log and CPU time still) for " +
+                                       std::to_string(kBootStallNs / kNsPerMs) + " ms") +
+                  (last.empty() ? "" : "; " + robots[named[0]].name + "'s log ends \"" + last + "\"") +
                   " (see their logs in robots/)");
     }
-    poll(wait.data(), wait.size(), static_cast<int>((deadline - now) / kNsPerMs) + 1);
+    // Woken by the physics server or by a silent image that exits (named at once, not at the
+    // deadline: a PX4 that exits at boot may take a second or more on a busy host); and each
+    // second, to look at the booting robots' progress.
+    std::vector<pollfd> wait = {{server->wait_fd(), POLLIN, 0}};
+    for (int index : silent) {
+      const int exit_fd = robots[index].process->exit_fd();
+      if (exit_fd >= 0) wait.push_back({exit_fd, POLLIN, 0});
+    }
+    const TimeNs sleep_ns = std::min<TimeNs>(deadline - now, kNsPerS);
+    poll(wait.data(), wait.size(), static_cast<int>(sleep_ns / kNsPerMs) + 1);
   }
 }
 

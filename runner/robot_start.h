@@ -31,9 +31,12 @@ std::vector<std::unique_ptr<images::RobotProcess>> StartClockPublishers(
 
 // Lockstep: every robot with an image must have announced itself (a first
 // MotorCommand) before iteration 0, so that all of them take part from the
-// first step and two runs start alike. Waits on the server's socket, at most
-// 10 s of wall time plus 250 ms per robot with an image: 64 container images took 9.7 s to
-// start on a loaded 2-core host (docs/performance.md, "Containers").
+// first step and two runs start alike. Waits on the server's socket, at most the start bound
+// (timing.start_timeout_ms; unset: 10 s plus each image's boot_cost_ms, 250 ms unless its
+// manifest says: 64 container images took 9.7 s to start on a loaded 2-core host,
+// docs/performance.md, "Containers"). A robot whose log and CPU time stay still for
+// kBootStallNs (boot_progress.h) is named before the bound: a slow fleet is waited for, a hung
+// robot is not.
 // `why`: what makes the run wait ("lockstep", "wait_for_robots"), the error's first word.
 // An image that exits meanwhile ends the wait at once, named with its status (restart policies
 // apply once the run has begun).

@@ -695,6 +695,60 @@ TEST(RunTest, RealtimeRunIsFifoButItsImagesAreNot) {
   ExpectNothingLeft(scenario.name);
 }
 
+// The start bound follows the fleet (issue 46, item 5): a boot that keeps logging is waited for
+// past the 10 s stall window, up to the bound its manifest's boot_cost_ms makes; a robot that is
+// still (no log, no CPU) is named after 10 s although the scenario's bound is a minute; and the
+// scenario's bound, when set, is the bound.
+TEST(RunTest, TheStartBoundWaitsForABootThatProgressesAndNamesOneThatIsStill) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  // Logs a line a second for 12 s, then flies: beyond the stall window and the 10.25 s bound a
+  // robot of the default boot cost would have.
+  const std::string slow = WriteImageManifest(
+      "slowlogger",
+      "command: [\"/bin/sh\", \"-c\", \"for i in 1 2 3 4 5 6 7 8 9 10 11 12; do echo booting "
+      "$i; sleep 1; done; exec \\\"$@\\\"\", \"sh\", \"${SITLNET_BIN}/flocker\", \"--airframe\", "
+      "\"${AIRFRAME}\"]\nsandbox: NONE\nboot_cost_ms: 5000\n");
+  const std::string still =
+      WriteImageManifest("stillboot", "command: [\"/bin/sleep\", \"60\"]\nsandbox: NONE\n");
+  struct Case {
+    std::string image, timing_extra, expect;
+    double min_s, max_s;
+  };
+  const std::vector<Case> cases = {
+      {slow, "", "", 12, 60},
+      {still, "start_timeout_ms: 60000", "and made no progress (log and CPU time still) for 10000 ms",
+       10, 20},
+      {slow, "start_timeout_ms: 3000", "within the start bound, 3000 ms (timing.start_timeout_ms); "
+       "a's log ends \"booting ", 3, 8},
+  };
+  for (const Case& c : cases) {
+    const RunScenario scenario = WriteScenario(
+        9, "robot { name: \"a\" position_m { z: 0.2 } image: \"" + c.image + "\" }\n",
+        "timing { duration_ms: 1000 pacing: PACING_LOCKSTEP " + c.timing_extra + " }\n");
+    DownGuard guard(scenario.name);
+    const std::string out = TempDir() + "/" + scenario.name + "-start";
+    const auto start = std::chrono::steady_clock::now();
+    const CommandResult result = SitlnetRun(scenario, out, {});
+    const double wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (c.expect.empty()) {
+      EXPECT_EQ(result.exit_code, 0) << result.err;
+    } else {
+      EXPECT_EQ(result.exit_code, 2) << result.err;
+      EXPECT_NE(result.err.find("lockstep: robots a sent no MotorCommand (nor servo frame, nor "
+                                "PX4 connection) " + c.expect),
+                std::string::npos)
+          << result.err;
+    }
+    EXPECT_GE(wall_s, c.min_s) << result.err;
+    EXPECT_LT(wall_s, c.max_s) << result.err;
+    std::printf("[ measured ] %s %s: %.1f s (wall)\n", c.image.c_str(), c.timing_extra.c_str(),
+                wall_s);
+    ExpectNothingLeft(scenario.name);
+    RunCommand({"rm", "-rf", out});
+  }
+}
+
 // First "t=" of a flocker log: the virtual time of the first state it received (s), or -1.
 double FirstStateTimeS(const std::string& log) {
   const size_t at = log.find("t=");
