@@ -56,7 +56,7 @@ int Exec(const std::string& scenario_name, const std::string& robot,
     const nns::RobotRef ref = nns::ResolveRobot(scenarios, robot, scenario_name);
     // This process is single-threaded, so setns moves all of it; the fd is
     // close-on-exec and does not leak into CMD.
-    nns::UniqueFd netns = nns::OpenNetns(ref.robot.netns);
+    UniqueFd netns = nns::OpenNetns(ref.robot.netns);
     if (setns(netns.get(), CLONE_NEWNET) != 0) {
       throw Error(SystemErrorMessage("enter namespace \"" + ref.robot.netns + "\"", errno));
     }

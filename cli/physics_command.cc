@@ -33,10 +33,6 @@ constexpr const char* kPhysicsFooter =
     "\n"
     "exit codes: 0 ok, 1 failed, 2 usage or bad scenario file.";
 
-std::atomic<bool> g_stop{false};
-
-void OnSignal(int) { g_stop.store(true); }
-
 void PrintCounters(const Scenario& scenario, const physics::PhysicsServer& server) {
   std::printf("%-12s %9s %9s %9s %9s %9s %9s %7s %9s\n", "robot", "commands", "states", "malformed",
               "invalid", "wrong_id", "foreign", "cuts", "json");
@@ -66,14 +62,13 @@ int Physics(const std::string& scenario_arg, double duration_s, physics::ServerO
     physics::PhysicsServer server(scenario, options);
     std::optional<nns::DaemonRegistration> registration;
     if (up) registration.emplace(scenario.name, "physics");
-    std::signal(SIGINT, OnSignal);
-    std::signal(SIGTERM, OnSignal);
+    StopSignal stop;
     std::fprintf(stderr, "sitlnet physics: %zu robots, step %ld us, serving on port %u\n",
                  scenario.robots.size(), static_cast<long>(scenario.physics_step_ns / kNsPerUs),
                  scenario.spec.addresses().physics_port());
     const TimeNs max_lag_ns =
         physics::RunRealtime(&server, scenario.spec.timing().realtime_factor(),
-                             static_cast<TimeNs>(duration_s * kNsPerS), g_stop);
+                             static_cast<TimeNs>(duration_s * kNsPerS), stop.fd());
     std::fprintf(stderr, "sitlnet physics: stopped at %.3f s virtual time, max lag %.3f ms\n",
                  static_cast<double>(server.world().time_ns(0)) / kNsPerS,
                  static_cast<double>(max_lag_ns) / kNsPerMs);

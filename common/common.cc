@@ -86,4 +86,20 @@ bool IsInvokingUser(unsigned owner) {
   return geteuid() == 0 && sudo_uid != nullptr && std::to_string(owner) == sudo_uid;
 }
 
+UniqueFd& UniqueFd::operator=(UniqueFd&& other) noexcept {
+  if (this != &other) Reset(other.Release());
+  return *this;
+}
+
+int UniqueFd::Release() {
+  const int fd = fd_;
+  fd_ = -1;
+  return fd;
+}
+
+void UniqueFd::Reset(int fd) {
+  if (fd_ >= 0) close(fd_);
+  fd_ = fd;
+}
+
 }  // namespace sitlnet

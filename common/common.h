@@ -3,6 +3,8 @@
 #ifndef SITLNET_COMMON_COMMON_H_
 #define SITLNET_COMMON_COMMON_H_
 
+#include <signal.h>
+
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -96,6 +98,66 @@ uint64_t RaiseOpenFileLimit(uint64_t needed, std::string_view what);
 int RunProgramQuietly(const std::vector<std::string>& argv);
 
 //--------------------------------- Files ------------------------------------
+
+// Owns one file descriptor; closes it on destruction. -1 means empty. Every module's fds.
+class UniqueFd {
+ public:
+  UniqueFd() = default;
+  explicit UniqueFd(int fd) : fd_(fd) {}
+  UniqueFd(UniqueFd&& other) noexcept : fd_(other.Release()) {}
+  UniqueFd& operator=(UniqueFd&& other) noexcept;
+  UniqueFd(const UniqueFd&) = delete;
+  UniqueFd& operator=(const UniqueFd&) = delete;
+  ~UniqueFd() { Reset(); }
+
+  int get() const { return fd_; }
+  bool valid() const { return fd_ >= 0; }
+  int Release();
+  void Reset(int fd = -1);
+
+ private:
+  int fd_ = -1;
+};
+
+// SIGINT/SIGTERM -> an orderly stop, the one way every sitlnet process takes them. The handler
+// only writes a byte to a pipe (async-signal-safe); a process's waits poll the read end, so a
+// signal ends a wait at once instead of after a timeout (common/stop_signal.cc).
+class StopSignal {
+ public:
+  // Installs handlers for SIGINT and SIGTERM; one instance at a time.
+  StopSignal();
+  // Restores the previous handlers.
+  ~StopSignal();
+  StopSignal(const StopSignal&) = delete;
+  StopSignal& operator=(const StopSignal&) = delete;
+
+  // Readable once a signal arrived (or Request() was called).
+  int fd() const { return read_fd_; }
+  bool requested() const;
+  // The signal that arrived (0 if Request() or none).
+  int signal_number() const;
+  // Same effect as a signal (tests, a CLI "stop" command, another thread).
+  void Request();
+
+ private:
+  int read_fd_ = -1;
+  int write_fd_ = -1;
+  struct sigaction previous_int_ {};
+  struct sigaction previous_term_ {};
+};
+
+// SIGINT and SIGTERM blocked in the calling thread for a scope, so that threads started there
+// (a server's) never take them: they are for the thread that waits on the StopSignal.
+class StopSignalsBlocked {
+ public:
+  StopSignalsBlocked();
+  ~StopSignalsBlocked();
+  StopSignalsBlocked(const StopSignalsBlocked&) = delete;
+  StopSignalsBlocked& operator=(const StopSignalsBlocked&) = delete;
+
+ private:
+  sigset_t previous_{};
+};
 
 // A file of a run (CSV, logs, the pcap) appended as whole lines or records: buffered, written
 // with one write(2) per flush (every `lines_per_flush` lines or records and at destruction), so

@@ -6,7 +6,7 @@
 //
 // Sections: connectors and transport (coordinator/connector.h,
 // coordinator/transport.h), pacing (coordinator/pacer.h), metrics
-// (coordinator/metrics.h), signals (coordinator/stop_signal.h), and below the
+// (coordinator/metrics.h), signals (common.h's StopSignal), and below the
 // run loop itself.
 #ifndef SITLNET_COORDINATOR_COORDINATOR_H_
 #define SITLNET_COORDINATOR_COORDINATOR_H_
@@ -20,7 +20,6 @@
 #include "coordinator/connector.h"
 #include "coordinator/metrics.h"
 #include "coordinator/pacer.h"
-#include "coordinator/stop_signal.h"
 #include "coordinator/transport.h"
 #include "scenario/scenario.h"
 

@@ -388,7 +388,7 @@ class ConcurrentHandshakes {
     return threads_.size() - done_.size() < kMaxConcurrentHandshakes;
   }
 
-  void Start(Fd fd) {
+  void Start(UniqueFd fd) {
     std::lock_guard lock(mutex_);
     const uint64_t id = next_id_++;
     // A copy of the descriptor, ours until the thread is done, for the destructor's shutdown:
@@ -421,7 +421,7 @@ class ConcurrentHandshakes {
 
  private:
   // A thread's work: the handshake, then its outcome for TakeFinished.
-  void Handshake(uint64_t id, Fd fd) {
+  void Handshake(uint64_t id, UniqueFd fd) {
     Outcome outcome;
     try {
       Channel channel(std::move(fd), codec_);
@@ -454,8 +454,8 @@ class ConcurrentHandshakes {
   WaitLimits limits_;
   const FrameCodecOptions codec_;
   const TimeNs spin_ns_;
-  Fd cancel_;
-  Fd ready_;
+  UniqueFd cancel_;
+  UniqueFd ready_;
   std::mutex mutex_;
   std::map<uint64_t, std::thread> threads_;  // Joined by TakeFinished once done, or at the end.
   std::map<uint64_t, int> watched_;          // Copies of the sockets of handshakes under way.
@@ -504,7 +504,7 @@ bool AcceptUntil(Listener& listener, const HandshakeExpectation& expect, const W
       }
     }
     if (fds[0].revents & POLLIN) {
-      Fd fd;
+      UniqueFd fd;
       try {
         fd = listener.Accept(MonotonicNowNs(), -1);
       } catch (const TransportError& e) {

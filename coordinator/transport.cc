@@ -86,19 +86,6 @@ void ConfigureTcp(int fd) {
 
 }  // namespace
 
-Fd& Fd::operator=(Fd&& other) noexcept {
-  if (this != &other) {
-    Reset();
-    fd_ = std::exchange(other.fd_, -1);
-  }
-  return *this;
-}
-
-void Fd::Reset() {
-  if (fd_ >= 0) close(fd_);
-  fd_ = -1;
-}
-
 std::string Endpoint::ToString() const {
   return kind == Kind::kUnix ? "unix:" + path : host + ":" + std::to_string(port);
 }
@@ -151,7 +138,7 @@ Endpoint ParseEndpoint(std::string_view text) {
 
 //---------------------------------- Channel ---------------------------------
 
-Channel::Channel(Fd socket, FrameCodecOptions options)
+Channel::Channel(UniqueFd socket, FrameCodecOptions options)
     : socket_(std::move(socket)), encoder_(options), max_frame_bytes_(options.max_frame_bytes) {
   SITLNET_DEMAND(socket_.valid());
   SetNonBlocking(socket_.get());
@@ -322,7 +309,7 @@ bool Channel::Receive(proto::coord::CoordinatorMessage* message, TimeNs deadline
 Listener::Listener(const Endpoint& endpoint) : endpoint_(endpoint) {
   if (endpoint.kind == Endpoint::Kind::kUnix) {
     const sockaddr_un address = UnixAddress(endpoint.path);
-    socket_ = Fd(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+    socket_ = UniqueFd(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
     if (!socket_.valid()) throw SystemError("create unix socket", errno);
     unlink(endpoint.path.c_str());  // A stale socket from a killed run.
     if (bind(socket_.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) < 0) {
@@ -335,7 +322,7 @@ Listener::Listener(const Endpoint& endpoint) : endpoint_(endpoint) {
     }
   } else {
     addrinfo* info = Resolve(endpoint, /*passive=*/true);
-    socket_ = Fd(socket(info->ai_family, SOCK_STREAM | SOCK_CLOEXEC, 0));
+    socket_ = UniqueFd(socket(info->ai_family, SOCK_STREAM | SOCK_CLOEXEC, 0));
     const int one = 1;
     if (socket_.valid()) setsockopt(socket_.get(), SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
     const int rc = socket_.valid() ? bind(socket_.get(), info->ai_addr, info->ai_addrlen) : -1;
@@ -357,17 +344,17 @@ Listener::~Listener() {
   if (endpoint_.kind == Endpoint::Kind::kUnix && socket_.valid()) unlink(endpoint_.path.c_str());
 }
 
-Fd Listener::Accept(TimeNs deadline_ns, int interrupt_fd) {
+UniqueFd Listener::Accept(TimeNs deadline_ns, int interrupt_fd) {
   for (;;) {
     const int fd = accept4(socket_.get(), nullptr, nullptr, SOCK_CLOEXEC);
-    if (fd >= 0) return Fd(fd);
+    if (fd >= 0) return UniqueFd(fd);
     if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
       throw SystemError("accept on " + endpoint_.ToString(), errno);
     }
     pollfd fds[2] = {{socket_.get(), POLLIN, 0}, {interrupt_fd, POLLIN, 0}};
     const int n = poll(fds, interrupt_fd >= 0 ? 2 : 1, PollTimeoutMs(deadline_ns));
     if (n < 0 && errno != EINTR) throw SystemError("poll on " + endpoint_.ToString(), errno);
-    if (interrupt_fd >= 0 && (fds[1].revents & POLLIN)) return Fd();
+    if (interrupt_fd >= 0 && (fds[1].revents & POLLIN)) return UniqueFd();
     if (n == 0 && deadline_ns != kNoDeadline && MonotonicNowNs() >= deadline_ns) {
       throw TransportError(TransportError::Kind::kTimeout,
                            "timed out waiting for a connection on " + endpoint_.ToString());
@@ -377,21 +364,21 @@ Fd Listener::Accept(TimeNs deadline_ns, int interrupt_fd) {
 
 //---------------------------------- Connect ---------------------------------
 
-Fd Connect(const Endpoint& endpoint, TimeNs deadline_ns) {
+UniqueFd Connect(const Endpoint& endpoint, TimeNs deadline_ns) {
   for (;;) {
-    Fd fd;
+    UniqueFd fd;
     int rc = -1;
     int err = 0;
     if (endpoint.kind == Endpoint::Kind::kUnix) {
       const sockaddr_un address = UnixAddress(endpoint.path);
-      fd = Fd(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+      fd = UniqueFd(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
       rc = connect(fd.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address);
       err = errno;
     } else {
       addrinfo* info = Resolve(endpoint, /*passive=*/false);
       // Non-blocking, so that a host that drops the SYN (down, filtered)
       // costs the deadline, not the kernel's ~2 min of SYN retries.
-      fd = Fd(socket(info->ai_family, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0));
+      fd = UniqueFd(socket(info->ai_family, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0));
       rc = connect(fd.get(), info->ai_addr, info->ai_addrlen);
       err = errno;
       freeaddrinfo(info);
@@ -422,12 +409,12 @@ Fd Connect(const Endpoint& endpoint, TimeNs deadline_ns) {
   }
 }
 
-std::pair<Fd, Fd> SocketPair() {
+std::pair<UniqueFd, UniqueFd> SocketPair() {
   int fds[2];
   if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) < 0) {
     throw SystemError("socketpair", errno);
   }
-  return {Fd(fds[0]), Fd(fds[1])};
+  return {UniqueFd(fds[0]), UniqueFd(fds[1])};
 }
 
 }  // namespace sitlnet::coordinator

@@ -19,24 +19,6 @@ namespace sitlnet::coordinator {
 // Deadline meaning "wait forever" (still interruptible).
 inline constexpr TimeNs kNoDeadline = INT64_MAX;
 
-// An owned file descriptor; closed on destruction.
-class Fd {
- public:
-  Fd() = default;
-  explicit Fd(int fd) : fd_(fd) {}
-  Fd(Fd&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
-  Fd& operator=(Fd&& other) noexcept;
-  Fd(const Fd&) = delete;
-  Fd& operator=(const Fd&) = delete;
-  ~Fd() { Reset(); }
-  int get() const { return fd_; }
-  bool valid() const { return fd_ >= 0; }
-  void Reset();
-
- private:
-  int fd_ = -1;
-};
-
 // Where to listen or connect: "unix:/path", "/path" or "./path" (a Unix
 // socket), or "host:port" / "tcp:host:port" (TCP; host may be a name).
 struct Endpoint {
@@ -68,7 +50,7 @@ class TransportError : public Error {
 class Channel {
  public:
   // Takes a connected stream socket; makes it non-blocking (TCP: no Nagle).
-  Channel(Fd socket, FrameCodecOptions options = {});
+  Channel(UniqueFd socket, FrameCodecOptions options = {});
 
   // Sends one message; throws TransportError (kTimeout, kClosed, kSystem).
   void Send(const proto::coord::CoordinatorMessage& message, TimeNs deadline_ns = kNoDeadline);
@@ -105,7 +87,7 @@ class Channel {
   bool Wait(short events, TimeNs deadline_ns, int interrupt_fd, const char* doing);
   bool FillAtLeast(size_t bytes, TimeNs deadline_ns, int interrupt_fd);
 
-  Fd socket_;
+  UniqueFd socket_;
   FrameEncoder encoder_;
   size_t max_frame_bytes_;
   std::string inbox_;  // Received, unconsumed bytes are [inbox_begin_, inbox_end_).
@@ -131,23 +113,23 @@ class Listener {
   Listener(const Listener&) = delete;
   Listener& operator=(const Listener&) = delete;
   // Accepts one connection; throws TransportError(kTimeout) at the deadline;
-  // returns an invalid Fd if interrupt_fd fired.
-  Fd Accept(TimeNs deadline_ns = kNoDeadline, int interrupt_fd = -1);
+  // returns an invalid UniqueFd if interrupt_fd fired.
+  UniqueFd Accept(TimeNs deadline_ns = kNoDeadline, int interrupt_fd = -1);
   // The bound endpoint (TCP: with the actual port when 0 was asked).
   const Endpoint& endpoint() const { return endpoint_; }
   int fd() const { return socket_.get(); }
 
  private:
   Endpoint endpoint_;
-  Fd socket_;
+  UniqueFd socket_;
 };
 
 // Connects to a listening coordinator, retrying until the deadline while the
 // listener does not exist yet (ENOENT, ECONNREFUSED). Throws TransportError.
-Fd Connect(const Endpoint& endpoint, TimeNs deadline_ns);
+UniqueFd Connect(const Endpoint& endpoint, TimeNs deadline_ns);
 
 // A connected pair of Unix stream sockets (tests, in-process use).
-std::pair<Fd, Fd> SocketPair();
+std::pair<UniqueFd, UniqueFd> SocketPair();
 
 }  // namespace sitlnet::coordinator
 

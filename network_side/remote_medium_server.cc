@@ -27,7 +27,7 @@ std::string ServeRemoteMedium(const Scenario& scenario, const RemoteMediumOption
                                  : coordinator::LoadSecretFile(options.secret_file);
   std::fprintf(stderr, "sitlnet medium: %s: connecting to the coordinator at %s\n",
                scenario.name.c_str(), endpoint.ToString().c_str());
-  coordinator::Fd socket;
+  UniqueFd socket;
   try {
     socket = coordinator::Connect(endpoint, MonotonicNowNs() + options.connect_timeout_ns);
   } catch (const coordinator::TransportError& e) {
@@ -36,7 +36,7 @@ std::string ServeRemoteMedium(const Scenario& scenario, const RemoteMediumOption
                      ? " (tried for " + Seconds(options.connect_timeout_ns) + " s)"
                      : std::string()));
   }
-  coordinator::StopSignal stop;  // From here on Ctrl-C ends the wait in order.
+  StopSignal stop;  // From here on Ctrl-C ends the wait in order.
   coordinator::Channel channel(std::move(socket));
   MediumLinkSimulator simulator(scenario, tapbridge::MakeMacPhySimMedium(scenario));
   char host[256] = "localhost";

@@ -13,22 +13,6 @@
 
 namespace sitlnet::nns {
 
-UniqueFd& UniqueFd::operator=(UniqueFd&& other) noexcept {
-  if (this != &other) Reset(other.Release());
-  return *this;
-}
-
-int UniqueFd::Release() {
-  const int fd = fd_;
-  fd_ = -1;
-  return fd;
-}
-
-void UniqueFd::Reset(int fd) {
-  if (fd_ >= 0) close(fd_);
-  fd_ = fd;
-}
-
 std::string NetnsPath(const std::string& name) { return std::string(kNetnsDir) + "/" + name; }
 
 bool NetnsExists(const std::string& name) {

@@ -17,28 +17,6 @@
 
 namespace sitlnet::nns {
 
-//------------------------------- File handles -------------------------------
-
-// Owns one file descriptor; closes it on destruction. -1 means empty.
-class UniqueFd {
- public:
-  UniqueFd() = default;
-  explicit UniqueFd(int fd) : fd_(fd) {}
-  UniqueFd(UniqueFd&& other) noexcept : fd_(other.Release()) {}
-  UniqueFd& operator=(UniqueFd&& other) noexcept;
-  UniqueFd(const UniqueFd&) = delete;
-  UniqueFd& operator=(const UniqueFd&) = delete;
-  ~UniqueFd() { Reset(); }
-
-  int get() const { return fd_; }
-  bool valid() const { return fd_ >= 0; }
-  int Release();
-  void Reset(int fd = -1);
-
- private:
-  int fd_ = -1;
-};
-
 //-------------------------------- Privileges --------------------------------
 
 // One line naming what the calling process lacks (CAP_NET_ADMIN,

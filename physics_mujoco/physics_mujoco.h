@@ -290,10 +290,11 @@ class PhysicsServer {
 
 // Standalone realtime mode (`sitlnet physics`): advances the server one physics step at a
 // time, virtual time following the wall clock x the scenario's realtime_factor, handling
-// packets as they arrive, until `stop` is set or `duration_ns` of virtual time has passed
-// (<= 0: no limit). Returns the largest lag behind the wall clock seen, in ns.
+// packets as they arrive, until `stop_fd` is readable (a StopSignal's fd; -1: none) or
+// `duration_ns` of virtual time has passed (<= 0: no limit). Returns the largest lag behind the
+// wall clock seen, in ns.
 TimeNs RunRealtime(PhysicsServer* server, double realtime_factor, TimeNs duration_ns,
-                   const std::atomic<bool>& stop);
+                   int stop_fd);
 
 }  // namespace sitlnet::physics
 

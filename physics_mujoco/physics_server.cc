@@ -254,23 +254,33 @@ const RobotCounters& PhysicsServer::counters(int robot) const {
 }
 
 TimeNs RunRealtime(PhysicsServer* server, double realtime_factor, TimeNs duration_ns,
-                   const std::atomic<bool>& stop) {
+                   int stop_fd) {
   const TimeNs step_ns = server->world().step_ns();
   clock::Timebase timebase(realtime_factor);
   timebase.Begin(MonotonicNowNs());
   TimeNs max_lag_ns = 0;
-  for (int64_t steps = 0; !stop.load() && (duration_ns <= 0 || steps * step_ns < duration_ns);) {
+  // The server's socket and the stop: a negative fd is ignored by ppoll.
+  pollfd fds[2] = {{server->wait_fd(), POLLIN, 0}, {stop_fd, POLLIN, 0}};
+  // Behind the wall clock no step sleeps: the stop is then looked at every kStopCheckSteps.
+  constexpr int64_t kStopCheckSteps = 64;
+  for (int64_t steps = 0; duration_ns <= 0 || steps * step_ns < duration_ns;) {
     const TimeNs due_ns = timebase.WallOf((steps + 1) * step_ns);
     const TimeNs now_ns = MonotonicNowNs();
     if (now_ns < due_ns) {
       // Sleep until the step is due, waking early for packets (handled at once, so a command
-      // takes effect at the next step).
-      pollfd fd{server->wait_fd(), POLLIN, 0};
+      // takes effect at the next step) or the stop.
       const TimeNs wait_ns = due_ns - now_ns;
       const timespec timeout{static_cast<time_t>(wait_ns / kNsPerS),
                              static_cast<long>(wait_ns % kNsPerS)};
-      if (ppoll(&fd, 1, &timeout, nullptr) > 0) server->Poll();
+      if (ppoll(fds, 2, &timeout, nullptr) > 0) {
+        if (fds[1].revents & POLLIN) break;
+        if (fds[0].revents) server->Poll();
+      }
       continue;
+    }
+    if (stop_fd >= 0 && steps % kStopCheckSteps == 0) {
+      pollfd stop{stop_fd, POLLIN, 0};
+      if (poll(&stop, 1, 0) == 1) break;
     }
     max_lag_ns = std::max(max_lag_ns, timebase.LagNs((steps + 1) * step_ns, now_ns));
     server->Advance(1);

@@ -4,7 +4,6 @@
 #include <signal.h>
 #include <sys/epoll.h>
 #include <sys/inotify.h>
-#include <sys/signalfd.h>
 #include <sys/stat.h>
 #include <sys/timerfd.h>
 #include <unistd.h>
@@ -76,15 +75,9 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
   }
   core.AttachAll();
 
-  // SIGINT/SIGTERM arrive as events on the loop (signalfd): the loop ends
+  // SIGINT/SIGTERM arrive as events on the loop (the StopSignal's pipe): the loop ends
   // between batches, the destructors close the TAPs and remove the socket.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  sigprocmask(SIG_BLOCK, &signals, nullptr);
-  const int signal_fd = signalfd(-1, &signals, SFD_NONBLOCK | SFD_CLOEXEC);
-  if (signal_fd < 0) throw Error(SystemErrorMessage("signalfd", errno));
+  StopSignal stop;
 
   if (options.realtime_priority > 0) {
     if (const std::string refused = RequestRealtimePriority(options.realtime_priority);
@@ -104,11 +97,8 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
   MakeDirectories(socket_path.substr(0, socket_path.rfind('/')));
   ControlServer server(socket_path, &loop, &core, &fanout);
 
-  loop.Add(signal_fd, EPOLLIN, [&](uint32_t) {
-    signalfd_siginfo info{};
-    if (read(signal_fd, &info, sizeof info) == sizeof info) {
-      log(std::string("stopping on ") + (info.ssi_signo == SIGINT ? "SIGINT" : "SIGTERM"));
-    }
+  loop.Add(stop.fd(), EPOLLIN, [&](uint32_t) {
+    log(std::string("stopping on ") + (stop.signal_number() == SIGINT ? "SIGINT" : "SIGTERM"));
     loop.Stop();
   });
 
@@ -116,7 +106,8 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
   // reported at once (inotify on /run/netns) and that robot detached; the
   // others keep running. A robot whose namespace and TAP come back is
   // re-attached on the next stats tick.
-  const int inotify_fd = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+  const UniqueFd inotify(inotify_init1(IN_NONBLOCK | IN_CLOEXEC));
+  const int inotify_fd = inotify.get();
   if (inotify_fd >= 0 && inotify_add_watch(inotify_fd, "/run/netns", IN_DELETE) >= 0) {
     loop.Add(inotify_fd, EPOLLIN, [&](uint32_t) {
       alignas(inotify_event) char buffer[4096];
@@ -138,7 +129,8 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
     });
   }
 
-  const int stats_fd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
+  const UniqueFd stats(timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC));
+  const int stats_fd = stats.get();
   itimerspec period{};
   period.it_interval.tv_sec = options.stats_interval_ns / kNsPerS;
   period.it_interval.tv_nsec = options.stats_interval_ns % kNsPerS;
@@ -178,13 +170,8 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options) {
       Us(total.p99_ns) + " max " + Us(total.max_ns));
   for (int i = 0; i < core.robot_count(); ++i) log(CountersLine(core, i));
   loop.Remove(stats_fd);
-  close(stats_fd);
-  if (inotify_fd >= 0) {
-    loop.Remove(inotify_fd);
-    close(inotify_fd);
-  }
-  loop.Remove(signal_fd);
-  close(signal_fd);
+  if (inotify_fd >= 0) loop.Remove(inotify_fd);
+  loop.Remove(stop.fd());
   return 0;
 }
 

@@ -16,7 +16,7 @@ TapPort::TapPort(const std::string& netns, const std::string& ifname)
     : netns_(netns), ifname_(ifname) {
   // nns owns attaching: it refuses a missing device instead of letting TUNSETIFF create a
   // fresh, non-persistent one that nobody configured.
-  nns::UniqueFd tap = nns::AttachTap(netns, ifname, /*nonblocking=*/true);
+  UniqueFd tap = nns::AttachTap(netns, ifname, /*nonblocking=*/true);
   const std::string path = "/run/netns/" + netns;
   struct stat ns_stat {};
   if (stat(path.c_str(), &ns_stat) != 0) {

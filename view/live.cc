@@ -10,7 +10,6 @@
 #include "view/live_json.h"
 #include "view/live_modes.h"
 #include "view/replay_json.h"
-#include "view/stop_signals_blocked.h"
 #include "view/view.h"
 
 namespace sitlnet::view {

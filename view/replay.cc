@@ -9,21 +9,19 @@
 #include <thread>
 
 #include "common/common.h"
-#include "coordinator/stop_signal.h"
 #include "view/http_server.h"
 #include "view/replay_json.h"
 #include "view/run_record.h"
-#include "view/stop_signals_blocked.h"
 #include "view/view.h"
 
 namespace sitlnet::view {
 namespace {
 
-// Runs `server` until SIGINT or SIGTERM, taken by coordinator::StopSignal as `sitlnet run` takes
+// Runs `server` until SIGINT or SIGTERM, taken by StopSignal as `sitlnet run` takes
 // them (its handler only writes to a pipe). One thread waits on that pipe and stops the server.
 // The server's threads block both signals, so the handler runs in the waiting thread.
 void ServeUntilStopSignal(HttpServer* server) {
-  coordinator::StopSignal stop;
+  StopSignal stop;
   std::thread waiter([&stop, server] {
     pollfd ready{stop.fd(), POLLIN, 0};
     while (poll(&ready, 1, -1) < 0 && errno == EINTR) {

@@ -85,8 +85,8 @@ class OnPathRelay {
   OnPathRelay(Listener& front, const Endpoint& coordinator, Edit edit)
       : thread_([&front, coordinator, edit] {
           try {
-            Fd connector = front.Accept(MonotonicNowNs() + 10 * kNsPerS);
-            Fd upstream = Connect(coordinator, MonotonicNowNs() + 5 * kNsPerS);
+            UniqueFd connector = front.Accept(MonotonicNowNs() + 10 * kNsPerS);
+            UniqueFd upstream = Connect(coordinator, MonotonicNowNs() + 5 * kNsPerS);
             Pass(connector, upstream, edit);
           } catch (const Error&) {
             // Either end gone: the relay's work is over.
@@ -95,7 +95,7 @@ class OnPathRelay {
   ~OnPathRelay() { thread_.join(); }
 
  private:
-  static void Pass(Fd& connector, Fd& upstream, const Edit& edit) {
+  static void Pass(UniqueFd& connector, UniqueFd& upstream, const Edit& edit) {
     // Per direction: bytes not yet passed on, frames passed on, first tagged frame.
     struct Side {
       int from;
@@ -367,7 +367,7 @@ TEST(Authentication, AConnectionThatSaysNothingOrStopsHalfWayHoldsBackNoConnecto
   auto accepting = std::async(std::launch::async, [&] {
     return AcceptConnectors(listener, ExpectSecret(), Within(20 * kNsPerS));
   });
-  Fd silent = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
+  UniqueFd silent = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
   // A stranger that starts the handshake and never proves anything.
   Channel half_way(Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS));
   half_way.Send(HelloWithNonce("half-way"));
@@ -423,7 +423,7 @@ TEST(Authentication, SixteenSilentConnectionsKeepNoConnectorOut) {
   auto accepting = std::async(std::launch::async, [&] {
     return AcceptConnectors(listener, ExpectSecret(), Within(20 * kNsPerS));
   });
-  std::vector<Fd> silent;
+  std::vector<UniqueFd> silent;
   for (int i = 0; i < 16; ++i)
     silent.push_back(Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS));
   SyntheticPhysics physics_sim(Robots(1));

@@ -177,7 +177,7 @@ TEST(Coordinator, LockstepRobotsStartsNetworkAfterCommandsCollected) {
       MakeInProcessConnector("net0", Role::kNetwork, &network_sim, Threading::kOwnThread);
   HandshakeExpectation expect = Expect();
   expect.lockstep_robots = true;
-  Fd fd = listener.Accept(MonotonicNowNs() + 5 * kNsPerS);
+  UniqueFd fd = listener.Accept(MonotonicNowNs() + 5 * kNsPerS);
   auto physics = AcceptConnector(Channel(std::move(fd)), expect, Within(5 * kNsPerS));
   CoordinatorOptions options = Lockstep(200);
   options.lockstep_robots = true;

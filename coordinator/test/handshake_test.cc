@@ -31,9 +31,9 @@ TEST(Coordinator, HandshakeRefusesAnotherScenarioAndSaysSoToBothSides) {
 TEST(Coordinator, StrayConnectionsAreIgnoredAndTheConnectorsStillAccepted) {
   Listener listener(ParseEndpoint("127.0.0.1:0"));
   // Garbage first (a bad frame), then a client that closes at once.
-  Fd garbage = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
+  UniqueFd garbage = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
   ASSERT_EQ(write(garbage.get(), "GET / HTTP/1.0\r\n\r\n", 18), 18);
-  Fd closer = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
+  UniqueFd closer = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
   closer.Reset();
   SyntheticPhysics physics_sim(Robots(1));
   SyntheticNetwork network_sim(Robots(1));
@@ -117,7 +117,7 @@ TEST(Coordinator, MissingConnectorTimesOutNamingTheRole) {
 // skipped; none at all times out naming the role.
 TEST(Coordinator, AcceptConnectorOfRoleRefusesTheOtherRoleAndSkipsStrays) {
   Listener listener(ParseEndpoint("127.0.0.1:0"));
-  Fd stray = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
+  UniqueFd stray = Connect(listener.endpoint(), MonotonicNowNs() + kNsPerS);
   stray.Reset();
   SyntheticPhysics physics_sim(Robots(1));
   ConnectorThread phys(listener.endpoint(), &physics_sim, {"phys0", Role::kPhysics, kHash, {}});

@@ -6,6 +6,7 @@
 
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <sys/eventfd.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -396,7 +397,7 @@ TEST(ArduPilotJsonGateTest, InRealtimeNoReplyArrivesBeforeItsTime) {
                    std::to_string(TestJsonPort()) + " }");
   PhysicsServer server(scenario);
   JsonClient client("127.77.0.2");
-  std::atomic<bool> stop{false};
+  const UniqueFd stop(eventfd(0, EFD_CLOEXEC));  // Written when the autopilot is done.
   std::vector<std::pair<TimeNs, double>> received;  // (wall ns since start, timestamp s)
   const TimeNs start_ns = MonotonicNowNs();
   std::thread ardupilot([&] {
@@ -407,9 +408,10 @@ TEST(ArduPilotJsonGateTest, InRealtimeNoReplyArrivesBeforeItsTime) {
       received.emplace_back(MonotonicNowNs() - start_ns, Field(reply, "timestamp")[0]);
       client.Send(ServoPacket16(200, frame, 1500));
     }
-    stop = true;
+    const uint64_t one = 1;
+    [[maybe_unused]] ssize_t written = write(stop.get(), &one, sizeof one);
   });
-  RunRealtime(&server, 1.0, 2 * kNsPerS, stop);
+  RunRealtime(&server, 1.0, 2 * kNsPerS, stop.get());
   ardupilot.join();
   ASSERT_GE(received.size(), 50u);
   double last_s = 0;

@@ -192,9 +192,8 @@ TEST_F(ControlServerTest, LockStepSendsStatesAndCollectsTheCommandsForThem) {
 TEST_F(ControlServerTest, RealtimeModeRunsForItsDurationAndServesCommands) {
   PhysicsClient client(ServerOf(0), RobotSideOf(0));
   ASSERT_TRUE(client.SendRotorSpeeds({700, 700, 700, 700}));
-  std::atomic<bool> stop{false};
   // 200 ms of virtual time at 20 x real time.
-  RunRealtime(&server_, 20.0, 200 * kNsPerMs, stop);
+  RunRealtime(&server_, 20.0, 200 * kNsPerMs, -1);
   EXPECT_EQ(server_.world().time_ns(0), 200 * kNsPerMs);
   EXPECT_EQ(server_.counters(0).commands_accepted, 1u);
   EXPECT_EQ(server_.counters(0).states_sent, 20u);  // 100 Hz

@@ -186,8 +186,7 @@ TEST(PhysicsCtl0Test, RobotProcessInANamespaceHoversAQuadWithTheClientLibrary) {
                "--mass", Exact(airframe.mass_kg()), "--kf", Exact(airframe.thrust_coefficient()),
                "--max", Exact(airframe.max_rotor_speed_rad_s()), "--target-z", "1", "--duration-s",
                Exact(duration_s)});
-  std::atomic<bool> stop{false};
-  RunRealtime(&server, 1.0, static_cast<TimeNs>((duration_s + 0.05) * kNsPerS), stop);
+  RunRealtime(&server, 1.0, static_cast<TimeNs>((duration_s + 0.05) * kNsPerS), -1);
   const int code = robot.Wait(10 * kNsPerS);
   ASSERT_EQ(code, 0) << robot.err();
   double max_dev_m = 1e9, final_z_m = 0;

@@ -1,6 +1,5 @@
-#include "coordinator/stop_signal.h"
-
 #include <fcntl.h>
+#include <pthread.h>
 #include <poll.h>
 #include <unistd.h>
 
@@ -9,7 +8,7 @@
 
 #include "common/common.h"
 
-namespace sitlnet::coordinator {
+namespace sitlnet {
 namespace {
 
 std::atomic<int> g_write_fd{-1};
@@ -65,4 +64,14 @@ void StopSignal::Request() {
   [[maybe_unused]] ssize_t ignored = write(write_fd_, &byte, 1);
 }
 
-}  // namespace sitlnet::coordinator
+StopSignalsBlocked::StopSignalsBlocked() {
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, &previous_);
+}
+
+StopSignalsBlocked::~StopSignalsBlocked() { pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
+
+}  // namespace sitlnet
