@@ -11,11 +11,13 @@
 
 #include <deque>
 #include <memory>
+#include <optional>
 #include <random>
 #include <vector>
 
 #include "mac_phy_sim/channel.h"
 #include "mac_phy_sim/gamma.h"
+#include "mac_phy_sim/jakes_fading.h"
 #include "mac_phy_sim/mac_phy_sim.h"
 #include "mac_phy_sim/phy_mode.h"
 #include "mac_phy_sim/scheduler.h"
@@ -138,7 +140,7 @@ struct StationState {
   // generator, cheaper than rng's (gamma.h).
   RandomEngine fading_rng;
   // Fading: squared distance beyond which this station's signal is more than
-  // kFadingMarginDb under the sensitivity on path loss alone (never drawn).
+  // State::fading_margin_db under the sensitivity on path loss alone (never drawn).
   double fading_reach_m2 = 0;
   StationCounters counters;
   // Transmit queue and the frame in service.
@@ -206,6 +208,12 @@ struct Medium::State {
   // Nakagami fading: Gamma(m, 1) samplers for m0, m1, m2 (stateless: the
   // stream is the transmitter's fading_rng).
   GammaSampler fading[3];
+  // Jakes fading: the pairs' processes (set only with jakes_fading).
+  std::optional<JakesFading> jakes;
+  // The largest gain fading can give a frame, in dB: kFadingMarginDb with Nakagami (a bound
+  // exceeded with probability <= 2.5e-10), 10 log10(2 M) with Jakes (exact), else 0. Links
+  // weaker on average than the sensitivity by more are never received.
+  double fading_margin_db = 0;
 
   RadioChannel channel;
   Scheduler scheduler;

@@ -1,0 +1,50 @@
+#include "mac_phy_sim/jakes_process.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace sitlnet::mac {
+namespace {
+
+// ns-3's JakesPropagationLossModel draws every angle from one UniformRandomVariable set to
+// [-pi, pi).
+double UniformAngleRad(RandomEngine& rng) {
+  return -std::numbers::pi + 2 * std::numbers::pi * OpenUniform(rng);
+}
+
+}  // namespace
+
+JakesProcess::JakesProcess(const JakesParameters& parameters, RandomEngine& rng) {
+  SITLNET_DEMAND(parameters.doppler_hz > 0 && parameters.doppler_hz <= 1e4);
+  SITLNET_DEMAND(parameters.oscillators >= 4 && parameters.oscillators <= 1000);
+  const int m = parameters.oscillators;
+  const double omega_max_rad_per_s = 2 * std::numbers::pi * parameters.doppler_hz;
+  phase_rad_ = UniformAngleRad(rng);
+  const double theta_rad = UniformAngleRad(rng);
+  const double amplitude = 2.0 / std::sqrt(static_cast<double>(m));
+  oscillators_.reserve(m);
+  for (int n = 1; n <= m; ++n) {
+    const double alpha_rad = (2 * std::numbers::pi * n - std::numbers::pi + theta_rad) / (4.0 * m);
+    const double psi_rad = UniformAngleRad(rng);
+    oscillators_.push_back({std::polar(amplitude, psi_rad),
+                            omega_max_rad_per_s * std::cos(alpha_rad)});
+  }
+}
+
+std::complex<double> JakesProcess::ComplexGain(TimeNs at_ns) const {
+  // As ns-3's Time::GetSeconds().
+  const double t_s = static_cast<double>(at_ns) / 1e9;
+  std::complex<double> sum = 0;
+  for (const Oscillator& o : oscillators_) {
+    sum += o.amplitude * std::cos(o.omega_rad_per_s * t_s + phase_rad_);
+  }
+  return sum;
+}
+
+double JakesProcess::PowerGainDb(TimeNs at_ns) const {
+  return 10 * std::log10(std::norm(ComplexGain(at_ns)) / 2);
+}
+
+double JakesProcess::MaxPowerGainDb(int oscillators) { return 10 * std::log10(2.0 * oscillators); }
+
+}  // namespace sitlnet::mac
