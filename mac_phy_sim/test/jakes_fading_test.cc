@@ -1,0 +1,134 @@
+// Jakes fading in the medium: the MAC's draws stay as they were, the same seed gives the same
+// trace, and losses come in runs as long as Rayleigh's average fade duration predicts.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "mac_phy_sim/mac_phy_sim.h"
+#include "mac_phy_sim/test/fading_statistics.h"
+#include "mac_phy_sim/test/saturation_harness.h"
+
+namespace sitlnet::mac {
+namespace {
+
+using testing::MakeEthernetFrame;
+
+constexpr MacAddress kBroadcast{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
+
+// Three stations 1 m apart exchanging unicast frames at 6 Mb/s for 2 s, 57 dB above what the
+// rate needs (a Jakes gain that deep has probability about 2e-6 per frame).
+std::vector<Delivery> Exchange(const MediumConfig& config, std::vector<TraceEvent>* trace) {
+  Medium medium(config);
+  for (int i = 0; i < 3; ++i) medium.AddStation(RobotMac(i), {static_cast<double>(i), 0, 0});
+  medium.EnableTrace(true);
+  for (int k = 0; k < 400; ++k) {
+    const int from = k % 3, to = (k + 1) % 3;
+    medium.SubmitFrame(from, MakeEthernetFrame(RobotMac(to), RobotMac(from), 300),
+                       k * 5 * kNsPerMs);
+  }
+  std::vector<Delivery> out;
+  medium.AdvanceTo(2 * kNsPerS + 100 * kNsPerMs, &out);
+  medium.DrainTrace(trace);
+  return out;
+}
+
+TEST(JakesMediumTest, LeavesTheMacDrawsAsTheyWere) {
+  MediumConfig config;
+  config.rate_mbps = 6;
+  config.seed = 5;
+  std::vector<TraceEvent> off_trace, on_trace, again_trace;
+  const std::vector<Delivery> off = Exchange(config, &off_trace);
+  config.jakes_fading = true;
+  const std::vector<Delivery> on = Exchange(config, &on_trace);
+  const std::vector<Delivery> again = Exchange(config, &again_trace);
+  ASSERT_EQ(off.size(), 400u);
+  ASSERT_EQ(on.size(), off.size());
+  int powers_differ = 0;
+  for (size_t i = 0; i < off.size(); ++i) {
+    // Same backoffs, hence the same times: only the received powers change.
+    EXPECT_EQ(on[i].delivery_ns, off[i].delivery_ns);
+    EXPECT_EQ(on[i].source, off[i].source);
+    EXPECT_EQ(on[i].station, off[i].station);
+    EXPECT_EQ(on[i].ethernet_frame, off[i].ethernet_frame);
+    powers_differ += on[i].rx_power_dbm != off[i].rx_power_dbm;
+  }
+  EXPECT_EQ(powers_differ, 400);
+  EXPECT_TRUE(again == on);  // The same seed: the same deliveries, powers included.
+  ASSERT_EQ(again_trace.size(), on_trace.size());
+  for (size_t i = 0; i < on_trace.size(); ++i) {
+    ASSERT_EQ(again_trace[i].tx.has_value(), on_trace[i].tx.has_value());
+    if (!on_trace[i].tx) continue;
+    for (size_t r = 0; r < on_trace[i].tx->receptions.size(); ++r) {
+      EXPECT_EQ(again_trace[i].tx->receptions[r].rx_power_dbm,
+                on_trace[i].tx->receptions[r].rx_power_dbm);
+    }
+  }
+  config.seed = 6;
+  std::vector<TraceEvent> other_trace;
+  const std::vector<Delivery> other = Exchange(config, &other_trace);
+  ASSERT_EQ(other.size(), on.size());
+  EXPECT_NE(other[0].rx_power_dbm, on[0].rx_power_dbm);
+}
+
+// One station broadcasts every 250 us for 20 s of virtual time to another 10 m away, with the
+// RX sensitivity at the mean received power: a frame is lost exactly when the gain is under
+// 0 dB (rho = 1). Runs of lost frames then measure the fades: about 1,500 of them, each
+// 8.6 ms on average (Rayleigh's closed form; fade lengths spread about as much as their mean,
+// so the mean of 1,500 is good to about 3 %), sampled every 0.25 ms. Rule: 10 %.
+TEST(JakesMediumTest, LossRunsLastTheAverageFadeDuration) {
+  MediumConfig config;
+  config.jakes_fading = true;
+  config.group_rate_mbps = 54;
+  const Vec3d a{0, 0, 0}, b{10, 0, 0};
+  double mean_dbm;
+  {
+    Medium probe(config);
+    probe.AddStation(RobotMac(0), a);
+    probe.AddStation(RobotMac(1), b);
+    mean_dbm = config.tx_power_dbm - probe.LossDb(0, 1);  // -60.5 dBm: 34 dB over the noise.
+  }
+  config.rx_sensitivity_dbm = mean_dbm;
+  Medium medium(config);
+  medium.AddStation(RobotMac(0), a);
+  medium.AddStation(RobotMac(1), b);
+  medium.EnableTrace(true);
+  const auto frame = MakeEthernetFrame(kBroadcast, RobotMac(0), 100);
+  const TimeNs period_ns = 250 * kNsPerUs, duration_ns = 20 * kNsPerS;
+  long frames = 0, lost = 0, runs = 0;
+  TimeNs run_start_ns = -1, faded_ns = 0;
+  std::vector<TraceEvent> trace;
+  for (TimeNs t = 0; t < duration_ns; t += 100 * kNsPerMs) {
+    for (TimeNs at = t; at < t + 100 * kNsPerMs; at += period_ns) medium.SubmitFrame(0, frame, at);
+    medium.AdvanceTo(t + 100 * kNsPerMs, nullptr);
+    trace.clear();
+    medium.DrainTrace(&trace);
+    for (const TraceEvent& e : trace) {
+      if (!e.tx) continue;
+      const bool below = e.tx->receptions[0].outcome == RxOutcome::kBelowSensitivity;
+      // Above the sensitivity the frame is 34 dB over the noise: always decoded.
+      if (!below) ASSERT_EQ(e.tx->receptions[0].outcome, RxOutcome::kReceived);
+      ++frames;
+      lost += below;
+      if (below && run_start_ns < 0) {
+        run_start_ns = e.tx->start_ns;
+        ++runs;
+      } else if (!below && run_start_ns >= 0) {
+        faded_ns += e.tx->start_ns - run_start_ns;
+        run_start_ns = -1;
+      }
+    }
+  }
+  ASSERT_GT(frames, 70000);
+  const double mean_fade_s = faded_ns / 1e9 / runs;
+  const double expected_s = RayleighMeanFadeS(config.jakes_doppler_hz, 1.0);
+  EXPECT_NEAR(mean_fade_s / expected_s, 1, 0.10);
+  // A Rayleigh power gain is under its mean with probability 1 - 1/e.
+  EXPECT_NEAR(static_cast<double>(lost) / frames, 1 - std::exp(-1.0), 0.03);
+  std::printf("%ld frames, %.4f lost (1 - 1/e = %.4f), %ld fades of %.3f ms (closed form %.3f)\n",
+              frames, static_cast<double>(lost) / frames, 1 - std::exp(-1.0), runs,
+              mean_fade_s * 1e3, expected_s * 1e3);
+}
+
+}  // namespace
+}  // namespace sitlnet::mac
