@@ -9,14 +9,16 @@ JakesFading::JakesFading(const JakesParameters& parameters, uint64_t seed)
 
 const JakesProcess& JakesFading::Process(int a, int b) {
   SITLNET_DEMAND(a != b && a >= 0 && b >= 0);
-  const uint64_t key =
-      (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint64_t>(std::max(a, b));
-  auto it = processes_.find(key);
-  if (it == processes_.end()) {
+  const int low = std::min(a, b), high = std::max(a, b);
+  while (static_cast<int>(slot_.size()) <= high) slot_.emplace_back(slot_.size(), -1);
+  int32_t& slot = slot_[high][low];
+  if (slot < 0) {
+    const uint64_t key = (static_cast<uint64_t>(low) << 32) | static_cast<uint64_t>(high);
     RandomEngine rng(SplitMix64(seed_ ^ SplitMix64(key)));
-    it = processes_.emplace(key, JakesProcess(parameters_, rng)).first;
+    slot = static_cast<int32_t>(processes_.size());
+    processes_.emplace_back(parameters_, rng);
   }
-  return it->second;
+  return processes_[slot];
 }
 
 double JakesFading::PowerGainDb(int a, int b, TimeNs at_ns) {

@@ -9,7 +9,7 @@
 #define SITLNET_MAC_PHY_SIM_JAKES_FADING_H_
 
 #include <cstdint>
-#include <unordered_map>
+#include <vector>
 
 #include "mac_phy_sim/jakes_process.h"
 
@@ -30,7 +30,10 @@ class JakesFading {
  private:
   JakesParameters parameters_;
   uint64_t seed_;
-  std::unordered_map<uint64_t, JakesProcess> processes_;  // Key: min << 32 | max.
+  std::vector<JakesProcess> processes_;
+  // Index into processes_ of pair (a, b), a < b, at slot_[b][a]; -1: not created yet. A
+  // triangle that grows with the highest station asked for (a hash map cost 7 % of a frame).
+  std::vector<std::vector<int32_t>> slot_;
 };
 
 }  // namespace sitlnet::mac

@@ -22,23 +22,35 @@ JakesProcess::JakesProcess(const JakesParameters& parameters, RandomEngine& rng)
   phase_rad_ = UniformAngleRad(rng);
   const double theta_rad = UniformAngleRad(rng);
   const double amplitude = 2.0 / std::sqrt(static_cast<double>(m));
-  oscillators_.reserve(m);
+  omega_max_rad_per_s_ = omega_max_rad_per_s;
   for (int n = 1; n <= m; ++n) {
     const double alpha_rad = (2 * std::numbers::pi * n - std::numbers::pi + theta_rad) / (4.0 * m);
     const double psi_rad = UniformAngleRad(rng);
-    oscillators_.push_back({std::polar(amplitude, psi_rad),
-                            omega_max_rad_per_s * std::cos(alpha_rad)});
+    omega_rad_per_s_.push_back(omega_max_rad_per_s * std::cos(alpha_rad));
+    amplitude_re_.push_back(amplitude * std::cos(psi_rad));
+    amplitude_im_.push_back(amplitude * std::sin(psi_rad));
   }
 }
 
 std::complex<double> JakesProcess::ComplexGain(TimeNs at_ns) const {
   // As ns-3's Time::GetSeconds().
   const double t_s = static_cast<double>(at_ns) / 1e9;
-  std::complex<double> sum = 0;
-  for (const Oscillator& o : oscillators_) {
-    sum += o.amplitude * std::cos(o.omega_rad_per_s * t_s + phase_rad_);
+  const size_t m = omega_rad_per_s_.size();
+  double re = 0, im = 0;
+  if (omega_max_rad_per_s_ * std::abs(t_s) + std::numbers::pi <= kFastCosLimitRad) {
+    for (size_t n = 0; n < m; ++n) {
+      const double c = FastCos(omega_rad_per_s_[n] * t_s + phase_rad_);
+      re += amplitude_re_[n] * c;
+      im += amplitude_im_[n] * c;
+    }
+  } else {  // After 19 days at 80 Hz, 3.7 hours at 10 kHz.
+    for (size_t n = 0; n < m; ++n) {
+      const double c = std::cos(omega_rad_per_s_[n] * t_s + phase_rad_);
+      re += amplitude_re_[n] * c;
+      im += amplitude_im_[n] * c;
+    }
   }
-  return sum;
+  return {re, im};
 }
 
 double JakesProcess::PowerGainDb(TimeNs at_ns) const {

@@ -91,6 +91,20 @@ TEST(JakesProcessTest, FadesMatchRayleighClosedForms) {
   }
 }
 
+// FastCos against std::cos over its whole domain (small, large and negative phases).
+TEST(JakesProcessTest, FastCosIsCos) {
+  RandomEngine rng(12);
+  double worst = 0;
+  for (const double scale : {1.0, 10.0, 1e3, 1e6, kFastCosLimitRad}) {
+    for (int k = 0; k < 100000; ++k) {
+      const double x = scale * (2 * OpenUniform(rng) - 1);
+      worst = std::max(worst, std::abs(FastCos(x) - std::cos(x)));
+    }
+  }
+  EXPECT_LT(worst, 1e-14);
+  std::printf("largest |FastCos - cos|: %.3g\n", worst);
+}
+
 TEST(JakesProcessTest, PowerGainNeverExceedsTwoM) {
   RandomEngine rng(11);
   for (const int m : {4, 20, 100}) {
