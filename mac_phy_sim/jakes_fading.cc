@@ -25,4 +25,8 @@ double JakesFading::PowerGainDb(int a, int b, TimeNs at_ns) {
   return Process(a, b).PowerGainDb(at_ns);
 }
 
+double JakesFading::PowerGainDbAtPhase(int a, int b, double doppler_phase_rad) {
+  return Process(a, b).PowerGainDbAtPhase(doppler_phase_rad);
+}
+
 }  // namespace sitlnet::mac

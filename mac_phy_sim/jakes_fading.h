@@ -22,6 +22,8 @@ class JakesFading {
 
   // The power gain of pair (a, b) at `at_ns` in dB (JakesProcess::PowerGainDb); a != b.
   double PowerGainDb(int a, int b, TimeNs at_ns);
+  // The same at a Doppler phase instead of a time (SpeedDoppler::PhaseRad).
+  double PowerGainDbAtPhase(int a, int b, double doppler_phase_rad);
   // The pair's process, created on first use.
   const JakesProcess& Process(int a, int b);
   // Processes created so far (memory follows the pairs used, not stations^2).

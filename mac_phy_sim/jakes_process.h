@@ -34,12 +34,16 @@ class JakesProcess {
   std::complex<double> ComplexGain(TimeNs at_ns) const;
   // 10 log10(|X|^2 / 2) at `at_ns`: the dB added to the received power.
   double PowerGainDb(TimeNs at_ns) const;
+  // The same with w_d t replaced by a Doppler phase: the integral of w_d over time when the
+  // Doppler changes (jakes_doppler.h). Each oscillator turns by cos(alpha_n) times it.
+  std::complex<double> ComplexGainAtPhase(double doppler_phase_rad) const;
+  double PowerGainDbAtPhase(double doppler_phase_rad) const;
   // 10 log10(2 M): no power gain of an M-oscillator process exceeds it (|X| <= 2 sqrt(M)).
   static double MaxPowerGainDb(int oscillators);
 
  private:
   // One array per quantity, so the sum over oscillators vectorises.
-  std::vector<double> omega_rad_per_s_;  // w_d cos(alpha_n).
+  std::vector<double> cos_alpha_;        // cos(alpha_n): oscillator n turns at w_d cos(alpha_n).
   std::vector<double> amplitude_re_;     // 2 / sqrt(M) cos(psi_n).
   std::vector<double> amplitude_im_;     // 2 / sqrt(M) sin(psi_n).
   double phase_rad_ = 0;                 // phi, shared.

@@ -88,6 +88,9 @@ struct MediumConfig {
   bool jakes_fading = false;
   double jakes_doppler_hz = 80;  // Maximum Doppler frequency, (0, 1e4].
   int jakes_oscillators = 20;    // Oscillators per process, [4, 1000].
+  // Not in ns-3: each pair's Doppler is sqrt(v_a^2 + v_b^2) / wavelength, the speeds taken
+  // from the stations' moves (jakes_doppler.h); replaces jakes_doppler_hz.
+  bool jakes_doppler_from_speed = false;
   // Data rate selection. kConstant: every station sends at its rate
   // (rate_mbps or its StationRadio). kIdeal: per destination, the highest
   // rate whose SNR for a bit error rate of ideal_ber is below the SNR the

@@ -30,6 +30,9 @@ void Dispatch(State& s, const Event& e) {
     }
     case EventType::kMove:
       s.channel.SetPosition(e.station, s.pending_moves[e.aux].position_m);
+      if (s.speed_doppler) {
+        s.speed_doppler->Move(e.station, s.pending_moves[e.aux].position_m, s.now_ns);
+      }
       s.free_pending_moves.push_back(static_cast<int>(e.aux));
       return;
     case EventType::kTxEnd:
@@ -71,6 +74,9 @@ Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
     // Its own stream ("jakes"), apart from the MAC's and Nakagami's.
     jakes.emplace(JakesParameters{config.jakes_doppler_hz, config.jakes_oscillators},
                   SplitMix64(config.seed ^ 0x6a616b6573000000ull));
+    if (config.jakes_doppler_from_speed) {
+      speed_doppler.emplace(kSpeedOfLightMps / (phy.frequency_mhz * 1e6));
+    }
   }
   channel.set_dead_link_loss_db(config.tx_power_dbm - config.rx_sensitivity_dbm +
                                 fading_margin_db);
@@ -144,6 +150,7 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
   st.cw = s.phy.cw_min;
   st.idle_since_ns = s.now_ns;
   s.channel.AddStation(position_m);
+  if (s.speed_doppler) s.speed_doppler->AddStation(position_m, s.now_ns);
   return id;
 }
 

@@ -160,6 +160,8 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
   // Both model the same multipath fading: chained, they would fade each frame twice.
   demand(!(config.jakes_fading && config.nakagami_fading),
          "jakes_fading and nakagami_fading both model fast fading: set one");
+  demand(config.jakes_fading || !config.jakes_doppler_from_speed,
+         "jakes_doppler_from_speed needs jakes_fading");
   // aSlotTime, aSIFSTime: 17.4.4 (OFDM), 15.4.5 (DSSS), 18.4.5 (ERP).
   const int slot_us = a ? 9 : (b ? 20 : (config.short_slot ? 9 : 20));
   const int sifs_us = a ? 16 : 10;

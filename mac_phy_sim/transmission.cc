@@ -88,9 +88,6 @@ void CountReceiverOutcome(StationState& st, const Transmission& tx, const RxEntr
   }
 }
 
-// ns-3 ConstantSpeedPropagationDelayModel's default speed.
-constexpr double kSpeedOfLightMps = 299792458.0;
-
 double SquaredDistanceM2(const RadioChannel& channel, int a, int b) {
   const Vec3d& pa = channel.position(a);
   const Vec3d& pb = channel.position(b);
@@ -158,7 +155,11 @@ bool JakesFadedPower(State& s, int source, int r, double* dbm, double* mw, doubl
   const double stop_db = src.tx_power_dbm - s.config.rx_sensitivity_dbm + s.fading_margin_db;
   const double loss_db = s.channel.LossDbUntil(source, r, stop_db);
   if (!(loss_db < stop_db)) return false;
-  *dbm = src.tx_power_dbm - loss_db + s.jakes->PowerGainDb(source, r, s.now_ns);
+  const double gain_db =
+      s.speed_doppler
+          ? s.jakes->PowerGainDbAtPhase(source, r, s.speed_doppler->PhaseRad(source, r, s.now_ns))
+          : s.jakes->PowerGainDb(source, r, s.now_ns);
+  *dbm = src.tx_power_dbm - loss_db + gain_db;
   if (!(*dbm >= s.config.rx_sensitivity_dbm)) return false;
   *loss_out_db = loss_db;
   *mw = std::pow(10.0, *dbm / 10);

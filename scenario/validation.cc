@@ -105,6 +105,10 @@ void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
     at.Fail({{"radio"}, {"jakes_fading"}},
             "radio: jakes_fading and nakagami_fading both model fast fading; set one");
   }
+  if (radio.jakes_doppler_from_speed() && !radio.jakes_fading()) {
+    at.Fail({{"radio"}, {"jakes_doppler_from_speed"}},
+            "radio: jakes_doppler_from_speed needs jakes_fading");
+  }
 }
 
 void ValidateTiming(const SourceLocator& at, Scenario* scenario) {
