@@ -29,14 +29,19 @@ void SpeedDoppler::Move(int station, const Vec3d& position_m, TimeNs at_ns) {
   if (std::isfinite(speed_mps)) st.speed_mps = speed_mps;
   st.position_m = position_m;
   st.moved_ns = at_ns;
-  for (int other = 0; other < static_cast<int>(stations_.size()); ++other) {
-    if (other == station) continue;
-    PairPhase& pair = Pair(station, other);
-    pair.phase_rad = PhaseRad(station, other, at_ns);
+  // Every pair of the station: the row below it, then the column above (the hot loop of a
+  // fleet that moves every step: no checks, no calls).
+  const double speed2 = st.speed_mps * st.speed_mps;
+  const double inverse_wavelength = 1 / wavelength_m_;
+  auto advance = [&](PairPhase& pair, double other_speed_mps) {
+    pair.phase_rad += 2 * std::numbers::pi * pair.doppler_hz * ((at_ns - pair.since_ns) / 1e9);
     pair.since_ns = at_ns;
-    const double other_speed_mps = stations_[other].speed_mps;
-    pair.doppler_hz =
-        std::sqrt(st.speed_mps * st.speed_mps + other_speed_mps * other_speed_mps) / wavelength_m_;
+    pair.doppler_hz = std::sqrt(speed2 + other_speed_mps * other_speed_mps) * inverse_wavelength;
+  };
+  std::vector<PairPhase>& row = pairs_[station];
+  for (int other = 0; other < station; ++other) advance(row[other], stations_[other].speed_mps);
+  for (int other = station + 1; other < static_cast<int>(stations_.size()); ++other) {
+    advance(pairs_[other][station], stations_[other].speed_mps);
   }
 }
 
