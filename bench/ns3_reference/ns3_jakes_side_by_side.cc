@@ -1,16 +1,21 @@
 // SPDX-License-Identifier: GPL-2.0-only (links ns-3; see LICENSE in this folder)
 // Jakes fading side by side: the statistics of ns-3 3.37's JakesProcess and of mac_phy_sim's
 // (mac_phy_sim/jakes_process.h), measured by the same code (mac_phy_sim/test/fading_statistics),
-// beside their closed forms. Prints the Markdown table of docs/validation.md's "Jakes fading".
+// beside their closed forms; then saturated 802.11a links with Jakes fading in both simulators
+// (ns3_runner's Yans channel with JakesPropagationLossModel after the log-distance model).
+// Prints the Markdown tables of docs/validation.md's "Jakes fading".
 // Usage: ns3_jakes_side_by_side [processes]
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <numbers>
+#include <vector>
 
 #include "mac_phy_sim/jakes_process.h"
 #include "mac_phy_sim/test/fading_statistics.h"
+#include "mac_phy_sim/test/saturation_harness.h"
 #include "ns3_jakes.h"
+#include "ns3_runner.h"
 
 namespace {
 
@@ -70,6 +75,57 @@ void Compare(const JakesParameters& parameters, int processes) {
   }
 }
 
+double Mean(const std::vector<double>& x) {
+  double sum = 0;
+  for (double v : x) sum += v;
+  return sum / x.size();
+}
+
+double StandardDeviation(const std::vector<double>& x) {
+  const double mean = Mean(x);
+  double sum = 0;
+  for (double v : x) sum += (v - mean) * (v - mean);
+  return std::sqrt(sum / (x.size() - 1));
+}
+
+// One sender saturating a receiver `distance_m` away, 5 seeds each side (ns-3 RngRun 1-5,
+// mac_phy_sim seeds 1-5), the windows of the matrix's Rayleigh cells. Rule: 5 % (ns-3's).
+void CompareLinks() {
+  std::printf("\nSaturated 802.11a links with Jakes fading (80 Hz, 20 oscillators), 1500 B, "
+              "5 seeds each side:\n\n");
+  std::printf("| link | ns-3 Mb/s (sd) | mac_phy_sim Mb/s (sd) | apart | rule |\n");
+  std::printf("|---|---|---|---|---|\n");
+  struct Link {
+    double rate_mbps, distance_m, measure_s;
+  };
+  for (const Link& link : {Link{6, 40, 13.4}, Link{6, 70, 13.4}, Link{54, 15, 2.5}}) {
+    sitlnet::side_by_side::Case c;
+    c.standard = sitlnet::side_by_side::Standard::kA;
+    c.rate_mbps = link.rate_mbps;
+    c.topology = sitlnet::side_by_side::Topology::kLink;
+    c.senders = 1;
+    c.near_m = link.distance_m;
+    c.unlimited_retries = false;
+    c.warmup_s = 0.5;
+    c.measure_s = link.measure_s;
+    c.jakes = true;
+    const sitlnet::mac::PhyInfo phy =
+        sitlnet::mac::DerivePhyInfo(sitlnet::mac::testing::ConfigForCase(c, 1));
+    const Ns3Radio radio{phy.reference_loss_db, phy.ack_rate_mbps, {}};
+    std::vector<double> ns3, ours;
+    for (int seed = 1; seed <= 5; ++seed) {
+      ns3.push_back(RunNs3Case(c, radio, static_cast<uint32_t>(seed)).throughput_mbps);
+      ours.push_back(
+          sitlnet::mac::testing::RunCase(c, static_cast<uint64_t>(seed)).throughput_mbps);
+    }
+    const double apart = PercentApart(Mean(ours), Mean(ns3));
+    std::printf("| %g Mb/s at %g m | %.4f (%.4f) | %.4f (%.4f) | %+.2f %% | %s 5 %% |\n",
+                link.rate_mbps, link.distance_m, Mean(ns3), StandardDeviation(ns3), Mean(ours),
+                StandardDeviation(ours), apart, std::abs(apart) <= 5 ? "within" : "**outside**");
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -78,5 +134,6 @@ int main(int argc, char** argv) {
               Ns3JakesIsSymmetric(20, 1) ? "yes" : "no");
   Compare(JakesParameters{80, 20}, processes);  // ns-3's defaults.
   Compare(JakesParameters{200, 8}, processes);
+  CompareLinks();
   return 0;
 }
