@@ -65,8 +65,8 @@ Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
       channel(phy_in.reference_loss_db, config_in.path_loss_exponent, config_in.shadowing,
               config_in.shadowing_db_per_wall, config_in.shadowing_db_per_m) {
   // Below the sensitivity a signal is not even tracked as interference.
-  // With fading, a link up to kFadingMarginDb weaker on average can still be
-  // drawn above it (transmission.cc), so its loss must stay exact.
+  // With fading, a link up to fading_margin_db weaker on average can still be
+  // received (transmission.cc), so its loss must stay exact.
   max_tx_power_dbm = config.tx_power_dbm;
   if (config.nakagami_fading) fading_margin_db = kFadingMarginDb;
   if (config.jakes_fading) {
