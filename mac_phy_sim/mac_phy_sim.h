@@ -82,6 +82,15 @@ struct MediumConfig {
   // Log-normal shadowing: a fixed zero-mean Gaussian loss (dB) per station
   // pair, drawn from the seed; 0: off.
   double lognormal_shadowing_sigma_db = 0;
+  // Jakes fading: time-correlated Rayleigh fading, one process per station pair, evaluated at
+  // each frame's start (ns-3 JakesPropagationLossModel and JakesProcess, their defaults):
+  // a fade lasts tens of ms at 80 Hz. Not together with nakagami_fading (docs/mac_phy_sim.md).
+  bool jakes_fading = false;
+  double jakes_doppler_hz = 80;  // Maximum Doppler frequency, (0, 1e4].
+  int jakes_oscillators = 20;    // Oscillators per process, [4, 1000].
+  // Not in ns-3: each pair's Doppler is sqrt(v_a^2 + v_b^2) / wavelength, the speeds taken
+  // from the stations' moves (jakes_doppler.h); replaces jakes_doppler_hz.
+  bool jakes_doppler_from_speed = false;
   // Data rate selection. kConstant: every station sends at its rate
   // (rate_mbps or its StationRadio). kIdeal: per destination, the highest
   // rate whose SNR for a bit error rate of ideal_ber is below the SNR the

@@ -10,14 +10,6 @@ namespace {
 
 double DbmToMw(double dbm) { return std::pow(10.0, dbm / 10); }
 
-// SplitMix64 (Steele et al. 2014): decorrelated per-station seeds from one seed.
-uint64_t SplitMix64(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
 bool IsStale(const State& s, const Event& e) {
   switch (e.type) {
     case EventType::kTimeout:
@@ -38,6 +30,9 @@ void Dispatch(State& s, const Event& e) {
     }
     case EventType::kMove:
       s.channel.SetPosition(e.station, s.pending_moves[e.aux].position_m);
+      if (s.speed_doppler) {
+        s.speed_doppler->Move(e.station, s.pending_moves[e.aux].position_m, s.now_ns);
+      }
       s.free_pending_moves.push_back(static_cast<int>(e.aux));
       return;
     case EventType::kTxEnd:
@@ -70,11 +65,21 @@ Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
       channel(phy_in.reference_loss_db, config_in.path_loss_exponent, config_in.shadowing,
               config_in.shadowing_db_per_wall, config_in.shadowing_db_per_m) {
   // Below the sensitivity a signal is not even tracked as interference.
-  // With fading, a link up to kFadingMarginDb weaker on average can still be
-  // drawn above it (transmission.cc), so its loss must stay exact.
+  // With fading, a link up to fading_margin_db weaker on average can still be
+  // received (transmission.cc), so its loss must stay exact.
   max_tx_power_dbm = config.tx_power_dbm;
+  if (config.nakagami_fading) fading_margin_db = kFadingMarginDb;
+  if (config.jakes_fading) {
+    fading_margin_db = JakesProcess::MaxPowerGainDb(config.jakes_oscillators);
+    // Its own stream ("jakes"), apart from the MAC's and Nakagami's.
+    jakes.emplace(JakesParameters{config.jakes_doppler_hz, config.jakes_oscillators},
+                  SplitMix64(config.seed ^ 0x6a616b6573000000ull));
+    if (config.jakes_doppler_from_speed) {
+      speed_doppler.emplace(kSpeedOfLightMps / (phy.frequency_mhz * 1e6));
+    }
+  }
   channel.set_dead_link_loss_db(config.tx_power_dbm - config.rx_sensitivity_dbm +
-                                (config.nakagami_fading ? kFadingMarginDb : 0));
+                                fading_margin_db);
   channel.set_lognormal_shadowing(config.lognormal_shadowing_sigma_db,
                                   SplitMix64(config.seed ^ 0x6c6f676e6f726d61ull));
   noise_mw = DbmToMw(phy.noise_floor_dbm);
@@ -118,7 +123,7 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
     // Links are "dead" below the sensitivity for the strongest transmitter.
     s.max_tx_power_dbm = tx_power_dbm;
     s.channel.set_dead_link_loss_db(tx_power_dbm - s.config.rx_sensitivity_dbm +
-                                    (s.config.nakagami_fading ? kFadingMarginDb : 0));
+                                    s.fading_margin_db);
     s.channel.InvalidateAll();
   }
   const int id = static_cast<int>(s.stations.size());
@@ -135,7 +140,7 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
   // the exact loss (transmission.cc). Log-normal shadowing can lower any
   // link's loss: no limit then.
   const double margin_loss_db =
-      tx_power_dbm - s.config.rx_sensitivity_dbm + kFadingMarginDb - s.phy.reference_loss_db;
+      tx_power_dbm - s.config.rx_sensitivity_dbm + s.fading_margin_db - s.phy.reference_loss_db;
   st.fading_reach_m2 =
       s.config.lognormal_shadowing_sigma_db > 0
           ? std::numeric_limits<double>::infinity()
@@ -145,6 +150,7 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
   st.cw = s.phy.cw_min;
   st.idle_since_ns = s.now_ns;
   s.channel.AddStation(position_m);
+  if (s.speed_doppler) s.speed_doppler->AddStation(position_m, s.now_ns);
   return id;
 }
 

@@ -11,11 +11,14 @@
 
 #include <deque>
 #include <memory>
+#include <optional>
 #include <random>
 #include <vector>
 
 #include "mac_phy_sim/channel.h"
 #include "mac_phy_sim/gamma.h"
+#include "mac_phy_sim/jakes_doppler.h"
+#include "mac_phy_sim/jakes_fading.h"
 #include "mac_phy_sim/mac_phy_sim.h"
 #include "mac_phy_sim/phy_mode.h"
 #include "mac_phy_sim/scheduler.h"
@@ -30,6 +33,9 @@ using Bytes = std::shared_ptr<const std::vector<uint8_t>>;
 // smallest m allowed (0.5, where the gain is a squared normal), less for
 // larger m. Links that far under in free space are not drawn at all.
 inline constexpr double kFadingMarginDb = 16;
+
+// ns-3 ConstantSpeedPropagationDelayModel's default speed; also the wavelength's.
+inline constexpr double kSpeedOfLightMps = 299792458.0;
 
 // ns-3's PreambleDetectionDuration: 4 us after a frame starts at a station,
 // the preamble detection model decides whether it locks on; only then does
@@ -138,7 +144,7 @@ struct StationState {
   // generator, cheaper than rng's (gamma.h).
   RandomEngine fading_rng;
   // Fading: squared distance beyond which this station's signal is more than
-  // kFadingMarginDb under the sensitivity on path loss alone (never drawn).
+  // State::fading_margin_db under the sensitivity on path loss alone (never drawn).
   double fading_reach_m2 = 0;
   StationCounters counters;
   // Transmit queue and the frame in service.
@@ -206,6 +212,14 @@ struct Medium::State {
   // Nakagami fading: Gamma(m, 1) samplers for m0, m1, m2 (stateless: the
   // stream is the transmitter's fading_rng).
   GammaSampler fading[3];
+  // Jakes fading: the pairs' processes (set only with jakes_fading).
+  std::optional<JakesFading> jakes;
+  // With jakes_doppler_from_speed: the stations' speeds and the pairs' Doppler phases.
+  std::optional<SpeedDoppler> speed_doppler;
+  // The largest gain fading can give a frame, in dB: kFadingMarginDb with Nakagami (a bound
+  // exceeded with probability <= 2.5e-10), 10 log10(2 M) with Jakes (exact), else 0. Links
+  // weaker on average than the sensitivity by more are never received.
+  double fading_margin_db = 0;
 
   RadioChannel channel;
   Scheduler scheduler;

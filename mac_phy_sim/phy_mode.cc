@@ -155,6 +155,13 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
       (config.nakagami_m0 >= 0.5 && config.nakagami_m1 >= 0.5 && config.nakagami_m2 >= 0.5));
   SITLNET_DEMAND(config.nakagami_d1_m > 0 && config.nakagami_d2_m >= config.nakagami_d1_m);
   SITLNET_DEMAND(config.lognormal_shadowing_sigma_db >= 0);
+  SITLNET_DEMAND(config.jakes_doppler_hz > 0 && config.jakes_doppler_hz <= 1e4);
+  SITLNET_DEMAND(config.jakes_oscillators >= 4 && config.jakes_oscillators <= 1000);
+  // Both model the same multipath fading: chained, they would fade each frame twice.
+  demand(!(config.jakes_fading && config.nakagami_fading),
+         "jakes_fading and nakagami_fading both model fast fading: set one");
+  demand(config.jakes_fading || !config.jakes_doppler_from_speed,
+         "jakes_doppler_from_speed needs jakes_fading");
   // aSlotTime, aSIFSTime: 17.4.4 (OFDM), 15.4.5 (DSSS), 18.4.5 (ERP).
   const int slot_us = a ? 9 : (b ? 20 : (config.short_slot ? 9 : 20));
   const int sifs_us = a ? 16 : 10;

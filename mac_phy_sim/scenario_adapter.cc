@@ -38,6 +38,10 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
   config.nakagami_d1_m = radio.nakagami_d1_m();
   config.nakagami_d2_m = radio.nakagami_d2_m();
   config.lognormal_shadowing_sigma_db = radio.lognormal_shadowing_sigma_db();
+  config.jakes_fading = radio.jakes_fading();
+  config.jakes_doppler_hz = radio.jakes_doppler_hz();
+  config.jakes_oscillators = static_cast<int>(radio.jakes_oscillators());
+  config.jakes_doppler_from_speed = radio.jakes_doppler_from_speed();
   if (radio.rate_control() == proto::Radio::RATE_CONTROL_IDEAL) {
     config.rate_control = MediumConfig::RateControl::kIdeal;
   }

@@ -88,9 +88,6 @@ void CountReceiverOutcome(StationState& st, const Transmission& tx, const RxEntr
   }
 }
 
-// ns-3 ConstantSpeedPropagationDelayModel's default speed.
-constexpr double kSpeedOfLightMps = 299792458.0;
-
 double SquaredDistanceM2(const RadioChannel& channel, int a, int b) {
   const Vec3d& pa = channel.position(a);
   const Vec3d& pb = channel.position(b);
@@ -142,6 +139,28 @@ bool FadedPower(State& s, int source, int r, double* dbm, double* mw, double* lo
   }
   *dbm = src.tx_power_dbm - loss_db + gain_db;
   if (*dbm < config.rx_sensitivity_dbm) return false;
+  *loss_out_db = loss_db;
+  *mw = std::pow(10.0, *dbm / 10);
+  return true;
+}
+
+// Jakes fading (ns-3 JakesPropagationLossModel): the received power of a frame at `r` is the
+// mean power times the pair's process's power gain at the frame's start. Returns false if the
+// frame stays under the RX sensitivity at `r`, else its power in dBm and mW. No gain exceeds
+// fading_margin_db (10 log10(2 M), exact), so links weaker on average by more are resolved
+// only that far and create no process.
+bool JakesFadedPower(State& s, int source, int r, double* dbm, double* mw, double* loss_out_db) {
+  const StationState& src = s.stations[source];
+  if (!(SquaredDistanceM2(s.channel, source, r) < src.fading_reach_m2)) return false;
+  const double stop_db = src.tx_power_dbm - s.config.rx_sensitivity_dbm + s.fading_margin_db;
+  const double loss_db = s.channel.LossDbUntil(source, r, stop_db);
+  if (!(loss_db < stop_db)) return false;
+  const double gain_db =
+      s.speed_doppler
+          ? s.jakes->PowerGainDbAtPhase(source, r, s.speed_doppler->PhaseRad(source, r, s.now_ns))
+          : s.jakes->PowerGainDb(source, r, s.now_ns);
+  *dbm = src.tx_power_dbm - loss_db + gain_db;
+  if (!(*dbm >= s.config.rx_sensitivity_dbm)) return false;
   *loss_out_db = loss_db;
   *mw = std::pow(10.0, *dbm / 10);
   return true;
@@ -232,10 +251,11 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
       SplitLoss(s, source, r, loss_db, &e.path_loss_db, &e.obstacle_loss_db);
     }
   };
-  if (config.nakagami_fading) {
+  if (config.nakagami_fading || config.jakes_fading) {
+    const auto faded_power = config.jakes_fading ? JakesFadedPower : FadedPower;
     for (int r = 0; r < n; ++r) {
       double dbm, mw, loss_db;
-      if (r != source && FadedPower(s, source, r, &dbm, &mw, &loss_db)) {
+      if (r != source && faded_power(s, source, r, &dbm, &mw, &loss_db)) {
         add_receiver(r, dbm, mw, loss_db);
       }
     }

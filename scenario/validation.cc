@@ -100,6 +100,15 @@ void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
   if (!(radio.nakagami_d1_m() > 0 && radio.nakagami_d2_m() >= radio.nakagami_d1_m())) {
     at.Fail({{"radio"}, {"nakagami_d1_m"}}, "radio: need 0 < nakagami_d1_m <= nakagami_d2_m");
   }
+  // ns-3 would chain both, but they model the same multipath: each frame would fade twice.
+  if (radio.jakes_fading() && radio.nakagami_fading()) {
+    at.Fail({{"radio"}, {"jakes_fading"}},
+            "radio: jakes_fading and nakagami_fading both model fast fading; set one");
+  }
+  if (radio.jakes_doppler_from_speed() && !radio.jakes_fading()) {
+    at.Fail({{"radio"}, {"jakes_doppler_from_speed"}},
+            "radio: jakes_doppler_from_speed needs jakes_fading");
+  }
 }
 
 void ValidateTiming(const SourceLocator& at, Scenario* scenario) {

@@ -9,7 +9,8 @@
 // transmissions" (the last: the median run's count, for instruction counts per transmission).
 // --validation prints the whole ns-3 Bianchi table instead (docs/validation.md).
 // --rows LIST runs only the rows named in the comma-separated LIST: sat1, sat5,
-// sat10, sat20, sat50, bcast, bcast-fading, bcast-delay, bcast1000, hidden (e.g.
+// sat10, sat20, sat50, bcast, bcast-fading, bcast-jakes, bcast-jakes-speed, bcast-delay,
+// bcast1000, hidden (e.g.
 // --rows bcast,bcast-fading for the fading cost alone).
 // --error-model nist|table: the error model of the broadcast and hidden rows (default
 // nist); bench/mac_phy_sim/error_model_ab.sh alternates the two (ABBA).
@@ -74,14 +75,19 @@ Sample Saturation(int n, double seconds, uint64_t seed) {
   return Measured(seconds, start, cpu_start, testing::RunTopUpSaturation(n, seconds, seed));
 }
 
+// The channel effect a broadcast row adds (docs/mac_phy_sim.md), with ns-3's defaults:
+// Nakagami fading per frame and receiver, Jakes fading per pair (its Doppler fixed or from
+// the speeds), propagation delay.
+enum class Effect { kNone, kNakagami, kJakes, kJakesFromSpeed, kDelay };
+
 Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, double max_box_m,
-                   bool fading = false, bool delay = false) {
+                   Effect effect = Effect::kNone) {
   MediumConfig config;
   config.seed = seed;
-  // The channel effects of docs/mac_phy_sim.md: ns-3's default Nakagami
-  // fading per frame and receiver; propagation delay per receiver.
-  config.nakagami_fading = fading;
-  config.propagation_delay = delay;
+  config.nakagami_fading = effect == Effect::kNakagami;
+  config.jakes_fading = effect == Effect::kJakes || effect == Effect::kJakesFromSpeed;
+  config.jakes_doppler_from_speed = effect == Effect::kJakesFromSpeed;
+  config.propagation_delay = effect == Effect::kDelay;
   config.error_model = g_error_model;
   Medium medium(config);
   std::mt19937_64 rng(seed);
@@ -276,14 +282,28 @@ int main(int argc, char** argv) {
   if (wanted("bcast-fading")) {
     samples.clear();
     for (int k = 0; k < runs; ++k) {
-      samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, /*fading=*/true));
+      samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, Effect::kNakagami));
     }
     report("the same with Nakagami fading (ns-3 defaults)", 64, samples);
+  }
+  if (wanted("bcast-jakes")) {
+    samples.clear();
+    for (int k = 0; k < runs; ++k) {
+      samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, Effect::kJakes));
+    }
+    report("the same with Jakes fading (ns-3 defaults)", 64, samples);
+  }
+  if (wanted("bcast-jakes-speed")) {
+    samples.clear();
+    for (int k = 0; k < runs; ++k) {
+      samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, Effect::kJakesFromSpeed));
+    }
+    report("the same with Jakes fading, Doppler from speed", 64, samples);
   }
   if (wanted("bcast-delay")) {
     samples.clear();
     for (int k = 0; k < runs; ++k) {
-      samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, false, /*delay=*/true));
+      samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, Effect::kDelay));
     }
     report("the same with propagation delay", 64, samples);
   }

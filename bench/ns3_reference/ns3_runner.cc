@@ -107,6 +107,7 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
       nakagami->SetAttribute("m2", DoubleValue(c.nakagami_m));
       log_distance->SetNext(nakagami);
     }
+    if (c.jakes) log_distance->SetNext(CreateObject<JakesPropagationLossModel>());
     channel->SetPropagationLossModel(log_distance);
   }
   YansWifiPhyHelper phy;

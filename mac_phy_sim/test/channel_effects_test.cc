@@ -57,7 +57,9 @@ TEST(ChannelEffectsTest, PropagationDelayIsDistanceOverTheSpeedOfLight) {
 // its signal's events used to land near int64's end (a signed overflow) or before now.
 TEST(ChannelEffectsTest, AStationAtNoPositionOrBeyondALightSecondHearsNothing) {
   constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-  for (const bool fading : {false, true}) {
+  enum class Fading { kNone, kNakagami, kJakes, kJakesFromSpeed };
+  for (const Fading fading :
+       {Fading::kNone, Fading::kNakagami, Fading::kJakes, Fading::kJakesFromSpeed}) {
     for (const Vec3d far : {Vec3d{kNan, 0, 0}, Vec3d{3e8, 0, 0}, Vec3d{2.7e18, 0, 0}}) {
       MediumConfig config;
       config.standard = Standard::k80211g;
@@ -65,15 +67,19 @@ TEST(ChannelEffectsTest, AStationAtNoPositionOrBeyondALightSecondHearsNothing) {
       config.tx_power_dbm = 30;
       config.rx_sensitivity_dbm = -200;
       config.propagation_delay = true;
-      config.nakagami_fading = fading;
+      config.nakagami_fading = fading == Fading::kNakagami;
+      config.jakes_fading = fading == Fading::kJakes || fading == Fading::kJakesFromSpeed;
+      config.jakes_doppler_from_speed = fading == Fading::kJakesFromSpeed;
       Medium medium(config);
       medium.AddStation(RobotMac(0), {0, 0, 0});
       medium.AddStation(RobotMac(1), {10, 0, 0});
       medium.AddStation(RobotMac(2), far);
+      medium.AddStation(RobotMac(3), {20, 0, 0});
+      medium.SetStationPosition(3, far, 1);  // Moved there: the Doppler from speed sees it.
       medium.SubmitFrame(0, MakeEthernetFrame(kBroadcast, RobotMac(0), 500), 0);
       std::vector<Delivery> out;
       medium.AdvanceTo(kNsPerS, &out);
-      ASSERT_EQ(out.size(), 1u) << far.x << (fading ? " fading" : "");
+      ASSERT_EQ(out.size(), 1u) << far.x << " fading kind " << static_cast<int>(fading);
       EXPECT_EQ(out[0].station, 1);
       EXPECT_EQ(medium.NextEventNs(), std::nullopt);
     }

@@ -157,6 +157,7 @@ MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
   config.rts_threshold_bytes = c.rts_threshold_bytes;
   // ns-3's Yans channel always has its constant-speed delay; at 1 mm it is 0 ns here.
   config.propagation_delay = true;
+  config.jakes_fading = c.jakes;
   if (c.nakagami_m > 0) {
     config.nakagami_fading = true;
     config.nakagami_m0 = config.nakagami_m1 = config.nakagami_m2 = c.nakagami_m;

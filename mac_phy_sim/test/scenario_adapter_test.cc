@@ -109,6 +109,47 @@ TEST(ScenarioAdapterTest, MapsTheNs3FidelityOptions) {
   EXPECT_EQ(config.error_model, MediumConfig::ErrorModel::kTableBased);
 }
 
+TEST(ScenarioAdapterTest, MapsJakesFading) {
+  const Scenario scenario = LoadScenarioText(R"(
+    name: "jakes"
+    robot { name: "a" }
+    radio { jakes_fading: true jakes_doppler_hz: 12.5 jakes_oscillators: 8
+            jakes_doppler_from_speed: true }
+  )",
+                                             "jakes.textproto");
+  const MediumConfig config = MediumConfigFromScenario(scenario);
+  EXPECT_TRUE(config.jakes_fading);
+  EXPECT_EQ(config.jakes_doppler_hz, 12.5);
+  EXPECT_EQ(config.jakes_oscillators, 8);
+  EXPECT_TRUE(config.jakes_doppler_from_speed);
+  EXPECT_EQ(MediumConfig{}.jakes_doppler_hz, 80);  // ns-3's DopplerFrequencyHz.
+  EXPECT_EQ(MediumConfig{}.jakes_oscillators, 20);  // ns-3's NumberOfOscillators.
+}
+
+// Bad Jakes settings are refused in one line naming the file, line, column and field.
+TEST(ScenarioAdapterTest, RefusesBadJakesSettings) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"radio { jakes_doppler_hz: 0 }", "t.textproto:3:9: radio: jakes_doppler_hz 0 must be > 0"},
+      {"radio { jakes_doppler_hz: 20000 }",
+       "t.textproto:3:9: radio: jakes_doppler_hz 20000 must be at most 10000"},
+      {"radio { jakes_oscillators: 3 }",
+       "t.textproto:3:9: radio: jakes_oscillators 3 out of range [4, 1000]"},
+      {"radio { nakagami_fading: true jakes_fading: true }",
+       "t.textproto:3:31: radio: jakes_fading and nakagami_fading both model fast fading; set one"},
+      {"radio { jakes_doppler_from_speed: true }",
+       "t.textproto:3:9: radio: jakes_doppler_from_speed needs jakes_fading"},
+  };
+  for (const auto& [radio, message] : cases) {
+    const std::string text = std::string("name: \"t\"\nrobot { name: \"a\" }\n") + radio + "\n";
+    try {
+      LoadScenarioText(text, "t.textproto");
+      ADD_FAILURE() << "accepted: " << radio;
+    } catch (const Error& error) {
+      EXPECT_EQ(std::string(error.what()), message);
+    }
+  }
+}
+
 TEST(ScenarioAdapterTest, RobotsHaveTheirOwnTxPowerAndRate) {
   const Scenario scenario = LoadScenarioText(R"(
     name: "own"

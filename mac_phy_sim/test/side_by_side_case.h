@@ -45,6 +45,9 @@ struct Case {
   // Source interval override (ns); 0: OfferIntervalNs's default. Not in the
   // CSV: for one-off load studies (ns3_side_by_side hidden-load).
   int64_t offer_interval_ns = 0;
+  // Jakes fading with ns-3's defaults (80 Hz, 20 oscillators). Not in the CSV: only
+  // ns3_jakes_side_by_side runs such cells.
+  bool jakes = false;
 };
 
 struct Point {
