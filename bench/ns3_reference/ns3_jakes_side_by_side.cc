@@ -22,19 +22,6 @@ namespace {
 using sitlnet::TimeNs;
 using namespace sitlnet::mac;
 
-FadingSamples SitlnetSamples(const JakesParameters& parameters, int processes, TimeNs step_ns,
-                             int steps, uint64_t seed) {
-  FadingSamples samples;
-  samples.step_s = step_ns / 1e9;
-  RandomEngine rng(seed);
-  for (int k = 0; k < processes; ++k) {
-    const JakesProcess process(parameters, rng);
-    auto& x = samples.gains.emplace_back();
-    for (int j = 0; j < steps; ++j) x.push_back(process.ComplexGain(j * step_ns));
-  }
-  return samples;
-}
-
 double PercentApart(double sitlnet, double ns3) { return 100 * (sitlnet - ns3) / ns3; }
 
 void Compare(const JakesParameters& parameters, int processes) {
@@ -44,7 +31,7 @@ void Compare(const JakesParameters& parameters, int processes) {
   ns3.step_s = step_ns / 1e9;
   ns3.gains = Ns3JakesGains(parameters.doppler_hz, parameters.oscillators, processes, ns3.step_s,
                             steps, 1);
-  const FadingSamples ours = SitlnetSamples(parameters, processes, step_ns, steps, 1);
+  const FadingSamples ours = SampleJakesProcesses(parameters, processes, step_ns, steps, 1);
   std::printf("\n%g Hz, %d oscillators, %d processes each side, 1 s sampled every 0.1 ms:\n\n",
               parameters.doppler_hz, parameters.oscillators, processes);
   std::printf("| statistic | closed form | ns-3 3.37 | mac_phy_sim | apart | rule |\n");

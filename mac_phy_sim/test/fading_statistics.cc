@@ -5,6 +5,20 @@
 #include <numbers>
 
 namespace sitlnet::mac {
+
+FadingSamples SampleJakesProcesses(const JakesParameters& parameters, int processes,
+                                   TimeNs step_ns, int steps, uint64_t seed) {
+  FadingSamples samples;
+  samples.step_s = static_cast<double>(step_ns) / kNsPerS;
+  RandomEngine rng(seed);
+  for (int k = 0; k < processes; ++k) {
+    const JakesProcess process(parameters, rng);
+    auto& x = samples.gains.emplace_back();
+    for (int j = 0; j < steps; ++j) x.push_back(process.ComplexGain(j * step_ns));
+  }
+  return samples;
+}
+
 namespace {
 
 // Mean and standard error over processes of a per-process mean.

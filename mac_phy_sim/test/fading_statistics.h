@@ -5,7 +5,10 @@
 #define SITLNET_MAC_PHY_SIM_TEST_FADING_STATISTICS_H_
 
 #include <complex>
+#include <cstdint>
 #include <vector>
+
+#include "mac_phy_sim/jakes_process.h"
 
 namespace sitlnet::mac {
 
@@ -14,6 +17,11 @@ struct FadingSamples {
   double step_s = 0;
   std::vector<std::vector<std::complex<double>>> gains;  // [process][step].
 };
+
+// `processes` independent Jakes processes of mac_phy_sim, drawn in turn from one engine seeded
+// with `seed`, each sampled `steps` times every `step_ns` from time 0.
+FadingSamples SampleJakesProcesses(const JakesParameters& parameters, int processes,
+                                   TimeNs step_ns, int steps, uint64_t seed);
 
 // A mean over processes and its standard error (spread of the per-process means / sqrt(n)).
 struct Estimate {

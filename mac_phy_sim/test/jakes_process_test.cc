@@ -16,15 +16,8 @@ namespace {
 // `processes` independent processes sampled every `step_ns` for `duration_ns`.
 FadingSamples Sample(const JakesParameters& parameters, int processes, TimeNs step_ns,
                      TimeNs duration_ns, uint64_t seed) {
-  FadingSamples samples;
-  samples.step_s = step_ns / 1e9;
-  RandomEngine rng(seed);
-  for (int k = 0; k < processes; ++k) {
-    const JakesProcess process(parameters, rng);
-    auto& x = samples.gains.emplace_back();
-    for (TimeNs t = 0; t < duration_ns; t += step_ns) x.push_back(process.ComplexGain(t));
-  }
-  return samples;
+  return SampleJakesProcesses(parameters, processes, step_ns,
+                              static_cast<int>((duration_ns + step_ns - 1) / step_ns), seed);
 }
 
 double J0(double x) { return std::cyl_bessel_j(0.0, x); }
