@@ -1,0 +1,38 @@
+// The relay's socket in the ground station's namespace: where the vehicles' MAVLink arrives over
+// the simulated radio, and whence the GCS's datagrams leave for every vehicle heard.
+#ifndef SITLNET_GCS_LINK_STATION_SOCKET_H_
+#define SITLNET_GCS_LINK_STATION_SOCKET_H_
+
+#include <netinet/in.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gcs_link/gcs_link.h"
+#include "nns/nns.h"
+
+namespace sitlnet::gcs {
+
+class StationSocket {
+ public:
+  // Binds UDP `port` on every address of namespace `netns` (entered by the calling thread for the
+  // call only). Throws Error naming the namespace, the port and the reason.
+  StationSocket(const std::string& netns, uint16_t port);
+  int fd() const { return socket_.get(); }
+  // Reads one datagram into `buffer` (resized to it) and remembers its sender as a vehicle;
+  // false when none is waiting.
+  bool Receive(std::vector<uint8_t>* buffer, GcsRelayCounters* counters);
+  // Sends `data` to every vehicle heard so far: each vehicle's MAVLink ignores messages for other
+  // system ids, as a router without a route for the target sends to every link.
+  void SendToVehicles(const uint8_t* data, size_t size, GcsRelayCounters* counters);
+
+ private:
+  nns::UniqueFd socket_;
+  std::vector<sockaddr_in> vehicles_;
+};
+
+}  // namespace sitlnet::gcs
+
+#endif  // SITLNET_GCS_LINK_STATION_SOCKET_H_
