@@ -58,7 +58,10 @@ struct GcsRelayCounters {
   // the socket's buffer was full, or no TCP client was connected.
   uint64_t to_gcs_unreceived = 0;
   uint64_t from_gcs = 0;          // Reached a host socket from a GCS (a TCP read counts one).
-  uint64_t to_vehicles = 0;       // Sent on the radio to a vehicle, one per vehicle.
+  // UDP datagrams of those that held no whole MAVLink frame: dropped, never sent on the radio.
+  uint64_t from_gcs_without_frame = 0;
+  uint64_t from_gcs_bytes_dropped = 0;  // Bytes from a GCS that began no frame: dropped.
+  uint64_t to_vehicles = 0;       // Whole frames of a GCS sent to a vehicle, one per vehicle.
   uint64_t to_vehicles_failed = 0;
   uint64_t gcs_clients = 0;       // TCP clients accepted.
   uint64_t tlog_frames = 0;       // Frames written to gcs.tlog.

@@ -15,7 +15,7 @@
 
 namespace sitlnet::gcs {
 
-// Takes bytes a GCS sent, for the vehicles.
+// Takes whole MAVLink frames a GCS sent (frame_stream.h), for the vehicles.
 using GcsBytesSink = std::function<void(const uint8_t* data, size_t size)>;
 
 class HostEndpoint {
@@ -24,7 +24,7 @@ class HostEndpoint {
   // Appends the fds to poll now, with their events.
   virtual void AppendPollFds(std::vector<pollfd>* fds) const = 0;
   // Handles `ready` if it is one of this endpoint's fds (else returns false): reads what the GCS
-  // sent into `to_vehicles`, accepts or drops clients, drains ICMP errors. Never throws.
+  // sent, its whole frames into `to_vehicles`, accepts or drops clients, drains ICMP errors. Never throws.
   virtual bool HandleReady(const pollfd& ready, const GcsBytesSink& to_vehicles,
                            GcsRelayCounters* counters) = 0;
   // Sends one datagram of the vehicles to the GCS; what it cannot take is counted, never fatal.

@@ -1,6 +1,6 @@
 // A GCS over TCP: a server on 127.0.0.1:PORT, as ArduPilot SITL listens on 5760; MAVProxy and
 // QGroundControl connect to it. Every client gets every datagram of the vehicles; what a client
-// sends goes to the vehicles as it arrives (an autopilot parses its UDP input as a byte stream).
+// sends is cut into frames, each read's whole frames one datagram to the vehicles.
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <string>
 
+#include "gcs_link/frame_stream.h"
 #include "gcs_link/host_endpoint.h"
 #include "nns/nns.h"
 
@@ -22,6 +23,7 @@ constexpr size_t kReadBytes = 4096;
 struct Client {
   nns::UniqueFd socket;
   std::string backlog;  // Bytes a full send buffer did not take, sent first.
+  FrameStream stream;   // Its bytes, cut into frames (one may span reads).
 };
 
 class TcpListenEndpoint final : public HostEndpoint {
@@ -116,7 +118,11 @@ class TcpListenEndpoint final : public HostEndpoint {
     if (n == 0) return false;
     if (n < 0) return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;
     ++counters->from_gcs;
-    to_vehicles(buffer, static_cast<size_t>(n));
+    std::vector<uint8_t> frames;
+    const uint64_t dropped_before = client.stream.bytes_dropped();
+    const size_t taken = client.stream.Push(buffer, static_cast<size_t>(n), &frames);
+    counters->from_gcs_bytes_dropped += client.stream.bytes_dropped() - dropped_before;
+    if (taken > 0) to_vehicles(frames.data(), frames.size());
     return true;
   }
 

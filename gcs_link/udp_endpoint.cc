@@ -9,6 +9,7 @@
 
 #include <cerrno>
 
+#include "gcs_link/frame_stream.h"
 #include "gcs_link/host_endpoint.h"
 #include "nns/nns.h"
 
@@ -58,7 +59,16 @@ class UdpEndpoint final : public HostEndpoint {
         break;
       }
       ++counters->from_gcs;
-      to_vehicles(buffer_.data(), static_cast<size_t>(n));
+      frames_.clear();
+      const uint64_t dropped_before = stream_.bytes_dropped();
+      const size_t taken = stream_.Push(buffer_.data(), static_cast<size_t>(n), &frames_);
+      stream_.DropRest();  // A datagram holds whole frames.
+      counters->from_gcs_bytes_dropped += stream_.bytes_dropped() - dropped_before;
+      if (taken == 0) {
+        ++counters->from_gcs_without_frame;
+        continue;
+      }
+      to_vehicles(frames_.data(), frames_.size());
     }
     return true;
   }
@@ -94,6 +104,8 @@ class UdpEndpoint final : public HostEndpoint {
   sockaddr_in gcs_{};
   nns::UniqueFd socket_;
   std::vector<uint8_t> buffer_;
+  FrameStream stream_;
+  std::vector<uint8_t> frames_;
 };
 
 }  // namespace

@@ -1,0 +1,30 @@
+// What a GCS sends, cut into whole MAVLink 1 or 2 frames (mavlink::FrameBytes, by header) before
+// it goes on the radio: bytes that begin no frame are dropped and counted, so junk from the host
+// costs the simulated radio nothing. A TCP client's bytes are a stream (a frame may span reads);
+// a UDP datagram ends whatever it began.
+#ifndef SITLNET_GCS_LINK_FRAME_STREAM_H_
+#define SITLNET_GCS_LINK_FRAME_STREAM_H_
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace sitlnet::gcs {
+
+class FrameStream {
+ public:
+  // Appends `size` bytes and moves every whole frame now complete to the end of `frames`;
+  // returns how many. Bytes before a magic byte are dropped (counted in bytes_dropped()).
+  size_t Push(const uint8_t* data, size_t size, std::vector<uint8_t>* frames);
+  // Drops the start of a frame still incomplete (a datagram's end), counting its bytes.
+  void DropRest();
+  uint64_t bytes_dropped() const { return bytes_dropped_; }
+
+ private:
+  std::vector<uint8_t> pending_;
+  uint64_t bytes_dropped_ = 0;
+};
+
+}  // namespace sitlnet::gcs
+
+#endif  // SITLNET_GCS_LINK_FRAME_STREAM_H_

@@ -1,0 +1,59 @@
+// A GCS on the host for sitlnet run's built-in relay (`--gcs udp:127.0.0.1:PORT`), with
+// node-mavlink, a MAVLink implementation sitlnet did not write:
+//   node host_gcs.cjs PORT SECONDS [JUNK]
+// Binds 127.0.0.1:PORT (0: any free port) and prints "LISTENING on UDP port N". Prints
+// "HEARD sysid=S msgid=M name=NAME wall_ms=W" for each message (W: ms since it bound), and on the
+// first HEARTBEAT of each system id sends that system a COMMAND_LONG (MAV_CMD_REQUEST_MESSAGE of
+// AUTOPILOT_VERSION, target_system = S) to whoever sent it, printing "SENT sysid=S". With JUNK,
+// each datagram it gets is first answered with JUNK datagrams of bytes that begin no frame.
+// After SECONDS it prints "COUNTS valid=.. invalid=.. unknown=.." and exits 0.
+// Used by tests/integration/gcs_relay_test.cc.
+'use strict';
+const dgram = require('dgram');
+const { MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, minimal, common } =
+    require('node-mavlink');
+
+const REGISTRY = { ...minimal.REGISTRY, ...common.REGISTRY };
+const [port, seconds, junk] = process.argv.slice(2).map(Number);
+if (Number.isNaN(port) || Number.isNaN(seconds)) {
+  process.stderr.write('usage: node host_gcs.cjs PORT SECONDS [JUNK]\n');
+  process.exit(2);
+}
+const protocol = new MavLinkProtocolV2(255, 190);  // A GCS's usual system and component ids.
+const socket = dgram.createSocket('udp4');
+const splitter = new MavLinkPacketSplitter();
+const commanded = new Set();
+let sender = null;
+let boundAt = 0;
+let seq = 0;
+splitter.pipe(new MavLinkPacketParser()).on('data', (packet) => {
+  const h = packet.header;
+  const clazz = REGISTRY[h.msgid];
+  const name = clazz ? clazz.MSG_NAME : 'UNKNOWN';
+  process.stdout.write(`HEARD sysid=${h.sysid} msgid=${h.msgid} name=${name} ` +
+                       `wall_ms=${Date.now() - boundAt}\n`);
+  if (h.msgid !== 0 || commanded.has(h.sysid)) return;
+  commanded.add(h.sysid);
+  const command = new common.CommandLong();
+  command.targetSystem = h.sysid;
+  command.targetComponent = 1;
+  command.command = 512;  // MAV_CMD_REQUEST_MESSAGE
+  command._param1 = 148;  // AUTOPILOT_VERSION
+  socket.send(protocol.serialize(command, seq++ & 255), sender.port, sender.address);
+  process.stdout.write(`SENT sysid=${h.sysid}\n`);
+});
+socket.on('message', (datagram, from) => {
+  sender = from;
+  for (let i = 0; i < (junk || 0); ++i) socket.send(Buffer.from([0x00, 0x01, 0x02, 0x03]), from.port, from.address);
+  splitter.write(datagram);
+});
+socket.bind(port, '127.0.0.1', () => {
+  boundAt = Date.now();
+  process.stdout.write(`LISTENING on UDP port ${socket.address().port}\n`);
+  setTimeout(() => {
+    process.stdout.write(`COUNTS valid=${splitter.validPackages} ` +
+                         `invalid=${splitter.invalidPackages} ` +
+                         `unknown=${splitter.unknownPackagesCount}\n`);
+    process.exit(0);
+  }, seconds * 1000);
+});
