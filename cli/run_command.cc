@@ -53,8 +53,8 @@ std::unique_ptr<view::LiveView> StartLiveView(const runner::RunOptions& options,
       arguments.listen.empty() ? view::kDefaultListen : arguments.listen, arguments.allow_remote);
   const Scenario scenario =
       runner::ApplyRunOverrides(LoadScenarioFile(options.scenario_path), options);
-  auto live = std::make_unique<view::LiveView>(scenario, options.out_dir, listen,
-                                               SITLNET_VIEW_WEB_DIR);
+  auto live =
+      std::make_unique<view::LiveView>(scenario, options.out_dir, listen, SITLNET_VIEW_WEB_DIR);
   std::fprintf(stderr, "sitlnet run: live view at %s\n", live->url().c_str());
   return live;
 }

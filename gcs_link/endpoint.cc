@@ -12,7 +12,8 @@ constexpr const char* kForms = "expected udp:HOST:PORT (HOST an IPv4 address) or
 
 // A port 1..65535 written in decimal, or nullopt.
 std::optional<uint16_t> ParsePort(const std::string& text) {
-  if (text.empty() || text.size() > 5 || text.find_first_not_of("0123456789") != std::string::npos) {
+  if (text.empty() || text.size() > 5 ||
+      text.find_first_not_of("0123456789") != std::string::npos) {
     return std::nullopt;
   }
   const int port = std::stoi(text);

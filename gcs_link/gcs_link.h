@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "clock/clock.h"
 #include "common/common.h"
 
 namespace sitlnet::gcs {
@@ -43,10 +44,10 @@ GcsEndpoint DefaultGcsEndpoint();
 //--------------------------------- The relay --------------------------------
 
 struct GcsRelayOptions {
-  std::string station_netns;              // The ground station's namespace, `ip netns` name.
-  uint16_t station_port = kGcsUdpPort;    // Bound there on every address.
-  std::vector<GcsEndpoint> endpoints;     // At least one.
-  std::string tlog_path;                  // gcs.tlog (tlog_writer.h); empty: none.
+  std::string station_netns;            // The ground station's namespace, `ip netns` name.
+  uint16_t station_port = kGcsUdpPort;  // Bound there on every address.
+  std::vector<GcsEndpoint> endpoints;   // At least one.
+  std::string tlog_path;                // gcs.tlog (tlog_writer.h); empty: none.
 };
 
 // What the relay moved and dropped. Datagrams, not frames, unless named.
@@ -57,14 +58,14 @@ struct GcsRelayCounters {
   // Sent to a GCS that did not take them: an ICMP error came back (no one listens on the port),
   // the socket's buffer was full, or no TCP client was connected.
   uint64_t to_gcs_unreceived = 0;
-  uint64_t from_gcs = 0;          // Reached a host socket from a GCS (a TCP read counts one).
+  uint64_t from_gcs = 0;  // Reached a host socket from a GCS (a TCP read counts one).
   // UDP datagrams of those that held no whole MAVLink frame: dropped, never sent on the radio.
   uint64_t from_gcs_without_frame = 0;
   uint64_t from_gcs_bytes_dropped = 0;  // Bytes from a GCS that began no frame: dropped.
-  uint64_t to_vehicles = 0;       // Whole frames of a GCS sent to a vehicle, one per vehicle.
+  uint64_t to_vehicles = 0;             // Whole frames of a GCS sent to a vehicle, one per vehicle.
   uint64_t to_vehicles_failed = 0;
-  uint64_t gcs_clients = 0;       // TCP clients accepted.
-  uint64_t tlog_frames = 0;       // Frames written to gcs.tlog.
+  uint64_t gcs_clients = 0;         // TCP clients accepted.
+  uint64_t tlog_frames = 0;         // Frames written to gcs.tlog.
   uint64_t tlog_bytes_skipped = 0;  // Bytes of the vehicles' datagrams that began no frame.
 };
 
@@ -78,8 +79,12 @@ class GcsRelay {
   GcsRelay(const GcsRelay&) = delete;
   GcsRelay& operator=(const GcsRelay&) = delete;
 
-  // The simulation's time now, stamped on the frames the tlog records from here on. Any thread.
+  // The simulation's time now, stamped on the frames the tlog records from here on, until
+  // UseTimebase. Any thread.
   void SetVirtualNow(TimeNs virtual_ns);
+  // From now on each frame is stamped with timebase.VirtualOf(the instant the relay read it):
+  // realtime pacing, once the run's timebase has begun. A copy is kept. Any thread, once.
+  void UseTimebase(const clock::Timebase& timebase);
   // Stops the thread and flushes the tlog (throws Error naming it if it cannot be written).
   // Idempotent.
   void Stop();

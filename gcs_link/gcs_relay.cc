@@ -32,7 +32,8 @@ std::unique_ptr<HostEndpoint> MakeHostEndpoint(const GcsEndpoint& endpoint) {
 }  // namespace
 
 struct GcsRelay::Impl {
-  explicit Impl(const GcsRelayOptions& options) : station(options.station_netns, options.station_port) {
+  explicit Impl(const GcsRelayOptions& options)
+      : station(options.station_netns, options.station_port) {
     SITLNET_DEMAND(!options.endpoints.empty());
     for (const GcsEndpoint& endpoint : options.endpoints) {
       hosts.push_back(MakeHostEndpoint(endpoint));
@@ -48,7 +49,7 @@ struct GcsRelay::Impl {
     std::vector<pollfd> fds;
     std::vector<uint8_t> datagram;
     const GcsBytesSink to_vehicles = [this](const uint8_t* data, size_t size) {
-      if (tlog) tlog->AppendDatagram(virtual_ns.load(), data, size, &counters);
+      if (tlog) tlog->AppendDatagram(VirtualNow(), data, size, &counters);
       station.SendToVehicles(data, size, &counters);
     };
     while (true) {
@@ -66,8 +67,9 @@ struct GcsRelay::Impl {
       const std::lock_guard<std::mutex> lock(counters_mutex);
       if (fds[1].revents != 0) {
         for (int i = 0; i < kMaxStationReadsPerWake && station.Receive(&datagram, &counters); ++i) {
-          if (tlog) tlog->AppendDatagram(virtual_ns.load(), datagram.data(), datagram.size(), &counters);
-          for (const auto& host : hosts) host->SendToGcs(datagram.data(), datagram.size(), &counters);
+          if (tlog) tlog->AppendDatagram(VirtualNow(), datagram.data(), datagram.size(), &counters);
+          for (const auto& host : hosts)
+            host->SendToGcs(datagram.data(), datagram.size(), &counters);
         }
       }
       for (size_t i = 2; i < fds.size(); ++i) {
@@ -77,6 +79,11 @@ struct GcsRelay::Impl {
         }
       }
     }
+  }
+
+  TimeNs VirtualNow() const {
+    if (timebase_ready.load(std::memory_order_acquire)) return timebase.VirtualOf(MonotonicNowNs());
+    return virtual_ns.load();
   }
 
   void Stop() {
@@ -93,6 +100,8 @@ struct GcsRelay::Impl {
   std::string description;
   nns::UniqueFd stop_event;
   std::atomic<TimeNs> virtual_ns{0};
+  clock::Timebase timebase;  // Written once, before timebase_ready is set.
+  std::atomic<bool> timebase_ready{false};
   mutable std::mutex counters_mutex;
   GcsRelayCounters counters;  // Guarded by counters_mutex while the thread runs.
   std::thread thread;
@@ -110,6 +119,12 @@ GcsRelay::~GcsRelay() {
 }
 
 void GcsRelay::SetVirtualNow(TimeNs virtual_ns) { impl_->virtual_ns.store(virtual_ns); }
+
+void GcsRelay::UseTimebase(const clock::Timebase& timebase) {
+  SITLNET_DEMAND(!impl_->timebase_ready.load());
+  impl_->timebase = timebase;
+  impl_->timebase_ready.store(true, std::memory_order_release);
+}
 
 void GcsRelay::Stop() { impl_->Stop(); }
 

@@ -24,7 +24,8 @@ class HostEndpoint {
   // Appends the fds to poll now, with their events.
   virtual void AppendPollFds(std::vector<pollfd>* fds) const = 0;
   // Handles `ready` if it is one of this endpoint's fds (else returns false): reads what the GCS
-  // sent, its whole frames into `to_vehicles`, accepts or drops clients, drains ICMP errors. Never throws.
+  // sent, its whole frames into `to_vehicles`, accepts or drops clients, drains ICMP errors. Never
+  // throws.
   virtual bool HandleReady(const pollfd& ready, const GcsBytesSink& to_vehicles,
                            GcsRelayCounters* counters) = 0;
   // Sends one datagram of the vehicles to the GCS; what it cannot take is counted, never fatal.

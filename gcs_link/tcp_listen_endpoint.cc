@@ -91,8 +91,8 @@ class TcpListenEndpoint final : public HostEndpoint {
  private:
   void Accept(GcsRelayCounters* counters) {
     while (true) {
-      nns::UniqueFd accepted(accept4(listener_.get(), nullptr, nullptr,
-                                     SOCK_NONBLOCK | SOCK_CLOEXEC));
+      nns::UniqueFd accepted(
+          accept4(listener_.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
       if (!accepted.valid()) return;
       if (clients_.size() >= kMaxClients) continue;  // Closed at once.
       ++counters->gcs_clients;

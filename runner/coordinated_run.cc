@@ -28,10 +28,11 @@ CoordinatedRun::CoordinatedRun(RunParts* setup, RunPhysics* physics, const RunOp
       supervisor_(&setup->robots(),
                   setup->scenario().spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP,
                   &progress_, options.program),
-      gcs_clock_(setup->gcs_relay() ? std::make_unique<GcsRelayClock>(setup->gcs_relay())
-                                    : nullptr),
-      observed_network_(&bridge_sim_,
-                        NetworkObservers(&supervisor_, &progress_, gcs_clock_.get())),
+      gcs_clock_(setup->gcs_relay()
+                     ? std::make_unique<GcsRelayClock>(setup->gcs_relay(), &setup->run_timebase(),
+                                                       setup->lockstep())
+                     : nullptr),
+      observed_network_(&bridge_sim_, NetworkObservers(&supervisor_, &progress_, gcs_clock_.get())),
       // The bridge is single-threaded: always the coordinator's own thread.
       network_(coordinator::MakeInProcessConnector("network", coordinator::Role::kNetwork,
                                                    &observed_network_,

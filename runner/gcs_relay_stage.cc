@@ -49,20 +49,21 @@ std::optional<RunReport::GcsRelayReport> StopGcsRelay(gcs::GcsRelay* relay) {
   }
   const RunReport::GcsRelayReport report{relay->Describe(), relay->counters()};
   const gcs::GcsRelayCounters& c = report.counters;
-  std::fprintf(stderr,
-               "sitlnet run: GCS relay: %llu datagrams from %llu vehicle addresses, %llu to %s "
-               "(%llu not received), %llu from the GCS (%llu without a frame, dropped), %llu sent to "
-               "vehicles (%llu failed), "
-               "%llu frames in gcs.tlog\n",
-               static_cast<unsigned long long>(c.from_vehicles),
-               static_cast<unsigned long long>(c.vehicle_addresses),
-               static_cast<unsigned long long>(c.to_gcs), report.endpoints.c_str(),
-               static_cast<unsigned long long>(c.to_gcs_unreceived),
-               static_cast<unsigned long long>(c.from_gcs),
-               static_cast<unsigned long long>(c.from_gcs_without_frame),
-               static_cast<unsigned long long>(c.to_vehicles),
-               static_cast<unsigned long long>(c.to_vehicles_failed),
-               static_cast<unsigned long long>(c.tlog_frames));
+  std::fprintf(
+      stderr,
+      "sitlnet run: GCS relay: %llu datagrams from %llu vehicle addresses, %llu to %s "
+      "(%llu not received), %llu from the GCS (%llu without a frame, dropped), %llu sent to "
+      "vehicles (%llu failed), "
+      "%llu frames in gcs.tlog\n",
+      static_cast<unsigned long long>(c.from_vehicles),
+      static_cast<unsigned long long>(c.vehicle_addresses),
+      static_cast<unsigned long long>(c.to_gcs), report.endpoints.c_str(),
+      static_cast<unsigned long long>(c.to_gcs_unreceived),
+      static_cast<unsigned long long>(c.from_gcs),
+      static_cast<unsigned long long>(c.from_gcs_without_frame),
+      static_cast<unsigned long long>(c.to_vehicles),
+      static_cast<unsigned long long>(c.to_vehicles_failed),
+      static_cast<unsigned long long>(c.tlog_frames));
   return report;
 }
 

@@ -32,18 +32,30 @@ std::unique_ptr<gcs::GcsRelay> StartGcsRelay(const Scenario& scenario,
 // tlog that could not be written is said there too, never fatal.
 std::optional<RunReport::GcsRelayReport> StopGcsRelay(gcs::GcsRelay* relay);
 
-// Tells the relay the virtual time of each iteration as it begins: the stamp of the frames it
-// relays during that iteration.
+// The relay's clock for gcs.tlog. Realtime pacing: from the first iteration on, the run's
+// timebase (begun by then), so a frame is stamped when the relay read it, as the bridge stamps
+// frames. Lockstep: each iteration's start, as it begins; the run does not wait for the relay,
+// so a frame may be stamped an iteration or more after it crossed the medium.
 class GcsRelayClock final : public IterationObserver {
  public:
-  explicit GcsRelayClock(gcs::GcsRelay* relay) : relay_(*relay) {}
+  // `relay` and `timebase` must outlive this.
+  GcsRelayClock(gcs::GcsRelay* relay, const clock::Timebase* timebase, bool lockstep)
+      : relay_(*relay), timebase_(*timebase), lockstep_(lockstep) {}
   void IterationBegins(const proto::coord::Start& start) override {
-    relay_.SetVirtualNow(start.start_ns());
+    if (lockstep_) {
+      relay_.SetVirtualNow(start.start_ns());
+    } else if (!timebase_given_) {
+      relay_.UseTimebase(timebase_);
+      timebase_given_ = true;
+    }
   }
   void IterationEnded(const proto::coord::Start& /*start*/) override {}
 
  private:
   gcs::GcsRelay& relay_;
+  const clock::Timebase& timebase_;
+  const bool lockstep_;
+  bool timebase_given_ = false;
 };
 
 }  // namespace sitlnet::runner

@@ -1,6 +1,6 @@
 // The setup stage of `sitlnet run`: the scenario's namespaces, the physics server, the medium
-// (bridge and its records), the ground station's GCS relay and the robots' images, brought up in that order and torn down in the
-// reverse order however the run ends.
+// (bridge and its records), the ground station's GCS relay and the robots' images, brought up in
+// that order and torn down in the reverse order however the run ends.
 #ifndef SITLNET_RUNNER_RUN_SETUP_H_
 #define SITLNET_RUNNER_RUN_SETUP_H_
 

@@ -19,9 +19,9 @@ TEST(GcsEndpointTest, UdpAndTcpListenAreParsed) {
 }
 
 TEST(GcsEndpointTest, OtherFormsAreRefusedNamingTheText) {
-  for (const char* text : {"", "udp:", "udp:127.0.0.1", "udp:localhost:14550", "udp:1.2.3.4:0",
-                           "udp:1.2.3.4:65536", "udp:1.2.3.4:-1", "tcp-listen:", "tcp-listen:x",
-                           "tcp:1.2.3.4:5760", "14550"}) {
+  for (const char* text :
+       {"", "udp:", "udp:127.0.0.1", "udp:localhost:14550", "udp:1.2.3.4:0", "udp:1.2.3.4:65536",
+        "udp:1.2.3.4:-1", "tcp-listen:", "tcp-listen:x", "tcp:1.2.3.4:5760", "14550"}) {
     try {
       ParseGcsEndpoint(text);
       ADD_FAILURE() << "accepted '" << text << "'";

@@ -1,9 +1,10 @@
 // What a GCS sends is cut into whole frames; junk and cut frames are dropped and counted.
+#include "gcs_link/frame_stream.h"
+
 #include <gtest/gtest.h>
 
 #include <vector>
 
-#include "gcs_link/frame_stream.h"
 #include "mavlink/mavlink.h"
 
 namespace sitlnet::gcs {

@@ -1,6 +1,8 @@
 // gcs.tlog's layout, by the format's definition (a big-endian uint64 of microseconds before each
 // frame; MAVProxy's mavutil reads it so). tests/integration/gcs_relay_test.cc reads a run's log
 // back with node-mavlink, a MAVLink implementation sitlnet did not write.
+#include "gcs_link/tlog_writer.h"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -8,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include "gcs_link/tlog_writer.h"
 #include "mavlink/mavlink.h"
 
 namespace sitlnet::gcs {

@@ -6,7 +6,8 @@
 // first HEARTBEAT of each system id sends that system a COMMAND_LONG (MAV_CMD_REQUEST_MESSAGE of
 // AUTOPILOT_VERSION, target_system = S) to whoever sent it, printing "SENT sysid=S". With JUNK,
 // each datagram it gets is first answered with JUNK datagrams of bytes that begin no frame.
-// After SECONDS it prints "COUNTS valid=.. invalid=.. unknown=.." and exits 0.
+// After SECONDS (0: never), or at SIGTERM, it prints "COUNTS valid=.. invalid=.. unknown=.." and
+// exits 0.
 // Used by tests/integration/gcs_relay_test.cc.
 'use strict';
 const dgram = require('dgram');
@@ -44,16 +45,20 @@ splitter.pipe(new MavLinkPacketParser()).on('data', (packet) => {
 });
 socket.on('message', (datagram, from) => {
   sender = from;
-  for (let i = 0; i < (junk || 0); ++i) socket.send(Buffer.from([0x00, 0x01, 0x02, 0x03]), from.port, from.address);
+  for (let i = 0; i < (junk || 0); ++i) {
+    socket.send(Buffer.from([0x00, 0x01, 0x02, 0x03]), from.port, from.address);
+  }
   splitter.write(datagram);
 });
+function finish() {
+  process.stdout.write(`COUNTS valid=${splitter.validPackages} ` +
+                       `invalid=${splitter.invalidPackages} ` +
+                       `unknown=${splitter.unknownPackagesCount}\n`);
+  process.exit(0);
+}
+process.on('SIGTERM', finish);
 socket.bind(port, '127.0.0.1', () => {
   boundAt = Date.now();
   process.stdout.write(`LISTENING on UDP port ${socket.address().port}\n`);
-  setTimeout(() => {
-    process.stdout.write(`COUNTS valid=${splitter.validPackages} ` +
-                         `invalid=${splitter.invalidPackages} ` +
-                         `unknown=${splitter.unknownPackagesCount}\n`);
-    process.exit(0);
-  }, seconds * 1000);
+  if (seconds > 0) setTimeout(finish, seconds * 1000);
 });

@@ -1,0 +1,234 @@
+// Issue 47: `sitlnet run` joins a ground station's MAVLink to a GCS on the host by itself
+// (gcs_link/, docs/autopilots.md "Ground stations"). The vehicles are sitlnet's test autopilot
+// (HEARTBEAT each second of its clock, GLOBAL_POSITION_INT at 10 Hz, system id = robot index + 1);
+// the GCS is node-mavlink (tests/node_mavlink/host_gcs.cjs), an implementation sitlnet did not
+// write. Oracles: what the GCS decoded, the commands as they crossed the medium (medium.pcap),
+// gcs.tlog read back by node-mavlink (read_tlog.cjs), and the time each telemetry frame carries.
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "tests/integration/run_test_util.h"
+
+namespace sitlnet::nns::testing {
+namespace {
+
+using integration_test::Child;
+using integration_test::ReadAll;
+using integration_test::SitlnetBinary;
+using integration_test::TempDir;
+
+constexpr int kSlot = 14;  // A binary of its own: its pid keeps its subnets apart.
+constexpr TimeNs kIterationNs = 10 * kNsPerMs;  // scenario.proto's default timing
+
+// A station (index 0, no image: the relay serves it) and two test autopilots sending it their
+// telemetry, one on each simulator protocol: system ids 2 and 3.
+RunScenario WriteRelayScenario(int duration_ms) {
+  const std::string station = WlanPrefix(kSlot) + "1";
+  return WriteScenario(
+      kSlot,
+      "robot { name: \"gcs\" position_m { x: 0 y: -10 z: 2 } ground_station: true }\n"
+      "robot { name: \"ap\" position_m { x: 0 y: 0 z: 0.2 } image: \"test_autopilot\" "
+      "ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", \"--telemetry\", \"" +
+          station + ":14550\"] }\n" +
+          "robot { name: \"px\" position_m { x: 5 y: 0 z: 0.2 } image: \"test_autopilot\" "
+          "px4_sim_port: 4560 args: [\"--px4-port\", \"4560\", \"--telemetry\", \"" +
+          station + ":14550\"] }\n",
+      "timing { duration_ms: " + std::to_string(duration_ms) + " pacing: PACING_REALTIME }\n");
+}
+
+// host_gcs.cjs with `args` (PORT SECONDS [JUNK]), bound: its port, or 0 if it did not bind in 30 s.
+int StartHostGcs(std::optional<Child>* gcs, const std::vector<std::string>& args) {
+  std::vector<std::string> argv = {"node", NodeMavlinkDir() + "/host_gcs.cjs"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  gcs->emplace(argv);
+  if (!(*gcs)->WaitForOutput(false, "LISTENING on UDP port", 30 * kNsPerS)) return 0;
+  int port = 0;
+  const std::string& out = (*gcs)->out();
+  std::sscanf(out.c_str() + out.find("LISTENING"), "LISTENING on UDP port %d", &port);
+  return port;
+}
+
+// A UDP port of 127.0.0.1 free now (bound and released), for a GCS that starts later.
+int FreeUdpPort() {
+  const int probe = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t size = sizeof address;
+  if (bind(probe, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0 ||
+      getsockname(probe, reinterpret_cast<sockaddr*>(&address), &size) != 0) {
+    close(probe);
+    return 0;
+  }
+  close(probe);
+  return ntohs(address.sin_port);
+}
+
+int CountLines(const std::string& text, const std::string& prefix) {
+  int count = 0;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) count += line.rfind(prefix, 0) == 0;
+  return count;
+}
+
+// The first "HEARD sysid=S msgid=0" line's wall_ms of each system id.
+std::map<int, int> FirstHeartbeatMs(const std::string& gcs_output) {
+  std::map<int, int> first;
+  std::istringstream lines(gcs_output);
+  for (std::string line; std::getline(lines, line);) {
+    int sysid = 0, msgid = -1, wall_ms = 0;
+    char name[64];
+    if (std::sscanf(line.c_str(), "HEARD sysid=%d msgid=%d name=%63s wall_ms=%d", &sysid, &msgid,
+                    name, &wall_ms) == 4 &&
+        msgid == 0 && !first.count(sysid)) {
+      first[sysid] = wall_ms;
+    }
+  }
+  return first;
+}
+
+double Relayed(const std::string& summary, const std::string& counter) {
+  return SummaryNumber(summary, "\"gcs_relay\":", "\"" + counter + "\":");
+}
+
+// The relay both ways, and gcs.tlog, with a GCS that floods the relay with junk: 3 datagrams
+// that begin no frame for each datagram it hears.
+TEST(GcsRelayTest, AHostGcsHearsEveryVehicleCommandsEachAndJunkNeverReachesTheRadio) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE(NodeMavlinkMissing());
+  std::optional<Child> gcs;
+  const int port = StartHostGcs(&gcs, {"0", "0", "3"});
+  ASSERT_NE(port, 0) << gcs->out() << gcs->err();
+  const RunScenario scenario = WriteRelayScenario(4000);
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const CommandResult run =
+      SitlnetRun(scenario, out, {"--gcs", "udp:127.0.0.1:" + std::to_string(port)});
+  kill(gcs->pid(), SIGTERM);
+  ASSERT_EQ(gcs->Wait(10 * kNsPerS), 0);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string heard = gcs->out();
+  const std::string summary = ReadAll(out + "/summary.json");
+
+  // Every vehicle's heartbeat reached the GCS, every frame valid to node-mavlink.
+  const std::map<int, int> first = FirstHeartbeatMs(heard);
+  EXPECT_TRUE(first.count(2) && first.count(3)) << heard.substr(0, 2000);
+  EXPECT_NE(heard.find(" invalid=0 unknown=0"), std::string::npos) << heard;
+  const int frames_heard = CountLines(heard, "HEARD ");
+  EXPECT_EQ(frames_heard, Relayed(summary, "from_vehicles")) << summary;
+  EXPECT_EQ(frames_heard, Relayed(summary, "to_gcs")) << summary;
+  EXPECT_EQ(Relayed(summary, "to_gcs_unreceived"), 0) << summary;
+
+  // Its command to each vehicle crossed the radio from the station to that vehicle, and only
+  // the commands did: the junk (4 bytes a datagram) was counted and dropped.
+  const int commands = CountLines(heard, "SENT ");
+  EXPECT_EQ(commands, 2) << heard;
+  const std::string station = WlanPrefix(kSlot) + "1";
+  int on_air = 0;
+  for (const char* vehicle : {"2", "3"}) {
+    const size_t to_vehicle =
+        CapturedTimes(out, "ip.src == " + station + " && ip.dst == " + WlanPrefix(kSlot) + vehicle +
+                               " && udp.srcport == 14550")
+            .size();
+    EXPECT_GE(to_vehicle, 1u) << "to " << vehicle;
+    on_air += static_cast<int>(to_vehicle);
+  }
+  EXPECT_EQ(on_air, Relayed(summary, "to_vehicles")) << summary;
+  const double junk = Relayed(summary, "from_gcs_without_frame");
+  EXPECT_EQ(junk, 3.0 * frames_heard) << summary;
+  EXPECT_EQ(Relayed(summary, "from_gcs"), junk + commands) << summary;
+  EXPECT_EQ(Relayed(summary, "from_gcs_bytes_dropped"), 4 * junk) << summary;
+
+  // gcs.tlog holds every frame both ways, each valid to node-mavlink, stamped in the
+  // simulation's clock: a telemetry frame in the iteration of the time it carries, or later by
+  // the relay's wake-up (the 50 ms are slack for a busy host, not a derived bound).
+  const CommandResult tlog =
+      RunCommand({"node", NodeMavlinkDir() + "/read_tlog.cjs", out + "/gcs.tlog"});
+  ASSERT_EQ(tlog.exit_code, 0) << tlog.err;
+  const int entries = frames_heard + commands;
+  EXPECT_NE(tlog.out.find("COUNTS entries=" + std::to_string(entries) +
+                          " valid=" + std::to_string(entries) + " invalid=0 unknown=0 trailing=0"),
+            std::string::npos)
+      << tlog.out.substr(tlog.out.size() > 300 ? tlog.out.size() - 300 : 0);
+  EXPECT_EQ(Relayed(summary, "tlog_frames"), entries) << summary;
+  int stamped = 0;
+  TimeNs latest_ns = 0;  // The largest stamp past the carried time.
+  std::istringstream lines(tlog.out);
+  for (std::string line; std::getline(lines, line);) {
+    int64_t stamp_us = 0, boot_ms = 0;
+    int sysid = 0, msgid = 0;
+    if (std::sscanf(line.c_str(),
+                    "ENTRY stamp_us=%" SCNd64 " sysid=%d msgid=%d name=%*s time_boot_ms=%" SCNd64,
+                    &stamp_us, &sysid, &msgid, &boot_ms) != 4) {
+      continue;
+    }
+    const TimeNs carried_ns = boot_ms * kNsPerMs;
+    EXPECT_GE(stamp_us * kNsPerUs, carried_ns / kIterationNs * kIterationNs) << line;
+    EXPECT_LE(stamp_us * kNsPerUs, carried_ns + 50 * kNsPerMs) << line;
+    latest_ns = std::max(latest_ns, stamp_us * kNsPerUs - carried_ns);
+    ++stamped;
+  }
+  EXPECT_GE(stamped, 60) << "GLOBAL_POSITION_INT at 10 Hz from 2 vehicles for 4 s";
+  std::printf(
+      "[ measured ] %d frames heard, %d in gcs.tlog; %d position frames stamped at most "
+      "%.3f ms after the time they carry; %.0f junk datagrams dropped\n",
+      frames_heard, entries, stamped, static_cast<double>(latest_ns) / kNsPerMs, junk);
+  ExpectNothingLeft(scenario.name);
+  if (!::testing::Test::HasFailure()) RunCommand({"rm", "-rf", out});
+}
+
+// A GCS that starts after the run and one that restarts: datagrams with nobody listening are
+// counted (the kernel refuses them with ICMP port unreachable, which loopback never
+// rate-limits) and end nothing; each GCS instance hears every vehicle's heartbeat within a second
+// of binding its port (a heartbeat each simulated second, realtime factor 1; 100 ms slack for
+// the radio and the host's scheduling, not derived).
+TEST(GcsRelayTest, AGcsThatStartsLateAndRestartsHearsEveryVehicleWithinASecond) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE(NodeMavlinkMissing());
+  const int port = FreeUdpPort();
+  ASSERT_NE(port, 0);
+  const RunScenario scenario = WriteRelayScenario(12000);
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-late-out";
+  Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress", "--gcs",
+             "udp:127.0.0.1:" + std::to_string(port)});
+  ASSERT_TRUE(run.WaitForOutput(true, "relayed to", 60 * kNsPerS)) << run.err();
+  // The stimulus, not a synchronisation: the GCS starts 3 s (wall) after the relay.
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  for (int instance = 1; instance <= 2; ++instance) {
+    std::optional<Child> gcs;
+    ASSERT_EQ(StartHostGcs(&gcs, {std::to_string(port), "2"}), port) << gcs->out() << gcs->err();
+    ASSERT_EQ(gcs->Wait(30 * kNsPerS), 0) << gcs->err();
+    const std::map<int, int> first = FirstHeartbeatMs(gcs->out());
+    for (int sysid : {2, 3}) {
+      ASSERT_TRUE(first.count(sysid)) << "instance " << instance << ", system " << sysid << "\n"
+                                      << gcs->out().substr(0, 2000);
+      EXPECT_LE(first.at(sysid), 1100) << "instance " << instance << ", system " << sysid;
+      std::printf("[ measured ] GCS instance %d: system %d's first heartbeat %d ms after binding\n",
+                  instance, sysid, first.at(sysid));
+    }
+  }
+  ASSERT_EQ(run.Wait(60 * kNsPerS), 0) << run.err();
+  const std::string summary = ReadAll(out + "/summary.json");
+  // 3 s without a GCS: about 66 datagrams (2 vehicles, 11 a second); 20 is a loose floor.
+  EXPECT_GE(Relayed(summary, "to_gcs_unreceived"), 20) << summary;
+  EXPECT_EQ(Relayed(summary, "to_gcs"), Relayed(summary, "from_vehicles")) << summary;
+  std::printf("[ measured ] %s\n", summary.substr(summary.find("\"gcs_relay\":"), 400).c_str());
+  ExpectNothingLeft(scenario.name);
+  if (!::testing::Test::HasFailure()) RunCommand({"rm", "-rf", out});
+}
+
+}  // namespace
+}  // namespace sitlnet::nns::testing
