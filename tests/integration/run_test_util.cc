@@ -4,8 +4,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -117,38 +117,22 @@ std::vector<TrajectoryRow> TrajectoryRows(const std::string& csv, int robot) {
   return rows;
 }
 
-void WriteGcsRelayManifest(const std::string& folder, const std::string& path) {
-  std::string manifest =
-      ReadAll(integration_test::SourceDir() + "/robot_images/gcs_relay/image.textproto");
-  const std::string shipped = "/run/sitlnet-gcs";
-  for (size_t at; (at = manifest.find(shipped)) != std::string::npos;) {
-    manifest.replace(at, shipped.size(), folder);
-  }
-  std::ofstream(path) << manifest;
-}
-
-HostGcs::HostGcs(const std::string& folder, const std::string& script,
-                 const std::vector<std::string>& args, const std::string& output) {
+HostGcs::HostGcs(const std::string& script, const std::vector<std::string>& args,
+                 const std::string& output) {
   std::vector<std::string> argv = {"sh", "-c",
                                    "out=$1; shift; exec node \"$0\" \"$@\" > \"$out\" 2>&1",
                                    NodeMavlinkDir() + "/" + script, output};
   argv.insert(argv.end(), args.begin(), args.end());
   gcs_.emplace(argv);
   int port = 0;
-  if (!integration_test::WaitForFiles(
+  if (integration_test::WaitForFiles(
           std::filesystem::path(output).parent_path(),
           [&] {
             return std::sscanf(ReadAll(output).c_str(), "LISTENING on UDP port %d", &port) == 1;
           },
           30 * kNsPerS)) {
-    return;
+    port_ = port;
   }
-  const std::string telemetry = folder + "/mavlink.sock";
-  socat_.emplace(std::vector<std::string>{
-      "socat", "UNIX-SENDTO:" + folder + "/commands.sock,bind=" + telemetry + ",unlink-early",
-      "UDP4:127.0.0.1:" + std::to_string(port)});
-  started_ = integration_test::WaitForFiles(
-      folder, [&] { return std::filesystem::exists(telemetry); }, 30 * kNsPerS);
 }
 
 // A ground station's robot image: `script` of tests/node_mavlink with `args`, run by node, the

@@ -2,20 +2,17 @@
 // scenarios/ardupilot_fleet.textproto), as docs/howto-autopilot-fleet.md tells a user to fly
 // them: the scenario file unchanged, only `--pacing lockstep --duration S` on the command line; a
 // GCS on the host (tests/node_mavlink/fleet_gcs.cjs, node-mavlink) reaches the four vehicles only
-// through the ground station's shipped gcs_relay image, joined to the GCS's UDP port by one socat
-// (the how-to's step 4). Each vehicle, told apart by its system id, arms, takes off to 5 m, holds,
-// lands and disarms. Oracles: the truth in trajectories.csv, the commands as they crossed the
-// medium (medium.pcap, decoded by node-mavlink), and the relay's log.
+// through the run's own relay of the ground station (`--gcs udp:127.0.0.1:PORT`, the how-to's step
+// 4 on a port of the test's own). Each vehicle, told apart by its system id, arms, takes off to 5
+// m, holds, lands and disarms. Oracles: the truth in trajectories.csv, the commands as they crossed
+// the medium (medium.pcap, decoded by node-mavlink), and the relay's counters in summary.json.
 #include <signal.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -30,33 +27,6 @@ using integration_test::ReadAll;
 using integration_test::SitlnetBinary;
 using integration_test::SourceDir;
 using integration_test::TempDir;
-
-// The gcs_relay image's host folder, as the how-to makes it.
-constexpr const char* kGcsFolder = "/run/sitlnet-gcs";
-
-// kGcsFolder for a test: made if absent; on the way out, socat's socket goes, and the folder if
-// made here.
-class GcsFolder {
- public:
-  GcsFolder() {
-    struct stat folder {};
-    made_ = stat(kGcsFolder, &folder) != 0;
-    if (made_) {
-      EXPECT_EQ(mkdir(kGcsFolder, 0755), 0) << kGcsFolder;
-    }
-  }
-  ~GcsFolder() {
-    std::filesystem::remove(std::string(kGcsFolder) + "/mavlink.sock");
-    if (made_) {
-      EXPECT_EQ(rmdir(kGcsFolder), 0) << kGcsFolder;
-    }
-  }
-  GcsFolder(const GcsFolder&) = delete;
-  GcsFolder& operator=(const GcsFolder&) = delete;
-
- private:
-  bool made_ = false;
-};
 
 constexpr int kVehicles = 4;  // robots 1..4 of both scenarios, system id = robot index
 // The wlan0 addresses of the scenarios' default subnet (docs/scenario.md): host index + 1.
@@ -86,16 +56,6 @@ struct Autopilot {
   int land_command;  // the COMMAND_LONG that lands it
   double landed_m;   // its height above where it armed when it disarmed, at most
 };
-
-// The vehicles the station's relay heard: its log's "vehicle ADDR:PORT" lines, by address.
-std::set<std::string> VehiclesHeard(const std::string& relay_log) {
-  std::set<std::string> addresses;
-  std::istringstream lines(relay_log);
-  for (std::string line; std::getline(lines, line);) {
-    if (line.rfind("vehicle ", 0) == 0) addresses.insert(line.substr(8, line.find(':') - 8));
-  }
-  return addresses;
-}
 
 // Vehicle `id`'s flight: its events in the GCS's output, the truth, the commands to it.
 void ExpectVehicleFlew(const Autopilot& autopilot, int id, const std::string& gcs_log,
@@ -139,16 +99,15 @@ void ExpectVehicleFlew(const Autopilot& autopilot, int id, const std::string& gc
 
 void FlyShippedScenario(const Autopilot& autopilot) {
   const auto start = std::chrono::steady_clock::now();
-  const GcsFolder folder;  // outlives `host` below, so socat has gone when it is cleaned up
   const std::string work = TempDir() + "/" + autopilot.name + "-shipped";
   ASSERT_EQ(RunCommand({"mkdir", "-p", work}).exit_code, 0);
-  // The GCS on the host, on a free port, and the how-to's host side of the relay, to that port.
+  // The GCS on the host, on a free port; the run's relay sends to that port.
   const std::string gcs_output = work + "/gcs.out";
   std::vector<std::string> args = {"0", std::to_string(kAltitudeM), kHoldS, "0,0"};
   for (int id = 1; id <= kVehicles; ++id) {
     args.push_back(std::string(autopilot.kind) + ":" + std::to_string(id));
   }
-  HostGcs host(kGcsFolder, "fleet_gcs.cjs", args, gcs_output);
+  HostGcs host("fleet_gcs.cjs", args, gcs_output);
   ASSERT_TRUE(host.started()) << ReadAll(gcs_output);
 
   DownGuard guard(autopilot.name);
@@ -156,7 +115,7 @@ void FlyShippedScenario(const Autopilot& autopilot) {
   const std::string out = work + "/out";
   const auto run_start = std::chrono::steady_clock::now();
   Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress", "--pacing",
-             "lockstep", "--duration", kDurationCapS});
+             "lockstep", "--duration", kDurationCapS, "--gcs", host.gcs_flag()});
   // The GCS exits once every vehicle disarmed; then the run stops in order (exit 130).
   EXPECT_EQ(host.gcs().Wait(250 * kNsPerS), 0) << ReadAll(gcs_output).substr(0, 4000);
   kill(run.pid(), SIGINT);
@@ -166,8 +125,9 @@ void FlyShippedScenario(const Autopilot& autopilot) {
   EXPECT_TRUE(run_exit == 130 || run_exit == 0) << run_exit << " " << run.err();
   const std::string gcs_log = ReadAll(gcs_output);
 
-  const std::set<std::string> heard = VehiclesHeard(ReadAll(out + "/robots/gcs.log"));
-  EXPECT_EQ(heard.size(), static_cast<size_t>(kVehicles)) << "the relay heard " << heard.size();
+  const std::string summary = ReadAll(out + "/summary.json");
+  EXPECT_EQ(SummaryNumber(summary, "\"gcs_relay\":", "\"vehicle_addresses\":"), kVehicles)
+      << summary;
   // What the relay sent each vehicle over the radio.
   std::map<std::string, std::string> sent = UdpPayloads(out, "udp and src host " + WlanAddress(0),
                                                         "ip.src == " + WlanAddress(0), "ip.dst");
@@ -179,8 +139,8 @@ void FlyShippedScenario(const Autopilot& autopilot) {
   }
   ExpectNothingLeft(autopilot.name);
   if (!::testing::Test::HasFailure()) RunCommand({"rm", "-rf", work});
-  std::printf("[ measured ] %s: the run %.1f s wall, the whole test %.1f s\n",
-              autopilot.scenario, run_s,
+  std::printf("[ measured ] %s: the run %.1f s wall, the whole test %.1f s\n", autopilot.scenario,
+              run_s,
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
@@ -196,8 +156,8 @@ TEST(ShippedFleetScenariosTest, EveryPx4OfThePx4FleetFliesFromAHostGcsThroughThe
 TEST(ShippedFleetScenariosTest,
      EveryArduCopterOfTheArduPilotFleetFliesFromAHostGcsThroughTheRelay) {
   SITLNET_REQUIRE_FLIGHT(ArduPilotMissing());
-  FlyShippedScenario({"arducopter", "ardupilot_fleet.textproto", "apfleet", "TAKEOFF_REACHED",
-                      1, "LAND", 176, 0.05});
+  FlyShippedScenario({"arducopter", "ardupilot_fleet.textproto", "apfleet", "TAKEOFF_REACHED", 1,
+                      "LAND", 176, 0.05});
 }
 
 }  // namespace
