@@ -14,6 +14,22 @@ bool IsMagic(uint8_t byte) { return byte == mavlink::kMagicV1 || byte == mavlink
 
 }  // namespace
 
+size_t ForEachFrame(const uint8_t* data, size_t size,
+                    const std::function<void(const uint8_t* frame, size_t bytes)>& frame) {
+  size_t at = 0, skipped = 0;
+  while (at < size) {
+    const size_t frame_bytes = mavlink::FrameBytes(data + at, size - at);
+    if (frame_bytes == 0) {
+      ++skipped;
+      ++at;
+      continue;
+    }
+    frame(data + at, frame_bytes);
+    at += frame_bytes;
+  }
+  return skipped;
+}
+
 size_t FrameStream::Push(const uint8_t* data, size_t size, std::vector<uint8_t>* frames) {
   pending_.insert(pending_.end(), data, data + size);
   size_t at = 0, taken = 0;

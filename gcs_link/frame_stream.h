@@ -7,9 +7,15 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace sitlnet::gcs {
+
+// Calls `frame` with each whole MAVLink 1 or 2 frame of `data` (a datagram) in order; returns
+// the bytes that began no frame, a frame cut short included.
+size_t ForEachFrame(const uint8_t* data, size_t size,
+                    const std::function<void(const uint8_t* frame, size_t bytes)>& frame);
 
 class FrameStream {
  public:

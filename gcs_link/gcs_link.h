@@ -50,6 +50,23 @@ struct GcsRelayOptions {
   std::string tlog_path;                // gcs.tlog (tlog_writer.h); empty: none.
 };
 
+// What the GCS heard of one vehicle (a MAVLink system id), from the frames' headers and its
+// autopilot's HEARTBEATs.
+struct VehicleCounters {
+  uint8_t system_id = 0;
+  uint64_t messages = 0;  // Frames of this system id from the radio.
+  // Frames missing by the sequence numbers, per component (each counts 0..255 and wraps): the
+  // MAVLink loss the GCS sees over the radio, and frames the vehicle never sent.
+  uint64_t sequence_gaps = 0;
+  // The latest HEARTBEAT of an autopilot (not of a GCS or a component without an autopilot).
+  bool heartbeat_seen = false;
+  uint8_t type = 0;       // MAV_TYPE
+  uint8_t autopilot = 0;  // MAV_AUTOPILOT
+  uint8_t base_mode = 0;  // MAV_MODE_FLAG bits
+  uint32_t custom_mode = 0;
+  bool armed = false;  // MAV_MODE_FLAG_SAFETY_ARMED
+};
+
 // What the relay moved and dropped. Datagrams, not frames, unless named.
 struct GcsRelayCounters {
   uint64_t from_vehicles = 0;      // Reached the station's port from the radio.
@@ -64,9 +81,10 @@ struct GcsRelayCounters {
   uint64_t from_gcs_bytes_dropped = 0;  // Bytes from a GCS that began no frame: dropped.
   uint64_t to_vehicles = 0;             // Whole frames of a GCS sent to a vehicle, one per vehicle.
   uint64_t to_vehicles_failed = 0;
-  uint64_t gcs_clients = 0;         // TCP clients accepted.
-  uint64_t tlog_frames = 0;         // Frames written to gcs.tlog.
-  uint64_t tlog_bytes_skipped = 0;  // Bytes of the vehicles' datagrams that began no frame.
+  uint64_t gcs_clients = 0;               // TCP clients accepted.
+  uint64_t tlog_frames = 0;               // Frames written to gcs.tlog.
+  uint64_t tlog_bytes_skipped = 0;        // Bytes of the vehicles' datagrams that began no frame.
+  std::vector<VehicleCounters> vehicles;  // By system id, ascending.
 };
 
 class GcsRelay {

@@ -9,10 +9,12 @@
 #include <mutex>
 #include <thread>
 
+#include "gcs_link/frame_stream.h"
 #include "gcs_link/gcs_link.h"
 #include "gcs_link/host_endpoint.h"
 #include "gcs_link/station_socket.h"
 #include "gcs_link/tlog_writer.h"
+#include "gcs_link/vehicle_tally.h"
 
 namespace sitlnet::gcs {
 namespace {
@@ -68,6 +70,8 @@ struct GcsRelay::Impl {
       if (fds[1].revents != 0) {
         for (int i = 0; i < kMaxStationReadsPerWake && station.Receive(&datagram, &counters); ++i) {
           if (tlog) tlog->AppendDatagram(VirtualNow(), datagram.data(), datagram.size(), &counters);
+          ForEachFrame(datagram.data(), datagram.size(),
+                       [this](const uint8_t* frame, size_t bytes) { tally.Count(frame, bytes); });
           for (const auto& host : hosts)
             host->SendToGcs(datagram.data(), datagram.size(), &counters);
         }
@@ -97,6 +101,7 @@ struct GcsRelay::Impl {
   StationSocket station;
   std::vector<std::unique_ptr<HostEndpoint>> hosts;
   std::unique_ptr<TlogWriter> tlog;
+  VehicleTally tally;  // Guarded by counters_mutex while the thread runs.
   std::string description;
   nns::UniqueFd stop_event;
   std::atomic<TimeNs> virtual_ns{0};
@@ -130,7 +135,9 @@ void GcsRelay::Stop() { impl_->Stop(); }
 
 GcsRelayCounters GcsRelay::counters() const {
   const std::lock_guard<std::mutex> lock(impl_->counters_mutex);
-  return impl_->counters;
+  GcsRelayCounters counters = impl_->counters;
+  counters.vehicles = impl_->tally.vehicles();
+  return counters;
 }
 
 std::string GcsRelay::Describe() const { return impl_->description; }

@@ -2,7 +2,7 @@
 
 #include <cerrno>
 
-#include "mavlink/mavlink.h"
+#include "gcs_link/frame_stream.h"
 
 namespace sitlnet::gcs {
 
@@ -20,19 +20,12 @@ void TlogWriter::AppendDatagram(TimeNs virtual_ns, const uint8_t* datagram, size
   const uint64_t stamp_us = static_cast<uint64_t>(virtual_ns < 0 ? 0 : virtual_ns / kNsPerUs);
   uint8_t stamp[8];
   for (int i = 0; i < 8; ++i) stamp[i] = static_cast<uint8_t>(stamp_us >> (56 - 8 * i));
-  size_t at = 0;
-  while (at < size) {
-    const size_t frame_bytes = mavlink::FrameBytes(datagram + at, size - at);
-    if (frame_bytes == 0) {
-      ++counters->tlog_bytes_skipped;
-      ++at;
-      continue;
-    }
-    std::fwrite(stamp, 1, sizeof stamp, file_);
-    std::fwrite(datagram + at, 1, frame_bytes, file_);
-    ++counters->tlog_frames;
-    at += frame_bytes;
-  }
+  counters->tlog_bytes_skipped +=
+      ForEachFrame(datagram, size, [&](const uint8_t* frame, size_t bytes) {
+        std::fwrite(stamp, 1, sizeof stamp, file_);
+        std::fwrite(frame, 1, bytes, file_);
+        ++counters->tlog_frames;
+      });
 }
 
 void TlogWriter::Close() {

@@ -64,6 +64,16 @@ std::optional<RunReport::GcsRelayReport> StopGcsRelay(gcs::GcsRelay* relay) {
       static_cast<unsigned long long>(c.to_vehicles),
       static_cast<unsigned long long>(c.to_vehicles_failed),
       static_cast<unsigned long long>(c.tlog_frames));
+  for (const gcs::VehicleCounters& v : c.vehicles) {
+    const std::string heartbeat = !v.heartbeat_seen
+                                      ? "no autopilot heartbeat"
+                                      : std::string(v.armed ? "armed" : "disarmed") +
+                                            ", custom mode " + std::to_string(v.custom_mode);
+    std::fprintf(stderr,
+                 "sitlnet run: GCS relay: system %u: %llu messages, %llu missing by sequence, %s\n",
+                 static_cast<unsigned>(v.system_id), static_cast<unsigned long long>(v.messages),
+                 static_cast<unsigned long long>(v.sequence_gaps), heartbeat.c_str());
+  }
   return report;
 }
 

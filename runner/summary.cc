@@ -50,6 +50,26 @@ std::string ConnectivityJson(const std::vector<ConnectivitySample>& samples) {
          std::to_string(samples.empty() ? 0 : samples.back().components) + "}";
 }
 
+// What the GCS heard of each vehicle: a JSON array by system id.
+std::string VehiclesJson(const std::vector<gcs::VehicleCounters>& vehicles) {
+  std::string json = "[";
+  for (const gcs::VehicleCounters& v : vehicles) {
+    json += (json.size() > 1 ? ",{" : "{") + std::string("\"system_id\":") +
+            std::to_string(v.system_id) + ",\"messages\":" + std::to_string(v.messages) +
+            ",\"sequence_gaps\":" + std::to_string(v.sequence_gaps) + ",\"heartbeat\":";
+    if (!v.heartbeat_seen) {
+      json += "null}";
+      continue;
+    }
+    json += "{\"type\":" + std::to_string(v.type) +
+            ",\"autopilot\":" + std::to_string(v.autopilot) +
+            ",\"base_mode\":" + std::to_string(v.base_mode) +
+            ",\"custom_mode\":" + std::to_string(v.custom_mode) +
+            ",\"armed\":" + (v.armed ? "true" : "false") + "}}";
+  }
+  return json + "]";
+}
+
 // The GCS relay's endpoints and counters; "null" without a relay.
 std::string GcsRelayJson(const RunReport& report) {
   if (!report.gcs_relay) return "null";
@@ -64,7 +84,8 @@ std::string GcsRelayJson(const RunReport& report) {
          field("from_gcs_bytes_dropped", c.from_gcs_bytes_dropped) +
          field("to_vehicles", c.to_vehicles) + field("to_vehicles_failed", c.to_vehicles_failed) +
          field("gcs_clients", c.gcs_clients) + field("tlog_frames", c.tlog_frames) +
-         field("tlog_bytes_skipped", c.tlog_bytes_skipped) + "}";
+         field("tlog_bytes_skipped", c.tlog_bytes_skipped) +
+         ",\"vehicles\":" + VehiclesJson(c.vehicles) + "}";
 }
 
 // The robot's physics counters; "null" when its physics ran on a node host (issue 35).

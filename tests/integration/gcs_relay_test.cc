@@ -99,6 +99,39 @@ std::map<int, int> FirstHeartbeatMs(const std::string& gcs_output) {
   return first;
 }
 
+// What node-mavlink decoded of one system id at the GCS: its messages, the frames missing by
+// each component's sequence numbers, and its latest HEARTBEAT's base_mode and custom_mode.
+struct Heard {
+  int messages = 0;
+  int sequence_gaps = 0;
+  int base_mode = -1, custom_mode = -1;
+};
+std::map<int, Heard> HeardBySystem(const std::string& gcs_output) {
+  std::map<int, Heard> heard;
+  std::map<std::pair<int, int>, int> last_sequence;
+  std::istringstream lines(gcs_output);
+  for (std::string line; std::getline(lines, line);) {
+    int sysid = 0, msgid = 0, wall_ms = 0, compid = 0, seq = 0, base_mode = 0, custom_mode = 0;
+    char name[64];
+    const int fields =
+        std::sscanf(line.c_str(),
+                    "HEARD sysid=%d msgid=%d name=%63s wall_ms=%d compid=%d seq=%d "
+                    "base_mode=%d custom_mode=%d",
+                    &sysid, &msgid, name, &wall_ms, &compid, &seq, &base_mode, &custom_mode);
+    if (fields < 6) continue;
+    Heard& system = heard[sysid];
+    ++system.messages;
+    const auto [at, first] = last_sequence.try_emplace({sysid, compid}, seq);
+    if (!first) system.sequence_gaps += (seq - at->second - 1 + 256) % 256;
+    at->second = seq;
+    if (fields == 8) {
+      system.base_mode = base_mode;
+      system.custom_mode = custom_mode;
+    }
+  }
+  return heard;
+}
+
 double Relayed(const std::string& summary, const std::string& counter) {
   return SummaryNumber(summary, "\"gcs_relay\":", "\"" + counter + "\":");
 }
@@ -130,6 +163,23 @@ TEST(GcsRelayTest, AHostGcsHearsEveryVehicleCommandsEachAndJunkNeverReachesTheRa
   EXPECT_EQ(frames_heard, Relayed(summary, "from_vehicles")) << summary;
   EXPECT_EQ(frames_heard, Relayed(summary, "to_gcs")) << summary;
   EXPECT_EQ(Relayed(summary, "to_gcs_unreceived"), 0) << summary;
+
+  // Per vehicle, the relay's counts are what node-mavlink decoded at the GCS (every datagram
+  // reached it: none unreceived): messages, sequence gaps, the latest heartbeat. The test
+  // autopilot is armed (MAV_MODE_FLAG_SAFETY_ARMED, 128) from 0.5 s on.
+  for (const auto& [sysid, decoded] : HeardBySystem(heard)) {
+    const std::string vehicle = "\"system_id\":" + std::to_string(sysid) + ",";
+    EXPECT_EQ(SummaryNumber(summary, vehicle, "\"messages\":"), decoded.messages) << sysid;
+    EXPECT_EQ(SummaryNumber(summary, vehicle, "\"sequence_gaps\":"), decoded.sequence_gaps)
+        << sysid;
+    EXPECT_EQ(SummaryNumber(summary, vehicle, "\"base_mode\":"), decoded.base_mode) << sysid;
+    EXPECT_EQ(SummaryNumber(summary, vehicle, "\"custom_mode\":"), decoded.custom_mode) << sysid;
+    EXPECT_EQ(decoded.base_mode & 128, 128) << sysid;
+    const size_t at = summary.find(vehicle);
+    EXPECT_NE(summary.find("\"armed\":true", at), std::string::npos) << summary;
+    std::printf("[ measured ] system %d: %d messages, %d missing by sequence, base_mode %d\n",
+                sysid, decoded.messages, decoded.sequence_gaps, decoded.base_mode);
+  }
 
   // Its command to each vehicle crossed the radio from the station to that vehicle, and only
   // the commands did: the junk (4 bytes a datagram) was counted and dropped.

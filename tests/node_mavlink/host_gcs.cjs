@@ -2,7 +2,8 @@
 // node-mavlink, a MAVLink implementation sitlnet did not write:
 //   node host_gcs.cjs PORT SECONDS [JUNK]
 // Binds 127.0.0.1:PORT (0: any free port) and prints "LISTENING on UDP port N". Prints
-// "HEARD sysid=S msgid=M name=NAME wall_ms=W" for each message (W: ms since it bound), and on the
+// "HEARD sysid=S msgid=M name=NAME wall_ms=W compid=C seq=Q" for each message (W: ms since it
+// bound; a HEARTBEAT adds " base_mode=B custom_mode=M"), and on the
 // first HEARTBEAT of each system id sends that system a COMMAND_LONG (MAV_CMD_REQUEST_MESSAGE of
 // AUTOPILOT_VERSION, target_system = S) to whoever sent it, printing "SENT sysid=S". With JUNK,
 // each datagram it gets is first answered with JUNK datagrams of bytes that begin no frame.
@@ -31,8 +32,13 @@ splitter.pipe(new MavLinkPacketParser()).on('data', (packet) => {
   const h = packet.header;
   const clazz = REGISTRY[h.msgid];
   const name = clazz ? clazz.MSG_NAME : 'UNKNOWN';
+  let extra = '';
+  if (h.msgid === 0) {
+    const heartbeat = packet.protocol.data(packet.payload, minimal.Heartbeat);
+    extra = ` base_mode=${heartbeat.baseMode} custom_mode=${heartbeat.customMode}`;
+  }
   process.stdout.write(`HEARD sysid=${h.sysid} msgid=${h.msgid} name=${name} ` +
-                       `wall_ms=${Date.now() - boundAt}\n`);
+                       `wall_ms=${Date.now() - boundAt} compid=${h.compid} seq=${h.seq}${extra}\n`);
   if (h.msgid !== 0 || commanded.has(h.sysid)) return;
   commanded.add(h.sysid);
   const command = new common.CommandLong();
