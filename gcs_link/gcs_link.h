@@ -81,6 +81,8 @@ struct GcsRelayCounters {
   uint64_t from_gcs_bytes_dropped = 0;  // Bytes from a GCS that began no frame: dropped.
   uint64_t to_vehicles = 0;             // Whole frames of a GCS sent to a vehicle, one per vehicle.
   uint64_t to_vehicles_failed = 0;
+  // Frames of a GCS sent to their target system's vehicle only (station_socket.h).
+  uint64_t to_vehicles_routed = 0;
   uint64_t gcs_clients = 0;               // TCP clients accepted.
   uint64_t tlog_frames = 0;               // Frames written to gcs.tlog.
   uint64_t tlog_bytes_skipped = 0;        // Bytes of the vehicles' datagrams that began no frame.

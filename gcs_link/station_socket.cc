@@ -4,6 +4,10 @@
 
 #include <cerrno>
 
+#include "gcs_link/frame_stream.h"
+#include "gcs_link/message_target.h"
+#include "mavlink/mavlink.h"
+
 namespace sitlnet::gcs {
 namespace {
 
@@ -46,17 +50,38 @@ bool StationSocket::Receive(std::vector<uint8_t>* buffer, GcsRelayCounters* coun
     vehicles_.push_back(from);
     counters->vehicle_addresses = vehicles_.size();
   }
+  ForEachFrame(buffer->data(), buffer->size(), [&](const uint8_t* frame, size_t /*bytes*/) {
+    const uint8_t system = frame[0] == mavlink::kMagicV1 ? frame[3] : frame[5];
+    std::vector<sockaddr_in>& senders = senders_of_system_[system];
+    for (const sockaddr_in& sender : senders) {
+      if (SameSender(sender, from)) return;
+    }
+    if (senders.size() < kMaxVehicles) senders.push_back(from);
+  });
   return true;
 }
 
-void StationSocket::SendToVehicles(const uint8_t* data, size_t size, GcsRelayCounters* counters) {
-  for (const sockaddr_in& vehicle : vehicles_) {
-    if (sendto(socket_.get(), data, size, MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(&vehicle),
-               sizeof vehicle) >= 0) {
-      ++counters->to_vehicles;
-    } else {
-      ++counters->to_vehicles_failed;
+void StationSocket::SendToVehicles(const uint8_t* frames, size_t size, GcsRelayCounters* counters) {
+  ForEachFrame(frames, size, [&](const uint8_t* frame, size_t bytes) {
+    const std::optional<uint8_t> target = TargetSystem(frame);
+    const auto routed =
+        target && *target != 0 ? senders_of_system_.find(*target) : senders_of_system_.end();
+    if (routed != senders_of_system_.end()) {
+      ++counters->to_vehicles_routed;
+      for (const sockaddr_in& vehicle : routed->second) SendTo(vehicle, frame, bytes, counters);
+      return;
     }
+    for (const sockaddr_in& vehicle : vehicles_) SendTo(vehicle, frame, bytes, counters);
+  });
+}
+
+void StationSocket::SendTo(const sockaddr_in& vehicle, const uint8_t* frame, size_t bytes,
+                           GcsRelayCounters* counters) {
+  if (sendto(socket_.get(), frame, bytes, MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(&vehicle),
+             sizeof vehicle) >= 0) {
+    ++counters->to_vehicles;
+  } else {
+    ++counters->to_vehicles_failed;
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -24,13 +25,19 @@ class StationSocket {
   // Reads one datagram into `buffer` (resized to it) and remembers its sender as a vehicle;
   // false when none is waiting.
   bool Receive(std::vector<uint8_t>* buffer, GcsRelayCounters* counters);
-  // Sends `data` to every vehicle heard so far: each vehicle's MAVLink ignores messages for other
-  // system ids, as a router without a route for the target sends to every link.
-  void SendToVehicles(const uint8_t* data, size_t size, GcsRelayCounters* counters);
+  // Sends each frame of `frames` (whole frames) as a datagram of its own, as mavlink-router
+  // routes: a frame whose target system (message_target.h) has been heard goes to that system's
+  // senders only; a broadcast, a message without a target, or a target not heard yet goes to
+  // every vehicle heard so far (a vehicle ignores messages for other system ids).
+  void SendToVehicles(const uint8_t* frames, size_t size, GcsRelayCounters* counters);
 
  private:
+  void SendTo(const sockaddr_in& vehicle, const uint8_t* frame, size_t bytes,
+              GcsRelayCounters* counters);
+
   nns::UniqueFd socket_;
   std::vector<sockaddr_in> vehicles_;
+  std::map<uint8_t, std::vector<sockaddr_in>> senders_of_system_;  // By MAVLink system id.
 };
 
 }  // namespace sitlnet::gcs

@@ -82,9 +82,9 @@ std::string GcsRelayJson(const RunReport& report) {
          field("to_gcs", c.to_gcs) + field("to_gcs_unreceived", c.to_gcs_unreceived) +
          field("from_gcs", c.from_gcs) + field("from_gcs_without_frame", c.from_gcs_without_frame) +
          field("from_gcs_bytes_dropped", c.from_gcs_bytes_dropped) +
-         field("to_vehicles", c.to_vehicles) + field("to_vehicles_failed", c.to_vehicles_failed) +
-         field("gcs_clients", c.gcs_clients) + field("tlog_frames", c.tlog_frames) +
-         field("tlog_bytes_skipped", c.tlog_bytes_skipped) +
+         field("to_vehicles", c.to_vehicles) + field("to_vehicles_routed", c.to_vehicles_routed) +
+         field("to_vehicles_failed", c.to_vehicles_failed) + field("gcs_clients", c.gcs_clients) +
+         field("tlog_frames", c.tlog_frames) + field("tlog_bytes_skipped", c.tlog_bytes_skipped) +
          ",\"vehicles\":" + VehiclesJson(c.vehicles) + "}";
 }
 
