@@ -282,6 +282,12 @@ TEST(GcsRelayTest, AGcsThatStartsLateAndRestartsHearsEveryVehicleWithinASecond) 
   Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress", "--gcs",
              "udp:127.0.0.1:" + std::to_string(port)});
   ASSERT_TRUE(run.WaitForOutput(true, "relayed to", 60 * kNsPerS)) << run.err();
+  // The relay's socket in the station gave it no route: only its own subnets' (as every robot,
+  // NnsUpTest.ThreeRobotsHaveTheSpecifiedDevicesAddressesAndRoutes), no default route.
+  const CommandResult routes = RunCommand({"ip", "-n", scenario.name + "-gcs", "route", "show"});
+  ASSERT_EQ(routes.exit_code, 0) << routes.err;
+  EXPECT_EQ(routes.out.find("default"), std::string::npos) << routes.out;
+  EXPECT_EQ(CountLines(routes.out, ""), 2) << routes.out;  // wlan0's subnet and ctl0's /30
   // The stimulus, not a synchronisation: the GCS starts 3 s (wall) after the relay.
   std::this_thread::sleep_for(std::chrono::seconds(3));
   for (int instance = 1; instance <= 2; ++instance) {
