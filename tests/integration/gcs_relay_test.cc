@@ -60,9 +60,10 @@ int StartHostGcs(std::optional<Child>* gcs, const std::vector<std::string>& args
   return port;
 }
 
-// A UDP port of 127.0.0.1 free now (bound and released), for a GCS that starts later.
-int FreeUdpPort() {
-  const int probe = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+// A port of 127.0.0.1 free now (bound and released; `type` SOCK_DGRAM or SOCK_STREAM), for a GCS
+// that starts later or a relay that listens there.
+int FreePort(int type) {
+  const int probe = socket(AF_INET, type | SOCK_CLOEXEC, 0);
   sockaddr_in address{};
   address.sin_family = AF_INET;
   address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
@@ -274,7 +275,7 @@ TEST(GcsRelayTest, AHostGcsHearsEveryVehicleCommandsEachAndJunkNeverReachesTheRa
 TEST(GcsRelayTest, AGcsThatStartsLateAndRestartsHearsEveryVehicleWithinASecond) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   SITLNET_REQUIRE(NodeMavlinkMissing());
-  const int port = FreeUdpPort();
+  const int port = FreePort(SOCK_DGRAM);
   ASSERT_NE(port, 0);
   const RunScenario scenario = WriteRelayScenario(12000);
   DownGuard guard(scenario.name);
@@ -309,6 +310,50 @@ TEST(GcsRelayTest, AGcsThatStartsLateAndRestartsHearsEveryVehicleWithinASecond) 
   EXPECT_GE(Relayed(summary, "to_gcs_unreceived"), 20) << summary;
   EXPECT_EQ(Relayed(summary, "to_gcs"), Relayed(summary, "from_vehicles")) << summary;
   std::printf("[ measured ] %s\n", summary.substr(summary.find("\"gcs_relay\":"), 400).c_str());
+  ExpectNothingLeft(scenario.name);
+  if (!::testing::Test::HasFailure()) RunCommand({"rm", "-rf", out});
+}
+
+// `--gcs tcp-listen:PORT`: a GCS that connects over TCP (as MAVProxy and QGroundControl connect to
+// ArduPilot SITL's 5760) hears every vehicle, its commands reach each vehicle alone, and junk it
+// writes (8 bytes) is dropped, counted by the byte.
+TEST(GcsRelayTest, AGcsConnectedOverTcpHearsEveryVehicleAndCommandsEach) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE(NodeMavlinkMissing());
+  const int port = FreePort(SOCK_STREAM);
+  ASSERT_NE(port, 0);
+  const RunScenario scenario = WriteRelayScenario(6000);
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-tcp-out";
+  Child run({SitlnetBinary(), "run", scenario.path, "--out", out, "--no-progress", "--gcs",
+             "tcp-listen:" + std::to_string(port)});
+  ASSERT_TRUE(run.WaitForOutput(true, "relayed to", 60 * kNsPerS)) << run.err();
+  Child gcs({"node", NodeMavlinkDir() + "/host_gcs.cjs", "tcp:" + std::to_string(port), "0", "2"});
+  ASSERT_TRUE(gcs.WaitForOutput(false, "CONNECTED", 30 * kNsPerS)) << gcs.out() << gcs.err();
+  ASSERT_EQ(run.Wait(60 * kNsPerS), 0) << run.err();
+  kill(gcs.pid(), SIGTERM);
+  ASSERT_EQ(gcs.Wait(10 * kNsPerS), 0) << gcs.err();
+  const std::string heard = gcs.out();
+  const std::string summary = ReadAll(out + "/summary.json");
+  const std::map<int, int> first = FirstHeartbeatMs(heard);
+  EXPECT_TRUE(first.count(2) && first.count(3)) << heard.substr(0, 2000);
+  EXPECT_NE(heard.find(" invalid=0 unknown=0"), std::string::npos) << heard;
+  EXPECT_EQ(CountLines(heard, "SENT "), 2) << heard;
+  for (const char* vehicle : {"2", "3"}) {
+    EXPECT_EQ(CapturedTimes(out, "ip.src == " + WlanPrefix(kSlot) + "1 && ip.dst == " +
+                                     WlanPrefix(kSlot) + vehicle + " && udp.srcport == 14550")
+                  .size(),
+              1u)
+        << "to " << vehicle;
+  }
+  EXPECT_EQ(Relayed(summary, "gcs_clients"), 1) << summary;
+  EXPECT_EQ(Relayed(summary, "to_vehicles_routed"), 2) << summary;
+  EXPECT_EQ(Relayed(summary, "from_gcs_bytes_dropped"), 8) << summary;
+  std::printf(
+      "[ measured ] over TCP: %d frames heard, first heartbeats %d and %d ms after "
+      "connecting\n",
+      CountLines(heard, "HEARD "), first.count(2) ? first.at(2) : -1,
+      first.count(3) ? first.at(3) : -1);
   ExpectNothingLeft(scenario.name);
   if (!::testing::Test::HasFailure()) RunCommand({"rm", "-rf", out});
 }
