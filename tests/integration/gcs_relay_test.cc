@@ -34,17 +34,24 @@ constexpr TimeNs kIterationNs = 10 * kNsPerMs;  // scenario.proto's default timi
 
 // A station (index 0, no image: the relay serves it) and two test autopilots sending it their
 // telemetry, one on each simulator protocol: system ids 2 and 3.
-RunScenario WriteRelayScenario(int duration_ms) {
-  const std::string station = WlanPrefix(kSlot) + "1";
+// `extra_vehicle`: a third, a test autopilot at robot index 3 (system id 4), in slot `slot`.
+RunScenario WriteRelayScenario(int duration_ms, int slot = kSlot, bool extra_vehicle = false) {
+  const std::string station = WlanPrefix(slot) + "1";
+  const std::string extra =
+      !extra_vehicle ? ""
+                     : "robot { name: \"ap4\" position_m { x: 0 y: 5 z: 0.2 } image: "
+                       "\"test_autopilot\" ardupilot_json_port: 9002 args: [\"--json-port\", "
+                       "\"9002\", \"--telemetry\", \"" +
+                           station + ":14550\"] }\n";
   return WriteScenario(
-      kSlot,
+      slot,
       "robot { name: \"gcs\" position_m { x: 0 y: -10 z: 2 } ground_station: true }\n"
       "robot { name: \"ap\" position_m { x: 0 y: 0 z: 0.2 } image: \"test_autopilot\" "
       "ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", \"--telemetry\", \"" +
           station + ":14550\"] }\n" +
           "robot { name: \"px\" position_m { x: 5 y: 0 z: 0.2 } image: \"test_autopilot\" "
           "px4_sim_port: 4560 args: [\"--px4-port\", \"4560\", \"--telemetry\", \"" +
-          station + ":14550\"] }\n",
+          station + ":14550\"] }\n" + extra,
       "timing { duration_ms: " + std::to_string(duration_ms) + " pacing: PACING_REALTIME }\n");
 }
 
@@ -356,6 +363,48 @@ TEST(GcsRelayTest, AGcsConnectedOverTcpHearsEveryVehicleAndCommandsEach) {
       first.count(3) ? first.at(3) : -1);
   ExpectNothingLeft(scenario.name);
   if (!::testing::Test::HasFailure()) RunCommand({"rm", "-rf", out});
+}
+
+// Two runs at once, each with a GCS on a port of its own (`--gcs udp:127.0.0.1:PORT`): neither
+// relay collides with the other, and each GCS hears its own run's vehicles only (the second run
+// has a third vehicle, system id 4, that the first GCS must never hear).
+TEST(GcsRelayTest, TwoRunsAtOnceEachReachTheirOwnGcs) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE(NodeMavlinkMissing());
+  std::optional<Child> gcs_a, gcs_b;
+  const int port_a = StartHostGcs(&gcs_a, {"0", "0"});
+  const int port_b = StartHostGcs(&gcs_b, {"0", "0"});
+  ASSERT_TRUE(port_a != 0 && port_b != 0);
+  const RunScenario a = WriteRelayScenario(4000, kSlot);
+  const RunScenario b = WriteRelayScenario(4000, kSlot + 1, true);
+  DownGuard guard_a(a.name), guard_b(b.name);
+  const std::string out_a = TempDir() + "/" + a.name + "-a-out";
+  const std::string out_b = TempDir() + "/" + b.name + "-b-out";
+  Child run_a({SitlnetBinary(), "run", a.path, "--out", out_a, "--no-progress", "--gcs",
+               "udp:127.0.0.1:" + std::to_string(port_a)});
+  Child run_b({SitlnetBinary(), "run", b.path, "--out", out_b, "--no-progress", "--gcs",
+               "udp:127.0.0.1:" + std::to_string(port_b)});
+  ASSERT_EQ(run_a.Wait(120 * kNsPerS), 0) << run_a.err();
+  ASSERT_EQ(run_b.Wait(120 * kNsPerS), 0) << run_b.err();
+  for (std::optional<Child>* gcs : {&gcs_a, &gcs_b}) {
+    kill((*gcs)->pid(), SIGTERM);
+    ASSERT_EQ((*gcs)->Wait(10 * kNsPerS), 0);
+  }
+  const std::map<int, Heard> heard_a = HeardBySystem(gcs_a->out());
+  const std::map<int, Heard> heard_b = HeardBySystem(gcs_b->out());
+  EXPECT_TRUE(heard_a.count(2) && heard_a.count(3)) << gcs_a->out().substr(0, 1000);
+  EXPECT_FALSE(heard_a.count(4)) << "the other run's vehicle reached this GCS";
+  EXPECT_TRUE(heard_b.count(2) && heard_b.count(3) && heard_b.count(4))
+      << gcs_b->out().substr(0, 1000);
+  for (const std::string& out : {out_a, out_b}) {
+    const std::string summary = ReadAll(out + "/summary.json");
+    EXPECT_EQ(Relayed(summary, "to_gcs_unreceived"), 0) << summary;
+  }
+  std::printf("[ measured ] two runs at once: GCS A heard %zu systems, GCS B %zu\n", heard_a.size(),
+              heard_b.size());
+  ExpectNothingLeft(a.name);
+  ExpectNothingLeft(b.name);
+  if (!::testing::Test::HasFailure()) RunCommand({"rm", "-rf", out_a, out_b});
 }
 
 }  // namespace
