@@ -17,7 +17,7 @@ namespace {
 
 constexpr size_t kMaxClients = 16;
 // What a slow client may owe before a datagram for it is dropped (and counted) instead.
-constexpr size_t kMaxBacklogBytes = 256 * 1024;
+constexpr size_t kMaxBacklogBytes = size_t{256} * 1024;
 constexpr size_t kReadBytes = 4096;
 
 struct Client {
