@@ -55,56 +55,11 @@ RunScenario WriteRelayScenario(int duration_ms, int slot = kSlot, bool extra_veh
       "timing { duration_ms: " + std::to_string(duration_ms) + " pacing: PACING_REALTIME }\n");
 }
 
-// host_gcs.cjs with `args` (PORT SECONDS [JUNK]), bound: its port, or 0 if it did not bind in 30 s.
-int StartHostGcs(std::optional<Child>* gcs, const std::vector<std::string>& args) {
-  std::vector<std::string> argv = {"node", NodeMavlinkDir() + "/host_gcs.cjs"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  gcs->emplace(argv);
-  if (!(*gcs)->WaitForOutput(false, "LISTENING on UDP port", 30 * kNsPerS)) return 0;
-  int port = 0;
-  const std::string& out = (*gcs)->out();
-  std::sscanf(out.c_str() + out.find("LISTENING"), "LISTENING on UDP port %d", &port);
-  return port;
-}
-
-// A port of 127.0.0.1 free now (bound and released; `type` SOCK_DGRAM or SOCK_STREAM), for a GCS
-// that starts later or a relay that listens there.
-int FreePort(int type) {
-  const int probe = socket(AF_INET, type | SOCK_CLOEXEC, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t size = sizeof address;
-  if (bind(probe, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0 ||
-      getsockname(probe, reinterpret_cast<sockaddr*>(&address), &size) != 0) {
-    close(probe);
-    return 0;
-  }
-  close(probe);
-  return ntohs(address.sin_port);
-}
-
 int CountLines(const std::string& text, const std::string& prefix) {
   int count = 0;
   std::istringstream lines(text);
   for (std::string line; std::getline(lines, line);) count += line.rfind(prefix, 0) == 0;
   return count;
-}
-
-// The first "HEARD sysid=S msgid=0" line's wall_ms of each system id.
-std::map<int, int> FirstHeartbeatMs(const std::string& gcs_output) {
-  std::map<int, int> first;
-  std::istringstream lines(gcs_output);
-  for (std::string line; std::getline(lines, line);) {
-    int sysid = 0, msgid = -1, wall_ms = 0;
-    char name[64];
-    if (std::sscanf(line.c_str(), "HEARD sysid=%d msgid=%d name=%63s wall_ms=%d", &sysid, &msgid,
-                    name, &wall_ms) == 4 &&
-        msgid == 0 && !first.count(sysid)) {
-      first[sysid] = wall_ms;
-    }
-  }
-  return first;
 }
 
 // What node-mavlink decoded of one system id at the GCS: its messages, the frames missing by

@@ -1,6 +1,9 @@
 #include "tests/integration/run_test_util.h"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -133,6 +136,46 @@ HostGcs::HostGcs(const std::string& script, const std::vector<std::string>& args
           30 * kNsPerS)) {
     port_ = port;
   }
+}
+
+int FreePort(int type) {
+  const int probe = socket(AF_INET, type | SOCK_CLOEXEC, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t size = sizeof address;
+  const bool bound =
+      bind(probe, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0 &&
+      getsockname(probe, reinterpret_cast<sockaddr*>(&address), &size) == 0;
+  close(probe);
+  return bound ? ntohs(address.sin_port) : 0;
+}
+
+int StartHostGcs(std::optional<integration_test::Child>* gcs,
+                 const std::vector<std::string>& args) {
+  std::vector<std::string> argv = {"node", NodeMavlinkDir() + "/host_gcs.cjs"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  gcs->emplace(argv);
+  if (!(*gcs)->WaitForOutput(false, "LISTENING on UDP port", 30 * kNsPerS)) return 0;
+  int port = 0;
+  const std::string& out = (*gcs)->out();
+  std::sscanf(out.c_str() + out.find("LISTENING"), "LISTENING on UDP port %d", &port);
+  return port;
+}
+
+std::map<int, int> FirstHeartbeatMs(const std::string& gcs_output) {
+  std::map<int, int> first;
+  std::istringstream lines(gcs_output);
+  for (std::string line; std::getline(lines, line);) {
+    int sysid = 0, msgid = -1, wall_ms = 0;
+    char name[64];
+    if (std::sscanf(line.c_str(), "HEARD sysid=%d msgid=%d name=%63s wall_ms=%d", &sysid, &msgid,
+                    name, &wall_ms) == 4 &&
+        msgid == 0 && !first.count(sysid)) {
+      first[sysid] = wall_ms;
+    }
+  }
+  return first;
 }
 
 // A ground station's robot image: `script` of tests/node_mavlink with `args`, run by node, the

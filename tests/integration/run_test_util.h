@@ -4,6 +4,7 @@
 #define SITLNET_TESTS_INTEGRATION_RUN_TEST_UTIL_H_
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -95,6 +96,18 @@ class HostGcs {
     SITLNET_REQUIRE(why_missing);                                   \
     SITLNET_REQUIRE(::sitlnet::nns::testing::NodeMavlinkMissing()); \
   } while (0)
+
+// A port of 127.0.0.1 free now (bound and released; `type` SOCK_DGRAM or SOCK_STREAM), for a GCS
+// that starts later or a relay that listens there; 0 if none could be had.
+int FreePort(int type);
+
+// tests/node_mavlink/host_gcs.cjs with `args` (PORT SECONDS [JUNK]) in `gcs`, bound: its UDP
+// port, or 0 if it did not bind within 30 s.
+int StartHostGcs(std::optional<integration_test::Child>* gcs, const std::vector<std::string>& args);
+
+// The wall_ms of the first HEARTBEAT ("HEARD sysid=S msgid=0 ... wall_ms=W") of each system id
+// in host_gcs.cjs's output: ms from binding its port to hearing it.
+std::map<int, int> FirstHeartbeatMs(const std::string& gcs_output);
 
 // A lockstep ground station's robot image (tests/node_mavlink/lockstep_station.cjs): `script` of
 // tests/node_mavlink with `args`, run by node, the folder bound in; ready once bound. Returns the
