@@ -53,8 +53,8 @@ std::unique_ptr<view::LiveView> StartLiveView(const runner::RunOptions& options,
       arguments.listen.empty() ? view::kDefaultListen : arguments.listen, arguments.allow_remote);
   const Scenario scenario =
       runner::ApplyRunOverrides(LoadScenarioFile(options.scenario_path), options);
-  auto live = std::make_unique<view::LiveView>(scenario, options.out_dir, listen,
-                                               SITLNET_VIEW_WEB_DIR);
+  auto live =
+      std::make_unique<view::LiveView>(scenario, options.out_dir, listen, SITLNET_VIEW_WEB_DIR);
   std::fprintf(stderr, "sitlnet run: live view at %s\n", live->url().c_str());
   return live;
 }
@@ -103,6 +103,17 @@ Command AddRunCommand(CLI::App& sitlnet) {
       "--no-losses", [options](int64_t) { options->record_losses = false; },
       "no losses.csv.gz and links.csv (the cause of every lost frame; docs/run.md)");
   AddRtPriorityOption(*run, &options->realtime_priority);
+  // One value per --gcs, repeatable; the forms are checked by the runner, before anything starts.
+  run->add_option("--gcs", options->gcs,
+                  "where the MAVLink of the scenario's ground station (its first ground_station "
+                  "robot without an image) meets a GCS on this host: udp:HOST:PORT (from an "
+                  "unconnected socket; answers taken from any sender), tcp-listen:PORT (on "
+                  "127.0.0.1; GCSs connect), or none. Repeatable. Default udp:127.0.0.1:14550, "
+                  "where QGroundControl listens. Writes gcs.tlog in the run folder "
+                  "(docs/autopilots.md, \"Ground stations\")")
+      ->type_name("udp:HOST:PORT|tcp-listen:PORT|none")
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   CLI::Option* listen =
       run->add_option("--listen", options->listen,
                       "listen on HOST:PORT (0.0.0.0:7100; port 0 picks one, printed; or "

@@ -34,6 +34,18 @@ const MessageInfo* FindMessage(uint32_t id) {
   return nullptr;
 }
 
+size_t FrameBytes(const uint8_t* data, size_t size) {
+  if (size < 3) return 0;
+  size_t bytes = 0;
+  if (data[0] == kMagicV1) {
+    bytes = kHeaderV1Bytes + data[1] + kChecksumBytes;
+  } else if (data[0] == kMagicV2) {
+    bytes = kHeaderV2Bytes + data[1] + kChecksumBytes +
+            ((data[2] & kIncompatSigned) ? kSignatureBytes : 0);
+  }
+  return bytes <= size ? bytes : 0;
+}
+
 void AppendFrame(uint32_t id, const uint8_t* payload, const Header& header,
                  std::vector<uint8_t>* out) {
   const MessageInfo* info = FindMessage(id);

@@ -56,6 +56,12 @@ struct Header {
 void AppendFrame(uint32_t id, const uint8_t* payload, const Header& header,
                  std::vector<uint8_t>* out);
 
+// Bytes of the MAVLink 1 or 2 frame that starts at `data` (magic byte, header, payload,
+// checksum, and a MAVLink 2 signature when its incompat flag says so), from its header alone:
+// any message id, no checksum checked. 0 if `data` starts with no magic byte or holds less.
+// For a relay and a telemetry log, which split datagrams into frames and judge none.
+size_t FrameBytes(const uint8_t* data, size_t size);
+
 // A received frame, its payload zero-filled to the message's max_length.
 struct ReceivedFrame {
   uint32_t message_id = 0;

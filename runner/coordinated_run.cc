@@ -5,19 +5,34 @@
 #include "runner/cpu_time.h"
 
 namespace sitlnet::runner {
+namespace {
+
+// The network side's observers, in the order they are told: the supervisor first (a robot that
+// exited is counted out on the same progress line), then the progress line, then the relay's clock.
+std::vector<IterationObserver*> NetworkObservers(RobotSupervisor* supervisor,
+                                                 ProgressLine* progress, GcsRelayClock* gcs_clock) {
+  std::vector<IterationObserver*> observers = {supervisor, progress};
+  if (gcs_clock != nullptr) observers.push_back(gcs_clock);
+  return observers;
+}
+
+}  // namespace
 
 CoordinatedRun::CoordinatedRun(RunParts* setup, RunPhysics* physics, const RunOptions& options,
                                const std::string& run_dir, int interrupt_fd)
     : physics_(*physics),
       bridge_sim_(setup->scenario(), &setup->bridge(), setup->scenario().pacing(),
                   setup->scenario().spec.timing().realtime_factor()),
-      progress_(options.progress, &setup->bridge(), &setup->robots(),
-                setup->scenario().duration_ns),
+      progress_(options.progress, &setup->bridge(), &setup->robots(), setup->scenario().duration_ns,
+                setup->gcs_relay()),
       supervisor_(&setup->robots(),
                   setup->scenario().spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP,
                   &progress_, options.program),
-      // The supervisor first: a robot that exited is counted out on the same line.
-      observed_network_(&bridge_sim_, {&supervisor_, &progress_}),
+      gcs_clock_(setup->gcs_relay()
+                     ? std::make_unique<GcsRelayClock>(setup->gcs_relay(), &setup->run_timebase(),
+                                                       setup->lockstep())
+                     : nullptr),
+      observed_network_(&bridge_sim_, NetworkObservers(&supervisor_, &progress_, gcs_clock_.get())),
       // The bridge is single-threaded: always the coordinator's own thread.
       network_(coordinator::MakeInProcessConnector("network", coordinator::Role::kNetwork,
                                                    &observed_network_,

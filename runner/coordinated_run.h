@@ -9,6 +9,7 @@
 
 #include "coordinator/coordinator.h"
 #include "network_side/network_side.h"
+#include "runner/gcs_relay_stage.h"
 #include "runner/progress_line.h"
 #include "runner/robot_supervisor.h"
 #include "runner/run_parts.h"
@@ -43,6 +44,7 @@ class CoordinatedRun {
   network_side::BridgeSimulator bridge_sim_;
   ProgressLine progress_;
   RobotSupervisor supervisor_;
+  std::unique_ptr<GcsRelayClock> gcs_clock_;  // Null without a GCS relay.
   ObservedSimulator observed_network_;
   std::unique_ptr<coordinator::Connector> network_;
   coordinator::CoordinatorOptions run_options_;

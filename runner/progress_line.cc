@@ -7,8 +7,13 @@
 namespace sitlnet::runner {
 
 ProgressLine::ProgressLine(bool enabled, tapbridge::BridgeCore* bridge,
-                           const std::vector<RobotSlot>* robots, TimeNs duration_ns)
-    : enabled_(enabled), bridge_(*bridge), robots_(*robots), duration_ns_(duration_ns) {}
+                           const std::vector<RobotSlot>* robots, TimeNs duration_ns,
+                           const gcs::GcsRelay* gcs_relay)
+    : enabled_(enabled),
+      bridge_(*bridge),
+      robots_(*robots),
+      duration_ns_(duration_ns),
+      gcs_relay_(gcs_relay) {}
 
 void ProgressLine::IterationBegins(const proto::coord::Start&) {
   if (wall_start_ns_ == 0) wall_start_ns_ = MonotonicNowNs();
@@ -46,6 +51,13 @@ void ProgressLine::Print(TimeNs now_ns) {
                wall_s > 0 ? sim_s / wall_s : 0.0, alive, with_image,
                static_cast<unsigned long long>(sent), static_cast<unsigned long long>(delivered),
                static_cast<unsigned long long>(lost));
+  if (gcs_relay_ != nullptr) {
+    const gcs::GcsRelayCounters relayed = gcs_relay_->counters();
+    int armed = 0;
+    for (const gcs::VehicleCounters& vehicle : relayed.vehicles) armed += vehicle.armed;
+    std::fprintf(stderr, "GCS: %zu vehicles, %d armed, %llu unreceived   ", relayed.vehicles.size(),
+                 armed, static_cast<unsigned long long>(relayed.to_gcs_unreceived));
+  }
   if (!isatty(STDERR_FILENO)) std::fputc('\n', stderr);
   printed_ = isatty(STDERR_FILENO);
 }

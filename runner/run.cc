@@ -8,6 +8,7 @@
 #include "runner/coordinated_run.h"
 #include "runner/cpu_time.h"
 #include "runner/fleet_run.h"
+#include "runner/gcs_relay_stage.h"
 #include "runner/local_physics.h"
 #include "runner/remote_network.h"
 #include "runner/robot_host.h"
@@ -81,6 +82,7 @@ RunReport RunScenario(const RunOptions& options) {
     return RunOnNodeHosts(scenario, options, std::move(report), begin_ns);
   }
   RefuseRemoteInRealtime(scenario, options);
+  GcsEndpointsOf(options.gcs);  // A bad --gcs is refused before anything is created.
   PrepareRobotHost(scenario, scenario.robots.size());
   StopSignal stop;  // Ctrl-C from here on stops in order.
   MakeRunFolder(report.run_dir);
@@ -99,6 +101,7 @@ RunReport RunScenario(const RunOptions& options) {
   report.self_cpu_s = loop.self_cpu_s;
   StopRobots(&setup.robots(), &setup.clock_publishers(), &report);
   report.stop_ns = MonotonicNowNs() - loop.end_ns;
+  report.gcs_relay = StopGcsRelay(setup.gcs_relay());
   // Every image is reaped by now and nothing else was a child yet (gnuplot
   // runs later), so the children's usage is the robots'.
   report.robots_cpu_s = CpuSeconds(RUSAGE_CHILDREN);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "clock/clock.h"
+#include "gcs_link/gcs_link.h"
 #include "coordinator/coordinator.h"
 #include "network_side/network_side.h"
 #include "physics_mujoco/physics_mujoco.h"
@@ -32,6 +33,8 @@ class RunParts {
   virtual network_side::RemoteMedium* remote_medium() = 0;
   // The physics server of this process; null when the physics runs on node hosts.
   virtual const physics::PhysicsServer* local_physics() const = 0;
+  // The ground station's GCS relay (runner/gcs_relay_stage.h), or null.
+  virtual gcs::GcsRelay* gcs_relay() { return nullptr; }
 };
 
 // The physics side as the coordinator drives it, recording trajectories.csv.

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "runner/gcs_relay_stage.h"
 #include "runner/physics_options.h"
 #include "runner/robot_host.h"
 #include "runner/robot_start.h"
@@ -19,6 +20,7 @@ RunSetup::RunSetup(const Scenario& scenario, const RunOptions& options, const st
   BringUpNamespaces();
   StartPhysics();
   StartMedium();
+  StartGcsRelay();
   StartRobots();
 }
 
@@ -39,6 +41,10 @@ void RunSetup::StartPhysics() {
 
 void RunSetup::StartMedium() {
   medium_ = std::make_unique<RunMedium>(scenario_, options_, run_dir_, std::move(remote_owned_));
+}
+
+void RunSetup::StartGcsRelay() {
+  gcs_relay_ = runner::StartGcsRelay(scenario_, GcsEndpointsOf(options_.gcs), run_dir_);
 }
 
 void RunSetup::StartRobots() {

@@ -1,6 +1,6 @@
 // The setup stage of `sitlnet run`: the scenario's namespaces, the physics server, the medium
-// (bridge and its records) and the robots' images, brought up in that order and torn down in the
-// reverse order however the run ends.
+// (bridge and its records), the ground station's GCS relay and the robots' images, brought up in
+// that order and torn down in the reverse order however the run ends.
 #ifndef SITLNET_RUNNER_RUN_SETUP_H_
 #define SITLNET_RUNNER_RUN_SETUP_H_
 
@@ -51,12 +51,14 @@ class RunSetup final : public RunParts {
     return clock_publishers_;
   }
   network_side::RemoteMedium* remote_medium() override { return medium_->remote_medium(); }
+  gcs::GcsRelay* gcs_relay() override { return gcs_relay_.get(); }
 
  private:
   // The stages of the setup, in the order the constructor calls them.
   void BringUpNamespaces();
   void StartPhysics();
   void StartMedium();
+  void StartGcsRelay();
   void StartRobots();
 
   const Scenario& scenario_;
@@ -70,6 +72,8 @@ class RunSetup final : public RunParts {
   clock::Timebase run_timebase_;
   std::unique_ptr<physics::PhysicsServer> physics_server_;
   std::unique_ptr<RunMedium> medium_;
+  // Before the images, so that the vehicles' first datagrams find the station's port bound.
+  std::unique_ptr<gcs::GcsRelay> gcs_relay_;
   std::vector<RobotSlot> robots_;
   std::optional<ros2_clock::SharedVirtualTime> shared_time_;
   std::vector<std::unique_ptr<images::RobotProcess>> clock_publishers_;

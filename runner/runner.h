@@ -12,6 +12,7 @@
 
 #include "common/common.h"
 #include "fleet/fleet.h"
+#include "gcs_link/gcs_link.h"
 #include "network_side/network_side.h"
 #include "runner/live_sink.h"
 #include "scenario/scenario.h"
@@ -49,6 +50,9 @@ struct RunOptions {
   // SCHED_FIFO priority of sitlnet's own threads in realtime pacing (0: normal scheduling;
   // refused without CAP_SYS_NICE: a warning, then normal). Images run at normal priority.
   int realtime_priority = 10;
+  // `--gcs`, as written: where the ground station's MAVLink meets a GCS on the host
+  // (runner/gcs_relay_stage.h). Empty: udp:127.0.0.1:14550; {"none"}: no relay.
+  std::vector<std::string> gcs;
   // `sitlnet run --view` (may be null; outlives the run): told the poses and each second's
   // links while the run goes, on the run's threads; it never blocks them.
   LiveSink* live = nullptr;
@@ -79,6 +83,12 @@ struct RunReport {
     tapbridge::LatenessStats late_entries, late_writes;
   };
   std::vector<NodeLateness> fleet_realtime;
+  // The GCS relay's endpoints and counters (summary.json "gcs_relay"); nullopt without a relay.
+  struct GcsRelayReport {
+    std::string endpoints;  // "udp:127.0.0.1:14550".
+    gcs::GcsRelayCounters counters;
+  };
+  std::optional<GcsRelayReport> gcs_relay;
 };
 
 // `scenario` with the overrides of `options` (duration_s, pacing, seed, no_shadowing) applied

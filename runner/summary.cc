@@ -50,6 +50,44 @@ std::string ConnectivityJson(const std::vector<ConnectivitySample>& samples) {
          std::to_string(samples.empty() ? 0 : samples.back().components) + "}";
 }
 
+// What the GCS heard of each vehicle: a JSON array by system id.
+std::string VehiclesJson(const std::vector<gcs::VehicleCounters>& vehicles) {
+  std::string json = "[";
+  for (const gcs::VehicleCounters& v : vehicles) {
+    json += (json.size() > 1 ? ",{" : "{") + std::string("\"system_id\":") +
+            std::to_string(v.system_id) + ",\"messages\":" + std::to_string(v.messages) +
+            ",\"sequence_gaps\":" + std::to_string(v.sequence_gaps) + ",\"heartbeat\":";
+    if (!v.heartbeat_seen) {
+      json += "null}";
+      continue;
+    }
+    json += "{\"type\":" + std::to_string(v.type) +
+            ",\"autopilot\":" + std::to_string(v.autopilot) +
+            ",\"base_mode\":" + std::to_string(v.base_mode) +
+            ",\"custom_mode\":" + std::to_string(v.custom_mode) +
+            ",\"armed\":" + (v.armed ? "true" : "false") + "}}";
+  }
+  return json + "]";
+}
+
+// The GCS relay's endpoints and counters; "null" without a relay.
+std::string GcsRelayJson(const RunReport& report) {
+  if (!report.gcs_relay) return "null";
+  const gcs::GcsRelayCounters& c = report.gcs_relay->counters;
+  const auto field = [](const char* name, uint64_t value) {
+    return ",\"" + std::string(name) + "\":" + std::to_string(value);
+  };
+  return "{\"endpoints\":" + Quote(report.gcs_relay->endpoints) +
+         field("from_vehicles", c.from_vehicles) + field("vehicle_addresses", c.vehicle_addresses) +
+         field("to_gcs", c.to_gcs) + field("to_gcs_unreceived", c.to_gcs_unreceived) +
+         field("from_gcs", c.from_gcs) + field("from_gcs_without_frame", c.from_gcs_without_frame) +
+         field("from_gcs_bytes_dropped", c.from_gcs_bytes_dropped) +
+         field("to_vehicles", c.to_vehicles) + field("to_vehicles_routed", c.to_vehicles_routed) +
+         field("to_vehicles_failed", c.to_vehicles_failed) + field("gcs_clients", c.gcs_clients) +
+         field("tlog_frames", c.tlog_frames) + field("tlog_bytes_skipped", c.tlog_bytes_skipped) +
+         ",\"vehicles\":" + VehiclesJson(c.vehicles) + "}";
+}
+
 // The robot's physics counters; "null" when its physics ran on a node host (issue 35).
 std::string PhysicsJson(const physics::PhysicsServer* physics, int index) {
   if (physics == nullptr) return "null";
@@ -220,6 +258,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
     json += "null";
   }
   json += ",\"fleet_links\":" + FleetLinksJson(report);
+  json += ",\"gcs_relay\":" + GcsRelayJson(report);
   json += ",\"fleet_realtime\":" + FleetRealtimeJson(report);
   json += ",\"robots\":[";
   for (int i = 0; i < robot_count; ++i) {

@@ -282,3 +282,26 @@ TEST(MavlinkCodecTest, CorruptedFrameCostsNoFollowingFrame) {
 
 }  // namespace
 }  // namespace sitlnet::mavlink
+
+namespace sitlnet::mavlink {
+namespace {
+
+// Frame lengths from the headers' layout (MAVLink's serialization page): MAVLink 1 is 8 bytes
+// around its payload, MAVLink 2 is 12, and 13 more when incompat_flags has MAVLINK_IFLAG_SIGNED.
+TEST(MavlinkCodecTest, FrameBytesFollowsTheHeaderOfEitherVersion) {
+  std::vector<uint8_t> v2;
+  AppendMessage(Heartbeat{}, {1, 2, 3}, &v2);
+  EXPECT_EQ(FrameBytes(v2.data(), v2.size()), v2.size());
+  EXPECT_EQ(FrameBytes(v2.data(), v2.size() - 1), 0u);
+  std::vector<uint8_t> signed_v2 = v2;
+  signed_v2[2] |= kIncompatSigned;
+  signed_v2.resize(v2.size() + kSignatureBytes);
+  EXPECT_EQ(FrameBytes(signed_v2.data(), signed_v2.size()), v2.size() + 13);
+  const uint8_t v1[] = {0xFE, 9, 0, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0xAA};
+  EXPECT_EQ(FrameBytes(v1, sizeof v1), 17u);
+  const uint8_t garbage[] = {0x00, 0xFD, 0x01};
+  EXPECT_EQ(FrameBytes(garbage, sizeof garbage), 0u);
+}
+
+}  // namespace
+}  // namespace sitlnet::mavlink

@@ -5,7 +5,6 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
-#include <sys/un.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -433,39 +432,34 @@ TEST(RunTest, AKilledPx4IsDroppedAndARestartedOneFliesAgainFromTheStart) {
   RunCommand({"rm", "-rf", out, folder, manifest});
 }
 
-// Issue 14, item 4: a ground station node (no physics: it stays where it is) receives an
-// autopilot's telemetry over the simulated radio, and the shipped gcs_relay recipe brings it to a
-// program on the host through a Unix datagram socket in a host folder (here the test itself, in
-// place of the host-side socat and the GCS), with no route between the node and the host
+// Issue 14, item 4 (issue 47: the relay is sitlnet run's own): a ground station node (no physics:
+// it stays where it is) receives an autopilot's telemetry over the simulated radio, and the run
+// relays it to a program on the host (here the test itself, a UDP socket in place of the GCS),
+// with no route between the node and the host
 // (NnsUpTest.ThreeRobotsHaveTheSpecifiedDevicesAddressesAndRoutes checks that a node has no
 // default route, as every robot).
 TEST(RunTest, AGroundStationRelaysTelemetryToTheHostWithoutARoute) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const std::string wlan = WlanPrefix(13);
-  const std::string folder = TempDir() + "/gcs";
-  ASSERT_EQ(RunCommand({"mkdir", "-p", folder}).exit_code, 0);
-  // The shipped manifest, its host folder replaced by the test's.
-  const std::string manifest_path = TempDir() + "/gcs_relay.textproto";
-  WriteGcsRelayManifest(folder, manifest_path);
-  const int host = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+  const int host = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
   ASSERT_GE(host, 0);
-  sockaddr_un at{};
-  at.sun_family = AF_UNIX;
-  const std::string socket_path = folder + "/mavlink.sock";
-  std::snprintf(at.sun_path, sizeof at.sun_path, "%s", socket_path.c_str());
+  sockaddr_in at{};
+  at.sin_family = AF_INET;
+  at.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t at_size = sizeof at;
   ASSERT_EQ(bind(host, reinterpret_cast<const sockaddr*>(&at), sizeof at), 0)
       << std::strerror(errno);
+  ASSERT_EQ(getsockname(host, reinterpret_cast<sockaddr*>(&at), &at_size), 0);
   const RunScenario scenario = WriteScenario(
       13,
       "robot { name: \"ap\" position_m { x: 0 y: 0 z: 0.2 } image: \"test_autopilot\" "
       "ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", \"--telemetry\", \"" +
           wlan + "2:14550\"] }\n" + "robot { name: \"gcs\" position_m { x: 20 y: 0 z: 2 } " +
-          "ground_station: true image: \"" + manifest_path + "\" }\n",
+          "ground_station: true }\n",
       "timing { duration_ms: 4000 pacing: PACING_REALTIME }\n");
   DownGuard guard(scenario.name);
   const std::string out = TempDir() + "/" + scenario.name + "-out";
-  // Read while the run goes on, as a GCS does (a Unix datagram queue holds only ~10 datagrams;
-  // the relay waits when it is full).
+  // Read while the run goes on, as a GCS does.
   std::atomic<bool> run_over{false};
   std::vector<std::string> relayed;
   std::thread gcs([&] {
@@ -477,7 +471,8 @@ TEST(RunTest, AGroundStationRelaysTelemetryToTheHostWithoutARoute) {
       if (n > 0) relayed.emplace_back(buffer, n);
     }
   });
-  const CommandResult result = SitlnetRun(scenario, out, {});
+  const CommandResult result =
+      SitlnetRun(scenario, out, {"--gcs", "udp:127.0.0.1:" + std::to_string(ntohs(at.sin_port))});
   run_over = true;
   gcs.join();
   close(host);
@@ -488,9 +483,8 @@ TEST(RunTest, AGroundStationRelaysTelemetryToTheHostWithoutARoute) {
     EXPECT_TRUE(datagram[7] == 0 || datagram[7] == 33) << static_cast<int>(datagram[7]);
   }
   // 10 Hz over the 3.5 s after arming, and 4 heartbeats (realtime pacing: a GCS is watched by
-  // a person), less the relay's start-up
-  // (socat starts with the node's image, and nothing waits for it).
-  EXPECT_GE(relayed.size(), 30u) << ReadAll(out + "/robots/gcs.log");
+  // a person); the relay is bound before the images start.
+  EXPECT_GE(relayed.size(), 39u) << result.err;
   EXPECT_GE(CapturedTimes(out, "udp.dstport == 14550 && ip.dst == " + wlan + "2").size(), 39u);
   // No physics: the node never moved (robot 1 in trajectories.csv).
   std::istringstream rows(ReadAll(out + "/trajectories.csv"));
@@ -508,7 +502,7 @@ TEST(RunTest, AGroundStationRelaysTelemetryToTheHostWithoutARoute) {
   }
   EXPECT_GE(rows_of_gcs, 40);
   ExpectNothingLeft(scenario.name);
-  RunCommand({"rm", "-rf", out, folder, manifest_path});
+  RunCommand({"rm", "-rf", out});
 }
 
 }  // namespace

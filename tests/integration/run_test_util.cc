@@ -1,11 +1,14 @@
 #include "tests/integration/run_test_util.h"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -117,38 +120,62 @@ std::vector<TrajectoryRow> TrajectoryRows(const std::string& csv, int robot) {
   return rows;
 }
 
-void WriteGcsRelayManifest(const std::string& folder, const std::string& path) {
-  std::string manifest =
-      ReadAll(integration_test::SourceDir() + "/robot_images/gcs_relay/image.textproto");
-  const std::string shipped = "/run/sitlnet-gcs";
-  for (size_t at; (at = manifest.find(shipped)) != std::string::npos;) {
-    manifest.replace(at, shipped.size(), folder);
-  }
-  std::ofstream(path) << manifest;
-}
-
-HostGcs::HostGcs(const std::string& folder, const std::string& script,
-                 const std::vector<std::string>& args, const std::string& output) {
+HostGcs::HostGcs(const std::string& script, const std::vector<std::string>& args,
+                 const std::string& output) {
   std::vector<std::string> argv = {"sh", "-c",
                                    "out=$1; shift; exec node \"$0\" \"$@\" > \"$out\" 2>&1",
                                    NodeMavlinkDir() + "/" + script, output};
   argv.insert(argv.end(), args.begin(), args.end());
   gcs_.emplace(argv);
   int port = 0;
-  if (!integration_test::WaitForFiles(
+  if (integration_test::WaitForFiles(
           std::filesystem::path(output).parent_path(),
           [&] {
             return std::sscanf(ReadAll(output).c_str(), "LISTENING on UDP port %d", &port) == 1;
           },
           30 * kNsPerS)) {
-    return;
+    port_ = port;
   }
-  const std::string telemetry = folder + "/mavlink.sock";
-  socat_.emplace(std::vector<std::string>{
-      "socat", "UNIX-SENDTO:" + folder + "/commands.sock,bind=" + telemetry + ",unlink-early",
-      "UDP4:127.0.0.1:" + std::to_string(port)});
-  started_ = integration_test::WaitForFiles(
-      folder, [&] { return std::filesystem::exists(telemetry); }, 30 * kNsPerS);
+}
+
+int FreePort(int type) {
+  const int probe = socket(AF_INET, type | SOCK_CLOEXEC, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t size = sizeof address;
+  const bool bound =
+      bind(probe, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0 &&
+      getsockname(probe, reinterpret_cast<sockaddr*>(&address), &size) == 0;
+  close(probe);
+  return bound ? ntohs(address.sin_port) : 0;
+}
+
+int StartHostGcs(std::optional<integration_test::Child>* gcs,
+                 const std::vector<std::string>& args) {
+  std::vector<std::string> argv = {"node", NodeMavlinkDir() + "/host_gcs.cjs"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  gcs->emplace(argv);
+  if (!(*gcs)->WaitForOutput(false, "LISTENING on UDP port", 30 * kNsPerS)) return 0;
+  int port = 0;
+  const std::string& out = (*gcs)->out();
+  std::sscanf(out.c_str() + out.find("LISTENING"), "LISTENING on UDP port %d", &port);
+  return port;
+}
+
+std::map<int, int> FirstHeartbeatMs(const std::string& gcs_output) {
+  std::map<int, int> first;
+  std::istringstream lines(gcs_output);
+  for (std::string line; std::getline(lines, line);) {
+    int sysid = 0, msgid = -1, wall_ms = 0;
+    char name[64];
+    if (std::sscanf(line.c_str(), "HEARD sysid=%d msgid=%d name=%63s wall_ms=%d", &sysid, &msgid,
+                    name, &wall_ms) == 4 &&
+        msgid == 0 && !first.count(sysid)) {
+      first[sysid] = wall_ms;
+    }
+  }
+  return first;
 }
 
 // A ground station's robot image: `script` of tests/node_mavlink with `args`, run by node, the

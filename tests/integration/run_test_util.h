@@ -4,6 +4,7 @@
 #define SITLNET_TESTS_INTEGRATION_RUN_TEST_UTIL_H_
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,9 +35,9 @@ double SummaryNumber(const std::string& summary, const std::string& after, const
 
 // `sitlnet run SCENARIO --out OUT --no-progress`, stopped with SIGINT (in order, its outputs
 // complete) once `done()` holds, checked when a file under OUT/robots changes (a GCS robot's
-// log) and at least every 200 ms, or after `timeout_ns`; the run may also end by itself. For a flight that ends at a virtual
-// instant nobody knows beforehand: its scenario's duration is a generous cap. exit_code: 130 if
-// stopped, 0 if it ended by itself.
+// log) and at least every 200 ms, or after `timeout_ns`; the run may also end by itself. For a
+// flight that ends at a virtual instant nobody knows beforehand: its scenario's duration is a
+// generous cap. exit_code: 130 if stopped, 0 if it ended by itself.
 CommandResult SitlnetRunUntil(const RunScenario& scenario, const std::string& out,
                               const std::function<bool()>& done, TimeNs timeout_ns);
 
@@ -57,37 +58,34 @@ struct TrajectoryRow {
 // The rows of robot index `robot` in the text of a trajectories.csv (every 100 ms from 0).
 std::vector<TrajectoryRow> TrajectoryRows(const std::string& csv, int robot);
 
-// Writes the shipped robot_images/gcs_relay manifest to `path`, its host folder
-// /run/sitlnet-gcs replaced by `folder` (a test's own).
-void WriteGcsRelayManifest(const std::string& folder, const std::string& path);
-
-// A GCS on the host and the host side of a gcs_relay image whose host folder is `folder`, as
-// docs/howto-autopilot-fleet.md (step 4) joins them: the GCS is `script` of tests/node_mavlink run
-// by node with `args`, which make it bind a free UDP port and print "LISTENING on UDP port N"; its
-// output goes to the file `output`. Then one socat joins the relay's two Unix sockets to that port.
-// Both are killed with this object unless the GCS exited first.
+// A GCS on the host, as docs/howto-autopilot-fleet.md (step 4) has one: `script` of
+// tests/node_mavlink run by node with `args`, which make it bind a free UDP port and print
+// "LISTENING on UDP port N"; its output goes to the file `output`. `sitlnet run --gcs
+// udp:127.0.0.1:N` (gcs_flag()) joins the ground station to it. Killed with this object unless it
+// exited first.
 class HostGcs {
  public:
-  HostGcs(const std::string& folder, const std::string& script,
-          const std::vector<std::string>& args, const std::string& output);
-  // The GCS bound its port and socat the relay's telemetry socket, each within 30 s.
-  bool started() const { return started_; }
+  HostGcs(const std::string& script, const std::vector<std::string>& args,
+          const std::string& output);
+  // The GCS bound its port within 30 s.
+  bool started() const { return port_ != 0; }
+  // "udp:127.0.0.1:N", the value of the run's --gcs.
+  std::string gcs_flag() const { return "udp:127.0.0.1:" + std::to_string(port_); }
   integration_test::Child& gcs() { return *gcs_; }
 
  private:
   std::optional<integration_test::Child> gcs_;
-  std::optional<integration_test::Child> socat_;
-  bool started_ = false;
+  int port_ = 0;
 };
 
 // Skips the test when `why_missing` (a ...Missing() above or below) is not empty, saying why; under
 // CI=true fails it instead.
-#define SITLNET_REQUIRE(why_missing)                                    \
-  do {                                                                  \
-    if (const std::string missing = (why_missing); !missing.empty()) {  \
-      if (::sitlnet::integration_test::IsCi()) FAIL() << missing;       \
-      GTEST_SKIP() << missing;                                          \
-    }                                                                   \
+#define SITLNET_REQUIRE(why_missing)                                   \
+  do {                                                                 \
+    if (const std::string missing = (why_missing); !missing.empty()) { \
+      if (::sitlnet::integration_test::IsCi()) FAIL() << missing;      \
+      GTEST_SKIP() << missing;                                         \
+    }                                                                  \
   } while (0)
 
 // Skips (fails under CI=true) when root, the autopilot of `why_missing` or node-mavlink is
@@ -98,6 +96,18 @@ class HostGcs {
     SITLNET_REQUIRE(why_missing);                                   \
     SITLNET_REQUIRE(::sitlnet::nns::testing::NodeMavlinkMissing()); \
   } while (0)
+
+// A port of 127.0.0.1 free now (bound and released; `type` SOCK_DGRAM or SOCK_STREAM), for a GCS
+// that starts later or a relay that listens there; 0 if none could be had.
+int FreePort(int type);
+
+// tests/node_mavlink/host_gcs.cjs with `args` (PORT SECONDS [JUNK]) in `gcs`, bound: its UDP
+// port, or 0 if it did not bind within 30 s.
+int StartHostGcs(std::optional<integration_test::Child>* gcs, const std::vector<std::string>& args);
+
+// The wall_ms of the first HEARTBEAT ("HEARD sysid=S msgid=0 ... wall_ms=W") of each system id
+// in host_gcs.cjs's output: ms from binding its port to hearing it.
+std::map<int, int> FirstHeartbeatMs(const std::string& gcs_output);
 
 // A lockstep ground station's robot image (tests/node_mavlink/lockstep_station.cjs): `script` of
 // tests/node_mavlink with `args`, run by node, the folder bound in; ready once bound. Returns the
