@@ -103,7 +103,7 @@ struct GcsRelay::Impl {
   std::unique_ptr<TlogWriter> tlog;
   VehicleTally tally;  // Guarded by counters_mutex while the thread runs.
   std::string description;
-  nns::UniqueFd stop_event;
+  UniqueFd stop_event;
   std::atomic<TimeNs> virtual_ns{0};
   clock::Timebase timebase;  // Written once, before timebase_ready is set.
   std::atomic<bool> timebase_ready{false};

@@ -35,7 +35,7 @@ class StationSocket {
   void SendTo(const sockaddr_in& vehicle, const uint8_t* frame, size_t bytes,
               GcsRelayCounters* counters);
 
-  nns::UniqueFd socket_;
+  UniqueFd socket_;
   std::vector<sockaddr_in> vehicles_;
   std::map<uint8_t, std::vector<sockaddr_in>> senders_of_system_;  // By MAVLink system id.
 };

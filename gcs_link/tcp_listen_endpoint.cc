@@ -10,7 +10,7 @@
 
 #include "gcs_link/frame_stream.h"
 #include "gcs_link/host_endpoint.h"
-#include "nns/nns.h"
+#include "common/common.h"
 
 namespace sitlnet::gcs {
 namespace {
@@ -21,7 +21,7 @@ constexpr size_t kMaxBacklogBytes = size_t{256} * 1024;
 constexpr size_t kReadBytes = 4096;
 
 struct Client {
-  nns::UniqueFd socket;
+  UniqueFd socket;
   std::string backlog;  // Bytes a full send buffer did not take, sent first.
   FrameStream stream;   // Its bytes, cut into frames (one may span reads).
 };
@@ -91,7 +91,7 @@ class TcpListenEndpoint final : public HostEndpoint {
  private:
   void Accept(GcsRelayCounters* counters) {
     while (true) {
-      nns::UniqueFd accepted(
+      UniqueFd accepted(
           accept4(listener_.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
       if (!accepted.valid()) return;
       if (clients_.size() >= kMaxClients) continue;  // Closed at once.
@@ -127,7 +127,7 @@ class TcpListenEndpoint final : public HostEndpoint {
   }
 
   std::string text_;
-  nns::UniqueFd listener_;
+  UniqueFd listener_;
   std::vector<Client> clients_;
 };
 

@@ -11,7 +11,7 @@
 
 #include "gcs_link/frame_stream.h"
 #include "gcs_link/host_endpoint.h"
-#include "nns/nns.h"
+#include "common/common.h"
 
 namespace sitlnet::gcs {
 namespace {
@@ -102,7 +102,7 @@ class UdpEndpoint final : public HostEndpoint {
 
   std::string text_;
   sockaddr_in gcs_{};
-  nns::UniqueFd socket_;
+  UniqueFd socket_;
   std::vector<uint8_t> buffer_;
   FrameStream stream_;
   std::vector<uint8_t> frames_;
