@@ -125,7 +125,7 @@ std::vector<RunReport::NodeLateness> RealtimeNodes(const Scenario& scenario,
 RunReport RunOnNodeHosts(const Scenario& scenario, const RunOptions& options, RunReport report,
                          TimeNs begin_ns) {
   RefuseFleetOptions(scenario, options);
-  coordinator::StopSignal stop;  // Ctrl-C from here on stops in order.
+  StopSignal stop;  // Ctrl-C from here on stops in order.
   std::vector<std::unique_ptr<fleet::NodeLink>> nodes;
   try {
     nodes = AcceptNodeHosts(scenario, options, stop.fd());

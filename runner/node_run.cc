@@ -94,7 +94,7 @@ std::string ServeNodeHost(const NodeOptions& options) {
                                  ? std::string()
                                  : coordinator::LoadSecretFile(options.run.secret_file);
   PrepareRobotHost(scenario, slice.robots.size());
-  coordinator::StopSignal stop;  // Ctrl-C from here on stops in order.
+  StopSignal stop;  // Ctrl-C from here on stops in order.
   const std::string out_dir = options.run.out_dir.empty()
                                   ? "runs/" + scenario.name + "-" + slice.name
                                   : options.run.out_dir;

@@ -82,7 +82,7 @@ RunReport RunScenario(const RunOptions& options) {
   }
   RefuseRemoteInRealtime(scenario, options);
   PrepareRobotHost(scenario, scenario.robots.size());
-  coordinator::StopSignal stop;  // Ctrl-C from here on stops in order.
+  StopSignal stop;  // Ctrl-C from here on stops in order.
   MakeRunFolder(report.run_dir);
   WriteEffectiveScenario(scenario, report.run_dir);
   std::unique_ptr<network_side::RemoteMedium> remote_medium;
