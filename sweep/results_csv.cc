@@ -2,6 +2,10 @@
 // gnuplot, pandas and R read without reshaping).
 #include "sweep/results_csv.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -40,13 +44,18 @@ const char* StatusName(PointState::Status status) {
   return "";
 }
 
-void WriteFileOrThrow(const std::string& path, const std::string& text) {
-  std::ofstream file(path, std::ios::trunc);
-  file << text;
-  if (!file.flush()) throw Error("write \"" + path + "\": failed");
-}
-
 }  // namespace
+
+void WriteWholeFile(const std::string& path, const std::string& text) {
+  const UniqueFd fd(open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644));
+  if (!fd.valid()) throw Error(SystemErrorMessage("create \"" + path + "\"", errno));
+  for (size_t done = 0; done < text.size();) {
+    const ssize_t n = write(fd.get(), text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw Error(SystemErrorMessage("write \"" + path + "\"", errno));
+    done += static_cast<size_t>(n);
+  }
+}
 
 PointState ReadPointState(const std::string& folder, const std::vector<std::string>& metrics) {
   PointState state;
@@ -79,7 +88,7 @@ void WriteResults(const std::string& out_dir, const std::vector<SweepAxis>& axes
     for (const std::optional<double>& value : states[p].metrics) table += "," + Number(value);
     table += "\n";
   }
-  WriteFileOrThrow(out_dir + "/points.csv", table);
+  WriteWholeFile(out_dir + "/points.csv", table);
 
   std::string summary = axes_header + "metric,n,mean,sd,ci95_half_width\n";
   for (size_t first = 0; first < points.size();) {
@@ -98,7 +107,7 @@ void WriteResults(const std::string& out_dir, const std::vector<SweepAxis>& axes
     }
     first = end;
   }
-  WriteFileOrThrow(out_dir + "/summary.csv", summary);
+  WriteWholeFile(out_dir + "/summary.csv", summary);
 }
 
 }  // namespace sitlnet::sweep

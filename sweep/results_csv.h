@@ -22,6 +22,10 @@ PointState ReadPointState(const std::string& folder, const std::vector<std::stri
 // The file a failed point's reason is kept in, in its folder.
 inline constexpr const char* kFailureFile = "sweep-failure.txt";
 
+// Replaces `path` with `text`, never through a symbolic link (the sweep may run as root in a
+// folder a user chose, as `sitlnet run` does; docs/run.md, "Run folder"). Throws Error.
+void WriteWholeFile(const std::string& path, const std::string& text);
+
 // Writes out_dir/points.csv and out_dir/summary.csv.
 void WriteResults(const std::string& out_dir, const std::vector<SweepAxis>& axes,
                   const std::vector<SweepPoint>& points, const std::vector<PointState>& states,

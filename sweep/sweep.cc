@@ -116,7 +116,7 @@ SweepReport RunSweep(const SweepOptions& options) {
     std::string text;
     google::protobuf::TextFormat::PrintToString(spec, &text);
     const std::string input = folder + "/point.textproto";
-    std::ofstream(input, std::ios::trunc) << text;
+    WriteWholeFile(input, text);
     PointCommand command;
     command.argv = {options.sitlnet_exe, "run",   input, "--out", folder, "--seed",
                     std::to_string(point.seed), "--no-progress"};
@@ -136,7 +136,7 @@ SweepReport RunSweep(const SweepOptions& options) {
       ++report.failed;
       const std::string reason = "exit " + std::to_string(exit.status) + ": " +
                                  LastLine(folder + "/sweep-run.log");
-      std::ofstream(folder + "/" + kFailureFile, std::ios::trunc) << reason << "\n";
+      WriteWholeFile(folder + "/" + kFailureFile, reason + "\n");
       outcome = "failed, " + reason;
     }
     std::fprintf(stderr, "sitlnet sweep: [%d/%zu] %s (slot %d): %s\n", report.ran, to_run.size(),
