@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <exception>
 
 #include "common/common.h"
 
@@ -68,6 +69,7 @@ bool RunPoints(size_t count, int jobs,
   std::vector<bool> slot_busy(jobs, false);
   size_t next = 0;
   bool stopping = false;
+  std::exception_ptr failure;
   while ((next < count && !stopping) || !running.empty()) {
     while (!stopping && next < count && static_cast<int>(running.size()) < jobs) {
       int slot = 0;
@@ -76,7 +78,14 @@ bool RunPoints(size_t count, int jobs,
       Running child;
       child.index = index;
       child.slot = slot;
-      child.pid = StartChild(prepare(index, slot));
+      try {
+        child.pid = StartChild(prepare(index, slot));
+      } catch (const Error&) {
+        // The runs already started are stopped and waited for before the error is reported.
+        failure = std::current_exception();
+        stop.Request();
+        break;
+      }
       child.pidfd.Reset(static_cast<int>(syscall(SYS_pidfd_open, child.pid, 0)));
       SITLNET_DEMAND(child.pidfd.valid());
       slot_busy[slot] = true;
@@ -103,6 +112,7 @@ bool RunPoints(size_t count, int jobs,
       running.erase(running.begin() + static_cast<std::ptrdiff_t>(i));
     }
   }
+  if (failure) std::rethrow_exception(failure);
   return stopping;
 }
 

@@ -42,6 +42,7 @@ class SweepResumeTest : public ::testing::Test {
     fake_ = dir_ + "/fake_sitlnet";
     std::ofstream(fake_) << "#!/bin/sh\n"
                          << "name=$(sed -n 's/^name: \"\\(.*\\)\"/\\1/p' \"$2\")\n"
+                         << "trap 'echo end >> " << dir_ << "/ended.log; exit 130' INT\n"
                          << "echo \"$name\" >> " << dir_ << "/calls.log\n"
                          << "mkdir " << dir_ << "/lock-$name || { echo clash >> " << dir_
                          << "/clash.log; }\n"
@@ -51,7 +52,8 @@ class SweepResumeTest : public ::testing::Test {
                          << "  echo 'sitlnet run: first line' >&2\n"
                          << "  echo 'sitlnet run: the reason' >&2; exit 2; fi\n"
                          << "echo '{\"interrupted\":false,\"failure\":null,\"metrics\":"
-                            "{\"stf\":{\"mean\":'\"$6\"'}}}' > \"$4/summary.json\"\n";
+                            "{\"stf\":{\"mean\":'\"$6\"'}}}' > \"$4/summary.json\"\n"
+                         << "echo end >> " << dir_ << "/ended.log\n";
     chmod(fake_.c_str(), 0755);
   }
 
@@ -115,6 +117,25 @@ TEST_F(SweepResumeTest, RecordsAFailureResumesWithoutRerunningAndTabulates) {
   EXPECT_EQ(third.already_finished, 6);
   EXPECT_EQ(third.ran, 0);
   EXPECT_EQ(CountLines(dir_ + "/calls.log"), 8);
+}
+
+// A point that cannot be prepared (its folder is a file) ends the sweep with that error, after
+// the runs already started ended: none is left behind unwaited.
+TEST_F(SweepResumeTest, StopsOnAPointItCannotPrepare) {
+  SweepOptions options = Options();
+  mkdir(options.out_dir.c_str(), 0755);
+  std::ofstream(options.out_dir + "/radio.rate_mbps=54,seed=1") << "";
+  try {
+    RunSweep(options);
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("radio.rate_mbps=54,seed=1/point.textproto"),
+              std::string::npos)
+        << error.what();
+  }
+  // Points 1-3 started before it; each had ended (stopped or finished) when RunSweep returned.
+  EXPECT_EQ(CountLines(dir_ + "/calls.log"), 3);
+  EXPECT_EQ(CountLines(dir_ + "/ended.log"), 3);
 }
 
 TEST_F(SweepResumeTest, RefusesABadValueBeforeAnyRun) {
