@@ -70,7 +70,14 @@ bool RunPoints(size_t count, int jobs,
   size_t next = 0;
   bool stopping = false;
   std::exception_ptr failure;
+  // Once: sitlnet run takes SIGINT as Ctrl-C, stops in order and removes its namespaces.
+  const auto stop_all_once = [&] {
+    if (stopping || !stop.requested()) return;
+    stopping = true;
+    for (const Running& child : running) kill(child.pid, SIGINT);
+  };
   while ((next < count && !stopping) || !running.empty()) {
+    stop_all_once();
     while (!stopping && next < count && static_cast<int>(running.size()) < jobs) {
       int slot = 0;
       while (slot_busy[slot]) ++slot;
@@ -82,7 +89,7 @@ bool RunPoints(size_t count, int jobs,
         child.pid = StartChild(prepare(index, slot));
       } catch (const Error&) {
         // The runs already started are stopped and waited for before the error is reported.
-        failure = std::current_exception();
+        if (!failure) failure = std::current_exception();
         stop.Request();
         break;
       }
@@ -97,18 +104,19 @@ bool RunPoints(size_t count, int jobs,
       if (errno == EINTR) continue;
       throw Error(SystemErrorMessage("poll the sweep's runs", errno));
     }
-    if (!stopping && stop.requested()) {
-      stopping = true;
-      // sitlnet run takes SIGINT as Ctrl-C: it stops in order and removes its namespaces.
-      for (const Running& child : running) kill(child.pid, SIGINT);
-    }
+    stop_all_once();
     for (size_t i = running.size(); i-- > 0;) {
       if (!(fds[i + 1].revents & (POLLIN | POLLHUP))) continue;
       int status = 0;
       while (waitpid(running[i].pid, &status, 0) < 0 && errno == EINTR) {
       }
       slot_busy[running[i].slot] = false;
-      done({running[i].index, running[i].slot, ExitStatus(status), stopping});
+      try {
+        done({running[i].index, running[i].slot, ExitStatus(status), stopping});
+      } catch (const Error&) {
+        if (!failure) failure = std::current_exception();
+        stop.Request();
+      }
       running.erase(running.begin() + static_cast<std::ptrdiff_t>(i));
     }
   }

@@ -24,9 +24,9 @@ struct PointExit {
 };
 
 // Runs `count` commands, at most `jobs` at once. `prepare(index, slot)` writes the point's input
-// for that job slot and returns its command; if it (or starting the child) throws Error, the
-// running children get SIGINT and are waited for, then the Error is thrown again. `done` is
-// called as each child ends. Returns true if a SIGINT/SIGTERM stopped it:
+// for that job slot and returns its command; `done` is called as each child ends. If either (or
+// starting a child) throws Error, the running children get SIGINT and are waited for, then the
+// first Error is thrown again. Returns true if a SIGINT/SIGTERM stopped it:
 // then every running child got SIGINT and was waited for, and no new one started.
 bool RunPoints(size_t count, int jobs,
                const std::function<PointCommand(size_t index, int slot)>& prepare,
