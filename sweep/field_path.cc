@@ -26,13 +26,13 @@ struct Segment {
 Segment ParseSegment(const std::string& path, const std::string& text) {
   const size_t open = text.find('[');
   if (open == std::string::npos) {
-    if (text.empty()) throw Error(path + ": an empty field name");
+    if (text.empty()) throw Error("an empty field name");
     return {text, std::nullopt};
   }
   const std::string digits = text.substr(open + 1, text.size() - open - 2);
   if (open == 0 || text.back() != ']' || digits.empty() || digits.size() > 6 ||
       digits.find_first_not_of("0123456789") != std::string::npos) {
-    throw Error(path + ": \"" + text + "\" is not NAME or NAME[INDEX]");
+    throw Error("\"" + text + "\" is not NAME or NAME[INDEX]");
   }
   return {text.substr(0, open), std::stoi(digits)};
 }
@@ -50,8 +50,13 @@ std::string TypeWord(const FieldDescriptor& field) {
       return "a non-negative integer";
     case FieldDescriptor::CPPTYPE_BOOL:
       return "true or false";
-    case FieldDescriptor::CPPTYPE_ENUM:
-      return "one of its enum's names";
+    case FieldDescriptor::CPPTYPE_ENUM: {
+      std::string names;
+      for (int i = 0; i < field.enum_type()->value_count(); ++i) {
+        names += (i ? ", " : "") + field.enum_type()->value(i)->name();
+      }
+      return "one of " + names;
+    }
     default:
       return "text";
   }
@@ -134,30 +139,30 @@ void SetFieldByPath(const std::string& path, const std::string& value, proto::Sc
     walked += (walked.empty() ? "" : ".") + segment.name;
     const FieldDescriptor* field = message->GetDescriptor()->FindFieldByName(segment.name);
     if (field == nullptr) {
-      throw Error(path + ": " + message->GetDescriptor()->name() + " has no field \"" +
+      throw Error(message->GetDescriptor()->name() + " has no field \"" +
                   segment.name + "\"");
     }
     const google::protobuf::Reflection& reflection = *message->GetReflection();
     if (field->is_repeated() != segment.index.has_value()) {
-      throw Error(path + ": " + walked +
+      throw Error(walked +
                   (field->is_repeated() ? " is a list: name one element, " + walked + "[INDEX]"
                                         : " is not a list: no [INDEX]"));
     }
     const bool is_message = field->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE;
     if (last && (is_message || field->is_repeated())) {
-      throw Error(path + ": " + walked + " is not a scalar field (name one of its fields)");
+      throw Error(walked + " is not a scalar field (name one of its fields)");
     }
     if (last) {
       if (!SetScalar(*field, value, message)) {
-        throw Error(path + ": \"" + value + "\" is not " + TypeWord(*field));
+        throw Error("\"" + value + "\" is not " + TypeWord(*field));
       }
       return;
     }
-    if (!is_message) throw Error(path + ": " + walked + " is a scalar, it has no fields");
+    if (!is_message) throw Error(walked + " is a scalar, it has no fields");
     if (segment.index) {
       const int size = reflection.FieldSize(*message, field);
       if (*segment.index >= size) {
-        throw Error(path + ": index " + std::to_string(*segment.index) + " past the scenario's " +
+        throw Error("index " + std::to_string(*segment.index) + " past the scenario's " +
                     std::to_string(size) + " " + segment.name);
       }
       message = reflection.MutableRepeatedMessage(message, field, *segment.index);

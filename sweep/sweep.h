@@ -53,8 +53,8 @@ std::string PointFolderName(const std::vector<SweepAxis>& axes,
 // Sets the scalar field at `path` (segments "name" or "name[index]", joined by '.') of `spec`
 // to `value`, parsed as the field's type (number, bool true/false, enum value name, string).
 // Intermediate singular messages are created; an index must name an existing element. Throws
-// Error "<path>: <why>" for an unknown field, a non-scalar, an index out of range or a value of
-// the wrong type.
+// Error (why, without the path: the caller names its flag) for an unknown field, a non-scalar,
+// an index out of range or a value of the wrong type.
 void SetFieldByPath(const std::string& path, const std::string& value, proto::Scenario* spec);
 
 //------------------------- Runs side by side ---------------------------------

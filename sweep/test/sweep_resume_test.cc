@@ -152,7 +152,7 @@ TEST_F(SweepResumeTest, RefusesABadValueBeforeAnyRun) {
     RunSweep(options);
     FAIL();
   } catch (const Error& error) {
-    EXPECT_EQ(std::string(error.what()), "--set radio.rate=6: radio.rate: Radio has no field \"rate\"");
+    EXPECT_EQ(std::string(error.what()), "--set radio.rate=6: Radio has no field \"rate\"");
   }
   options.axes = {{"timing.seed", {"6"}}};
   EXPECT_THROW(RunSweep(options), Error);
