@@ -68,7 +68,7 @@ void IsolateForSlot(int slot, unsigned sweep_id, proto::Scenario* spec);
 //------------------------------ Statistics -----------------------------------
 
 // The p-quantile of Student's t distribution with `dof` degrees of freedom (p in (0, 1),
-// dof >= 1): the inverse of its CDF, from the regularized incomplete beta function.
+// dof >= 1), by Boost.Math.
 double StudentTQuantile(double p, int dof);
 
 // Sample statistics of one metric over one combination's points.
