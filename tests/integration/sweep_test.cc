@@ -18,9 +18,9 @@ constexpr char kPoints[4][32] = {"radio.rate_mbps=6,seed=1", "radio.rate_mbps=6,
                                  "radio.rate_mbps=54,seed=1", "radio.rate_mbps=54,seed=2"};
 
 // Two flockers, lockstep, on subnets of this process (10.190/10.191, no other test's); the sweep
-// moves them up one /24 per job slot.
+// moves them up one /24 per job slot, so each process takes two: 2k and 2k + 1.
 std::string WriteSweepScenario(const std::string& dir, int duration_ms) {
-  const std::string third = std::to_string(getpid() % 250);
+  const std::string third = std::to_string(getpid() % 125 * 2);
   const std::string path = dir + "/sweep.textproto";
   std::ofstream(path) << "name: \"sweep\"\n"
                          "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } image: \"flocker\" "
