@@ -1,0 +1,159 @@
+// `sitlnet sweep`'s steps: check every combination, find what is finished, run the rest, tabulate.
+#include <google/protobuf/text_format.h>
+#include <sched.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <fstream>
+
+#include "common/common.h"
+#include "scenario/scenario.h"
+#include "sweep/point_runs.h"
+#include "sweep/results_csv.h"
+#include "sweep/sweep.h"
+
+namespace sitlnet::sweep {
+namespace {
+
+// Fields the sweep itself sets for every point: sweeping them would be overwritten.
+void RefuseOwnFields(const SweepAxis& axis) {
+  for (const char* own : {"name", "timing.seed"}) {
+    if (axis.field_path == own) {
+      throw Error(std::string("--set ") + own + ": set by the sweep itself (" +
+                  (axis.field_path == "name" ? "a name per job slot" : "use --seeds") + ")");
+    }
+  }
+}
+
+// The scenario of a point's combination: the file's, with the axes' values set.
+proto::Scenario CombinationSpec(const proto::Scenario& base, const std::vector<SweepAxis>& axes,
+                                const std::vector<std::string>& values) {
+  proto::Scenario spec = base;
+  for (size_t a = 0; a < axes.size(); ++a) {
+    try {
+      SetFieldByPath(axes[a].field_path, values[a], &spec);
+    } catch (const Error& error) {
+      throw Error("--set " + axes[a].field_path + "=" + values[a] + ": " + error.what());
+    }
+  }
+  return spec;
+}
+
+void MakeFolder(const std::string& path) {
+  if (mkdir(path.c_str(), 0755) < 0 && errno != EEXIST) {
+    throw Error(SystemErrorMessage("create folder \"" + path + "\"", errno));
+  }
+}
+
+// The last non-empty line of a file, "" if none.
+std::string LastLine(const std::string& path) {
+  std::ifstream file(path);
+  std::string line, last;
+  while (std::getline(file, line)) {
+    if (!line.empty()) last = line;
+  }
+  return last;
+}
+
+}  // namespace
+
+int DefaultJobs() {
+  cpu_set_t cpus;
+  if (sched_getaffinity(0, sizeof cpus, &cpus) < 0) return 1;
+  return std::max(1, CPU_COUNT(&cpus));
+}
+
+SweepReport RunSweep(const SweepOptions& options) {
+  const Scenario scenario = LoadScenarioFile(options.scenario_path);
+  const std::vector<std::string> metrics =
+      options.metrics.empty() ? DefaultMetrics() : options.metrics;
+  const int jobs = options.jobs > 0 ? options.jobs : DefaultJobs();
+  const unsigned sweep_id = static_cast<unsigned>(getpid());
+  if (options.seeds.empty()) throw Error("--seeds: no seed");
+
+  // Every combination is checked before anything runs, in the last job slot's addresses too.
+  const std::vector<SweepPoint> points = ExpandGrid(options.axes, options.seeds);
+  for (const SweepAxis& axis : options.axes) RefuseOwnFields(axis);
+  for (size_t p = 0; p < points.size(); p += options.seeds.size()) {
+    proto::Scenario spec = CombinationSpec(scenario.spec, options.axes, points[p].values);
+    IsolateForSlot(jobs - 1, sweep_id, &spec);
+    try {
+      ValidateScenarioSpec(spec, options.scenario_path);
+    } catch (const Error& error) {
+      std::string flags;
+      for (size_t a = 0; a < options.axes.size(); ++a) {
+        flags += (a ? " " : "") + std::string("--set ") + options.axes[a].field_path + "=" +
+                 points[p].values[a];
+      }
+      throw Error(flags + ": " + error.what());
+    }
+  }
+
+  MakeFolder(options.out_dir);
+  SweepReport report;
+  report.points = static_cast<int>(points.size());
+  std::vector<size_t> to_run;
+  for (size_t p = 0; p < points.size(); ++p) {
+    const std::string folder = options.out_dir + "/" + points[p].folder;
+    if (ReadPointState(folder, {}).status == PointState::kFinished) {
+      ++report.already_finished;
+    } else {
+      to_run.push_back(p);
+    }
+  }
+  std::fprintf(stderr, "sitlnet sweep: %d points, %d finished before, %zu to run, %d at once\n",
+               report.points, report.already_finished, to_run.size(), jobs);
+
+  const auto prepare = [&](size_t index, int slot) {
+    const SweepPoint& point = points[to_run[index]];
+    const std::string folder = options.out_dir + "/" + point.folder;
+    MakeFolder(folder);
+    std::remove((folder + "/" + kFailureFile).c_str());
+    proto::Scenario spec = CombinationSpec(scenario.spec, options.axes, point.values);
+    IsolateForSlot(slot, sweep_id, &spec);
+    std::string text;
+    google::protobuf::TextFormat::PrintToString(spec, &text);
+    const std::string input = folder + "/point.textproto";
+    WriteWholeFile(input, text);
+    PointCommand command;
+    command.argv = {options.sitlnet_exe, "run",   input, "--out", folder, "--seed",
+                    std::to_string(point.seed), "--no-progress"};
+    command.argv.insert(command.argv.end(), options.run_args.begin(), options.run_args.end());
+    command.log_path = folder + "/sweep-run.log";
+    return command;
+  };
+  const auto done = [&](const PointExit& exit) {
+    const SweepPoint& point = points[to_run[exit.index]];
+    const std::string folder = options.out_dir + "/" + point.folder;
+    ++report.ran;
+    const bool finished = ReadPointState(folder, {}).status == PointState::kFinished;
+    std::string outcome = "ok";
+    if (exit.stopped && !finished) {
+      outcome = "stopped";
+    } else if (exit.status != 0 || !finished) {
+      ++report.failed;
+      const std::string reason = "exit " + std::to_string(exit.status) + ": " +
+                                 LastLine(folder + "/sweep-run.log");
+      WriteWholeFile(folder + "/" + kFailureFile, reason + "\n");
+      outcome = "failed, " + reason;
+    }
+    std::fprintf(stderr, "sitlnet sweep: [%d/%zu] %s (slot %d): %s\n", report.ran, to_run.size(),
+                 point.folder.c_str(), exit.slot, outcome.c_str());
+  };
+  report.interrupted = RunPoints(to_run.size(), jobs, prepare, done);
+
+  std::vector<PointState> states;
+  for (const SweepPoint& point : points) {
+    states.push_back(ReadPointState(options.out_dir + "/" + point.folder, metrics));
+  }
+  WriteResults(options.out_dir, options.axes, points, states, metrics);
+  std::fprintf(stderr, "sitlnet sweep: %s/points.csv, %s/summary.csv (%d run, %d failed%s)\n",
+               options.out_dir.c_str(), options.out_dir.c_str(), report.ran, report.failed,
+               report.interrupted ? ", interrupted: rerun the same command to resume" : "");
+  report.exit_code = report.interrupted ? 130 : report.failed > 0 ? 1 : 0;
+  return report;
+}
+
+}  // namespace sitlnet::sweep

@@ -1,0 +1,163 @@
+// RunSweep with a stand-in for `sitlnet run` (a shell script that writes a summary.json whose
+// stf mean is its seed): resume, failures, the job slots in use at once, and the two tables.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "common/common.h"
+#include "sweep/sweep.h"
+
+namespace sitlnet::sweep {
+namespace {
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+int CountLines(const std::string& path) {
+  std::ifstream file(path);
+  std::string line;
+  int lines = 0;
+  while (std::getline(file, line)) ++lines;
+  return lines;
+}
+
+class SweepResumeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char pattern[] = "/tmp/sweep_resume_XXXXXX";
+    dir_ = mkdtemp(pattern);
+    scenario_ = dir_ + "/s.textproto";
+    std::ofstream(scenario_) << "name: \"s\"\nrobot { name: \"a\" }\nrobot { name: \"b\" }\n";
+    // Arguments: run INPUT --out FOLDER --seed S --no-progress. Seed 3 fails while the file
+    // `fail` exists. Each call appends "<scenario name>" to calls.log; the name's job slot is
+    // checked free (a lock folder per name) while it runs.
+    fake_ = dir_ + "/fake_sitlnet";
+    std::ofstream(fake_) << "#!/bin/sh\n"
+                         << "name=$(sed -n 's/^name: \"\\(.*\\)\"/\\1/p' \"$2\")\n"
+                         << "trap 'echo end >> " << dir_ << "/ended.log; exit 130' INT\n"
+                         << "echo \"$name\" >> " << dir_ << "/calls.log\n"
+                         << "mkdir " << dir_ << "/lock-$name || { echo clash >> " << dir_
+                         << "/clash.log; }\n"
+                         << "sleep 0.05\n"
+                         << "rmdir " << dir_ << "/lock-$name\n"
+                         << "if [ \"$6\" = 3 ] && [ -e " << dir_ << "/fail ]; then\n"
+                         << "  echo 'sitlnet run: first line' >&2\n"
+                         << "  echo 'sitlnet run: the reason' >&2; exit 2; fi\n"
+                         << "echo '{\"interrupted\":false,\"failure\":null,\"metrics\":"
+                            "{\"stf\":{\"mean\":'\"$6\"'}}}' > \"$4/summary.json\"\n"
+                         << "echo end >> " << dir_ << "/ended.log\n";
+    chmod(fake_.c_str(), 0755);
+  }
+
+  SweepOptions Options() const {
+    SweepOptions options;
+    options.scenario_path = scenario_;
+    options.axes = {{"radio.rate_mbps", {"6", "54"}}};
+    options.seeds = {1, 2, 3};
+    options.metrics = {"metrics.stf.mean"};
+    options.jobs = 2;
+    options.out_dir = dir_ + "/out";
+    options.sitlnet_exe = fake_;
+    return options;
+  }
+
+  std::string dir_, scenario_, fake_;
+};
+
+TEST_F(SweepResumeTest, RecordsAFailureResumesWithoutRerunningAndTabulates) {
+  std::ofstream(dir_ + "/fail") << "";
+  const SweepReport first = RunSweep(Options());
+  EXPECT_EQ(first.points, 6);
+  EXPECT_EQ(first.ran, 6);
+  EXPECT_EQ(first.failed, 2);
+  EXPECT_EQ(first.exit_code, 1);
+  EXPECT_EQ(CountLines(dir_ + "/calls.log"), 6);
+  EXPECT_EQ(CountLines(dir_ + "/clash.log"), 0);
+  // Two slots, two names: never the same name twice at once, never a third.
+  std::set<std::string> names;
+  std::ifstream calls(dir_ + "/calls.log");
+  for (std::string name; std::getline(calls, name);) names.insert(name);
+  EXPECT_EQ(names.size(), 2u);
+  EXPECT_EQ(ReadAll(dir_ + "/out/radio.rate_mbps=6,seed=3/sweep-failure.txt"),
+            "exit 2: sitlnet run: the reason\n");
+
+  const std::string points = ReadAll(dir_ + "/out/points.csv");
+  EXPECT_NE(points.find("point,radio.rate_mbps,seed,status,reason,metrics.stf.mean\n"),
+            std::string::npos);
+  EXPECT_NE(points.find("\"radio.rate_mbps=6,seed=1\",6,1,ok,,1\n"), std::string::npos) << points;
+  EXPECT_NE(points.find("\"radio.rate_mbps=54,seed=3\",54,3,failed,exit 2: sitlnet run: the "
+                        "reason,\n"),
+            std::string::npos)
+      << points;
+  // Seeds 1 and 2 finished per rate: mean 1.5, sd sqrt(0.5), t(0.975, 1) = 12.706 (table).
+  const std::string summary = ReadAll(dir_ + "/out/summary.csv");
+  EXPECT_NE(summary.find("radio.rate_mbps,metric,n,mean,sd,ci95_half_width\n"), std::string::npos);
+  EXPECT_NE(summary.find("6,metrics.stf.mean,2,1.5,0.7071067812,6.35"), std::string::npos)
+      << summary;
+
+  // The failed points run again; the finished ones do not.
+  std::remove((dir_ + "/fail").c_str());
+  const SweepReport second = RunSweep(Options());
+  EXPECT_EQ(second.already_finished, 4);
+  EXPECT_EQ(second.ran, 2);
+  EXPECT_EQ(second.failed, 0);
+  EXPECT_EQ(second.exit_code, 0);
+  EXPECT_EQ(CountLines(dir_ + "/calls.log"), 8);
+  EXPECT_FALSE(std::ifstream(dir_ + "/out/radio.rate_mbps=6,seed=3/sweep-failure.txt"));
+
+  const SweepReport third = RunSweep(Options());
+  EXPECT_EQ(third.already_finished, 6);
+  EXPECT_EQ(third.ran, 0);
+  EXPECT_EQ(CountLines(dir_ + "/calls.log"), 8);
+}
+
+// A point that cannot be prepared (its folder is a file) ends the sweep with that error, after
+// the runs already started ended: none is left behind unwaited.
+TEST_F(SweepResumeTest, StopsOnAPointItCannotPrepare) {
+  SweepOptions options = Options();
+  mkdir(options.out_dir.c_str(), 0755);
+  std::ofstream(options.out_dir + "/radio.rate_mbps=54,seed=1") << "";
+  try {
+    RunSweep(options);
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("radio.rate_mbps=54,seed=1/point.textproto"),
+              std::string::npos)
+        << error.what();
+  }
+  // Points 1-3 started before it; each had ended (stopped or finished) when RunSweep returned.
+  EXPECT_EQ(CountLines(dir_ + "/calls.log"), 3);
+  EXPECT_EQ(CountLines(dir_ + "/ended.log"), 3);
+}
+
+TEST_F(SweepResumeTest, RefusesABadValueBeforeAnyRun) {
+  SweepOptions options = Options();
+  options.axes = {{"radio.rate_mbps", {"6", "7"}}};
+  try {
+    RunSweep(options);
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("--set radio.rate_mbps=7: ", 0), 0u) << error.what();
+  }
+  options.axes = {{"radio.rate", {"6"}}};
+  try {
+    RunSweep(options);
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()), "--set radio.rate=6: Radio has no field \"rate\"");
+  }
+  options.axes = {{"timing.seed", {"6"}}};
+  EXPECT_THROW(RunSweep(options), Error);
+  EXPECT_FALSE(std::ifstream(dir_ + "/calls.log"));
+}
+
+}  // namespace
+}  // namespace sitlnet::sweep
