@@ -16,11 +16,11 @@ namespace {
 
 void ScheduleAccess(State& s, int station) {
   StationState& st = s.stations[station];
-  const TimeNs ifs = st.use_eifs ? s.phy.eifs_ns : s.phy.difs_ns;
+  const TimeNs ifs = st.use_eifs ? s.phy.eifs_ns : s.phy.aifs_ns;
   // An expired ACK/CTS timeout counts like the end of a busy period: DIFS
   // must follow it (ns-3's ChannelAccessManager::GetAccessGrantStart, the
   // last AckTimeout/CtsTimeout end + SIFS + AIFSN slots).
-  const TimeNs after_timeout_ns = st.timeout_end_ns + s.phy.difs_ns;
+  const TimeNs after_timeout_ns = st.timeout_end_ns + s.phy.aifs_ns;
   st.count_origin_ns = std::max({st.idle_since_ns + ifs, st.backoff_start_ns, after_timeout_ns});
   s.SetAccessAt(station, st.count_origin_ns + st.backoff_slots * s.phy.slot_ns);
 }
@@ -123,7 +123,7 @@ void RequestAccess(State& s, int station) {
   // idle period), or DIFS/EIFS after the last busy period if that is later.
   st.backoff_slots = 0;
   st.immediate_access = true;
-  st.backoff_start_ns = s.now_ns + s.phy.difs_ns;
+  st.backoff_start_ns = s.now_ns + s.phy.aifs_ns;
   st.backoff_pending = true;
   ScheduleAccess(s, station);
 }
