@@ -38,6 +38,10 @@ void OnBusy(State& s, int station, TimeNs sensed_ns) {
     const int elapsed = static_cast<int>((sensed_ns - st.count_origin_ns) / s.phy.slot_ns);
     st.backoff_slots -= std::min(elapsed, st.backoff_slots);
   }
+  // EDCA (QoS stations) also decrements at the slot boundary that ends AIFS (10.22.2.4): ns-3
+  // 3.37's ChannelAccessManager::UpdateBackoff counts one slot more for a QosTxop once AIFS has
+  // passed, so a frozen counter loses one slot more than under DCF.
+  if (s.phy.qos && sensed_ns >= st.count_origin_ns && st.backoff_slots > 0) --st.backoff_slots;
   // An immediate access (no backoff, 10.3.4.2) that the medium interrupted
   // turns into a random backoff, as the standard says. ns-3 3.37 keeps the
   // zero backoff instead, so every station that queued a frame during one

@@ -13,7 +13,9 @@ namespace {
 uint16_t Micros(TimeNs ns) { return static_cast<uint16_t>((ns + kNsPerUs - 1) / kNsPerUs); }
 
 int DataPsduBytes(const State& s, const QueuedFrame& frame) {
-  return MpduBytesForEthernet(static_cast<int>(frame.ethernet->size()), s.phy.qos);
+  const bool vht = frame.rate->data.mode.format == PhyFormat::kVht;
+  return MpduBytesForEthernet(static_cast<int>(frame.ethernet->size()), s.phy.qos) +
+         (vht ? kMpduDelimiterBytes : 0);
 }
 
 TimeNs DataDurationNs(const State& s, const QueuedFrame& frame) {

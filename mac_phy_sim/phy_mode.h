@@ -107,6 +107,9 @@ inline constexpr int kRtsBytes = 20;
 inline constexpr int kEthernetHeaderBytes = 14;
 inline constexpr int kMaxMsduBytes = 2304;  // 9.2.4.7.1
 // An Ethernet II frame of E bytes becomes an MPDU of E + 22 bytes.
+// A VHT PPDU always carries an A-MPDU (21.10.3): one MPDU alone is an S-MPDU behind a 4-byte
+// delimiter (ns-3 3.37: VhtFrameExchangeManager::GetWifiPsdu, WifiPsdu's single-MPDU size).
+inline constexpr int kMpduDelimiterBytes = 4;
 // As a QoS Data frame (n/ac stations), 24 bytes.
 inline constexpr int MpduBytesForEthernet(int ethernet_bytes, bool qos = false) {
   return ethernet_bytes - kEthernetHeaderBytes + kMacHeaderBytes + (qos ? kQosControlBytes : 0) +
