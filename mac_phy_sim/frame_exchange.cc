@@ -12,10 +12,14 @@ namespace {
 
 uint16_t Micros(TimeNs ns) { return static_cast<uint16_t>((ns + kNsPerUs - 1) / kNsPerUs); }
 
+int DataMpduBytes(const State& s, const QueuedFrame& frame) {
+  return MpduBytesForEthernet(static_cast<int>(frame.ethernet->size()), s.phy.qos);
+}
+
+// The PSDU of the current attempt (its rate chosen): a VHT one is an S-MPDU.
 int DataPsduBytes(const State& s, const QueuedFrame& frame) {
   const bool vht = frame.rate->data.mode.format == PhyFormat::kVht;
-  return MpduBytesForEthernet(static_cast<int>(frame.ethernet->size()), s.phy.qos) +
-         (vht ? kMpduDelimiterBytes : 0);
+  return DataMpduBytes(s, frame) + (vht ? kMpduDelimiterBytes : 0);
 }
 
 TimeNs DataDurationNs(const State& s, const QueuedFrame& frame) {
@@ -151,7 +155,7 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
   frame.ethernet = std::move(ethernet);
   frame.enqueued_ns = s.now_ns;
   frame.use_rts = !frame.group && s.config.rts_threshold_bytes > 0 &&
-                  DataPsduBytes(s, frame) > static_cast<int>(s.config.rts_threshold_bytes);
+                  DataMpduBytes(s, frame) > static_cast<int>(s.config.rts_threshold_bytes);
   st.queue.push_back(std::move(frame));
   if (!st.has_current) {
     NextFrame(s, station);

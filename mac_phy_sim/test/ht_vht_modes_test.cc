@@ -14,6 +14,7 @@
 
 #include "mac_phy_sim/error_rate.h"
 #include "mac_phy_sim/phy_mode.h"
+#include "mac_phy_sim/test/saturation_harness.h"
 
 namespace sitlnet::mac {
 namespace {
@@ -158,6 +159,56 @@ TEST(HtVhtModesTest, QosStationsUseBestEffortAifs) {
   EXPECT_FALSE(DerivePhyInfo(a).qos);
   EXPECT_EQ(DerivePhyInfo(a).aifs_ns, DerivePhyInfo(a).difs_ns);
   EXPECT_EQ(MpduBytesForEthernet(1514, true), 1514 - 14 + 26 + 8 + 4);
+}
+
+// ns-3's duration of a PSDU of `psdu_bytes` (one of the oracle's sizes) for a mode row.
+TimeNs Ns3DurationNs(const std::string& standard, int mcs, int width, int psdu_bytes) {
+  for (const auto& row : OracleRows("duration")) {
+    if (row[1] == standard && std::stoi(row[2]) == mcs && row[3] == "1" &&
+        std::stoi(row[4]) == width && row[5] == "800" && std::stoi(row[6]) == psdu_bytes) {
+      return std::stoll(row[7]);
+    }
+  }
+  ADD_FAILURE() << "no oracle row";
+  return 0;
+}
+
+// One unicast frame between two n/ac stations: a QoS Data frame at the MCS, its PSDU as ns-3
+// builds it (VHT: an S-MPDU, 4 bytes more), and an ACK at the legacy basic rate SIFS later.
+TEST(HtVhtModesTest, OneFrameAsNs3SendsIt) {
+  for (const bool vht : {false, true}) {
+    MediumConfig config;
+    config.standard = vht ? Standard::k80211ac : Standard::k80211n5GHz;
+    config.mcs = vht ? 9 : 7;
+    Medium medium(config);
+    medium.EnableTrace(true);
+    const MacAddress a{{2, 0, 0, 0, 0, 1}}, b{{2, 0, 0, 0, 0, 2}};
+    medium.AddStation(a, {0, 0, 0});
+    medium.AddStation(b, {1, 0, 0});
+    // An MPDU (QoS header 26 + LLC/SNAP 8 + FCS 4) whose PSDU is 1538 bytes, an oracle size.
+    const int payload_bytes = 1538 - 26 - 8 - 4 - (vht ? 4 : 0);
+    medium.SubmitFrame(0, testing::MakeEthernetFrame(b, a, payload_bytes), 0);
+    std::vector<Delivery> deliveries;
+    medium.AdvanceTo(10 * kNsPerMs, &deliveries);
+    ASSERT_EQ(deliveries.size(), 1u);
+    const std::vector<TxRecord> txs = testing::DrainTransmissions(medium);
+    ASSERT_EQ(txs.size(), 2u);
+    const TxRecord& data = txs[0];
+    EXPECT_EQ(data.kind, FrameKind::kData);
+    EXPECT_TRUE(data.qos);
+    EXPECT_EQ(data.mcs, config.mcs);
+    EXPECT_EQ(data.vht, vht);
+    EXPECT_EQ(data.channel_width_mhz, vht ? 80 : 20);
+    EXPECT_EQ(data.end_ns - data.start_ns,
+              Ns3DurationNs(vht ? "80211ac" : "80211n_5ghz", config.mcs, vht ? 80 : 20, 1538));
+    EXPECT_EQ(MpduBytes(data)[0], 0x88);  // QoS Data.
+    const TxRecord& ack = txs[1];
+    EXPECT_EQ(ack.kind, FrameKind::kAck);
+    EXPECT_EQ(ack.rate_mbps, 24);
+    EXPECT_EQ(ack.mcs, -1);
+    EXPECT_EQ(ack.start_ns, data.end_ns + 16 * kNsPerUs);
+    EXPECT_EQ(ack.end_ns - ack.start_ns, PpduDurationNs(Standard::k80211a, 24, kAckBytes));
+  }
 }
 
 }  // namespace
