@@ -246,9 +246,9 @@ std::vector<Case> Cells() {
     char buf[96];
     std::snprintf(buf, sizeof buf, "%s-mcs%d-%dMHz-%s-n%d-sink", StandardName(s), mcs, width,
                   short_gi ? "sgi" : "lgi", n);
-    // The fast subset re-checks one cell of each: HT's top MCS with ten senders, VHT's top MCS.
-    const bool fast = mcs == (s == Standard::kAc ? 9 : 7) && width != 40 && !short_gi &&
-                      n == (s == Standard::kAc ? 5 : 10);
+    // The fast subset re-checks HT's top MCS with ten senders. No VHT cell: ns-3 runs Block Ack
+    // there, which mac_phy_sim does not model yet (docs/validation.md).
+    const bool fast = s == Standard::kN5 && mcs == 7 && width == 20 && !short_gi && n == 10;
     add(c, buf, fast);
   };
   for (int width : {20, 40}) {
