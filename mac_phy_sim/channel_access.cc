@@ -16,11 +16,11 @@ namespace {
 
 void ScheduleAccess(State& s, int station) {
   StationState& st = s.stations[station];
-  const TimeNs ifs = st.use_eifs ? s.phy.eifs_ns : s.phy.difs_ns;
+  const TimeNs ifs = st.use_eifs ? s.phy.eifs_ns : s.phy.aifs_ns;
   // An expired ACK/CTS timeout counts like the end of a busy period: DIFS
   // must follow it (ns-3's ChannelAccessManager::GetAccessGrantStart, the
   // last AckTimeout/CtsTimeout end + SIFS + AIFSN slots).
-  const TimeNs after_timeout_ns = st.timeout_end_ns + s.phy.difs_ns;
+  const TimeNs after_timeout_ns = st.timeout_end_ns + s.phy.aifs_ns;
   st.count_origin_ns = std::max({st.idle_since_ns + ifs, st.backoff_start_ns, after_timeout_ns});
   s.SetAccessAt(station, st.count_origin_ns + st.backoff_slots * s.phy.slot_ns);
 }
@@ -38,6 +38,10 @@ void OnBusy(State& s, int station, TimeNs sensed_ns) {
     const int elapsed = static_cast<int>((sensed_ns - st.count_origin_ns) / s.phy.slot_ns);
     st.backoff_slots -= std::min(elapsed, st.backoff_slots);
   }
+  // EDCA (QoS stations) also decrements at the slot boundary that ends AIFS (10.22.2.4): ns-3
+  // 3.37's ChannelAccessManager::UpdateBackoff counts one slot more for a QosTxop once AIFS has
+  // passed, so a frozen counter loses one slot more than under DCF.
+  if (s.phy.qos && sensed_ns >= st.count_origin_ns && st.backoff_slots > 0) --st.backoff_slots;
   // An immediate access (no backoff, 10.3.4.2) that the medium interrupted
   // turns into a random backoff, as the standard says. ns-3 3.37 keeps the
   // zero backoff instead, so every station that queued a frame during one
@@ -123,7 +127,7 @@ void RequestAccess(State& s, int station) {
   // idle period), or DIFS/EIFS after the last busy period if that is later.
   st.backoff_slots = 0;
   st.immediate_access = true;
-  st.backoff_start_ns = s.now_ns + s.phy.difs_ns;
+  st.backoff_start_ns = s.now_ns + s.phy.aifs_ns;
   st.backoff_pending = true;
   ScheduleAccess(s, station);
 }

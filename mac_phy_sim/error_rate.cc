@@ -19,6 +19,10 @@ double UncodedBer(Modulation modulation, double sinr) {
       return 0.75 * 0.5 * std::erfc(std::sqrt(sinr / (5.0 * 2.0)));
     case Modulation::kQam64:
       return 7.0 / 12.0 * 0.5 * std::erfc(std::sqrt(sinr / (21.0 * 2.0)));
+    case Modulation::kQam256:
+      // ns-3's general square M-QAM: (sqrt(M) - 1) / (sqrt(M) log2 sqrt(M)) erfc(sqrt(3 snr /
+      // (2 (M - 1)))), M = 256: 15/64 erfc(sqrt(snr / 170)).
+      return 15.0 / 64.0 * std::erfc(std::sqrt(sinr / 170.0));
     default:
       return 0.5;
   }
@@ -27,7 +31,8 @@ double UncodedBer(Modulation modulation, double sinr) {
 // Union bound on the decoded bit error probability of the 802.11 K=7
 // convolutional code for input BER p (hard decisions): sum over distances d
 // of c_d * D^d with D = sqrt(4 p (1 - p)), scaled by 1/(2b) for punctured
-// codes. Spectra: rate 1/2 (d_free 10), 2/3 (d_free 6), 3/4 (d_free 5).
+// codes. Spectra: rate 1/2 (d_free 10), 2/3 (d_free 6), 3/4 (d_free 5), and
+// 5/6 (d_free 4) as ns-3 3.37's NistErrorRateModel::CalculatePe has it.
 double DecodedBitError(double p, int code_rate_b) {
   const double d = std::sqrt(4.0 * p * (1.0 - p));
   auto series = [d](int first_distance, int step, std::initializer_list<double> weights) {
@@ -52,6 +57,11 @@ double DecodedBitError(double p, int code_rate_b) {
              series(6, 1,
                     {3.0, 70.0, 285.0, 1276.0, 6160.0, 27128.0, 117019.0, 498860.0, 2103891.0,
                      8784123.0});
+    case 5:
+      return 1.0 / 10.0 *
+             series(4, 1,
+                    {92.0, 528.0, 8694.0, 79453.0, 792114.0, 7375573.0, 67884974.0, 610875423.0,
+                     5427275376.0, 47664215639.0});
     default:
       return 1.0 / 6.0 *
              series(5, 1,

@@ -12,12 +12,18 @@ namespace {
 
 uint16_t Micros(TimeNs ns) { return static_cast<uint16_t>((ns + kNsPerUs - 1) / kNsPerUs); }
 
-int DataPsduBytes(const QueuedFrame& frame) {
-  return MpduBytesForEthernet(static_cast<int>(frame.ethernet->size()));
+int DataMpduBytes(const State& s, const QueuedFrame& frame) {
+  return MpduBytesForEthernet(static_cast<int>(frame.ethernet->size()), s.phy.qos);
 }
 
-TimeNs DataDurationNs(const QueuedFrame& frame) {
-  return PpduDurationNs(frame.rate->data.mode, frame.rate->data.header, DataPsduBytes(frame));
+// The PSDU of the current attempt (its rate chosen): a VHT one is an S-MPDU.
+int DataPsduBytes(const State& s, const QueuedFrame& frame) {
+  const bool vht = frame.rate->data.mode.format == PhyFormat::kVht;
+  return DataMpduBytes(s, frame) + (vht ? kMpduDelimiterBytes : 0);
+}
+
+TimeNs DataDurationNs(const State& s, const QueuedFrame& frame) {
+  return PpduDurationNs(frame.rate->data.mode, frame.rate->data.header, DataPsduBytes(s, frame));
 }
 
 void TraceDrop(State& s, int station, DropReason reason, const MacAddress& destination,
@@ -91,7 +97,7 @@ void SendData(State& s, int station) {
   StationState& st = s.stations[station];
   QueuedFrame& f = st.current;
   const uint16_t duration = f.group ? 0 : Micros(s.phy.sifs_ns + f.rate->ack_ns);
-  Transmission& tx = StartTransmission(s, station, FrameKind::kData, f.rate->data, DataPsduBytes(f),
+  Transmission& tx = StartTransmission(s, station, FrameKind::kData, f.rate->data, DataPsduBytes(s, f),
                                        f.destination, duration);
   tx.retry = f.data_sent_before;
   tx.sequence_number = f.sequence_number;
@@ -149,7 +155,7 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
   frame.ethernet = std::move(ethernet);
   frame.enqueued_ns = s.now_ns;
   frame.use_rts = !frame.group && s.config.rts_threshold_bytes > 0 &&
-                  DataPsduBytes(frame) > static_cast<int>(s.config.rts_threshold_bytes);
+                  DataMpduBytes(s, frame) > static_cast<int>(s.config.rts_threshold_bytes);
   st.queue.push_back(std::move(frame));
   if (!st.has_current) {
     NextFrame(s, station);
@@ -176,7 +182,7 @@ void StartCurrentFrame(State& s, int station) {
   // rate of the DATA rate (or Ideal's RTS rate); CTS answers at the control
   // rate of the RTS's.
   const uint16_t duration =
-      Micros(3 * s.phy.sifs_ns + f.rts_rate->cts_ns + DataDurationNs(f) + f.rate->ack_ns);
+      Micros(3 * s.phy.sifs_ns + f.rts_rate->cts_ns + DataDurationNs(s, f) + f.rate->ack_ns);
   const ModeEntry& rts_mode = s.config.rate_control == MediumConfig::RateControl::kIdeal
                                   ? f.rts_rate->data
                                   : f.rts_rate->control;
@@ -200,7 +206,7 @@ void OnOwnTxEnd(State& s, const Transmission& tx) {
     // the PHY preamble and header of the expected response.
     const TimeNs timeout_ns =
         s.phy.sifs_ns + s.phy.slot_ns +
-        RateFor(s, tx.mode->mode.rate_mbps).control.header.preamble_and_header_ns;
+        RateFor(s, tx.mode->mode).control.header.preamble_and_header_ns;
     s.scheduler.Push(s.now_ns + timeout_ns, EventType::kTimeout, tx.source, st.timeout_generation);
   }
 }
@@ -213,7 +219,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
       if (!tx.group && !for_me) return;
       if (!tx.group) {
         ScheduleResponse(s, station, FrameKind::kAck, tx.ta, 0,
-                         &RateFor(s, tx.mode->mode.rate_mbps), entry.sinr);
+                         &RateFor(s, tx.mode->mode), entry.sinr);
         auto& last = st.last_sequence_from;
         if (static_cast<int>(last.size()) <= tx.source) last.resize(tx.source + 1, -1);
         if (tx.retry && last[tx.source] == tx.sequence_number) {
@@ -232,7 +238,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
     case FrameKind::kRts:
       // Answer only with an idle NAV (10.3.2.7).
       if (for_me && st.nav_until_ns <= s.now_ns) {
-        const RateEntry& rts_rate = RateFor(s, tx.mode->mode.rate_mbps);
+        const RateEntry& rts_rate = RateFor(s, tx.mode->mode);
         const TimeNs rest = tx.duration_us * kNsPerUs - s.phy.sifs_ns - rts_rate.cts_ns;
         ScheduleResponse(s, station, FrameKind::kCts, tx.ta, Micros(std::max<TimeNs>(rest, 0)),
                          &rts_rate, entry.sinr);

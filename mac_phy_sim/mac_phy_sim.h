@@ -27,7 +27,17 @@ enum class Standard : uint8_t {
   k80211a,  // OFDM, 5 GHz, 6..54 Mb/s (IEEE 802.11-2016 clause 17).
   k80211b,  // DSSS/CCK, 2.4 GHz, 1, 2, 5.5, 11 Mb/s (clauses 15, 16).
   k80211g,  // ERP, 2.4 GHz: ERP-OFDM 6..54 Mb/s and DSSS/CCK 1..11 Mb/s (clause 18), no protection.
+  // HT (clause 19) on an 802.11g PHY: HT MCS for data, the 11g rates for control and group frames.
+  k80211n2_4GHz,
+  // HT on an 802.11a PHY (5 GHz).
+  k80211n5GHz,
+  // VHT (clause 21) on an 802.11a PHY (5 GHz).
+  k80211ac,
 };
+
+// True for the HT and VHT standards (802.11n, 802.11ac): data goes at an MCS, stations are QoS
+// stations (ns-3 3.37 allows nothing else).
+bool IsHtOrVht(Standard standard);
 
 // Plain values only; every field has the default ns-3 3.37 uses (see
 // docs/references.md#radio-defaults) unless noted. Validated by the Medium constructor. The
@@ -36,7 +46,15 @@ enum class Standard : uint8_t {
 // scenario's (proto/sitlnet/scenario.proto) and only asserted here.
 struct MediumConfig {
   Standard standard = Standard::k80211a;
-  double rate_mbps = 54;  // Data rate of every station (no rate control).
+  double rate_mbps = 54;  // a/b/g: data rate of every station (no rate control); n/ac: unused.
+  // 802.11n/ac only (a/b/g ignore these): the data mode of every station, as an ns-3 user writes
+  // it. HT: mcs 0-15 is ns-3's HtMcs index (8 per stream: 0-7 one stream, 8-15 two). VHT: mcs 0-9
+  // per stream, with spatial_streams (1-2). Widths: n 20/40 MHz, ac 20/40/80 MHz; VHT MCS 9 is
+  // invalid at 20 MHz for 1 and 2 streams (ns-3's VhtPhy::IsCombinationAllowed).
+  int mcs = 7;
+  std::optional<int> spatial_streams;    // Unset: HT from the MCS (mcs / 8 + 1); VHT 1.
+  std::optional<int> channel_width_mhz;  // Unset: ns-3 3.37's default, 20 (n) or 80 (ac).
+  bool short_guard_interval = false;     // 400 ns GI (3.6 us symbols); ns-3's default is 800 ns.
   double tx_power_dbm = 16.0206;
   double noise_figure_db = 7;
   double rx_sensitivity_dbm = -101;    // Weaker signals are not even interference-tracked.
@@ -112,12 +130,18 @@ struct MediumConfig {
 // Derived PHY/MAC constants of a config (what the medium actually uses).
 struct PhyInfo {
   double frequency_mhz = 0;      // Channel centre: 5180 (11a, ch 36) or 2412 (b/g, ch 1).
-  double noise_floor_dbm = 0;    // kTB over the channel bandwidth + noise figure.
+  double noise_floor_dbm = 0;    // kTB over the data frames' bandwidth + noise figure.
   double reference_loss_db = 0;  // At 1 m.
   double ack_rate_mbps = 0;      // Control-response rate for the configured data rate.
   double group_rate_mbps = 0;    // Rate of group-addressed DATA frames.
   TimeNs slot_ns = 0, sifs_ns = 0, difs_ns = 0, eifs_ns = 0;
   int cw_min = 0, cw_max = 0;
+  // Contention of the one transmit queue. a/b/g: DCF (AIFSN 2: aifs_ns = difs_ns). n/ac: QoS
+  // stations whose frames all go in the best-effort access category (AIFSN 3, CWmin 15, CWmax
+  // 1023, ns-3 3.37's EDCA defaults); eifs_ns and cw_min/cw_max are then that category's.
+  bool qos = false;
+  int aifsn = 2;
+  TimeNs aifs_ns = 0;  // aSIFSTime + aifsn x aSlotTime (10.22.2.4).
 };
 
 // Computes the derived constants; throws Error("<field> <value> ...") for a rate the standard lacks
@@ -151,7 +175,8 @@ using StationId = int;  // Dense: 0 .. station_count()-1, in the order added.
 // Per-station radio settings; unset fields take the MediumConfig's.
 struct StationRadio {
   std::optional<double> tx_power_dbm;  // Finite; the scenario bounds it (docs/scenario.md).
-  std::optional<double> rate_mbps;     // A rate of the standard (kConstant rate control).
+  std::optional<double> rate_mbps;     // A rate of the standard (kConstant rate control; a/b/g).
+  std::optional<int> mcs;              // n/ac: an MCS valid with the config's streams and width.
 };
 
 //---------------------------- Outputs: deliveries ---------------------------
@@ -221,6 +246,13 @@ struct TxRecord {
   uint16_t sequence_number = 0;  // 12 bits; 0 for control frames.
   uint16_t duration_us = 0;      // Duration/ID field (NAV).
   double rate_mbps = 0;
+  // HT/VHT DATA frames (else mcs = -1): what radiotap's MCS or VHT field carries.
+  int mcs = -1;  // HT: 0-15 (streams included); VHT: 0-9 per stream.
+  bool vht = false;
+  int spatial_streams = 1;
+  int channel_width_mhz = 20;
+  bool short_guard_interval = false;
+  bool qos = false;  // A QoS Data frame (n/ac stations); its TID is 0 (best effort).
   MacAddress receiver;     // addr1 (broadcast for group frames).
   MacAddress transmitter;  // addr2 (absent on air for ACK/CTS; still filled).
   // DATA: the Ethernet frame carried, as submitted (shared with the queue, not copied); null

@@ -113,9 +113,9 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
   const double tx_power_dbm = radio.tx_power_dbm.value_or(s.config.tx_power_dbm);
   // Its range is the scenario's (Radio.tx_power_dbm's options), checked at load.
   SITLNET_DEMAND(std::isfinite(tx_power_dbm));
-  const double rate_mbps = radio.rate_mbps.value_or(s.config.rate_mbps);
+  PhyMode data_mode;
   try {
-    ModeFor(s.config.standard, rate_mbps);
+    data_mode = DataModeFor(s.config, radio);
   } catch (const Error& e) {
     throw Error(std::string("station radio: ") + e.what());
   }
@@ -131,7 +131,7 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
   st.mac = mac;
   st.tx_power_dbm = tx_power_dbm;
   st.tx_power_mw = DbmToMw(tx_power_dbm);
-  st.rate = &RateFor(s, rate_mbps);
+  st.rate = &RateFor(s, data_mode);
   st.rng.seed(SplitMix64(s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));
   // A stream of its own, so turning fading on leaves the other draws as they were.
   st.fading_rng.seed(SplitMix64(~s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));

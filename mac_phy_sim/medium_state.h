@@ -44,13 +44,16 @@ inline constexpr double kSpeedOfLightMps = 299792458.0;
 // The OFDM PHY's aCCATime (IEEE 802.11-2016 Clause 17) is the same 4 us.
 inline constexpr TimeNs kPreambleDetectionNs = 4 * kNsPerUs;
 
-// A PHY mode with its PHY header, and the SINRs above which the error rates
-// of payload and header are exactly zero.
+// A PHY mode with its PHY header, the SINRs above which the error rates
+// of payload and header are exactly zero, and the receiver noise for it.
 struct ModeEntry {
   PhyMode mode;
   double perfect_sinr = 0;
   PhyHeader header;
   double header_perfect_sinr = 0;
+  // mW: a/b/g the one noise floor (PhyInfo); n/ac over the PPDU's measurement width (a 20 MHz
+  // ACK sees half the noise of a 40 MHz data frame, as in ns-3).
+  double noise_mw = 0;
 };
 
 // A data rate: its mode, the mode of the control responses to it (ACK, CTS;
@@ -267,7 +270,7 @@ void OnRespond(State& s, int station);
 
 // ---- rate_control.cc
 void BuildRates(State& s);
-const RateEntry& RateFor(const State& s, double rate_mbps);
+const RateEntry& RateFor(const State& s, const PhyMode& mode);
 // Picks the DATA (and RTS) rate of the current frame's next attempt.
 void ChooseRates(State& s, int station);
 // kIdeal: the destination measured `snr` (linear) on a frame of ours.

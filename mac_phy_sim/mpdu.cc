@@ -40,16 +40,17 @@ uint32_t Crc32(std::span<const uint8_t> bytes) {
 
 void BuildDataMpdu(const MacAddress& ra, const MacAddress& ta, uint16_t duration_us,
                    uint16_t sequence_number, bool retry, std::span<const uint8_t> ethernet_frame,
-                   std::vector<uint8_t>* out) {
+                   std::vector<uint8_t>* out, bool qos) {
   out->clear();
-  out->reserve(ethernet_frame.size() + 22);
-  out->push_back(0x08);                 // Type data, subtype 0.
+  out->reserve(ethernet_frame.size() + 24);
+  out->push_back(qos ? 0x88 : 0x08);    // Type data, subtype 0 (Data) or 8 (QoS Data).
   out->push_back(retry ? 0x08 : 0x00);  // Flags: Retry bit (9.2.4.1.1).
   Put16(out, duration_us);
   PutMac(out, ra);
   PutMac(out, ta);
   PutMac(out, kBssid);
   Put16(out, static_cast<uint16_t>((sequence_number & 0x0fff) << 4));
+  if (qos) Put16(out, 0);  // QoS Control: TID 0, normal ack, no A-MSDU.
   // RFC 1042 LLC/SNAP, then the Ethernet type and payload.
   for (uint8_t b : {0xAA, 0xAA, 0x03, 0x00, 0x00, 0x00}) out->push_back(b);
   out->insert(out->end(), ethernet_frame.begin() + 12, ethernet_frame.end());
@@ -73,7 +74,7 @@ std::vector<uint8_t> MpduBytes(const TxRecord& tx) {
   if (tx.kind == FrameKind::kData) {
     SITLNET_DEMAND(tx.ethernet_frame != nullptr && tx.ethernet_frame->size() >= 14);
     BuildDataMpdu(tx.receiver, tx.transmitter, tx.duration_us, tx.sequence_number, tx.retry,
-                  *tx.ethernet_frame, &mpdu);
+                  *tx.ethernet_frame, &mpdu, tx.qos);
   } else {
     BuildControlMpdu(tx.kind, tx.receiver, tx.transmitter, tx.duration_us, &mpdu);
   }

@@ -13,13 +13,13 @@ struct PerTable {
   int size = 0;
 };
 inline constexpr double kPerTableStepDb = 0.5;
-inline constexpr int kPerTableMcsCount = 7;  // MCS 0-6: BPSK 1/2 .. 64-QAM 3/4.
+inline constexpr int kPerTableMcsCount = 10;  // MCS 0-9: BPSK 1/2 .. 256-QAM 5/6.
 // Reference frame sizes of the two tables (ns-3's ERROR_TABLE_BCC_SMALL_FRAME_SIZE
 // and ..._LARGE_FRAME_SIZE).
 inline constexpr int kSmallTableFrameBytes = 32;
 inline constexpr int kLargeTableFrameBytes = 1458;
 
-// The table of `mcs` (0..6) for small (32-byte) or large (1458-byte) frames.
+// The table of `mcs` (0..9) for small (32-byte) or large (1458-byte) frames.
 const PerTable& BccPerTable(int mcs, bool large_frame);
 
 }  // namespace sitlnet::mac

@@ -1,6 +1,7 @@
 // PHY constants per standard: rates, modulation, PPDU airtime, interframe
 // spaces, contention windows, control-response rates. Numbers cite IEEE
-// 802.11-2016 (clause 15 DSSS, 16 HR/DSSS, 17 OFDM, 18 ERP).
+// 802.11-2016 (clause 15 DSSS, 16 HR/DSSS, 17 OFDM, 18 ERP, 19 HT, 21 VHT);
+// the HT/VHT numbers are ns-3 3.37's (HtPhy, VhtPhy) where it simplifies.
 #ifndef SITLNET_MAC_PHY_SIM_PHY_MODE_H_
 #define SITLNET_MAC_PHY_SIM_PHY_MODE_H_
 
@@ -8,18 +9,49 @@
 
 namespace sitlnet::mac {
 
-enum class Modulation : uint8_t { kBpsk, kQpsk, kQam16, kQam64, kDbpsk, kDqpsk, kCck55, kCck11 };
+enum class Modulation : uint8_t {
+  kBpsk, kQpsk, kQam16, kQam64, kDbpsk, kDqpsk, kCck55, kCck11, kQam256
+};
+
+// Legacy: DSSS/HR-DSSS, OFDM, ERP-OFDM (one rate, 20 or 22 MHz); HT and VHT: an MCS.
+enum class PhyFormat : uint8_t { kLegacy, kHt, kVht };
 
 // One transmission mode: what the error model and the airtime need.
 struct PhyMode {
-  double rate_mbps = 0;
+  double rate_mbps = 0;  // Data rate, every spatial stream together.
   Modulation modulation = Modulation::kBpsk;
-  int code_rate_b = 1;  // Convolutional code: 1 = 1/2, 2 = 2/3, 3 = 3/4 (0 for DSSS).
-  bool ofdm = true;
+  // Convolutional code: 1 = 1/2, 2 = 2/3, 3 = 3/4, 5 = 5/6 (ns-3's "b value"); 0 for DSSS.
+  int code_rate_b = 1;
+  bool ofdm = true;  // OFDM symbols: OFDM, ERP-OFDM, HT, VHT.
+  PhyFormat format = PhyFormat::kLegacy;
+  int mcs = -1;  // HT: 0-15 (ns-3's HtMcs index); VHT: 0-9; legacy: -1.
+  int spatial_streams = 1;
+  int channel_width_mhz = 20;  // HT/VHT; legacy modes are 20 MHz (OFDM) or 22 MHz (DSSS).
+  bool short_guard_interval = false;
 };
 
-// The mode of `rate_mbps` in `standard`; throws Error if the standard lacks it.
+// The mode of `rate_mbps` in `standard`; throws Error if the standard lacks it. For n/ac these are
+// the legacy rates of the PHY underneath (11g at 2.4 GHz, 11a at 5 GHz): control and group frames.
 PhyMode ModeFor(Standard standard, double rate_mbps);
+
+// The HT (802.11n) or VHT (802.11ac) mode of `mcs` with `spatial_streams` (HT: must be mcs / 8 + 1),
+// `channel_width_mhz` and the guard interval. Throws Error naming the rule for a combination the
+// standard (or ns-3 3.37) does not allow. Rate: N_SD x N_BPSCS x R x N_SS bits per 4 us (3.6 us
+// with the short GI) symbol, N_SD = 52, 108, 234 data subcarriers at 20, 40, 80 MHz (19.5, 21.5).
+PhyMode McsModeFor(Standard standard, int mcs, int spatial_streams, int channel_width_mhz,
+                   bool short_guard_interval);
+
+// The data mode of a config (a/b/g: rate_mbps; n/ac: mcs, streams, width, GI), with a station's
+// override of the rate or MCS. Throws Error naming the field.
+PhyMode DataModeFor(const MediumConfig& config, const StationRadio& radio);
+
+// Channel width (MHz) over which a receiver measures noise for a PPDU in `mode` (ns-3's
+// GetMeasurementChannelWidth: the PPDU's width; 22 MHz for DSSS).
+int MeasurementWidthMhz(const PhyMode& mode);
+
+// Thermal noise kTB at 290 K (k = 1.3803e-23 J/K, as ns-3) over `bandwidth_hz`, plus the noise
+// figure, in dBm: -101 dBm + NF at 20 MHz, 3 dB more per doubling.
+double NoiseFloorDbm(double bandwidth_hz, double noise_figure_db);
 
 // The PHY header of a PPDU: how long preamble + header last, the mode and
 // bit count the error model applies to the header, and the ERP signal
@@ -28,9 +60,15 @@ PhyMode ModeFor(Standard standard, double rate_mbps);
 // DBPSK (15.3.3); short PPDU: 72 us + 24 us with the 48-bit header at 2 Mb/s
 // DQPSK (16.2.2.3). ns-3 3.37 (GetPreambleForTransmission) uses the short
 // format only for the HR/DSSS rates 5.5 and 11 Mb/s, never at 1 or 2 Mb/s.
+// HT-mixed (19.3.2) and VHT SU (21.3.2) PPDUs, as ns-3 3.37 times them: L-STF + L-LTF 16 us,
+// L-SIG 4 us, HT-SIG or VHT-SIG-A 8 us, HT-STF or VHT-STF 4 us, one 4 us LTF per stream (1-2
+// streams); ns-3 sends VHT-SIG-B only in MU PPDUs (VhtPhy::GetSigBDuration), so not here. The
+// error model reads L-SIG (24 bits) and HT-SIG/VHT-SIG-A (48 bits) at 6 Mb/s BPSK 1/2.
 struct PhyHeader {
   TimeNs preamble_and_header_ns = 0;
-  TimeNs signal_extension_ns = 0;  // 6 us for ERP-OFDM (18.3.2.4), else 0.
+  // 6 us for OFDM-based PPDUs at 2.4 GHz: ERP-OFDM (18.3.2.4) and HT (19.3.2), ns-3's
+  // OfdmPhy::GetSignalExtension; else 0.
+  TimeNs signal_extension_ns = 0;
   PhyMode header_mode;
   int header_bits = 0;
 };
@@ -48,6 +86,10 @@ TimeNs PpduDurationNs(const PhyMode& mode, const PhyHeader& header, int psdu_byt
 // 11b ACK goes at the data rate; 11g {1, 2, 5.5, 11, 6, 12, 24}, and an ERP-OFDM
 // frame is answered at 6, 12 or 24, a DSSS frame at its own rate.
 double ControlRateFor(Standard standard, double rate_mbps);
+// The same for any data mode. HT/VHT: ns-3 3.37's GetControlAnswerMode compares modulation and
+// code rate (WifiMode::IsHigherDataRate), which gives the basic rate at or below the MCS's non-HT
+// reference rate (BPSK 1/2: 6; QPSK: 12; 16-QAM and up: 24), at 2.4 as at 5 GHz.
+double ControlRateFor(Standard standard, const PhyMode& mode);
 // Lowest basic rate: group-addressed frames go at it by default (ns-3's
 // GetNonUnicastMode: the first basic mode), and EIFS uses an ACK at it.
 // 11a: 6 Mb/s; 11b and 11g: 1 Mb/s DSSS (ns-3's 11g PHY includes the DSSS
@@ -56,6 +98,7 @@ double LowestBasicRate(Standard standard);
 
 // Frame sizes on air (bytes, FCS included).
 inline constexpr int kMacHeaderBytes = 24;
+inline constexpr int kQosControlBytes = 2;  // QoS Data frames: a 26-byte header (9.2.4.5).
 inline constexpr int kLlcSnapBytes = 8;
 inline constexpr int kFcsBytes = 4;
 inline constexpr int kAckBytes = 14;
@@ -64,9 +107,25 @@ inline constexpr int kRtsBytes = 20;
 inline constexpr int kEthernetHeaderBytes = 14;
 inline constexpr int kMaxMsduBytes = 2304;  // 9.2.4.7.1
 // An Ethernet II frame of E bytes becomes an MPDU of E + 22 bytes.
-inline constexpr int MpduBytesForEthernet(int ethernet_bytes) {
-  return ethernet_bytes - kEthernetHeaderBytes + kMacHeaderBytes + kLlcSnapBytes + kFcsBytes;
+// A VHT PPDU always carries an A-MPDU (21.10.3): one MPDU alone is an S-MPDU behind a 4-byte
+// delimiter (ns-3 3.37: VhtFrameExchangeManager::GetWifiPsdu, WifiPsdu's single-MPDU size).
+inline constexpr int kMpduDelimiterBytes = 4;
+// As a QoS Data frame (n/ac stations), 24 bytes.
+inline constexpr int MpduBytesForEthernet(int ethernet_bytes, bool qos = false) {
+  return ethernet_bytes - kEthernetHeaderBytes + kMacHeaderBytes + (qos ? kQosControlBytes : 0) +
+         kLlcSnapBytes + kFcsBytes;
 }
+
+// Contention parameters of an EDCA access category (10.22.2). Only best effort is used so far:
+// every frame of an n/ac station goes in it (docs/mac_phy_sim.md).
+struct AccessCategory {
+  int aifsn = 3;
+  int cw_min = 15;
+  int cw_max = 1023;
+};
+// AC_BE as ns-3 3.37 configures it for an OFDM-based PHY (QosTxop defaults, WifiMac::
+// ConfigureStandard): AIFSN 3, CWmin 15, CWmax 1023, no TXOP limit.
+inline constexpr AccessCategory kBestEffort{3, 15, 1023};
 
 }  // namespace sitlnet::mac
 

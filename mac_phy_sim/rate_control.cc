@@ -11,13 +11,6 @@
 namespace sitlnet::mac {
 namespace {
 
-ModeEntry MakeMode(const MediumConfig& config, double rate_mbps) {
-  const PhyMode mode = ModeFor(config.standard, rate_mbps);
-  const PhyHeader header = HeaderFor(config.standard, mode, config.short_preamble);
-  return ModeEntry{mode, PerfectSinr(config.error_model, mode), header,
-                   PerfectSinr(config.error_model, header.header_mode)};
-}
-
 // ns-3 ErrorRateModel::CalculateSnr: the SNR (linear) at which one bit fails
 // with probability `ber`, by bisection over [1e-25, 1e25] down to 2e-12 (at
 // most 200 halvings: far above the threshold the spacing of doubles is wider
@@ -35,6 +28,37 @@ double SnrForBer(MediumConfig::ErrorModel model, const PhyMode& mode, double ber
   return low;
 }
 
+ModeEntry MakeMode(const State& s, const PhyMode& mode) {
+  const MediumConfig& config = s.config;
+  const PhyHeader header = HeaderFor(config.standard, mode, config.short_preamble);
+  const double noise_mw =
+      IsHtOrVht(config.standard)
+          ? std::pow(10.0, NoiseFloorDbm(MeasurementWidthMhz(mode) * 1e6, config.noise_figure_db) / 10)
+          : s.noise_mw;
+  return ModeEntry{mode, PerfectSinr(config.error_model, mode), header,
+                   PerfectSinr(config.error_model, header.header_mode), noise_mw};
+}
+
+bool SameMode(const PhyMode& a, const PhyMode& b) {
+  return std::fabs(a.rate_mbps - b.rate_mbps) < 1e-9 && a.format == b.format && a.mcs == b.mcs &&
+         a.spatial_streams == b.spatial_streams;
+}
+
+// The entry of a data mode: its control responses, their airtimes, Ideal's threshold.
+RateEntry MakeRate(const State& s, const PhyMode& mode) {
+  RateEntry entry;
+  entry.data = MakeMode(s, mode);
+  entry.control = MakeMode(s, ModeFor(s.config.standard, ControlRateFor(s.config.standard, mode)));
+  entry.ack_ns = PpduDurationNs(entry.control.mode, entry.control.header, kAckBytes);
+  entry.cts_ns = PpduDurationNs(entry.control.mode, entry.control.header, kCtsBytes);
+  if (s.config.rate_control == MediumConfig::RateControl::kIdeal) {
+    entry.ideal_snr_threshold = SnrForBer(s.config.error_model, entry.data.mode, s.config.ideal_ber);
+  }
+  entry.basic = mode.format == PhyFormat::kLegacy &&
+                ControlRateFor(s.config.standard, mode.rate_mbps) == mode.rate_mbps;
+  return entry;
+}
+
 double LastSnr(const StationState& st, const MacAddress& destination) {
   for (const auto& [mac, snr] : st.ideal_snr) {
     if (mac == destination) return snr;
@@ -47,29 +71,33 @@ double LastSnr(const StationState& st, const MacAddress& destination) {
 void BuildRates(State& s) {
   static constexpr double kAll[] = {1, 2, 5.5, 6, 9, 11, 12, 18, 24, 36, 48, 54};
   for (double rate : kAll) {
-    try {
-      ModeFor(s.config.standard, rate);
-    } catch (const Error&) {
-      continue;  // Not a rate of this standard.
-    }
-    RateEntry entry;
-    entry.data = MakeMode(s.config, rate);
-    entry.control = MakeMode(s.config, ControlRateFor(s.config.standard, rate));
-    entry.ack_ns = PpduDurationNs(entry.control.mode, entry.control.header, kAckBytes);
-    entry.cts_ns = PpduDurationNs(entry.control.mode, entry.control.header, kCtsBytes);
-    if (s.config.rate_control == MediumConfig::RateControl::kIdeal) {
-      entry.ideal_snr_threshold =
-          SnrForBer(s.config.error_model, entry.data.mode, s.config.ideal_ber);
-    }
-    entry.basic = ControlRateFor(s.config.standard, rate) == rate;
-    s.rates.push_back(entry);
+    if (!HasRate(s.config.standard, rate)) continue;  // n/ac: the legacy PHY's rates.
+    s.rates.push_back(MakeRate(s, ModeFor(s.config.standard, rate)));
   }
-  s.group_rate = &RateFor(s, s.phy.group_rate_mbps);
+  if (IsHtOrVht(s.config.standard)) {
+    // Every MCS a station may use with the config's width and guard interval (stations may
+    // override the MCS; HT's index carries the streams, VHT's does not).
+    const PhyMode data = DataModeFor(s.config, StationRadio{});
+    const bool vht = data.format == PhyFormat::kVht;
+    for (int mcs = 0; mcs < (vht ? 10 : 16); ++mcs) {
+      for (int streams = 1; streams <= 2; ++streams) {
+        if (!vht && streams != mcs / 8 + 1) continue;
+        try {
+          s.rates.push_back(MakeRate(s, McsModeFor(s.config.standard, mcs, streams,
+                                                   data.channel_width_mhz,
+                                                   data.short_guard_interval)));
+        } catch (const Error&) {
+          // VHT MCS 9 at 20 MHz: no such mode.
+        }
+      }
+    }
+  }
+  s.group_rate = &RateFor(s, ModeFor(s.config.standard, s.phy.group_rate_mbps));
 }
 
-const RateEntry& RateFor(const State& s, double rate_mbps) {
+const RateEntry& RateFor(const State& s, const PhyMode& mode) {
   for (const RateEntry& entry : s.rates) {
-    if (std::fabs(entry.data.mode.rate_mbps - rate_mbps) < 1e-9) return entry;
+    if (SameMode(entry.data.mode, mode)) return entry;
   }
   SITLNET_DEMAND(false && "rate not in the table");
   return s.rates.front();

@@ -44,7 +44,8 @@ double ChunkSuccess(const State& s, const Transmission& tx, TimeNs a, TimeNs b, 
 void CloseChunk(State& s, StationState& st) {
   Reception& rx = st.rx;
   if (s.now_ns <= rx.chunk_start_ns) return;
-  const double sinr = rx.power_mw / (s.noise_mw + rx.interference_mw);
+  const double sinr =
+      rx.power_mw / (s.transmissions[rx.tx].mode->noise_mw + rx.interference_mw);
   rx.min_sinr = std::min(rx.min_sinr, sinr);
   if (rx.success_probability > 0) {  // Already lost: later chunks cannot help.
     // In the transmitter's time frame: the signal reached this receiver delay_ns late.
@@ -131,7 +132,7 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
   st.energy_mw = energy_before + entry.power_mw;
   ++st.active_signals;
   if (s.record_causes) st.active.push_back({tx.id, entry_index});
-  entry.sinr = entry.power_mw / s.noise_mw;
+  entry.sinr = entry.power_mw / tx.mode->noise_mw;
   if (st.transmitting_tx >= 0) {
     entry.outcome = RxOutcome::kTransmitting;  // Half duplex.
     entry.cause = RxCause::kOwnTransmission;
@@ -160,7 +161,8 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
         NoteInterferer(s, st, tx.source, entry.power_mw);
         MarkAlreadyReceiving(s, entry, locked_source);
       }
-      if (st.rx.power_mw < s.preamble_snr_linear * (s.noise_mw + st.rx.interference_mw)) {
+      const double locked_noise_mw = s.transmissions[st.rx.tx].mode->noise_mw;
+      if (st.rx.power_mw < s.preamble_snr_linear * (locked_noise_mw + st.rx.interference_mw)) {
         LoseLockedToCollision(s, st);
         // Neither frame is detected: the newcomer, if detectable, is lost to a collision too.
         if (!took_over && entry.cause == RxCause::kAlreadyReceiving) {
@@ -190,7 +192,7 @@ void SignalArrives(State& s, int station, Transmission& tx, int entry_index) {
   }
   // Preamble detection (ns-3 ThresholdPreambleDetectionModel): RSSI and SINR thresholds.
   const bool strong_enough = entry.power_dbm >= s.config.preamble_detect_min_rssi_dbm;
-  if (strong_enough && entry.power_mw >= s.preamble_snr_linear * (s.noise_mw + energy_before)) {
+  if (strong_enough && entry.power_mw >= s.preamble_snr_linear * (tx.mode->noise_mw + energy_before)) {
     Lock(s, st, tx, entry_index, energy_before);
     return;
   }

@@ -48,6 +48,12 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
   if (radio.error_model() == proto::Radio::ERROR_MODEL_TABLE_BASED) {
     config.error_model = MediumConfig::ErrorModel::kTableBased;
   }
+  config.mcs = static_cast<int>(radio.mcs());
+  if (radio.has_spatial_streams()) config.spatial_streams = static_cast<int>(radio.spatial_streams());
+  if (radio.has_channel_width_mhz()) {
+    config.channel_width_mhz = static_cast<int>(radio.channel_width_mhz());
+  }
+  config.short_guard_interval = radio.short_guard_interval();
   config.seed = scenario.spec.timing().seed();
   return config;
 }
@@ -58,6 +64,7 @@ Medium MakeMediumFromScenario(const sitlnet::Scenario& scenario) {
     StationRadio radio;
     if (robot.spec.has_tx_power_dbm()) radio.tx_power_dbm = robot.spec.tx_power_dbm();
     if (robot.spec.has_rate_mbps()) radio.rate_mbps = robot.spec.rate_mbps();
+    if (robot.spec.has_mcs()) radio.mcs = static_cast<int>(robot.spec.mcs());
     medium.AddStation(robot.wlan_mac, ToVec3(robot.spec.position_m()), radio);
   }
   for (const proto::Obstacle& obstacle : scenario.spec.obstacle()) {

@@ -15,8 +15,11 @@ constexpr uint64_t kLargeTableThresholdBytes = 400;
 // ns-3's TABLED_BASED_ERROR_MODEL_PRECISION: smaller PERs count as 0.
 constexpr double kPerPrecision = 1e-5;
 
-// The MCS whose table applies to an 802.11a/g OFDM mode; -1: none (BPSK 3/4).
+// The MCS whose table applies to a mode; -1: none (BPSK 3/4). HT MCS 8-15 use the curves of
+// 0-7 (one stream's), VHT its MCS; legacy OFDM by modulation and code rate (ns-3's GetMcsForMode).
 int McsOf(const PhyMode& mode) {
+  if (mode.format == PhyFormat::kHt) return mode.mcs % 8;
+  if (mode.format == PhyFormat::kVht) return mode.mcs;
   switch (mode.modulation) {
     case Modulation::kBpsk:
       return mode.code_rate_b == 1 ? 0 : -1;

@@ -30,7 +30,16 @@ void TraceTransmission(State& s, const Transmission& tx) {
   record.retry = tx.retry;
   record.sequence_number = tx.sequence_number;
   record.duration_us = tx.duration_us;
-  record.rate_mbps = tx.mode->mode.rate_mbps;
+  const PhyMode& mode = tx.mode->mode;
+  record.rate_mbps = mode.rate_mbps;
+  if (mode.format != PhyFormat::kLegacy) {
+    record.mcs = mode.mcs;
+    record.vht = mode.format == PhyFormat::kVht;
+    record.spatial_streams = mode.spatial_streams;
+    record.channel_width_mhz = mode.channel_width_mhz;
+    record.short_guard_interval = mode.short_guard_interval;
+  }
+  record.qos = tx.kind == FrameKind::kData && s.phy.qos;
   record.receiver = tx.ra;
   record.transmitter = tx.ta;
   if (tx.kind == FrameKind::kData) record.ethernet_frame = tx.ethernet;

@@ -58,6 +58,15 @@ void ToProto(const tapbridge::AirFrame& f, pm::MediumReply* reply) {
   out->set_receiver(MacBytes(tx.receiver));
   out->set_sender(MacBytes(tx.transmitter));
   out->set_frame_index(tx.ethernet_frame ? SharedFrameIndex(*tx.ethernet_frame, reply) : -1);
+  out->set_qos(tx.qos);
+  if (tx.mcs >= 0) {
+    pm::HtMode* ht = out->mutable_ht();
+    ht->set_mcs(tx.mcs);
+    ht->set_vht(tx.vht);
+    ht->set_spatial_streams(tx.spatial_streams);
+    ht->set_channel_width_mhz(tx.channel_width_mhz);
+    ht->set_short_guard_interval(tx.short_guard_interval);
+  }
 }
 
 // Throws (naming the peer through `describe`) on an air frame that cannot be one: the peer is
@@ -94,6 +103,23 @@ tapbridge::AirFrame FromProto(const pm::AirFrame& p, const pm::MediumReply& repl
   tx.sequence_number = static_cast<uint16_t>(p.sequence());
   tx.receiver = MacFrom(p.receiver());
   tx.transmitter = MacFrom(p.sender());
+  tx.qos = p.qos();
+  if (p.has_ht()) {
+    // Radiotap fields again: a mode mac_phy_sim can send.
+    const pm::HtMode& ht = p.ht();
+    const int width = ht.channel_width_mhz();
+    if (ht.mcs() < 0 || ht.mcs() > (ht.vht() ? 9 : 15) || ht.spatial_streams() < 1 ||
+        ht.spatial_streams() > 2 || (width != 20 && width != 40 && width != 80)) {
+      throw Error(describe() + ": medium reply has an air frame with HT/VHT mcs " +
+                  std::to_string(ht.mcs()) + ", " + std::to_string(ht.spatial_streams()) +
+                  " stream(s), " + std::to_string(width) + " MHz");
+    }
+    tx.mcs = ht.mcs();
+    tx.vht = ht.vht();
+    tx.spatial_streams = ht.spatial_streams();
+    tx.channel_width_mhz = width;
+    tx.short_guard_interval = ht.short_guard_interval();
+  }
   if (tx.kind == mac::FrameKind::kData) {
     const int i = p.frame_index();
     if (i < 0 || i >= reply.frames_size() || reply.frames(i).size() < 14) {

@@ -2,6 +2,8 @@
 
 #include <sstream>
 
+#include "mac_phy_sim/phy_mode.h"
+
 namespace sitlnet {
 namespace {
 
@@ -19,6 +21,12 @@ mac::Standard MacStandard(proto::Radio::Standard standard) {
       return mac::Standard::k80211b;
     case proto::Radio::STANDARD_80211G:
       return mac::Standard::k80211g;
+    case proto::Radio::STANDARD_80211N_2_4GHZ:
+      return mac::Standard::k80211n2_4GHz;
+    case proto::Radio::STANDARD_80211N_5GHZ:
+      return mac::Standard::k80211n5GHz;
+    case proto::Radio::STANDARD_80211AC:
+      return mac::Standard::k80211ac;
     default:
       return mac::Standard::k80211a;
   }
@@ -26,6 +34,25 @@ mac::Standard MacStandard(proto::Radio::Standard standard) {
 
 bool IsRateOf(proto::Radio::Standard standard, double rate_mbps) {
   return mac::HasRate(MacStandard(standard), rate_mbps);
+}
+
+bool IsHtOrVht(proto::Radio::Standard standard) { return mac::IsHtOrVht(MacStandard(standard)); }
+
+std::string McsProblem(const proto::Radio& radio, uint32_t mcs) {
+  mac::MediumConfig config;
+  config.standard = MacStandard(radio.standard());
+  config.mcs = static_cast<int>(mcs);
+  if (radio.has_spatial_streams()) config.spatial_streams = static_cast<int>(radio.spatial_streams());
+  if (radio.has_channel_width_mhz()) {
+    config.channel_width_mhz = static_cast<int>(radio.channel_width_mhz());
+  }
+  config.short_guard_interval = radio.short_guard_interval();
+  try {
+    mac::DataModeFor(config, mac::StationRadio{});
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
 }
 
 std::string RateListsText() {

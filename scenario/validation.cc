@@ -7,6 +7,7 @@
 
 #include "clock/clock.h"
 #include "scenario/field_rules.h"
+#include "scenario/radio_standard.h"
 
 namespace sitlnet::scenario_internal {
 namespace {
@@ -87,6 +88,36 @@ void ValidateObstacles(const SourceLocator& at, const proto::Scenario& spec) {
   }
 }
 
+// The data mode: rate_mbps for a/b/g, mcs with streams, width and guard interval for n/ac.
+void ValidateRadioMode(const SourceLocator& at, const proto::Radio& radio) {
+  if (!IsHtOrVht(radio.standard())) {
+    for (const char* field : {"mcs", "spatial_streams", "channel_width_mhz", "short_guard_interval"}) {
+      const auto* descriptor = radio.GetDescriptor()->FindFieldByName(field);
+      if (radio.GetReflection()->HasField(radio, descriptor)) {
+        at.Fail({{"radio"}, {field}}, std::string("radio: ") + field +
+                                          " applies to STANDARD_80211N_* and STANDARD_80211AC only");
+      }
+    }
+    return;
+  }
+  if (radio.has_rate_mbps()) {
+    at.Fail({{"radio"}, {"rate_mbps"}},
+            "radio: rate_mbps applies to 802.11a/b/g; 802.11n/ac send data at mcs");
+  }
+  if (radio.rate_control() != proto::Radio::RATE_CONTROL_CONSTANT) {
+    at.Fail({{"radio"}, {"rate_control"}},
+            "radio: rate_control RATE_CONTROL_IDEAL is modelled for 802.11a/b/g only");
+  }
+  const std::string problem = McsProblem(radio, radio.mcs());
+  if (!problem.empty()) {
+    // Point at the field the rule is about: the MCS unless the width or streams are at fault.
+    const char* field = problem.rfind("channel_width", 0) == 0   ? "channel_width_mhz"
+                        : problem.rfind("spatial_streams", 0) == 0 ? "spatial_streams"
+                                                                   : "mcs";
+    at.Fail({{"radio"}, {field}}, "radio: " + problem);
+  }
+}
+
 // Ranges and rates come from the fields' options (field_rules.h); what follows relates fields.
 void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
   CheckFieldRules(at, {{"radio"}}, "radio: ", radio, radio.standard());
@@ -109,6 +140,7 @@ void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
     at.Fail({{"radio"}, {"jakes_doppler_from_speed"}},
             "radio: jakes_doppler_from_speed needs jakes_fading");
   }
+  ValidateRadioMode(at, radio);
 }
 
 void ValidateTiming(const SourceLocator& at, Scenario* scenario) {
@@ -242,6 +274,23 @@ void ValidateHilSensors(const SourceLocator& at, int i, const proto::Robot& robo
   }
 }
 
+// A robot's own rate (a/b/g) or MCS (n/ac), checked against the scenario's radio.
+void ValidateRobotRadio(const SourceLocator& at, int i, const proto::Robot& robot,
+                        const proto::Radio& radio) {
+  const std::string who = "robot \"" + robot.name() + "\": ";
+  const bool ht = IsHtOrVht(radio.standard());
+  if (ht && robot.has_rate_mbps()) {
+    at.Fail({{"robot", i}, {"rate_mbps"}},
+            who + "rate_mbps applies to 802.11a/b/g; 802.11n/ac send data at mcs");
+  }
+  if (!robot.has_mcs()) return;
+  if (!ht) {
+    at.Fail({{"robot", i}, {"mcs"}}, who + "mcs applies to STANDARD_80211N_* and STANDARD_80211AC only");
+  }
+  const std::string problem = McsProblem(radio, robot.mcs());
+  if (!problem.empty()) at.Fail({{"robot", i}, {"mcs"}}, who + problem);
+}
+
 void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
   const proto::Scenario& spec = scenario->spec;
   if (spec.robot_size() == 0) at.Fail({}, "a scenario needs at least one robot");
@@ -290,6 +339,7 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
               who + "has both ardupilot_json_port and px4_sim_port: one autopilot per robot");
     }
     ValidateHilSensors(at, i, robot);
+    ValidateRobotRadio(at, i, robot, spec.radio());
     if (!robot.airframe().empty() && FindAirframe(spec, robot.airframe()).name().empty()) {
       at.Fail({{"robot", i}, {"airframe"}}, who + "unknown airframe \"" + robot.airframe() + "\"");
     }

@@ -17,6 +17,15 @@ constexpr uint32_t kSnapLength = 65535;
 constexpr uint32_t kRadiotapPresent =
     (1u << 0) | (1u << 1) | (1u << 2) | (1u << 3) | (1u << 5) | (1u << 6) | (1u << 11);
 constexpr size_t kRadiotapLength = 25;
+// HT and VHT DATA frames: no Rate field (it cannot say an MCS), a pad byte before Channel, and
+// after Antenna the MCS field (bit 19: known, flags, index; 3 bytes) or the VHT field (bit 21,
+// 2-aligned: known u16, flags, bandwidth, mcs_nss[4], coding, group_id, partial_aid u16).
+constexpr uint32_t kRadiotapPresentMcs = (kRadiotapPresent & ~(1u << 2)) | (1u << 19);
+constexpr uint32_t kRadiotapPresentVht = (kRadiotapPresent & ~(1u << 2)) | (1u << 21);
+constexpr size_t kRadiotapLengthMcs = 28;
+constexpr size_t kRadiotapLengthVht = 38;  // 25, a pad byte to even, 12 bytes.
+constexpr uint8_t kMcsKnownBandwidthIndexGiFec = 0x01 | 0x02 | 0x04 | 0x10;
+constexpr uint16_t kVhtKnownGiBandwidth = 0x0004 | 0x0040;
 constexpr uint8_t kRadiotapFlagFcsAtEnd = 0x10;
 constexpr uint8_t kRadiotapFlagBadFcs = 0x40;
 constexpr uint16_t kChannelOfdm = 0x0040;
@@ -64,9 +73,38 @@ std::vector<uint8_t> Encode80211Mpdu(const AirFrame& frame) {
   return mpdu;
 }
 
+namespace {
+
+// The MCS or VHT radiotap field of an HT/VHT frame (radiotap.org "MCS", "VHT").
+void PutMcsField(const mac::TxRecord& tx, std::string* out) {
+  if (!tx.vht) {
+    out->push_back(static_cast<char>(kMcsKnownBandwidthIndexGiFec));
+    // Bandwidth 0: 20, 1: 40 MHz; bit 2: short GI; FEC 0: BCC.
+    const int flags = (tx.channel_width_mhz == 40 ? 1 : 0) | (tx.short_guard_interval ? 0x04 : 0);
+    out->push_back(static_cast<char>(flags));
+    out->push_back(static_cast<char>(tx.mcs));
+    return;
+  }
+  out->push_back(0);  // Pad to the field's 2-byte alignment.
+  PutLe16(out, kVhtKnownGiBandwidth);
+  out->push_back(static_cast<char>(tx.short_guard_interval ? 0x04 : 0));
+  // Bandwidth: 0: 20, 1: 40, 4: 80 MHz.
+  out->push_back(static_cast<char>(tx.channel_width_mhz == 80 ? 4 : (tx.channel_width_mhz == 40)));
+  out->push_back(static_cast<char>(tx.mcs << 4 | tx.spatial_streams));  // User 0: MCS, NSS.
+  for (int user = 1; user < 4; ++user) out->push_back(0);
+  out->push_back(0);  // Coding: BCC.
+  out->push_back(0);  // Group ID: SU.
+  PutLe16(out, 0);    // Partial AID.
+}
+
+}  // namespace
+
 std::string EncodePcapRecord(const AirFrame& frame, TimeNs epoch_offset_ns) {
   const std::vector<uint8_t> mpdu = Encode80211Mpdu(frame);
-  const uint32_t captured = static_cast<uint32_t>(kRadiotapLength + mpdu.size());
+  const bool mcs = frame.tx.mcs >= 0;
+  const size_t radiotap_length =
+      !mcs ? kRadiotapLength : (frame.tx.vht ? kRadiotapLengthVht : kRadiotapLengthMcs);
+  const uint32_t captured = static_cast<uint32_t>(radiotap_length + mpdu.size());
   std::string out;
   out.reserve(16 + captured);
   const TimeNs ts = epoch_offset_ns + frame.tx.start_ns;
@@ -77,13 +115,18 @@ std::string EncodePcapRecord(const AirFrame& frame, TimeNs epoch_offset_ns) {
   // Radiotap header.
   out.push_back(0);  // it_version
   out.push_back(0);  // it_pad
-  PutLe16(&out, kRadiotapLength);
-  PutLe32(&out, kRadiotapPresent);
+  PutLe16(&out, static_cast<uint16_t>(radiotap_length));
+  PutLe32(&out, !mcs ? kRadiotapPresent
+                     : (frame.tx.vht ? kRadiotapPresentVht : kRadiotapPresentMcs));
   PutLe64(&out, static_cast<uint64_t>(frame.tx.start_ns / kNsPerUs));  // TSFT, µs (offset 8)
   uint8_t flags = kRadiotapFlagFcsAtEnd;
   if (frame.failed) flags |= kRadiotapFlagBadFcs;
   out.push_back(static_cast<char>(flags));                                           // offset 16
-  out.push_back(static_cast<char>(static_cast<int>(frame.tx.rate_mbps * 2 + 0.5)));  // 500 kb/s
+  if (mcs) {
+    out.push_back(0);  // No Rate field: pad Channel to its 2-byte alignment.
+  } else {
+    out.push_back(static_cast<char>(static_cast<int>(frame.tx.rate_mbps * 2 + 0.5)));  // 500 kb/s
+  }
   int channel_mhz = frame.channel_mhz;
   if (channel_mhz == 0) channel_mhz = frame.band_5ghz ? 5180 : 2412;  // channel 36 / 1
   PutLe16(&out, static_cast<uint16_t>(channel_mhz));                  // offset 18
@@ -92,6 +135,7 @@ std::string EncodePcapRecord(const AirFrame& frame, TimeNs epoch_offset_ns) {
   out.push_back(static_cast<char>(ClampDbm(frame.signal_dbm)));  // offset 22
   out.push_back(static_cast<char>(ClampDbm(frame.noise_dbm)));
   out.push_back(0);  // antenna 0
+  if (mcs) PutMcsField(frame.tx, &out);
   out.append(reinterpret_cast<const char*>(mpdu.data()), mpdu.size());
   return out;
 }

@@ -39,8 +39,33 @@ std::string ModeName(Standard standard, double rate_mbps) {
     return rate_mbps == 5.5 ? "DsssRate5_5Mbps"
                             : "DsssRate" + std::to_string(static_cast<int>(rate_mbps)) + "Mbps";
   }
-  const std::string prefix = standard == Standard::kG ? "ErpOfdmRate" : "OfdmRate";
+  const bool erp = standard == Standard::kG || standard == Standard::kN24;
+  const std::string prefix = erp ? "ErpOfdmRate" : "OfdmRate";
   return prefix + std::to_string(static_cast<int>(rate_mbps)) + "Mbps";
+}
+
+ns3::WifiStandard Ns3Standard(Standard standard) {
+  switch (standard) {
+    case Standard::kA:
+      return ns3::WIFI_STANDARD_80211a;
+    case Standard::kB:
+      return ns3::WIFI_STANDARD_80211b;
+    case Standard::kG:
+      return ns3::WIFI_STANDARD_80211g;
+    case Standard::kN24:
+    case Standard::kN5:
+      return ns3::WIFI_STANDARD_80211n;
+    case Standard::kAc:
+      return ns3::WIFI_STANDARD_80211ac;
+  }
+  return ns3::WIFI_STANDARD_80211a;
+}
+
+// ns-3's data mode of a cell: HtMcs<i>, VhtMcs<i>, or a legacy rate.
+std::string DataModeName(const Case& c) {
+  if (c.standard == Standard::kAc) return "VhtMcs" + std::to_string(c.mcs);
+  if (sitlnet::side_by_side::IsHtOrVht(c.standard)) return "HtMcs" + std::to_string(c.mcs);
+  return ModeName(c.standard, c.rate_mbps);
 }
 
 }  // namespace
@@ -57,17 +82,17 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
     Config::SetDefault("ns3::WifiRemoteStationManager::MaxSsrc", UintegerValue(7));
     Config::SetDefault("ns3::WifiRemoteStationManager::MaxSlrc", UintegerValue(4));
   }
+  const bool ht = sitlnet::side_by_side::IsHtOrVht(c.standard);
+  // n/ac: the cell's guard interval (a default: set for every cell, as defaults persist).
+  Config::SetDefault("ns3::HtConfiguration::ShortGuardIntervalSupported", BooleanValue(c.short_gi));
   WifiHelper wifi;
-  wifi.SetStandard(
-      c.standard == Standard::kA
-          ? WIFI_STANDARD_80211a
-          : (c.standard == Standard::kB ? WIFI_STANDARD_80211b : WIFI_STANDARD_80211g));
+  wifi.SetStandard(Ns3Standard(c.standard));
   const UintegerValue rts_threshold(c.rts_threshold_bytes == 0 ? 65535 : c.rts_threshold_bytes);
   if (c.ideal_rate) {
     wifi.SetRemoteStationManager("ns3::IdealWifiManager", "RtsCtsThreshold", rts_threshold);
   } else {
     wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode",
-                                 StringValue(ModeName(c.standard, c.rate_mbps)), "ControlMode",
+                                 StringValue(DataModeName(c)), "ControlMode",
                                  StringValue(ModeName(c.standard, radio.rts_rate_mbps)),
                                  "RtsCtsThreshold", rts_threshold);
   }
@@ -115,8 +140,18 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
   phy.SetErrorRateModel(c.table_error_model ? "ns3::TableBasedErrorRateModel"
                                             : "ns3::NistErrorRateModel");
   if (c.capture) phy.SetFrameCaptureModel("ns3::SimpleFrameCaptureModel");
+  if (ht) {
+    // The default channel of the band at the cell's width (ns-3 picks the number).
+    const std::string band = c.standard == Standard::kN24 ? "BAND_2_4GHZ" : "BAND_5GHZ";
+    phy.Set("ChannelSettings", StringValue("{0, " + std::to_string(c.channel_width_mhz) + ", " +
+                                           band + ", 0}"));
+  }
   WifiMacHelper mac;
-  mac.SetType("ns3::AdhocWifiMac");
+  if (ht) {
+    mac.SetType("ns3::AdhocWifiMac", "BE_MaxAmpduSize", UintegerValue(0));  // No A-MPDU.
+  } else {
+    mac.SetType("ns3::AdhocWifiMac");
+  }
   NetDeviceContainer devices = wifi.Install(phy, mac, nodes);
   if (c.short_slot) {
     for (uint32_t i = 0; i < devices.GetN(); ++i) {

@@ -148,12 +148,34 @@ uint64_t RunTopUpSaturation(int n, double seconds, uint64_t seed) {
 
 MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
   MediumConfig config;
-  config.standard =
-      c.standard == side_by_side::Standard::kA
-          ? Standard::k80211a
-          : (c.standard == side_by_side::Standard::kB ? Standard::k80211b : Standard::k80211g);
+  switch (c.standard) {
+    case side_by_side::Standard::kA:
+      config.standard = Standard::k80211a;
+      break;
+    case side_by_side::Standard::kB:
+      config.standard = Standard::k80211b;
+      break;
+    case side_by_side::Standard::kG:
+      config.standard = Standard::k80211g;
+      break;
+    case side_by_side::Standard::kN24:
+      config.standard = Standard::k80211n2_4GHz;
+      break;
+    case side_by_side::Standard::kN5:
+      config.standard = Standard::k80211n5GHz;
+      break;
+    case side_by_side::Standard::kAc:
+      config.standard = Standard::k80211ac;
+      break;
+  }
   config.short_slot = c.short_slot;
   config.rate_mbps = c.rate_mbps;
+  if (side_by_side::IsHtOrVht(c.standard)) {
+    config.rate_mbps = MediumConfig{}.rate_mbps;  // Unused by n/ac.
+    config.mcs = c.mcs;
+    config.channel_width_mhz = c.channel_width_mhz;
+    config.short_guard_interval = c.short_gi;
+  }
   config.rts_threshold_bytes = c.rts_threshold_bytes;
   // ns-3's Yans channel always has its constant-speed delay; at 1 mm it is 0 ns here.
   config.propagation_delay = true;

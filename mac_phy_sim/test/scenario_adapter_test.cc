@@ -34,6 +34,9 @@ TEST(ScenarioAdapterTest, EveryRadioValueTheScenarioAcceptsBuildsAMedium) {
       if (!upper && options.GetExtension(proto::range_min_open)) value += 1;
       Scenario scenario = LoadScenarioText("name: \"b\"\nrobot { name: \"a\" }\n", "b.textproto");
       proto::Radio* spec = scenario.spec.mutable_radio();
+      // The MCS fields belong to 802.11n/ac: HT takes MCS 0-15, VHT two streams at MCS 7.
+      if (field->name() == "mcs") spec->set_standard(proto::Radio::STANDARD_80211N_5GHZ);
+      if (field->name() == "spatial_streams") spec->set_standard(proto::Radio::STANDARD_80211AC);
       const auto* reflection = spec->GetReflection();
       if (field->cpp_type() == google::protobuf::FieldDescriptor::CPPTYPE_DOUBLE) {
         reflection->SetDouble(spec, field, value);
@@ -172,6 +175,33 @@ TEST(ScenarioAdapterTest, RobotsHaveTheirOwnTxPowerAndRate) {
   ASSERT_EQ(trace.size(), 4u);
   EXPECT_EQ(trace[0].tx->rate_mbps, 54);  // a: the scenario's rate.
   EXPECT_EQ(trace[2].tx->rate_mbps, 6);   // b: its own.
+}
+
+TEST(ScenarioAdapterTest, HtRadioAndRobotsOwnMcs) {
+  const Scenario scenario = LoadScenarioText(R"(
+    name: "ht"
+    radio { standard: STANDARD_80211N_5GHZ mcs: 4 channel_width_mhz: 40 short_guard_interval: true }
+    robot { name: "a" }
+    robot { name: "b" position_m { x: 5 } mcs: 15 }
+  )",
+                                             "ht.textproto");
+  Medium medium = MakeMediumFromScenario(scenario);
+  medium.EnableTrace(true);
+  medium.SubmitFrame(0, testing::MakeEthernetFrame(RobotMac(1), RobotMac(0), 100), 0);
+  medium.SubmitFrame(1, testing::MakeEthernetFrame(RobotMac(0), RobotMac(1), 100), 5 * kNsPerMs);
+  std::vector<Delivery> out;
+  medium.AdvanceTo(10 * kNsPerMs, &out);
+  ASSERT_EQ(out.size(), 2u);
+  const std::vector<TxRecord> txs = testing::DrainTransmissions(medium);
+  ASSERT_EQ(txs.size(), 4u);
+  // 108 data subcarriers x 4 bits x 3/4 per 3.6 us symbol: 90 Mb/s; b: 64-QAM 5/6, two streams.
+  EXPECT_EQ(txs[0].mcs, 4);
+  EXPECT_NEAR(txs[0].rate_mbps, 90, 1e-9);
+  EXPECT_EQ(txs[2].mcs, 15);
+  EXPECT_EQ(txs[2].spatial_streams, 2);
+  EXPECT_NEAR(txs[2].rate_mbps, 300, 1e-9);
+  EXPECT_TRUE(txs[2].short_guard_interval);
+  EXPECT_EQ(txs[2].channel_width_mhz, 40);
 }
 
 }  // namespace

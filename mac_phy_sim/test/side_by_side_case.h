@@ -11,7 +11,8 @@
 
 namespace sitlnet::side_by_side {
 
-enum class Standard { kA, kB, kG };
+// kN24, kN5: 802.11n at 2.4 / 5 GHz; kAc: 802.11ac (5 GHz). Their cells send at `mcs`.
+enum class Standard { kA, kB, kG, kN24, kN5, kAc };
 enum class Topology {
   kRing,     // `senders` stations 1 mm apart, i sends to i + 1 (ns-3's Bianchi validation).
   kSink,     // `senders` stations 1 mm apart send to one more, receive-only station.
@@ -24,7 +25,12 @@ struct Case {
   std::string id;  // Unique, stable: names the CSV row.
   Standard standard = Standard::kA;
   bool short_slot = false;  // 11g only.
-  double rate_mbps = 54;
+  double rate_mbps = 54;  // n/ac: the MCS's data rate (sizes the offered load; not configured).
+  // n/ac only: ns-3's HtMcs / VhtMcs index (one spatial stream), width and guard interval;
+  // A-MPDU off on both sides (ns-3: BE_MaxAmpduSize 0).
+  int mcs = -1;
+  int channel_width_mhz = 20;
+  bool short_gi = false;
   int senders = 5;
   Topology topology = Topology::kRing;
   int payload_bytes = 1500;          // Ethernet/packet payload; MPDU = payload + 36 bytes.
@@ -101,7 +107,9 @@ inline Layout MakeLayout(const Case& c) {
 inline int64_t OfferIntervalNs(const Case& c) {
   if (c.offer_interval_ns > 0) return c.offer_interval_ns;
   const bool dsss = c.rate_mbps == 1 || c.rate_mbps == 2 || c.rate_mbps == 5.5 || c.rate_mbps == 11;
-  const double slot_us = c.standard == Standard::kA || c.short_slot ? 9 : 20;
+  const bool five_ghz = c.standard == Standard::kA || c.standard == Standard::kN5 ||
+                        c.standard == Standard::kAc;
+  const double slot_us = five_ghz || c.short_slot ? 9 : 20;
   const double bits = 8.0 * (c.payload_bytes + 36);
   const double data_us = (dsss ? 192 : 20) + bits / c.rate_mbps;
   const double cycle_us = 50 + 7.5 * slot_us + data_us + 250;
@@ -110,7 +118,24 @@ inline int64_t OfferIntervalNs(const Case& c) {
 inline int64_t OfferStartNs(int flow_index) { return 1000000LL * flow_index; }
 
 inline const char* StandardName(Standard s) {
-  return s == Standard::kA ? "a" : (s == Standard::kB ? "b" : "g");
+  switch (s) {
+    case Standard::kA:
+      return "a";
+    case Standard::kB:
+      return "b";
+    case Standard::kG:
+      return "g";
+    case Standard::kN24:
+      return "n24";
+    case Standard::kN5:
+      return "n5";
+    case Standard::kAc:
+      return "ac";
+  }
+  return "?";
+}
+inline bool IsHtOrVht(Standard s) {
+  return s == Standard::kN24 || s == Standard::kN5 || s == Standard::kAc;
 }
 inline const char* TopologyName(Topology t) {
   switch (t) {

@@ -15,17 +15,19 @@ constexpr const char* kColumns =
     "fast,seeds,"
     "ns3_mean_mbps,ns3_sd_mbps,"
     "ours_mean_mbps,ours_sd_mbps,ns3_wall_s,ours_wall_s";
+// Rows of n/ac cells carry three more columns (a/b/g rows keep the 26 above).
+constexpr const char* kHtColumns = ",mcs,channel_width_mhz,short_gi";
+constexpr size_t kColumnCount = 26;
 
 bool ParseStandard(const std::string& s, Standard* out) {
-  if (s == "a")
-    *out = Standard::kA;
-  else if (s == "b")
-    *out = Standard::kB;
-  else if (s == "g")
-    *out = Standard::kG;
-  else
-    return false;
-  return true;
+  for (Standard standard : {Standard::kA, Standard::kB, Standard::kG, Standard::kN24,
+                            Standard::kN5, Standard::kAc}) {
+    if (s == StandardName(standard)) {
+      *out = standard;
+      return true;
+    }
+  }
+  return false;
 }
 
 bool ParseTopology(const std::string& s, Topology* out) {
@@ -43,11 +45,12 @@ bool ParseLine(const std::string& line, Row* row) {
   std::vector<std::string> f;
   std::stringstream in(line);
   for (std::string cell; std::getline(in, cell, ',');) f.push_back(cell);
-  if (f.size() != 26) return false;
   try {
     Case& c = row->c;
     c.id = f[0];
-    if (!ParseStandard(f[1], &c.standard) || !ParseTopology(f[5], &c.topology)) return false;
+    if (f.size() < 2 || !ParseStandard(f[1], &c.standard)) return false;
+    if (f.size() != kColumnCount + (IsHtOrVht(c.standard) ? 3 : 0)) return false;
+    if (!ParseTopology(f[5], &c.topology)) return false;
     c.short_slot = f[2] == "1";
     c.rate_mbps = std::stod(f[3]);
     c.senders = std::stoi(f[4]);
@@ -71,6 +74,11 @@ bool ParseLine(const std::string& line, Row* row) {
     row->ours_sd_mbps = std::stod(f[23]);
     row->ns3_wall_s = std::stod(f[24]);
     row->ours_wall_s = std::stod(f[25]);
+    if (IsHtOrVht(c.standard)) {
+      c.mcs = std::stoi(f[26]);
+      c.channel_width_mhz = std::stoi(f[27]);
+      c.short_gi = f[28] == "1";
+    }
   } catch (const std::exception&) {
     return false;
   }
@@ -93,7 +101,12 @@ std::string FormatRow(const Row& r) {
       c.table_error_model ? 1 : 0, c.warmup_s, c.measure_s, c.unlimited_retries ? 1 : 0,
       c.fast ? 1 : 0, r.seeds, r.ns3_mean_mbps, r.ns3_sd_mbps, r.ours_mean_mbps, r.ours_sd_mbps,
       r.ns3_wall_s, r.ours_wall_s);
-  return buf;
+  std::string line = buf;
+  if (IsHtOrVht(c.standard)) {
+    line += "," + std::to_string(c.mcs) + "," + std::to_string(c.channel_width_mhz) + "," +
+            (c.short_gi ? "1" : "0");
+  }
+  return line;
 }
 
 bool ReadCsv(const std::string& path, std::vector<Row>* rows, std::string* error) {
@@ -108,7 +121,8 @@ bool ReadCsv(const std::string& path, std::vector<Row>* rows, std::string* error
     if (line.empty() || line[0] == '#' || line == kColumns) continue;
     Row row;
     if (!ParseLine(line, &row)) {
-      *error = path + ":" + std::to_string(line_number) + ": not a row of " + kColumns;
+      *error = path + ":" + std::to_string(line_number) + ": not a row of " + kColumns +
+               " (n/ac rows: then" + kHtColumns + ")";
       return false;
     }
     rows->push_back(row);

@@ -111,6 +111,37 @@ TEST(ScenarioTest, RejectsOutOfRangeRadio) {
                  "robot \"a\": rate_mbps 11 is not a rate of STANDARD_80211A");
 }
 
+TEST(ScenarioTest, RejectsBadHtVhtModes) {
+  // Column of the offending field: "radio { " is 8 characters, so the first field is at 9.
+  ExpectRejected(std::string(kTwo) + "radio { mcs: 3 }\n", "t.textproto:4:9",
+                 "mcs applies to STANDARD_80211N_* and STANDARD_80211AC only");
+  ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211N_5GHZ rate_mbps: 54 }\n",
+                 "t.textproto:4:40", "rate_mbps applies to 802.11a/b/g");
+  ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211AC mcs: 9 channel_width_mhz: 20 }\n",
+                 "t.textproto:4:36", "VHT mcs 9 is not valid at 20 MHz with 1 spatial stream(s)");
+  ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211N_5GHZ channel_width_mhz: 80 }\n",
+                 "t.textproto:4:40", "channel_width_mhz 80 is not a width of 802.11n (20, 40)");
+  ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211N_5GHZ mcs: 7 spatial_streams: 2 }\n",
+                 "t.textproto:4:47", "spatial_streams 2 does not match HT mcs 7");
+  ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211AC mcs: 10 }\n",
+                 "t.textproto:4:36", "mcs 10 out of range [0, 9] for 802.11ac");
+  ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211N_5GHZ mcs: 16 }\n",
+                 "t.textproto:4:40", "mcs 16 out of range [0, 15]");
+  ExpectRejected("name: \"t\"\nradio { standard: STANDARD_80211AC channel_width_mhz: 20 }\n"
+                 "robot { name: \"a\" mcs: 9 }\n",
+                 "t.textproto:3:19", "robot \"a\": VHT mcs 9 is not valid at 20 MHz");
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" mcs: 1 }\n", "t.textproto:2:19",
+                 "robot \"a\": mcs applies to STANDARD_80211N_* and STANDARD_80211AC only");
+  // Accepted: HT MCS 15 (two streams from the index) at 40 MHz, short GI; VHT MCS 9 at 80 MHz.
+  EXPECT_NO_THROW(LoadScenarioText(
+      std::string(kTwo) + "radio { standard: STANDARD_80211N_2_4GHZ mcs: 15 channel_width_mhz: 40 "
+                          "short_guard_interval: true }\n",
+      "t.textproto"));
+  EXPECT_NO_THROW(LoadScenarioText(
+      std::string(kTwo) + "radio { standard: STANDARD_80211AC mcs: 9 spatial_streams: 2 }\n",
+      "t.textproto"));
+}
+
 TEST(ScenarioTest, RejectsAddressesOutsideOrClashing) {
   ExpectRejected("name: \"t\"\nrobot { name: \"a\" wlan_address: \"10.9.0.1\" }\n",
                  "t.textproto:2:19", "not a host address of 10.77.0.0/24");

@@ -1,11 +1,15 @@
 // Radiotap/802.11 encoding against the radiotap field definitions and the
-// 802.11 frame formats; the decoded view is checked by tshark in
-// tests/integration/tapbridge_pcap_test.cc.
+// 802.11 frame formats; tshark decodes the HT/VHT fields here (TsharkDecodesMcsBandwidthAndGi).
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
+#include <fstream>
 #include <memory>
+#include <string>
 
 #include "tapbridge/tapbridge.h"
 
@@ -85,6 +89,75 @@ TEST(PcapWriter, FailedFrameHasBadFcsFlagAndBadFcs) {
   const uint32_t crc = crc32(0, mpdu.data(), mpdu.size() - 4);
   const size_t n = mpdu.size();
   EXPECT_NE(mpdu[n - 4] | mpdu[n - 3] << 8 | mpdu[n - 2] << 16 | uint32_t{mpdu[n - 1]} << 24, crc);
+}
+
+// An 802.11n QoS data frame at HT MCS 7, 40 MHz, short GI; an 802.11ac one at VHT MCS 9 x 2
+// streams, 80 MHz.
+AirFrame HtFrame(bool vht) {
+  AirFrame f = DataFrame();
+  f.tx.qos = true;
+  f.tx.vht = vht;
+  f.tx.mcs = vht ? 9 : 7;
+  f.tx.spatial_streams = vht ? 2 : 1;
+  f.tx.channel_width_mhz = vht ? 80 : 40;
+  f.tx.short_guard_interval = !vht;
+  f.tx.rate_mbps = vht ? 780 : 150;
+  return f;
+}
+
+TEST(PcapWriter, HtFramesCarryTheMcsField) {
+  const std::string rt = EncodePcapRecord(HtFrame(false), 0).substr(16);
+  EXPECT_EQ(static_cast<uint8_t>(rt[2]), 28);                 // it_len
+  EXPECT_EQ(Le32(rt, 4), 0x86bu | 1u << 19);                  // no Rate; MCS
+  EXPECT_EQ(static_cast<uint8_t>(rt[17]), 0);                 // pad where Rate was
+  EXPECT_EQ(static_cast<uint8_t>(rt[18]) | static_cast<uint8_t>(rt[19]) << 8, 5180);
+  EXPECT_EQ(static_cast<uint8_t>(rt[25]), 0x17);              // bandwidth, MCS, GI, FEC known
+  EXPECT_EQ(static_cast<uint8_t>(rt[26]), 0x05);              // 40 MHz, short GI
+  EXPECT_EQ(static_cast<uint8_t>(rt[27]), 7);                 // MCS index
+  EXPECT_EQ(static_cast<uint8_t>(rt[28]), 0x88);              // QoS Data after the header
+}
+
+TEST(PcapWriter, VhtFramesCarryTheVhtField) {
+  const std::string rt = EncodePcapRecord(HtFrame(true), 0).substr(16);
+  EXPECT_EQ(static_cast<uint8_t>(rt[2]), 38);
+  EXPECT_EQ(Le32(rt, 4), 0x86bu | 1u << 21);
+  EXPECT_EQ(static_cast<uint8_t>(rt[26]) | static_cast<uint8_t>(rt[27]) << 8, 0x44);  // known
+  EXPECT_EQ(static_cast<uint8_t>(rt[28]), 0);     // long GI
+  EXPECT_EQ(static_cast<uint8_t>(rt[29]), 4);     // 80 MHz
+  EXPECT_EQ(static_cast<uint8_t>(rt[30]), 0x92);  // MCS 9, 2 streams
+}
+
+// What Wireshark's dissector makes of them: the oracle for the field layout.
+TEST(PcapWriter, TsharkDecodesMcsBandwidthAndGi) {
+  if (std::system("tshark --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "no tshark";
+  char path[] = "/tmp/pcap_writer_test_XXXXXX";
+  const int fd = mkstemp(path);
+  ASSERT_GE(fd, 0);
+  close(fd);
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << PcapFileHeader() << EncodePcapRecord(HtFrame(false), 0)
+        << EncodePcapRecord(HtFrame(true), 1000) << EncodePcapRecord(DataFrame(), 2000);
+  }
+  const std::string command =
+      std::string("tshark -r ") + path +
+      " -T fields -E separator=, -e radiotap.mcs.index -e radiotap.mcs.bw -e radiotap.mcs.gi"
+      " -e radiotap.vht.mcs.0 -e radiotap.vht.nss.0 -e radiotap.vht.bw -e radiotap.vht.gi"
+      " -e wlan.fc.type_subtype -e wlan.qos.tid -e radiotap.datarate 2>/dev/null";
+  std::string output;
+  if (FILE* pipe = popen(command.c_str(), "r")) {
+    char buffer[256];
+    while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+    pclose(pipe);
+  }
+  std::remove(path);
+  // HT: MCS 7, 40 MHz (bw 1), short GI (1), QoS Data (0x0028), TID 0, and the rate Wireshark
+  // derives from them: 150 Mb/s. VHT: MCS 9, 2 streams, 80 MHz (bw 4), long GI (0). 802.11a:
+  // Data (0x0020) at 54 Mb/s, no MCS fields.
+  EXPECT_EQ(output,
+            "7,1,1,,,,,0x0028,0,150\n"
+            ",,,9,2,4,0,0x0028,0,\n"
+            ",,,,,,,0x0020,,54\n");
 }
 
 TEST(PcapWriter, ControlFrameSizes) {
