@@ -66,8 +66,14 @@ BoxCrossing CrossBox(const Box& box, const Vec3d& a, const Vec3d& b) {
 
 RadioChannel::RadioChannel(double reference_loss_db, double exponent, bool shadowing,
                            double db_per_wall, double db_per_m)
-    : reference_loss_db_(reference_loss_db),
-      exponent_(exponent),
+    : RadioChannel(std::make_unique<LogDistanceModel>(reference_loss_db, exponent), shadowing,
+                   db_per_wall, db_per_m) {}
+
+RadioChannel::RadioChannel(std::unique_ptr<PathLossModel> model, bool shadowing,
+                           double db_per_wall, double db_per_m)
+    : model_(std::move(model)),
+      obstacle_shadowing_(shadowing && model_->ComposesWithObstacleShadowing()),
+      obstacle_blockage_(shadowing && model_->UsesBlockage()),
       shadowing_(shadowing),
       db_per_wall_(db_per_wall),
       db_per_m_(db_per_m) {}
@@ -102,11 +108,13 @@ void RadioChannel::AddObstacle(const Box& box) {
   obstacles_epoch_ = ++epoch_;
 }
 
-double RadioChannel::PathLossDb(double distance_m) const {
-  // ns-3 LogDistancePropagationLossModel: the reference loss at or below d0 = 1 m.
-  if (distance_m <= 1.0) return reference_loss_db_;
-  return reference_loss_db_ + 10 * exponent_ * std::log10(distance_m);
+PathLossLink RadioChannel::Link(int a, int b) {
+  PathLossLink link{a, b, positions_[a], positions_[b], false};
+  if (obstacle_blockage_) link.blocked = SegmentBlocked(link.a_m, link.b_m);
+  return link;
 }
+
+double RadioChannel::PathLossDb(int a, int b) { return model_->LossDb(Link(a, b)); }
 
 // Inlined into Recompute, as before there was a second caller: the path without fading is
 // the hot one of most runs.
@@ -162,10 +170,9 @@ double RadioChannel::LognormalDb(int a, int b) const {
 double RadioChannel::ComputeLoss(int a, int b, double stop_db, bool exact_below_stop) {
   const Vec3d& pa = positions_[a];
   const Vec3d& pb = positions_[b];
-  const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
-  double loss = PathLossDb(std::sqrt(dx * dx + dy * dy + dz * dz)) + LognormalDb(a, b);
+  double loss = model_->LossDb(Link(a, b)) + LognormalDb(a, b);
   // Shadowing only adds loss: a link already dead in free space stays dead.
-  if (shadowing_ && !boxes_.empty() && loss < stop_db) {
+  if (obstacle_shadowing_ && !boxes_.empty() && loss < stop_db) {
     const double stop_at_db = stop_db - loss;
     const double shadowing_db = ShadowingDb(pa, pb, stop_at_db);
     loss += shadowing_db;
@@ -211,7 +218,31 @@ void RadioChannel::RebuildGrid() {
 }
 
 double RadioChannel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_db) {
-  if (boxes_.empty()) return 0;
+  double loss_db = 0;
+  WalkBoxes(
+      a, b,
+      [&](const PreparedBox& box) {
+        const BoxCrossing crossing = CrossPreparedBox(box, a, b);
+        loss_db += db_per_wall_ * crossing.walls + db_per_m_ * crossing.inside_m;
+      },
+      [&] { return loss_db >= stop_at_db; });
+  return loss_db;
+}
+
+bool RadioChannel::SegmentBlocked(const Vec3d& a, const Vec3d& b) {
+  bool blocked = false;
+  WalkBoxes(
+      a, b,
+      [&](const PreparedBox& box) {
+        if (!blocked) blocked = CrossPreparedBox(box, a, b).inside_m > 0;
+      },
+      [&] { return blocked; });
+  return blocked;
+}
+
+template <typename OnBox, typename Done>
+void RadioChannel::WalkBoxes(const Vec3d& a, const Vec3d& b, OnBox on_box, Done done) {
+  if (boxes_.empty()) return;
   if (grid_stale_) RebuildGrid();
   if (++stamp_ == 0) {  // Wrapped: reset stamps so none looks visited.
     std::fill(visit_stamp_.begin(), visit_stamp_.end(), 0);
@@ -223,9 +254,8 @@ double RadioChannel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_
   const double gx1 = grid_x0_ + grid_nx_ * cell_m_, gy1 = grid_y0_ + grid_ny_ * cell_m_;
   if (!Slab(a.x, dx, grid_x0_, gx1, &t_in, &t_out) ||
       !Slab(a.y, dy, grid_y0_, gy1, &t_in, &t_out)) {
-    return 0;
+    return;
   }
-  double loss_db = 0;
   const double seg_min_x = std::min(a.x, b.x), seg_max_x = std::max(a.x, b.x);
   const double seg_min_y = std::min(a.y, b.y), seg_max_y = std::max(a.y, b.y);
   auto visit = [&](int ix, int iy) {
@@ -237,8 +267,7 @@ double RadioChannel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_
           box.min_y > seg_max_y) {
         continue;  // Bounding rectangles apart: no crossing.
       }
-      const BoxCrossing crossing = CrossPreparedBox(box, a, b);
-      loss_db += db_per_wall_ * crossing.walls + db_per_m_ * crossing.inside_m;
+      on_box(box);
     }
   };
   // Amanatides & Woo grid traversal from the entry point.
@@ -260,7 +289,7 @@ double RadioChannel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_
   }
   while (true) {
     visit(ix, iy);
-    if (loss_db >= stop_at_db) break;
+    if (done()) break;
     if (next_x <= next_y) {
       if (next_x > t_out) break;
       ix += step_x;
@@ -272,7 +301,6 @@ double RadioChannel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_
     }
     if (ix < 0 || iy < 0 || ix >= grid_nx_ || iy >= grid_ny_) break;
   }
-  return loss_db;
 }
 
 }  // namespace sitlnet::mac

@@ -1,0 +1,169 @@
+#include "mac_phy_sim/three_gpp_v2v.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sitlnet::mac {
+namespace {
+
+// Vehicle heights of TR 37.885 6.1.2 as ns-3 uses them for the blocker: types 1
+// and 2 are 1.6 m, type 3 (trucks) 3 m.
+constexpr double kCarHeightM = 1.6;
+constexpr double kTruckHeightM = 3.0;
+
+// log10 of the distance, at least 1 m: the formulas go to minus infinity at 0,
+// ns-3 does not guard it (docs/mac_phy_sim.md).
+double Log10Distance(double distance_m) { return std::log10(std::max(distance_m, 1.0)); }
+
+// SplitMix64 (Steele et al. 2014): counter-based draws, so a pair's values do
+// not depend on the order pairs are evaluated in.
+uint64_t Mix(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+}  // namespace
+
+double V2vLosLossDb(V2vEnvironment environment, double distance3d_m, double frequency_hz) {
+  const double log_d = Log10Distance(distance3d_m), log_f = std::log10(frequency_hz / 1e9);
+  if (environment == V2vEnvironment::kUrban) return 38.77 + 16.7 * log_d + 18.2 * log_f;
+  return 32.4 + 20 * log_d + 20 * log_f;
+}
+
+double V2vNlosLossDb(double distance3d_m, double frequency_hz) {
+  return 36.85 + 30 * Log10Distance(distance3d_m) + 18.9 * std::log10(frequency_hz / 1e9);
+}
+
+double V2vLosProbability(V2vEnvironment environment, double distance2d_m) {
+  const double d = distance2d_m;
+  if (environment == V2vEnvironment::kUrban) return std::min(1.0, 1.05 * std::exp(-0.0114 * d));
+  if (d <= 475.0) return std::min(1.0, 2.1013e-6 * d * d - 0.002 * d + 1.0193);
+  return std::max(0.0, 0.54 - 0.001 * (d - 475.0));
+}
+
+double V2vShadowingStdDb(LinkCondition condition) {
+  return condition == LinkCondition::kNlos ? 4.0 : 3.0;
+}
+
+double V2vShadowingCorrelationM(LinkCondition condition) {
+  return condition == LinkCondition::kLos ? 10.0 : 13.0;
+}
+
+BlockageMoments V2vBlockageMoments(double distance3d_m, double low_height_m,
+                                   double high_height_m, double blocker_height_m) {
+  if (low_height_m > blocker_height_m) return {};
+  const double growth_db = std::max(0.0, 15 * std::log10(distance3d_m) - 41.0);
+  if (high_height_m < blocker_height_m) return {9.0 + growth_db, 4.5};
+  return {5.0 + growth_db, 4.0};
+}
+
+size_t ThreeGppV2vModel::PairIndex(int a, int b) {
+  const size_t low = static_cast<size_t>(std::min(a, b)), high = static_cast<size_t>(std::max(a, b));
+  return high * (high - 1) / 2 + low;
+}
+
+double ThreeGppV2vModel::NextUniform(int a, int b, PairState& pair) const {
+  const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+  const uint64_t bits = Mix(params_.seed ^ Mix(key ^ Mix(pair.draws++)));
+  return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53;  // (0, 1)
+}
+
+double ThreeGppV2vModel::NextNormal(int a, int b, PairState& pair) const {
+  // Box-Muller from two of the pair's uniforms.
+  const double u1 = NextUniform(a, b, pair), u2 = NextUniform(a, b, pair);
+  return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
+}
+
+double ThreeGppV2vModel::BlockageDb(int a, int b, PairState& pair, double distance3d_m,
+                                    double low_height_m, double high_height_m) const {
+  // ns-3 ThreeGppV2vUrbanPropagationLossModel::GetAdditionalNlosvLoss: the
+  // blocker type first, then max(0, log-normal) with the TR's mean and std.
+  const double blocker_height_m =
+      NextUniform(a, b, pair) * 100.0 < params_.truck_percent ? kTruckHeightM : kCarHeightM;
+  const BlockageMoments m =
+      V2vBlockageMoments(distance3d_m, low_height_m, high_height_m, blocker_height_m);
+  if (m.std_db == 0) return 0;
+  // The log-normal with that mean and std: ln X ~ N(mu, sigma^2).
+  const double sigma = std::sqrt(std::log(m.std_db * m.std_db / (m.mean_db * m.mean_db) + 1));
+  const double mu = std::log(m.mean_db * m.mean_db /
+                             std::sqrt(m.std_db * m.std_db + m.mean_db * m.mean_db));
+  return std::max(0.0, std::exp(mu + sigma * NextNormal(a, b, pair)));
+}
+
+void ThreeGppV2vModel::UpdateShadowing(int a, int b, PairState& pair, LinkCondition previous,
+                                       double relative_x_m, double relative_y_m) const {
+  // ns-3 ThreeGppPropagationLossModel::GetShadowing: a new independent value
+  // at the first evaluation and when the condition changes; otherwise
+  // R s + sqrt(1 - R^2) N std with R = exp(-|change of the 2D relative
+  // position| / correlation distance).
+  const double std_db = V2vShadowingStdDb(pair.condition);
+  const double normal = NextNormal(a, b, pair);
+  if (!pair.evaluated || previous != pair.condition) {
+    pair.shadowing_db = normal * std_db;
+  } else {
+    const double moved_m =
+        std::hypot(relative_x_m - pair.relative_x_m, relative_y_m - pair.relative_y_m);
+    const double r = std::exp(-moved_m / V2vShadowingCorrelationM(pair.condition));
+    pair.shadowing_db = r * pair.shadowing_db + std::sqrt(1 - r * r) * normal * std_db;
+  }
+  pair.relative_x_m = relative_x_m;
+  pair.relative_y_m = relative_y_m;
+}
+
+double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
+  const size_t index = PairIndex(link.a, link.b);
+  if (index >= pairs_.size()) pairs_.resize(index + 1);
+  PairState& pair = pairs_[index];
+  const bool a_low = link.a < link.b;
+  const Vec3d& low_m = a_low ? link.a_m : link.b_m;
+  const Vec3d& high_m = a_low ? link.b_m : link.a_m;
+  if (pair.evaluated && low_m.x == pair.low_m.x && low_m.y == pair.low_m.y &&
+      low_m.z == pair.low_m.z && high_m.x == pair.high_m.x && high_m.y == pair.high_m.y &&
+      high_m.z == pair.high_m.z) {
+    return pair.loss_db;  // Nothing moved: no new draw.
+  }
+  const double dx = high_m.x - low_m.x, dy = high_m.y - low_m.y, dz = high_m.z - low_m.z;
+  const double distance2d_m = std::sqrt(dx * dx + dy * dy);
+  const double distance3d_m = std::sqrt(dx * dx + dy * dy + dz * dz);
+  // The channel condition (ns-3 ThreeGppChannelConditionModel::ComputeChannelCondition):
+  // NLOS when a box blocks the segment (p_NLOS = 1), else LOS if the pair's frozen
+  // uniform is at most p_LOS, else NLOSv.
+  if (!pair.evaluated) pair.condition_uniform = NextUniform(link.a, link.b, pair);
+  const LinkCondition previous = pair.condition;
+  if (link.blocked) {
+    pair.condition = LinkCondition::kNlos;
+  } else {
+    pair.condition = pair.condition_uniform <= V2vLosProbability(params_.environment, distance2d_m)
+                         ? LinkCondition::kLos
+                         : LinkCondition::kNlosv;
+  }
+  double loss_db = 0;
+  switch (pair.condition) {
+    case LinkCondition::kLos:
+      loss_db = V2vLosLossDb(params_.environment, distance3d_m, params_.frequency_hz);
+      break;
+    case LinkCondition::kNlosv:
+      // ns-3 GetLossNlosv: the LOS loss plus the vehicle blockage; heights are
+      // min and max z (GetUtAndBsHeights).
+      loss_db = V2vLosLossDb(params_.environment, distance3d_m, params_.frequency_hz) +
+                BlockageDb(link.a, link.b, pair, distance3d_m, std::min(low_m.z, high_m.z),
+                           std::max(low_m.z, high_m.z));
+      break;
+    case LinkCondition::kNlos:
+      loss_db = V2vNlosLossDb(distance3d_m, params_.frequency_hz);
+      break;
+  }
+  if (params_.shadowing) {
+    UpdateShadowing(link.a, link.b, pair, previous, dx, dy);
+    loss_db += pair.shadowing_db;
+  }
+  pair.evaluated = true;
+  pair.low_m = low_m;
+  pair.high_m = high_m;
+  pair.loss_db = loss_db;
+  return loss_db;
+}
+
+}  // namespace sitlnet::mac
