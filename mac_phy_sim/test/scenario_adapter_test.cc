@@ -109,6 +109,59 @@ TEST(ScenarioAdapterTest, MapsTheNs3FidelityOptions) {
   EXPECT_EQ(config.error_model, MediumConfig::ErrorModel::kTableBased);
 }
 
+TEST(ScenarioAdapterTest, MapsThePathLossModels) {
+  const Scenario scenario = LoadScenarioText(R"(
+    name: "pl"
+    robot { name: "a" position_m { z: 2 } }
+    robot { name: "b" position_m { x: 10 z: 2 } }
+    radio {
+      path_loss_model: PATH_LOSS_TWO_RAY_GROUND path_loss_frequency_mhz: 5900
+      two_ray_height_above_z_m: 1 two_ray_system_loss: 2 two_ray_min_distance_m: 3
+      v2v_shadowing: false v2v_truck_percent: 20
+    }
+  )",
+                                             "pl.textproto");
+  const MediumConfig config = MediumConfigFromScenario(scenario);
+  EXPECT_EQ(config.path_loss_model, MediumConfig::PathLoss::kTwoRayGround);
+  EXPECT_EQ(config.path_loss_frequency_hz, 5.9e9);
+  EXPECT_EQ(config.two_ray_height_above_z_m, 1);
+  EXPECT_EQ(config.two_ray_system_loss, 2);
+  EXPECT_EQ(config.two_ray_min_distance_m, 3);
+  EXPECT_FALSE(config.v2v_shadowing);
+  EXPECT_EQ(config.v2v_truck_percent, 20);
+  // Friis at 5.9 GHz over 10 m (crossover 4 pi 3 3 / lambda = 2226 m) plus 3.0103 dB.
+  const double lambda_m = 299792458.0 / 5.9e9;
+  EXPECT_NEAR(MakeMediumFromScenario(scenario).LossDb(0, 1),
+              20 * std::log10(4 * M_PI * 10 / lambda_m) + 10 * std::log10(2.0), 1e-9);
+  for (const char* model : {"PATH_LOSS_THREE_GPP_V2V_URBAN", "PATH_LOSS_THREE_GPP_V2V_HIGHWAY"}) {
+    const Scenario v2v = LoadScenarioText(
+        std::string("name: \"v\"\nrobot { name: \"a\" }\nradio { path_loss_model: ") + model +
+            " }\n",
+        "v.textproto");
+    EXPECT_NE(MediumConfigFromScenario(v2v).path_loss_model, MediumConfig::PathLoss::kLogDistance);
+  }
+}
+
+// Bad values are refused with one line naming the file, line, column and field.
+TEST(ScenarioAdapterTest, RefusesBadPathLossFieldsInOneLocatedLine) {
+  auto message = [](const std::string& radio) {
+    try {
+      LoadScenarioText("name: \"t\"\nrobot { name: \"a\" }\nradio { " + radio + " }\n",
+                       "t.textproto");
+    } catch (const Error& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message("path_loss_frequency_mhz: 200"),
+            "t.textproto:3:9: radio: path_loss_frequency_mhz 200 out of range [500, 100000]");
+  EXPECT_EQ(message("two_ray_system_loss: 0.5"),
+            "t.textproto:3:9: radio: two_ray_system_loss 0.5 out of range [1, 1000]");
+  EXPECT_EQ(message("v2v_truck_percent: 101"),
+            "t.textproto:3:9: radio: v2v_truck_percent 101 out of range [0, 100]");
+  EXPECT_NE(message("path_loss_model: PATH_LOSS_FOO").find("t.textproto:3:"), std::string::npos);
+}
+
 TEST(ScenarioAdapterTest, RobotsHaveTheirOwnTxPowerAndRate) {
   const Scenario scenario = LoadScenarioText(R"(
     name: "own"

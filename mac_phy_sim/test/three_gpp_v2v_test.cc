@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "mac_phy_sim/channel.h"
+#include "mac_phy_sim/test/saturation_harness.h"
 
 namespace sitlnet::mac {
 namespace {
@@ -186,6 +187,65 @@ TEST(ThreeGppV2vTest, ChannelTakesNlosFromTheBoxesAndNoSommerLoss) {
   const double loss = open.LossDb(0, 1);
   EXPECT_LT(loss, V2vNlosLossDb(100, kFc));
   EXPECT_GE(loss, V2vLosLossDb(V2vEnvironment::kUrban, 100, kFc));
+}
+
+// A fleet moving under 3GPP urban: the same seed gives the same bytes and
+// powers; another seed other powers.
+std::vector<TraceEvent> MovingRun(MediumConfig::PathLoss model, uint64_t seed, int sources) {
+  MediumConfig config;
+  config.seed = seed;
+  config.rate_mbps = 6;
+  config.path_loss_model = model;
+  Medium medium(config);
+  for (int i = 0; i < 6; ++i) medium.AddStation(RobotMac(i), {4.0 * i, 1.0 * (i % 2), 2});
+  medium.AddObstacle(Box{{10, 8, 5}, {4, 4, 10}, 0});
+  medium.EnableTrace(true);
+  for (int k = 0; k < 40; ++k) {
+    for (int i = 0; i < sources; ++i) {
+      medium.SubmitFrame(i, testing::MakeEthernetFrame(RobotMac((i + 1) % 6), RobotMac(i), 400),
+                         k * kNsPerMs);
+      medium.SetStationPosition(i, {4.0 * i + 0.3 * k, 1.0 * (i % 2) + 0.5 * k, 2}, k * kNsPerMs);
+    }
+  }
+  medium.AdvanceTo(kNsPerS, nullptr);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  return trace;
+}
+
+TEST(ThreeGppV2vMediumTest, SameSeedSameBytes) {
+  const auto urban = MediumConfig::PathLoss::kThreeGppV2vUrban;
+  const std::vector<TraceEvent> a = MovingRun(urban, 3, 6), b = MovingRun(urban, 3, 6),
+                                c = MovingRun(urban, 4, 6);
+  ASSERT_EQ(a.size(), b.size());
+  bool differs = false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_TRUE(a[i].tx && b[i].tx);
+    EXPECT_EQ(a[i].tx->start_ns, b[i].tx->start_ns);
+    EXPECT_EQ(MpduBytes(*a[i].tx), MpduBytes(*b[i].tx));
+    for (size_t r = 0; r < a[i].tx->receptions.size(); ++r) {
+      EXPECT_EQ(a[i].tx->receptions[r].rx_power_dbm, b[i].tx->receptions[r].rx_power_dbm);
+      if (i < c.size() && c[i].tx && r < c[i].tx->receptions.size() &&
+          c[i].tx->receptions[r].rx_power_dbm != a[i].tx->receptions[r].rx_power_dbm) {
+        differs = true;
+      }
+    }
+  }
+  EXPECT_TRUE(differs);
+}
+
+// The model draws from streams of its own: with one sender whose frames all
+// get through either way, its backoff (the MAC's draws) is the same under
+// log-distance and 3GPP.
+TEST(ThreeGppV2vMediumTest, LeavesTheMacDrawsAsTheyWere) {
+  const std::vector<TraceEvent> log_distance =
+      MovingRun(MediumConfig::PathLoss::kLogDistance, 5, 1);
+  const std::vector<TraceEvent> v2v = MovingRun(MediumConfig::PathLoss::kThreeGppV2vUrban, 5, 1);
+  ASSERT_EQ(log_distance.size(), v2v.size());
+  ASSERT_EQ(log_distance.size(), 80u);  // 40 DATA, 40 ACK: no retry.
+  for (size_t i = 0; i < v2v.size(); ++i) {
+    EXPECT_EQ(log_distance[i].tx->start_ns, v2v[i].tx->start_ns);
+  }
 }
 
 }  // namespace
