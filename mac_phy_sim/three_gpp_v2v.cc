@@ -59,6 +59,12 @@ BlockageMoments V2vBlockageMoments(double distance3d_m, double low_height_m,
   return {5.0 + growth_db, 4.0};
 }
 
+ThreeGppV2vModel::ThreeGppV2vModel(const ThreeGppV2vParams& params)
+    : params_(params),
+      // The formulas at 1 m: their frequency terms (log10 1 = 0).
+      los_frequency_db_(V2vLosLossDb(params.environment, 1, params.frequency_hz)),
+      nlos_frequency_db_(V2vNlosLossDb(1, params.frequency_hz)) {}
+
 size_t ThreeGppV2vModel::PairIndex(int a, int b) {
   const size_t low = static_cast<size_t>(std::min(a, b)), high = static_cast<size_t>(std::max(a, b));
   return high * (high - 1) / 2 + low;
@@ -71,9 +77,16 @@ double ThreeGppV2vModel::NextUniform(int a, int b, PairState& pair) const {
 }
 
 double ThreeGppV2vModel::NextNormal(int a, int b, PairState& pair) const {
-  // Box-Muller from two of the pair's uniforms.
+  if (pair.has_spare_normal) {
+    pair.has_spare_normal = false;
+    return pair.spare_normal;
+  }
+  // Box-Muller: two normals from two of the pair's uniforms; the second is kept.
   const double u1 = NextUniform(a, b, pair), u2 = NextUniform(a, b, pair);
-  return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
+  const double radius = std::sqrt(-2 * std::log(u1)), angle = 2 * M_PI * u2;
+  pair.spare_normal = radius * std::sin(angle);
+  pair.has_spare_normal = true;
+  return radius * std::cos(angle);
 }
 
 double ThreeGppV2vModel::BlockageDb(int a, int b, PairState& pair, double distance3d_m,
@@ -103,8 +116,9 @@ void ThreeGppV2vModel::UpdateShadowing(int a, int b, PairState& pair, LinkCondit
   if (!pair.evaluated || previous != pair.condition) {
     pair.shadowing_db = normal * std_db;
   } else {
-    const double moved_m =
-        std::hypot(relative_x_m - pair.relative_x_m, relative_y_m - pair.relative_y_m);
+    const double moved_x_m = relative_x_m - pair.relative_x_m,
+                 moved_y_m = relative_y_m - pair.relative_y_m;
+    const double moved_m = std::sqrt(moved_x_m * moved_x_m + moved_y_m * moved_y_m);
     const double r = std::exp(-moved_m / V2vShadowingCorrelationM(pair.condition));
     pair.shadowing_db = r * pair.shadowing_db + std::sqrt(1 - r * r) * normal * std_db;
   }
@@ -139,20 +153,23 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
                          ? LinkCondition::kLos
                          : LinkCondition::kNlosv;
   }
+  // V2vLosLossDb and V2vNlosLossDb with their frequency terms computed once.
+  const double log_distance = Log10Distance(distance3d_m);
+  const double los_db =
+      los_frequency_db_ + (params_.environment == V2vEnvironment::kUrban ? 16.7 : 20) * log_distance;
   double loss_db = 0;
   switch (pair.condition) {
     case LinkCondition::kLos:
-      loss_db = V2vLosLossDb(params_.environment, distance3d_m, params_.frequency_hz);
+      loss_db = los_db;
       break;
     case LinkCondition::kNlosv:
       // ns-3 GetLossNlosv: the LOS loss plus the vehicle blockage; heights are
       // min and max z (GetUtAndBsHeights).
-      loss_db = V2vLosLossDb(params_.environment, distance3d_m, params_.frequency_hz) +
-                BlockageDb(link.a, link.b, pair, distance3d_m, std::min(low_m.z, high_m.z),
-                           std::max(low_m.z, high_m.z));
+      loss_db = los_db + BlockageDb(link.a, link.b, pair, distance3d_m, std::min(low_m.z, high_m.z),
+                                    std::max(low_m.z, high_m.z));
       break;
     case LinkCondition::kNlos:
-      loss_db = V2vNlosLossDb(distance3d_m, params_.frequency_hz);
+      loss_db = nlos_frequency_db_ + 30 * log_distance;
       break;
   }
   if (params_.shadowing) {

@@ -56,7 +56,7 @@ struct ThreeGppV2vParams {
 
 class ThreeGppV2vModel final : public PathLossModel {
  public:
-  explicit ThreeGppV2vModel(const ThreeGppV2vParams& params) : params_(params) {}
+  explicit ThreeGppV2vModel(const ThreeGppV2vParams& params);
   // Condition, path loss, NLOSv blockage and shadowing of the pair, drawn anew
   // only if a station of the pair moved since the pair's last evaluation.
   double LossDb(const PathLossLink& link) override;
@@ -77,6 +77,8 @@ class ThreeGppV2vModel final : public PathLossModel {
     double relative_x_m = 0, relative_y_m = 0;  // high - low at the last shadowing draw.
     double loss_db = 0;
     uint64_t draws = 0;  // Counter of the pair's stream.
+    double spare_normal = 0;  // Box-Muller's second value, unused yet.
+    bool has_spare_normal = false;
   };
   static size_t PairIndex(int a, int b);
   const PairState& Pair(int a, int b) const { return pairs_[PairIndex(a, b)]; }
@@ -89,6 +91,8 @@ class ThreeGppV2vModel final : public PathLossModel {
                        double relative_x_m, double relative_y_m) const;
 
   ThreeGppV2vParams params_;
+  // The formulas' frequency terms, constant for the model.
+  double los_frequency_db_ = 0, nlos_frequency_db_ = 0;
   std::vector<PairState> pairs_;  // Lower-triangular: index high (high - 1) / 2 + low.
 };
 

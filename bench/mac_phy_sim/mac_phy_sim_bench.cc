@@ -75,9 +75,11 @@ Sample Saturation(int n, double seconds, uint64_t seed) {
 }
 
 Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, double max_box_m,
-                   bool fading = false, bool delay = false) {
+                   bool fading = false, bool delay = false,
+                   MediumConfig::PathLoss path_loss = MediumConfig::PathLoss::kLogDistance) {
   MediumConfig config;
   config.seed = seed;
+  config.path_loss_model = path_loss;
   // The channel effects of docs/mac_phy_sim.md: ns-3's default Nakagami
   // fading per frame and receiver; propagation delay per receiver.
   config.nakagami_fading = fading;
@@ -286,6 +288,14 @@ int main(int argc, char** argv) {
       samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, false, /*delay=*/true));
     }
     report("the same with propagation delay", 64, samples);
+  }
+  if (wanted("bcast-3gpp")) {
+    samples.clear();
+    for (int k = 0; k < runs; ++k) {
+      samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, false, false,
+                                    MediumConfig::PathLoss::kThreeGppV2vUrban));
+    }
+    report("the same with 3GPP V2V urban path loss", 64, samples);
   }
   if (wanted("bcast1000")) {
     samples.clear();
