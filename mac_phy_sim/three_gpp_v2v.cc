@@ -135,8 +135,8 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
   const Vec3d& high_m = a_low ? link.b_m : link.a_m;
   if (pair.evaluated && low_m.x == pair.low_m.x && low_m.y == pair.low_m.y &&
       low_m.z == pair.low_m.z && high_m.x == pair.high_m.x && high_m.y == pair.high_m.y &&
-      high_m.z == pair.high_m.z) {
-    return pair.loss_db;  // Nothing moved: no new draw.
+      high_m.z == pair.high_m.z && link.blocked == pair.blocked) {
+    return pair.loss_db;  // Nothing moved, no box added across: no new draw.
   }
   const double dx = high_m.x - low_m.x, dy = high_m.y - low_m.y, dz = high_m.z - low_m.z;
   const double distance2d_m = std::sqrt(dx * dx + dy * dy);
@@ -177,6 +177,7 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
     loss_db += pair.shadowing_db;
   }
   pair.evaluated = true;
+  pair.blocked = link.blocked;
   pair.low_m = low_m;
   pair.high_m = high_m;
   pair.loss_db = loss_db;

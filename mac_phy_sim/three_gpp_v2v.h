@@ -58,7 +58,8 @@ class ThreeGppV2vModel final : public PathLossModel {
  public:
   explicit ThreeGppV2vModel(const ThreeGppV2vParams& params);
   // Condition, path loss, NLOSv blockage and shadowing of the pair, drawn anew
-  // only if a station of the pair moved since the pair's last evaluation.
+  // only if a station of the pair moved, or the boxes' blocking changed, since
+  // the pair's last evaluation.
   double LossDb(const PathLossLink& link) override;
   bool ComposesWithObstacleShadowing() const override { return false; }
   bool UsesBlockage() const override { return true; }
@@ -71,6 +72,7 @@ class ThreeGppV2vModel final : public PathLossModel {
   struct PairState {
     bool evaluated = false;
     Vec3d low_m, high_m;  // Positions of the lower and higher station index.
+    bool blocked = false;  // PathLossLink::blocked at the last evaluation.
     LinkCondition condition = LinkCondition::kLos;
     double condition_uniform = 0;  // Frozen per pair (ns-3's UpdatePeriod 0).
     double shadowing_db = 0;

@@ -179,6 +179,9 @@ TEST(ThreeGppV2vTest, ChannelTakesNlosFromTheBoxesAndNoSommerLoss) {
   channel.AddObstacle(Box{{50, 0, 5}, {10, 10, 10}, 0});
   EXPECT_NEAR(channel.LossDb(a, b), V2vNlosLossDb(100, kFc), 1e-9);  // Not + 26 dB of Sommer.
   EXPECT_NEAR(channel.LossDb(a, c), V2vLosLossDb(V2vEnvironment::kUrban, 3, kFc), 1e-9);
+  // A box added later across a static pair makes it NLOS too.
+  channel.AddObstacle(Box{{0, 1.5, 2}, {1, 1, 1}, 0});
+  EXPECT_NEAR(channel.LossDb(a, c), V2vNlosLossDb(3, kFc), 1e-9);
   // With obstacles off the box blocks nothing.
   RadioChannel open(std::make_unique<ThreeGppV2vModel>(params), false, 9, 0.4);
   open.AddStation({0, 0, 2});
