@@ -15,8 +15,9 @@ constexpr double kTruckHeightM = 3.0;
 // ns-3 does not guard it (docs/mac_phy_sim.md).
 double Log10Distance(double distance_m) { return std::log10(std::max(distance_m, 1.0)); }
 
-// SplitMix64 (Steele et al. 2014): counter-based draws, so a pair's values do
-// not depend on the order pairs are evaluated in.
+// SplitMix64 (Steele et al. 2014): the pair's stream seed from the model's
+// seed and the pair, so a pair's values do not depend on the order pairs are
+// evaluated in.
 uint64_t Mix(uint64_t x) {
   x += 0x9E3779B97F4A7C15ull;
   x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
@@ -70,31 +71,12 @@ size_t ThreeGppV2vModel::PairIndex(int a, int b) {
   return high * (high - 1) / 2 + low;
 }
 
-double ThreeGppV2vModel::NextUniform(int a, int b, PairState& pair) const {
-  const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-  const uint64_t bits = Mix(params_.seed ^ Mix(key ^ Mix(pair.draws++)));
-  return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53;  // (0, 1)
-}
-
-double ThreeGppV2vModel::NextNormal(int a, int b, PairState& pair) const {
-  if (pair.has_spare_normal) {
-    pair.has_spare_normal = false;
-    return pair.spare_normal;
-  }
-  // Box-Muller: two normals from two of the pair's uniforms; the second is kept.
-  const double u1 = NextUniform(a, b, pair), u2 = NextUniform(a, b, pair);
-  const double radius = std::sqrt(-2 * std::log(u1)), angle = 2 * M_PI * u2;
-  pair.spare_normal = radius * std::sin(angle);
-  pair.has_spare_normal = true;
-  return radius * std::cos(angle);
-}
-
-double ThreeGppV2vModel::BlockageDb(int a, int b, PairState& pair, double distance3d_m,
-                                    double low_height_m, double high_height_m) const {
+double ThreeGppV2vModel::BlockageDb(PairState& pair, double distance3d_m, double low_height_m,
+                                    double high_height_m) const {
   // ns-3 ThreeGppV2vUrbanPropagationLossModel::GetAdditionalNlosvLoss: the
   // blocker type first, then max(0, log-normal) with the TR's mean and std.
   const double blocker_height_m =
-      NextUniform(a, b, pair) * 100.0 < params_.truck_percent ? kTruckHeightM : kCarHeightM;
+      OpenUniform(pair.rng) * 100.0 < params_.truck_percent ? kTruckHeightM : kCarHeightM;
   const BlockageMoments m =
       V2vBlockageMoments(distance3d_m, low_height_m, high_height_m, blocker_height_m);
   if (m.std_db == 0) return 0;
@@ -102,17 +84,17 @@ double ThreeGppV2vModel::BlockageDb(int a, int b, PairState& pair, double distan
   const double sigma = std::sqrt(std::log(m.std_db * m.std_db / (m.mean_db * m.mean_db) + 1));
   const double mu = std::log(m.mean_db * m.mean_db /
                              std::sqrt(m.std_db * m.std_db + m.mean_db * m.mean_db));
-  return std::max(0.0, std::exp(mu + sigma * NextNormal(a, b, pair)));
+  return std::max(0.0, std::exp(mu + sigma * StandardNormal(pair.rng)));
 }
 
-void ThreeGppV2vModel::UpdateShadowing(int a, int b, PairState& pair, LinkCondition previous,
+void ThreeGppV2vModel::UpdateShadowing(PairState& pair, LinkCondition previous,
                                        double relative_x_m, double relative_y_m) const {
   // ns-3 ThreeGppPropagationLossModel::GetShadowing: a new independent value
   // at the first evaluation and when the condition changes; otherwise
   // R s + sqrt(1 - R^2) N std with R = exp(-|change of the 2D relative
   // position| / correlation distance).
   const double std_db = V2vShadowingStdDb(pair.condition);
-  const double normal = NextNormal(a, b, pair);
+  const double normal = StandardNormal(pair.rng);
   if (!pair.evaluated || previous != pair.condition) {
     pair.shadowing_db = normal * std_db;
   } else {
@@ -144,7 +126,12 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
   // The channel condition (ns-3 ThreeGppChannelConditionModel::ComputeChannelCondition):
   // NLOS when a box blocks the segment (p_NLOS = 1), else LOS if the pair's frozen
   // uniform is at most p_LOS, else NLOSv.
-  if (!pair.evaluated) pair.condition_uniform = NextUniform(link.a, link.b, pair);
+  if (!pair.evaluated) {
+    const uint64_t key = (static_cast<uint64_t>(std::min(link.a, link.b)) << 32) |
+                         static_cast<uint64_t>(std::max(link.a, link.b));
+    pair.rng.seed(Mix(params_.seed ^ Mix(key)));
+    pair.condition_uniform = OpenUniform(pair.rng);
+  }
   const LinkCondition previous = pair.condition;
   if (link.blocked) {
     pair.condition = LinkCondition::kNlos;
@@ -165,7 +152,7 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
     case LinkCondition::kNlosv:
       // ns-3 GetLossNlosv: the LOS loss plus the vehicle blockage; heights are
       // min and max z (GetUtAndBsHeights).
-      loss_db = los_db + BlockageDb(link.a, link.b, pair, distance3d_m, std::min(low_m.z, high_m.z),
+      loss_db = los_db + BlockageDb(pair, distance3d_m, std::min(low_m.z, high_m.z),
                                     std::max(low_m.z, high_m.z));
       break;
     case LinkCondition::kNlos:
@@ -173,7 +160,7 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
       break;
   }
   if (params_.shadowing) {
-    UpdateShadowing(link.a, link.b, pair, previous, dx, dy);
+    UpdateShadowing(pair, previous, dx, dy);
     loss_db += pair.shadowing_db;
   }
   pair.evaluated = true;

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "mac_phy_sim/gamma.h"
 #include "mac_phy_sim/path_loss_model.h"
 
 namespace sitlnet::mac {
@@ -78,19 +79,14 @@ class ThreeGppV2vModel final : public PathLossModel {
     double shadowing_db = 0;
     double relative_x_m = 0, relative_y_m = 0;  // high - low at the last shadowing draw.
     double loss_db = 0;
-    uint64_t draws = 0;  // Counter of the pair's stream.
-    double spare_normal = 0;  // Box-Muller's second value, unused yet.
-    bool has_spare_normal = false;
+    RandomEngine rng;  // The pair's own stream, seeded at its first evaluation.
   };
   static size_t PairIndex(int a, int b);
   const PairState& Pair(int a, int b) const { return pairs_[PairIndex(a, b)]; }
-  // The pair's next uniform in (0, 1) and standard normal, from its own stream.
-  double NextUniform(int a, int b, PairState& pair) const;
-  double NextNormal(int a, int b, PairState& pair) const;
-  double BlockageDb(int a, int b, PairState& pair, double distance3d_m, double low_height_m,
+  double BlockageDb(PairState& pair, double distance3d_m, double low_height_m,
                     double high_height_m) const;
-  void UpdateShadowing(int a, int b, PairState& pair, LinkCondition previous,
-                       double relative_x_m, double relative_y_m) const;
+  void UpdateShadowing(PairState& pair, LinkCondition previous, double relative_x_m,
+                       double relative_y_m) const;
 
   ThreeGppV2vParams params_;
   // The formulas' frequency terms, constant for the model.
