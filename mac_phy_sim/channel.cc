@@ -72,6 +72,7 @@ RadioChannel::RadioChannel(double reference_loss_db, double exponent, bool shado
 RadioChannel::RadioChannel(std::unique_ptr<PathLossModel> model, bool shadowing,
                            double db_per_wall, double db_per_m)
     : model_(std::move(model)),
+      log_distance_(dynamic_cast<const LogDistanceModel*>(model_.get())),
       obstacle_shadowing_(shadowing && model_->ComposesWithObstacleShadowing()),
       obstacle_blockage_(shadowing && model_->UsesBlockage()),
       shadowing_(shadowing),
@@ -170,7 +171,14 @@ double RadioChannel::LognormalDb(int a, int b) const {
 double RadioChannel::ComputeLoss(int a, int b, double stop_db, bool exact_below_stop) {
   const Vec3d& pa = positions_[a];
   const Vec3d& pb = positions_[b];
-  double loss = model_->LossDb(Link(a, b)) + LognormalDb(a, b);
+  double path_db;
+  if (log_distance_ != nullptr) {
+    const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
+    path_db = log_distance_->LossAtDistanceDb(std::sqrt(dx * dx + dy * dy + dz * dz));
+  } else {
+    path_db = model_->LossDb(Link(a, b));
+  }
+  double loss = path_db + LognormalDb(a, b);
   // Shadowing only adds loss: a link already dead in free space stays dead.
   if (obstacle_shadowing_ && !boxes_.empty() && loss < stop_db) {
     const double stop_at_db = stop_db - loss;

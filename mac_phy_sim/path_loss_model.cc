@@ -17,12 +17,6 @@ double Distance3dM(const PathLossLink& link) {
 
 }  // namespace
 
-double LogDistanceModel::LossAtDistanceDb(double distance_m) const {
-  // ns-3 LogDistancePropagationLossModel: the reference loss at or below d0 = 1 m.
-  if (distance_m <= 1.0) return reference_loss_db_;
-  return reference_loss_db_ + 10 * exponent_ * std::log10(distance_m);
-}
-
 double LogDistanceModel::LossDb(const PathLossLink& link) {
   return LossAtDistanceDb(Distance3dM(link));
 }

@@ -7,6 +7,7 @@
 #ifndef SITLNET_MAC_PHY_SIM_PATH_LOSS_MODEL_H_
 #define SITLNET_MAC_PHY_SIM_PATH_LOSS_MODEL_H_
 
+#include <cmath>
 #include <memory>
 
 #include "mac_phy_sim/mac_phy_sim.h"
@@ -46,7 +47,11 @@ class LogDistanceModel final : public PathLossModel {
       : reference_loss_db_(reference_loss_db), exponent_(exponent) {}
   double LossDb(const PathLossLink& link) override;
   bool IsLogDistance() const override { return true; }
-  double LossAtDistanceDb(double distance_m) const;
+  // ns-3 LogDistancePropagationLossModel: the reference loss at or below d0 = 1 m.
+  double LossAtDistanceDb(double distance_m) const {
+    if (distance_m <= 1.0) return reference_loss_db_;
+    return reference_loss_db_ + 10 * exponent_ * std::log10(distance_m);
+  }
 
  private:
   double reference_loss_db_, exponent_;
