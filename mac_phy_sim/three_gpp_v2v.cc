@@ -94,16 +94,18 @@ void ThreeGppV2vModel::UpdateShadowing(PairState& pair, LinkCondition previous,
   // R s + sqrt(1 - R^2) N std with R = exp(-|change of the 2D relative
   // position| / correlation distance).
   const double std_db = V2vShadowingStdDb(pair.condition);
-  const double normal = StandardNormal(pair.rng);
   if (!pair.evaluated || previous != pair.condition) {
-    pair.shadowing_db = normal * std_db;
-  } else {
+    pair.shadowing_db = StandardNormal(pair.rng) * std_db;
+  } else if (relative_x_m != pair.relative_x_m || relative_y_m != pair.relative_y_m) {
     const double moved_x_m = relative_x_m - pair.relative_x_m,
                  moved_y_m = relative_y_m - pair.relative_y_m;
     const double moved_m = std::sqrt(moved_x_m * moved_x_m + moved_y_m * moved_y_m);
     const double r = std::exp(-moved_m / V2vShadowingCorrelationM(pair.condition));
-    pair.shadowing_db = r * pair.shadowing_db + std::sqrt(1 - r * r) * normal * std_db;
+    pair.shadowing_db =
+        r * pair.shadowing_db + std::sqrt(1 - r * r) * StandardNormal(pair.rng) * std_db;
   }
+  // Else the pair moved together (as a flock in formation): R = 1 keeps the
+  // value, as ns-3's formula does, without a draw.
   pair.relative_x_m = relative_x_m;
   pair.relative_y_m = relative_y_m;
 }

@@ -2,7 +2,7 @@
 // The layout of physics_bench's obstacle-culling table: 64 robots among 16
 // copies of the case study's arrow (scenarios/arrow_flocking.textproto, 10
 // boxes each, 50 m apart along y), two pairs per arrow flying east at 5 m/s
-// at 10 m beside it, z = 10 m. Every 10 ms step moves all 64 robots, then
+// at 10 m beside it, z = 10 m, each drifting sideways at its own speed. Every 10 ms step moves all 64 robots, then
 // asks the loss of all 2016 pairs, so every pair is recomputed each step.
 // The dead-link loss is the medium's default (16.02 dBm - (-101) dBm), so the
 // obstacle walk stops as it does in a run; one row walks every link in full. Prints CPU ns per pair recompute,
@@ -34,6 +34,9 @@ constexpr int kReplicas = 16;
 constexpr double kReplicaPitchM = 50;
 constexpr double kPairOffsetM = 16;
 constexpr double kStepS = 0.01, kSpeedMps = 5;
+// Each robot also drifts sideways at its own speed (robot i: 0.01 (i - 32) m/s), so every
+// pair's relative position changes each step and 3GPP's shadowing draws every time.
+constexpr double kDriftMpsPerRobot = 0.01;
 
 enum class Kind { kLogDistance, kLogDistanceFullWalk, kTwoRay, kV2vUrban, kV2vHighway };
 
@@ -71,6 +74,7 @@ double Run(Kind kind, const Scenario& arrow, double seconds) {
   for (int s = 0; s < steps; ++s) {
     for (int i = 0; i < n; ++i) {
       where[i].x += kSpeedMps * kStepS;
+      where[i].y += kDriftMpsPerRobot * (i - n / 2) * kStepS;
       channel.SetPosition(i, where[i]);
     }
     for (int a = 0; a < n; ++a) {
