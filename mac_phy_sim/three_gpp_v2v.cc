@@ -133,14 +133,17 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
                          static_cast<uint64_t>(std::max(link.a, link.b));
     pair.rng.seed(Mix(params_.seed ^ Mix(key)));
     pair.condition_uniform = OpenUniform(pair.rng);
+    pair.los_up_to_m = std::log(1.05 / pair.condition_uniform) / 0.0114;
   }
   const LinkCondition previous = pair.condition;
   if (link.blocked) {
     pair.condition = LinkCondition::kNlos;
   } else {
-    pair.condition = pair.condition_uniform <= V2vLosProbability(params_.environment, distance2d_m)
-                         ? LinkCondition::kLos
-                         : LinkCondition::kNlosv;
+    const bool los = params_.environment == V2vEnvironment::kUrban
+                         ? distance2d_m <= pair.los_up_to_m
+                         : pair.condition_uniform <=
+                               V2vLosProbability(V2vEnvironment::kHighway, distance2d_m);
+    pair.condition = los ? LinkCondition::kLos : LinkCondition::kNlosv;
   }
   // V2vLosLossDb and V2vNlosLossDb with their frequency terms computed once.
   const double log_distance = Log10Distance(distance3d_m);

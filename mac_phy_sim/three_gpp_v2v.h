@@ -76,6 +76,9 @@ class ThreeGppV2vModel final : public PathLossModel {
     bool blocked = false;  // PathLossLink::blocked at the last evaluation.
     LinkCondition condition = LinkCondition::kLos;
     double condition_uniform = 0;  // Frozen per pair (ns-3's UpdatePeriod 0).
+    // Urban: the 2D distance up to which the pair is LOS, where 1.05 e^(-0.0114 d) = u
+    // (p_LOS decreases with d, so u <= p_LOS(d) is d <= this): no exp per evaluation.
+    double los_up_to_m = 0;
     double shadowing_db = 0;
     double relative_x_m = 0, relative_y_m = 0;  // high - low at the last shadowing draw.
     double loss_db = 0;
