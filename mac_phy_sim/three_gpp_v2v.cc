@@ -94,7 +94,8 @@ void ThreeGppV2vModel::UpdateShadowing(PairState& pair, LinkCondition previous,
   // R s + sqrt(1 - R^2) N std with R = exp(-|change of the 2D relative
   // position| / correlation distance).
   const double std_db = V2vShadowingStdDb(pair.condition);
-  if (!pair.evaluated || previous != pair.condition) {
+  // A value that is not a number (a robot was at no position) starts afresh too.
+  if (!pair.evaluated || previous != pair.condition || !std::isfinite(pair.shadowing_db)) {
     pair.shadowing_db = StandardNormal(pair.rng) * std_db;
   } else if (relative_x_m != pair.relative_x_m || relative_y_m != pair.relative_y_m) {
     const double moved_x_m = relative_x_m - pair.relative_x_m,

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "mac_phy_sim/channel.h"
@@ -166,6 +167,16 @@ TEST(ThreeGppV2vTest, NoNewDrawWithoutMovement) {
   const double first = model.LossDb(link);
   EXPECT_EQ(model.LossDb(link), first);
   EXPECT_EQ(model.LossDb(PathLossLink{1, 0, link.b_m, link.a_m, false}), first);  // Symmetric.
+}
+
+TEST(ThreeGppV2vTest, RecoversFromAPositionThatIsNotANumber) {
+  ThreeGppV2vModel model = Model(V2vEnvironment::kUrban, 4, true);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  model.LossDb(PathLossLink{0, 1, {0, 0, 2}, {3, 0, 2}, false});
+  EXPECT_TRUE(std::isnan(model.LossDb(PathLossLink{0, 1, {0, 0, 2}, {nan, 0, 2}, false})));
+  const double back = model.LossDb(PathLossLink{0, 1, {0, 0, 2}, {3, 1, 2}, false});
+  EXPECT_TRUE(std::isfinite(back));
+  EXPECT_NEAR(back, V2vLosLossDb(V2vEnvironment::kUrban, std::sqrt(10.0), kFc), 5 * 3.0);
 }
 
 TEST(ThreeGppV2vTest, ChannelTakesNlosFromTheBoxesAndNoSommerLoss) {
