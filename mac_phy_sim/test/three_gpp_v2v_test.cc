@@ -205,9 +205,11 @@ TEST(ThreeGppV2vTest, ChannelTakesNlosFromTheBoxesAndNoSommerLoss) {
 
 // A fleet moving under 3GPP urban: the same seed gives the same bytes and
 // powers; another seed other powers.
-std::vector<TraceEvent> MovingRun(MediumConfig::PathLoss model, uint64_t seed, int sources) {
+std::vector<TraceEvent> MovingRun(MediumConfig::PathLoss model, uint64_t seed, int sources,
+                                  bool fading = false) {
   MediumConfig config;
   config.seed = seed;
+  config.nakagami_fading = fading;
   config.rate_mbps = 6;
   config.path_loss_model = model;
   Medium medium(config);
@@ -227,10 +229,14 @@ std::vector<TraceEvent> MovingRun(MediumConfig::PathLoss model, uint64_t seed, i
   return trace;
 }
 
-TEST(ThreeGppV2vMediumTest, SameSeedSameBytes) {
+class ThreeGppV2vMediumTest : public ::testing::TestWithParam<bool> {};
+
+TEST_P(ThreeGppV2vMediumTest, SameSeedSameBytes) {
   const auto urban = MediumConfig::PathLoss::kThreeGppV2vUrban;
-  const std::vector<TraceEvent> a = MovingRun(urban, 3, 6), b = MovingRun(urban, 3, 6),
-                                c = MovingRun(urban, 4, 6);
+  const bool fading = GetParam();
+  const std::vector<TraceEvent> a = MovingRun(urban, 3, 6, fading),
+                                b = MovingRun(urban, 3, 6, fading),
+                                c = MovingRun(urban, 4, 6, fading);
   ASSERT_EQ(a.size(), b.size());
   bool differs = false;
   for (size_t i = 0; i < a.size(); ++i) {
@@ -248,10 +254,12 @@ TEST(ThreeGppV2vMediumTest, SameSeedSameBytes) {
   EXPECT_TRUE(differs);
 }
 
+INSTANTIATE_TEST_SUITE_P(WithAndWithoutNakagami, ThreeGppV2vMediumTest, ::testing::Bool());
+
 // The model draws from streams of its own: with one sender whose frames all
 // get through either way, its backoff (the MAC's draws) is the same under
 // log-distance and 3GPP.
-TEST(ThreeGppV2vMediumTest, LeavesTheMacDrawsAsTheyWere) {
+TEST(ThreeGppV2vMacTest, LeavesTheMacDrawsAsTheyWere) {
   const std::vector<TraceEvent> log_distance =
       MovingRun(MediumConfig::PathLoss::kLogDistance, 5, 1);
   const std::vector<TraceEvent> v2v = MovingRun(MediumConfig::PathLoss::kThreeGppV2vUrban, 5, 1);
