@@ -8,7 +8,13 @@
 // "link" rows are one pair (deterministic models); "mean" rows are `pairs`
 // independent pairs on the same geometry, each evaluated once (ns-3's
 // LOS/NLOSv draw, blockage and shadowing), with the mean and standard
-// deviation of their losses.
+// deviation of their losses. "corr" rows measure the shadowing's correlation
+// after a move: `pairs` pairs start with station b at (r, 0, z) from a at the
+// origin (r = b's horizontal distance from a), are evaluated there, then b
+// moves to the row's position; the row holds the sample correlation of the
+// two losses and the standard deviation of the second. ns-3 3.37 stores the
+// relative position (0, 0, 0) at a pair's first draw, so the pair is
+// evaluated twice at the start and the second value is the one correlated.
 // Usage: ns3_path_loss <out.csv>
 #include <cmath>
 #include <fstream>
@@ -73,6 +79,15 @@ std::vector<LinkSpec> Links() {
   return links;
 }
 
+// Correlation rows, LOS (p_LOS = 1 up to 4.28 m urban, 9.75 m highway): b moves along a circle
+// around a by a chord of `moved_m`.
+struct CorrSpec {
+  std::string model;
+  double radius_m, moved_m;
+};
+const std::vector<CorrSpec> kCorrs = {{"v2v_urban", 4.2, 1},  {"v2v_urban", 4.2, 5},
+                                      {"v2v_highway", 9.7, 10}, {"v2v_highway", 9.7, 19}};
+
 Ptr<PropagationLossModel> MakeModel(const std::string& name) {
   if (name == "two_ray" || name == "two_ray_h1_l2") {
     Ptr<TwoRayGroundPropagationLossModel> model = CreateObject<TwoRayGroundPropagationLossModel>();
@@ -120,7 +135,8 @@ int main(int argc, char** argv) {
   std::ofstream out(argv[1]);
   out << "# ns-3 3.37 (Debian libns3-dev) path loss per link at 0 dBm, written by\n"
          "# bench/ns3_reference/ns3_path_loss; checked by mac_phy_sim/test/ns3_path_loss_test.cc.\n"
-         "# box rows: centre (ax, ay, az) and size (bx, by, bz) in m, yaw 0. v2v at 5.9 GHz.\n";
+         "# box rows: centre (ax, ay, az) and size (bx, by, bz) in m, yaw 0. v2v at 5.9 GHz.\n"
+         "# corr rows: b starts at (|b - a| horizontally, a.y, b.z); mean column = correlation.\n";
   out << "kind,model,ax,ay,az,bx,by,bz,shadowing,pairs,ns3_mean_loss_db,ns3_std_loss_db\n";
   for (const BoxSpec& box : kBoxes) {
     out << "box,box," << box.cx << ',' << box.cy << ',' << box.cz << ',' << box.sx << ','
@@ -143,6 +159,30 @@ int main(int argc, char** argv) {
     out << (link.pairs > 1 ? "mean," : "link,") << link.model << ',' << link.a.x << ','
         << link.a.y << ',' << link.a.z << ',' << link.b.x << ',' << link.b.y << ',' << link.b.z
         << ',' << link.shadowing << ',' << link.pairs << ',' << mean << ',' << std_db << '\n';
+  }
+  for (const CorrSpec& corr : kCorrs) {
+    Ptr<PropagationLossModel> model = MakeModel(corr.model);
+    model->SetAttribute("ShadowingEnabled", BooleanValue(true));
+    const double angle = 2 * std::asin(corr.moved_m / (2 * corr.radius_m));
+    const Vector a(0, -2000, 2), start(corr.radius_m, -2000, 2);
+    const Vector moved(corr.radius_m * std::cos(angle), -2000 + corr.radius_m * std::sin(angle), 2);
+    constexpr int kPairs = 4000;
+    double s1 = 0, s2 = 0, s11 = 0, s22 = 0, s12 = 0;
+    for (int k = 0; k < kPairs; ++k) {
+      Ptr<MobilityModel> from = MakeNode(a), to = MakeNode(start);
+      model->CalcRxPower(0, from, to);  // Stores (0, 0, 0) as the relative position.
+      const double before = -model->CalcRxPower(0, from, to);
+      to->SetPosition(moved);
+      const double after = -model->CalcRxPower(0, from, to);
+      s1 += before, s2 += after, s11 += before * before, s22 += after * after,
+          s12 += before * after;
+    }
+    const double n = kPairs;
+    const double var1 = s11 / n - s1 / n * s1 / n, var2 = s22 / n - s2 / n * s2 / n;
+    const double r = (s12 / n - s1 / n * s2 / n) / std::sqrt(var1 * var2);
+    out << "corr," << corr.model << ',' << a.x << ',' << a.y << ',' << a.z << ',' << moved.x
+        << ',' << moved.y << ',' << moved.z << ",1," << kPairs << ',' << r << ','
+        << std::sqrt(var2) << '\n';
   }
   Simulator::Destroy();
   return 0;

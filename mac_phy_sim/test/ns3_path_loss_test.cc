@@ -6,7 +6,8 @@
 // simulators (ns-3's streams and ours differ): their mean losses within 4.5
 // standard errors of the difference, and their standard deviations within
 // 4.5 standard errors where the loss is normal (shadowing alone), within 10 %
-// where it is a mixture (LOS/NLOSv with log-normal blockage).
+// where it is a mixture (LOS/NLOSv with log-normal blockage). "corr" rows: the shadowing's
+// correlation after a move.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -118,6 +119,34 @@ TEST(Ns3PathLossTest, EveryLinkWithinNs3sRule) {
   }
   EXPECT_GE(links, 20);
   EXPECT_GE(means, 8);
+}
+
+// "corr" rows: the shadowing's correlation between the loss at the start and after b moved
+// (ns3_path_loss.cc), over `pairs` independent pairs on each side; the two sample correlations
+// within 4.5 standard errors of their difference (each about (1 - R^2) / sqrt(n)).
+TEST(Ns3PathLossTest, ShadowingCorrelationAfterAMoveAsNs3) {
+  int rows = 0;
+  for (const Row& row : ReadRows()) {
+    if (row.kind != "corr") continue;
+    const double radius_m = std::hypot(row.b.x - row.a.x, row.b.y - row.a.y);
+    const Vec3d start{row.a.x + radius_m, row.a.y, row.b.z};
+    double s1 = 0, s2 = 0, s11 = 0, s22 = 0, s12 = 0;
+    for (int k = 0; k < row.pairs; ++k) {
+      std::unique_ptr<PathLossModel> model = ModelFor(row, 555000 + k);
+      const double before = model->LossDb(PathLossLink{0, 1, row.a, start, false});
+      const double after = model->LossDb(PathLossLink{0, 1, row.a, row.b, false});
+      s1 += before, s2 += after, s11 += before * before, s22 += after * after;
+      s12 += before * after;
+    }
+    const double n = row.pairs;
+    const double var1 = s11 / n - s1 / n * s1 / n, var2 = s22 / n - s2 / n * s2 / n;
+    const double r = (s12 / n - s1 / n * s2 / n) / std::sqrt(var1 * var2);
+    const double ns3_r = row.mean_db;
+    EXPECT_NEAR(r, ns3_r, 4.5 * std::sqrt(2.0) * (1 - ns3_r * ns3_r) / std::sqrt(n))
+        << row.model << " moved to (" << row.b.x << ", " << row.b.y << ")";
+    ++rows;
+  }
+  EXPECT_GE(rows, 4);
 }
 
 }  // namespace
