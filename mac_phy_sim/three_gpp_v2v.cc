@@ -64,7 +64,9 @@ ThreeGppV2vModel::ThreeGppV2vModel(const ThreeGppV2vParams& params)
     : params_(params),
       // The formulas at 1 m: their frequency terms (log10 1 = 0).
       los_frequency_db_(V2vLosLossDb(params.environment, 1, params.frequency_hz)),
-      nlos_frequency_db_(V2vNlosLossDb(1, params.frequency_hz)) {}
+      nlos_frequency_db_(V2vNlosLossDb(1, params.frequency_hz)),
+      los_db_per_decade_(V2vLosLossDb(params.environment, 10, params.frequency_hz) -
+                         los_frequency_db_) {}
 
 size_t ThreeGppV2vModel::PairIndex(int a, int b) {
   const size_t low = static_cast<size_t>(std::min(a, b)), high = static_cast<size_t>(std::max(a, b));
@@ -148,8 +150,7 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
   }
   // V2vLosLossDb and V2vNlosLossDb with their frequency terms computed once.
   const double log_distance = Log10Distance(distance3d_m);
-  const double los_db =
-      los_frequency_db_ + (params_.environment == V2vEnvironment::kUrban ? 16.7 : 20) * log_distance;
+  const double los_db = los_frequency_db_ + los_db_per_decade_ * log_distance;
   double loss_db = 0;
   switch (pair.condition) {
     case LinkCondition::kLos:

@@ -85,7 +85,10 @@ class ThreeGppV2vModel final : public PathLossModel {
     RandomEngine rng;  // The pair's own stream, seeded at its first evaluation.
   };
   static size_t PairIndex(int a, int b);
-  const PairState& Pair(int a, int b) const { return pairs_[PairIndex(a, b)]; }
+  const PairState& Pair(int a, int b) const {
+    SITLNET_DEMAND(PairIndex(a, b) < pairs_.size());  // Evaluated at least once.
+    return pairs_[PairIndex(a, b)];
+  }
   double BlockageDb(PairState& pair, double distance3d_m, double low_height_m,
                     double high_height_m) const;
   void UpdateShadowing(PairState& pair, LinkCondition previous, double relative_x_m,
@@ -94,6 +97,7 @@ class ThreeGppV2vModel final : public PathLossModel {
   ThreeGppV2vParams params_;
   // The formulas' frequency terms, constant for the model.
   double los_frequency_db_ = 0, nlos_frequency_db_ = 0;
+  double los_db_per_decade_ = 0;  // 16.7 urban, 20 highway.
   std::vector<PairState> pairs_;  // Lower-triangular: index high (high - 1) / 2 + low.
 };
 
