@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "mac_phy_sim/gamma.h"
+
 namespace sitlnet::mac {
 namespace {
 
@@ -154,15 +156,9 @@ double RadioChannel::LognormalDb(int a, int b) const {
   if (lognormal_sigma_db_ <= 0) return 0;
   // Two uniforms from SplitMix64 (Steele et al. 2014) of the seed and the
   // unordered pair, then Box-Muller.
-  auto mix = [](uint64_t x) {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-  };
   const uint64_t pair = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-  const uint64_t h1 = mix(lognormal_seed_ ^ mix(pair));
-  const uint64_t h2 = mix(h1);
+  const uint64_t h1 = SplitMix64(lognormal_seed_ ^ SplitMix64(pair));
+  const uint64_t h2 = SplitMix64(h1);
   const double u1 = (static_cast<double>(h1 >> 11) + 0.5) * 0x1.0p-53;  // (0, 1)
   const double u2 = static_cast<double>(h2 >> 11) * 0x1.0p-53;
   return lognormal_sigma_db_ * std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);

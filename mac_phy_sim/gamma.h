@@ -21,6 +21,15 @@
 
 namespace sitlnet::mac {
 
+// SplitMix64 (Steele, Lea and Flood, "Fast Splittable Pseudorandom Number Generators", OOPSLA
+// 2014): one 64-bit mix, for decorrelated seeds and hashes from a seed and an index.
+inline uint64_t SplitMix64(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
 // xoshiro256++ (Blackman & Vigna, "Scrambled Linear Pseudorandom Number Generators", ACM
 // TOMS 47(4), 2021; the reference code at prng.di.unimi.it), its state filled from a 64-bit
 // seed by SplitMix64 as the authors recommend. A UniformRandomBitGenerator; about 5 times

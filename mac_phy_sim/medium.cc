@@ -10,14 +10,6 @@ namespace {
 
 double DbmToMw(double dbm) { return std::pow(10.0, dbm / 10); }
 
-// SplitMix64 (Steele et al. 2014): decorrelated per-station seeds from one seed.
-uint64_t SplitMix64(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
 bool IsStale(const State& s, const Event& e) {
   switch (e.type) {
     case EventType::kTimeout:

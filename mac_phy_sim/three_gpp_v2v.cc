@@ -15,15 +15,6 @@ constexpr double kTruckHeightM = 3.0;
 // ns-3 does not guard it (docs/mac_phy_sim.md).
 double Log10Distance(double distance_m) { return std::log10(std::max(distance_m, 1.0)); }
 
-// SplitMix64 (Steele et al. 2014): the pair's stream seed from the model's
-// seed and the pair, so a pair's values do not depend on the order pairs are
-// evaluated in.
-uint64_t Mix(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 }  // namespace
 
@@ -134,7 +125,9 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
   if (!pair.evaluated) {
     const uint64_t key = (static_cast<uint64_t>(std::min(link.a, link.b)) << 32) |
                          static_cast<uint64_t>(std::max(link.a, link.b));
-    pair.rng.seed(Mix(params_.seed ^ Mix(key)));
+    // The pair's stream from the model's seed and the pair alone: independent of the
+    // order pairs are evaluated in.
+    pair.rng.seed(SplitMix64(params_.seed ^ SplitMix64(key)));
     pair.condition_uniform = OpenUniform(pair.rng);
     pair.los_up_to_m = std::log(1.05 / pair.condition_uniform) / 0.0114;
   }
