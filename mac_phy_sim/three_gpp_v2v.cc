@@ -35,6 +35,18 @@ double V2vLosProbability(V2vEnvironment environment, double distance2d_m) {
   return std::max(0.0, 0.54 - 0.001 * (d - 475.0));
 }
 
+double V2vLosUpToM(V2vEnvironment environment, double uniform) {
+  const double u = uniform;
+  if (environment == V2vEnvironment::kUrban) return std::log(1.05 / u) / 0.0114;
+  // Highway: the quadratic falls from 1.0193 at 0 to its minimum 0.5434 near 475.9 m, then
+  // p_LOS steps down to the line 0.54 - 0.001 (d - 475), which reaches 0 at 1015 m.
+  if (u <= 0.54) return 475.0 + (0.54 - u) / 0.001;
+  constexpr double a = 2.1013e-6, b = -0.002, c = 1.0193;
+  const double discriminant = b * b - 4 * a * (c - u);
+  if (discriminant <= 0) return 475.0;  // u at or under the quadratic's minimum.
+  return std::min(475.0, (-b - std::sqrt(discriminant)) / (2 * a));  // The smaller root.
+}
+
 double V2vShadowingStdDb(LinkCondition condition) {
   return condition == LinkCondition::kNlos ? 4.0 : 3.0;
 }
@@ -56,8 +68,12 @@ ThreeGppV2vModel::ThreeGppV2vModel(const ThreeGppV2vParams& params)
       // The formulas at 1 m: their frequency terms (log10 1 = 0).
       los_frequency_db_(V2vLosLossDb(params.environment, 1, params.frequency_hz)),
       nlos_frequency_db_(V2vNlosLossDb(1, params.frequency_hz)),
-      los_db_per_decade_(V2vLosLossDb(params.environment, 10, params.frequency_hz) -
-                         los_frequency_db_) {}
+      // dB per decade (16.7 urban, 20 highway; 30 NLOS) over ln(d^2) = 2 ln 10 per decade.
+      los_db_per_ln_squared_(
+          (V2vLosLossDb(params.environment, 10, params.frequency_hz) - los_frequency_db_) /
+          (2 * M_LN10)),
+      nlos_db_per_ln_squared_((V2vNlosLossDb(10, params.frequency_hz) - nlos_frequency_db_) /
+                              (2 * M_LN10)) {}
 
 size_t ThreeGppV2vModel::PairIndex(int a, int b) {
   const size_t low = static_cast<size_t>(std::min(a, b)), high = static_cast<size_t>(std::max(a, b));
@@ -116,9 +132,11 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
       high_m.z == pair.high_m.z && link.blocked == pair.blocked) {
     return pair.loss_db;  // Nothing moved, no box added across: no new draw.
   }
+  // Squared distances: the formulas need log10 d = ln(d^2) / (2 ln 10) and the LOS test
+  // compares squares, so most evaluations take no sqrt of a distance.
   const double dx = high_m.x - low_m.x, dy = high_m.y - low_m.y, dz = high_m.z - low_m.z;
-  const double distance2d_m = std::sqrt(dx * dx + dy * dy);
-  const double distance3d_m = std::sqrt(dx * dx + dy * dy + dz * dz);
+  const double distance2d_m2 = dx * dx + dy * dy;
+  const double distance3d_m2 = distance2d_m2 + dz * dz;
   // The channel condition (ns-3 ThreeGppChannelConditionModel::ComputeChannelCondition):
   // NLOS when a box blocks the segment (p_NLOS = 1), else LOS if the pair's frozen
   // uniform is at most p_LOS, else NLOSv.
@@ -129,21 +147,19 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
     // order pairs are evaluated in.
     pair.rng.seed(SplitMix64(params_.seed ^ SplitMix64(key)));
     pair.condition_uniform = OpenUniform(pair.rng);
-    pair.los_up_to_m = std::log(1.05 / pair.condition_uniform) / 0.0114;
+    const double los_up_to_m = V2vLosUpToM(params_.environment, pair.condition_uniform);
+    pair.los_up_to_m2 = los_up_to_m * los_up_to_m;
   }
   const LinkCondition previous = pair.condition;
   if (link.blocked) {
     pair.condition = LinkCondition::kNlos;
   } else {
-    const bool los = params_.environment == V2vEnvironment::kUrban
-                         ? distance2d_m <= pair.los_up_to_m
-                         : pair.condition_uniform <=
-                               V2vLosProbability(V2vEnvironment::kHighway, distance2d_m);
-    pair.condition = los ? LinkCondition::kLos : LinkCondition::kNlosv;
+    pair.condition =
+        distance2d_m2 <= pair.los_up_to_m2 ? LinkCondition::kLos : LinkCondition::kNlosv;
   }
-  // V2vLosLossDb and V2vNlosLossDb with their frequency terms computed once.
-  const double log_distance = Log10Distance(distance3d_m);
-  const double los_db = los_frequency_db_ + los_db_per_decade_ * log_distance;
+  // V2vLosLossDb and V2vNlosLossDb with their frequency terms computed once, at least 1 m.
+  const double ln_distance_squared = std::log(std::max(distance3d_m2, 1.0));
+  const double los_db = los_frequency_db_ + los_db_per_ln_squared_ * ln_distance_squared;
   double loss_db = 0;
   switch (pair.condition) {
     case LinkCondition::kLos:
@@ -152,11 +168,11 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
     case LinkCondition::kNlosv:
       // ns-3 GetLossNlosv: the LOS loss plus the vehicle blockage; heights are
       // min and max z (GetUtAndBsHeights).
-      loss_db = los_db + BlockageDb(pair, distance3d_m, std::min(low_m.z, high_m.z),
+      loss_db = los_db + BlockageDb(pair, std::sqrt(distance3d_m2), std::min(low_m.z, high_m.z),
                                     std::max(low_m.z, high_m.z));
       break;
     case LinkCondition::kNlos:
-      loss_db = nlos_frequency_db_ + 30 * log_distance;
+      loss_db = nlos_frequency_db_ + nlos_db_per_ln_squared_ * ln_distance_squared;
       break;
   }
   if (params_.shadowing) {

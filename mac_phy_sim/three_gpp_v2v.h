@@ -31,6 +31,9 @@ double V2vNlosLossDb(double distance3d_m, double frequency_hz);
 // min(1, 1.05 exp(-0.0114 d)); highway min(1, 2.1013e-6 d^2 - 0.002 d + 1.0193)
 // up to 475 m, then max(0, 0.54 - 0.001 (d - 475)).
 double V2vLosProbability(V2vEnvironment environment, double distance2d_m);
+// The 2D distance up to which a pair whose frozen uniform is `uniform` in (0, 1) is LOS: p_LOS
+// does not increase with distance, so uniform <= p_LOS(d) holds exactly for d up to it.
+double V2vLosUpToM(V2vEnvironment environment, double uniform);
 // Shadow fading standard deviation (dB) and correlation distance (m), TR 37.885
 // Table 6.2.1-1 / 6.2.3-1: 3 dB LOS and NLOSv, 4 dB NLOS; 10 m LOS, 13 m else.
 double V2vShadowingStdDb(LinkCondition condition);
@@ -76,9 +79,8 @@ class ThreeGppV2vModel final : public PathLossModel {
     bool blocked = false;  // PathLossLink::blocked at the last evaluation.
     LinkCondition condition = LinkCondition::kLos;
     double condition_uniform = 0;  // Frozen per pair (ns-3's UpdatePeriod 0).
-    // Urban: the 2D distance up to which the pair is LOS, where 1.05 e^(-0.0114 d) = u
-    // (p_LOS decreases with d, so u <= p_LOS(d) is d <= this): no exp per evaluation.
-    double los_up_to_m = 0;
+    // The square of V2vLosUpToM for condition_uniform: no exp or sqrt per evaluation.
+    double los_up_to_m2 = 0;
     double shadowing_db = 0;
     double relative_x_m = 0, relative_y_m = 0;  // high - low at the last shadowing draw.
     double loss_db = 0;
@@ -97,7 +99,8 @@ class ThreeGppV2vModel final : public PathLossModel {
   ThreeGppV2vParams params_;
   // The formulas' frequency terms, constant for the model.
   double los_frequency_db_ = 0, nlos_frequency_db_ = 0;
-  double los_db_per_decade_ = 0;  // 16.7 urban, 20 highway.
+  // The slopes per unit of ln(d^2): the formulas' dB per decade / (2 ln 10).
+  double los_db_per_ln_squared_ = 0, nlos_db_per_ln_squared_ = 0;
   std::vector<PairState> pairs_;  // Lower-triangular: index high (high - 1) / 2 + low.
 };
 

@@ -7,7 +7,8 @@
 // The dead-link loss is the medium's default (16.02 dBm - (-101) dBm), so the
 // obstacle walk stops as it does in a run; one row walks every link in full. Prints CPU ns per pair recompute,
 // the median of `runs` runs of `seconds` of flight.
-// Usage: path_loss_bench [--runs N] [--seconds S]
+// Usage: path_loss_bench [--runs N] [--seconds S] [--only TEXT] (rows whose name holds TEXT,
+// e.g. to profile one model)
 #include <time.h>
 
 #include <algorithm>
@@ -93,13 +94,16 @@ int main(int argc, char** argv) {
   using namespace sitlnet::mac;
   int runs = 5;
   double seconds = 10;
+  const char* only = "";
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) {
       runs = std::atoi(argv[++i]);
     } else if (std::strcmp(argv[i], "--seconds") == 0 && i + 1 < argc) {
       seconds = std::atof(argv[++i]);
+    } else if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc) {
+      only = argv[++i];
     } else {
-      std::fprintf(stderr, "usage: %s [--runs N] [--seconds S]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--runs N] [--seconds S] [--only TEXT]\n", argv[0]);
       return 2;
     }
   }
@@ -115,6 +119,7 @@ int main(int argc, char** argv) {
   std::printf("| model | CPU ns per pair recompute (median of %d) | runs |\n| --- | --- | --- |\n",
               runs);
   for (const auto& row : rows) {
+    if (std::strstr(row.name, only) == nullptr) continue;
     std::vector<double> ns;
     for (int k = 0; k < runs; ++k) ns.push_back(Run(row.kind, arrow, seconds));
     std::vector<double> sorted = ns;

@@ -37,6 +37,32 @@ TEST(ThreeGppV2vTest, LosProbabilityCurves) {
   EXPECT_EQ(V2vLosProbability(V2vEnvironment::kHighway, 2000), 0);
 }
 
+// The per-pair LOS distance threshold agrees with the probability curve it replaces: for
+// uniforms across (0, 1), LOS (u <= p_LOS(d)) just inside the threshold and not just beyond.
+TEST(ThreeGppV2vTest, LosUpToIsWhereTheProbabilityFallsBelowTheDraw) {
+  for (const V2vEnvironment environment : {V2vEnvironment::kUrban, V2vEnvironment::kHighway}) {
+    int checked = 0;
+    for (int k = 1; k < 2000; ++k) {
+      const double u = k / 2000.0;
+      const double up_to_m = V2vLosUpToM(environment, u);
+      const double margin_m = 1e-6 * std::max(1.0, up_to_m);
+      if (up_to_m > margin_m) {
+        EXPECT_LE(u, V2vLosProbability(environment, up_to_m - margin_m)) << u;
+      }
+      EXPECT_GT(u, V2vLosProbability(environment, up_to_m + margin_m)) << u;
+      ++checked;
+    }
+    EXPECT_EQ(checked, 1999);
+  }
+  // Worked by hand: urban u = 0.5 at ln(2.1) / 0.0114 = 65.08 m; highway u = 0.34 at 675 m
+  // (the line), u = 0.8 at the quadratic's smaller root 126.4 m, u = 0.542 at 475 m (the step).
+  EXPECT_NEAR(V2vLosUpToM(V2vEnvironment::kUrban, 0.5), std::log(2.1) / 0.0114, 1e-9);
+  EXPECT_NEAR(V2vLosUpToM(V2vEnvironment::kHighway, 0.34), 675, 1e-9);
+  EXPECT_NEAR(V2vLosUpToM(V2vEnvironment::kHighway, 0.8),
+              (0.002 - std::sqrt(4e-6 - 4 * 2.1013e-6 * 0.2193)) / (2 * 2.1013e-6), 1e-9);
+  EXPECT_EQ(V2vLosUpToM(V2vEnvironment::kHighway, 0.542), 475);
+}
+
 TEST(ThreeGppV2vTest, BlockageMomentsByHeight) {
   // TR 37.885 6.2.1: no loss when both antennas are above the blocker.
   EXPECT_EQ(V2vBlockageMoments(50, 1.7, 2, 1.6).std_db, 0);
