@@ -11,7 +11,7 @@ namespace {
 constexpr const char* kColumns =
     "id,standard,short_slot,rate_mbps,senders,topology,payload_bytes,rts_threshold_bytes,capture,"
     "near_m,far_m,nakagami_m,lognormal_sigma_db,ideal_rate,table_error_model,warmup_s,measure_s,"
-    "unlimited_retries,"
+    "unlimited_retries,path_loss,"
     "fast,seeds,"
     "ns3_mean_mbps,ns3_sd_mbps,"
     "ours_mean_mbps,ours_sd_mbps,ns3_wall_s,ours_wall_s";
@@ -39,11 +39,23 @@ bool ParseTopology(const std::string& s, Topology* out) {
   return false;
 }
 
+bool ParsePathLoss(const std::string& s, PathLoss* out) {
+  for (PathLoss p : {PathLoss::kLogDistance, PathLoss::kTwoRayGround, PathLoss::kV2vUrban,
+                     PathLoss::kV2vHighway, PathLoss::kV2vUrbanNoShadowing,
+                     PathLoss::kV2vHighwayNoShadowing}) {
+    if (s == PathLossName(p)) {
+      *out = p;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool ParseLine(const std::string& line, Row* row) {
   std::vector<std::string> f;
   std::stringstream in(line);
   for (std::string cell; std::getline(in, cell, ',');) f.push_back(cell);
-  if (f.size() != 26) return false;
+  if (f.size() != 27) return false;
   try {
     Case& c = row->c;
     c.id = f[0];
@@ -63,14 +75,15 @@ bool ParseLine(const std::string& line, Row* row) {
     c.warmup_s = std::stod(f[15]);
     c.measure_s = std::stod(f[16]);
     c.unlimited_retries = f[17] == "1";
-    c.fast = f[18] == "1";
-    row->seeds = std::stoi(f[19]);
-    row->ns3_mean_mbps = std::stod(f[20]);
-    row->ns3_sd_mbps = std::stod(f[21]);
-    row->ours_mean_mbps = std::stod(f[22]);
-    row->ours_sd_mbps = std::stod(f[23]);
-    row->ns3_wall_s = std::stod(f[24]);
-    row->ours_wall_s = std::stod(f[25]);
+    if (!ParsePathLoss(f[18], &c.path_loss)) return false;
+    c.fast = f[19] == "1";
+    row->seeds = std::stoi(f[20]);
+    row->ns3_mean_mbps = std::stod(f[21]);
+    row->ns3_sd_mbps = std::stod(f[22]);
+    row->ours_mean_mbps = std::stod(f[23]);
+    row->ours_sd_mbps = std::stod(f[24]);
+    row->ns3_wall_s = std::stod(f[25]);
+    row->ours_wall_s = std::stod(f[26]);
   } catch (const std::exception&) {
     return false;
   }
@@ -86,12 +99,12 @@ std::string FormatRow(const Row& r) {
   char buf[512];
   std::snprintf(
       buf, sizeof buf,
-      "%s,%s,%d,%g,%d,%s,%d,%u,%d,%g,%g,%g,%g,%d,%d,%g,%g,%d,%d,%d,%.6f,%.6f,%.6f,%.6f,%.3f,%.3f",
+      "%s,%s,%d,%g,%d,%s,%d,%u,%d,%g,%g,%g,%g,%d,%d,%g,%g,%d,%s,%d,%d,%.6f,%.6f,%.6f,%.6f,%.3f,%.3f",
       c.id.c_str(), StandardName(c.standard), c.short_slot ? 1 : 0, c.rate_mbps, c.senders,
       TopologyName(c.topology), c.payload_bytes, c.rts_threshold_bytes, c.capture ? 1 : 0, c.near_m,
       c.far_m, c.nakagami_m, c.lognormal_sigma_db, c.ideal_rate ? 1 : 0,
       c.table_error_model ? 1 : 0, c.warmup_s, c.measure_s, c.unlimited_retries ? 1 : 0,
-      c.fast ? 1 : 0, r.seeds, r.ns3_mean_mbps, r.ns3_sd_mbps, r.ours_mean_mbps, r.ours_sd_mbps,
+      PathLossName(c.path_loss), c.fast ? 1 : 0, r.seeds, r.ns3_mean_mbps, r.ns3_sd_mbps, r.ours_mean_mbps, r.ours_sd_mbps,
       r.ns3_wall_s, r.ours_wall_s);
   return buf;
 }
