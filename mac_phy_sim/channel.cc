@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "mac_phy_sim/gamma.h"
+
 namespace sitlnet::mac {
 namespace {
 
@@ -36,7 +38,16 @@ PreparedBox PrepareBox(const Box& box) {
   return p;
 }
 
-BoxCrossing CrossPreparedBox(const PreparedBox& box, const Vec3d& a, const Vec3d& b) {
+namespace {
+
+// The part of a -> b inside `box`, as segment parameters enter < leave in [0, 1], and the
+// segment's vector in the box frame; false when the segment misses the box.
+struct BoxSpan {
+  double t_in, t_out, enter, leave;
+  Vec3d d;
+};
+[[gnu::always_inline]] inline bool SpanInBox(const PreparedBox& box, const Vec3d& a,
+                                             const Vec3d& b, BoxSpan* span) {
   // Into the box frame: translate, then rotate by -yaw about z.
   const double c = box.cos_yaw, s = -box.sin_yaw;
   auto local = [&](const Vec3d& p) {
@@ -44,19 +55,39 @@ BoxCrossing CrossPreparedBox(const PreparedBox& box, const Vec3d& a, const Vec3d
     return Vec3d{c * x - s * y, s * x + c * y, p.z - box.center_m.z};
   };
   const Vec3d la = local(a), lb = local(b);
-  const Vec3d d{lb.x - la.x, lb.y - la.y, lb.z - la.z};
-  double t_in = -std::numeric_limits<double>::infinity();
-  double t_out = std::numeric_limits<double>::infinity();
+  span->d = Vec3d{lb.x - la.x, lb.y - la.y, lb.z - la.z};
+  const Vec3d& d = span->d;
+  span->t_in = -std::numeric_limits<double>::infinity();
+  span->t_out = std::numeric_limits<double>::infinity();
   const Vec3d& h = box.half_m;
-  if (!Slab(la.x, d.x, -h.x, h.x, &t_in, &t_out) || !Slab(la.y, d.y, -h.y, h.y, &t_in, &t_out) ||
-      !Slab(la.z, d.z, -h.z, h.z, &t_in, &t_out)) {
-    return {};
+  if (!Slab(la.x, d.x, -h.x, h.x, &span->t_in, &span->t_out) ||
+      !Slab(la.y, d.y, -h.y, h.y, &span->t_in, &span->t_out) ||
+      !Slab(la.z, d.z, -h.z, h.z, &span->t_in, &span->t_out)) {
+    return false;
   }
-  const double enter = std::max(t_in, 0.0), leave = std::min(t_out, 1.0);
-  if (enter >= leave) return {};
+  span->enter = std::max(span->t_in, 0.0);
+  span->leave = std::min(span->t_out, 1.0);
+  return !(span->enter >= span->leave);  // A not-a-number span goes on, as it always did.
+}
+
+// CrossPreparedBox(box, a, b).inside_m > 0 without the length's sqrt and the walls (3GPP's
+// blocking test walks every link in full: this is its inner loop).
+bool SegmentEntersBox(const PreparedBox& box, const Vec3d& a, const Vec3d& b) {
+  BoxSpan span;
+  if (!SpanInBox(box, a, b, &span)) return false;
+  const Vec3d& d = span.d;
+  return (span.leave - span.enter) * (d.x * d.x + d.y * d.y + d.z * d.z) > 0;
+}
+
+}  // namespace
+
+BoxCrossing CrossPreparedBox(const PreparedBox& box, const Vec3d& a, const Vec3d& b) {
+  BoxSpan span;
+  if (!SpanInBox(box, a, b, &span)) return {};
   BoxCrossing crossing;
-  crossing.walls = (t_in > 0 ? 1 : 0) + (t_out < 1 ? 1 : 0);
-  crossing.inside_m = (leave - enter) * std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+  crossing.walls = (span.t_in > 0 ? 1 : 0) + (span.t_out < 1 ? 1 : 0);
+  const Vec3d& d = span.d;
+  crossing.inside_m = (span.leave - span.enter) * std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
   return crossing;
 }
 
@@ -66,8 +97,15 @@ BoxCrossing CrossBox(const Box& box, const Vec3d& a, const Vec3d& b) {
 
 RadioChannel::RadioChannel(double reference_loss_db, double exponent, bool shadowing,
                            double db_per_wall, double db_per_m)
-    : reference_loss_db_(reference_loss_db),
-      exponent_(exponent),
+    : RadioChannel(std::make_unique<LogDistanceModel>(reference_loss_db, exponent), shadowing,
+                   db_per_wall, db_per_m) {}
+
+RadioChannel::RadioChannel(std::unique_ptr<PathLossModel> model, bool shadowing,
+                           double db_per_wall, double db_per_m)
+    : model_(std::move(model)),
+      log_distance_(dynamic_cast<const LogDistanceModel*>(model_.get())),
+      obstacle_shadowing_(shadowing && model_->ComposesWithObstacleShadowing()),
+      obstacle_blockage_(shadowing && model_->UsesBlockage()),
       shadowing_(shadowing),
       db_per_wall_(db_per_wall),
       db_per_m_(db_per_m) {}
@@ -102,11 +140,13 @@ void RadioChannel::AddObstacle(const Box& box) {
   obstacles_epoch_ = ++epoch_;
 }
 
-double RadioChannel::PathLossDb(double distance_m) const {
-  // ns-3 LogDistancePropagationLossModel: the reference loss at or below d0 = 1 m.
-  if (distance_m <= 1.0) return reference_loss_db_;
-  return reference_loss_db_ + 10 * exponent_ * std::log10(distance_m);
+PathLossLink RadioChannel::Link(int a, int b) {
+  PathLossLink link{a, b, positions_[a], positions_[b], false};
+  if (obstacle_blockage_) link.blocked = SegmentBlocked(link.a_m, link.b_m);
+  return link;
 }
+
+double RadioChannel::PathLossDb(int a, int b) { return model_->LossDb(Link(a, b)); }
 
 // Inlined into Recompute, as before there was a second caller: the path without fading is
 // the hot one of most runs.
@@ -145,15 +185,9 @@ double RadioChannel::LognormalDb(int a, int b) const {
   if (lognormal_sigma_db_ <= 0) return 0;
   // Two uniforms from SplitMix64 (Steele et al. 2014) of the seed and the
   // unordered pair, then Box-Muller.
-  auto mix = [](uint64_t x) {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-  };
   const uint64_t pair = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-  const uint64_t h1 = mix(lognormal_seed_ ^ mix(pair));
-  const uint64_t h2 = mix(h1);
+  const uint64_t h1 = SplitMix64(lognormal_seed_ ^ SplitMix64(pair));
+  const uint64_t h2 = SplitMix64(h1);
   const double u1 = (static_cast<double>(h1 >> 11) + 0.5) * 0x1.0p-53;  // (0, 1)
   const double u2 = static_cast<double>(h2 >> 11) * 0x1.0p-53;
   return lognormal_sigma_db_ * std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
@@ -162,10 +196,16 @@ double RadioChannel::LognormalDb(int a, int b) const {
 double RadioChannel::ComputeLoss(int a, int b, double stop_db, bool exact_below_stop) {
   const Vec3d& pa = positions_[a];
   const Vec3d& pb = positions_[b];
-  const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
-  double loss = PathLossDb(std::sqrt(dx * dx + dy * dy + dz * dz)) + LognormalDb(a, b);
+  double path_db;
+  if (log_distance_ != nullptr) {
+    const double dx = pb.x - pa.x, dy = pb.y - pa.y, dz = pb.z - pa.z;
+    path_db = log_distance_->LossAtDistanceDb(std::sqrt(dx * dx + dy * dy + dz * dz));
+  } else {
+    path_db = model_->LossDb(Link(a, b));
+  }
+  double loss = path_db + LognormalDb(a, b);
   // Shadowing only adds loss: a link already dead in free space stays dead.
-  if (shadowing_ && !boxes_.empty() && loss < stop_db) {
+  if (obstacle_shadowing_ && !boxes_.empty() && loss < stop_db) {
     const double stop_at_db = stop_db - loss;
     const double shadowing_db = ShadowingDb(pa, pb, stop_at_db);
     loss += shadowing_db;
@@ -211,7 +251,31 @@ void RadioChannel::RebuildGrid() {
 }
 
 double RadioChannel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_db) {
-  if (boxes_.empty()) return 0;
+  double loss_db = 0;
+  WalkBoxes(
+      a, b,
+      [&](const PreparedBox& box) {
+        const BoxCrossing crossing = CrossPreparedBox(box, a, b);
+        loss_db += db_per_wall_ * crossing.walls + db_per_m_ * crossing.inside_m;
+      },
+      [&] { return loss_db >= stop_at_db; });
+  return loss_db;
+}
+
+bool RadioChannel::SegmentBlocked(const Vec3d& a, const Vec3d& b) {
+  bool blocked = false;
+  WalkBoxes(
+      a, b,
+      [&](const PreparedBox& box) {
+        if (!blocked) blocked = SegmentEntersBox(box, a, b);
+      },
+      [&] { return blocked; });
+  return blocked;
+}
+
+template <typename OnBox, typename Done>
+void RadioChannel::WalkBoxes(const Vec3d& a, const Vec3d& b, OnBox on_box, Done done) {
+  if (boxes_.empty()) return;
   if (grid_stale_) RebuildGrid();
   if (++stamp_ == 0) {  // Wrapped: reset stamps so none looks visited.
     std::fill(visit_stamp_.begin(), visit_stamp_.end(), 0);
@@ -223,9 +287,8 @@ double RadioChannel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_
   const double gx1 = grid_x0_ + grid_nx_ * cell_m_, gy1 = grid_y0_ + grid_ny_ * cell_m_;
   if (!Slab(a.x, dx, grid_x0_, gx1, &t_in, &t_out) ||
       !Slab(a.y, dy, grid_y0_, gy1, &t_in, &t_out)) {
-    return 0;
+    return;
   }
-  double loss_db = 0;
   const double seg_min_x = std::min(a.x, b.x), seg_max_x = std::max(a.x, b.x);
   const double seg_min_y = std::min(a.y, b.y), seg_max_y = std::max(a.y, b.y);
   auto visit = [&](int ix, int iy) {
@@ -237,8 +300,7 @@ double RadioChannel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_
           box.min_y > seg_max_y) {
         continue;  // Bounding rectangles apart: no crossing.
       }
-      const BoxCrossing crossing = CrossPreparedBox(box, a, b);
-      loss_db += db_per_wall_ * crossing.walls + db_per_m_ * crossing.inside_m;
+      on_box(box);
     }
   };
   // Amanatides & Woo grid traversal from the entry point.
@@ -260,7 +322,7 @@ double RadioChannel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_
   }
   while (true) {
     visit(ix, iy);
-    if (loss_db >= stop_at_db) break;
+    if (done()) break;
     if (next_x <= next_y) {
       if (next_x > t_out) break;
       ix += step_x;
@@ -272,7 +334,6 @@ double RadioChannel::ShadowingDb(const Vec3d& a, const Vec3d& b, double stop_at_
     }
     if (ix < 0 || iy < 0 || ix >= grid_nx_ || iy >= grid_ny_) break;
   }
-  return loss_db;
 }
 
 }  // namespace sitlnet::mac

@@ -61,6 +61,16 @@ struct MediumConfig {
   double cca_energy_detect_dbm = -62;  // Energy at or above this makes CCA busy.
   double preamble_detect_snr_db = 4;   // ns-3 ThresholdPreambleDetectionModel.
   double preamble_detect_min_rssi_dbm = -82;
+  // The path-loss model (path_loss_model.h; docs/mac_phy_sim.md, "Path-loss models").
+  enum class PathLoss : uint8_t { kLogDistance, kTwoRayGround, kThreeGppV2vUrban, kThreeGppV2vHighway };
+  PathLoss path_loss_model = PathLoss::kLogDistance;
+  // Frequency of two-ray and 3GPP; unset: 5.15 GHz (11a) or 2.4 GHz (11b/g), the Friis reference.
+  std::optional<double> path_loss_frequency_hz;
+  double two_ray_height_above_z_m = 0;   // ns-3 TwoRayGround's HeightAboveZ.
+  double two_ray_system_loss = 1;        // Linear, ns-3's SystemLoss.
+  double two_ray_min_distance_m = 0.5;   // No loss at or below (ns-3's MinDistance).
+  bool v2v_shadowing = true;             // 3GPP correlated shadow fading (ShadowingEnabled).
+  double v2v_truck_percent = 0;          // Share of 3 m blockers (ns-3's PercType3Vehicles).
   double path_loss_exponent = 3;            // Log-distance model.
   std::optional<double> reference_loss_db;  // Loss at 1 m; unset: Friis at the frequency.
   bool shadowing = true;                    // Sommer et al. 2011 obstacle model.
@@ -132,6 +142,7 @@ struct PhyInfo {
   double frequency_mhz = 0;      // Channel centre: 5180 (11a, ch 36) or 2412 (b/g, ch 1).
   double noise_floor_dbm = 0;    // kTB over the data frames' bandwidth + noise figure.
   double reference_loss_db = 0;  // At 1 m.
+  double path_loss_frequency_hz = 0;  // Of the two-ray and 3GPP models.
   double ack_rate_mbps = 0;      // Control-response rate for the configured data rate.
   double group_rate_mbps = 0;    // Rate of group-addressed DATA frames.
   TimeNs slot_ns = 0, sifs_ns = 0, difs_ns = 0, eifs_ns = 0;

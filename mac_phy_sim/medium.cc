@@ -62,7 +62,7 @@ void Dispatch(State& s, const Event& e) {
 Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
     : config(config_in),
       phy(phy_in),
-      channel(phy_in.reference_loss_db, config_in.path_loss_exponent, config_in.shadowing,
+      channel(MakePathLossModel(config_in, phy_in), config_in.shadowing,
               config_in.shadowing_db_per_wall, config_in.shadowing_db_per_m) {
   // Below the sensitivity a signal is not even tracked as interference.
   // With fading, a link up to fading_margin_db weaker on average can still be
@@ -138,11 +138,11 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
   // Path loss ref + 10 n log10(d) (the reference loss up to 1 m) under the
   // margin's loss; a hair wider, as links drawn in vain are still dead for
   // the exact loss (transmission.cc). Log-normal shadowing can lower any
-  // link's loss: no limit then.
+  // link's loss, and other path-loss models are not log-distance: no limit then.
   const double margin_loss_db =
       tx_power_dbm - s.config.rx_sensitivity_dbm + s.fading_margin_db - s.phy.reference_loss_db;
   st.fading_reach_m2 =
-      s.config.lognormal_shadowing_sigma_db > 0
+      s.config.lognormal_shadowing_sigma_db > 0 || !s.channel.path_loss_model().IsLogDistance()
           ? std::numeric_limits<double>::infinity()
           : (margin_loss_db <= 0
                  ? 0.0

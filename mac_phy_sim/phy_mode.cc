@@ -283,6 +283,10 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
   SITLNET_DEMAND(config.path_loss_exponent > 0 && std::isfinite(config.path_loss_exponent));
   SITLNET_DEMAND(!config.reference_loss_db || *config.reference_loss_db >= 0);
   SITLNET_DEMAND(config.shadowing_db_per_wall >= 0 && config.shadowing_db_per_m >= 0);
+  SITLNET_DEMAND(!config.path_loss_frequency_hz ||
+                 (*config.path_loss_frequency_hz >= 0.5e9 && *config.path_loss_frequency_hz <= 100e9));
+  SITLNET_DEMAND(config.two_ray_system_loss > 0 && config.two_ray_min_distance_m >= 0);
+  SITLNET_DEMAND(config.v2v_truck_percent >= 0 && config.v2v_truck_percent <= 100);
   SITLNET_DEMAND(config.queue_limit_frames >= 1);
   SITLNET_DEMAND(!config.capture_margin_db || *config.capture_margin_db >= 0);
   demand(config.short_retry_limit >= 1 && config.long_retry_limit >= 1,
@@ -306,6 +310,7 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
   const double friis_hz = a ? 5.15e9 : 2.4e9;
   info.reference_loss_db =
       config.reference_loss_db.value_or(20 * std::log10(4 * M_PI * friis_hz / 3e8));
+  info.path_loss_frequency_hz = config.path_loss_frequency_hz.value_or(friis_hz);
   info.ack_rate_mbps = ControlRateFor(config.standard, data_mode);
   info.group_rate_mbps = config.group_rate_mbps.value_or(LowestBasicRate(config.standard));
   try {

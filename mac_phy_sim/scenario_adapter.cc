@@ -7,6 +7,21 @@ namespace {
 
 Vec3d ToVec3(const proto::Vec3& v) { return Vec3d{v.x(), v.y(), v.z()}; }
 
+MediumConfig::PathLoss PathLossFromScenario(proto::Radio::PathLossModel model) {
+  switch (model) {
+    case proto::Radio::PATH_LOSS_LOG_DISTANCE:
+      return MediumConfig::PathLoss::kLogDistance;
+    case proto::Radio::PATH_LOSS_TWO_RAY_GROUND:
+      return MediumConfig::PathLoss::kTwoRayGround;
+    case proto::Radio::PATH_LOSS_THREE_GPP_V2V_URBAN:
+      return MediumConfig::PathLoss::kThreeGppV2vUrban;
+    case proto::Radio::PATH_LOSS_THREE_GPP_V2V_HIGHWAY:
+      return MediumConfig::PathLoss::kThreeGppV2vHighway;
+  }
+  SITLNET_DEMAND(false);  // The parser refuses unknown enum values.
+  return MediumConfig::PathLoss::kLogDistance;
+}
+
 }  // namespace
 
 MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
@@ -54,6 +69,15 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
     config.channel_width_mhz = static_cast<int>(radio.channel_width_mhz());
   }
   config.short_guard_interval = radio.short_guard_interval();
+  config.path_loss_model = PathLossFromScenario(radio.path_loss_model());
+  if (radio.has_path_loss_frequency_mhz()) {
+    config.path_loss_frequency_hz = radio.path_loss_frequency_mhz() * 1e6;
+  }
+  config.two_ray_height_above_z_m = radio.two_ray_height_above_z_m();
+  config.two_ray_system_loss = radio.two_ray_system_loss();
+  config.two_ray_min_distance_m = radio.two_ray_min_distance_m();
+  config.v2v_shadowing = radio.v2v_shadowing();
+  config.v2v_truck_percent = radio.v2v_truck_percent();
   config.seed = scenario.spec.timing().seed();
   return config;
 }

@@ -16,7 +16,7 @@ double SquaredDistanceM2(const RadioChannel& channel, int a, int b);
 // with the channel's own terms (RadioChannel::ComputeLoss adds these three).
 template <typename T>
 void SplitLoss(State& s, int a, int b, double loss_db, T* path_db, T* obstacle_db) {
-  const double path = s.channel.PathLossDb(std::sqrt(SquaredDistanceM2(s.channel, a, b)));
+  const double path = s.channel.PathLossDb(a, b);
   *path_db = static_cast<T>(path);
   *obstacle_db = static_cast<T>(loss_db - path - s.channel.LognormalDb(a, b));
 }

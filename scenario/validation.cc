@@ -1,9 +1,11 @@
 #include "scenario/validation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <sstream>
 #include <tuple>
+#include <vector>
 
 #include "clock/clock.h"
 #include "scenario/field_rules.h"
@@ -118,6 +120,47 @@ void ValidateRadioMode(const SourceLocator& at, const proto::Radio& radio) {
   }
 }
 
+// A path-loss model's parameters are refused under another model: a scenario that sets
+// two_ray_system_loss while running 3GPP V2V would otherwise be silently ignored, and its author
+// would believe the parameter shaped the run.
+void ValidatePathLossParameters(const SourceLocator& at, const proto::Radio& radio) {
+  using Model = proto::Radio::PathLossModel;
+  constexpr Model kTwoRay = proto::Radio::PATH_LOSS_TWO_RAY_GROUND;
+  constexpr Model kUrban = proto::Radio::PATH_LOSS_THREE_GPP_V2V_URBAN;
+  constexpr Model kHighway = proto::Radio::PATH_LOSS_THREE_GPP_V2V_HIGHWAY;
+  struct Parameter {
+    const char* field;
+    std::vector<Model> used_by;
+  };
+  const Parameter parameters[] = {
+      {"path_loss_frequency_mhz", {kTwoRay, kUrban, kHighway}},
+      {"two_ray_height_above_z_m", {kTwoRay}},
+      {"two_ray_system_loss", {kTwoRay}},
+      {"two_ray_min_distance_m", {kTwoRay}},
+      {"v2v_shadowing", {kUrban, kHighway}},
+      {"v2v_truck_percent", {kUrban, kHighway}},
+  };
+  const google::protobuf::Descriptor* descriptor = radio.GetDescriptor();
+  const google::protobuf::Reflection* reflection = radio.GetReflection();
+  for (const Parameter& parameter : parameters) {
+    const google::protobuf::FieldDescriptor* field = descriptor->FindFieldByName(parameter.field);
+    SITLNET_DEMAND(field != nullptr);  // A renamed field in scenario.proto: a bug, not input.
+    if (!reflection->HasField(radio, field)) continue;
+    const std::vector<Model>& used_by = parameter.used_by;
+    if (std::find(used_by.begin(), used_by.end(), radio.path_loss_model()) != used_by.end()) {
+      continue;
+    }
+    std::string models;
+    for (size_t i = 0; i < used_by.size(); ++i) {
+      models += (i == 0 ? "" : i + 1 == used_by.size() ? " or " : ", ") +
+                proto::Radio::PathLossModel_Name(used_by[i]);
+    }
+    at.Fail({{"radio"}, {parameter.field}},
+            "radio: " + std::string(parameter.field) + " applies to path_loss_model " + models +
+                " only, not " + proto::Radio::PathLossModel_Name(radio.path_loss_model()));
+  }
+}
+
 // Ranges and rates come from the fields' options (field_rules.h); what follows relates fields.
 void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
   CheckFieldRules(at, {{"radio"}}, "radio: ", radio, radio.standard());
@@ -141,6 +184,7 @@ void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
             "radio: jakes_doppler_from_speed needs jakes_fading");
   }
   ValidateRadioMode(at, radio);
+  ValidatePathLossParameters(at, radio);
 }
 
 void ValidateTiming(const SourceLocator& at, Scenario* scenario) {

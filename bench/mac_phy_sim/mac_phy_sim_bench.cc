@@ -81,9 +81,11 @@ Sample Saturation(int n, double seconds, uint64_t seed) {
 enum class Effect { kNone, kNakagami, kJakes, kJakesFromSpeed, kDelay };
 
 Sample Broadcast64(double seconds, uint64_t seed, int obstacles, double area_m, double max_box_m,
-                   Effect effect = Effect::kNone) {
+                   Effect effect = Effect::kNone,
+                   MediumConfig::PathLoss path_loss = MediumConfig::PathLoss::kLogDistance) {
   MediumConfig config;
   config.seed = seed;
+  config.path_loss_model = path_loss;
   config.nakagami_fading = effect == Effect::kNakagami;
   config.jakes_fading = effect == Effect::kJakes || effect == Effect::kJakesFromSpeed;
   config.jakes_doppler_from_speed = effect == Effect::kJakesFromSpeed;
@@ -306,6 +308,14 @@ int main(int argc, char** argv) {
       samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, Effect::kDelay));
     }
     report("the same with propagation delay", 64, samples);
+  }
+  if (wanted("bcast-3gpp")) {
+    samples.clear();
+    for (int k = 0; k < runs; ++k) {
+      samples.push_back(Broadcast64(6 * seconds, 1 + k, 100, 300, 30, Effect::kNone,
+                                    MediumConfig::PathLoss::kThreeGppV2vUrban));
+    }
+    report("the same with 3GPP V2V urban path loss", 64, samples);
   }
   if (wanted("bcast1000")) {
     samples.clear();

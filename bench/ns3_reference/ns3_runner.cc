@@ -9,6 +9,7 @@
 #include <limits>
 #include <string>
 
+#include "ns3/buildings-module.h"
 #include "ns3/core-module.h"
 #include "ns3/mobility-module.h"
 #include "ns3/network-module.h"
@@ -106,6 +107,10 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
   mobility.SetPositionAllocator(positions);
   mobility.SetMobilityModel("ns3::ConstantPositionMobilityModel");
   mobility.Install(nodes);
+  // The 3GPP V2V condition models ask each node's MobilityBuildingInfo (none: no buildings).
+  if (sitlnet::side_by_side::IsV2v(c.path_loss)) {
+    BuildingsHelper::Install(nodes);
+  }
 
   Ptr<YansWifiChannel> channel = CreateObject<YansWifiChannel>();
   channel->SetPropagationDelayModel(CreateObject<ConstantSpeedPropagationDelayModel>());
@@ -120,6 +125,28 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
       }
     }
     channel->SetPropagationLossModel(matrix);
+  } else if (c.path_loss == sitlnet::side_by_side::PathLoss::kTwoRayGround) {
+    // Antenna heights from the stations' z (HeightAboveZ 0); SystemLoss 1, MinDistance 0.5 m.
+    Ptr<TwoRayGroundPropagationLossModel> two_ray = CreateObject<TwoRayGroundPropagationLossModel>();
+    two_ray->SetAttribute("Frequency", DoubleValue(radio.path_loss_frequency_hz));
+    channel->SetPropagationLossModel(two_ray);
+  } else if (sitlnet::side_by_side::IsV2v(c.path_loss)) {
+    // ns-3's defaults otherwise: condition frozen per pair (UpdatePeriod 0).
+    const bool urban = sitlnet::side_by_side::IsV2vUrban(c.path_loss);
+    Ptr<ThreeGppPropagationLossModel> v2v;
+    Ptr<ChannelConditionModel> condition;
+    if (urban) {
+      v2v = CreateObject<ThreeGppV2vUrbanPropagationLossModel>();
+      condition = CreateObject<ThreeGppV2vUrbanChannelConditionModel>();
+    } else {
+      v2v = CreateObject<ThreeGppV2vHighwayPropagationLossModel>();
+      condition = CreateObject<ThreeGppV2vHighwayChannelConditionModel>();
+    }
+    v2v->SetAttribute("Frequency", DoubleValue(radio.path_loss_frequency_hz));
+    v2v->SetAttribute("ShadowingEnabled",
+                      BooleanValue(sitlnet::side_by_side::HasV2vShadowing(c.path_loss)));
+    v2v->SetChannelConditionModel(condition);
+    channel->SetPropagationLossModel(v2v);
   } else {
     Ptr<LogDistancePropagationLossModel> log_distance =
         CreateObject<LogDistancePropagationLossModel>();

@@ -23,11 +23,13 @@ struct Ns3Radio {
   // (row-major), given to ns-3's MatrixPropagationLossModel instead of the
   // log-distance model, so both simulate the same realised links.
   std::vector<double> link_losses_db;
+  // Carrier frequency of the two-ray and 3GPP models: mac_phy_sim's for the cell's standard.
+  double path_loss_frequency_hz = 5.15e9;
 };
 
 // Runs cell `c` in ns-3 3.37 with RngRun `run`: ad hoc (non-QoS) 802.11a/b/g,
-// ConstantRateWifiManager, Yans channel (log-distance exponent 3, constant-
-// speed delay), NIST or table-based error model, packet sockets offering `payload_bytes`
+// ConstantRateWifiManager, Yans channel (log-distance exponent 3, or the cell's
+// two-ray / 3GPP V2V model; constant-speed delay), NIST or table-based error model, packet sockets offering `payload_bytes`
 // packets faster than the medium carries them. Returns the payload
 // throughput over the measured window and the wall time of Simulator::Run().
 Ns3Outcome RunNs3Case(const sitlnet::side_by_side::Case& c, const Ns3Radio& radio, uint32_t run);

@@ -40,10 +40,10 @@ TEST(ChannelTest, YawedBoxUsesItsOwnAxes) {
 }
 
 TEST(ChannelTest, LogDistanceLoss) {
-  RadioChannel channel(46.6777, 3, true, 9, 0.4);
-  EXPECT_NEAR(channel.PathLossDb(0.001), 46.6777, 1e-9);  // ns-3: reference loss below 1 m.
-  EXPECT_NEAR(channel.PathLossDb(10), 46.6777 + 30, 1e-9);
-  EXPECT_NEAR(channel.PathLossDb(100), 46.6777 + 60, 1e-9);
+  const LogDistanceModel model(46.6777, 3);
+  EXPECT_NEAR(model.LossAtDistanceDb(0.001), 46.6777, 1e-9);  // ns-3: reference loss below 1 m.
+  EXPECT_NEAR(model.LossAtDistanceDb(10), 46.6777 + 30, 1e-9);
+  EXPECT_NEAR(model.LossAtDistanceDb(100), 46.6777 + 60, 1e-9);
 }
 
 TEST(ChannelTest, GridAgreesWithBruteForce) {

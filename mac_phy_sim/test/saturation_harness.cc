@@ -188,6 +188,15 @@ MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
   if (c.ideal_rate) config.rate_control = MediumConfig::RateControl::kIdeal;
   if (c.table_error_model) config.error_model = MediumConfig::ErrorModel::kTableBased;
   if (c.capture) config.capture_margin_db = 5;  // ns-3 SimpleFrameCaptureModel's default margin.
+  // At the default frequency: 5150 MHz for 11a, as ns-3's side sets.
+  if (c.path_loss == side_by_side::PathLoss::kTwoRayGround) {
+    config.path_loss_model = MediumConfig::PathLoss::kTwoRayGround;
+  } else if (side_by_side::IsV2v(c.path_loss)) {
+    config.path_loss_model = side_by_side::IsV2vUrban(c.path_loss)
+                                 ? MediumConfig::PathLoss::kThreeGppV2vUrban
+                                 : MediumConfig::PathLoss::kThreeGppV2vHighway;
+    config.v2v_shadowing = side_by_side::HasV2vShadowing(c.path_loss);
+  }
   if (c.unlimited_retries) {
     config.short_retry_limit = 1000000;
     config.long_retry_limit = 1000000;

@@ -32,21 +32,38 @@ TEST(ScenarioAdapterTest, EveryRadioValueTheScenarioAcceptsBuildsAMedium) {
       if (!options.HasExtension(bound)) continue;
       double value = options.GetExtension(bound);
       if (!upper && options.GetExtension(proto::range_min_open)) value += 1;
-      Scenario scenario = LoadScenarioText("name: \"b\"\nrobot { name: \"a\" }\n", "b.textproto");
-      proto::Radio* spec = scenario.spec.mutable_radio();
-      // The MCS fields belong to 802.11n/ac: HT takes MCS 0-15, VHT two streams at MCS 7.
-      if (field->name() == "mcs") spec->set_standard(proto::Radio::STANDARD_80211N_5GHZ);
-      if (field->name() == "spatial_streams") spec->set_standard(proto::Radio::STANDARD_80211AC);
-      const auto* reflection = spec->GetReflection();
-      if (field->cpp_type() == google::protobuf::FieldDescriptor::CPPTYPE_DOUBLE) {
-        reflection->SetDouble(spec, field, value);
-      } else {
-        reflection->SetUInt32(spec, field, static_cast<uint32_t>(value));
+      // A path-loss model's parameter is accepted under that model only: try each model.
+      int built_for_field = 0;
+      const auto* models = proto::Radio::PathLossModel_descriptor();
+      for (int m = 0; m < models->value_count(); ++m) {
+        Scenario scenario =
+            LoadScenarioText("name: \"b\"\nrobot { name: \"a\" }\n", "b.textproto");
+        proto::Radio* spec = scenario.spec.mutable_radio();
+        spec->set_path_loss_model(
+            static_cast<proto::Radio::PathLossModel>(models->value(m)->number()));
+        // The MCS fields belong to 802.11n/ac: HT takes MCS 0-15, VHT two streams at MCS 7.
+        if (field->name() == "mcs") spec->set_standard(proto::Radio::STANDARD_80211N_5GHZ);
+        if (field->name() == "spatial_streams") spec->set_standard(proto::Radio::STANDARD_80211AC);
+        const auto* reflection = spec->GetReflection();
+        if (field->cpp_type() == google::protobuf::FieldDescriptor::CPPTYPE_DOUBLE) {
+          reflection->SetDouble(spec, field, value);
+        } else {
+          reflection->SetUInt32(spec, field, static_cast<uint32_t>(value));
+        }
+        try {
+          scenario = ValidateScenarioSpec(scenario.spec, "b.textproto");
+        } catch (const Error& error) {
+          if (std::string(error.what()).find("applies to path_loss_model") != std::string::npos) {
+            continue;
+          }
+          throw;
+        }
+        Medium medium = MakeMediumFromScenario(scenario);
+        EXPECT_EQ(medium.station_count(), 1) << field->name() << " " << value;
+        ++built_for_field;
       }
-      scenario = ValidateScenarioSpec(scenario.spec, "b.textproto");
-      Medium medium = MakeMediumFromScenario(scenario);
-      EXPECT_EQ(medium.station_count(), 1) << field->name() << " " << value;
-      ++built;
+      EXPECT_GE(built_for_field, 1) << field->name() << " " << value;
+      built += built_for_field;
     }
   }
   EXPECT_GT(built, 15);
@@ -151,6 +168,59 @@ TEST(ScenarioAdapterTest, RefusesBadJakesSettings) {
       EXPECT_EQ(std::string(error.what()), message);
     }
   }
+}
+
+TEST(ScenarioAdapterTest, MapsThePathLossModels) {
+  const Scenario scenario = LoadScenarioText(R"(
+    name: "pl"
+    robot { name: "a" position_m { z: 2 } }
+    robot { name: "b" position_m { x: 10 z: 2 } }
+    radio {
+      path_loss_model: PATH_LOSS_TWO_RAY_GROUND path_loss_frequency_mhz: 5900
+      two_ray_height_above_z_m: 1 two_ray_system_loss: 2 two_ray_min_distance_m: 3
+    }
+  )",
+                                             "pl.textproto");
+  const MediumConfig config = MediumConfigFromScenario(scenario);
+  EXPECT_EQ(config.path_loss_model, MediumConfig::PathLoss::kTwoRayGround);
+  EXPECT_EQ(config.path_loss_frequency_hz, 5.9e9);
+  EXPECT_EQ(config.two_ray_height_above_z_m, 1);
+  EXPECT_EQ(config.two_ray_system_loss, 2);
+  EXPECT_EQ(config.two_ray_min_distance_m, 3);
+  // Friis at 5.9 GHz over 10 m (crossover 4 pi 3 3 / lambda = 2226 m) plus 3.0103 dB.
+  const double lambda_m = 299792458.0 / 5.9e9;
+  EXPECT_NEAR(MakeMediumFromScenario(scenario).LossDb(0, 1),
+              20 * std::log10(4 * M_PI * 10 / lambda_m) + 10 * std::log10(2.0), 1e-9);
+  for (const char* model : {"PATH_LOSS_THREE_GPP_V2V_URBAN", "PATH_LOSS_THREE_GPP_V2V_HIGHWAY"}) {
+    const Scenario v2v = LoadScenarioText(
+        std::string("name: \"v\"\nrobot { name: \"a\" }\nradio { path_loss_model: ") + model +
+            " v2v_shadowing: false v2v_truck_percent: 20 }\n",
+        "v.textproto");
+    const MediumConfig v2v_config = MediumConfigFromScenario(v2v);
+    EXPECT_NE(v2v_config.path_loss_model, MediumConfig::PathLoss::kLogDistance);
+    EXPECT_FALSE(v2v_config.v2v_shadowing);
+    EXPECT_EQ(v2v_config.v2v_truck_percent, 20);
+  }
+}
+
+// Bad values are refused with one line naming the file, line, column and field.
+TEST(ScenarioAdapterTest, RefusesBadPathLossFieldsInOneLocatedLine) {
+  auto message = [](const std::string& radio) {
+    try {
+      LoadScenarioText("name: \"t\"\nrobot { name: \"a\" }\nradio { " + radio + " }\n",
+                       "t.textproto");
+    } catch (const Error& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message("path_loss_frequency_mhz: 200"),
+            "t.textproto:3:9: radio: path_loss_frequency_mhz 200 out of range [500, 100000]");
+  EXPECT_EQ(message("two_ray_system_loss: 0.5"),
+            "t.textproto:3:9: radio: two_ray_system_loss 0.5 out of range [1, 1000]");
+  EXPECT_EQ(message("v2v_truck_percent: 101"),
+            "t.textproto:3:9: radio: v2v_truck_percent 101 out of range [0, 100]");
+  EXPECT_NE(message("path_loss_model: PATH_LOSS_FOO").find("t.textproto:3:"), std::string::npos);
 }
 
 TEST(ScenarioAdapterTest, RobotsHaveTheirOwnTxPowerAndRate) {

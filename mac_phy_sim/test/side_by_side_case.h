@@ -21,6 +21,29 @@ enum class Topology {
   kLink,     // One sender, one receiver `near_m` away (for fading and shadowing cells).
 };
 
+// The path-loss model on both sides (mac_phy_sim's radio.path_loss_model, ns-3's loss model).
+enum class PathLoss {
+  kLogDistance,  // Exponent 3 from the 1 m loss of the standard's frequency.
+  kTwoRayGround, // ns-3's TwoRayGroundPropagationLossModel at 5.15 GHz.
+  kV2vUrban,     // ns-3's ThreeGppV2vUrbanPropagationLossModel + its condition model, 5.15 GHz.
+  kV2vHighway,   // The same, highway.
+  // The same without shadow fading: with both antennas above the cars (NLOSv adds 0 dB) the
+  // loss is the LOS formula whatever the condition, so delivery is deterministic.
+  kV2vUrbanNoShadowing,
+  kV2vHighwayNoShadowing,
+};
+inline bool IsV2v(PathLoss p) { return p != PathLoss::kLogDistance && p != PathLoss::kTwoRayGround; }
+inline bool IsV2vUrban(PathLoss p) {
+  return p == PathLoss::kV2vUrban || p == PathLoss::kV2vUrbanNoShadowing;
+}
+inline bool HasV2vShadowing(PathLoss p) {
+  return p == PathLoss::kV2vUrban || p == PathLoss::kV2vHighway;
+}
+// Antenna height of the link stations: two-ray at TR 37.885's vehicle antenna (1.5 m; two-ray
+// loses everything at height 0); 3GPP at 2 m, above TR 37.885's 1.6 m cars, so NLOSv adds no
+// blockage loss (a drone flies above the traffic).
+inline double AntennaHeightM(PathLoss p) { return IsV2v(p) ? 2.0 : 1.5; }
+
 struct Case {
   std::string id;  // Unique, stable: names the CSV row.
   Standard standard = Standard::kA;
@@ -43,6 +66,7 @@ struct Case {
   // both sides instead of NistErrorRateModel.
   bool table_error_model = false;
   double near_m = 0, far_m = 0;  // Hidden/exposed geometry.
+  PathLoss path_loss = PathLoss::kLogDistance;
   double warmup_s = 1, measure_s = 10;
   // Bianchi's assumption for saturation (CW stays at CWmax); otherwise the
   // standard's 7 / 4 attempts.
@@ -90,6 +114,12 @@ inline Layout MakeLayout(const Case& c) {
       layout.flows = {{0, 1}, {2, 3}};
       break;
     case Topology::kLink:
+      if (c.path_loss != PathLoss::kLogDistance) {
+        const double z = AntennaHeightM(c.path_loss);
+        layout.positions = {{0, 0, z}, {c.near_m, 0, z}};
+        layout.flows = {{0, 1}};
+        break;
+      }
       layout.positions = {{0, 0, 0}, {c.near_m, 0, 0}};
       layout.flows = {{0, 1}};
       break;
@@ -116,6 +146,24 @@ inline int64_t OfferIntervalNs(const Case& c) {
   return static_cast<int64_t>(cycle_us * 1000 / 2);
 }
 inline int64_t OfferStartNs(int flow_index) { return 1000000LL * flow_index; }
+
+inline const char* PathLossName(PathLoss p) {
+  switch (p) {
+    case PathLoss::kLogDistance:
+      return "log";
+    case PathLoss::kTwoRayGround:
+      return "tworay";
+    case PathLoss::kV2vUrban:
+      return "v2v-urban";
+    case PathLoss::kV2vHighway:
+      return "v2v-highway";
+    case PathLoss::kV2vUrbanNoShadowing:
+      return "v2v-urban-noshadowing";
+    case PathLoss::kV2vHighwayNoShadowing:
+      return "v2v-highway-noshadowing";
+  }
+  return "";
+}
 
 inline const char* StandardName(Standard s) {
   switch (s) {

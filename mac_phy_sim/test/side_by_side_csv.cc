@@ -11,13 +11,13 @@ namespace {
 constexpr const char* kColumns =
     "id,standard,short_slot,rate_mbps,senders,topology,payload_bytes,rts_threshold_bytes,capture,"
     "near_m,far_m,nakagami_m,lognormal_sigma_db,ideal_rate,table_error_model,warmup_s,measure_s,"
-    "unlimited_retries,"
+    "unlimited_retries,path_loss,"
     "fast,seeds,"
     "ns3_mean_mbps,ns3_sd_mbps,"
     "ours_mean_mbps,ours_sd_mbps,ns3_wall_s,ours_wall_s";
-// Rows of n/ac cells carry three more columns (a/b/g rows keep the 26 above).
+// Rows of n/ac cells carry three more columns (a/b/g rows keep the 27 above).
 constexpr const char* kHtColumns = ",mcs,channel_width_mhz,short_gi";
-constexpr size_t kColumnCount = 26;
+constexpr size_t kColumnCount = 27;
 
 bool ParseStandard(const std::string& s, Standard* out) {
   for (Standard standard : {Standard::kA, Standard::kB, Standard::kG, Standard::kN24,
@@ -35,6 +35,18 @@ bool ParseTopology(const std::string& s, Topology* out) {
        {Topology::kRing, Topology::kSink, Topology::kHidden, Topology::kExposed, Topology::kLink}) {
     if (s == TopologyName(t)) {
       *out = t;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool ParsePathLoss(const std::string& s, PathLoss* out) {
+  for (PathLoss p : {PathLoss::kLogDistance, PathLoss::kTwoRayGround, PathLoss::kV2vUrban,
+                     PathLoss::kV2vHighway, PathLoss::kV2vUrbanNoShadowing,
+                     PathLoss::kV2vHighwayNoShadowing}) {
+    if (s == PathLossName(p)) {
+      *out = p;
       return true;
     }
   }
@@ -66,18 +78,19 @@ bool ParseLine(const std::string& line, Row* row) {
     c.warmup_s = std::stod(f[15]);
     c.measure_s = std::stod(f[16]);
     c.unlimited_retries = f[17] == "1";
-    c.fast = f[18] == "1";
-    row->seeds = std::stoi(f[19]);
-    row->ns3_mean_mbps = std::stod(f[20]);
-    row->ns3_sd_mbps = std::stod(f[21]);
-    row->ours_mean_mbps = std::stod(f[22]);
-    row->ours_sd_mbps = std::stod(f[23]);
-    row->ns3_wall_s = std::stod(f[24]);
-    row->ours_wall_s = std::stod(f[25]);
+    if (!ParsePathLoss(f[18], &c.path_loss)) return false;
+    c.fast = f[19] == "1";
+    row->seeds = std::stoi(f[20]);
+    row->ns3_mean_mbps = std::stod(f[21]);
+    row->ns3_sd_mbps = std::stod(f[22]);
+    row->ours_mean_mbps = std::stod(f[23]);
+    row->ours_sd_mbps = std::stod(f[24]);
+    row->ns3_wall_s = std::stod(f[25]);
+    row->ours_wall_s = std::stod(f[26]);
     if (IsHtOrVht(c.standard)) {
-      c.mcs = std::stoi(f[26]);
-      c.channel_width_mhz = std::stoi(f[27]);
-      c.short_gi = f[28] == "1";
+      c.mcs = std::stoi(f[27]);
+      c.channel_width_mhz = std::stoi(f[28]);
+      c.short_gi = f[29] == "1";
     }
   } catch (const std::exception&) {
     return false;
@@ -94,12 +107,12 @@ std::string FormatRow(const Row& r) {
   char buf[512];
   std::snprintf(
       buf, sizeof buf,
-      "%s,%s,%d,%g,%d,%s,%d,%u,%d,%g,%g,%g,%g,%d,%d,%g,%g,%d,%d,%d,%.6f,%.6f,%.6f,%.6f,%.3f,%.3f",
+      "%s,%s,%d,%g,%d,%s,%d,%u,%d,%g,%g,%g,%g,%d,%d,%g,%g,%d,%s,%d,%d,%.6f,%.6f,%.6f,%.6f,%.3f,%.3f",
       c.id.c_str(), StandardName(c.standard), c.short_slot ? 1 : 0, c.rate_mbps, c.senders,
       TopologyName(c.topology), c.payload_bytes, c.rts_threshold_bytes, c.capture ? 1 : 0, c.near_m,
       c.far_m, c.nakagami_m, c.lognormal_sigma_db, c.ideal_rate ? 1 : 0,
       c.table_error_model ? 1 : 0, c.warmup_s, c.measure_s, c.unlimited_retries ? 1 : 0,
-      c.fast ? 1 : 0, r.seeds, r.ns3_mean_mbps, r.ns3_sd_mbps, r.ours_mean_mbps, r.ours_sd_mbps,
+      PathLossName(c.path_loss), c.fast ? 1 : 0, r.seeds, r.ns3_mean_mbps, r.ns3_sd_mbps, r.ours_mean_mbps, r.ours_sd_mbps,
       r.ns3_wall_s, r.ours_wall_s);
   std::string line = buf;
   if (IsHtOrVht(c.standard)) {

@@ -142,6 +142,40 @@ TEST(ScenarioTest, RejectsBadHtVhtModes) {
       "t.textproto"));
 }
 
+// A parameter of a path-loss model that is not chosen would be ignored: refused, located.
+TEST(ScenarioTest, RejectsParametersOfAPathLossModelNotChosen) {
+  ExpectRejected(std::string(kTwo) + "radio { two_ray_system_loss: 2 }\n", "t.textproto:4:9",
+                 "radio: two_ray_system_loss applies to path_loss_model PATH_LOSS_TWO_RAY_GROUND "
+                 "only, not PATH_LOSS_LOG_DISTANCE");
+  ExpectRejected(std::string(kTwo) +
+                     "radio {\n  path_loss_model: PATH_LOSS_THREE_GPP_V2V_URBAN\n"
+                     "  two_ray_height_above_z_m: 1\n}\n",
+                 "t.textproto:6:3", "two_ray_height_above_z_m applies to path_loss_model");
+  ExpectRejected(std::string(kTwo) +
+                     "radio { path_loss_model: PATH_LOSS_TWO_RAY_GROUND v2v_truck_percent: 10 }\n",
+                 "t.textproto:4:51",
+                 "radio: v2v_truck_percent applies to path_loss_model "
+                 "PATH_LOSS_THREE_GPP_V2V_URBAN or PATH_LOSS_THREE_GPP_V2V_HIGHWAY only, not "
+                 "PATH_LOSS_TWO_RAY_GROUND");
+  ExpectRejected(std::string(kTwo) + "radio { v2v_shadowing: false }\n", "t.textproto:4:9",
+                 "v2v_shadowing applies to path_loss_model");
+  ExpectRejected(std::string(kTwo) + "radio { path_loss_frequency_mhz: 5900 }\n",
+                 "t.textproto:4:9",
+                 "path_loss_frequency_mhz applies to path_loss_model PATH_LOSS_TWO_RAY_GROUND, "
+                 "PATH_LOSS_THREE_GPP_V2V_URBAN or PATH_LOSS_THREE_GPP_V2V_HIGHWAY only");
+  // Each model's own parameters, and the frequency shared by three of them, are accepted.
+  for (const char* radio :
+       {"path_loss_model: PATH_LOSS_TWO_RAY_GROUND path_loss_frequency_mhz: 5900 "
+        "two_ray_height_above_z_m: 1 two_ray_system_loss: 2 two_ray_min_distance_m: 1",
+        "path_loss_model: PATH_LOSS_THREE_GPP_V2V_URBAN path_loss_frequency_mhz: 5900 "
+        "v2v_shadowing: false v2v_truck_percent: 10",
+        "path_loss_model: PATH_LOSS_THREE_GPP_V2V_HIGHWAY v2v_truck_percent: 10"}) {
+    EXPECT_NO_THROW(LoadScenarioText(std::string(kTwo) + "radio { " + radio + " }\n",
+                                     "t.textproto"))
+        << radio;
+  }
+}
+
 TEST(ScenarioTest, RejectsAddressesOutsideOrClashing) {
   ExpectRejected("name: \"t\"\nrobot { name: \"a\" wlan_address: \"10.9.0.1\" }\n",
                  "t.textproto:2:19", "not a host address of 10.77.0.0/24");
