@@ -127,7 +127,8 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
     channel->SetPropagationLossModel(matrix);
   } else if (c.path_loss == sitlnet::side_by_side::PathLoss::kTwoRayGround) {
     // Antenna heights from the stations' z (HeightAboveZ 0); SystemLoss 1, MinDistance 0.5 m.
-    Ptr<TwoRayGroundPropagationLossModel> two_ray = CreateObject<TwoRayGroundPropagationLossModel>();
+    Ptr<TwoRayGroundPropagationLossModel> two_ray =
+        CreateObject<TwoRayGroundPropagationLossModel>();
     two_ray->SetAttribute("Frequency", DoubleValue(radio.path_loss_frequency_hz));
     channel->SetPropagationLossModel(two_ray);
   } else if (sitlnet::side_by_side::IsV2v(c.path_loss)) {

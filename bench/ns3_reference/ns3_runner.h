@@ -29,9 +29,10 @@ struct Ns3Radio {
 
 // Runs cell `c` in ns-3 3.37 with RngRun `run`: ad hoc (non-QoS) 802.11a/b/g,
 // ConstantRateWifiManager, Yans channel (log-distance exponent 3, or the cell's
-// two-ray / 3GPP V2V model; constant-speed delay), NIST or table-based error model, packet sockets offering `payload_bytes`
-// packets faster than the medium carries them. Returns the payload
-// throughput over the measured window and the wall time of Simulator::Run().
+// two-ray / 3GPP V2V model; constant-speed delay), NIST or table-based error
+// model, packet sockets offering `payload_bytes` packets faster than the medium
+// carries them. Returns the payload throughput over the measured window and the
+// wall time of Simulator::Run().
 Ns3Outcome RunNs3Case(const sitlnet::side_by_side::Case& c, const Ns3Radio& radio, uint32_t run);
 
 // The TCP replica: the pattern of one TCP flow between two robots without

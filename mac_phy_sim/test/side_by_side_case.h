@@ -23,16 +23,18 @@ enum class Topology {
 
 // The path-loss model on both sides (mac_phy_sim's radio.path_loss_model, ns-3's loss model).
 enum class PathLoss {
-  kLogDistance,  // Exponent 3 from the 1 m loss of the standard's frequency.
-  kTwoRayGround, // ns-3's TwoRayGroundPropagationLossModel at 5.15 GHz.
-  kV2vUrban,     // ns-3's ThreeGppV2vUrbanPropagationLossModel + its condition model, 5.15 GHz.
-  kV2vHighway,   // The same, highway.
+  kLogDistance,   // Exponent 3 from the 1 m loss of the standard's frequency.
+  kTwoRayGround,  // ns-3's TwoRayGroundPropagationLossModel at 5.15 GHz.
+  kV2vUrban,      // ns-3's ThreeGppV2vUrbanPropagationLossModel + its condition model, 5.15 GHz.
+  kV2vHighway,    // The same, highway.
   // The same without shadow fading: with both antennas above the cars (NLOSv adds 0 dB) the
   // loss is the LOS formula whatever the condition, so delivery is deterministic.
   kV2vUrbanNoShadowing,
   kV2vHighwayNoShadowing,
 };
-inline bool IsV2v(PathLoss p) { return p != PathLoss::kLogDistance && p != PathLoss::kTwoRayGround; }
+inline bool IsV2v(PathLoss p) {
+  return p != PathLoss::kLogDistance && p != PathLoss::kTwoRayGround;
+}
 inline bool IsV2vUrban(PathLoss p) {
   return p == PathLoss::kV2vUrban || p == PathLoss::kV2vUrbanNoShadowing;
 }

@@ -42,9 +42,9 @@ bool ParseTopology(const std::string& s, Topology* out) {
 }
 
 bool ParsePathLoss(const std::string& s, PathLoss* out) {
-  for (PathLoss p : {PathLoss::kLogDistance, PathLoss::kTwoRayGround, PathLoss::kV2vUrban,
-                     PathLoss::kV2vHighway, PathLoss::kV2vUrbanNoShadowing,
-                     PathLoss::kV2vHighwayNoShadowing}) {
+  for (PathLoss p :
+       {PathLoss::kLogDistance, PathLoss::kTwoRayGround, PathLoss::kV2vUrban, PathLoss::kV2vHighway,
+        PathLoss::kV2vUrbanNoShadowing, PathLoss::kV2vHighwayNoShadowing}) {
     if (s == PathLossName(p)) {
       *out = p;
       return true;
@@ -105,15 +105,16 @@ std::string CsvHeader() { return kColumns; }
 std::string FormatRow(const Row& r) {
   const Case& c = r.c;
   char buf[512];
-  std::snprintf(
-      buf, sizeof buf,
-      "%s,%s,%d,%g,%d,%s,%d,%u,%d,%g,%g,%g,%g,%d,%d,%g,%g,%d,%s,%d,%d,%.6f,%.6f,%.6f,%.6f,%.3f,%.3f",
-      c.id.c_str(), StandardName(c.standard), c.short_slot ? 1 : 0, c.rate_mbps, c.senders,
-      TopologyName(c.topology), c.payload_bytes, c.rts_threshold_bytes, c.capture ? 1 : 0, c.near_m,
-      c.far_m, c.nakagami_m, c.lognormal_sigma_db, c.ideal_rate ? 1 : 0,
-      c.table_error_model ? 1 : 0, c.warmup_s, c.measure_s, c.unlimited_retries ? 1 : 0,
-      PathLossName(c.path_loss), c.fast ? 1 : 0, r.seeds, r.ns3_mean_mbps, r.ns3_sd_mbps, r.ours_mean_mbps, r.ours_sd_mbps,
-      r.ns3_wall_s, r.ours_wall_s);
+  std::snprintf(buf, sizeof buf,
+                "%s,%s,%d,%g,%d,%s,%d,%u,%d,%g,%g,%g,%g,%d,%d,%g,%g,%d,%s,"
+                "%d,%d,%.6f,%.6f,%.6f,%.6f,%.3f,%.3f",
+                c.id.c_str(), StandardName(c.standard), c.short_slot ? 1 : 0, c.rate_mbps,
+                c.senders, TopologyName(c.topology), c.payload_bytes, c.rts_threshold_bytes,
+                c.capture ? 1 : 0, c.near_m, c.far_m, c.nakagami_m, c.lognormal_sigma_db,
+                c.ideal_rate ? 1 : 0, c.table_error_model ? 1 : 0, c.warmup_s, c.measure_s,
+                c.unlimited_retries ? 1 : 0, PathLossName(c.path_loss), c.fast ? 1 : 0, r.seeds,
+                r.ns3_mean_mbps, r.ns3_sd_mbps, r.ours_mean_mbps, r.ours_sd_mbps, r.ns3_wall_s,
+                r.ours_wall_s);
   std::string line = buf;
   if (IsHtOrVht(c.standard)) {
     line += "," + std::to_string(c.mcs) + "," + std::to_string(c.channel_width_mhz) + "," +
