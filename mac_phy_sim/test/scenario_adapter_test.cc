@@ -223,6 +223,15 @@ TEST(ScenarioAdapterTest, RefusesBadPathLossFieldsInOneLocatedLine) {
   EXPECT_NE(message("path_loss_model: PATH_LOSS_FOO").find("t.textproto:3:"), std::string::npos);
 }
 
+// Robot a sends 100 B to b at 0, b to a at 5 ms: the deliveries by 10 ms.
+std::vector<Delivery> ExchangeOneFrameEachWay(Medium& medium) {
+  medium.SubmitFrame(0, testing::MakeEthernetFrame(RobotMac(1), RobotMac(0), 100), 0);
+  medium.SubmitFrame(1, testing::MakeEthernetFrame(RobotMac(0), RobotMac(1), 100), 5 * kNsPerMs);
+  std::vector<Delivery> out;
+  medium.AdvanceTo(10 * kNsPerMs, &out);
+  return out;
+}
+
 TEST(ScenarioAdapterTest, RobotsHaveTheirOwnTxPowerAndRate) {
   const Scenario scenario = LoadScenarioText(R"(
     name: "own"
@@ -232,10 +241,7 @@ TEST(ScenarioAdapterTest, RobotsHaveTheirOwnTxPowerAndRate) {
                                              "own.textproto");
   Medium medium = MakeMediumFromScenario(scenario);
   medium.EnableTrace(true);
-  medium.SubmitFrame(0, testing::MakeEthernetFrame(RobotMac(1), RobotMac(0), 100), 0);
-  medium.SubmitFrame(1, testing::MakeEthernetFrame(RobotMac(0), RobotMac(1), 100), 5 * kNsPerMs);
-  std::vector<Delivery> out;
-  medium.AdvanceTo(10 * kNsPerMs, &out);
+  const std::vector<Delivery> out = ExchangeOneFrameEachWay(medium);
   ASSERT_EQ(out.size(), 2u);
   // a at 10 dBm: b receives 10 - (46.6777 + 30 log10 5) dBm; b at the default 16.0206 dBm.
   EXPECT_NEAR(out[0].rx_power_dbm, 10 - 46.6777 - 30 * std::log10(5.0), 1e-3);
@@ -257,10 +263,7 @@ TEST(ScenarioAdapterTest, HtRadioAndRobotsOwnMcs) {
                                              "ht.textproto");
   Medium medium = MakeMediumFromScenario(scenario);
   medium.EnableTrace(true);
-  medium.SubmitFrame(0, testing::MakeEthernetFrame(RobotMac(1), RobotMac(0), 100), 0);
-  medium.SubmitFrame(1, testing::MakeEthernetFrame(RobotMac(0), RobotMac(1), 100), 5 * kNsPerMs);
-  std::vector<Delivery> out;
-  medium.AdvanceTo(10 * kNsPerMs, &out);
+  const std::vector<Delivery> out = ExchangeOneFrameEachWay(medium);
   ASSERT_EQ(out.size(), 2u);
   const std::vector<TxRecord> txs = testing::DrainTransmissions(medium);
   ASSERT_EQ(txs.size(), 4u);
