@@ -334,7 +334,7 @@ TEST(AutopilotRadioTest, AStationRobotFliesArduCopterOverTheMediumInRealtime) {
 }
 
 // Issue 31, item 4, the host GCS relay both ways: ShippedFleetScenariosTest flies the shipped
-// fleets from a GCS on the host through the shipped gcs_relay and the how-to's socat.
+// fleets from a GCS on the host through `sitlnet run`'s own relay (`--gcs`, gcs_link/).
 
 // Issue 31, item 4, PX4: the station (fly_px4.cjs) arms (COMMAND_LONG COMPONENT_ARM_DISARM),
 // takes off (NAV_TAKEOFF), climbs and flies to the waypoint (COMMAND_INT DO_REPOSITION) and

@@ -7,7 +7,7 @@
 // VEHICLE: px4:SYSID or arducopter:SYSID.
 // Each plan's lines are printed prefixed with "sys=SYSID ".
 // Used by fleet_lockstep.cjs (a station robot of the lock-step) and fleet_gcs.cjs (a GCS on the
-// host, through the gcs_relay image).
+// host, through `sitlnet run --gcs`).
 'use strict';
 const { guidedFlight } = require('./guided_flight_plan.cjs');
 const { px4Flight } = require('./px4_flight_plan.cjs');

@@ -1,11 +1,11 @@
 // A GCS on the host that flies a fleet of PX4 and ArduCopter vehicles through a ground station
-// robot's gcs_relay image, as docs/howto-autopilot-fleet.md flies the shipped scenarios: one
-// socat joins the relay's Unix sockets to this UDP port. The fleet's flight and the lines it
-// prints: fleet_flight_plan.cjs.
+// robot, as docs/howto-autopilot-fleet.md flies the shipped scenarios: `sitlnet run --gcs
+// udp:127.0.0.1:PORT` relays the station's MAVLink to this UDP port. The fleet's flight and the
+// lines it prints: fleet_flight_plan.cjs.
 //   node fleet_gcs.cjs PORT ALT_M HOLD_S ROUTE VEHICLE...
 // PORT 0: any free port. Prints "LISTENING on UDP port N" once bound. Every vehicle's datagrams
-// come from socat, and the commands go back there: the relay sends each to every vehicle it has
-// heard, and a vehicle ignores commands for another system id. Sends each PX4 a HEARTBEAT each
+// come from the relay, and the commands go back there: the relay sends a command to the vehicle
+// its target system names (to every vehicle when it names none). Sends each PX4 a HEARTBEAT each
 // wall second, as fly_px4.cjs does. Exits 0 once every vehicle disarmed after landing. Its
 // commands reach the vehicles when the host schedules it: a lockstep run with it is not
 // reproducible.
