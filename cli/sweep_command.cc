@@ -21,10 +21,13 @@ constexpr const char* kSweepDescription =
     "is not run again. A failed point is recorded (points.csv, its folder's\n"
     "sweep-failure.txt) and the sweep goes on. Ctrl-C stops every run in order.\n"
     "Writes points.csv (one row per point) and summary.csv (per combination and\n"
-    "metric: n, mean, sd, 95 % CI half-width by Student's t; docs/sweep.md).";
+    "metric: n, mean, sd, 95 % CI half-width by Student's t; docs/sweep.md).\n"
+    "On a cluster each pod runs one point (--point, deploy/kubernetes/sweep-job.yaml)\n"
+    "into a shared folder; --collect then writes the tables (docs/sweep.md).";
 
 constexpr const char* kSweepExitCodes =
-    "exit codes: 0 every point finished, 1 a point failed, 2 usage or a bad\n"
+    "exit codes: 0 every point finished, 1 a point failed (or, with --collect,\n"
+    "has no run), 2 usage or a bad\n"
     "scenario or --set value (checked before any run), 130 interrupted.";
 
 struct SweepArguments {
@@ -35,6 +38,8 @@ struct SweepArguments {
   int jobs = 0;
   std::string out;
   bool no_losses = false;
+  int point = -1;
+  bool collect = false;
 };
 
 }  // namespace
@@ -67,6 +72,17 @@ Command AddSweepCommand(CLI::App& sitlnet) {
   command->add_option("--out", arguments->out, "the sweep folder")->type_name("DIR")->required();
   command->add_flag("--no-losses", arguments->no_losses,
                     "each run without losses.csv.gz and links.csv (sitlnet run --no-losses)");
+  CLI::Option* point =
+      command
+          ->add_option("--point", arguments->point,
+                       "run only the point of this index (from 0, in the order of points.csv) "
+                       "and write no tables: one pod of a cluster's sweep")
+          ->type_name("INDEX")
+          ->check(CLI::NonNegativeNumber);
+  command
+      ->add_flag("--collect", arguments->collect,
+                 "run nothing: write the tables of the points already in --out (after the pods)")
+      ->excludes(point);
   return {command, [arguments] {
             return ReportErrors("sweep", kExitUsage, [&] {
               sweep::SweepOptions options;
@@ -82,6 +98,8 @@ Command AddSweepCommand(CLI::App& sitlnet) {
               LocateImages(&run_options);
               options.sitlnet_exe = run_options.sitlnet_exe;
               if (arguments->no_losses) options.run_args.push_back("--no-losses");
+              if (arguments->point >= 0) options.only_point = static_cast<size_t>(arguments->point);
+              options.collect_only = arguments->collect;
               return sweep::RunSweep(options).exit_code;
             });
           }};

@@ -91,20 +91,40 @@ SweepReport RunSweep(const SweepOptions& options) {
     }
   }
 
+  if (options.only_point && *options.only_point >= points.size()) {
+    throw Error("--point " + std::to_string(*options.only_point) + ": the sweep has " +
+                std::to_string(points.size()) + " points (0 to " +
+                std::to_string(points.size() - 1) + ")");
+  }
+
   MakeFolder(options.out_dir);
   SweepReport report;
   report.points = static_cast<int>(points.size());
   std::vector<size_t> to_run;
   for (size_t p = 0; p < points.size(); ++p) {
+    if (options.only_point && p != *options.only_point) continue;
     const std::string folder = options.out_dir + "/" + points[p].folder;
-    if (ReadPointState(folder, {}).status == PointState::kFinished) {
+    const PointState::Status status = ReadPointState(folder, {}).status;
+    if (status == PointState::kFinished) {
       ++report.already_finished;
+    } else if (options.collect_only) {
+      if (status == PointState::kNotRun) ++report.not_run;
+      if (status == PointState::kFailed) ++report.failed;
     } else {
       to_run.push_back(p);
     }
   }
-  std::fprintf(stderr, "sitlnet sweep: %d points, %d finished before, %zu to run, %d at once\n",
-               report.points, report.already_finished, to_run.size(), jobs);
+  if (options.collect_only) {
+    std::fprintf(stderr, "sitlnet sweep: %d points, %d finished, %d failed, %d not run\n",
+                 report.points, report.already_finished, report.failed, report.not_run);
+  } else if (options.only_point) {
+    std::fprintf(stderr, "sitlnet sweep: point %zu of %d (%s): %s\n", *options.only_point,
+                 report.points, points[*options.only_point].folder.c_str(),
+                 to_run.empty() ? "finished before" : "running");
+  } else {
+    std::fprintf(stderr, "sitlnet sweep: %d points, %d finished before, %zu to run, %d at once\n",
+                 report.points, report.already_finished, to_run.size(), jobs);
+  }
 
   const auto prepare = [&](size_t index, int slot) {
     const SweepPoint& point = points[to_run[index]];
@@ -143,6 +163,10 @@ SweepReport RunSweep(const SweepOptions& options) {
                  point.folder.c_str(), exit.slot, outcome.c_str());
   };
   report.interrupted = RunPoints(to_run.size(), jobs, prepare, done);
+  if (options.only_point) {  // A pod: the tables are --collect's, once every pod has ended.
+    report.exit_code = report.interrupted ? 130 : report.failed > 0 ? 1 : 0;
+    return report;
+  }
 
   std::vector<PointState> states;
   for (const SweepPoint& point : points) {
@@ -152,7 +176,9 @@ SweepReport RunSweep(const SweepOptions& options) {
   std::fprintf(stderr, "sitlnet sweep: %s/points.csv, %s/summary.csv (%d run, %d failed%s)\n",
                options.out_dir.c_str(), options.out_dir.c_str(), report.ran, report.failed,
                report.interrupted ? ", interrupted: rerun the same command to resume" : "");
-  report.exit_code = report.interrupted ? 130 : report.failed > 0 ? 1 : 0;
+  report.exit_code = report.interrupted                          ? 130
+                     : report.failed > 0 || report.not_run > 0 ? 1
+                                                               : 0;
   return report;
 }
 

@@ -107,6 +107,12 @@ struct SweepOptions {
   std::string out_dir;
   std::string sitlnet_exe;           // The binary whose `run` each point runs.
   std::vector<std::string> run_args; // More arguments for every `sitlnet run` (--no-losses).
+  // A cluster's pod (deploy/kubernetes/sweep-job.yaml): run only the point of this index
+  // (ExpandGrid's order, from 0) in job slot 0, unless finished, and write no tables: the other
+  // points' pods write to the same folder at once. Throws Error naming --point if out of range.
+  std::optional<size_t> only_point;
+  // `--collect`: run nothing; tabulate the point folders already in out_dir (what the pods wrote).
+  bool collect_only = false;
 };
 
 // Runs at once by default: one per CPU this process may use (sched_getaffinity).
@@ -119,7 +125,8 @@ struct SweepReport {
   int ran = 0;
   int failed = 0;            // Of those run.
   bool interrupted = false;  // SIGINT/SIGTERM: the runs were stopped and waited for.
-  int exit_code = 0;         // 0 all finished, 1 a point failed, 130 interrupted.
+  int not_run = 0;           // --collect: points with no finished or failed run in out_dir.
+  int exit_code = 0;         // 0 all finished, 1 a point failed or missing, 130 interrupted.
 };
 
 // Validates every combination first (one line naming the --set that is wrong), then runs the

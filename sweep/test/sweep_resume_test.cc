@@ -148,6 +148,53 @@ TEST_F(SweepResumeTest, StopsOnAPointItCannotPrepare) {
   EXPECT_LE(started, 3);
 }
 
+// A cluster's sweep (issue 48, item 3): each point run alone by its index, as an Indexed Job's
+// pods run them, into one folder; --collect then tabulates. Oracle: the tables one ordinary sweep
+// of the same grid writes (points.csv and summary.csv byte for byte: the stand-in's metric is
+// its seed). Before every point has run, --collect names the missing ones and fails.
+TEST_F(SweepResumeTest, PointsRunOneByOneThenCollectedGiveTheSweepsTables) {
+  SweepOptions whole = Options();
+  whole.out_dir = dir_ + "/whole";
+  ASSERT_EQ(RunSweep(whole).exit_code, 0);
+
+  SweepOptions collect = Options();
+  collect.collect_only = true;
+  const SweepReport empty = RunSweep(collect);
+  EXPECT_EQ(empty.not_run, 6);
+  EXPECT_EQ(empty.ran, 0);
+  EXPECT_EQ(empty.exit_code, 1);
+  for (size_t index = 0; index < 6; ++index) {
+    SweepOptions pod = Options();
+    pod.only_point = index;
+    const SweepReport report = RunSweep(pod);
+    EXPECT_EQ(report.ran, 1) << index;
+    EXPECT_EQ(report.exit_code, 0) << index;
+    if (index == 2) {  // Half the pods have ended.
+      const SweepReport half = RunSweep(collect);
+      EXPECT_EQ(half.already_finished, 3);
+      EXPECT_EQ(half.not_run, 3);
+      EXPECT_EQ(half.exit_code, 1);
+    }
+  }
+  EXPECT_EQ(CountLines(dir_ + "/calls.log"), 12);  // 6 whole, then 6 pods; collect runs none
+  const SweepReport all = RunSweep(collect);
+  EXPECT_EQ(all.already_finished, 6);
+  EXPECT_EQ(all.exit_code, 0);
+  EXPECT_EQ(CountLines(dir_ + "/calls.log"), 12);
+  for (const char* table : {"/points.csv", "/summary.csv"}) {
+    EXPECT_EQ(ReadAll(collect.out_dir + table), ReadAll(whole.out_dir + table)) << table;
+  }
+
+  SweepOptions past = Options();
+  past.only_point = 6;
+  try {
+    RunSweep(past);
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()), "--point 6: the sweep has 6 points (0 to 5)");
+  }
+}
+
 TEST_F(SweepResumeTest, RefusesABadValueBeforeAnyRun) {
   SweepOptions options = Options();
   options.axes = {{"radio.rate_mbps", {"6", "7"}}};
