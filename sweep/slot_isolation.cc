@@ -1,5 +1,6 @@
 // Runs at once never clash: each job slot has its own scenario name (namespaces, devices and the
-// state file are named from it), its own subnets and physics port (docs/architecture.md, "Names").
+// state file are named from it), its own ctl subnet (its root-side addresses) and physics port
+// (docs/architecture.md, "Names").
 #include "common/common.h"
 #include "scenario/scenario.h"
 #include "sweep/sweep.h"
@@ -32,8 +33,8 @@ void IsolateForSlot(int slot, unsigned sweep_id, proto::Scenario* spec) {
   spec->set_name("sw" + std::to_string(sweep_id % 10000) + "_" + std::to_string(slot));
   SITLNET_DEMAND(static_cast<int>(spec->name().size()) <= kMaxScenarioNameLength);
   proto::AddressPlan& addresses = *spec->mutable_addresses();
-  addresses.set_wlan_subnet(
-      ShiftedSubnet("addresses.wlan_subnet", addresses.wlan_subnet(), slot));
+  // The wlan subnet stays: it exists only inside the robots' own namespaces (docs/nns.md), so
+  // runs at once may share it, and a point's capture is the same bytes in every slot.
   addresses.set_ctl_subnet(ShiftedSubnet("addresses.ctl_subnet", addresses.ctl_subnet(), slot));
   const uint32_t port = addresses.physics_port() + static_cast<uint32_t>(slot);
   if (port > kMaxPort) {

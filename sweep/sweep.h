@@ -60,9 +60,10 @@ void SetFieldByPath(const std::string& path, const std::string& value, proto::Sc
 //------------------------- Runs side by side ---------------------------------
 
 // What keeps runs at once from clashing: job slot `slot` of sweep `sweep_id` (this process's id)
-// gets the scenario name "sw<sweep_id % 10000>_<slot>" (at most 10 characters), its wlan and ctl
-// subnets moved `slot` subnet sizes up from the scenario's, and physics port + slot. Throws
-// Error if a subnet would leave the IPv4 space or slot is past 999.
+// gets the scenario name "sw<sweep_id % 10000>_<slot>" (at most 10 characters), its ctl subnet
+// moved `slot` subnet sizes up from the scenario's, and physics port + slot. The wlan subnet is
+// kept (it lives only in the robots' namespaces), so a point's medium.pcap does not depend on its
+// slot. Throws Error if the subnet would leave the IPv4 space or slot is past 999.
 void IsolateForSlot(int slot, unsigned sweep_id, proto::Scenario* spec);
 
 //------------------------------ Statistics -----------------------------------

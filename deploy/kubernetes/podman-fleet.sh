@@ -1,5 +1,6 @@
 # Bash functions that play this folder's manifests with podman on one machine, for
-# tests/integration/kube_fleet_test.sh and bench/fleet/fleet_pods.sh. Source it, then:
+# tests/integration/kube_fleet_test.sh, kube_sweep_test.sh and bench/fleet/fleet_pods.sh.
+# kube_play_containers_conf WORK: the containers.conf every play here needs. Source it, then:
 #   fleet_pods_begin WORK SOURCE_DIR IMAGE SCENARIO NODES  # render, network; sets FLEET_* below
 #   fleet_pods_play                                         # the coordinator pod, then the nodes
 #   fleet_pods_end                                          # kube down, pods and network removed
@@ -9,6 +10,22 @@
 # FLEET_RUN_DIR (the central's run folder on this host) and FLEET_NODE_DIRS (the nodes' --out
 # folders on this host). Every name carries the suffix -kt<caller's pid>: the cleanup removes
 # exactly those. Returns non-zero, its reason on stderr, when a step fails.
+
+# podman 4.3's kube play takes no runtime or ulimit flags: a containers.conf of our own in WORK,
+# exported as CONTAINERS_CONF. runc: crun refuses hybrid cgroup hosts. Limits at or below the
+# host's hard ones (podman's defaults are above this host's, and a container may not raise them).
+kube_play_containers_conf() {  # WORK
+  local hard_files
+  hard_files=$(ulimit -Hn)
+  [[ $hard_files == unlimited ]] && hard_files=1048576
+  cat >"$1/containers.conf" <<EOF
+[containers]
+default_ulimits = ["nofile=$hard_files:$hard_files", "nproc=4096:4096"]
+[engine]
+runtime = "runc"
+EOF
+  export CONTAINERS_CONF=$1/containers.conf
+}
 
 fleet_pods_begin() {
   FLEET_WORK=$1
@@ -30,19 +47,7 @@ fleet_pods_begin() {
   done
   head -c 32 /dev/urandom >"$FLEET_WORK/key"
   chmod 600 "$FLEET_WORK/key"
-  # podman 4.3's kube play takes no runtime or ulimit flags: a containers.conf of our own.
-  # runc: crun refuses hybrid cgroup hosts. Limits at or below the host's hard ones (podman's
-  # defaults are above this host's, and a container may not raise them).
-  local hard_files
-  hard_files=$(ulimit -Hn)
-  [[ $hard_files == unlimited ]] && hard_files=1048576
-  cat >"$FLEET_WORK/containers.conf" <<EOF
-[containers]
-default_ulimits = ["nofile=$hard_files:$hard_files", "nproc=4096:4096"]
-[engine]
-runtime = "runc"
-EOF
-  export CONTAINERS_CONF=$FLEET_WORK/containers.conf
+  kube_play_containers_conf "$FLEET_WORK"
   "$source_dir/deploy/kubernetes/render-for-podman" --out "$FLEET_WORK/pods" \
     --suffix="$FLEET_SUFFIX" --image "$image" --checkout "$source_dir" --key "$FLEET_WORK/key" \
     --scenario "$scenario" --runs "$FLEET_WORK/runs" --coordinator-ip "$FLEET_SUBNET.10" \

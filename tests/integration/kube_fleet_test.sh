@@ -16,28 +16,8 @@ sitlnet=$2
 mode=${3:-identity}
 image=localhost/sitlnet-packages:test
 
-missing() {
-  if [[ "${CI:-}" == true ]]; then
-    echo "kube_fleet_test: FAILED: $* (CI=true: required)" >&2
-    exit 1
-  fi
-  echo "kube_fleet_test: skipped: $*" >&2
-  exit 77
-}
-[[ $(id -u) -eq 0 ]] || missing "needs root (podman kube play of pods with NET_ADMIN)"
-if ! command -v podman >/dev/null; then
-  # scripts/setup says whether this machine should have it (it installs podman where it can run).
-  verdict=$("$source_dir/scripts/setup" --check containers) && status=0 || status=$?
-  if ((status == 77)); then echo "kube_fleet_test: skipped: no podman; $verdict" >&2; exit 77; fi
-  missing "no podman; $verdict"
-fi
-if [[ "${SITLNET_MIN_CAPS:-}" == 1 ]]; then  # the container pass (scripts/container-test)
-  echo "kube_fleet_test: skipped: podman needs more than CAP_NET_ADMIN + CAP_SYS_ADMIN" >&2
-  exit 77
-fi
-podman image exists "$image" ||
-  missing "no image $image (sudo scripts/container-test --prepare makes it)"
-[[ -x "$source_dir/build/bin/sitlnet" ]] || missing "no build in $source_dir/build (the pods run it)"
+source "$(dirname "$0")/kube_test_requirements.sh"
+kube_test_require kube_fleet_test "$source_dir" "$image"
 
 source "$source_dir/deploy/kubernetes/podman-fleet.sh"
 work=$(mktemp -d /tmp/sitlnet-kube-test.XXXXXX)

@@ -1,6 +1,6 @@
 // `sitlnet sweep` end to end (docs/sweep.md): a lockstep sweep of 2 rates x 2 seeds, 2 at once,
-// of a 1 s scenario with 2 flockers. Points in different job slots (names, subnets, ports) give
-// the same bytes; a rerun runs nothing finished; a failing point is recorded; Ctrl-C leaves nothing.
+// of a 1 s scenario with 2 flockers. Points in different job slots (names, ctl subnets, ports)
+// give the same bytes, capture included; a rerun runs nothing finished; a failing point is recorded; Ctrl-C leaves nothing.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -18,7 +18,7 @@ constexpr char kPoints[4][32] = {"radio.rate_mbps=6,seed=1", "radio.rate_mbps=6,
                                  "radio.rate_mbps=54,seed=1", "radio.rate_mbps=54,seed=2"};
 
 // Two flockers, lockstep, on subnets of this process (10.190/10.191, no other test's); the sweep
-// moves them up one /24 per job slot, so each process takes two: 2k and 2k + 1.
+// moves the ctl subnet up one /24 per job slot, so each process takes two: 2k and 2k + 1.
 std::string WriteSweepScenario(const std::string& dir, int duration_ms) {
   const std::string third = std::to_string(getpid() % 125 * 2);
   const std::string path = dir + "/sweep.textproto";
@@ -87,7 +87,7 @@ TEST(SweepTest, RunsClashFreeReproduciblyResumesAndRecordsAFailure) {
   const CommandResult serial = Sweep(scenario, reference, "1");
   ASSERT_EQ(serial.exit_code, 0) << serial.err;
   for (int p = 0; p < 3; ++p) {
-    for (const char* file : {"trajectories.csv", "deliveries.csv"}) {
+    for (const char* file : {"trajectories.csv", "deliveries.csv", "medium.pcap"}) {
       const std::string ours = ReadAll(out + "/" + kPoints[p] + "/" + file);
       EXPECT_FALSE(ours.empty()) << kPoints[p] << " " << file;
       EXPECT_EQ(ours, ReadAll(reference + "/" + kPoints[p] + "/" + file)) << kPoints[p] << " " << file;
