@@ -97,6 +97,17 @@ uint64_t RaiseOpenFileLimit(uint64_t needed, std::string_view what);
 // could not be started.
 int RunProgramQuietly(const std::vector<std::string>& argv);
 
+// Runs gnuplot in `dir` on `script`, fed through a pipe (its messages go to `log_path`); empty
+// string on success, else the reason. No file is read and no path is written into the script: a
+// folder named with a quote cannot inject gnuplot commands (such as system()), and nothing in the
+// folder can be swapped in between writing and reading (issue 17, finding 7). A caller that puts
+// its own text in the script quotes it with GnuplotQuoted.
+std::string RunGnuplot(const std::string& script, const std::string& dir,
+                       const std::string& log_path);
+
+// `text` as one gnuplot single-quoted string: its quotes doubled, newlines refused (Error).
+std::string GnuplotQuoted(const std::string& text);
+
 //--------------------------------- Files ------------------------------------
 
 // Owns one file descriptor; closes it on destruction. -1 means empty. Every module's fds.

@@ -1,4 +1,4 @@
-// Helper programs run to their end (a container engine's `rm`, say), without a shell.
+// Helper programs run to their end (a container engine's `rm`, gnuplot), without a shell.
 #include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -34,6 +34,56 @@ int RunProgramQuietly(const std::vector<std::string>& argv) {
   }
   if (WIFEXITED(status)) return WEXITSTATUS(status) == 127 ? -1 : WEXITSTATUS(status);
   return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : -1;
+}
+
+std::string RunGnuplot(const std::string& script, const std::string& dir,
+                       const std::string& log_path) {
+  int to_gnuplot[2];
+  if (pipe2(to_gnuplot, O_CLOEXEC) != 0) return SystemErrorMessage("pipe to gnuplot", errno);
+  const pid_t pid = fork();
+  if (pid < 0) {
+    const int err = errno;
+    close(to_gnuplot[0]);
+    close(to_gnuplot[1]);
+    return SystemErrorMessage("fork gnuplot", err);
+  }
+  if (pid == 0) {
+    ResetToNormalScheduling();
+    const int null_fd = open("/dev/null", O_RDWR);
+    const int log_fd =
+        open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+    dup2(to_gnuplot[0], STDIN_FILENO);
+    dup2(log_fd >= 0 ? log_fd : null_fd, STDOUT_FILENO);
+    dup2(log_fd >= 0 ? log_fd : null_fd, STDERR_FILENO);
+    if (chdir(dir.c_str()) != 0) _exit(126);
+    execlp("gnuplot", "gnuplot", "-", nullptr);
+    _exit(127);
+  }
+  close(to_gnuplot[0]);
+  for (size_t done = 0; done < script.size();) {
+    const ssize_t n = write(to_gnuplot[1], script.data() + done, script.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // gnuplot is gone: its status says why.
+    done += static_cast<size_t>(n);
+  }
+  close(to_gnuplot[1]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+    return "gnuplot not found (apt-get install gnuplot-nox; scripts/setup does)";
+  }
+  return "gnuplot failed on the plots of " + dir + " (see " + log_path + ")";
+}
+
+std::string GnuplotQuoted(const std::string& text) {
+  // gnuplot reads '' inside a single-quoted string as one quote, and nothing else specially.
+  std::string quoted = "'";
+  for (char c : text) {
+    if (c == '\n' || c == '\r') throw Error("a line break cannot go into a gnuplot label");
+    quoted += c == '\'' ? std::string("''") : std::string(1, c);
+  }
+  return quoted + "'";
 }
 
 }  // namespace sitlnet

@@ -53,50 +53,6 @@ std::string ObstaclePolygon(const proto::Obstacle& box, int id) {
   return text.str();
 }
 
-// Runs gnuplot in `run_dir` on `script`, fed through a pipe (its messages go to `log_path`);
-// empty string on success, else the reason. No file is read and no path is written into the
-// script: a run folder named with a quote cannot inject gnuplot commands (such as system()),
-// and nothing in the folder can be swapped in between writing and reading (issue 17, finding 7).
-std::string RunGnuplot(const std::string& script, const std::string& run_dir,
-                       const std::string& log_path) {
-  int to_gnuplot[2];
-  if (pipe2(to_gnuplot, O_CLOEXEC) != 0) return SystemErrorMessage("pipe to gnuplot", errno);
-  const pid_t pid = fork();
-  if (pid < 0) {
-    const int err = errno;
-    close(to_gnuplot[0]);
-    close(to_gnuplot[1]);
-    return SystemErrorMessage("fork gnuplot", err);
-  }
-  if (pid == 0) {
-    ResetToNormalScheduling();
-    const int null_fd = open("/dev/null", O_RDWR);
-    const int log_fd =
-        open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
-    dup2(to_gnuplot[0], STDIN_FILENO);
-    dup2(log_fd >= 0 ? log_fd : null_fd, STDOUT_FILENO);
-    dup2(log_fd >= 0 ? log_fd : null_fd, STDERR_FILENO);
-    if (chdir(run_dir.c_str()) != 0) _exit(126);
-    execlp("gnuplot", "gnuplot", "-", nullptr);
-    _exit(127);
-  }
-  close(to_gnuplot[0]);
-  for (size_t done = 0; done < script.size();) {
-    const ssize_t n = write(to_gnuplot[1], script.data() + done, script.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;  // gnuplot is gone: its status says why.
-    done += static_cast<size_t>(n);
-  }
-  close(to_gnuplot[1]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
-    return "gnuplot not found (apt-get install gnuplot-nox; scripts/setup does)";
-  }
-  return "gnuplot failed on the plots of " + run_dir + " (see " + log_path + ")";
-}
-
 }  // namespace
 
 std::vector<std::string> DrawPlots(const std::string& run_dir, const Scenario& scenario,

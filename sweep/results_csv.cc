@@ -91,23 +91,32 @@ void WriteResults(const std::string& out_dir, const std::vector<SweepAxis>& axes
   WriteWholeFile(out_dir + "/points.csv", table);
 
   std::string summary = axes_header + "metric,n,mean,sd,ci95_half_width\n";
+  for (const CombinationSummary& row : SummarizeCombinations(points, states, metrics.size())) {
+    for (const std::string& value : points[row.first_point].values) summary += CsvField(value) + ",";
+    summary += CsvField(metrics[row.metric]) + "," + std::to_string(row.stats.n) + "," +
+               Number(row.stats.mean) + "," + Number(row.stats.standard_deviation) + "," +
+               Number(row.stats.ci95_half_width) + "\n";
+  }
+  WriteWholeFile(out_dir + "/summary.csv", summary);
+}
+
+std::vector<CombinationSummary> SummarizeCombinations(const std::vector<SweepPoint>& points,
+                                                      const std::vector<PointState>& states,
+                                                      size_t metrics) {
+  std::vector<CombinationSummary> rows;
   for (size_t first = 0; first < points.size();) {
     size_t end = first;
     while (end < points.size() && points[end].combination == points[first].combination) ++end;
-    for (size_t m = 0; m < metrics.size(); ++m) {
+    for (size_t m = 0; m < metrics; ++m) {
       std::vector<double> samples;
       for (size_t p = first; p < end; ++p) {
         if (states[p].metrics[m]) samples.push_back(*states[p].metrics[m]);
       }
-      const SampleSummary stats = Summarize(samples);
-      for (const std::string& value : points[first].values) summary += CsvField(value) + ",";
-      summary += CsvField(metrics[m]) + "," + std::to_string(stats.n) + "," + Number(stats.mean) +
-                 "," + Number(stats.standard_deviation) + "," + Number(stats.ci95_half_width) +
-                 "\n";
+      rows.push_back({first, m, Summarize(samples)});
     }
     first = end;
   }
-  WriteWholeFile(out_dir + "/summary.csv", summary);
+  return rows;
 }
 
 }  // namespace sitlnet::sweep

@@ -173,8 +173,14 @@ SweepReport RunSweep(const SweepOptions& options) {
     states.push_back(ReadPointState(options.out_dir + "/" + point.folder, metrics));
   }
   WriteResults(options.out_dir, options.axes, points, states, metrics);
-  std::fprintf(stderr, "sitlnet sweep: %s/points.csv, %s/summary.csv (%d run, %d failed%s)\n",
-               options.out_dir.c_str(), options.out_dir.c_str(), report.ran, report.failed,
+  std::string warning;
+  const std::vector<std::string> plots =
+      DrawPlots(options.out_dir, options.axes, points,
+                SummarizeCombinations(points, states, metrics.size()), metrics, &warning);
+  if (!warning.empty()) std::fprintf(stderr, "sitlnet sweep: warning: %s\n", warning.c_str());
+  std::fprintf(stderr, "sitlnet sweep: %s/points.csv, %s/summary.csv, %zu plots (%d run, %d failed%s)\n",
+               options.out_dir.c_str(), options.out_dir.c_str(), plots.size(), report.ran,
+               report.failed,
                report.interrupted ? ", interrupted: rerun the same command to resume" : "");
   report.exit_code = report.interrupted                          ? 130
                      : report.failed > 0 || report.not_run > 0 ? 1

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -193,6 +194,32 @@ TEST_F(SweepResumeTest, PointsRunOneByOneThenCollectedGiveTheSweepsTables) {
   } catch (const Error& error) {
     EXPECT_EQ(std::string(error.what()), "--point 6: the sweep has 6 points (0 to 5)");
   }
+}
+
+// Plots (issue 48, item 2): the stand-in's metric is its seed, so each rate's mean over seeds
+// 1-3 is 2 and its 95 % interval half-width is t(0.975, 2) / sqrt(3) = 4.302653 / 1.732051 =
+// 2.48413 (the published t table). gnuplot draws one PNG per metric and swept field.
+TEST_F(SweepResumeTest, PlotsTheMeanWithItsIntervalAgainstEachSweptField) {
+  SweepOptions options = Options();
+  options.axes.push_back({"timing.duration_ms", {"1000"}});  // One value: no plot against it.
+  ASSERT_EQ(RunSweep(options).exit_code, 0);
+  const std::string script = ReadAll(options.out_dir + "/plots.gnuplot");
+  EXPECT_NE(script.find("6 2 2.48413"), std::string::npos) << script;
+  EXPECT_NE(script.find("54 2 2.48413"), std::string::npos) << script;
+  EXPECT_NE(script.find("set output 'plot_metrics_stf_mean_vs_radio_rate_mbps.png'"),
+            std::string::npos)
+      << script;
+  EXPECT_EQ(script.find("vs_timing_duration_ms"), std::string::npos) << script;
+  if (RunProgramQuietly({"gnuplot", "--version"}) != 0) {
+    if (std::getenv("CI") == nullptr || std::string(std::getenv("CI")) != "true") {
+      GTEST_SKIP() << "no gnuplot (apt-get install gnuplot-nox; scripts/setup does)";
+    }
+    FAIL() << "no gnuplot (CI=true: scripts/setup installs it)";
+  }
+  const std::string png = ReadAll(options.out_dir + "/plot_metrics_stf_mean_vs_radio_rate_mbps.png");
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  EXPECT_EQ(ReadAll(options.out_dir + "/plots.log"), "");  // gnuplot said nothing
 }
 
 TEST_F(SweepResumeTest, RefusesABadValueBeforeAnyRun) {
