@@ -33,7 +33,8 @@ bool AllNumbers(const std::vector<std::string>& values) {
 }
 
 // The plot of `metric` against axis `a`: one data block and one line per combination of the other
-// axes' values (in the grid's order), each point its x, mean and interval half-width.
+// axes' values (in the grid's order; axes of one value name no line), each point its x, mean and
+// interval half-width.
 std::string OnePlot(size_t plot, size_t a, size_t metric, const std::vector<SweepAxis>& axes,
                     const std::vector<SweepPoint>& points,
                     const std::vector<CombinationSummary>& rows, const std::string& metric_name,
@@ -48,7 +49,7 @@ std::string OnePlot(size_t plot, size_t a, size_t metric, const std::vector<Swee
     const std::vector<std::string>& values = points[row.first_point].values;
     std::string label;
     for (size_t other = 0; other < axes.size(); ++other) {
-      if (other == a) continue;
+      if (other == a || axes[other].values.size() < 2) continue;  // the same on every line
       label += (label.empty() ? "" : ", ") + axes[other].field_path + "=" + values[other];
     }
     if (data.find(label) == data.end()) labels.push_back(label);
@@ -95,7 +96,8 @@ std::vector<std::string> DrawPlots(const std::string& out_dir, const std::vector
                                    const std::vector<CombinationSummary>& rows,
                                    const std::vector<std::string>& metrics, std::string* warning) {
   std::ostringstream script;
-  script << "set terminal pngcairo size 900,600 font 'sans,10'\nset key outside right\n";
+  // noenhanced: field names' underscores are text, not subscripts.
+  script << "set terminal pngcairo noenhanced size 900,600 font 'sans,10'\nset key below\n";
   std::vector<std::string> pngs;
   try {
     for (size_t a = 0; a < axes.size(); ++a) {
