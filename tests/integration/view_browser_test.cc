@@ -13,10 +13,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 
+#include "runner/loss_log.h"
+#include "runner/outputs.h"
 #include "tests/integration/run_test_util.h"
 
 namespace sitlnet::nns::testing {
@@ -453,6 +456,222 @@ TEST(ViewBrowserTest, LiveViewDrawsTheRunningFlightAsItsTrajectoriesAndLinks) {
   ASSERT_EQ(facts.timelines.size(), 2u) << page.out;
   ExpectTimelineAsTheRunsFiles(facts.timelines, out, /*replay=*/false);
   ExpectNothingLeft(scenario.name);
+}
+
+// The case study at its split (issue 47, item 5): scenarios/arrow_flocking.textproto's robots
+// where a lockstep run with seed 1 had them at 31.0 s (trajectories.csv), the arrow's obstacles,
+// and a GCS relay that heard two of them. Served from a folder this test writes: no flight.
+constexpr double kSplitPositions[4][2] = {
+    {SPLIT_UAV1}, {SPLIT_UAV2}, {SPLIT_UAV3}, {SPLIT_UAV4}};
+// summary.json's gcs_relay as runner/summary.cc writes it: uav1 an ArduCopter in GUIDED
+// (COPTER_MODE 4, ardupilotmega.xml), armed, 90 frames heard and 10 missing; uav2 a PX4 in
+// AUTO.LOITER (main mode 4, sub mode 3: px4_custom_mode.h), disarmed, none missing.
+constexpr char kGcsSummary[] =
+    R"({"scenario":"arrow","gcs_relay":{"endpoints":"udp:127.0.0.1:14550","vehicles":[)"
+    R"({"system_id":1,"address":"10.77.0.1","robot":"uav1","messages":90,"sequence_gaps":10,)"
+    R"("heartbeat":{"type":2,"autopilot":3,"base_mode":217,"custom_mode":4,"armed":true}},)"
+    R"({"system_id":2,"address":"10.77.0.2","robot":"uav2","messages":50,"sequence_gaps":0,)"
+    R"("heartbeat":{"type":2,"autopilot":12,"base_mode":29,"custom_mode":50593792,"armed":false}}]}})";
+
+void WriteText(const std::string& path, const std::string& text, bool gzip = false) {
+  if (!gzip) {
+    std::ofstream(path, std::ios::binary) << text;
+    return;
+  }
+  gzFile file = gzopen(path.c_str(), "wb");
+  ASSERT_NE(file, nullptr) << path;
+  gzwrite(file, text.data(), static_cast<unsigned>(text.size()));
+  gzclose(file);
+}
+
+// A run folder of the case study hovering at its split for 1 s: links of second 0 green along
+// each side of the arrow (uav1-uav3, uav2-uav4) and red across it.
+std::string WriteSplitFolder() {
+  const std::string dir = TempDir() + "/view-case-study-split";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy_file(integration_test::SourceDir() + "/scenarios/arrow_flocking.textproto",
+                             dir + "/scenario.textproto");
+  std::string trajectories = std::string(runner::kTrajectoryHeader) + "\n";
+  for (const char* time : {"0.000", "1.000"}) {
+    for (int robot = 0; robot < 4; ++robot) {
+      char row[256];
+      std::snprintf(row, sizeof row,
+                    "%s,%d,%.4f,%.4f,10.0000,1.000000,0.000000,0.000000,0.000000,0.0000,0.0000,"
+                    "0.0000,47.39774200,8.54559400,498.0000\n",
+                    time, robot, kSplitPositions[robot][0], kSplitPositions[robot][1]);
+      trajectories += row;
+    }
+  }
+  WriteText(dir + "/trajectories.csv", trajectories);
+  std::string links = std::string(runner::kLinkHeader) + "\n";
+  for (int from = 0; from < 4; ++from) {
+    for (int to = 0; to < 4; ++to) {
+      if (from == to) continue;
+      const bool same_side = (from % 2) == (to % 2);  // uav1, uav3 south; uav2, uav4 north
+      links += "0," + std::to_string(from) + "," + std::to_string(to) +
+               (same_side ? ",10,10,1,none,0\n" : ",10,0,0,below_threshold,10\n");
+    }
+  }
+  WriteText(dir + "/links.csv", links);
+  WriteText(dir + "/losses.csv.gz", std::string(runner::kLossHeader) + "\n", /*gzip=*/true);
+  WriteText(dir + "/connectivity.csv",
+            "time_s,components,robot_0,robot_1,robot_2,robot_3\n0.100000,2,0,1,0,1\n");
+  WriteText(dir + "/metrics.csv",
+            "iteration,start_ns,t_phy_ns,t_net_ns,t_total_ns,t_overhead_ns,stf,lag_ns\n"
+            "0,0,1,1,1,0,0.500000,0\n");
+  WriteText(dir + "/summary.json", std::string(kGcsSummary) + "\n");
+  return dir;
+}
+
+struct Box {
+  double x = 0, y = 0, width = 0, height = 0;
+};
+
+// What check_map.cjs printed, by stage ("whole", "fit", "zoom", "pan").
+struct MapFacts {
+  std::vector<std::string> errors;
+  std::map<std::string, std::vector<std::string>> gcs;  // Robot index -> its GCS columns.
+  std::map<std::string, Box> views;                     // width, height in Box::width, height
+  std::map<std::string, double> px_per_m;
+  std::map<std::string, std::map<int, std::pair<double, double>>> robots;
+  std::map<std::string, std::map<int, Box>> labels;
+  std::map<std::string, std::vector<std::vector<double>>> links;  // from, to, x1, y1, x2, y2
+  double anchor_x = 0, anchor_y = 0;
+  std::string selected;
+  int screenshots = 0;
+};
+
+MapFacts ParseMap(const std::string& out) {
+  MapFacts facts;
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream fields(line);
+    std::string kind, stage;
+    fields >> kind;
+    if (kind == "console_error") facts.errors.push_back(line);
+    if (kind == "gcs") {
+      std::string robot;
+      fields >> robot;
+      for (std::string field; fields >> field;) facts.gcs[robot].push_back(field);
+    }
+    if (kind == "view") {
+      Box box;
+      double min_x = 0, max_y = 0;
+      fields >> stage >> box.width >> box.height >> facts.px_per_m[stage] >> min_x >> max_y;
+      facts.views[stage] = box;
+    }
+    if (kind == "robot") {
+      int robot = -1;
+      double x = 0, y = 0;
+      fields >> stage >> robot >> x >> y;
+      facts.robots[stage][robot] = {x, y};
+    }
+    if (kind == "label") {
+      int robot = -1;
+      Box box;
+      fields >> stage >> robot >> box.x >> box.y >> box.width >> box.height;
+      facts.labels[stage][robot] = box;
+    }
+    if (kind == "link") {
+      fields >> stage;
+      std::vector<double> link;
+      for (double value; fields >> value;) link.push_back(value);
+      facts.links[stage].push_back(link);
+    }
+    if (kind == "anchor") fields >> facts.anchor_x >> facts.anchor_y;
+    if (kind == "selected") fields >> facts.selected;
+    if (kind == "screenshot") ++facts.screenshots;
+  }
+  return facts;
+}
+
+bool Overlap(const Box& a, const Box& b) {
+  return std::min(a.x + a.width, b.x + b.width) > std::max(a.x, b.x) &&
+         std::min(a.y + a.height, b.y + b.height) > std::max(a.y, b.y);
+}
+
+TEST(ViewBrowserTest, TheCaseStudySplitShowsTheGcsColumnsLabelsApartAndZoomsPansAndFits) {
+  SITLNET_REQUIRE_SETUP_GROUP("browser", ChromiumMissing());
+  SITLNET_REQUIRE(PlaywrightMissing());
+  const std::string dir = WriteSplitFolder();
+  ViewServer server(dir);
+  ASSERT_FALSE(server.url.empty()) << server.child.out() << server.child.err();
+  const CommandResult page = RunCommand(
+      {"node", PlaywrightDir() + "/test/check_map.cjs", server.url, ArtifactDir(), "1.0"},
+      60 * kNsPerS);
+  kill(server.child.pid(), SIGTERM);
+  EXPECT_EQ(server.child.Wait(10 * kNsPerS), 0) << server.child.err();
+  ASSERT_EQ(page.exit_code, 0) << page.out << page.err;
+  const MapFacts facts = ParseMap(page.out);
+  EXPECT_TRUE(facts.errors.empty()) << page.out;
+  EXPECT_EQ(facts.screenshots, 4);
+
+  // The robot table: system id, GCS mode, armed, loss = gaps / (heard + gaps).
+  using Row = std::vector<std::string>;
+  EXPECT_EQ(facts.gcs.at("0"), (Row{"1", "GUIDED", "true", "0.1"})) << page.out;
+  EXPECT_EQ(facts.gcs.at("1"), (Row{"2", "AUTO.LOITER", "false", "0"})) << page.out;
+  EXPECT_EQ(facts.gcs.at("2"), (Row{"-", "-", "-", "-"})) << page.out;
+  EXPECT_EQ(facts.gcs.at("3"), (Row{"-", "-", "-", "-"})) << page.out;
+
+  for (const char* stage : {"whole", "fit", "zoom", "pan"}) {
+    SCOPED_TRACE(stage);
+    // No two labels' boxes overlap.
+    const std::map<int, Box>& labels = facts.labels.at(stage);
+    ASSERT_EQ(labels.size(), 4u) << page.out;
+    for (auto a = labels.begin(); a != labels.end(); ++a) {
+      for (auto b = std::next(a); b != labels.end(); ++b) {
+        EXPECT_FALSE(Overlap(a->second, b->second)) << "labels of robots " << a->first << " and "
+                                                    << b->first << "\n" << page.out;
+      }
+    }
+    // Each link drawn from its robot to the other, kLinkOffsetPx (2.5 px) to its right.
+    const auto& robots = facts.robots.at(stage);
+    ASSERT_EQ(facts.links.at(stage).size(), 12u) << page.out;
+    for (const std::vector<double>& link : facts.links.at(stage)) {
+      ASSERT_EQ(link.size(), 6u);
+      const auto [fx, fy] = robots.at(static_cast<int>(link[0]));
+      const auto [tx, ty] = robots.at(static_cast<int>(link[1]));
+      EXPECT_NEAR(std::hypot(link[2] - fx, link[3] - fy), 2.5, 0.6) << page.out;
+      EXPECT_NEAR(std::hypot(link[4] - tx, link[5] - ty), 2.5, 0.6) << page.out;
+    }
+  }
+  // Fit the fleet: every robot inside the map, the fleet larger than on the whole field and at
+  // least half the map across.
+  const Box& view = facts.views.at("fit");
+  double min_x = 1e9, max_x = -1e9, min_y = 1e9, max_y = -1e9;
+  for (const auto& [robot, centre] : facts.robots.at("fit")) {
+    EXPECT_GT(centre.first, 0);
+    EXPECT_LT(centre.first, view.width);
+    EXPECT_GT(centre.second, 0);
+    EXPECT_LT(centre.second, view.height);
+    min_x = std::min(min_x, centre.first);
+    max_x = std::max(max_x, centre.first);
+    min_y = std::min(min_y, centre.second);
+    max_y = std::max(max_y, centre.second);
+  }
+  EXPECT_GT(facts.px_per_m.at("fit"), 2 * facts.px_per_m.at("whole"));
+  EXPECT_TRUE(max_x - min_x > view.width / 2 || max_y - min_y > view.height / 2) << page.out;
+  // The wheel zoomed in about robot 0, which stayed under the pointer; the others moved away
+  // from it by the scale's ratio.
+  const double zoom = facts.px_per_m.at("zoom") / facts.px_per_m.at("fit");
+  EXPECT_GT(zoom, 1.2);
+  const auto& fit = facts.robots.at("fit");
+  const auto& zoomed = facts.robots.at("zoom");
+  EXPECT_NEAR(zoomed.at(0).first, facts.anchor_x, 1.0);
+  EXPECT_NEAR(zoomed.at(0).second, facts.anchor_y, 1.0);
+  for (int robot = 1; robot < 4; ++robot) {
+    EXPECT_NEAR(zoomed.at(robot).first - facts.anchor_x,
+                zoom * (fit.at(robot).first - facts.anchor_x), 1.0);
+    EXPECT_NEAR(zoomed.at(robot).second - facts.anchor_y,
+                zoom * (fit.at(robot).second - facts.anchor_y), 1.0);
+  }
+  // The drag moved every robot with the pointer, and selected no link.
+  for (int robot = 0; robot < 4; ++robot) {
+    EXPECT_NEAR(facts.robots.at("pan").at(robot).first, zoomed.at(robot).first + 60, 1.0);
+    EXPECT_NEAR(facts.robots.at("pan").at(robot).second, zoomed.at(robot).second + 40, 1.0);
+  }
+  EXPECT_EQ(facts.selected, "-");
 }
 
 // The refusals are one line each, before anything is served.
