@@ -10,6 +10,7 @@ import { placeLabels } from './labels.js';
 
 const kMaxWidthPx = 900;
 const kMaxHeightPx = 640;
+const kMinHeightPx = 480;  // A wide field still leaves room to zoom in on the fleet.
 const kMarginM = 3;
 const kLinkOffsetPx = 2.5;  // A->B and B->A drawn side by side, both clickable.
 const kLinkHitPx = 4;  // A click this close to a link selects it (the nearest).
@@ -50,9 +51,11 @@ export class MapView {
     const heightM = this.maxY - (Math.min(...ys) - kMarginM);
     this.pxPerM = Math.min(kMaxWidthPx / widthM, kMaxHeightPx / heightM);
     this.bounds = [this.minX, this.minX + widthM, this.maxY - heightM, this.maxY];
-    this.whole = { minX: this.minX, maxY: this.maxY, pxPerM: this.pxPerM };
     this.widthPx = Math.ceil(widthM * this.pxPerM);
-    this.heightPx = Math.ceil(heightM * this.pxPerM);
+    this.heightPx = Math.max(Math.ceil(heightM * this.pxPerM), kMinHeightPx);
+    // Centred vertically when the svg is taller than the field.
+    this.maxY += (this.heightPx / this.pxPerM - heightM) / 2;
+    this.whole = { minX: this.minX, maxY: this.maxY, pxPerM: this.pxPerM };
     this.userMoved = false;  // Zoomed, panned or fitted by the user: live keeps this view.
     select(svgElement).selectAll('*').remove();
     this.svg = select(svgElement)

@@ -1,5 +1,6 @@
 // Debian's Chromium, headless, driven by playwright-core (no browser of its own), as the view's
 // browser tests and benchmarks start it: a fresh profile, no network of its own, 1400 x 800.
+// And the robot table's GCS columns, as the tests read them.
 const fs = require('node:fs');
 const os = require('node:os');
 const path = require('node:path');
@@ -35,4 +36,12 @@ function printErrors(page) {
   });
 }
 
-module.exports = { openBrowser, printErrors };
+// The robot table's rows as [index, system id, GCS mode, armed, loss], "-" where empty and
+// spaces in a mode as "_" (one word a field).
+async function gcsRows(page) {
+  return page.$$eval('#robots tbody tr', (trs) => trs.map((tr) => [tr.dataset.robot,
+    tr.dataset.systemId, tr.dataset.gcsMode, tr.dataset.armed, tr.dataset.loss]
+    .map((v) => (v === undefined || v === '' ? '-' : v.replace(/ /g, '_')))));
+}
+
+module.exports = { gcsRows, openBrowser, printErrors };

@@ -2,7 +2,7 @@
 // (ViewBrowserTest.TheCaseStudySplit...), which holds the oracles: the robot table's GCS columns,
 // labels that do not overlap, fit the fleet, the wheel's zoom and a drag's pan.
 // Usage: node check_map.cjs URL ARTIFACT_DIR TIME_S
-// Prints one fact a line (px are CSS px from the svg's top-left corner):
+// Prints one fact a line (px are CSS px from the drawing's top-left corner, inside the border):
 //   console_error TEXT                       every console error, page error and failed request
 //   gcs INDEX SYSTEM_ID MODE ARMED LOSS      a robot table row's GCS columns ("-": none)
 //   view STAGE WIDTH_PX HEIGHT_PX PX_PER_M MIN_X_M MAX_Y_M   the svg and its scale
@@ -16,20 +16,22 @@
 // notches in, over robot 0), pan (then a drag of +60, +40 px from the svg's middle).
 const path = require('node:path');
 const fs = require('node:fs');
-const { openBrowser, printErrors } = require('./browser.cjs');
+const { gcsRows, openBrowser, printErrors } = require('./browser.cjs');
 
 // The map's facts, read in one go.
 async function readMap(page, stage) {
   const facts = await page.evaluate(() => {
     const svg = document.getElementById('map');
-    const origin = svg.getBoundingClientRect();
+    const outer = svg.getBoundingClientRect();
+    // The drawing's origin: inside the svg's border, where its px coordinates start.
+    const origin = { x: outer.x + svg.clientLeft, y: outer.y + svg.clientTop };
     const rel = (box) => [box.x - origin.x, box.y - origin.y, box.width, box.height];
     const centre = (el) => {
       const [x, y, w, h] = rel(el.getBoundingClientRect());
       return [x + w / 2, y + h / 2];
     };
     return {
-      view: [origin.width, origin.height, svg.dataset.pxPerM, svg.dataset.minXM, svg.dataset.maxYM],
+      view: [svg.clientWidth, svg.clientHeight, svg.dataset.pxPerM, svg.dataset.minXM, svg.dataset.maxYM],
       robots: [...svg.querySelectorAll('circle.robot')].map((c) => [c.dataset.robot, ...centre(c)]),
       labels: [...svg.querySelectorAll('text.robot-label')].map((t) =>
         [t.dataset.robot, ...rel(t.getBoundingClientRect())]),
@@ -61,10 +63,7 @@ async function main() {
       slider.value = t;
       slider.dispatchEvent(new Event('input'));
     }, time);
-    const rows = await page.$$eval('#robots tbody tr', (trs) => trs.map((tr) => [tr.dataset.robot,
-      tr.dataset.systemId, tr.dataset.gcsMode, tr.dataset.armed, tr.dataset.loss]
-      .map((v) => (v === undefined || v === '' ? '-' : v.replace(/ /g, '_')))));
-    for (const row of rows) console.log(`gcs ${row.join(' ')}`);
+    for (const row of await gcsRows(page)) console.log(`gcs ${row.join(' ')}`);
     await readMap(page, 'whole');
     await shot('map-whole.png');
 
@@ -74,7 +73,7 @@ async function main() {
 
     const svgBox = await page.$eval('#map', (svg) => {
       const b = svg.getBoundingClientRect();
-      return { x: b.x, y: b.y, width: b.width, height: b.height };
+      return { x: b.x + svg.clientLeft, y: b.y + svg.clientTop, width: svg.clientWidth, height: svg.clientHeight };
     });
     const [, ax, ay] = fit.robots.find((r) => r[0] === '0');
     console.log(`anchor ${ax} ${ay}`);
