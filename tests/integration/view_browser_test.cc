@@ -678,6 +678,81 @@ TEST(ViewBrowserTest, TheCaseStudySplitShowsTheGcsColumnsLabelsApartAndZoomsPans
   EXPECT_EQ(facts.selected, "-");
 }
 
+// `sitlnet run --view` with a GCS relay (issue 47, item 5): a ground station and two of sitlnet's
+// test autopilots, which send it HEARTBEATs once armed (MAV_AUTOPILOT_GENERIC, custom mode 0,
+// MAV_MODE_FLAG_SAFETY_ARMED) with system id = robot index + 1. The page must show each vehicle in
+// its own robot's row: the relay names the robot by the address its frames came from.
+TEST(ViewBrowserTest, TheLiveViewShowsEachRelayedVehicleInItsRobotsRow) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE_SETUP_GROUP("browser", ChromiumMissing());
+  SITLNET_REQUIRE(PlaywrightMissing());
+  constexpr int kSlot = 9;
+  const std::string station = WlanPrefix(kSlot) + "1";
+  const RunScenario scenario = WriteScenario(
+      kSlot,
+      "robot { name: \"gcs\" position_m { x: 0 y: -10 z: 2 } ground_station: true }\n"
+      "robot { name: \"ap\" position_m { x: 0 y: 0 z: 0.2 } image: \"test_autopilot\" "
+      "ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", \"--telemetry\", \"" +
+          station + ":14550\"] }\n" +
+          "robot { name: \"px\" position_m { x: 5 y: 0 z: 0.2 } image: \"test_autopilot\" "
+          "px4_sim_port: 4560 args: [\"--px4-port\", \"4560\", \"--telemetry\", \"" +
+          station + ":14550\"] }\n",
+      "timing { duration_ms: 3600000 pacing: PACING_LOCKSTEP }\n");
+  DownGuard guard(scenario.name);
+  // A GCS port that takes the relay's datagrams and reads none.
+  const int gcs = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(gcs, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof address;
+  ASSERT_EQ(bind(gcs, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+  ASSERT_EQ(getsockname(gcs, reinterpret_cast<sockaddr*>(&address), &length), 0);
+  const std::string out = TempDir() + "/" + scenario.name + "-live-gcs";
+  integration_test::Child run({integration_test::SitlnetBinary(), "run", scenario.path, "--out",
+                               out, "--no-progress", "--view", "127.0.0.1:0", "--gcs",
+                               "udp:127.0.0.1:" + std::to_string(ntohs(address.sin_port))});
+  ASSERT_TRUE(run.WaitForOutput(true, "/\n", 30 * kNsPerS)) << run.err();
+  const size_t at = run.err().find("live view at http://");
+  ASSERT_NE(at, std::string::npos) << run.err();
+  const std::string url = run.err().substr(at + 13, run.err().find('\n', at) - at - 13);
+
+  const CommandResult page = RunCommand(
+      {"node", PlaywrightDir() + "/test/check_live_gcs.cjs", url, ArtifactDir(), "2"},
+      90 * kNsPerS);
+  kill(run.pid(), SIGINT);
+  EXPECT_EQ(run.Wait(60 * kNsPerS), 130) << run.err();
+  close(gcs);
+  ASSERT_EQ(page.exit_code, 0) << page.out << page.err;
+  EXPECT_EQ(page.out.find("console_error"), std::string::npos) << page.out;
+  std::map<std::string, std::vector<std::string>> rows;
+  std::map<std::string, std::string> statuses;
+  std::istringstream lines(page.out);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream fields(line);
+    std::string kind, robot;
+    fields >> kind >> robot;
+    if (kind == "gcs") {
+      for (std::string field; fields >> field;) rows[robot].push_back(field);
+    }
+    if (kind == "status") std::getline(fields >> std::ws, statuses[robot]);
+  }
+  using Row = std::vector<std::string>;
+  EXPECT_EQ(rows["0"], (Row{"-", "-", "-", "-"})) << page.out;  // The station sent nothing.
+  for (const auto& [robot, system_id] : {std::pair{"1", "2"}, std::pair{"2", "3"}}) {
+    ASSERT_EQ(rows[robot].size(), 4u) << page.out;
+    EXPECT_EQ(rows[robot][0], system_id) << page.out;
+    EXPECT_EQ(rows[robot][1], "custom_mode_0") << page.out;
+    EXPECT_EQ(rows[robot][2], "true") << page.out;
+    const double loss = std::stod(rows[robot][3]);
+    EXPECT_GE(loss, 0);
+    EXPECT_LE(loss, 1);
+    EXPECT_EQ(statuses[robot].rfind("custom mode 0 · armed · ", 0), 0u) << statuses[robot];
+  }
+  EXPECT_EQ(statuses["0"], "");
+  ExpectNothingLeft(scenario.name);
+}
+
 // The refusals are one line each, before anything is served.
 TEST(ViewBrowserTest, APortInUseANonLocalAddressAndAnIncompleteFolderAreOneLine) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
