@@ -307,6 +307,22 @@ std::string ArtifactDir() {
   return std::string(build ? build : TempDir().c_str()) + "/tests/artifacts/view_browser";
 }
 
+// A socket of `type` bound to a free port of 127.0.0.1 (*port), or -1.
+int LoopbackSocket(int type, int* port) {
+  const int fd = socket(AF_INET, type | SOCK_CLOEXEC, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof address;
+  if (fd < 0 || bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 ||
+      getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
+    if (fd >= 0) close(fd);
+    return -1;
+  }
+  *port = ntohs(address.sin_port);
+  return fd;
+}
+
 // `sitlnet view DIR ARGS...` in the background, and the URL it prints.
 struct ViewServer {
   explicit ViewServer(const std::string& dir)
@@ -687,31 +703,17 @@ TEST(ViewBrowserTest, TheLiveViewShowsEachRelayedVehicleInItsRobotsRow) {
   SITLNET_REQUIRE_SETUP_GROUP("browser", ChromiumMissing());
   SITLNET_REQUIRE(PlaywrightMissing());
   constexpr int kSlot = 9;
-  const std::string station = WlanPrefix(kSlot) + "1";
   const RunScenario scenario = WriteScenario(
-      kSlot,
-      "robot { name: \"gcs\" position_m { x: 0 y: -10 z: 2 } ground_station: true }\n"
-      "robot { name: \"ap\" position_m { x: 0 y: 0 z: 0.2 } image: \"test_autopilot\" "
-      "ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", \"--telemetry\", \"" +
-          station + ":14550\"] }\n" +
-          "robot { name: \"px\" position_m { x: 5 y: 0 z: 0.2 } image: \"test_autopilot\" "
-          "px4_sim_port: 4560 args: [\"--px4-port\", \"4560\", \"--telemetry\", \"" +
-          station + ":14550\"] }\n",
-      "timing { duration_ms: 3600000 pacing: PACING_LOCKSTEP }\n");
+      kSlot, RelayFleetRobots(kSlot), "timing { duration_ms: 3600000 pacing: PACING_LOCKSTEP }\n");
   DownGuard guard(scenario.name);
   // A GCS port that takes the relay's datagrams and reads none.
-  const int gcs = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  int gcs_port = 0;
+  const int gcs = LoopbackSocket(SOCK_DGRAM, &gcs_port);
   ASSERT_GE(gcs, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t length = sizeof address;
-  ASSERT_EQ(bind(gcs, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
-  ASSERT_EQ(getsockname(gcs, reinterpret_cast<sockaddr*>(&address), &length), 0);
   const std::string out = TempDir() + "/" + scenario.name + "-live-gcs";
   integration_test::Child run({integration_test::SitlnetBinary(), "run", scenario.path, "--out",
                                out, "--no-progress", "--view", "127.0.0.1:0", "--gcs",
-                               "udp:127.0.0.1:" + std::to_string(ntohs(address.sin_port))});
+                               "udp:127.0.0.1:" + std::to_string(gcs_port)});
   ASSERT_TRUE(run.WaitForOutput(true, "/\n", 30 * kNsPerS)) << run.err();
   const size_t at = run.err().find("live view at http://");
   ASSERT_NE(at, std::string::npos) << run.err();
@@ -761,16 +763,11 @@ TEST(ViewBrowserTest, APortInUseANonLocalAddressAndAnIncompleteFolderAreOneLine)
   ASSERT_FALSE(dir.empty()) << why;
   const std::string sitlnet = integration_test::SitlnetBinary();
 
-  const int taken = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  int taken_port = 0;
+  const int taken = LoopbackSocket(SOCK_STREAM, &taken_port);
   ASSERT_GE(taken, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t length = sizeof address;
-  ASSERT_EQ(bind(taken, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
   ASSERT_EQ(listen(taken, 1), 0);
-  ASSERT_EQ(getsockname(taken, reinterpret_cast<sockaddr*>(&address), &length), 0);
-  const std::string in_use = "127.0.0.1:" + std::to_string(ntohs(address.sin_port));
+  const std::string in_use = "127.0.0.1:" + std::to_string(taken_port);
   const CommandResult busy = RunCommand({sitlnet, "view", dir, "--listen", in_use});
   close(taken);
   EXPECT_EQ(busy.exit_code, 1);
