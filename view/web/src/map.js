@@ -18,6 +18,7 @@ const kDragPx = 3;  // A press that moves farther than this pans, and is no clic
 const kWheelZoomPerPx = 0.002;  // exp(-deltaY * this): about 1.2 per notch of 100 px.
 const kFleetMarginM = 5;  // Fit the fleet: at least this much room around the robots,
 const kFleetMarginShare = 0.15;  // or this share of their spread, whichever is larger.
+const kLabelSizesKept = 1024;  // Label texts whose measured size is kept.
 
 export const ratioColour = scaleLinear().domain([0, 0.5, 1]).range(['#d62728', '#ff9f1a', '#2ca02c']);
 
@@ -115,9 +116,10 @@ export class MapView {
     this.fitBox(x0 - margin, x1 + margin, y0 - margin, y1 + margin);
   }
 
-  // Back to the whole field, as first drawn.
+  // Back to the whole field, as first drawn; live, the page follows the fleet again.
   fitAll() {
     this.setView(this.whole);
+    this.userMoved = false;
   }
 
   // The wheel: zoom about the pointer, which keeps the point under it.
@@ -216,6 +218,8 @@ export class MapView {
   labelSize(label, key) {
     let size = this.labelSizes.get(key);
     if (!size) {
+      // Live, a loss in a label changes often: forget old texts rather than grow without end.
+      if (this.labelSizes.size >= kLabelSizesKept) this.labelSizes.clear();
       const saved = label.getAttribute('transform');
       label.removeAttribute('transform');
       const box = label.getBBox();
