@@ -35,10 +35,10 @@ CoordinatedRun::CoordinatedRun(RunParts* setup, RunPhysics* physics, const RunOp
                      ? std::make_unique<GcsRelayClock>(setup->gcs_relay(), &setup->run_timebase(),
                                                        setup->lockstep())
                      : nullptr),
-      gcs_live_(setup->gcs_relay() && options.live != nullptr
-                    ? std::make_unique<GcsRelayLive>(&setup->scenario(), setup->gcs_relay(),
-                                                     options.live)
-                    : nullptr),
+      gcs_live_(
+          setup->gcs_relay() && options.live != nullptr
+              ? std::make_unique<GcsRelayLive>(&setup->scenario(), setup->gcs_relay(), options.live)
+              : nullptr),
       observed_network_(&bridge_sim_, NetworkObservers(&supervisor_, &progress_, gcs_clock_.get(),
                                                        gcs_live_.get())),
       // The bridge is single-threaded: always the coordinator's own thread.

@@ -36,7 +36,7 @@ struct LiveVehicle {
   int robot = -1;  // Robot index; -1: no robot of the scenario has the sender's address.
   uint8_t system_id = 0;
   uint64_t messages = 0;
-  uint64_t sequence_gaps = 0;  // Frames missing by sequence numbers: MAVLink loss over the radio.
+  uint64_t sequence_gaps = 0;   // Frames missing by sequence numbers: MAVLink loss over the radio.
   bool heartbeat_seen = false;  // An autopilot's HEARTBEAT; the fields below are its latest.
   uint8_t type = 0, autopilot = 0, base_mode = 0;  // MAV_TYPE, MAV_AUTOPILOT, MAV_MODE_FLAG
   uint32_t custom_mode = 0;

@@ -53,7 +53,8 @@ std::string ConnectivityJson(const std::vector<ConnectivitySample>& samples) {
 
 // What the GCS heard of each vehicle: a JSON array by system id, each with the address it sent
 // from and the robot that has that address (null: none).
-std::string VehiclesJson(const Scenario& scenario, const std::vector<gcs::VehicleCounters>& vehicles) {
+std::string VehiclesJson(const Scenario& scenario,
+                         const std::vector<gcs::VehicleCounters>& vehicles) {
   std::string json = "[";
   for (const gcs::VehicleCounters& v : vehicles) {
     const int robot = RobotOfAddress(scenario, v.address);

@@ -55,7 +55,8 @@ GcsVehicle VehicleOfJson(const Struct& object, const std::vector<std::string>& r
                             static_cast<uint8_t>(NumberMember(h, "base_mode")),
                             static_cast<uint32_t>(NumberMember(h, "custom_mode")));
     const Value* armed = Member(h, "armed");
-    vehicle.armed = armed != nullptr && armed->kind_case() == Value::kBoolValue && armed->bool_value();
+    vehicle.armed =
+        armed != nullptr && armed->kind_case() == Value::kBoolValue && armed->bool_value();
   }
   return vehicle;
 }
@@ -100,9 +101,9 @@ std::string GcsVehiclesArray(const std::vector<GcsVehicle>& vehicles) {
            ",\"armed\":" + (v.heartbeat_seen ? (v.armed ? "true" : "false") : "null") +
            ",\"messages\":" + std::to_string(v.messages) +
            ",\"sequence_gaps\":" + std::to_string(v.sequence_gaps) + ",\"loss\":" +
-           (expected == 0 ? "null"
-                          : Number(static_cast<double>(v.sequence_gaps) /
-                                   static_cast<double>(expected))) +
+           (expected == 0
+                ? "null"
+                : Number(static_cast<double>(v.sequence_gaps) / static_cast<double>(expected))) +
            "}";
   });
 }

@@ -32,7 +32,8 @@ std::string LiveJson(const LiveSnapshot& snapshot, const std::vector<ModeChange>
   json += ",\"skipped_updates\":" + std::to_string(snapshot.skipped_updates);
   json += ",\"modes\":" + ModeChangesArray(modes);
   std::vector<GcsVehicle> vehicles;
-  for (const runner::LiveVehicle& vehicle : snapshot.vehicles) vehicles.push_back(GcsVehicleOf(vehicle));
+  for (const runner::LiveVehicle& vehicle : snapshot.vehicles)
+    vehicles.push_back(GcsVehicleOf(vehicle));
   json += ",\"gcs_time_s\":" +
           (snapshot.vehicles_time_ns < 0 ? "null" : Seconds(snapshot.vehicles_time_ns));
   json += ",\"gcs\":" + GcsVehiclesArray(vehicles);

@@ -150,8 +150,8 @@ TEST(GcsRelayTest, AHostGcsHearsEveryVehicleCommandsEachAndJunkNeverReachesTheRa
     EXPECT_NE(summary.find("\"armed\":true", at), std::string::npos) << summary;
     // Its robot: the test autopilot's system id is its robot index + 1 (the view's row for it).
     const char* robot = sysid == 2 ? "ap" : "px";
-    EXPECT_NE(summary.find(vehicle + "\"address\":\"" + WlanPrefix(kSlot) +
-                           std::to_string(sysid) + "\",\"robot\":\"" + robot + "\""),
+    EXPECT_NE(summary.find(vehicle + "\"address\":\"" + WlanPrefix(kSlot) + std::to_string(sysid) +
+                           "\",\"robot\":\"" + robot + "\""),
               std::string::npos)
         << summary;
     std::printf("[ measured ] system %d: %d messages, %d missing by sequence, base_mode %d\n",

@@ -641,8 +641,9 @@ TEST(ViewBrowserTest, TheCaseStudySplitShowsTheGcsColumnsLabelsApartAndZoomsPans
     ASSERT_EQ(labels.size(), 4u) << page.out;
     for (auto a = labels.begin(); a != labels.end(); ++a) {
       for (auto b = std::next(a); b != labels.end(); ++b) {
-        EXPECT_FALSE(Overlap(a->second, b->second)) << "labels of robots " << a->first << " and "
-                                                    << b->first << "\n" << page.out;
+        EXPECT_FALSE(Overlap(a->second, b->second))
+            << "labels of robots " << a->first << " and " << b->first << "\n"
+            << page.out;
       }
     }
     // Each link drawn from its robot to the other, kLinkOffsetPx (2.5 px) to its right.
@@ -719,9 +720,9 @@ TEST(ViewBrowserTest, TheLiveViewShowsEachRelayedVehicleInItsRobotsRow) {
   ASSERT_NE(at, std::string::npos) << run.err();
   const std::string url = run.err().substr(at + 13, run.err().find('\n', at) - at - 13);
 
-  const CommandResult page = RunCommand(
-      {"node", PlaywrightDir() + "/test/check_live_gcs.cjs", url, ArtifactDir(), "2"},
-      90 * kNsPerS);
+  const CommandResult page =
+      RunCommand({"node", PlaywrightDir() + "/test/check_live_gcs.cjs", url, ArtifactDir(), "2"},
+                 90 * kNsPerS);
   kill(run.pid(), SIGINT);
   EXPECT_EQ(run.Wait(60 * kNsPerS), 130) << run.err();
   close(gcs);
