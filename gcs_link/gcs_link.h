@@ -54,6 +54,9 @@ struct GcsRelayOptions {
 // autopilot's HEARTBEATs.
 struct VehicleCounters {
   uint8_t system_id = 0;
+  // The sender of the first datagram that carried this system id: the vehicle's radio address,
+  // which names its robot (runner/gcs_relay_stage.h).
+  Ipv4 address;
   uint64_t messages = 0;  // Frames of this system id from the radio.
   // Frames missing by the sequence numbers, per component (each counts 0..255 and wraps): the
   // MAVLink loss the GCS sees over the radio, and frames the vehicle never sent.

@@ -71,7 +71,9 @@ struct GcsRelay::Impl {
         for (int i = 0; i < kMaxStationReadsPerWake && station.Receive(&datagram, &counters); ++i) {
           if (tlog) tlog->AppendDatagram(VirtualNow(), datagram.data(), datagram.size(), &counters);
           ForEachFrame(datagram.data(), datagram.size(),
-                       [this](const uint8_t* frame, size_t bytes) { tally.Count(frame, bytes); });
+                       [this](const uint8_t* frame, size_t bytes) {
+                         tally.Count(frame, bytes, station.last_sender());
+                       });
           for (const auto& host : hosts)
             host->SendToGcs(datagram.data(), datagram.size(), &counters);
         }

@@ -44,6 +44,7 @@ bool StationSocket::Receive(std::vector<uint8_t>* buffer, GcsRelayCounters* coun
   if (n < 0) return false;
   buffer->resize(static_cast<size_t>(n));
   ++counters->from_vehicles;
+  last_sender_ = Ipv4{ntohl(from.sin_addr.s_addr)};
   bool known = false;
   for (const sockaddr_in& vehicle : vehicles_) known = known || SameSender(vehicle, from);
   if (!known && vehicles_.size() < kMaxVehicles) {

@@ -29,6 +29,8 @@ class StationSocket {
   // routes: a frame whose target system (message_target.h) has been heard goes to that system's
   // senders only; a broadcast, a message without a target, or a target not heard yet goes to
   // every vehicle heard so far (a vehicle ignores messages for other system ids).
+  // The sender of the datagram Receive read last (its IPv4 address).
+  Ipv4 last_sender() const { return last_sender_; }
   void SendToVehicles(const uint8_t* frames, size_t size, GcsRelayCounters* counters);
 
  private:
@@ -37,6 +39,7 @@ class StationSocket {
 
   UniqueFd socket_;
   std::vector<sockaddr_in> vehicles_;
+  Ipv4 last_sender_;
   std::map<uint8_t, std::vector<sockaddr_in>> senders_of_system_;  // By MAVLink system id.
 };
 

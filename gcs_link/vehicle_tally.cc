@@ -40,12 +40,13 @@ FrameHeader ReadHeader(const uint8_t* frame) {
 
 }  // namespace
 
-void VehicleTally::Count(const uint8_t* frame, size_t /*bytes*/) {
+void VehicleTally::Count(const uint8_t* frame, size_t /*bytes*/, Ipv4 sender) {
   const FrameHeader header = ReadHeader(frame);
   auto [at, inserted] = vehicles_.try_emplace(header.system_id);
   Vehicle& vehicle = at->second;
   if (inserted) {
     vehicle.counters.system_id = header.system_id;
+    vehicle.counters.address = sender;
     vehicle.last_sequence.fill(-1);
   }
   ++vehicle.counters.messages;

@@ -15,8 +15,8 @@ namespace sitlnet::gcs {
 
 class VehicleTally {
  public:
-  // Counts one whole frame (mavlink::FrameBytes said so).
-  void Count(const uint8_t* frame, size_t bytes);
+  // Counts one whole frame (mavlink::FrameBytes said so), from a datagram sent by `sender`.
+  void Count(const uint8_t* frame, size_t bytes, Ipv4 sender = {});
   // Every vehicle heard, by system id.
   std::vector<VehicleCounters> vehicles() const;
 

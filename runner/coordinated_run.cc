@@ -8,11 +8,14 @@ namespace sitlnet::runner {
 namespace {
 
 // The network side's observers, in the order they are told: the supervisor first (a robot that
-// exited is counted out on the same progress line), then the progress line, then the relay's clock.
+// exited is counted out on the same progress line), then the progress line, then the relay's clock
+// and its report to the live view.
 std::vector<IterationObserver*> NetworkObservers(RobotSupervisor* supervisor,
-                                                 ProgressLine* progress, GcsRelayClock* gcs_clock) {
+                                                 ProgressLine* progress, GcsRelayClock* gcs_clock,
+                                                 GcsRelayLive* gcs_live) {
   std::vector<IterationObserver*> observers = {supervisor, progress};
   if (gcs_clock != nullptr) observers.push_back(gcs_clock);
+  if (gcs_live != nullptr) observers.push_back(gcs_live);
   return observers;
 }
 
@@ -32,7 +35,12 @@ CoordinatedRun::CoordinatedRun(RunParts* setup, RunPhysics* physics, const RunOp
                      ? std::make_unique<GcsRelayClock>(setup->gcs_relay(), &setup->run_timebase(),
                                                        setup->lockstep())
                      : nullptr),
-      observed_network_(&bridge_sim_, NetworkObservers(&supervisor_, &progress_, gcs_clock_.get())),
+      gcs_live_(
+          setup->gcs_relay() && options.live != nullptr
+              ? std::make_unique<GcsRelayLive>(&setup->scenario(), setup->gcs_relay(), options.live)
+              : nullptr),
+      observed_network_(&bridge_sim_, NetworkObservers(&supervisor_, &progress_, gcs_clock_.get(),
+                                                       gcs_live_.get())),
       // The bridge is single-threaded: always the coordinator's own thread.
       network_(coordinator::MakeInProcessConnector("network", coordinator::Role::kNetwork,
                                                    &observed_network_,

@@ -45,6 +45,7 @@ class CoordinatedRun {
   ProgressLine progress_;
   RobotSupervisor supervisor_;
   std::unique_ptr<GcsRelayClock> gcs_clock_;  // Null without a GCS relay.
+  std::unique_ptr<GcsRelayLive> gcs_live_;    // Null without a GCS relay or a live view.
   ObservedSimulator observed_network_;
   std::unique_ptr<coordinator::Connector> network_;
   coordinator::CoordinatorOptions run_options_;

@@ -77,4 +77,26 @@ std::optional<RunReport::GcsRelayReport> StopGcsRelay(gcs::GcsRelay* relay) {
   return report;
 }
 
+int RobotOfAddress(const Scenario& scenario, Ipv4 address) {
+  for (size_t i = 0; i < scenario.robots.size(); ++i) {
+    if (scenario.robots[i].wlan_address == address) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+void GcsRelayLive::IterationEnded(const proto::coord::Start& start) {
+  const TimeNs now_ns = MonotonicNowNs();
+  if (now_ns < next_wall_ns_) return;
+  next_wall_ns_ = now_ns + kPeriodNs;
+  const gcs::GcsRelayCounters counters = relay_.counters();
+  std::vector<LiveVehicle> vehicles;
+  vehicles.reserve(counters.vehicles.size());
+  for (const gcs::VehicleCounters& v : counters.vehicles) {
+    vehicles.push_back({RobotOfAddress(scenario_, v.address), v.system_id, v.messages,
+                        v.sequence_gaps, v.heartbeat_seen, v.type, v.autopilot, v.base_mode,
+                        v.custom_mode, v.armed});
+  }
+  live_.Vehicles(start.end_ns(), vehicles);
+}
+
 }  // namespace sitlnet::runner

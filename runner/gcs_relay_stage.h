@@ -9,6 +9,7 @@
 
 #include "gcs_link/gcs_link.h"
 #include "runner/iteration_observer.h"
+#include "runner/live_sink.h"
 #include "runner/runner.h"
 #include "scenario/scenario.h"
 
@@ -31,6 +32,10 @@ std::unique_ptr<gcs::GcsRelay> StartGcsRelay(const Scenario& scenario,
 // Stops `relay` (null: nothing) and returns what it did for the report, with a line on stderr; a
 // tlog that could not be written is said there too, never fatal.
 std::optional<RunReport::GcsRelayReport> StopGcsRelay(gcs::GcsRelay* relay);
+
+// The index of the robot in `scenario` whose wlan0 address is `address` (a vehicle's
+// VehicleCounters::address), or -1 when no robot has it.
+int RobotOfAddress(const Scenario& scenario, Ipv4 address);
 
 // The relay's clock for gcs.tlog. Realtime pacing: from the first iteration on, the run's
 // timebase (begun by then), so a frame is stamped when the relay read it, as the bridge stamps
@@ -56,6 +61,24 @@ class GcsRelayClock final : public IterationObserver {
   const clock::Timebase& timebase_;
   const bool lockstep_;
   bool timebase_given_ = false;
+};
+
+// Tells the live view what the GCS heard of each vehicle (LiveSink::Vehicles): at the first
+// iteration's end, then at most every kPeriodNs of wall time, a copy of the relay's counters
+// (a lock the relay's thread holds for one wake-up at most). The page asks twice a second.
+class GcsRelayLive final : public IterationObserver {
+ public:
+  static constexpr TimeNs kPeriodNs = 200 * kNsPerMs;
+  // `scenario`, `relay` and `live` must outlive this.
+  GcsRelayLive(const Scenario* scenario, const gcs::GcsRelay* relay, LiveSink* live)
+      : scenario_(*scenario), relay_(*relay), live_(*live) {}
+  void IterationEnded(const proto::coord::Start& start) override;
+
+ private:
+  const Scenario& scenario_;
+  const gcs::GcsRelay& relay_;
+  LiveSink& live_;
+  TimeNs next_wall_ns_ = 0;
 };
 
 }  // namespace sitlnet::runner

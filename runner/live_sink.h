@@ -1,8 +1,8 @@
 // What `sitlnet run --view` is told while the run goes (view/live_feed.h): the robots' poses at
 // every trajectories.csv sample, each second's links as links.csv will count them, each
-// connectivity.csv sample and each second's iteration timing. Called on the run's own threads
-// (physics, coordinator), at most every 100 ms of simulated time each: an implementation must
-// never block or wait.
+// connectivity.csv sample, each second's iteration timing, and what the GCS relay heard. Called
+// on the run's own threads (physics, coordinator), at most every 100 ms of simulated time each:
+// an implementation must never block or wait.
 #ifndef SITLNET_RUNNER_LIVE_SINK_H_
 #define SITLNET_RUNNER_LIVE_SINK_H_
 
@@ -30,6 +30,19 @@ struct LinkRow {
   uint64_t main_cause_frames = 0;
 };
 
+// What the GCS relay heard of one vehicle (a MAVLink system id) so far: gcs::VehicleCounters,
+// with the robot whose radio address sent it.
+struct LiveVehicle {
+  int robot = -1;  // Robot index; -1: no robot of the scenario has the sender's address.
+  uint8_t system_id = 0;
+  uint64_t messages = 0;
+  uint64_t sequence_gaps = 0;   // Frames missing by sequence numbers: MAVLink loss over the radio.
+  bool heartbeat_seen = false;  // An autopilot's HEARTBEAT; the fields below are its latest.
+  uint8_t type = 0, autopilot = 0, base_mode = 0;  // MAV_TYPE, MAV_AUTOPILOT, MAV_MODE_FLAG
+  uint32_t custom_mode = 0;
+  bool armed = false;
+};
+
 class LiveSink {
  public:
   virtual ~LiveSink() = default;
@@ -43,6 +56,9 @@ class LiveSink {
   virtual void Components(TimeNs time_ns, int components, const std::vector<int>& component_of) = 0;
   // Coordinator thread: a simulated second's iterations (metrics.csv), once the next began.
   virtual void Timing(const SecondTiming& second) = 0;
+  // Coordinator thread, a few times a second of wall time in a run with a GCS relay: every
+  // vehicle the relay heard, by system id, at simulated time `time_ns`.
+  virtual void Vehicles(TimeNs /*time_ns*/, const std::vector<LiveVehicle>& /*vehicles*/) {}
 };
 
 }  // namespace sitlnet::runner

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "runner/connectivity.h"
+#include "runner/gcs_relay_stage.h"
 #include "runner/outputs.h"
 
 namespace sitlnet::runner {
@@ -50,12 +51,17 @@ std::string ConnectivityJson(const std::vector<ConnectivitySample>& samples) {
          std::to_string(samples.empty() ? 0 : samples.back().components) + "}";
 }
 
-// What the GCS heard of each vehicle: a JSON array by system id.
-std::string VehiclesJson(const std::vector<gcs::VehicleCounters>& vehicles) {
+// What the GCS heard of each vehicle: a JSON array by system id, each with the address it sent
+// from and the robot that has that address (null: none).
+std::string VehiclesJson(const Scenario& scenario,
+                         const std::vector<gcs::VehicleCounters>& vehicles) {
   std::string json = "[";
   for (const gcs::VehicleCounters& v : vehicles) {
+    const int robot = RobotOfAddress(scenario, v.address);
     json += (json.size() > 1 ? ",{" : "{") + std::string("\"system_id\":") +
-            std::to_string(v.system_id) + ",\"messages\":" + std::to_string(v.messages) +
+            std::to_string(v.system_id) + ",\"address\":" + Quote(FormatIpv4(v.address)) +
+            ",\"robot\":" + (robot < 0 ? "null" : Quote(scenario.robots[robot].name)) +
+            ",\"messages\":" + std::to_string(v.messages) +
             ",\"sequence_gaps\":" + std::to_string(v.sequence_gaps) + ",\"heartbeat\":";
     if (!v.heartbeat_seen) {
       json += "null}";
@@ -71,7 +77,7 @@ std::string VehiclesJson(const std::vector<gcs::VehicleCounters>& vehicles) {
 }
 
 // The GCS relay's endpoints and counters; "null" without a relay.
-std::string GcsRelayJson(const RunReport& report) {
+std::string GcsRelayJson(const Scenario& scenario, const RunReport& report) {
   if (!report.gcs_relay) return "null";
   const gcs::GcsRelayCounters& c = report.gcs_relay->counters;
   const auto field = [](const char* name, uint64_t value) {
@@ -85,7 +91,7 @@ std::string GcsRelayJson(const RunReport& report) {
          field("to_vehicles", c.to_vehicles) + field("to_vehicles_routed", c.to_vehicles_routed) +
          field("to_vehicles_failed", c.to_vehicles_failed) + field("gcs_clients", c.gcs_clients) +
          field("tlog_frames", c.tlog_frames) + field("tlog_bytes_skipped", c.tlog_bytes_skipped) +
-         ",\"vehicles\":" + VehiclesJson(c.vehicles) + "}";
+         ",\"vehicles\":" + VehiclesJson(scenario, c.vehicles) + "}";
 }
 
 // The robot's physics counters; "null" when its physics ran on a node host (issue 35).
@@ -258,7 +264,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
     json += "null";
   }
   json += ",\"fleet_links\":" + FleetLinksJson(report);
-  json += ",\"gcs_relay\":" + GcsRelayJson(report);
+  json += ",\"gcs_relay\":" + GcsRelayJson(scenario, report);
   json += ",\"fleet_realtime\":" + FleetRealtimeJson(report);
   json += ",\"robots\":[";
   for (int i = 0; i < robot_count; ++i) {

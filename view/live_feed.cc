@@ -55,6 +55,13 @@ void LiveFeed::Timing(const runner::SecondTiming& second) {
   });
 }
 
+void LiveFeed::Vehicles(TimeNs time_ns, const std::vector<runner::LiveVehicle>& vehicles) {
+  TryUpdate([&](LiveSnapshot& shared) {
+    shared.vehicles_time_ns = time_ns;
+    shared.vehicles = vehicles;
+  });
+}
+
 LiveSnapshot LiveFeed::Snapshot() const {
   std::lock_guard lock(mutex_);
   LiveSnapshot copy = shared_;

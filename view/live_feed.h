@@ -1,5 +1,6 @@
 // What the live view shows of a running run: the latest poses, a trail per robot, the latest
-// second's links, and the timeline (connectivity components, timing per second). The run's
+// second's links, the timeline (connectivity components, timing per second), and what the GCS
+// relay heard of each vehicle. The run's
 // threads write it through runner::LiveSink without ever waiting: an update that finds the
 // server reading is skipped (and counted).
 #ifndef SITLNET_VIEW_LIVE_FEED_H_
@@ -29,6 +30,8 @@ struct LiveSnapshot {
   TimeNs components_time_ns = -1;  // Of the latest connectivity sample; -1 before the first.
   std::vector<ComponentsChange> connectivity;  // Where the components changed, the last ones.
   std::vector<runner::SecondTiming> timing;    // The last seconds' timing.
+  TimeNs vehicles_time_ns = -1;  // Of `vehicles`; -1 before the first (or without a GCS relay).
+  std::vector<runner::LiveVehicle> vehicles;  // What the GCS relay heard, by system id.
   uint64_t skipped_updates = 0;
 };
 
@@ -46,6 +49,7 @@ class LiveFeed final : public runner::LiveSink {
   void Links(int64_t second, const std::vector<runner::LinkRow>& rows) override;
   void Components(TimeNs time_ns, int components, const std::vector<int>& component_of) override;
   void Timing(const runner::SecondTiming& second) override;
+  void Vehicles(TimeNs time_ns, const std::vector<runner::LiveVehicle>& vehicles) override;
   // The server's copy (it waits for the lock; the run's threads never do).
   LiveSnapshot Snapshot() const;
 

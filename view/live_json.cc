@@ -1,5 +1,6 @@
 #include "view/live_json.h"
 
+#include "view/gcs_vehicles.h"
 #include "view/json_text.h"
 #include "view/timeline_json.h"
 
@@ -30,6 +31,12 @@ std::string LiveJson(const LiveSnapshot& snapshot, const std::vector<ModeChange>
   json += "," + TimelineMembers(snapshot.connectivity, snapshot.timing);
   json += ",\"skipped_updates\":" + std::to_string(snapshot.skipped_updates);
   json += ",\"modes\":" + ModeChangesArray(modes);
+  std::vector<GcsVehicle> vehicles;
+  for (const runner::LiveVehicle& vehicle : snapshot.vehicles)
+    vehicles.push_back(GcsVehicleOf(vehicle));
+  json += ",\"gcs_time_s\":" +
+          (snapshot.vehicles_time_ns < 0 ? "null" : Seconds(snapshot.vehicles_time_ns));
+  json += ",\"gcs\":" + GcsVehiclesArray(vehicles);
   return json + "}";
 }
 

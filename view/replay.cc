@@ -65,6 +65,7 @@ void AddReplayDocuments(const RunRecord& record, HttpServer* server) {
   server->Json("/api/timeline", constant(TimelineJson(record)));
   server->Json("/api/modes", constant(ModesJson(record)));
   server->Json("/api/summary", constant(record.summary_json));
+  server->Json("/api/gcs", constant(GcsJson(record)));
   server->Json("/api/frames", [&record](const HttpServer::Params& params) {
     const double from = NumberParam(params, "from");
     const double station = NumberParam(params, "to");

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "runner/loss_log.h"
+#include "view/gcs_vehicles.h"
 #include "view/json_text.h"
 
 namespace sitlnet::view {
@@ -52,6 +53,13 @@ std::string RunJson(const RunRecord& record) {
 
 std::string ModesJson(const RunRecord& record) {
   return "{\"modes\":" + ModeChangesArray(record.modes) + "}";
+}
+
+std::string GcsJson(const RunRecord& record) {
+  std::vector<std::string> names;
+  for (const RobotPlan& robot : record.scenario.robots) names.push_back(robot.name);
+  return "{\"vehicles\":" + GcsVehiclesArray(GcsVehiclesOfSummary(record.summary_json, names)) +
+         "}";
 }
 
 std::string TrajectoriesJson(const RunRecord& record) {

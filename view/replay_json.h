@@ -29,6 +29,10 @@ std::string TimelineJson(const RunRecord& record);
 // in medium.pcap (view/air_modes.h), in time order.
 std::string ModesJson(const RunRecord& record);
 
+// /api/gcs: {"vehicles": [...]} (view/gcs_vehicles.h), what the GCS relay heard of each vehicle
+// by the run's end, from summary.json; an empty list for a run without a relay.
+std::string GcsJson(const RunRecord& record);
+
 // At most this many rows in a /api/frames answer (its `total` counts them all).
 inline constexpr size_t kMaxFrameRows = 2000;
 

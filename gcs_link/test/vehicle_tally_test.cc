@@ -72,5 +72,18 @@ TEST(VehicleTallyTest, AMavlink1HeartbeatIsReadByItsOwnLayout) {
   EXPECT_EQ(vehicles[0].custom_mode, 5u);
 }
 
+// The view names a vehicle's robot by the address its frames came from: the first one heard.
+TEST(VehicleTallyTest, EachSystemKeepsTheAddressOfItsFirstDatagram) {
+  VehicleTally tally;
+  const std::vector<uint8_t> first = Position(0, 2), later = Position(1, 2), other = Position(0, 3);
+  tally.Count(first.data(), first.size(), Ipv4{0x0A4D0002});
+  tally.Count(later.data(), later.size(), Ipv4{0x0A4D0009});
+  tally.Count(other.data(), other.size(), Ipv4{0x0A4D0003});
+  const std::vector<VehicleCounters> vehicles = tally.vehicles();
+  ASSERT_EQ(vehicles.size(), 2u);
+  EXPECT_EQ(FormatIpv4(vehicles[0].address), "10.77.0.2");
+  EXPECT_EQ(FormatIpv4(vehicles[1].address), "10.77.0.3");
+}
+
 }  // namespace
 }  // namespace sitlnet::gcs

@@ -44,14 +44,7 @@ RunScenario WriteRelayScenario(int duration_ms, int slot = kSlot, bool extra_veh
                        "\"9002\", \"--telemetry\", \"" +
                            station + ":14550\"] }\n";
   return WriteScenario(
-      slot,
-      "robot { name: \"gcs\" position_m { x: 0 y: -10 z: 2 } ground_station: true }\n"
-      "robot { name: \"ap\" position_m { x: 0 y: 0 z: 0.2 } image: \"test_autopilot\" "
-      "ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", \"--telemetry\", \"" +
-          station + ":14550\"] }\n" +
-          "robot { name: \"px\" position_m { x: 5 y: 0 z: 0.2 } image: \"test_autopilot\" "
-          "px4_sim_port: 4560 args: [\"--px4-port\", \"4560\", \"--telemetry\", \"" +
-          station + ":14550\"] }\n" + extra,
+      slot, RelayFleetRobots(slot) + extra,
       "timing { duration_ms: " + std::to_string(duration_ms) + " pacing: PACING_REALTIME }\n");
 }
 
@@ -155,6 +148,12 @@ TEST(GcsRelayTest, AHostGcsHearsEveryVehicleCommandsEachAndJunkNeverReachesTheRa
     EXPECT_EQ(decoded.base_mode & 128, 128) << sysid;
     const size_t at = summary.find(vehicle);
     EXPECT_NE(summary.find("\"armed\":true", at), std::string::npos) << summary;
+    // Its robot: the test autopilot's system id is its robot index + 1 (the view's row for it).
+    const char* robot = sysid == 2 ? "ap" : "px";
+    EXPECT_NE(summary.find(vehicle + "\"address\":\"" + WlanPrefix(kSlot) + std::to_string(sysid) +
+                           "\",\"robot\":\"" + robot + "\""),
+              std::string::npos)
+        << summary;
     std::printf("[ measured ] system %d: %d messages, %d missing by sequence, base_mode %d\n",
                 sysid, decoded.messages, decoded.sequence_gaps, decoded.base_mode);
   }

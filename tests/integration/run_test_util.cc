@@ -35,6 +35,17 @@ std::string WlanPrefix(int slot) {
   return "10." + std::to_string(240 + slot) + "." + std::to_string(getpid() % 250) + ".";
 }
 
+std::string RelayFleetRobots(int slot) {
+  const std::string station = WlanPrefix(slot) + "1";
+  return "robot { name: \"gcs\" position_m { x: 0 y: -10 z: 2 } ground_station: true }\n"
+         "robot { name: \"ap\" position_m { x: 0 y: 0 z: 0.2 } image: \"test_autopilot\" "
+         "ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", \"--telemetry\", \"" +
+         station + ":14550\"] }\n" +
+         "robot { name: \"px\" position_m { x: 5 y: 0 z: 0.2 } image: \"test_autopilot\" "
+         "px4_sim_port: 4560 args: [\"--px4-port\", \"4560\", \"--telemetry\", \"" +
+         station + ":14550\"] }\n";
+}
+
 CommandResult SitlnetRun(const RunScenario& scenario, const std::string& out,
                          std::vector<std::string> extra_args) {
   std::vector<std::string> argv = {SitlnetBinary(), "run", scenario.path,

@@ -25,6 +25,11 @@ RunScenario WriteScenario(int slot, const std::string& robots, const std::string
 // The first three octets of a slot's wlan subnet, with the trailing dot: "10.252.17.".
 std::string WlanPrefix(int slot);
 
+// Robot blocks for WriteScenario: a ground station "gcs" at index 0 (no image: `sitlnet run`
+// relays its MAVLink to the host) and two of sitlnet's test autopilots sending it their telemetry,
+// "ap" on ArduPilot's JSON protocol and "px" on PX4's (system ids 2 and 3).
+std::string RelayFleetRobots(int slot);
+
 // `sitlnet run SCENARIO --out OUT --no-progress EXTRA...`, 300 s at most.
 CommandResult SitlnetRun(const RunScenario& scenario, const std::string& out,
                          std::vector<std::string> extra_args);

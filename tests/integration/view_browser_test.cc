@@ -13,10 +13,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 
+#include "runner/loss_log.h"
+#include "runner/outputs.h"
 #include "tests/integration/run_test_util.h"
 
 namespace sitlnet::nns::testing {
@@ -304,6 +307,22 @@ std::string ArtifactDir() {
   return std::string(build ? build : TempDir().c_str()) + "/tests/artifacts/view_browser";
 }
 
+// A socket of `type` bound to a free port of 127.0.0.1 (*port), or -1.
+int LoopbackSocket(int type, int* port) {
+  const int fd = socket(AF_INET, type | SOCK_CLOEXEC, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof address;
+  if (fd < 0 || bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 ||
+      getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
+    if (fd >= 0) close(fd);
+    return -1;
+  }
+  *port = ntohs(address.sin_port);
+  return fd;
+}
+
 // `sitlnet view DIR ARGS...` in the background, and the URL it prints.
 struct ViewServer {
   explicit ViewServer(const std::string& dir)
@@ -455,6 +474,288 @@ TEST(ViewBrowserTest, LiveViewDrawsTheRunningFlightAsItsTrajectoriesAndLinks) {
   ExpectNothingLeft(scenario.name);
 }
 
+// The case study at its split (issue 47, item 5), served from a folder this test writes: no
+// flight. At 1.0 s, scenarios/arrow_flocking.textproto's robots where a lockstep run with seed 1
+// had them at 31.0 s (its trajectories.csv). At 0.0 s they are at their start; at 2.0 s at the
+// corners that run reached (x -4 to 175.55 m, y -18.11 to 18.10 m), so the whole field is as
+// large as that run's, drawn as small. A GCS relay heard two of them.
+constexpr double kSplitTrack[3][4][2] = {
+    {{0, -2}, {0, 2}, {-4, -2}, {-4, 2}},
+    {{16.9453, -10.1694}, {16.9261, 10.1534}, {11.9357, -7.2417}, {11.7817, 7.1608}},
+    {{175.5533, -18.1128}, {175.5533, 18.1031}, {175.5533, -18.1128}, {175.5533, 18.1031}}};
+// summary.json's gcs_relay as runner/summary.cc writes it: uav1 an ArduCopter in GUIDED
+// (COPTER_MODE 4, ardupilotmega.xml), armed, 90 frames heard and 10 missing; uav2 a PX4 in
+// AUTO.LOITER (main mode 4, sub mode 3: px4_custom_mode.h), disarmed, none missing.
+constexpr char kGcsSummary[] =
+    R"({"scenario":"arrow","gcs_relay":{"endpoints":"udp:127.0.0.1:14550","vehicles":[)"
+    R"({"system_id":1,"address":"10.77.0.1","robot":"uav1","messages":90,"sequence_gaps":10,)"
+    R"("heartbeat":{"type":2,"autopilot":3,"base_mode":217,"custom_mode":4,"armed":true}},)"
+    R"({"system_id":2,"address":"10.77.0.2","robot":"uav2","messages":50,"sequence_gaps":0,)"
+    R"("heartbeat":{"type":2,"autopilot":12,"base_mode":29,"custom_mode":50593792,"armed":false}}]}})";
+
+void WriteText(const std::string& path, const std::string& text, bool gzip = false) {
+  if (!gzip) {
+    std::ofstream(path, std::ios::binary) << text;
+    return;
+  }
+  gzFile file = gzopen(path.c_str(), "wb");
+  ASSERT_NE(file, nullptr) << path;
+  gzwrite(file, text.data(), static_cast<unsigned>(text.size()));
+  gzclose(file);
+}
+
+// A run folder of the case study (kSplitTrack): links of second 0, shown at 1.0 s, green along
+// each side of the arrow (uav1-uav3, uav2-uav4) and red across it.
+std::string WriteSplitFolder() {
+  const std::string dir = TempDir() + "/view-case-study-split";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy_file(integration_test::SourceDir() + "/scenarios/arrow_flocking.textproto",
+                             dir + "/scenario.textproto");
+  std::string trajectories = std::string(runner::kTrajectoryHeader) + "\n";
+  for (int sample = 0; sample < 3; ++sample) {
+    for (int robot = 0; robot < 4; ++robot) {
+      char row[256];
+      std::snprintf(row, sizeof row,
+                    "%d.000,%d,%.4f,%.4f,10.0000,1.000000,0.000000,0.000000,0.000000,0.0000,0.0000,"
+                    "0.0000,47.39774200,8.54559400,498.0000\n",
+                    sample, robot, kSplitTrack[sample][robot][0], kSplitTrack[sample][robot][1]);
+      trajectories += row;
+    }
+  }
+  WriteText(dir + "/trajectories.csv", trajectories);
+  std::string links = std::string(runner::kLinkHeader) + "\n";
+  for (int from = 0; from < 4; ++from) {
+    for (int to = 0; to < 4; ++to) {
+      if (from == to) continue;
+      const bool same_side = (from % 2) == (to % 2);  // uav1, uav3 south; uav2, uav4 north
+      links += "0," + std::to_string(from) + "," + std::to_string(to) +
+               (same_side ? ",10,10,1,none,0\n" : ",10,0,0,below_threshold,10\n");
+    }
+  }
+  WriteText(dir + "/links.csv", links);
+  WriteText(dir + "/losses.csv.gz", std::string(runner::kLossHeader) + "\n", /*gzip=*/true);
+  WriteText(dir + "/connectivity.csv",
+            "time_s,components,robot_0,robot_1,robot_2,robot_3\n0.100000,2,0,1,0,1\n");
+  WriteText(dir + "/metrics.csv",
+            "iteration,start_ns,t_phy_ns,t_net_ns,t_total_ns,t_overhead_ns,stf,lag_ns\n"
+            "0,0,1,1,1,0,0.500000,0\n");
+  WriteText(dir + "/summary.json", std::string(kGcsSummary) + "\n");
+  return dir;
+}
+
+struct Box {
+  double x = 0, y = 0, width = 0, height = 0;
+};
+
+// What check_map.cjs printed, by stage ("whole", "fit", "zoom", "pan").
+struct MapFacts {
+  std::vector<std::string> errors;
+  std::map<std::string, std::vector<std::string>> gcs;  // Robot index -> its GCS columns.
+  std::map<std::string, Box> views;                     // width, height in Box::width, height
+  std::map<std::string, double> px_per_m;
+  std::map<std::string, std::map<int, std::pair<double, double>>> robots;
+  std::map<std::string, std::map<int, Box>> labels;
+  std::map<std::string, std::vector<std::vector<double>>> links;  // from, to, x1, y1, x2, y2
+  double anchor_x = 0, anchor_y = 0;
+  std::string selected;
+  int screenshots = 0;
+};
+
+MapFacts ParseMap(const std::string& out) {
+  MapFacts facts;
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream fields(line);
+    std::string kind, stage;
+    fields >> kind;
+    if (kind == "console_error") facts.errors.push_back(line);
+    if (kind == "gcs") {
+      std::string robot;
+      fields >> robot;
+      for (std::string field; fields >> field;) facts.gcs[robot].push_back(field);
+    }
+    if (kind == "view") {
+      Box box;
+      double min_x = 0, max_y = 0;
+      fields >> stage >> box.width >> box.height >> facts.px_per_m[stage] >> min_x >> max_y;
+      facts.views[stage] = box;
+    }
+    if (kind == "robot") {
+      int robot = -1;
+      double x = 0, y = 0;
+      fields >> stage >> robot >> x >> y;
+      facts.robots[stage][robot] = {x, y};
+    }
+    if (kind == "label") {
+      int robot = -1;
+      Box box;
+      fields >> stage >> robot >> box.x >> box.y >> box.width >> box.height;
+      facts.labels[stage][robot] = box;
+    }
+    if (kind == "link") {
+      fields >> stage;
+      std::vector<double> link;
+      for (double value; fields >> value;) link.push_back(value);
+      facts.links[stage].push_back(link);
+    }
+    if (kind == "anchor") fields >> facts.anchor_x >> facts.anchor_y;
+    if (kind == "selected") fields >> facts.selected;
+    if (kind == "screenshot") ++facts.screenshots;
+  }
+  return facts;
+}
+
+bool Overlap(const Box& a, const Box& b) {
+  return std::min(a.x + a.width, b.x + b.width) > std::max(a.x, b.x) &&
+         std::min(a.y + a.height, b.y + b.height) > std::max(a.y, b.y);
+}
+
+TEST(ViewBrowserTest, TheCaseStudySplitShowsTheGcsColumnsLabelsApartAndZoomsPansAndFits) {
+  SITLNET_REQUIRE_SETUP_GROUP("browser", ChromiumMissing());
+  SITLNET_REQUIRE(PlaywrightMissing());
+  const std::string dir = WriteSplitFolder();
+  ViewServer server(dir);
+  ASSERT_FALSE(server.url.empty()) << server.child.out() << server.child.err();
+  const CommandResult page = RunCommand(
+      {"node", PlaywrightDir() + "/test/check_map.cjs", server.url, ArtifactDir(), "1.0"},
+      60 * kNsPerS);
+  kill(server.child.pid(), SIGTERM);
+  EXPECT_EQ(server.child.Wait(10 * kNsPerS), 0) << server.child.err();
+  ASSERT_EQ(page.exit_code, 0) << page.out << page.err;
+  const MapFacts facts = ParseMap(page.out);
+  EXPECT_TRUE(facts.errors.empty()) << page.out;
+  EXPECT_EQ(facts.screenshots, 4);
+
+  // The robot table: system id, GCS mode, armed, loss = gaps / (heard + gaps).
+  using Row = std::vector<std::string>;
+  EXPECT_EQ(facts.gcs.at("0"), (Row{"1", "GUIDED", "true", "0.1"})) << page.out;
+  EXPECT_EQ(facts.gcs.at("1"), (Row{"2", "AUTO.LOITER", "false", "0"})) << page.out;
+  EXPECT_EQ(facts.gcs.at("2"), (Row{"-", "-", "-", "-"})) << page.out;
+  EXPECT_EQ(facts.gcs.at("3"), (Row{"-", "-", "-", "-"})) << page.out;
+
+  for (const char* stage : {"whole", "fit", "zoom", "pan"}) {
+    SCOPED_TRACE(stage);
+    // No two labels' boxes overlap.
+    const std::map<int, Box>& labels = facts.labels.at(stage);
+    ASSERT_EQ(labels.size(), 4u) << page.out;
+    for (auto a = labels.begin(); a != labels.end(); ++a) {
+      for (auto b = std::next(a); b != labels.end(); ++b) {
+        EXPECT_FALSE(Overlap(a->second, b->second))
+            << "labels of robots " << a->first << " and " << b->first << "\n"
+            << page.out;
+      }
+    }
+    // Each link drawn from its robot to the other, kLinkOffsetPx (2.5 px) to its right.
+    const auto& robots = facts.robots.at(stage);
+    ASSERT_EQ(facts.links.at(stage).size(), 12u) << page.out;
+    for (const std::vector<double>& link : facts.links.at(stage)) {
+      ASSERT_EQ(link.size(), 6u);
+      const auto [fx, fy] = robots.at(static_cast<int>(link[0]));
+      const auto [tx, ty] = robots.at(static_cast<int>(link[1]));
+      EXPECT_NEAR(std::hypot(link[2] - fx, link[3] - fy), 2.5, 0.6) << page.out;
+      EXPECT_NEAR(std::hypot(link[4] - tx, link[5] - ty), 2.5, 0.6) << page.out;
+    }
+  }
+  // Fit the fleet: every robot inside the map, the fleet larger than on the whole field and at
+  // least half the map across.
+  const Box& view = facts.views.at("fit");
+  double min_x = 1e9, max_x = -1e9, min_y = 1e9, max_y = -1e9;
+  for (const auto& [robot, centre] : facts.robots.at("fit")) {
+    EXPECT_GT(centre.first, 0);
+    EXPECT_LT(centre.first, view.width);
+    EXPECT_GT(centre.second, 0);
+    EXPECT_LT(centre.second, view.height);
+    min_x = std::min(min_x, centre.first);
+    max_x = std::max(max_x, centre.first);
+    min_y = std::min(min_y, centre.second);
+    max_y = std::max(max_y, centre.second);
+  }
+  EXPECT_GT(facts.px_per_m.at("fit"), facts.px_per_m.at("whole")) << page.out;
+  EXPECT_TRUE(max_x - min_x > view.width / 2 || max_y - min_y > view.height / 2) << page.out;
+  // The wheel zoomed in about robot 0, which stayed under the pointer; the others moved away
+  // from it by the scale's ratio.
+  const double zoom = facts.px_per_m.at("zoom") / facts.px_per_m.at("fit");
+  EXPECT_GT(zoom, 1.2);
+  const auto& fit = facts.robots.at("fit");
+  const auto& zoomed = facts.robots.at("zoom");
+  EXPECT_NEAR(zoomed.at(0).first, facts.anchor_x, 1.0);
+  EXPECT_NEAR(zoomed.at(0).second, facts.anchor_y, 1.0);
+  for (int robot = 1; robot < 4; ++robot) {
+    EXPECT_NEAR(zoomed.at(robot).first - facts.anchor_x,
+                zoom * (fit.at(robot).first - facts.anchor_x), 1.0);
+    EXPECT_NEAR(zoomed.at(robot).second - facts.anchor_y,
+                zoom * (fit.at(robot).second - facts.anchor_y), 1.0);
+  }
+  // The drag moved every robot with the pointer, and selected no link.
+  for (int robot = 0; robot < 4; ++robot) {
+    EXPECT_NEAR(facts.robots.at("pan").at(robot).first, zoomed.at(robot).first + 60, 1.0);
+    EXPECT_NEAR(facts.robots.at("pan").at(robot).second, zoomed.at(robot).second + 40, 1.0);
+  }
+  EXPECT_EQ(facts.selected, "-");
+}
+
+// `sitlnet run --view` with a GCS relay (issue 47, item 5): a ground station and two of sitlnet's
+// test autopilots, which send it HEARTBEATs once armed (MAV_AUTOPILOT_GENERIC, custom mode 0,
+// MAV_MODE_FLAG_SAFETY_ARMED) with system id = robot index + 1. The page must show each vehicle in
+// its own robot's row: the relay names the robot by the address its frames came from.
+TEST(ViewBrowserTest, TheLiveViewShowsEachRelayedVehicleInItsRobotsRow) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE_SETUP_GROUP("browser", ChromiumMissing());
+  SITLNET_REQUIRE(PlaywrightMissing());
+  constexpr int kSlot = 9;
+  const RunScenario scenario = WriteScenario(
+      kSlot, RelayFleetRobots(kSlot), "timing { duration_ms: 3600000 pacing: PACING_LOCKSTEP }\n");
+  DownGuard guard(scenario.name);
+  // A GCS port that takes the relay's datagrams and reads none.
+  int gcs_port = 0;
+  const int gcs = LoopbackSocket(SOCK_DGRAM, &gcs_port);
+  ASSERT_GE(gcs, 0);
+  const std::string out = TempDir() + "/" + scenario.name + "-live-gcs";
+  integration_test::Child run({integration_test::SitlnetBinary(), "run", scenario.path, "--out",
+                               out, "--no-progress", "--view", "127.0.0.1:0", "--gcs",
+                               "udp:127.0.0.1:" + std::to_string(gcs_port)});
+  ASSERT_TRUE(run.WaitForOutput(true, "/\n", 30 * kNsPerS)) << run.err();
+  const size_t at = run.err().find("live view at http://");
+  ASSERT_NE(at, std::string::npos) << run.err();
+  const std::string url = run.err().substr(at + 13, run.err().find('\n', at) - at - 13);
+
+  const CommandResult page =
+      RunCommand({"node", PlaywrightDir() + "/test/check_live_gcs.cjs", url, ArtifactDir(), "2"},
+                 90 * kNsPerS);
+  kill(run.pid(), SIGINT);
+  EXPECT_EQ(run.Wait(60 * kNsPerS), 130) << run.err();
+  close(gcs);
+  ASSERT_EQ(page.exit_code, 0) << page.out << page.err;
+  EXPECT_EQ(page.out.find("console_error"), std::string::npos) << page.out;
+  std::map<std::string, std::vector<std::string>> rows;
+  std::map<std::string, std::string> statuses;
+  std::istringstream lines(page.out);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream fields(line);
+    std::string kind, robot;
+    fields >> kind >> robot;
+    if (kind == "gcs") {
+      for (std::string field; fields >> field;) rows[robot].push_back(field);
+    }
+    if (kind == "status") std::getline(fields >> std::ws, statuses[robot]);
+  }
+  using Row = std::vector<std::string>;
+  EXPECT_EQ(rows["0"], (Row{"-", "-", "-", "-"})) << page.out;  // The station sent nothing.
+  for (const auto& [robot, system_id] : {std::pair{"1", "2"}, std::pair{"2", "3"}}) {
+    ASSERT_EQ(rows[robot].size(), 4u) << page.out;
+    EXPECT_EQ(rows[robot][0], system_id) << page.out;
+    EXPECT_EQ(rows[robot][1], "custom_mode_0") << page.out;
+    EXPECT_EQ(rows[robot][2], "true") << page.out;
+    const double loss = std::stod(rows[robot][3]);
+    EXPECT_GE(loss, 0);
+    EXPECT_LE(loss, 1);
+    EXPECT_EQ(statuses[robot].rfind("custom mode 0 · armed · ", 0), 0u) << statuses[robot];
+  }
+  EXPECT_EQ(statuses["0"], "");
+  ExpectNothingLeft(scenario.name);
+}
+
 // The refusals are one line each, before anything is served.
 TEST(ViewBrowserTest, APortInUseANonLocalAddressAndAnIncompleteFolderAreOneLine) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
@@ -463,16 +764,11 @@ TEST(ViewBrowserTest, APortInUseANonLocalAddressAndAnIncompleteFolderAreOneLine)
   ASSERT_FALSE(dir.empty()) << why;
   const std::string sitlnet = integration_test::SitlnetBinary();
 
-  const int taken = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  int taken_port = 0;
+  const int taken = LoopbackSocket(SOCK_STREAM, &taken_port);
   ASSERT_GE(taken, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t length = sizeof address;
-  ASSERT_EQ(bind(taken, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
   ASSERT_EQ(listen(taken, 1), 0);
-  ASSERT_EQ(getsockname(taken, reinterpret_cast<sockaddr*>(&address), &length), 0);
-  const std::string in_use = "127.0.0.1:" + std::to_string(ntohs(address.sin_port));
+  const std::string in_use = "127.0.0.1:" + std::to_string(taken_port);
   const CommandResult busy = RunCommand({sitlnet, "view", dir, "--listen", in_use});
   close(taken);
   EXPECT_EQ(busy.exit_code, 1);

@@ -11,6 +11,7 @@ export const loadLinks = () => getJson('api/links');
 export const loadLive = () => getJson('api/live');
 export const loadTimeline = () => getJson('api/timeline');
 export const loadModes = () => getJson('api/modes');
+export const loadGcs = () => getJson('api/gcs');
 
 // Rows of losses.csv.gz for frames by `from` that reached `station` in [endS - 1 s, endS).
 export const loadFrames = (from, station, endS) =>

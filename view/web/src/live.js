@@ -5,7 +5,8 @@
 import { select } from 'd3-selection';
 import { loadLive } from './api.js';
 import { TimelineChart } from './chart.js';
-import { MapView, pointsToShow } from './map.js';
+import { statusLine, vehiclesByRobot } from './gcs.js';
+import { MapView, bindMapButtons, pointsToShow } from './map.js';
 import { drawRobotTable } from './robots.js';
 
 const kPollMs = 500;
@@ -25,6 +26,7 @@ export async function runLive(run) {
   let latest = null;
   let drawnNews = null;
   const chart = new TimelineChart(document.getElementById('timeline'), '#timeline-note');
+  bindMapButtons(() => map);
   const name = (i) => run.robots[i]?.name ?? String(i);
   const onLinkClick = (from, to) => {
     const link = latest?.links.find((l) => l[1] === from && l[2] === to);
@@ -43,22 +45,25 @@ export async function runLive(run) {
     // Drawn only when something new came: the server rebuilds the document at most every
     // 200 ms, and a paused or slow run sends the same one again.
     const news = JSON.stringify([live.time_s, live.link_second, live.components_time_s,
-      live.timing.length, live.modes]);
+      live.timing.length, live.modes, live.gcs]);
     if (live.time_s !== null && news !== drawnNews) {
       drawnNews = news;
       const here = live.robots.map((r) => [r[1], r[2]]);
       const trailPoints = live.trails.flatMap((t) => t.map((p) => [p[1], p[2]]));
-      if (!map || !map.shows(here.concat(trailPoints))) {
+      // Rescaled to keep the fleet in view, unless the user zoomed, panned or fitted it.
+      if (!map || (!map.userMoved && !map.shows(here.concat(trailPoints)))) {
         const around = here.flatMap(([x, y]) => kMarginPoints.map(([dx, dy]) => [x + dx, y + dy]));
         map = new MapView(document.getElementById('map'), run,
           pointsToShow(run, here.concat(trailPoints, around)), onLinkClick);
       }
       const trails = live.trails.map((t) => t.map((p) => [p[0], p[1], p[2]]));
-      map.draw(run, live.robots, trails, live.links);
+      const vehicles = vehiclesByRobot(live.gcs, run.robots.length);
+      map.draw(run, live.robots, trails, live.links, vehicles.map(statusLine));
       const now = live.connectivity[live.connectivity.length - 1];
       const modes = run.robots.map(() => null);
       for (const [, robot, mode] of live.modes) modes[robot] = mode;
-      drawRobotTable(run, live.robots, now?.[2], modes);
+      drawRobotTable(run, live.robots, now?.[2], modes, vehicles);
+      document.body.dataset.gcsTimeS = live.gcs_time_s ?? '';
       const lastSecond = live.timing[live.timing.length - 1]?.[0] ?? -1;
       chart.draw(live.connectivity, live.timing, Math.max(live.time_s, 1),
         live.components_time_s ?? 0, lastSecond, name);

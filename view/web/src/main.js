@@ -3,13 +3,14 @@
 // data-ready is "true" once the first drawing is done.
 import { select } from 'd3-selection';
 import {
-  loadFrames, loadLinks, loadModes, loadRun, loadTimeline, loadTrajectories,
+  loadFrames, loadGcs, loadLinks, loadModes, loadRun, loadTimeline, loadTrajectories,
 } from './api.js';
 import { TimelineChart } from './chart.js';
 import { FrameList } from './frames.js';
 import { drawRobotTable } from './robots.js';
 import { runLive } from './live.js';
-import { MapView, pointsToShow, ratioColour } from './map.js';
+import { statusLine, vehiclesByRobot } from './gcs.js';
+import { MapView, bindMapButtons, pointsToShow, ratioColour } from './map.js';
 import {
   componentsAt, linkSecondAt, linksBySecond, modesAt, modesByRobot, sampleAt, trailUntil,
 } from './timeline.js';
@@ -25,8 +26,11 @@ function drawLegend() {
 }
 
 async function replay(run) {
-  const [trajectories, links, timeline, modes] =
-    await Promise.all([loadTrajectories(), loadLinks(), loadTimeline(), loadModes()]);
+  const [trajectories, links, timeline, modes, gcs] = await Promise.all(
+    [loadTrajectories(), loadLinks(), loadTimeline(), loadModes(), loadGcs()]);
+  // The relay's counts at the run's end (summary.json): the same at every slider time.
+  const vehicles = vehiclesByRobot(gcs.vehicles, run.robots.length);
+  const statuses = vehicles.map(statusLine);
   const bySecond = linksBySecond(links.links);
   const modesOfRobots = modesByRobot(modes.modes, run.robots.length);
   const robotName = (index) => run.robots[index]?.name ?? String(index);
@@ -44,6 +48,7 @@ async function replay(run) {
   const everywhere = trajectories.robots.flatMap((samples) => samples.map((s) => [s[1], s[2]]));
   const map = new MapView(document.getElementById('map'), run, pointsToShow(run, everywhere),
     showFrames);
+  bindMapButtons(() => map);
   const chart = new TimelineChart(document.getElementById('timeline'), '#timeline-note');
 
   const draw = () => {
@@ -51,9 +56,9 @@ async function replay(run) {
     select('#time-label').text(`${t.toFixed(1)} s`);
     const positions = trajectories.robots.map((samples) => sampleAt(samples, t));
     const trails = trajectories.robots.map((samples) => trailUntil(samples, t));
-    map.draw(run, positions, trails, bySecond.get(linkSecondAt(t)) ?? []);
+    map.draw(run, positions, trails, bySecond.get(linkSecondAt(t)) ?? [], statuses);
     drawRobotTable(run, positions, componentsAt(timeline.connectivity, t)?.[2],
-      modesAt(modesOfRobots, t));
+      modesAt(modesOfRobots, t), vehicles);
     chart.draw(timeline.connectivity, timeline.timing, run.end_s, t, linkSecondAt(t), robotName);
   };
   slider.addEventListener('input', () => {

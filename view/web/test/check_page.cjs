@@ -22,10 +22,7 @@
 //   link FROM TO FRAMES DELIVERED
 const path = require('node:path');
 const fs = require('node:fs');
-const os = require('node:os');
-const { chromium } = require('playwright-core');
-
-const kChromium = '/usr/bin/chromium';
+const { openBrowser, printErrors } = require('./browser.cjs');
 
 // The timeline's facts at the time shown (data attributes of svg#timeline).
 async function timelineFacts(page) {
@@ -90,22 +87,9 @@ async function main() {
   const [linkFrom, linkTo] = linkAt >= 0 ? args.splice(linkAt, 2)[1].split(',') : [];
   const [url, artifacts, ...times] = args;
   fs.mkdirSync(artifacts, { recursive: true });
-  const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'sitlnet-view-chromium-'));
-  const context = await chromium.launchPersistentContext(profile, {
-    executablePath: kChromium,
-    headless: true,
-    viewport: { width: 1400, height: 800 },
-    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
+  const { page, close } = await openBrowser();
   try {
-    const page = context.pages()[0] ?? (await context.newPage());
-    page.on('console', (m) => { if (m.type() === 'error') console.log(`console_error ${m.text()}`); });
-    page.on('pageerror', (e) => console.log(`console_error ${e.message}`));
-    page.on('requestfailed', (r) => console.log(`console_error failed ${r.url()}`));
-    page.on('response', (r) => {
-      if (r.status() >= 400) console.log(`console_error ${r.status()} ${r.url()}`);
-    });
+    printErrors(page);
     const start = Date.now();
     await page.goto(url);
     await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
@@ -151,8 +135,7 @@ async function main() {
     for (const row of frames.rows) console.log(`frame ${row}`);
     await shot('replay-link.png');
   } finally {
-    await context.close();
-    fs.rmSync(profile, { recursive: true, force: true });
+    await close();
   }
 }
 

@@ -9,9 +9,7 @@
 //   the page's main thread as Chromium counts it (CDP Performance.getMetrics, seconds): all its
 //   tasks, JavaScript, layout and style recalculation, and how many layouts and recalculations.
 const fs = require('node:fs');
-const os = require('node:os');
-const path = require('node:path');
-const { chromium } = require('playwright-core');
+const { openBrowser } = require('./browser.cjs');
 
 const kTicksPerS = 100;  // USER_HZ: /proc/PID/stat's clock ticks on Linux.
 
@@ -47,17 +45,9 @@ function descendantsCpuS(root) {
 
 async function main() {
   const [url] = process.argv.slice(2);
-  const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'sitlnet-view-watch-'));
-  const context = await chromium.launchPersistentContext(profile, {
-    executablePath: '/usr/bin/chromium',
-    headless: true,
-    viewport: { width: 1400, height: 800 },
-    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
+  const { context, page, close } = await openBrowser();
   const start = Date.now();
   try {
-    const page = context.pages()[0] ?? (await context.newPage());
     const cdp = await context.newCDPSession(page);
     await cdp.send('Performance.enable');
     await page.goto(url);
@@ -73,8 +63,7 @@ async function main() {
       `layout ${m.LayoutDuration.toFixed(2)} style ${m.RecalcStyleDuration.toFixed(2)} ` +
       `layouts ${m.LayoutCount} styles ${m.RecalcStyleCount}`);
   } finally {
-    await context.close();
-    fs.rmSync(profile, { recursive: true, force: true });
+    await close();
   }
 }
 
