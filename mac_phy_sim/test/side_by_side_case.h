@@ -74,6 +74,10 @@ struct Case {
   // standard's 7 / 4 attempts.
   bool unlimited_retries = true;
   bool fast = false;  // Part of the subset scripts/test checks against the CSV.
+  // Seeds each side for this cell; 0: the matrix run's count. Cells whose statistic varies
+  // mostly between seeds (3GPP shadowing: one draw per static link per run) need thousands.
+  // In the CSV as the row's `seeds`.
+  int seeds = 0;
   // Source interval override (ns); 0: OfferIntervalNs's default. Not in the
   // CSV: for one-off load studies (ns3_side_by_side hidden-load).
   int64_t offer_interval_ns = 0;
