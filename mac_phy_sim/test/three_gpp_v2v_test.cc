@@ -195,6 +195,90 @@ TEST(ThreeGppV2vTest, NoNewDrawWithoutMovement) {
   EXPECT_EQ(model.LossDb(PathLossLink{1, 0, link.b_m, link.a_m, false}), first);  // Symmetric.
 }
 
+// ns-3's UpdatePeriod: a static pair keeps its condition (and shadowing) up to and including
+// one period after the draw, and draws the condition anew at its first evaluation after that.
+// A new condition brings a new shadowing draw; the same one keeps the value (nothing moved).
+TEST(ThreeGppV2vTest, UpdatePeriodRedrawsTheConditionOfAStaticPair) {
+  constexpr int kPairs = 20000;
+  constexpr TimeNs kPeriodNs = 100 * kNsPerMs;
+  constexpr double kDistanceM = 150;  // Urban p_LOS 0.189.
+  int los_first = 0, los_both = 0, changed = 0;
+  for (int k = 0; k < kPairs; ++k) {
+    ThreeGppV2vParams params;
+    params.frequency_hz = kFc;
+    params.seed = 50000 + k;
+    params.update_period_ns = kPeriodNs;
+    ThreeGppV2vModel model(params);
+    PathLossLink link{0, 1, {0, 0, 2}, {kDistanceM, 0, 2}, false, 7};
+    const double first_db = model.LossDb(link);
+    const LinkCondition first = model.condition(0, 1);
+    ASSERT_EQ(model.RecomputeAfterNs(0, 1), 7 + kPeriodNs);
+    link.now_ns = 7 + kPeriodNs;  // Not yet: ns-3 redraws only when more than a period passed.
+    ASSERT_EQ(model.LossDb(link), first_db);
+    link.now_ns = 8 + kPeriodNs;
+    const double second_db = model.LossDb(link);
+    const LinkCondition second = model.condition(0, 1);
+    ASSERT_EQ(model.RecomputeAfterNs(0, 1), 8 + 2 * kPeriodNs);
+    if (first == second) {
+      ASSERT_EQ(second_db, first_db);  // At 2 m NLOSv adds nothing: the same loss.
+    } else {
+      ++changed;
+    }
+    los_first += first == LinkCondition::kLos;
+    los_both += first == LinkCondition::kLos && second == LinkCondition::kLos;
+  }
+  // The two draws are independent: LOS twice with p^2, a change with 2 p (1 - p).
+  const double p = V2vLosProbability(V2vEnvironment::kUrban, kDistanceM);
+  auto expect_share = [&](int count, double probability) {
+    EXPECT_NEAR(static_cast<double>(count) / kPairs, probability,
+                4.5 * std::sqrt(probability * (1 - probability) / kPairs));
+  };
+  expect_share(los_first, p);
+  expect_share(los_both, p * p);
+  expect_share(changed, 2 * p * (1 - p));
+  // Period 0 (the default): the condition never changes.
+  ThreeGppV2vModel frozen = Model(V2vEnvironment::kUrban, 3, true);
+  const PathLossLink at_0{0, 1, {0, 0, 2}, {kDistanceM, 0, 2}, false, 0};
+  const double frozen_db = frozen.LossDb(at_0);
+  EXPECT_EQ(frozen.RecomputeAfterNs(0, 1), kNeverNs);
+  PathLossLink later = at_0;
+  later.now_ns = 3600 * kNsPerS;
+  EXPECT_EQ(frozen.LossDb(later), frozen_db);
+}
+
+// The channel recomputes a static pair once the clock passes the model's RecomputeAfterNs,
+// both through LossDb and LossDbUntil, and not before.
+TEST(ThreeGppV2vTest, ChannelRecomputesAStaticPairAfterTheUpdatePeriod) {
+  constexpr int kChannels = 4000;
+  constexpr TimeNs kPeriodNs = 50 * kNsPerMs;
+  int changed = 0, changed_until = 0;
+  for (int k = 0; k < kChannels; ++k) {
+    TimeNs now_ns = 0;
+    ThreeGppV2vParams params;
+    params.frequency_hz = kFc;
+    params.seed = 70000 + k;
+    params.update_period_ns = kPeriodNs;
+    RadioChannel channel(std::make_unique<ThreeGppV2vModel>(params), true, 9, 0.4);
+    channel.set_clock(&now_ns);
+    channel.AddStation({0, 0, 2});
+    channel.AddStation({150, 0, 2});
+    channel.AddStation({0, 150, 2});
+    const double first_db = channel.LossDb(0, 1);
+    const double first_until_db = channel.LossDbUntil(0, 2, 1000);
+    now_ns = kPeriodNs;
+    ASSERT_EQ(channel.LossDb(1, 0), first_db);
+    ASSERT_EQ(channel.LossDbUntil(2, 0, 1000), first_until_db);
+    now_ns = kPeriodNs + 1;
+    changed += channel.LossDb(1, 0) != first_db;
+    changed_until += channel.LossDbUntil(2, 0, 1000) != first_until_db;
+  }
+  const double p = V2vLosProbability(V2vEnvironment::kUrban, 150);
+  const double p_change = 2 * p * (1 - p);
+  const double tolerance = 4.5 * std::sqrt(p_change * (1 - p_change) / kChannels);
+  EXPECT_NEAR(static_cast<double>(changed) / kChannels, p_change, tolerance);
+  EXPECT_NEAR(static_cast<double>(changed_until) / kChannels, p_change, tolerance);
+}
+
 TEST(ThreeGppV2vTest, RecoversFromAPositionThatIsNotANumber) {
   ThreeGppV2vModel model = Model(V2vEnvironment::kUrban, 4, true);
   const double nan = std::numeric_limits<double>::quiet_NaN();
