@@ -100,8 +100,8 @@ RadioChannel::RadioChannel(double reference_loss_db, double exponent, bool shado
     : RadioChannel(std::make_unique<LogDistanceModel>(reference_loss_db, exponent), shadowing,
                    db_per_wall, db_per_m) {}
 
-RadioChannel::RadioChannel(std::unique_ptr<PathLossModel> model, bool shadowing,
-                           double db_per_wall, double db_per_m)
+RadioChannel::RadioChannel(std::unique_ptr<PathLossModel> model, bool shadowing, double db_per_wall,
+                           double db_per_m)
     : model_(std::move(model)),
       log_distance_(dynamic_cast<const LogDistanceModel*>(model_.get())),
       obstacle_shadowing_(shadowing && model_->ComposesWithObstacleShadowing()),

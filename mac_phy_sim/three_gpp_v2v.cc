@@ -129,12 +129,11 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
   const Vec3d& high_m = a_low ? link.b_m : link.a_m;
   // ns-3 ThreeGppChannelConditionModel::GetChannelCondition: the condition is computed anew
   // when now - its generation time > UpdatePeriod (strictly), UpdatePeriod 0 meaning never.
-  const bool condition_expired =
-      pair.evaluated && params_.update_period_ns > 0 &&
-      link.now_ns - pair.condition_drawn_ns > params_.update_period_ns;
-  if (pair.evaluated && !condition_expired && low_m.x == pair.low_m.x &&
-      low_m.y == pair.low_m.y && low_m.z == pair.low_m.z && high_m.x == pair.high_m.x &&
-      high_m.y == pair.high_m.y && high_m.z == pair.high_m.z && link.blocked == pair.blocked) {
+  const bool condition_expired = pair.evaluated && params_.update_period_ns > 0 &&
+                                 link.now_ns - pair.condition_drawn_ns > params_.update_period_ns;
+  if (pair.evaluated && !condition_expired && low_m.x == pair.low_m.x && low_m.y == pair.low_m.y &&
+      low_m.z == pair.low_m.z && high_m.x == pair.high_m.x && high_m.y == pair.high_m.y &&
+      high_m.z == pair.high_m.z && link.blocked == pair.blocked) {
     return pair.loss_db;  // Nothing moved, no box added across, no redraw due: no new draw.
   }
   // Squared distances: the formulas need log10 d = ln(d^2) / (2 ln 10) and the LOS test

@@ -86,7 +86,7 @@ class ThreeGppV2vModel final : public PathLossModel {
     Vec3d low_m, high_m;  // Positions of the lower and higher station index.
     bool blocked = false;  // PathLossLink::blocked at the last evaluation.
     LinkCondition condition = LinkCondition::kLos;
-    double condition_uniform = 0;  // Frozen per pair, or per update period.
+    double condition_uniform = 0;   // Frozen per pair, or per update period.
     TimeNs condition_drawn_ns = 0;  // When condition_uniform was drawn.
     // The square of V2vLosUpToM for condition_uniform: no exp or sqrt per evaluation.
     double los_up_to_m2 = 0;

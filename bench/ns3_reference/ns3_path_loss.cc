@@ -90,10 +90,10 @@ struct CorrSpec {
   double radius_m, moved_m;
   double a_y_m = -2000;
 };
-const std::vector<CorrSpec> kCorrs = {
-    {"v2v_urban", 4.2, 1},          {"v2v_urban", 4.2, 5},          {"v2v_highway", 9.7, 10},
-    {"v2v_highway", 9.7, 19},       {"v2v_urban", 30, 2, -4000},    {"v2v_urban", 30, 8, -4000},
-    {"v2v_highway", 30, 13, -4000}};
+const std::vector<CorrSpec> kCorrs = {{"v2v_urban", 4.2, 1},         {"v2v_urban", 4.2, 5},
+                                      {"v2v_highway", 9.7, 10},      {"v2v_highway", 9.7, 19},
+                                      {"v2v_urban", 30, 2, -4000},   {"v2v_urban", 30, 8, -4000},
+                                      {"v2v_highway", 30, 13, -4000}};
 
 Ptr<PropagationLossModel> MakeModel(const std::string& name) {
   if (name == "two_ray" || name == "two_ray_h1_l2") {

@@ -313,8 +313,7 @@ std::vector<Case> Cells() {
         // ns-3's second frame (or retry) already holds the run's value: a 20 ms warm-up.
         cells.back().warmup_s = 0.02;
         cells.back().measure_s = std::ceil(kShadowingFramesPerSeed * FrameTimeS(c) * 100) / 100;
-        cells.back().seeds =
-            distance_m == 50 ? kShadowingSeedsAboveCliff : kShadowingSeedsOnCliff;
+        cells.back().seeds = distance_m == 50 ? kShadowingSeedsAboveCliff : kShadowingSeedsOnCliff;
       } else if (sweep.rate == 54 && distance_m == sweep.distances_m.back()) {
         cells.back().measure_s *= 10;
       }
@@ -325,8 +324,8 @@ std::vector<Case> Cells() {
   // 0.825 highway at 110 m: a change at 35 % and 29 % of the updates). A 3 s seed then averages
   // about 100 independent draws (seeds spread 13-17 % of the mean), so 120 seeds put the 5 %
   // rule 2.4-2.7 standard errors of the difference away (a false failure in 1-2 % of runs).
-  for (const auto& [model, distance_m] : {std::pair{PathLoss::kV2vUrban, 135.0},
-                                          std::pair{PathLoss::kV2vHighway, 110.0}}) {
+  for (const auto& [model, distance_m] :
+       {std::pair{PathLoss::kV2vUrban, 135.0}, std::pair{PathLoss::kV2vHighway, 110.0}}) {
     Case c = geo(Standard::kA, 54, Topology::kLink, distance_m, 0, 0, false);
     c.senders = 1;
     c.path_loss = model;

@@ -45,7 +45,8 @@ bool ParsePathLoss(std::string s, Case* c) {
   PathLoss* out = &c->path_loss;
   // A "-update<N>ms" suffix: the condition model's update period (CellPathLossName).
   const size_t update = s.rfind("-update");
-  if (update != std::string::npos && s.size() > update + 9 && s.compare(s.size() - 2, 2, "ms") == 0) {
+  if (update != std::string::npos && s.size() > update + 9 &&
+      s.compare(s.size() - 2, 2, "ms") == 0) {
     const std::string digits = s.substr(update + 7, s.size() - update - 9);
     if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) return false;
     c->v2v_update_period_ms = std::stoi(digits);
