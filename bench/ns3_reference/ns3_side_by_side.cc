@@ -7,7 +7,7 @@
 // against its ns-3 column). `table` turns such a CSV into the Markdown table
 // of docs/validation.md.
 //
-// Usage: ns3_side_by_side matrix <out.csv> [seeds] [cell-id-substrings,...]
+// Usage: ns3_side_by_side matrix <out.csv> [seeds] [cell-id-substrings or =whole-ids,...]
 //        ns3_side_by_side table <in.csv>
 //        ns3_side_by_side refresh <csv>   (recompute the mac_phy_sim columns)
 //        ns3_side_by_side speed           (n = 5, 20, 50 saturation, both, timed)
