@@ -364,6 +364,50 @@ TEST_P(ThreeGppV2vMediumTest, SameSeedSameBytes) {
   EXPECT_TRUE(differs);
 }
 
+// The medium hands its clock to the channel: with an update period a static link's received
+// power changes over a run (a new condition brings new shadowing), without one it never does;
+// the same seed gives the same powers.
+std::vector<double> StaticLinkPowersDbm(TimeNs update_period_ns, uint64_t seed) {
+  MediumConfig config;
+  config.seed = seed;
+  config.rate_mbps = 6;
+  config.path_loss_model = MediumConfig::PathLoss::kThreeGppV2vUrban;
+  config.v2v_update_period_ns = update_period_ns;
+  Medium medium(config);
+  medium.AddStation(RobotMac(0), {0, 0, 2});
+  medium.AddStation(RobotMac(1), {135, 0, 2});  // p_LOS 0.225: a change at 35 % of updates.
+  medium.EnableTrace(true);
+  for (int k = 0; k < 200; ++k) {
+    medium.SubmitFrame(0, testing::MakeEthernetFrame(RobotMac(1), RobotMac(0), 100),
+                       k * 5 * kNsPerMs);
+  }
+  medium.AdvanceTo(kNsPerS, nullptr);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  std::vector<double> powers_dbm;
+  for (const TraceEvent& event : trace) {
+    if (!event.tx || event.tx->source != 0 || event.tx->kind != FrameKind::kData) continue;
+    for (const auto& reception : event.tx->receptions) powers_dbm.push_back(reception.rx_power_dbm);
+  }
+  return powers_dbm;
+}
+
+TEST(ThreeGppV2vMediumTest, UpdatePeriodChangesAStaticLinkOverTime) {
+  const std::vector<double> frozen = StaticLinkPowersDbm(0, 5);
+  ASSERT_GE(frozen.size(), 200u);
+  for (double power_dbm : frozen) EXPECT_EQ(power_dbm, frozen.front());
+  const std::vector<double> updated = StaticLinkPowersDbm(10 * kNsPerMs, 5);
+  ASSERT_GE(updated.size(), 200u);
+  int changes = 0;
+  for (size_t i = 1; i < updated.size(); ++i) changes += updated[i] != updated[i - 1];
+  // A frame every 5 ms, its ACK 0.2 ms later: the first transmission more than 10 ms after a
+  // draw is an ACK 10.2 ms after it, so about 98 updates in 1 s; a change at 2 p (1 - p) =
+  // 0.35 of them: mean 34, sd 4.7. The bounds are 4 sd away.
+  EXPECT_GE(changes, 15);
+  EXPECT_LE(changes, 53);
+  EXPECT_EQ(StaticLinkPowersDbm(10 * kNsPerMs, 5), updated);
+}
+
 INSTANTIATE_TEST_SUITE_P(WithAndWithoutNakagami, ThreeGppV2vMediumTest, ::testing::Bool());
 
 // The model draws from streams of its own: with one sender whose frames all
