@@ -100,12 +100,13 @@ RadioChannel::RadioChannel(double reference_loss_db, double exponent, bool shado
     : RadioChannel(std::make_unique<LogDistanceModel>(reference_loss_db, exponent), shadowing,
                    db_per_wall, db_per_m) {}
 
-RadioChannel::RadioChannel(std::unique_ptr<PathLossModel> model, bool shadowing,
-                           double db_per_wall, double db_per_m)
+RadioChannel::RadioChannel(std::unique_ptr<PathLossModel> model, bool shadowing, double db_per_wall,
+                           double db_per_m)
     : model_(std::move(model)),
       log_distance_(dynamic_cast<const LogDistanceModel*>(model_.get())),
       obstacle_shadowing_(shadowing && model_->ComposesWithObstacleShadowing()),
       obstacle_blockage_(shadowing && model_->UsesBlockage()),
+      timed_(model_->ChangesWithTime()),
       shadowing_(shadowing),
       db_per_wall_(db_per_wall),
       db_per_m_(db_per_m) {}
@@ -120,6 +121,7 @@ int RadioChannel::AddStation(const Vec3d& position_m) {
     loss_db_.assign(stride_ * stride_, 0.0);
     gain_.assign(stride_ * stride_, 0.0);
     computed_epoch_.assign(stride_ * stride_, 0);
+    if (timed_) recompute_after_ns_.assign(stride_ * stride_, kNeverNs);
     bound_db_.assign(stride_ * stride_, 0.0);
     bound_epoch_.assign(stride_ * stride_, 0);
   }
@@ -141,7 +143,7 @@ void RadioChannel::AddObstacle(const Box& box) {
 }
 
 PathLossLink RadioChannel::Link(int a, int b) {
-  PathLossLink link{a, b, positions_[a], positions_[b], false};
+  PathLossLink link{a, b, positions_[a], positions_[b], false, clock_ns_ ? *clock_ns_ : 0};
   if (obstacle_blockage_) link.blocked = SegmentBlocked(link.a_m, link.b_m);
   return link;
 }
@@ -160,12 +162,20 @@ double RadioChannel::PathLossDb(int a, int b) { return model_->LossDb(Link(a, b)
   }
 }
 
+void RadioChannel::StoreExpiry(int a, int b) {
+  const TimeNs after_ns = a == b ? kNeverNs : model_->RecomputeAfterNs(a, b);
+  recompute_after_ns_[static_cast<size_t>(a) * stride_ + b] = after_ns;
+  recompute_after_ns_[static_cast<size_t>(b) * stride_ + a] = after_ns;
+}
+
 void RadioChannel::Recompute(int a, int b) {
   Store(a, b, a == b ? 0.0 : ComputeLoss(a, b, dead_link_loss_db_, false));
+  if (timed_) StoreExpiry(a, b);
 }
 
 double RadioChannel::RecomputeUntil(int a, int b, double stop_db) {
   const double loss = a == b ? 0.0 : ComputeLoss(a, b, stop_db, true);
+  if (timed_) StoreExpiry(a, b);
   // Exact (the walk was not cut short): what Recompute would have stored.
   // Bounds go to their own cache, dead-for-everyone ones too (storing those
   // with their gain, a pow each, would cost more than it saves).

@@ -56,6 +56,10 @@ class RadioChannel {
   int obstacle_count() const { return static_cast<int>(boxes_.size()); }
   // Forgets every cached loss (after the dead-link threshold changed).
   void InvalidateAll() { obstacles_epoch_ = ++epoch_; }
+  // The medium's clock (not owned; must outlive the channel). Needed only by a model whose
+  // loss ChangesWithTime(): its cached losses are recomputed once the clock passes their
+  // RecomputeAfterNs. Without a clock such a model sees time 0.
+  void set_clock(const TimeNs* now_ns) { clock_ns_ = now_ns; }
 
   // Total loss a <-> b in dB (symmetric), recomputed first if stale.
   double LossDb(int a, int b) { return loss_db_[Fresh(a, b)]; }
@@ -70,8 +74,10 @@ class RadioChannel {
   double LossDbUntil(int a, int b, double stop_db) {
     const size_t index = static_cast<size_t>(a) * stride_ + b;
     const uint64_t need = NeedEpoch(a, b);
-    if (computed_epoch_[index] >= need) return loss_db_[index];  // Exact, or dead for any stop.
-    if (bound_epoch_[index] >= need && bound_db_[index] >= stop_db) return bound_db_[index];
+    if (!Expired(index)) {
+      if (computed_epoch_[index] >= need) return loss_db_[index];  // Exact, or dead for any stop.
+      if (bound_epoch_[index] >= need && bound_db_[index] >= stop_db) return bound_db_[index];
+    }
     return RecomputeUntil(a, b, stop_db);
   }
   // The path-loss model's part of LossDb(a, b) at the current positions
@@ -102,9 +108,15 @@ class RadioChannel {
   // current if computed after both stations last moved and the last obstacle.
   size_t Fresh(int a, int b) {
     const size_t index = static_cast<size_t>(a) * stride_ + b;
-    if (computed_epoch_[index] < NeedEpoch(a, b)) Recompute(a, b);
+    if (computed_epoch_[index] < NeedEpoch(a, b) || Expired(index)) Recompute(a, b);
     return index;
   }
+  // True if the model's loss for this pair may have changed with time alone.
+  bool Expired(size_t index) const {
+    return timed_ && clock_ns_ != nullptr && *clock_ns_ > recompute_after_ns_[index];
+  }
+  // Records the model's RecomputeAfterNs for both orientations of a freshly computed pair.
+  void StoreExpiry(int a, int b);
   uint64_t NeedEpoch(int a, int b) const {
     return std::max({moved_epoch_[a], moved_epoch_[b], obstacles_epoch_});
   }
@@ -129,6 +141,8 @@ class RadioChannel {
   const LogDistanceModel* log_distance_;
   bool obstacle_shadowing_;  // Sommer's loss adds to the model's.
   bool obstacle_blockage_;   // The model needs PathLossLink::blocked.
+  bool timed_;               // The model's loss ChangesWithTime().
+  const TimeNs* clock_ns_ = nullptr;
   bool shadowing_;
   double db_per_wall_, db_per_m_;
   std::vector<Vec3d> positions_;
@@ -142,6 +156,7 @@ class RadioChannel {
   std::vector<double> loss_db_;           // stride_ x stride_, row-major.
   std::vector<double> gain_;              // Same layout, linear.
   std::vector<uint64_t> computed_epoch_;  // Same layout: epoch when computed (0: never).
+  std::vector<TimeNs> recompute_after_ns_;  // Same layout; used only if timed_.
   // LossDbUntil's lower bounds under the dead-link loss, and their epochs (same layout).
   std::vector<double> bound_db_;
   std::vector<uint64_t> bound_epoch_;

@@ -71,6 +71,7 @@ struct MediumConfig {
   double two_ray_min_distance_m = 0.5;   // No loss at or below (ns-3's MinDistance).
   bool v2v_shadowing = true;             // 3GPP correlated shadow fading (ShadowingEnabled).
   double v2v_truck_percent = 0;          // Share of 3 m blockers (ns-3's PercType3Vehicles).
+  TimeNs v2v_update_period_ns = 0;       // LOS/NLOSv redrawn after this; 0 never (UpdatePeriod).
   double path_loss_exponent = 3;            // Log-distance model.
   std::optional<double> reference_loss_db;  // Loss at 1 m; unset: Friis at the frequency.
   bool shadowing = true;                    // Sommer et al. 2011 obstacle model.

@@ -80,6 +80,7 @@ Medium::State::State(const MediumConfig& config_in, const PhyInfo& phy_in)
   }
   channel.set_dead_link_loss_db(config.tx_power_dbm - config.rx_sensitivity_dbm +
                                 fading_margin_db);
+  channel.set_clock(&now_ns);  // For 3GPP's update period (State is neither copied nor moved).
   channel.set_lognormal_shadowing(config.lognormal_shadowing_sigma_db,
                                   SplitMix64(config.seed ^ 0x6c6f676e6f726d61ull));
   noise_mw = DbmToMw(phy.noise_floor_dbm);

@@ -60,6 +60,7 @@ std::unique_ptr<PathLossModel> MakePathLossModel(const MediumConfig& config, con
       params.frequency_hz = phy.path_loss_frequency_hz;
       params.shadowing = config.v2v_shadowing;
       params.truck_percent = config.v2v_truck_percent;
+      params.update_period_ns = config.v2v_update_period_ns;
       // Streams of their own (tag "3gppv2v"): the MAC's and fading's draws stay as they were.
       params.seed = config.seed ^ 0x3367707076327600ull;
       return std::make_unique<ThreeGppV2vModel>(params);

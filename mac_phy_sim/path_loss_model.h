@@ -8,6 +8,7 @@
 #define SITLNET_MAC_PHY_SIM_PATH_LOSS_MODEL_H_
 
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include "mac_phy_sim/mac_phy_sim.h"
@@ -20,7 +21,11 @@ struct PathLossLink {
   int a = 0, b = 0;   // Station indices.
   Vec3d a_m, b_m;     // Their positions.
   bool blocked = false;  // A box crosses the segment; set only if UsesBlockage().
+  TimeNs now_ns = 0;     // The medium's time; read only by models that ChangeWithTime().
 };
+
+// "Never" for PathLossModel::RecomputeAfterNs.
+constexpr TimeNs kNeverNs = std::numeric_limits<TimeNs>::max();
 
 class PathLossModel {
  public:
@@ -34,6 +39,12 @@ class PathLossModel {
   virtual bool ComposesWithObstacleShadowing() const { return true; }
   // True if LossDb needs PathLossLink::blocked.
   virtual bool UsesBlockage() const { return false; }
+  // True if a pair's loss may change while neither station moves (3GPP with an update period):
+  // the channel then passes the time and asks RecomputeAfterNs.
+  virtual bool ChangesWithTime() const { return false; }
+  // After LossDb(a, b): the loss stays valid up to and including this time (ns) unless a
+  // station moves; kNeverNs if only movement changes it.
+  virtual TimeNs RecomputeAfterNs(int /*a*/, int /*b*/) const { return kNeverNs; }
   // True if the loss grows with 3D distance alone, as log-distance, so that a
   // radius bounds the links above a loss (transmission.cc's fading reach).
   virtual bool IsLogDistance() const { return false; }

@@ -287,6 +287,7 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
                  (*config.path_loss_frequency_hz >= 0.5e9 && *config.path_loss_frequency_hz <= 100e9));
   SITLNET_DEMAND(config.two_ray_system_loss > 0 && config.two_ray_min_distance_m >= 0);
   SITLNET_DEMAND(config.v2v_truck_percent >= 0 && config.v2v_truck_percent <= 100);
+  SITLNET_DEMAND(config.v2v_update_period_ns >= 0);
   SITLNET_DEMAND(config.queue_limit_frames >= 1);
   SITLNET_DEMAND(!config.capture_margin_db || *config.capture_margin_db >= 0);
   demand(config.short_retry_limit >= 1 && config.long_retry_limit >= 1,

@@ -78,6 +78,7 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
   config.two_ray_min_distance_m = radio.two_ray_min_distance_m();
   config.v2v_shadowing = radio.v2v_shadowing();
   config.v2v_truck_percent = radio.v2v_truck_percent();
+  config.v2v_update_period_ns = radio.v2v_update_period_ms() * kNsPerMs;
   config.seed = scenario.spec.timing().seed();
   return config;
 }

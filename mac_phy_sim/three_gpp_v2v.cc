@@ -127,10 +127,14 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
   const bool a_low = link.a < link.b;
   const Vec3d& low_m = a_low ? link.a_m : link.b_m;
   const Vec3d& high_m = a_low ? link.b_m : link.a_m;
-  if (pair.evaluated && low_m.x == pair.low_m.x && low_m.y == pair.low_m.y &&
+  // ns-3 ThreeGppChannelConditionModel::GetChannelCondition: the condition is computed anew
+  // when now - its generation time > UpdatePeriod (strictly), UpdatePeriod 0 meaning never.
+  const bool condition_expired = pair.evaluated && params_.update_period_ns > 0 &&
+                                 link.now_ns - pair.condition_drawn_ns > params_.update_period_ns;
+  if (pair.evaluated && !condition_expired && low_m.x == pair.low_m.x && low_m.y == pair.low_m.y &&
       low_m.z == pair.low_m.z && high_m.x == pair.high_m.x && high_m.y == pair.high_m.y &&
       high_m.z == pair.high_m.z && link.blocked == pair.blocked) {
-    return pair.loss_db;  // Nothing moved, no box added across: no new draw.
+    return pair.loss_db;  // Nothing moved, no box added across, no redraw due: no new draw.
   }
   // Squared distances: the formulas need log10 d = ln(d^2) / (2 ln 10) and the LOS test
   // compares squares, so most evaluations take no sqrt of a distance.
@@ -146,7 +150,10 @@ double ThreeGppV2vModel::LossDb(const PathLossLink& link) {
     // The pair's stream from the model's seed and the pair alone: independent of the
     // order pairs are evaluated in.
     pair.rng.seed(SplitMix64(params_.seed ^ SplitMix64(key)));
+  }
+  if (!pair.evaluated || condition_expired) {
     pair.condition_uniform = OpenUniform(pair.rng);
+    pair.condition_drawn_ns = link.now_ns;
     const double los_up_to_m = V2vLosUpToM(params_.environment, pair.condition_uniform);
     pair.los_up_to_m2 = los_up_to_m * los_up_to_m;
   }

@@ -56,6 +56,9 @@ struct ThreeGppV2vParams {
   bool shadowing = true;      // ns-3's ShadowingEnabled.
   double truck_percent = 0;   // ns-3's PercType3Vehicles: share of 3 m blockers.
   uint64_t seed = 0;          // Of the model's own draws (condition, blockage, shadowing).
+  // ns-3's UpdatePeriod of the condition model: a pair's LOS/NLOSv uniform is drawn anew at
+  // its first evaluation more than this after the last draw; 0: frozen for the run.
+  TimeNs update_period_ns = 0;
 };
 
 class ThreeGppV2vModel final : public PathLossModel {
@@ -67,6 +70,11 @@ class ThreeGppV2vModel final : public PathLossModel {
   double LossDb(const PathLossLink& link) override;
   bool ComposesWithObstacleShadowing() const override { return false; }
   bool UsesBlockage() const override { return true; }
+  bool ChangesWithTime() const override { return params_.update_period_ns > 0; }
+  TimeNs RecomputeAfterNs(int a, int b) const override {
+    if (params_.update_period_ns == 0) return kNeverNs;
+    return Pair(a, b).condition_drawn_ns + params_.update_period_ns;
+  }
 
   // The pair's state after its last evaluation (tests, cause records).
   LinkCondition condition(int a, int b) const { return Pair(a, b).condition; }
@@ -78,7 +86,8 @@ class ThreeGppV2vModel final : public PathLossModel {
     Vec3d low_m, high_m;  // Positions of the lower and higher station index.
     bool blocked = false;  // PathLossLink::blocked at the last evaluation.
     LinkCondition condition = LinkCondition::kLos;
-    double condition_uniform = 0;  // Frozen per pair (ns-3's UpdatePeriod 0).
+    double condition_uniform = 0;   // Frozen per pair, or per update period.
+    TimeNs condition_drawn_ns = 0;  // When condition_uniform was drawn.
     // The square of V2vLosUpToM for condition_uniform: no exp or sqrt per evaluation.
     double los_up_to_m2 = 0;
     double shadowing_db = 0;

@@ -139,6 +139,7 @@ void ValidatePathLossParameters(const SourceLocator& at, const proto::Radio& rad
       {"two_ray_min_distance_m", {kTwoRay}},
       {"v2v_shadowing", {kUrban, kHighway}},
       {"v2v_truck_percent", {kUrban, kHighway}},
+      {"v2v_update_period_ms", {kUrban, kHighway}},
   };
   const google::protobuf::Descriptor* descriptor = radio.GetDescriptor();
   const google::protobuf::Reflection* reflection = radio.GetReflection();

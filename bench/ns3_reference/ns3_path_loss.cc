@@ -37,9 +37,12 @@ constexpr double kV2vFrequencyHz = 5.9e9;  // path_loss_frequency_mhz 5900 on ma
 struct BoxSpec {
   double cx, cy, cz, sx, sy, sz;
 };
-// One-box NLOS at y = 0, two boxes in a row at y = 200; all other links run far from them.
-const std::vector<BoxSpec> kBoxes = {
-    {50, 0, 5, 10, 10, 10}, {30, 200, 5, 10, 10, 10}, {70, 200, 5, 10, 10, 10}};
+// One-box NLOS at y = 0, two boxes in a row at y = 200, and a wall 1 m thick at y = -4000 for
+// the NLOS correlation rows; all other links run far from them.
+const std::vector<BoxSpec> kBoxes = {{50, 0, 5, 10, 10, 10},
+                                     {30, 200, 5, 10, 10, 10},
+                                     {70, 200, 5, 10, 10, 10},
+                                     {5.5, -4000, 5, 1, 80, 10}};
 
 struct LinkSpec {
   std::string model;  // two_ray, two_ray_h1_l2, v2v_urban, v2v_highway
@@ -79,14 +82,18 @@ std::vector<LinkSpec> Links() {
   return links;
 }
 
-// Correlation rows, LOS (p_LOS = 1 up to 4.28 m urban, 9.75 m highway): b moves along a circle
-// around a by a chord of `moved_m`.
+// Correlation rows: b moves along a circle around a by a chord of `moved_m`. LOS (a at y =
+// -2000; p_LOS = 1 up to 4.28 m urban, 9.75 m highway), or NLOS behind the wall at y = -4000
+// (radius 30 m: every chord here keeps the wall across the link; correlation distance 13 m).
 struct CorrSpec {
   std::string model;
   double radius_m, moved_m;
+  double a_y_m = -2000;
 };
-const std::vector<CorrSpec> kCorrs = {{"v2v_urban", 4.2, 1},  {"v2v_urban", 4.2, 5},
-                                      {"v2v_highway", 9.7, 10}, {"v2v_highway", 9.7, 19}};
+const std::vector<CorrSpec> kCorrs = {{"v2v_urban", 4.2, 1},         {"v2v_urban", 4.2, 5},
+                                      {"v2v_highway", 9.7, 10},      {"v2v_highway", 9.7, 19},
+                                      {"v2v_urban", 30, 2, -4000},   {"v2v_urban", 30, 8, -4000},
+                                      {"v2v_highway", 30, 13, -4000}};
 
 Ptr<PropagationLossModel> MakeModel(const std::string& name) {
   if (name == "two_ray" || name == "two_ray_h1_l2") {
@@ -164,8 +171,9 @@ int main(int argc, char** argv) {
     Ptr<PropagationLossModel> model = MakeModel(corr.model);
     model->SetAttribute("ShadowingEnabled", BooleanValue(true));
     const double angle = 2 * std::asin(corr.moved_m / (2 * corr.radius_m));
-    const Vector a(0, -2000, 2), start(corr.radius_m, -2000, 2);
-    const Vector moved(corr.radius_m * std::cos(angle), -2000 + corr.radius_m * std::sin(angle), 2);
+    const Vector a(0, corr.a_y_m, 2), start(corr.radius_m, corr.a_y_m, 2);
+    const Vector moved(corr.radius_m * std::cos(angle),
+                       corr.a_y_m + corr.radius_m * std::sin(angle), 2);
     constexpr int kPairs = 4000;
     double s1 = 0, s2 = 0, s11 = 0, s22 = 0, s12 = 0;
     for (int k = 0; k < kPairs; ++k) {

@@ -132,7 +132,8 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
     two_ray->SetAttribute("Frequency", DoubleValue(radio.path_loss_frequency_hz));
     channel->SetPropagationLossModel(two_ray);
   } else if (sitlnet::side_by_side::IsV2v(c.path_loss)) {
-    // ns-3's defaults otherwise: condition frozen per pair (UpdatePeriod 0).
+    // ns-3's defaults otherwise: condition frozen per pair (UpdatePeriod 0) unless the cell
+    // sets an update period.
     const bool urban = sitlnet::side_by_side::IsV2vUrban(c.path_loss);
     Ptr<ThreeGppPropagationLossModel> v2v;
     Ptr<ChannelConditionModel> condition;
@@ -143,6 +144,7 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
       v2v = CreateObject<ThreeGppV2vHighwayPropagationLossModel>();
       condition = CreateObject<ThreeGppV2vHighwayChannelConditionModel>();
     }
+    condition->SetAttribute("UpdatePeriod", TimeValue(MilliSeconds(c.v2v_update_period_ms)));
     v2v->SetAttribute("Frequency", DoubleValue(radio.path_loss_frequency_hz));
     v2v->SetAttribute("ShadowingEnabled",
                       BooleanValue(sitlnet::side_by_side::HasV2vShadowing(c.path_loss)));

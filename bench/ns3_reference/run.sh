@@ -1,11 +1,12 @@
 #!/bin/bash
 # The ns-3 side-by-side matrix in one command: installs Debian's libns3-dev
 # (ns-3 3.37) if missing, builds bench/ns3_reference, runs every cell in ns-3
-# and in mac_phy_sim (5 seeds each side; about 40 minutes of one core on the
-# 2-core development machine), writes docs/ns3_matrix.csv with its
+# and in mac_phy_sim (5 seeds each side, or a cell's own count: the 3GPP
+# shadowing cells run 1000-4000 short seeds; about 40 minutes of one core on the
+# 2-core development machine, plus 2-6 minutes per shadowing cell), writes docs/ns3_matrix.csv with its
 # provenance and regenerates the table in docs/validation.md (between the
 # "ns3-matrix" markers). Needs root (or sudo) for the package installation.
-# Usage: bench/ns3_reference/run.sh [build-dir] [seeds] [cell-id-substrings,...]
+# Usage: bench/ns3_reference/run.sh [build-dir] [seeds] [cell-id-substrings or =ids,...]
 #   With a cell filter the CSV goes to <build-dir>/ns3_matrix.csv and the
 #   docs are left alone. Other modes of the binary:
 #   <build-dir>/bin/ns3_side_by_side refresh docs/ns3_matrix.csv  (recompute

@@ -88,7 +88,7 @@ TEST(Ns3PathLossTest, EveryLinkWithinNs3sRule) {
   for (const Row& row : rows) {
     if (row.kind == "box") boxes.push_back(row);
   }
-  ASSERT_EQ(boxes.size(), 3u);
+  ASSERT_EQ(boxes.size(), 4u);
   int links = 0, means = 0;
   for (const Row& row : rows) {
     const std::string where = row.model + " (" + std::to_string(row.a.x) + ", " +
@@ -123,18 +123,27 @@ TEST(Ns3PathLossTest, EveryLinkWithinNs3sRule) {
 
 // "corr" rows: the shadowing's correlation between the loss at the start and after b moved
 // (ns3_path_loss.cc), over `pairs` independent pairs on each side; the two sample correlations
-// within 4.5 standard errors of their difference (each about (1 - R^2) / sqrt(n)).
+// within 4.5 standard errors of their difference (each about (1 - R^2) / sqrt(n)). Rows behind
+// the CSV's wall are NLOS (correlation distance 13 m), the others LOS (10 m).
 TEST(Ns3PathLossTest, ShadowingCorrelationAfterAMoveAsNs3) {
-  int rows = 0;
-  for (const Row& row : ReadRows()) {
+  const std::vector<Row> all_rows = ReadRows();
+  RadioChannel walls(std::make_unique<LogDistanceModel>(46.6777, 3), true, 9, 0.4);
+  for (const Row& box : all_rows) {
+    if (box.kind == "box") walls.AddObstacle(Box{box.a, box.b, 0});
+  }
+  int rows = 0, nlos_rows = 0;
+  for (const Row& row : all_rows) {
     if (row.kind != "corr") continue;
     const double radius_m = std::hypot(row.b.x - row.a.x, row.b.y - row.a.y);
     const Vec3d start{row.a.x + radius_m, row.a.y, row.b.z};
+    const bool blocked = walls.SegmentBlocked(row.a, start);
+    ASSERT_EQ(walls.SegmentBlocked(row.a, row.b), blocked);  // One condition before and after.
+    nlos_rows += blocked;
     double s1 = 0, s2 = 0, s11 = 0, s22 = 0, s12 = 0;
     for (int k = 0; k < row.pairs; ++k) {
       std::unique_ptr<PathLossModel> model = ModelFor(row, 555000 + k);
-      const double before = model->LossDb(PathLossLink{0, 1, row.a, start, false});
-      const double after = model->LossDb(PathLossLink{0, 1, row.a, row.b, false});
+      const double before = model->LossDb(PathLossLink{0, 1, row.a, start, blocked});
+      const double after = model->LossDb(PathLossLink{0, 1, row.a, row.b, blocked});
       s1 += before, s2 += after, s11 += before * before, s22 += after * after;
       s12 += before * after;
     }
@@ -146,7 +155,8 @@ TEST(Ns3PathLossTest, ShadowingCorrelationAfterAMoveAsNs3) {
         << row.model << " moved to (" << row.b.x << ", " << row.b.y << ")";
     ++rows;
   }
-  EXPECT_GE(rows, 4);
+  EXPECT_GE(rows, 7);
+  EXPECT_GE(nlos_rows, 3);
 }
 
 }  // namespace

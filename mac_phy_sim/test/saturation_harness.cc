@@ -196,6 +196,7 @@ MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
                                  ? MediumConfig::PathLoss::kThreeGppV2vUrban
                                  : MediumConfig::PathLoss::kThreeGppV2vHighway;
     config.v2v_shadowing = side_by_side::HasV2vShadowing(c.path_loss);
+    config.v2v_update_period_ns = c.v2v_update_period_ms * kNsPerMs;
   }
   if (c.unlimited_retries) {
     config.short_retry_limit = 1000000;

@@ -47,6 +47,8 @@ TEST(ScenarioAdapterTest, EveryRadioValueTheScenarioAcceptsBuildsAMedium) {
         const auto* reflection = spec->GetReflection();
         if (field->cpp_type() == google::protobuf::FieldDescriptor::CPPTYPE_DOUBLE) {
           reflection->SetDouble(spec, field, value);
+        } else if (field->cpp_type() == google::protobuf::FieldDescriptor::CPPTYPE_INT64) {
+          reflection->SetInt64(spec, field, static_cast<int64_t>(value));
         } else {
           reflection->SetUInt32(spec, field, static_cast<uint32_t>(value));
         }
@@ -194,12 +196,13 @@ TEST(ScenarioAdapterTest, MapsThePathLossModels) {
   for (const char* model : {"PATH_LOSS_THREE_GPP_V2V_URBAN", "PATH_LOSS_THREE_GPP_V2V_HIGHWAY"}) {
     const Scenario v2v = LoadScenarioText(
         std::string("name: \"v\"\nrobot { name: \"a\" }\nradio { path_loss_model: ") + model +
-            " v2v_shadowing: false v2v_truck_percent: 20 }\n",
+            " v2v_shadowing: false v2v_truck_percent: 20 v2v_update_period_ms: 250 }\n",
         "v.textproto");
     const MediumConfig v2v_config = MediumConfigFromScenario(v2v);
     EXPECT_NE(v2v_config.path_loss_model, MediumConfig::PathLoss::kLogDistance);
     EXPECT_FALSE(v2v_config.v2v_shadowing);
     EXPECT_EQ(v2v_config.v2v_truck_percent, 20);
+    EXPECT_EQ(v2v_config.v2v_update_period_ns, 250 * kNsPerMs);
   }
 }
 
@@ -220,6 +223,8 @@ TEST(ScenarioAdapterTest, RefusesBadPathLossFieldsInOneLocatedLine) {
             "t.textproto:3:9: radio: two_ray_system_loss 0.5 out of range [1, 1000]");
   EXPECT_EQ(message("v2v_truck_percent: 101"),
             "t.textproto:3:9: radio: v2v_truck_percent 101 out of range [0, 100]");
+  EXPECT_EQ(message("v2v_update_period_ms: -1"),
+            "t.textproto:3:9: radio: v2v_update_period_ms -1 out of range [0, 86400000]");
   EXPECT_NE(message("path_loss_model: PATH_LOSS_FOO").find("t.textproto:3:"), std::string::npos);
 }
 

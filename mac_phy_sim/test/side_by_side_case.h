@@ -69,11 +69,18 @@ struct Case {
   bool table_error_model = false;
   double near_m = 0, far_m = 0;  // Hidden/exposed geometry.
   PathLoss path_loss = PathLoss::kLogDistance;
+  // 3GPP only: ns-3's UpdatePeriod of the condition model (radio.v2v_update_period_ms); 0:
+  // frozen. In the CSV's path_loss column as a suffix "-update<N>ms" (CellPathLossName).
+  int v2v_update_period_ms = 0;
   double warmup_s = 1, measure_s = 10;
   // Bianchi's assumption for saturation (CW stays at CWmax); otherwise the
   // standard's 7 / 4 attempts.
   bool unlimited_retries = true;
   bool fast = false;  // Part of the subset scripts/test checks against the CSV.
+  // Seeds each side for this cell; 0: the matrix run's count. Cells whose statistic varies
+  // mostly between seeds (3GPP shadowing: one draw per static link per run) need thousands.
+  // In the CSV as the row's `seeds`.
+  int seeds = 0;
   // Source interval override (ns); 0: OfferIntervalNs's default. Not in the
   // CSV: for one-off load studies (ns3_side_by_side hidden-load).
   int64_t offer_interval_ns = 0;
@@ -165,6 +172,15 @@ inline const char* PathLossName(PathLoss p) {
       return "v2v-highway-noshadowing";
   }
   return "";
+}
+
+// The CSV's path_loss column of a cell: the model's name, then "-update<N>ms" if set.
+inline std::string CellPathLossName(const Case& c) {
+  std::string name = PathLossName(c.path_loss);
+  if (c.v2v_update_period_ms > 0) {
+    name += "-update" + std::to_string(c.v2v_update_period_ms) + "ms";
+  }
+  return name;
 }
 
 inline const char* StandardName(Standard s) {

@@ -41,7 +41,17 @@ bool ParseTopology(const std::string& s, Topology* out) {
   return false;
 }
 
-bool ParsePathLoss(const std::string& s, PathLoss* out) {
+bool ParsePathLoss(std::string s, Case* c) {
+  PathLoss* out = &c->path_loss;
+  // A "-update<N>ms" suffix: the condition model's update period (CellPathLossName).
+  const size_t update = s.rfind("-update");
+  if (update != std::string::npos && s.size() > update + 9 &&
+      s.compare(s.size() - 2, 2, "ms") == 0) {
+    const std::string digits = s.substr(update + 7, s.size() - update - 9);
+    if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) return false;
+    c->v2v_update_period_ms = std::stoi(digits);
+    s.resize(update);
+  }
   for (PathLoss p :
        {PathLoss::kLogDistance, PathLoss::kTwoRayGround, PathLoss::kV2vUrban, PathLoss::kV2vHighway,
         PathLoss::kV2vUrbanNoShadowing, PathLoss::kV2vHighwayNoShadowing}) {
@@ -78,7 +88,7 @@ bool ParseLine(const std::string& line, Row* row) {
     c.warmup_s = std::stod(f[15]);
     c.measure_s = std::stod(f[16]);
     c.unlimited_retries = f[17] == "1";
-    if (!ParsePathLoss(f[18], &c.path_loss)) return false;
+    if (!ParsePathLoss(f[18], &c)) return false;
     c.fast = f[19] == "1";
     row->seeds = std::stoi(f[20]);
     row->ns3_mean_mbps = std::stod(f[21]);
@@ -112,7 +122,7 @@ std::string FormatRow(const Row& r) {
                 c.senders, TopologyName(c.topology), c.payload_bytes, c.rts_threshold_bytes,
                 c.capture ? 1 : 0, c.near_m, c.far_m, c.nakagami_m, c.lognormal_sigma_db,
                 c.ideal_rate ? 1 : 0, c.table_error_model ? 1 : 0, c.warmup_s, c.measure_s,
-                c.unlimited_retries ? 1 : 0, PathLossName(c.path_loss), c.fast ? 1 : 0, r.seeds,
+                c.unlimited_retries ? 1 : 0, CellPathLossName(c).c_str(), c.fast ? 1 : 0, r.seeds,
                 r.ns3_mean_mbps, r.ns3_sd_mbps, r.ours_mean_mbps, r.ours_sd_mbps, r.ns3_wall_s,
                 r.ours_wall_s);
   std::string line = buf;

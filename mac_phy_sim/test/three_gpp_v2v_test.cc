@@ -195,6 +195,90 @@ TEST(ThreeGppV2vTest, NoNewDrawWithoutMovement) {
   EXPECT_EQ(model.LossDb(PathLossLink{1, 0, link.b_m, link.a_m, false}), first);  // Symmetric.
 }
 
+// ns-3's UpdatePeriod: a static pair keeps its condition (and shadowing) up to and including
+// one period after the draw, and draws the condition anew at its first evaluation after that.
+// A new condition brings a new shadowing draw; the same one keeps the value (nothing moved).
+TEST(ThreeGppV2vTest, UpdatePeriodRedrawsTheConditionOfAStaticPair) {
+  constexpr int kPairs = 20000;
+  constexpr TimeNs kPeriodNs = 100 * kNsPerMs;
+  constexpr double kDistanceM = 150;  // Urban p_LOS 0.189.
+  int los_first = 0, los_both = 0, changed = 0;
+  for (int k = 0; k < kPairs; ++k) {
+    ThreeGppV2vParams params;
+    params.frequency_hz = kFc;
+    params.seed = 50000 + k;
+    params.update_period_ns = kPeriodNs;
+    ThreeGppV2vModel model(params);
+    PathLossLink link{0, 1, {0, 0, 2}, {kDistanceM, 0, 2}, false, 7};
+    const double first_db = model.LossDb(link);
+    const LinkCondition first = model.condition(0, 1);
+    ASSERT_EQ(model.RecomputeAfterNs(0, 1), 7 + kPeriodNs);
+    link.now_ns = 7 + kPeriodNs;  // Not yet: ns-3 redraws only when more than a period passed.
+    ASSERT_EQ(model.LossDb(link), first_db);
+    link.now_ns = 8 + kPeriodNs;
+    const double second_db = model.LossDb(link);
+    const LinkCondition second = model.condition(0, 1);
+    ASSERT_EQ(model.RecomputeAfterNs(0, 1), 8 + 2 * kPeriodNs);
+    if (first == second) {
+      ASSERT_EQ(second_db, first_db);  // At 2 m NLOSv adds nothing: the same loss.
+    } else {
+      ++changed;
+    }
+    los_first += first == LinkCondition::kLos;
+    los_both += first == LinkCondition::kLos && second == LinkCondition::kLos;
+  }
+  // The two draws are independent: LOS twice with p^2, a change with 2 p (1 - p).
+  const double p = V2vLosProbability(V2vEnvironment::kUrban, kDistanceM);
+  auto expect_share = [&](int count, double probability) {
+    EXPECT_NEAR(static_cast<double>(count) / kPairs, probability,
+                4.5 * std::sqrt(probability * (1 - probability) / kPairs));
+  };
+  expect_share(los_first, p);
+  expect_share(los_both, p * p);
+  expect_share(changed, 2 * p * (1 - p));
+  // Period 0 (the default): the condition never changes.
+  ThreeGppV2vModel frozen = Model(V2vEnvironment::kUrban, 3, true);
+  const PathLossLink at_0{0, 1, {0, 0, 2}, {kDistanceM, 0, 2}, false, 0};
+  const double frozen_db = frozen.LossDb(at_0);
+  EXPECT_EQ(frozen.RecomputeAfterNs(0, 1), kNeverNs);
+  PathLossLink later = at_0;
+  later.now_ns = 3600 * kNsPerS;
+  EXPECT_EQ(frozen.LossDb(later), frozen_db);
+}
+
+// The channel recomputes a static pair once the clock passes the model's RecomputeAfterNs,
+// both through LossDb and LossDbUntil, and not before.
+TEST(ThreeGppV2vTest, ChannelRecomputesAStaticPairAfterTheUpdatePeriod) {
+  constexpr int kChannels = 4000;
+  constexpr TimeNs kPeriodNs = 50 * kNsPerMs;
+  int changed = 0, changed_until = 0;
+  for (int k = 0; k < kChannels; ++k) {
+    TimeNs now_ns = 0;
+    ThreeGppV2vParams params;
+    params.frequency_hz = kFc;
+    params.seed = 70000 + k;
+    params.update_period_ns = kPeriodNs;
+    RadioChannel channel(std::make_unique<ThreeGppV2vModel>(params), true, 9, 0.4);
+    channel.set_clock(&now_ns);
+    channel.AddStation({0, 0, 2});
+    channel.AddStation({150, 0, 2});
+    channel.AddStation({0, 150, 2});
+    const double first_db = channel.LossDb(0, 1);
+    const double first_until_db = channel.LossDbUntil(0, 2, 1000);
+    now_ns = kPeriodNs;
+    ASSERT_EQ(channel.LossDb(1, 0), first_db);
+    ASSERT_EQ(channel.LossDbUntil(2, 0, 1000), first_until_db);
+    now_ns = kPeriodNs + 1;
+    changed += channel.LossDb(1, 0) != first_db;
+    changed_until += channel.LossDbUntil(2, 0, 1000) != first_until_db;
+  }
+  const double p = V2vLosProbability(V2vEnvironment::kUrban, 150);
+  const double p_change = 2 * p * (1 - p);
+  const double tolerance = 4.5 * std::sqrt(p_change * (1 - p_change) / kChannels);
+  EXPECT_NEAR(static_cast<double>(changed) / kChannels, p_change, tolerance);
+  EXPECT_NEAR(static_cast<double>(changed_until) / kChannels, p_change, tolerance);
+}
+
 TEST(ThreeGppV2vTest, RecoversFromAPositionThatIsNotANumber) {
   ThreeGppV2vModel model = Model(V2vEnvironment::kUrban, 4, true);
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -278,6 +362,50 @@ TEST_P(ThreeGppV2vMediumTest, SameSeedSameBytes) {
     }
   }
   EXPECT_TRUE(differs);
+}
+
+// The medium hands its clock to the channel: with an update period a static link's received
+// power changes over a run (a new condition brings new shadowing), without one it never does;
+// the same seed gives the same powers.
+std::vector<double> StaticLinkPowersDbm(TimeNs update_period_ns, uint64_t seed) {
+  MediumConfig config;
+  config.seed = seed;
+  config.rate_mbps = 6;
+  config.path_loss_model = MediumConfig::PathLoss::kThreeGppV2vUrban;
+  config.v2v_update_period_ns = update_period_ns;
+  Medium medium(config);
+  medium.AddStation(RobotMac(0), {0, 0, 2});
+  medium.AddStation(RobotMac(1), {135, 0, 2});  // p_LOS 0.225: a change at 35 % of updates.
+  medium.EnableTrace(true);
+  for (int k = 0; k < 200; ++k) {
+    medium.SubmitFrame(0, testing::MakeEthernetFrame(RobotMac(1), RobotMac(0), 100),
+                       k * 5 * kNsPerMs);
+  }
+  medium.AdvanceTo(kNsPerS, nullptr);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  std::vector<double> powers_dbm;
+  for (const TraceEvent& event : trace) {
+    if (!event.tx || event.tx->source != 0 || event.tx->kind != FrameKind::kData) continue;
+    for (const auto& reception : event.tx->receptions) powers_dbm.push_back(reception.rx_power_dbm);
+  }
+  return powers_dbm;
+}
+
+TEST(ThreeGppV2vMediumTest, UpdatePeriodChangesAStaticLinkOverTime) {
+  const std::vector<double> frozen = StaticLinkPowersDbm(0, 5);
+  ASSERT_GE(frozen.size(), 200u);
+  for (double power_dbm : frozen) EXPECT_EQ(power_dbm, frozen.front());
+  const std::vector<double> updated = StaticLinkPowersDbm(10 * kNsPerMs, 5);
+  ASSERT_GE(updated.size(), 200u);
+  int changes = 0;
+  for (size_t i = 1; i < updated.size(); ++i) changes += updated[i] != updated[i - 1];
+  // A frame every 5 ms, its ACK 0.2 ms later: the first transmission more than 10 ms after a
+  // draw is an ACK 10.2 ms after it, so about 98 updates in 1 s; a change at 2 p (1 - p) =
+  // 0.35 of them: mean 34, sd 4.7. The bounds are 4 sd away.
+  EXPECT_GE(changes, 15);
+  EXPECT_LE(changes, 53);
+  EXPECT_EQ(StaticLinkPowersDbm(10 * kNsPerMs, 5), updated);
 }
 
 INSTANTIATE_TEST_SUITE_P(WithAndWithoutNakagami, ThreeGppV2vMediumTest, ::testing::Bool());

@@ -159,6 +159,8 @@ TEST(ScenarioTest, RejectsParametersOfAPathLossModelNotChosen) {
                  "PATH_LOSS_TWO_RAY_GROUND");
   ExpectRejected(std::string(kTwo) + "radio { v2v_shadowing: false }\n", "t.textproto:4:9",
                  "v2v_shadowing applies to path_loss_model");
+  ExpectRejected(std::string(kTwo) + "radio { v2v_update_period_ms: 100 }\n", "t.textproto:4:9",
+                 "v2v_update_period_ms applies to path_loss_model");
   ExpectRejected(std::string(kTwo) + "radio { path_loss_frequency_mhz: 5900 }\n",
                  "t.textproto:4:9",
                  "path_loss_frequency_mhz applies to path_loss_model PATH_LOSS_TWO_RAY_GROUND, "
@@ -169,7 +171,8 @@ TEST(ScenarioTest, RejectsParametersOfAPathLossModelNotChosen) {
         "two_ray_height_above_z_m: 1 two_ray_system_loss: 2 two_ray_min_distance_m: 1",
         "path_loss_model: PATH_LOSS_THREE_GPP_V2V_URBAN path_loss_frequency_mhz: 5900 "
         "v2v_shadowing: false v2v_truck_percent: 10",
-        "path_loss_model: PATH_LOSS_THREE_GPP_V2V_HIGHWAY v2v_truck_percent: 10"}) {
+        "path_loss_model: PATH_LOSS_THREE_GPP_V2V_HIGHWAY v2v_truck_percent: 10 "
+        "v2v_update_period_ms: 100"}) {
     EXPECT_NO_THROW(LoadScenarioText(std::string(kTwo) + "radio { " + radio + " }\n",
                                      "t.textproto"))
         << radio;
