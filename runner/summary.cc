@@ -5,6 +5,8 @@
 
 #include "runner/connectivity.h"
 #include "runner/outputs.h"
+#include "runner/run_folder.h"
+#include "runner/run_record.h"
 
 namespace sitlnet::runner {
 namespace {
@@ -218,10 +220,18 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
     std::fprintf(stderr, "sitlnet run: warning: %s\n", warning.c_str());
   }
 
+  // Every output is complete by now (the robots reaped, the medium's files and the plots
+  // written): their hashes go into the summary, the one file left out.
+  const TimeNs hash_begin_ns = MonotonicNowNs();
+  const std::string outputs = OutputsJson(dir, report.started_realtime_ns);
+  const TimeNs hash_ns = MonotonicNowNs() - hash_begin_ns;
+
   std::string json = "{\"scenario\":" + Quote(scenario.name);
   json += ",\"source\":" + Quote(scenario.source_path);
   json += ",\"pacing\":" + Quote(proto::Timing::Pacing_Name(scenario.spec.timing().pacing()));
   json += ",\"seed\":" + std::to_string(scenario.spec.timing().seed());
+  json += ",\"sitlnet_version\":" + Quote(std::string(SitlnetVersion()));
+  json += ",\"scenario_text\":" + Quote(EffectiveScenarioText(scenario));
   json += ",\"shadowing\":" + std::string(scenario.spec.radio().shadowing() ? "true" : "false");
   // Where the world's origin is on Earth (trajectories.csv's latitude and longitude).
   const proto::GeodeticOrigin& origin = scenario.spec.geodetic_origin();
@@ -243,7 +253,8 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
           ",\"sitlnet_cpu_s\":" + std::to_string(report.self_cpu_s) +
           ",\"robots_cpu_s\":" + std::to_string(report.robots_cpu_s) +
           ",\"robot_max_rss_kib\":" + std::to_string(report.robot_max_rss_kib) +
-          ",\"robot_median_rss_kib\":" + std::to_string(report.robot_median_rss_kib) + "}";
+          ",\"robot_median_rss_kib\":" + std::to_string(report.robot_median_rss_kib) +
+          ",\"hash_outputs_s\":" + Seconds(hash_ns) + "}";
   json += ",\"medium_link\":";
   if (const auto& link = report.medium_link) {
     const network_side::MediumLinkStats::Means mean = link->PerRoundTrip();
@@ -266,7 +277,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
   }
   json += "],\"plots\":[";
   for (size_t i = 0; i < plots.size(); ++i) json += (i ? "," : "") + Quote(plots[i]);
-  json += "]}\n";
+  json += "],\"outputs\":" + outputs + "}\n";
   LineFile(dir + "/summary.json", "", 1, "summary").AppendRecord(json);
 
   std::fprintf(stderr, "sitlnet run: %s (%.1f s simulated, %s)\n", dir.c_str(),

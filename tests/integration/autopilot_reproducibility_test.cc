@@ -12,61 +12,15 @@
 #include <vector>
 
 #include "tests/integration/run_test_util.h"
+#include "verify/verify.h"
 
 namespace sitlnet::nns::testing {
 namespace {
 
 using integration_test::ReadAll;
 using integration_test::TempDir;
-
-// Linux's default ip_local_port_range starts here: ports at or above it are ephemeral.
-constexpr int kFirstEphemeralPort = 32768;
-
-uint16_t Be16(const std::string& bytes, size_t at) {
-  return static_cast<uint16_t>(static_cast<uint8_t>(bytes[at]) << 8 |
-                               static_cast<uint8_t>(bytes[at + 1]));
-}
-
-// medium.pcap with the fields the robots' kernels draw at random set to zero, frame by frame:
-// the IPv4 identification (random at a UDP socket's connect, or from a hash keyed at random per
-// namespace), the header checksum over it, an ephemeral UDP port (its first try is random) and
-// the UDP checksum over it, and the frame check sequence over all of them. Everything else
-// (timestamps, lengths, MAC fields, addresses, fixed ports, payloads) is kept.
-std::string WithoutKernelRandomness(std::string pcap) {
-  size_t at = 24;  // global header
-  while (at + 16 <= pcap.size()) {
-    const uint32_t length = static_cast<uint8_t>(pcap[at + 8]) |
-                            static_cast<uint8_t>(pcap[at + 9]) << 8 |
-                            static_cast<uint8_t>(pcap[at + 10]) << 16 |
-                            static_cast<uint32_t>(static_cast<uint8_t>(pcap[at + 11])) << 24;
-    const size_t frame = at + 16;
-    const size_t end = frame + length;
-    if (end > pcap.size()) break;
-    const size_t radiotap = static_cast<uint8_t>(pcap[frame + 2]) |
-                            static_cast<uint8_t>(pcap[frame + 3]) << 8;
-    const size_t mac = frame + radiotap;
-    const uint8_t control = static_cast<uint8_t>(pcap[mac]);
-    const bool data = (control & 0x0c) == 0x08;
-    const size_t llc = mac + ((control & 0x80) != 0 ? 26 : 24);  // QoS data: 2 more
-    if (data && llc + 8 + 20 <= end && pcap.compare(llc, 8, "\xaa\xaa\x03\x00\x00\x00\x08\x00", 8) == 0) {
-      const size_t ip = llc + 8;
-      const size_t header = (static_cast<uint8_t>(pcap[ip]) & 0x0f) * 4u;
-      const size_t ip_end = ip + Be16(pcap, ip + 2);
-      pcap.replace(ip + 4, 2, 2, '\0');   // identification
-      pcap.replace(ip + 10, 2, 2, '\0');  // header checksum
-      if (pcap[ip + 9] == 17 && ip + header + 8 <= end) {
-        const size_t udp = ip + header;
-        for (size_t port : {udp, udp + 2}) {
-          if (Be16(pcap, port) >= kFirstEphemeralPort) pcap.replace(port, 2, 2, '\0');
-        }
-        pcap.replace(udp + 6, 2, 2, '\0');  // checksum
-      }
-      if (end == ip_end + 4) pcap.replace(ip_end, 4, 4, '\0');  // FCS
-    }
-    at = end;
-  }
-  return pcap;
-}
+// medium.pcap with the fields the robots' kernels draw at random masked (`sitlnet verify` too).
+using verify::WithoutKernelRandomness;
 
 // 50 virtual seconds: ArduCopter's EKF uses GPS at about 41 s (arducopter_flight_test.cc), it
 // arms then and climbs towards 10 m for the rest of the run. Oracle: two runs of the same
@@ -111,14 +65,6 @@ TEST(ArduCopterReproducibilityTest, TwoLockstepFlightsAreTheSameByteForByte) {
   ExpectNothingLeft(scenario.name);
 }
 
-// The first row where robot 0 is 5 cm above where it stood at 3 s (settled, not yet armed).
-size_t LiftOff(const std::vector<TrajectoryRow>& path) {
-  const double ground_m = path.at(30).z_m;
-  size_t i = 30;
-  while (i < path.size() && path[i].z_m < ground_m + 0.05) ++i;
-  return i;
-}
-
 // PX4 v1.14.4, flown by a station in the lock-step (fly_px4_lockstep.cjs): arm, take off to
 // 5 m, hold over home; 30 virtual seconds (PX4 arms about 9 s after it connects). Its threads
 // make the runs differ (docs/autopilots-evidence.md): the test bounds how far apart.
@@ -140,37 +86,31 @@ TEST(Px4ReproducibilityTest, TwoLockstepFlightsStayWithinTwiceTheEstimatorBound)
       "timing { duration_ms: 30000 pacing: PACING_LOCKSTEP }\n");
   DownGuard guard(scenario.name);
   const std::string out = TempDir() + "/" + scenario.name + "-out";
-  std::vector<TrajectoryRow> paths[2];
+  std::string trajectories[2];
   for (int run = 0; run < 2; ++run) {
     const std::string folder = out + std::to_string(run + 1);
     const CommandResult result = SitlnetRun(scenario, folder, {});
     ASSERT_EQ(result.exit_code, 0) << result.err;
     EXPECT_NE(ReadAll(folder + "/robots/gcs.log").find("EVENT ARMED"), std::string::npos)
         << ReadAll(folder + "/robots/gcs.log");
-    paths[run] = TrajectoryRows(ReadAll(folder + "/trajectories.csv"), 0);
-    ASSERT_GT(paths[run].size(), 200u);
+    trajectories[run] = ReadAll(folder + "/trajectories.csv");
+    ASSERT_GT(TrajectoryRows(trajectories[run], 0).size(), 200u);
   }
-  const size_t first = LiftOff(paths[0]), second = LiftOff(paths[1]);
-  ASSERT_LT(first, paths[0].size());
-  ASSERT_LT(second, paths[1].size());
-  const size_t rows = std::min(paths[0].size() - first, paths[1].size() - second);
-  ASSERT_GT(rows, 100u) << "less than 10 s of flight to compare";
-  double worst_m = 0, worst_horizontal_m = 0, worst_vertical_m = 0, highest_m = 0;
-  for (size_t k = 0; k < rows; ++k) {
-    const TrajectoryRow& a = paths[0][first + k];
-    const TrajectoryRow& b = paths[1][second + k];
-    const double horizontal_m = std::hypot(a.x_m - b.x_m, a.y_m - b.y_m);
-    worst_horizontal_m = std::max(worst_horizontal_m, horizontal_m);
-    worst_vertical_m = std::max(worst_vertical_m, std::fabs(a.z_m - b.z_m));
-    worst_m = std::max(worst_m, std::hypot(horizontal_m, a.z_m - b.z_m));
-    highest_m = std::max(highest_m, a.z_m);
+  // Aligned at each run's lift-off, as `sitlnet verify` compares a PX4 run.
+  const std::optional<verify::PathGap> gap =
+      verify::ComparePathsFromLiftOff(trajectories[0], trajectories[1], 0);
+  ASSERT_TRUE(gap && gap->lift_off_s[0] && gap->lift_off_s[1]) << "it lifted off in both runs";
+  ASSERT_GE(gap->compared_s, 10) << "less than 10 s of flight to compare";
+  double highest_m = 0;
+  for (const TrajectoryRow& row : TrajectoryRows(trajectories[0], 0)) {
+    highest_m = std::max(highest_m, row.z_m);
   }
   EXPECT_GT(highest_m, 4) << "it climbed towards 5 m";
-  EXPECT_LT(worst_m, 0.6);
+  EXPECT_LT(gap->worst_m, verify::kPx4PathBoundM);
   std::printf("PX4 lockstep, two runs: lift-off at %.1f s and %.1f s; aligned there, over %.1f s "
               "the paths are at most %.3f m apart (horizontal %.3f m, vertical %.3f m)\n",
-              first / 10.0, second / 10.0, rows / 10.0, worst_m, worst_horizontal_m,
-              worst_vertical_m);
+              *gap->lift_off_s[0], *gap->lift_off_s[1], gap->compared_s, gap->worst_m,
+              gap->worst_horizontal_m, gap->worst_vertical_m);
   ExpectNothingLeft(scenario.name);
 }
 

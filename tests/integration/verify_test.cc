@@ -1,0 +1,96 @@
+// `sitlnet verify` end to end (docs/sweep.md, "Check that a run reproduces"): a 2 s lockstep run
+// of two flockers is rerun and found the same; one byte changed in trajectories.csv is found and
+// named; a realtime run is refused. The oracle of "same" is the run record's own claim, checked
+// against coreutils' sha256sum.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "tests/integration/run_test_util.h"
+
+namespace sitlnet::nns::testing {
+namespace {
+
+using integration_test::ReadAll;
+using integration_test::TempDir;
+
+constexpr char kTwoFlockers[] =
+    "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } image: \"flocker\" "
+    "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n"
+    "robot { name: \"b\" position_m { x: 0 y: 6 z: 0.2 } image: \"flocker\" "
+    "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n";
+
+std::string Sha256sum(const std::string& path) {
+  FILE* pipe = popen(("sha256sum '" + path + "'").c_str(), "r");
+  if (pipe == nullptr) return "";
+  char digest[65] = {};
+  const size_t n = fread(digest, 1, 64, pipe);
+  pclose(pipe);
+  return std::string(digest, n);
+}
+
+TEST(VerifyTest, ALockstepRunReproducesAndAChangedByteIsNamed) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteScenario(6, kTwoFlockers, "timing { duration_ms: 2000 }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const CommandResult run = SitlnetRun(scenario, out, {"--pacing", "lockstep", "--seed", "5"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // The record holds what sha256sum computes of the file.
+  const std::string summary = ReadAll(out + "/summary.json");
+  const std::string trajectories_hash = Sha256sum(out + "/trajectories.csv");
+  ASSERT_EQ(trajectories_hash.size(), 64u);
+  EXPECT_NE(summary.find("\"trajectories.csv\":{\"sha256\":\"" + trajectories_hash + "\""),
+            std::string::npos)
+      << summary;
+
+  const CommandResult verify = RunCommand(
+      {SitlnetBinary(), "verify", out, "--out", out + "-rerun", "--no-progress"}, 120 * kNsPerS);
+  EXPECT_EQ(verify.exit_code, 0) << verify.out << verify.err;
+  for (const char* line : {"trajectories.csv: same\n", "medium.pcap: same\n",
+                           "deliveries.csv: same\n", "robots/a.log: same\n",
+                           "scenario.textproto: same\n", "losses.csv.gz: same\n"}) {
+    EXPECT_NE(verify.out.find(line), std::string::npos) << line << verify.out;
+  }
+  EXPECT_NE(verify.out.find(" 0 differ: reproduced\n"), std::string::npos) << verify.out;
+
+  // One byte of the rerun's trajectories.csv changed: the two folders compared differ there.
+  {
+    std::fstream file(out + "-rerun/trajectories.csv",
+                      std::ios::in | std::ios::out | std::ios::binary);
+    file.seekg(200);
+    const char byte = static_cast<char>(file.get());
+    file.seekp(200);
+    file.put(byte == '1' ? '2' : '1');
+  }
+  const CommandResult changed =
+      RunCommand({SitlnetBinary(), "verify", out, out + "-rerun"}, 30 * kNsPerS);
+  EXPECT_EQ(changed.exit_code, 1) << changed.out << changed.err;
+  EXPECT_NE(changed.out.find("trajectories.csv: differs: changed since its run"),
+            std::string::npos)
+      << changed.out;
+  EXPECT_NE(changed.out.find("medium.pcap: same\n"), std::string::npos) << changed.out;
+  ExpectNothingLeft(scenario.name);
+}
+
+TEST(VerifyTest, ARealtimeRunIsRefusedInOneLine) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  const RunScenario scenario = WriteScenario(7, kTwoFlockers, "timing { duration_ms: 500 }\n");
+  DownGuard guard(scenario.name);
+  const std::string out = TempDir() + "/" + scenario.name + "-out";
+  const CommandResult run = SitlnetRun(scenario, out, {"--pacing", "realtime"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const CommandResult verify = RunCommand({SitlnetBinary(), "verify", out}, 30 * kNsPerS);
+  EXPECT_EQ(verify.exit_code, 2) << verify.out << verify.err;
+  EXPECT_EQ(verify.err, "sitlnet verify: " + out +
+                            " was run in PACING_REALTIME: its outputs follow the host's timing, "
+                            "so no run reproduces them; verify checks lockstep runs (sitlnet run "
+                            "--pacing lockstep)\n");
+  EXPECT_TRUE(verify.out.empty()) << verify.out;
+  ExpectNothingLeft(scenario.name);
+}
+
+}  // namespace
+}  // namespace sitlnet::nns::testing
