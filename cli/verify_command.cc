@@ -1,7 +1,6 @@
 // `sitlnet verify RUN_DIR [RUN_DIR_B]`: does a lockstep run reproduce? (verify/verify.h)
 #include <memory>
 #include <string>
-#include <vector>
 
 #include "cli/commands.h"
 #include "runner/runner.h"
@@ -21,12 +20,13 @@ constexpr const char* kVerifyDescription =
     "With RUN_DIR_B, compares the two folders without a rerun (docs/sweep.md).";
 
 constexpr const char* kVerifyExitCodes =
-    "exit codes: 0 every output the same or within its bound, 1 an output differs\n"
-    "or the rerun failed to start, 2 usage, a refused run or an unreadable record,\n"
-    "3 missing privileges (the rerun), 130 interrupted.";
+    "exit codes: 0 no output differs, 1 an output differs, 2 usage, a refused run,\n"
+    "an unreadable record or a rerun that could not start, 3 missing privileges\n"
+    "(the rerun), 130 interrupted.";
 
 struct VerifyArguments {
-  std::vector<std::string> run_dirs;
+  std::string run_dir;
+  std::string run_dir_b;
   std::string out;
   bool progress = true;
 };
@@ -38,10 +38,9 @@ Command AddVerifyCommand(CLI::App& sitlnet) {
       sitlnet.add_subcommand("verify", "check that a lockstep run reproduces, output by output");
   command->footer(std::string(kVerifyDescription) + "\n" + kVerifyExitCodes);
   auto arguments = std::make_shared<VerifyArguments>();
-  command->add_option("RUN_DIR", arguments->run_dirs,
-                      "the run folder; with a second, the two are compared without a rerun")
-      ->required()
-      ->expected(1, 2);
+  command->add_option("RUN_DIR", arguments->run_dir, "the run folder")->required();
+  command->add_option("RUN_DIR_B", arguments->run_dir_b,
+                      "another run folder: the two are compared, without a rerun");
   command->add_option("--out", arguments->out,
                       "the rerun's folder (default <RUN_DIR>-verify-<UTC time>)")
       ->type_name("DIR");
@@ -50,15 +49,17 @@ Command AddVerifyCommand(CLI::App& sitlnet) {
       "no live progress line of the rerun on stderr");
   return {command, [arguments] {
             return ReportErrors("verify", kExitUsage, [&] {
-              if (arguments->run_dirs.size() == 2) {
-                return verify::VerifyTwoFolders(arguments->run_dirs[0], arguments->run_dirs[1])
-                    .exit_code;
+              if (!arguments->run_dir_b.empty()) {
+                if (!arguments->out.empty()) {
+                  throw Error("--out names a rerun's folder; two folders are compared without one");
+                }
+                return verify::VerifyTwoFolders(arguments->run_dir, arguments->run_dir_b).exit_code;
               }
               runner::RunOptions run_options;
               run_options.program = "sitlnet verify";
               run_options.progress = arguments->progress;
               LocateImages(&run_options);
-              return verify::VerifyByRerun(arguments->run_dirs[0], arguments->out, run_options)
+              return verify::VerifyByRerun(arguments->run_dir, arguments->out, run_options)
                   .exit_code;
             });
           }};

@@ -13,8 +13,9 @@
 namespace sitlnet::verify {
 namespace {
 
+// The scenario as run, as a JSON string (escaped quotes and newlines).
 constexpr char kScenario[] =
-    "name: \"fc\"\\nrobot {\\n  name: \"a\"\\n}\\ntiming {\\n  pacing: PACING_LOCKSTEP\\n}\\n";
+    R"(name: \"fc\"\nrobot {\n  name: \"a\"\n}\ntiming {\n  pacing: PACING_LOCKSTEP\n}\n)";
 
 // A run folder holding `files`, with a summary.json recording each one's hash.
 std::string MakeRun(const std::string& name, const std::map<std::string, std::string>& files,
