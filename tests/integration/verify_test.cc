@@ -4,7 +4,6 @@
 // against coreutils' sha256sum.
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <fstream>
 #include <string>
 
@@ -16,21 +15,6 @@ namespace {
 using integration_test::ReadAll;
 using integration_test::TempDir;
 
-constexpr char kTwoFlockers[] =
-    "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } image: \"flocker\" "
-    "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n"
-    "robot { name: \"b\" position_m { x: 0 y: 6 z: 0.2 } image: \"flocker\" "
-    "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n";
-
-std::string Sha256sum(const std::string& path) {
-  FILE* pipe = popen(("sha256sum '" + path + "'").c_str(), "r");
-  if (pipe == nullptr) return "";
-  char digest[65] = {};
-  const size_t n = fread(digest, 1, 64, pipe);
-  pclose(pipe);
-  return std::string(digest, n);
-}
-
 TEST(VerifyTest, ALockstepRunReproducesAndAChangedByteIsNamed) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const RunScenario scenario = WriteScenario(6, kTwoFlockers, "timing { duration_ms: 2000 }\n");
@@ -40,8 +24,9 @@ TEST(VerifyTest, ALockstepRunReproducesAndAChangedByteIsNamed) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   // The record holds what sha256sum computes of the file.
   const std::string summary = ReadAll(out + "/summary.json");
-  const std::string trajectories_hash = Sha256sum(out + "/trajectories.csv");
-  ASSERT_EQ(trajectories_hash.size(), 64u);
+  const CommandResult sha256sum = RunCommand({"sha256sum", out + "/trajectories.csv"});
+  ASSERT_EQ(sha256sum.exit_code, 0) << sha256sum.err;
+  const std::string trajectories_hash = sha256sum.out.substr(0, 64);
   EXPECT_NE(summary.find("\"trajectories.csv\":{\"sha256\":\"" + trajectories_hash + "\""),
             std::string::npos)
       << summary;
