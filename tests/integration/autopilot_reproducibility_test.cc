@@ -62,6 +62,14 @@ TEST(ArduCopterReproducibilityTest, TwoLockstepFlightsAreTheSameByteForByte) {
   EXPECT_GT(first_pcap.size(), 100000u) << "the MAVLink exchange is on the radio";
   EXPECT_TRUE(WithoutKernelRandomness(first_pcap) ==
               WithoutKernelRandomness(ReadAll(out + "2/medium.pcap")));
+  // `sitlnet verify` of the two folders says the same of each file.
+  const CommandResult verify = RunCommand({SitlnetBinary(), "verify", out + "1", out + "2"});
+  for (const char* line : {"trajectories.csv: same\n", "deliveries.csv: same\n",
+                           "robots/gcs.log: same\n", "medium.pcap: within bound: "}) {
+    EXPECT_NE(verify.out.find(line), std::string::npos) << line << verify.out << verify.err;
+  }
+  std::printf("sitlnet verify of the two runs (exit %d):\n%s", verify.exit_code,
+              verify.out.c_str());
   ExpectNothingLeft(scenario.name);
 }
 
@@ -107,6 +115,14 @@ TEST(Px4ReproducibilityTest, TwoLockstepFlightsStayWithinTwiceTheEstimatorBound)
   }
   EXPECT_GT(highest_m, 4) << "it climbed towards 5 m";
   EXPECT_LT(gap->worst_m, verify::kPx4PathBoundM);
+  // `sitlnet verify` of the two folders: the paths within the bound, nothing said to differ.
+  const CommandResult verify = RunCommand({SitlnetBinary(), "verify", out + "1", out + "2"});
+  EXPECT_EQ(verify.exit_code, 0) << verify.out << verify.err;
+  EXPECT_NE(verify.out.find("trajectories.csv: within bound: a run with PX4: paths at most"),
+            std::string::npos)
+      << verify.out;
+  std::printf("sitlnet verify of the two runs (exit %d):\n%s", verify.exit_code,
+              verify.out.c_str());
   std::printf("PX4 lockstep, two runs: lift-off at %.1f s and %.1f s; aligned there, over %.1f s "
               "the paths are at most %.3f m apart (horizontal %.3f m, vertical %.3f m)\n",
               *gap->lift_off_s[0], *gap->lift_off_s[1], gap->compared_s, gap->worst_m,
