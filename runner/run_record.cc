@@ -18,7 +18,7 @@ TimeNs CoarseRealtimeNowNs() {
   return static_cast<TimeNs>(now.tv_sec) * kNsPerS + now.tv_nsec;
 }
 
-std::string OutputsJson(const std::string& run_dir, TimeNs since_realtime_ns) {
+std::vector<OutputHash> HashOutputs(const std::string& run_dir, TimeNs since_realtime_ns) {
   namespace fs = std::filesystem;
   std::vector<std::string> paths;
   std::error_code error;
@@ -36,15 +36,13 @@ std::string OutputsJson(const std::string& run_dir, TimeNs since_realtime_ns) {
   }
   if (error) throw Error("list run folder \"" + run_dir + "\" to hash its files: " + error.message());
   std::sort(paths.begin(), paths.end());
-  std::string json = "{";
+  std::vector<OutputHash> outputs;
   for (const std::string& path : paths) {
     const std::string full = run_dir + "/" + path;
     const uintmax_t bytes = fs::file_size(full, error);
-    // The names are the run's own (robot names are [A-Za-z0-9_-]): no JSON escaping needed.
-    json += (json.size() > 1 ? ",\"" : "\"") + path + "\":{\"sha256\":\"" + Sha256HexOfFile(full) +
-            "\",\"bytes\":" + std::to_string(error ? 0 : bytes) + "}";
+    outputs.push_back({path, Sha256HexOfFile(full), error ? 0 : bytes});
   }
-  return json + "}";
+  return outputs;
 }
 
 }  // namespace sitlnet::runner

@@ -58,6 +58,8 @@ VerifyReport VerifyByRerun(const std::string& run_dir, const std::string& rerun_
   run_options.out_dir = report.rerun_dir;
   run_options.one_host = true;  // A fleet's outputs equal the one-host run's (docs/scale-out.md).
   run_options.record_losses = original.outputs.count("losses.csv.gz") > 0;
+  // A run without gcs.tlog had no GCS relay (`--gcs none`, or no ground station): nor has this.
+  if (original.outputs.count("gcs.tlog") == 0) run_options.gcs = {"none"};
   std::fprintf(stderr, "sitlnet verify: rerunning %s (seed %llu, lockstep) into %s\n",
                run_dir.c_str(), static_cast<unsigned long long>(original.seed),
                report.rerun_dir.c_str());

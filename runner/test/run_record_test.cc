@@ -3,8 +3,6 @@
 // and an earlier run's files left out.
 #include "runner/run_record.h"
 
-#include <google/protobuf/struct.pb.h>
-#include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/time.h>
@@ -30,17 +28,16 @@ TEST(RunRecordTest, HashesEveryFileTheRunWrote) {
   std::ofstream(dir + "/medium.pcap", std::ios::binary) << std::string("\xd4\xc3\xb2\xa1\0\0", 6);
   std::ofstream(dir + "/summary.json") << "{}";
 
-  google::protobuf::Struct outputs;
-  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(OutputsJson(dir, since_ns), &outputs)
-                  .ok());
-  ASSERT_EQ(outputs.fields_size(), 3) << "summary.json and the earlier run's gcs.tlog left out";
-  for (const char* path : {"trajectories.csv", "robots/a.log", "medium.pcap"}) {
-    ASSERT_EQ(outputs.fields().count(path), 1u) << path;
-    const auto& entry = outputs.fields().at(path).struct_value().fields();
-    EXPECT_EQ(entry.at("sha256").string_value(), Sha256HexOfFile(dir + "/" + path)) << path;
+  const std::vector<OutputHash> outputs = HashOutputs(dir, since_ns);
+  // Sorted by path; summary.json and the earlier run's gcs.tlog left out.
+  ASSERT_EQ(outputs.size(), 3u);
+  const char* paths[] = {"medium.pcap", "robots/a.log", "trajectories.csv"};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(outputs[i].path, paths[i]);
+    EXPECT_EQ(outputs[i].sha256, Sha256HexOfFile(dir + "/" + paths[i])) << paths[i];
     struct stat info {};
-    ASSERT_EQ(stat((dir + "/" + path).c_str(), &info), 0);
-    EXPECT_EQ(entry.at("bytes").number_value(), static_cast<double>(info.st_size)) << path;
+    ASSERT_EQ(stat((dir + "/" + paths[i]).c_str(), &info), 0);
+    EXPECT_EQ(outputs[i].bytes, static_cast<uint64_t>(info.st_size)) << paths[i];
   }
 }
 
