@@ -114,13 +114,15 @@ const char* VerdictName(Verdict verdict) {
   return "?";
 }
 
-std::vector<OutputVerdict> CompareRunFolders(const RunRecord& reference, const RunRecord& other) {
+std::vector<OutputVerdict> CompareRunFolders(const RunRecord& reference, const RunRecord& other,
+                                             OutputSet outputs) {
   const proto::Scenario spec = ParseRecordedScenario(reference);
   const int robots = spec.robot_size();
   const bool px4_run = Px4RobotCount(spec) > 0;
   std::set<std::string> paths;
-  for (const RunRecord* record : {&reference, &other}) {
-    for (const auto& [path, output] : record->outputs) paths.insert(path);
+  for (const auto& [path, output] : reference.outputs) paths.insert(path);
+  if (outputs == OutputSet::kEither) {
+    for (const auto& [path, output] : other.outputs) paths.insert(path);
   }
   std::vector<OutputVerdict> verdicts;
   for (const std::string& path : paths) {

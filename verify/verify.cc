@@ -16,7 +16,7 @@ std::string DefaultRerunDir(std::string run_dir) {
 }
 
 // One line per output on stdout, then the count of each verdict; sets the exit code.
-void Report(const RunRecord& a, const RunRecord& b, VerifyReport* report) {
+void Report(const RunRecord& a, const RunRecord& b, OutputSet outputs, VerifyReport* report) {
   if (a.version != b.version) {
     std::fprintf(stderr,
                  "sitlnet verify: warning: %s was written by sitlnet %s, %s by %s: a difference "
@@ -27,7 +27,7 @@ void Report(const RunRecord& a, const RunRecord& b, VerifyReport* report) {
     std::fprintf(stderr, "sitlnet verify: warning: %s and %s ran different scenarios\n",
                  a.run_dir.c_str(), b.run_dir.c_str());
   }
-  report->outputs = CompareRunFolders(a, b);
+  report->outputs = CompareRunFolders(a, b, outputs);
   int counts[4] = {};
   for (const OutputVerdict& output : report->outputs) {
     ++counts[static_cast<int>(output.verdict)];
@@ -68,7 +68,7 @@ VerifyReport VerifyByRerun(const std::string& run_dir, const std::string& rerun_
     report.exit_code = 130;
     return report;
   }
-  Report(original, ReadRunRecord(report.rerun_dir), &report);
+  Report(original, ReadRunRecord(report.rerun_dir), OutputSet::kReference, &report);
   return report;
 }
 
@@ -78,7 +78,7 @@ VerifyReport VerifyTwoFolders(const std::string& run_dir_a, const std::string& r
   RefuseUnreproducible(a);
   RefuseUnreproducible(b);
   VerifyReport report;
-  Report(a, b, &report);
+  Report(a, b, OutputSet::kEither, &report);
   return report;
 }
 

@@ -92,10 +92,17 @@ std::optional<PathGap> ComparePathsFromLiftOff(const std::string& trajectories_a
 
 //--------------------------- Comparing run folders ----------------------------
 
-// Each output of either record, first checked against its own record (a file changed since its
-// run differs), then compared by the rule for its kind (docs/sweep-reference.md, "verify").
-// Sorted by path.
-std::vector<OutputVerdict> CompareRunFolders(const RunRecord& reference, const RunRecord& other);
+// Which outputs CompareRunFolders takes.
+enum class OutputSet {
+  kReference,  // Those `reference` recorded (a rerun may write more: a fleet's robot logs).
+  kEither,     // Those either recorded: one that only one run wrote differs.
+};
+
+// Each output of `outputs`, first checked against its own record (a file changed since its run
+// differs), then compared by the rule for its kind (docs/sweep-reference.md, "What verify
+// compares"). Sorted by path.
+std::vector<OutputVerdict> CompareRunFolders(const RunRecord& reference, const RunRecord& other,
+                                             OutputSet outputs = OutputSet::kEither);
 
 // What `sitlnet verify` found; exit_code 0 when no output differs, 1 otherwise.
 struct VerifyReport {

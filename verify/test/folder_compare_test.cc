@@ -86,6 +86,12 @@ TEST(FolderCompareTest, ADifferentRunDiffersAtItsFirstRow) {
   EXPECT_EQ(verdicts.at("trajectories.csv").detail.rfind("first at row 2 (time_s 0.100)", 0), 0u)
       << verdicts.at("trajectories.csv").detail;
   EXPECT_EQ(verdicts.at("robots/b.log").verdict, Verdict::kDiffers);
+  // A rerun is held to what the original recorded: its extra file is not compared.
+  const auto recorded = ByPath(CompareRunFolders(ReadRunRecord(MakeRun("diff_a", SomeOutputs())),
+                                                 ReadRunRecord(MakeRun("diff_b", second)),
+                                                 OutputSet::kReference));
+  EXPECT_EQ(recorded.count("robots/b.log"), 0u);
+  EXPECT_EQ(recorded.at("trajectories.csv").verdict, Verdict::kDiffers);
 }
 
 TEST(FolderCompareTest, ARealtimeRunIsRefusedInOneLine) {
