@@ -1,6 +1,6 @@
 // `sitlnet verify` end to end (docs/sweep.md, "Check that a run reproduces"): a 2 s lockstep run
 // of two flockers is rerun and found the same; one byte changed in trajectories.csv is found and
-// named; a realtime run is refused. The oracle of "same" is the run record's own claim, checked
+// named, comparing two folders and by a rerun; a realtime run is refused. The oracle of "same" is the run record's own claim, checked
 // against coreutils' sha256sum.
 #include <gtest/gtest.h>
 
@@ -14,6 +14,15 @@ namespace {
 
 using integration_test::ReadAll;
 using integration_test::TempDir;
+
+// Byte `at` of the file at `path` made another digit (or a digit where it was not one).
+void ChangeOneByte(const std::string& path, std::streamoff at) {
+  std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+  file.seekg(at);
+  const char byte = static_cast<char>(file.get());
+  file.seekp(at);
+  file.put(byte == '1' ? '2' : '1');
+}
 
 TEST(VerifyTest, ALockstepRunReproducesAndAChangedByteIsNamed) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
@@ -42,14 +51,7 @@ TEST(VerifyTest, ALockstepRunReproducesAndAChangedByteIsNamed) {
   EXPECT_NE(verify.out.find(" 0 differ: reproduced\n"), std::string::npos) << verify.out;
 
   // One byte of the rerun's trajectories.csv changed: the two folders compared differ there.
-  {
-    std::fstream file(out + "-rerun/trajectories.csv",
-                      std::ios::in | std::ios::out | std::ios::binary);
-    file.seekg(200);
-    const char byte = static_cast<char>(file.get());
-    file.seekp(200);
-    file.put(byte == '1' ? '2' : '1');
-  }
+  ChangeOneByte(out + "-rerun/trajectories.csv", 200);
   const CommandResult changed =
       RunCommand({SitlnetBinary(), "verify", out, out + "-rerun"}, 30 * kNsPerS);
   EXPECT_EQ(changed.exit_code, 1) << changed.out << changed.err;
@@ -57,6 +59,17 @@ TEST(VerifyTest, ALockstepRunReproducesAndAChangedByteIsNamed) {
             std::string::npos)
       << changed.out;
   EXPECT_NE(changed.out.find("medium.pcap: same\n"), std::string::npos) << changed.out;
+
+  // The same byte changed in the run's own folder: its rerun names the file too.
+  ChangeOneByte(out + "/trajectories.csv", 200);
+  const CommandResult rerun = RunCommand(
+      {SitlnetBinary(), "verify", out, "--out", out + "-rerun2", "--no-progress"}, 120 * kNsPerS);
+  EXPECT_EQ(rerun.exit_code, 1) << rerun.out << rerun.err;
+  EXPECT_NE(rerun.out.find("trajectories.csv: differs: changed since its run: " + out +
+                           "/trajectories.csv"),
+            std::string::npos)
+      << rerun.out;
+  EXPECT_NE(rerun.out.find(" 1 differ: not reproduced\n"), std::string::npos) << rerun.out;
   ExpectNothingLeft(scenario.name);
 }
 
