@@ -45,6 +45,7 @@ Command AddPhysicsCommand(CLI::App& sitlnet);  // cli/physics_command.cc (physic
 Command AddViewCommand(CLI::App& sitlnet);     // cli/view_command.cc (view)
 Command AddNodeCommand(CLI::App& sitlnet);     // cli/node_command.cc (runner)
 Command AddSweepCommand(CLI::App& sitlnet);    // cli/sweep_command.cc (sweep)
+Command AddVerifyCommand(CLI::App& sitlnet);   // cli/verify_command.cc (verify)
 
 // This binary and the folder of the image manifests ($SITLNET_IMAGES, else the source tree's
 // robot_images/), for the images `run` and `node` start (cli/run_command.cc).

@@ -105,7 +105,7 @@ int Main(int argc, char** argv) {
       AddRunCommand(sitlnet),     AddUpCommand(sitlnet),      AddExecCommand(sitlnet),
       AddStatusCommand(sitlnet),  AddDownCommand(sitlnet),    AddMediumCommand(sitlnet),
       AddCaptureCommand(sitlnet), AddPhysicsCommand(sitlnet), AddViewCommand(sitlnet),
-      AddNodeCommand(sitlnet),    AddSweepCommand(sitlnet),
+      AddNodeCommand(sitlnet),    AddSweepCommand(sitlnet),   AddVerifyCommand(sitlnet),
   };
   const char* first_arg = argc > 1 ? argv[1] : nullptr;
   if (first_arg != nullptr && !std::strcmp(first_arg, "help")) {  // `sitlnet help`, as ever.

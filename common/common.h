@@ -198,6 +198,17 @@ class LineFile {
   std::string buffer_;
 };
 
+// The SHA-256 of the file at `path`: 64 lowercase hex digits, read in 1 MiB blocks through
+// OpenSSL's EVP interface (libcrypto; the run record of summary.json, `sitlnet verify`). Throws
+// Error naming the file if it cannot be opened or read.
+std::string Sha256HexOfFile(const std::string& path);
+
+//--------------------------------- Version ----------------------------------
+
+// sitlnet's version: the git commit its build was configured from (`git rev-parse HEAD` when
+// cmake ran), or "unknown" when the sources were not a git checkout.
+std::string_view SitlnetVersion();
+
 //---------------------------- Network value types ---------------------------
 
 // An IPv4 address in host byte order.

@@ -14,6 +14,7 @@
 #include "runner/robot_host.h"
 #include "runner/robot_stop.h"
 #include "runner/run_folder.h"
+#include "runner/run_record.h"
 #include "runner/run_report.h"
 #include "runner/run_setup.h"
 #include "runner/runner.h"
@@ -22,7 +23,10 @@ namespace sitlnet::runner {
 namespace {
 
 Scenario LoadWithOverrides(const RunOptions& options) {
-  return ApplyRunOverrides(LoadScenarioFile(options.scenario_path), options);
+  return ApplyRunOverrides(options.scenario_text
+                               ? LoadScenarioText(*options.scenario_text, options.scenario_path)
+                               : LoadScenarioFile(options.scenario_path),
+                           options);
 }
 
 std::string DefaultRunDir(const std::string& scenario_name) {
@@ -76,6 +80,7 @@ RunReport RunScenario(const RunOptions& options) {
   const TimeNs begin_ns = MonotonicNowNs();
   const Scenario scenario = LoadWithOverrides(options);
   RunReport report;
+  report.started_realtime_ns = CoarseRealtimeNowNs();
   report.run_dir = options.out_dir.empty() ? DefaultRunDir(scenario.name) : options.out_dir;
   // The robots on node hosts: this host runs the medium and the coordinator only.
   if (RunsOnNodeHosts(scenario, options)) {

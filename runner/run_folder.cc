@@ -66,9 +66,14 @@ void MakeRunFolder(const std::string& run_dir) {
   MakeOwnedFolder(folder + "/robots");
 }
 
-void WriteEffectiveScenario(const Scenario& scenario, const std::string& run_dir) {
+std::string EffectiveScenarioText(const Scenario& scenario) {
   std::string text;
   google::protobuf::TextFormat::PrintToString(scenario.spec, &text);
+  return text;
+}
+
+void WriteEffectiveScenario(const Scenario& scenario, const std::string& run_dir) {
+  const std::string text = EffectiveScenarioText(scenario);
   LineFile(run_dir + "/scenario.textproto",
            "# Effective scenario of this run (from " + scenario.source_path + ")", 1,
            "effective scenario")

@@ -14,6 +14,10 @@ namespace sitlnet::runner {
 // writable by others).
 void MakeRunFolder(const std::string& run_dir);
 
+// The scenario with the command line's overrides, as protobuf text: scenario.textproto's body
+// and summary.json's "scenario_text".
+std::string EffectiveScenarioText(const Scenario& scenario);
+
 // <run_dir>/scenario.textproto: the scenario with the command line's overrides.
 void WriteEffectiveScenario(const Scenario& scenario, const std::string& run_dir);
 

@@ -37,6 +37,9 @@ struct RunOptions {
   // `listen` is reachable from other hosts (coordinator::IsLocalOnly).
   std::string secret_file;
   std::string scenario_path;
+  // The scenario as text, loaded instead of the file at scenario_path, which then only names
+  // its source (`sitlnet verify` reruns the recorded scenario under the original's name).
+  std::optional<std::string> scenario_text;
   std::string out_dir;                           // Empty: runs/<scenario>-<UTC date-time>.
   std::optional<double> duration_s;              // Overrides timing.duration_ms.
   std::optional<clock::Pacing> pacing;           // Overrides timing.pacing.
@@ -60,6 +63,9 @@ struct RunOptions {
 
 struct RunReport {
   std::string run_dir;
+  // CLOCK_REALTIME_COARSE at the run's start (the clock of file times): files of the run folder
+  // last modified before it are an earlier run's, left out of summary.json's "outputs".
+  TimeNs started_realtime_ns = 0;
   int exit_code = 0;  // 0 ok, 1 failure (robot failure by policy, error), 130 interrupted.
   bool interrupted = false;
   // Wall-clock phases and CPU, for bench/scale (summary.json "resources").

@@ -6,6 +6,8 @@
 #include "runner/connectivity.h"
 #include "runner/gcs_relay_stage.h"
 #include "runner/outputs.h"
+#include "runner/run_folder.h"
+#include "runner/run_record.h"
 
 namespace sitlnet::runner {
 namespace {
@@ -224,10 +226,29 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
     std::fprintf(stderr, "sitlnet run: warning: %s\n", warning.c_str());
   }
 
+  // Every output is complete by now (the robots reaped, the medium's files and the plots
+  // written): their hashes go into the summary, the one file left out.
+  // A file that cannot be read costs the record, never the summary.
+  const TimeNs hash_begin_ns = MonotonicNowNs();
+  std::string outputs = "{";
+  try {
+    for (const OutputHash& output : HashOutputs(dir, report.started_realtime_ns)) {
+      outputs += (outputs.size() > 1 ? "," : "") + Quote(output.path) + ":{\"sha256\":\"" +
+                 output.sha256 + "\",\"bytes\":" + std::to_string(output.bytes) + "}";
+    }
+    outputs += "}";
+  } catch (const Error& error) {
+    std::fprintf(stderr, "sitlnet run: warning: no record of the outputs: %s\n", error.what());
+    outputs = "null";
+  }
+  const TimeNs hash_ns = MonotonicNowNs() - hash_begin_ns;
+
   std::string json = "{\"scenario\":" + Quote(scenario.name);
   json += ",\"source\":" + Quote(scenario.source_path);
   json += ",\"pacing\":" + Quote(proto::Timing::Pacing_Name(scenario.spec.timing().pacing()));
   json += ",\"seed\":" + std::to_string(scenario.spec.timing().seed());
+  json += ",\"sitlnet_version\":" + Quote(std::string(SitlnetVersion()));
+  json += ",\"scenario_text\":" + Quote(EffectiveScenarioText(scenario));
   json += ",\"shadowing\":" + std::string(scenario.spec.radio().shadowing() ? "true" : "false");
   // Where the world's origin is on Earth (trajectories.csv's latitude and longitude).
   const proto::GeodeticOrigin& origin = scenario.spec.geodetic_origin();
@@ -249,7 +270,8 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
           ",\"sitlnet_cpu_s\":" + std::to_string(report.self_cpu_s) +
           ",\"robots_cpu_s\":" + std::to_string(report.robots_cpu_s) +
           ",\"robot_max_rss_kib\":" + std::to_string(report.robot_max_rss_kib) +
-          ",\"robot_median_rss_kib\":" + std::to_string(report.robot_median_rss_kib) + "}";
+          ",\"robot_median_rss_kib\":" + std::to_string(report.robot_median_rss_kib) +
+          ",\"hash_outputs_s\":" + Seconds(hash_ns) + "}";
   json += ",\"medium_link\":";
   if (const auto& link = report.medium_link) {
     const network_side::MediumLinkStats::Means mean = link->PerRoundTrip();
@@ -272,7 +294,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
   }
   json += "],\"plots\":[";
   for (size_t i = 0; i < plots.size(); ++i) json += (i ? "," : "") + Quote(plots[i]);
-  json += "]}\n";
+  json += "],\"outputs\":" + outputs + "}\n";
   LineFile(dir + "/summary.json", "", 1, "summary").AppendRecord(json);
 
   std::fprintf(stderr, "sitlnet run: %s (%.1f s simulated, %s)\n", dir.c_str(),

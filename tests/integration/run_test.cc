@@ -28,12 +28,6 @@
 namespace sitlnet::nns::testing {
 namespace {
 
-constexpr char kTwoFlockers[] =
-    "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } image: \"flocker\" "
-    "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n"
-    "robot { name: \"b\" position_m { x: 0 y: 6 z: 0.2 } image: \"flocker\" "
-    "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n";
-
 TEST(RunTest, LockstepRunsAreByteIdenticalAndTheSeedMatters) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const RunScenario scenario = WriteScenario(0, kTwoFlockers, "timing { duration_ms: 5000 }\n");

@@ -56,6 +56,13 @@ std::vector<double> CapturedTimes(const std::string& out, const std::string& fil
                                   std::vector<std::string>* sources = nullptr);
 
 // One row of a run's trajectories.csv: time and world ENU position.
+// Two flockers 6 m apart flying towards x = 40 m (RunTest, VerifyTest).
+inline constexpr char kTwoFlockers[] =
+    "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } image: \"flocker\" "
+    "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n"
+    "robot { name: \"b\" position_m { x: 0 y: 6 z: 0.2 } image: \"flocker\" "
+    "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n";
+
 struct TrajectoryRow {
   double t_s = 0;
   double x_m = 0, y_m = 0, z_m = 0;
