@@ -283,7 +283,7 @@ std::vector<Case> Cells() {
     char buf[96];
     std::snprintf(buf, sizeof buf, "%s-edca-%s-be-n%d-%s", standard_part, high, n,
                   measure_high ? high : "be");
-    add(c, buf, s == Standard::kN5 && n == 2 && high_priority == 6);
+    add(c, buf, s == Standard::kN5 && n == 2 && high_priority == 6 && measure_high);
     if (!measure_high) cells.back().measure_s *= 10;
   };
   for (Standard s : {Standard::kN5, Standard::kA}) {
