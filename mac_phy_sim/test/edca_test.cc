@@ -133,19 +133,31 @@ TEST(EdcaTest, CfEndFrameLayout) {
   for (int i = 4; i < 10; ++i) EXPECT_EQ(mpdu[i], 0xff);
 }
 
-// One 802.11n MCS 7 station with 40 voice frames for another: TXOPs of 2.080 ms.
-TEST(EdcaTest, VoiceTxopHoldsFramesSifsApartWhileTheyFitThenSendsCfEnd) {
+// What one 802.11n MCS 7 station sends of `frames` 1500-byte frames with DS byte `tos`, queued
+// at 0 for another station, in 100 ms.
+struct OneSender {
+  std::vector<TxRecord> air;
+  size_t delivered = 0;
+  StationCounters counters;
+};
+OneSender SendFromOneStation(int frames, uint8_t tos) {
   MediumConfig config;
   config.standard = Standard::k80211n5GHz;
   Medium medium(config);
   medium.EnableTrace(true);
   medium.AddStation(RobotMac(0), {});
   medium.AddStation(RobotMac(1), {1, 0, 0});
-  for (int i = 0; i < 40; ++i) medium.SubmitFrame(0, FrameWithTos(0, 1, 1500, 0xc0), 0);
+  for (int i = 0; i < frames; ++i) medium.SubmitFrame(0, FrameWithTos(0, 1, 1500, tos), 0);
   std::vector<Delivery> delivered;
   medium.AdvanceTo(100 * kNsPerMs, &delivered);
-  EXPECT_EQ(delivered.size(), 40u);
-  const std::vector<TxRecord> air = DrainTransmissions(medium);
+  return {DrainTransmissions(medium), delivered.size(), medium.counters(0)};
+}
+
+// 40 voice frames: TXOPs of 2.080 ms.
+TEST(EdcaTest, VoiceTxopHoldsFramesSifsApartWhileTheyFitThenSendsCfEnd) {
+  const OneSender sender = SendFromOneStation(40, 0xc0);
+  EXPECT_EQ(sender.delivered, 40u);
+  const std::vector<TxRecord>& air = sender.air;
   const TimeNs limit_ns = 2080 * kNsPerUs;
   const TimeNs cf_end_ns = PpduDurationNs(Standard::k80211a, 6, 20);  // Non-unicast rate.
   size_t i = 0;
@@ -198,19 +210,11 @@ TEST(EdcaTest, VoiceTxopHoldsFramesSifsApartWhileTheyFitThenSendsCfEnd) {
   }
   EXPECT_GE(txops, 3);
   EXPECT_GE(cf_ends, 1);
-  EXPECT_EQ(medium.counters(0).cf_end_tx, static_cast<uint64_t>(cf_ends));
+  EXPECT_EQ(sender.counters.cf_end_tx, static_cast<uint64_t>(cf_ends));
 }
 
 TEST(EdcaTest, BestEffortSendsOneFramePerAccess) {
-  MediumConfig config;
-  config.standard = Standard::k80211n5GHz;
-  Medium medium(config);
-  medium.EnableTrace(true);
-  medium.AddStation(RobotMac(0), {});
-  medium.AddStation(RobotMac(1), {1, 0, 0});
-  for (int i = 0; i < 20; ++i) medium.SubmitFrame(0, FrameWithTos(0, 1, 1500, 0x00), 0);
-  medium.AdvanceTo(100 * kNsPerMs, nullptr);
-  const std::vector<TxRecord> air = DrainTransmissions(medium);
+  const std::vector<TxRecord> air = SendFromOneStation(20, 0x00).air;
   int data = 0;
   for (size_t i = 1; i < air.size(); ++i) {
     EXPECT_NE(air[i].kind, FrameKind::kCfEnd);
