@@ -8,11 +8,31 @@
 // its CCA needs to notice the other's frame, still transmits: that is how DCF
 // collisions happen.
 #include <algorithm>
+#include <bit>
 
 #include "mac_phy_sim/medium_state.h"
 
 namespace sitlnet::mac {
 namespace {
+
+// Visits the access functions whose bit is set in `mask`, highest category first.
+template <typename F>
+void ForEachPending(unsigned mask, F&& visit) {
+  while (mask != 0) {
+    const int ac = std::bit_width(mask) - 1;
+    mask &= ~(1u << ac);
+    visit(ac);
+  }
+}
+
+void SetPending(StationState& st, int ac, bool pending) {
+  st.acs[ac].backoff_pending = pending;
+  if (pending) {
+    st.pending_mask = static_cast<uint8_t>(st.pending_mask | (1u << ac));
+  } else {
+    st.pending_mask = static_cast<uint8_t>(st.pending_mask & ~(1u << ac));
+  }
+}
 
 TimeNs AifsNs(const State& s, int ac) {
   return s.phy.sifs_ns + s.phy.edca[ac].aifsn * s.phy.slot_ns;  // 10.22.2.4
@@ -66,7 +86,7 @@ void OnBusy(State& s, int station, int ac, TimeNs sensed_ns) {
 void ClearAccess(State& s, int station, int ac) {
   AccessFunction& f = s.stations[station].acs[ac];
   s.SetAccessAt(station, ac, -1);
-  f.backoff_pending = false;
+  SetPending(s.stations[station], ac, false);
   f.backoff_slots = 0;
   f.immediate_access = false;
 }
@@ -109,16 +129,16 @@ void UpdateCca(State& s, int station) {
     // kept, any other is frozen.
     const bool only_a_signal = st.transmitting_tx < 0 && !nav_busy;
     const TimeNs sensed_ns = only_a_signal ? s.now_ns + kPreambleDetectionNs : s.now_ns;
-    for (int ac = 0; ac < kAccessCategoryCount; ++ac) OnBusy(s, station, ac, sensed_ns);
+    ForEachPending(st.pending_mask, [&](int ac) { OnBusy(s, station, ac, sensed_ns); });
   } else {
     st.idle_since_ns = s.now_ns;
     // An access kept inside the 4 us stands if the medium turns idle again
     // before it (a second frame broke the first's preamble detection and the
     // energy left is under CCA-ED; or a weak signal that held the energy over
     // it ended): ns-3 never saw the medium busy.
-    for (int ac = 0; ac < kAccessCategoryCount; ++ac) {
-      if (st.acs[ac].backoff_pending && st.acs[ac].access_at_ns < 0) ScheduleAccess(s, station, ac);
-    }
+    ForEachPending(st.pending_mask, [&](int ac) {
+      if (st.acs[ac].access_at_ns < 0) ScheduleAccess(s, station, ac);
+    });
   }
 }
 
@@ -134,7 +154,7 @@ void StartBackoff(State& s, int station, int ac) {
   f.backoff_slots = DrawUniform(st, f.cw);
   f.immediate_access = false;
   f.backoff_start_ns = s.now_ns;
-  f.backoff_pending = true;
+  SetPending(st, ac, true);
   s.SetAccessAt(station, ac, -1);
   if (!st.busy) ScheduleAccess(s, station, ac);
 }
@@ -142,9 +162,9 @@ void StartBackoff(State& s, int station, int ac) {
 void RescheduleAccess(State& s, int station) {
   StationState& st = s.stations[station];
   if (st.busy) return;
-  for (int ac = 0; ac < kAccessCategoryCount; ++ac) {
+  ForEachPending(st.pending_mask, [&](int ac) {
     if (st.acs[ac].access_at_ns >= 0) ScheduleAccess(s, station, ac);
-  }
+  });
 }
 
 void RequestAccess(State& s, int station, int ac) {
@@ -166,7 +186,7 @@ void RequestAccess(State& s, int station, int ac) {
   f.backoff_slots = 0;
   f.immediate_access = true;
   f.backoff_start_ns = s.now_ns + AifsNs(s, ac);
-  f.backoff_pending = true;
+  SetPending(st, ac, true);
   ScheduleAccess(s, station, ac);
 }
 
@@ -177,10 +197,10 @@ void OnAccess(State& s, int station) {
   // ChannelAccessManager::DoGrantDcfAccess). Functions without a frame end a post-backoff.
   int due[kAccessCategoryCount];
   int due_count = 0;
-  for (int ac = kAccessCategoryCount - 1; ac >= 0; --ac) {
+  ForEachPending(st.pending_mask, [&](int ac) {
     const AccessFunction& f = st.acs[ac];
     if (f.access_at_ns >= 0 && f.access_at_ns <= s.now_ns) due[due_count++] = ac;
-  }
+  });
   for (int i = 0; i < due_count; ++i) ClearAccess(s, station, due[i]);
   bool granted = false;
   for (int i = 0; i < due_count; ++i) {
@@ -203,9 +223,15 @@ namespace sitlnet::mac {
 void Medium::State::SetAccessAt(int station, int ac, TimeNs access_ns) {
   StationState& st = stations[station];
   st.acs[ac].access_at_ns = access_ns;
-  TimeNs at_ns = -1;  // The station's earliest.
-  for (const AccessFunction& f : st.acs) {
-    if (f.access_at_ns >= 0 && (at_ns < 0 || f.access_at_ns < at_ns)) at_ns = f.access_at_ns;
+  // The station's earliest. Only pending functions have an access time: `ac` itself may be
+  // leaving the mask (it is cleared after this call), so it is looked at in any case.
+  TimeNs at_ns = access_ns;
+  unsigned others = st.pending_mask & ~(1u << ac);  // None for a DCF station.
+  while (others != 0) {
+    const int other = std::bit_width(others) - 1;
+    others &= ~(1u << other);
+    const TimeNs t = st.acs[other].access_at_ns;
+    if (t >= 0 && (at_ns < 0 || t < at_ns)) at_ns = t;
   }
   st.access_at_ns = at_ns;
   if (!earliest_access_valid) return;

@@ -1,7 +1,7 @@
 // Internal state of a Medium and the stages that act on it. The stages are
 // split by responsibility (ns-3's decomposition, without its object system):
-//   channel_access.cc  CCA busy/idle, NAV, IFS, backoff countdown (DCF)
-//   frame_exchange.cc  queue, DATA/ACK, RTS/CTS, timeouts, retries, duplicates
+//   channel_access.cc  CCA busy/idle, NAV, IFS, backoff countdown (DCF, EDCA)
+//   frame_exchange.cc  queues, DATA/ACK, RTS/CTS, TXOPs, timeouts, retries, duplicates
 //   reception.cc       PHY: signal arrival, preamble lock, interference/SINR
 //                      chunks, error-rate draw at the end
 //   transmission.cc    putting a PPDU on the air and taking it off (+ trace)
@@ -174,10 +174,10 @@ struct StationState {
   // State::fading_margin_db under the sensitivity on path loss alone (never drawn).
   double fading_reach_m2 = 0;
   StationCounters counters;
-  // One channel access function per access category (EDCAF, 10.22.2), indexed by
-  // AccessCategory; a DCF station uses only best effort's (PhyInfo::edca).
-  std::array<AccessFunction, kAccessCategoryCount> acs;
   int exchange_ac = 0;  // The access category whose frame exchange is under way.
+  // Bit ac set while acs[ac].backoff_pending: the loops over access functions visit only these
+  // (a DCF station has at most one), so the DCF costs what it did before EDCA.
+  uint8_t pending_mask = 0;
   // Next sequence number per TID (ns-3 counts per receiver and TID; one counter per TID gives
   // the same numbers for one receiver and no gaps a receiver could notice otherwise).
   std::array<uint16_t, 8> next_sequence_number{};
@@ -209,6 +209,10 @@ struct StationState {
   double response_snr = 0;
   // Last sequence number per source station and TID (index source * 8 + tid), -1: none.
   std::vector<int> last_sequence_from;
+  // One channel access function per access category (EDCAF, 10.22.2), indexed by
+  // AccessCategory; a DCF station uses only best effort's (PhyInfo::edca). Last: large and
+  // mostly idle, kept after the fields every frame touches.
+  std::array<AccessFunction, kAccessCategoryCount> acs;
 };
 
 struct PendingMove {
