@@ -1,7 +1,8 @@
-// Frame exchange (IEEE 802.11-2016 10.3.2.5-10.3.2.11, 10.3.4.4): queue,
-// DATA/ACK and RTS/CTS/DATA/ACK sequences, ACK/CTS timeouts (ns-3: SIFS +
-// slot + PHY preamble/header), retries with short/long retry counters and
-// binary exponential backoff, duplicate filtering by (TA, sequence number).
+// Frame exchange (IEEE 802.11-2016 10.3.2.5-10.3.2.11, 10.3.4.4, 10.22.2): queues per
+// access category, DATA/ACK and RTS/CTS/DATA/ACK sequences, EDCA TXOPs (further frames SIFS
+// apart, a CF-End at the end), internal collisions, ACK/CTS timeouts (ns-3: SIFS + slot + PHY
+// preamble/header), retries with short/long retry counters and binary exponential backoff,
+// duplicate filtering by (TA, TID, sequence number).
 #include <algorithm>
 #include <cmath>
 
@@ -11,6 +12,8 @@ namespace sitlnet::mac {
 namespace {
 
 uint16_t Micros(TimeNs ns) { return static_cast<uint16_t>((ns + kNsPerUs - 1) / kNsPerUs); }
+
+constexpr MacAddress kBroadcastMac{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
 
 int DataMpduBytes(const State& s, const QueuedFrame& frame) {
   return MpduBytesForEthernet(static_cast<int>(frame.ethernet->size()), s.phy.qos);
@@ -34,39 +37,76 @@ void TraceDrop(State& s, int station, DropReason reason, const MacAddress& desti
   s.trace.push_back(std::move(event));
 }
 
-// Takes the next queued frame into service, if any.
-void NextFrame(State& s, int station) {
+AccessFunction& Exchanging(State& s, int station) {
   StationState& st = s.stations[station];
-  st.has_current = false;
-  if (st.queue.empty()) return;
-  st.current = std::move(st.queue.front());
-  st.queue.pop_front();
-  st.has_current = true;
-  st.current.sequence_number = st.next_sequence_number;
-  st.next_sequence_number = static_cast<uint16_t>((st.next_sequence_number + 1) & 0x0fff);
+  return st.acs[st.exchange_ac];
+}
+
+// What is left of the TXOP `f` holds (ns-3's QosTxop::GetRemainingTxop), >= 0.
+TimeNs RemainingTxopNs(const State& s, const AccessFunction& f, int ac) {
+  return std::max<TimeNs>(f.txop_start_ns + s.phy.edca[ac].txop_limit_ns - s.now_ns, 0);
+}
+
+// Takes the next queued frame of `ac` into service, if any.
+void NextFrame(State& s, int station, int ac) {
+  StationState& st = s.stations[station];
+  AccessFunction& f = st.acs[ac];
+  f.has_current = false;
+  if (f.queue.empty()) return;
+  f.current = std::move(f.queue.front());
+  f.queue.pop_front();
+  f.has_current = true;
+  uint16_t& next = st.next_sequence_number[f.current.tid];
+  f.current.sequence_number = next;
+  next = static_cast<uint16_t>((next + 1) & 0x0fff);
 }
 
 // The frame in service is done (acknowledged, sent to a group, or dropped):
-// reset CW and run a post-backoff (10.3.4.3), carrying the next frame if any.
-void FinishCurrent(State& s, int station) {
+// reset CW, end the TXOP, and run a post-backoff (10.3.4.3) carrying the next frame if any.
+void FinishCurrent(State& s, int station, int ac) {
   StationState& st = s.stations[station];
+  AccessFunction& f = st.acs[ac];
   st.exchange = Exchange::kIdle;
-  st.cw = s.phy.cw_min;
-  NextFrame(s, station);
-  StartBackoff(s, station);
+  f.cw = s.phy.edca[ac].cw_min;
+  f.txop_start_ns = -1;
+  NextFrame(s, station, ac);
+  StartBackoff(s, station, ac);
+}
+
+// The exchange of the frame in service succeeded. With time left in its TXOP the access
+// category sends its next frame a SIFS later (10.22.2.8; ns-3 3.37's
+// QosFrameExchangeManager::TransmissionSucceeded), else it releases the channel.
+void ExchangeSucceeded(State& s, int station) {
+  StationState& st = s.stations[station];
+  const int ac = st.exchange_ac;
+  AccessFunction& f = st.acs[ac];
+  if (f.txop_start_ns < 0 || RemainingTxopNs(s, f, ac) <= s.phy.sifs_ns) {
+    FinishCurrent(s, station, ac);
+    return;
+  }
+  st.exchange = Exchange::kIdle;
+  f.cw = s.phy.edca[ac].cw_min;
+  NextFrame(s, station, ac);
+  s.scheduler.Push(s.now_ns + s.phy.sifs_ns, EventType::kContinueTxop, station,
+                   static_cast<uint64_t>(ac));
 }
 
 void ExchangeFailed(State& s, int station) {
   StationState& st = s.stations[station];
+  const int ac = st.exchange_ac;
+  AccessFunction& af = st.acs[ac];
   const bool was_cts = st.exchange == Exchange::kWaitCts;
   st.exchange = Exchange::kIdle;
   st.timeout_waits_for_rx = false;
   ++st.counters.tx_failures;
-  QueuedFrame& f = st.current;
+  // A failure ends the TXOP: the initial frame's as the standard says (10.22.2.2), a later
+  // one's too here (ns-3 3.37 may instead resume after PIFS: docs/mac_phy_sim.md).
+  af.txop_start_ns = -1;
+  QueuedFrame& f = af.current;
   // Station retry counts (10.3.4.4): SRC for RTS and short DATA, LRC for DATA
   // after a CTS; at the limit the frame in service is discarded.
   const bool data_after_cts = !was_cts && f.use_rts;
-  int& count = data_after_cts ? st.long_retry_count : st.short_retry_count;
+  int& count = data_after_cts ? af.long_retry_count : af.short_retry_count;
   ++count;
   const int limit = data_after_cts ? s.config.long_retry_limit : s.config.short_retry_limit;
   if (count >= limit) {
@@ -74,11 +114,11 @@ void ExchangeFailed(State& s, int station) {
     ++st.counters.lost_retry_limit;
     TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
               f.ethernet->size());
-    FinishCurrent(s, station);
+    FinishCurrent(s, station, ac);
     return;
   }
-  st.cw = std::min(2 * st.cw + 1, s.phy.cw_max);
-  StartBackoff(s, station);
+  af.cw = std::min(2 * af.cw + 1, s.phy.edca[ac].cw_max);
+  StartBackoff(s, station, ac);
 }
 
 void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& ra,
@@ -95,12 +135,21 @@ void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& r
 
 void SendData(State& s, int station) {
   StationState& st = s.stations[station];
-  QueuedFrame& f = st.current;
-  const uint16_t duration = f.group ? 0 : Micros(s.phy.sifs_ns + f.rate->ack_ns);
-  Transmission& tx = StartTransmission(s, station, FrameKind::kData, f.rate->data, DataPsduBytes(s, f),
-                                       f.destination, duration);
+  const int ac = st.exchange_ac;
+  AccessFunction& af = st.acs[ac];
+  QueuedFrame& f = af.current;
+  const TimeNs ack_time_ns = f.group ? 0 : s.phy.sifs_ns + f.rate->ack_ns;
+  TimeNs duration_ns = ack_time_ns;
+  if (af.txop_start_ns >= 0) {
+    // Within a TXOP the Duration covers what is left of it (9.2.5.2; ns-3's
+    // QosFrameExchangeManager::GetFrameDurationId).
+    duration_ns = std::max(RemainingTxopNs(s, af, ac) - DataDurationNs(s, f), ack_time_ns);
+  }
+  Transmission& tx = StartTransmission(s, station, FrameKind::kData, f.rate->data,
+                                       DataPsduBytes(s, f), f.destination, Micros(duration_ns));
   tx.retry = f.data_sent_before;
   tx.sequence_number = f.sequence_number;
+  tx.tid = f.tid;
   tx.ethernet = f.ethernet;
   ++st.counters.data_tx;
   if (f.data_sent_before) ++st.counters.retries;
@@ -108,13 +157,44 @@ void SendData(State& s, int station) {
   st.exchange = f.group ? Exchange::kIdle : Exchange::kWaitAck;
 }
 
+// RTS (if the frame needs one) or DATA of the frame in service of exchange_ac.
+void SendCurrent(State& s, int station) {
+  StationState& st = s.stations[station];
+  const int ac = st.exchange_ac;
+  AccessFunction& af = st.acs[ac];
+  QueuedFrame& f = af.current;
+  ChooseRates(s, station);
+  if (!f.use_rts) {
+    SendData(s, station);
+    return;
+  }
+  const ModeEntry& rts_mode = s.config.rate_control == MediumConfig::RateControl::kIdeal
+                                  ? f.rts_rate->data
+                                  : f.rts_rate->control;
+  // RTS Duration: CTS + DATA + ACK + 3 SIFS (9.3.1.2). RTS at the control
+  // rate of the DATA rate (or Ideal's RTS rate); CTS answers at the control
+  // rate of the RTS's. Within a TXOP: the rest of the TXOP (ns-3's GetRtsDurationId).
+  TimeNs duration_ns =
+      3 * s.phy.sifs_ns + f.rts_rate->cts_ns + DataDurationNs(s, f) + f.rate->ack_ns;
+  if (af.txop_start_ns >= 0) {
+    duration_ns = RemainingTxopNs(s, af, ac) -
+                  PpduDurationNs(rts_mode.mode, rts_mode.header, kRtsBytes);
+    duration_ns = std::max<TimeNs>(duration_ns, 0);
+  }
+  StartTransmission(s, station, FrameKind::kRts, rts_mode, kRtsBytes, f.destination,
+                    Micros(duration_ns));
+  ++st.counters.rts_tx;
+  st.exchange = Exchange::kWaitCts;
+}
+
 // ns-3 3.37's WifiMacQueue::WipeAllExpiredMpdus: removes every frame that
 // has waited longer than MaxDelay since it was queued. ns-3 calls it when a
 // frame arrives at a full queue (WifiMacQueue::Insert) and at every channel
 // access (FrameExchangeManager::StartTransmission), where it also removes the
 // frame being retried (ns-3 keeps it in the queue): `include_current`.
-void DropExpired(State& s, int station, bool include_current) {
+void DropExpired(State& s, int station, int ac, bool include_current) {
   StationState& st = s.stations[station];
+  AccessFunction& af = st.acs[ac];
   const TimeNs max_delay = s.config.queue_max_delay_ns;
   if (max_delay <= 0) return;
   auto expired = [&](const QueuedFrame& f) { return f.enqueued_ns + max_delay <= s.now_ns; };
@@ -125,24 +205,33 @@ void DropExpired(State& s, int station, bool include_current) {
               f.ethernet->size());
   };
   // Frames are queued in arrival order, so the expired ones are a prefix.
-  while (!st.queue.empty() && expired(st.queue.front())) {
-    drop(st.queue.front());
-    st.queue.pop_front();
+  while (!af.queue.empty() && expired(af.queue.front())) {
+    drop(af.queue.front());
+    af.queue.pop_front();
   }
-  if (include_current && st.has_current && expired(st.current)) {
-    drop(st.current);
-    NextFrame(s, station);  // The contention window stays as it is, as in ns-3.
+  if (include_current && af.has_current && expired(af.current)) {
+    drop(af.current);
+    NextFrame(s, station, ac);  // The contention window stays as it is, as in ns-3.
   }
 }
 
-size_t FramesHeld(const StationState& st) { return st.queue.size() + (st.has_current ? 1 : 0); }
+size_t FramesHeld(const AccessFunction& f) { return f.queue.size() + (f.has_current ? 1 : 0); }
+
+// Releases the TXOP of `ac` and draws a new backoff (ns-3's NotifyChannelReleased).
+void ReleaseTxop(State& s, int station, int ac) {
+  s.stations[station].acs[ac].txop_start_ns = -1;
+  StartBackoff(s, station, ac);
+}
 
 }  // namespace
 
 void OnEnqueue(State& s, int station, Bytes ethernet) {
   StationState& st = s.stations[station];
-  if (FramesHeld(st) >= s.config.queue_limit_frames) DropExpired(s, station, false);
-  if (FramesHeld(st) >= s.config.queue_limit_frames) {
+  const int tid = s.phy.qos ? UserPriorityOf(*ethernet) : 0;
+  const int ac = AccessFunctionFor(s, tid);
+  AccessFunction& af = st.acs[ac];
+  if (FramesHeld(af) >= s.config.queue_limit_frames) DropExpired(s, station, ac, false);
+  if (FramesHeld(af) >= s.config.queue_limit_frames) {
     ++st.counters.queue_drops;
     MacAddress destination;
     std::copy_n(ethernet->begin(), 6, destination.bytes.begin());
@@ -152,50 +241,112 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
   QueuedFrame frame;
   std::copy_n(ethernet->begin(), 6, frame.destination.bytes.begin());
   frame.group = frame.destination.IsGroup();
+  frame.tid = static_cast<uint8_t>(tid);
   frame.ethernet = std::move(ethernet);
   frame.enqueued_ns = s.now_ns;
   frame.use_rts = !frame.group && s.config.rts_threshold_bytes > 0 &&
                   DataMpduBytes(s, frame) > static_cast<int>(s.config.rts_threshold_bytes);
-  st.queue.push_back(std::move(frame));
-  if (!st.has_current) {
-    NextFrame(s, station);
-    RequestAccess(s, station);
+  af.queue.push_back(std::move(frame));
+  if (!af.has_current) {
+    NextFrame(s, station, ac);
+    RequestAccess(s, station, ac);
   }
 }
 
-void StartCurrentFrame(State& s, int station) {
+bool StartCurrentFrame(State& s, int station, int ac) {
   StationState& st = s.stations[station];
-  DropExpired(s, station, true);
-  if (!st.has_current) {
+  AccessFunction& af = st.acs[ac];
+  st.exchange_ac = ac;
+  DropExpired(s, station, ac, true);
+  if (!af.has_current) {
     // Everything expired: release the channel with a new backoff (ns-3's
     // Txop::NotifyChannelReleased -> GenerateBackoff).
-    StartBackoff(s, station);
+    StartBackoff(s, station, ac);
+    return false;
+  }
+  // A TXOP starts with the access (ns-3's QosTxop::NotifyChannelAccessed).
+  if (s.phy.edca[ac].txop_limit_ns > 0) af.txop_start_ns = s.now_ns;
+  SendCurrent(s, station);
+  return true;
+}
+
+void OnInternalCollision(State& s, int station, int ac) {
+  // 10.22.2.11.2: the losing EDCAF acts as after a failed transmission: its retry count grows
+  // and its CW doubles, or its frame is discarded at the retry limit (ns-3 3.37's
+  // FrameExchangeManager::NotifyInternalCollision, which counts the long retry count for a
+  // frame that needs RTS); then a new backoff.
+  StationState& st = s.stations[station];
+  AccessFunction& af = st.acs[ac];
+  ++st.counters.internal_collisions;
+  const QueuedFrame& f = af.current;
+  if (!f.group) {
+    int& count = f.use_rts ? af.long_retry_count : af.short_retry_count;
+    const int limit = f.use_rts ? s.config.long_retry_limit : s.config.short_retry_limit;
+    if (++count >= limit) {
+      count = 0;
+      ++st.counters.lost_retry_limit;
+      TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
+                f.ethernet->size());
+      af.cw = s.phy.edca[ac].cw_min;
+      NextFrame(s, station, ac);
+      StartBackoff(s, station, ac);
+      return;
+    }
+  }
+  af.cw = std::min(2 * af.cw + 1, s.phy.edca[ac].cw_max);
+  StartBackoff(s, station, ac);
+}
+
+void OnContinueTxop(State& s, int station, int ac) {
+  StationState& st = s.stations[station];
+  AccessFunction& af = st.acs[ac];
+  if (af.txop_start_ns < 0) return;
+  if (st.transmitting_tx >= 0 || st.exchange != Exchange::kIdle) {
+    ReleaseTxop(s, station, ac);
     return;
   }
-  QueuedFrame& f = st.current;
-  ChooseRates(s, station);
-  if (!f.use_rts) {
-    SendData(s, station);
+  st.exchange_ac = ac;
+  DropExpired(s, station, ac, true);
+  const TimeNs remaining_ns = RemainingTxopNs(s, af, ac);
+  if (af.has_current) {
+    // The next frame goes if its exchange fits in what is left (ns-3's TryAddMpdu: PPDU
+    // duration <= remaining - protection - SIFS - ACK).
+    QueuedFrame& f = af.current;
+    ChooseRates(s, station);
+    TimeNs needed_ns = DataDurationNs(s, f);
+    if (!f.group) needed_ns += s.phy.sifs_ns + f.rate->ack_ns;
+    if (f.use_rts) {
+      const ModeEntry& rts_mode = s.config.rate_control == MediumConfig::RateControl::kIdeal
+                                      ? f.rts_rate->data
+                                      : f.rts_rate->control;
+      needed_ns += PpduDurationNs(rts_mode.mode, rts_mode.header, kRtsBytes) +
+                   2 * s.phy.sifs_ns + f.rts_rate->cts_ns;
+    }
+    if (needed_ns <= remaining_ns) {
+      SendCurrent(s, station);
+      return;
+    }
+  }
+  // Not enough time (or nothing left): a CF-End gives the rest back if it fits (ns-3 3.37's
+  // SendCfEndIfNeeded; at the non-unicast rate), and the TXOP ends when it does.
+  const ModeEntry& mode = s.group_rate->data;
+  if (remaining_ns > PpduDurationNs(mode.mode, mode.header, kCfEndBytes)) {
+    StartTransmission(s, station, FrameKind::kCfEnd, mode, kCfEndBytes, kBroadcastMac, 0);
+    ++st.counters.cf_end_tx;
     return;
   }
-  // RTS Duration: CTS + DATA + ACK + 3 SIFS (9.3.1.2). RTS at the control
-  // rate of the DATA rate (or Ideal's RTS rate); CTS answers at the control
-  // rate of the RTS's.
-  const uint16_t duration =
-      Micros(3 * s.phy.sifs_ns + f.rts_rate->cts_ns + DataDurationNs(s, f) + f.rate->ack_ns);
-  const ModeEntry& rts_mode = s.config.rate_control == MediumConfig::RateControl::kIdeal
-                                  ? f.rts_rate->data
-                                  : f.rts_rate->control;
-  StartTransmission(s, station, FrameKind::kRts, rts_mode, kRtsBytes, f.destination, duration);
-  ++st.counters.rts_tx;
-  st.exchange = Exchange::kWaitCts;
+  ReleaseTxop(s, station, ac);
 }
 
 void OnOwnTxEnd(State& s, const Transmission& tx) {
   StationState& st = s.stations[tx.source];
+  if (tx.kind == FrameKind::kCfEnd) {
+    ReleaseTxop(s, tx.source, st.exchange_ac);
+    return;
+  }
   if (tx.kind == FrameKind::kData && tx.group) {
     ++st.counters.sent_ok;
-    FinishCurrent(s, tx.source);
+    ExchangeSucceeded(s, tx.source);
     return;
   }
   if ((tx.kind == FrameKind::kData && st.exchange == Exchange::kWaitAck) ||
@@ -208,6 +359,21 @@ void OnOwnTxEnd(State& s, const Transmission& tx) {
         s.phy.sifs_ns + s.phy.slot_ns +
         RateFor(s, tx.mode->mode).control.header.preamble_and_header_ns;
     s.scheduler.Push(s.now_ns + timeout_ns, EventType::kTimeout, tx.source, st.timeout_generation);
+    // The other access functions count from its end (ns-3's NotifyAckTimeoutStartNow).
+    st.timeout_end_ns = s.now_ns + timeout_ns;
+    RescheduleAccess(s, tx.source);
+  }
+}
+
+// The response came: the timeout no longer holds channel access back
+// (ns-3's NotifyAckTimeoutResetNow / NotifyCtsTimeoutResetNow).
+void EndTimeout(State& s, int station) {
+  StationState& st = s.stations[station];
+  ++st.timeout_generation;
+  st.timeout_waits_for_rx = false;
+  if (st.timeout_end_ns > s.now_ns) {
+    st.timeout_end_ns = s.now_ns;
+    RescheduleAccess(s, station);
   }
 }
 
@@ -218,15 +384,19 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
     case FrameKind::kData: {
       if (!tx.group && !for_me) return;
       if (!tx.group) {
-        ScheduleResponse(s, station, FrameKind::kAck, tx.ta, 0,
-                         &RateFor(s, tx.mode->mode), entry.sinr);
+        // ACK Duration: the DATA's less SIFS and the ACK (9.2.5.7): 0 outside a TXOP.
+        const RateEntry& answered = RateFor(s, tx.mode->mode);
+        const TimeNs rest_ns = tx.duration_us * kNsPerUs - s.phy.sifs_ns - answered.ack_ns;
+        ScheduleResponse(s, station, FrameKind::kAck, tx.ta,
+                         rest_ns >= kNsPerUs ? Micros(rest_ns) : 0, &answered, entry.sinr);
         auto& last = st.last_sequence_from;
-        if (static_cast<int>(last.size()) <= tx.source) last.resize(tx.source + 1, -1);
-        if (tx.retry && last[tx.source] == tx.sequence_number) {
+        const size_t key = static_cast<size_t>(tx.source) * 8 + tx.tid;
+        if (last.size() <= key) last.resize((static_cast<size_t>(tx.source) + 1) * 8, -1);
+        if (tx.retry && last[key] == tx.sequence_number) {
           ++st.counters.rx_duplicates;
           return;
         }
-        last[tx.source] = tx.sequence_number;
+        last[key] = tx.sequence_number;
       }
       ++st.counters.rx_delivered;
       if (s.deliveries != nullptr) {
@@ -246,24 +416,26 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
       return;
     case FrameKind::kCts:
       if (for_me && st.exchange == Exchange::kWaitCts) {
-        ++st.timeout_generation;
-        st.timeout_waits_for_rx = false;
+        EndTimeout(s, station);
         st.exchange = Exchange::kIdle;
-        st.short_retry_count = 0;  // ns-3 ReportRtsOk.
+        Exchanging(s, station).short_retry_count = 0;  // ns-3 ReportRtsOk.
         ReportSnr(s, station, tx.ta, tx.reported_snr);
-        ScheduleResponse(s, station, FrameKind::kData, st.current.destination, 0);
+        ScheduleResponse(s, station, FrameKind::kData, Exchanging(s, station).current.destination,
+                         0);
       }
       return;
     case FrameKind::kAck:
       if (for_me && st.exchange == Exchange::kWaitAck) {
-        ++st.timeout_generation;
-        st.timeout_waits_for_rx = false;
+        EndTimeout(s, station);
         ++st.counters.sent_ok;
-        (st.current.use_rts ? st.long_retry_count : st.short_retry_count) = 0;
+        AccessFunction& af = Exchanging(s, station);
+        (af.current.use_rts ? af.long_retry_count : af.short_retry_count) = 0;
         ReportSnr(s, station, tx.ta, tx.reported_snr);  // ns-3 ReportDataOk.
-        FinishCurrent(s, station);
+        ExchangeSucceeded(s, station);
       }
       return;
+    case FrameKind::kCfEnd:
+      return;  // Its NAV reset happens where the NAV is set (transmission.cc).
   }
 }
 
@@ -293,7 +465,7 @@ void OnRespond(State& s, int station) {
   switch (st.response_kind) {
     case FrameKind::kAck:
       StartTransmission(s, station, FrameKind::kAck, st.response_rate->control, kAckBytes,
-                        st.response_ra, 0)
+                        st.response_ra, st.response_duration_us)
           .reported_snr = st.response_snr;
       ++st.counters.ack_tx;
       return;
@@ -304,9 +476,10 @@ void OnRespond(State& s, int station) {
       ++st.counters.cts_tx;
       return;
     case FrameKind::kData:
-      if (st.has_current) SendData(s, station);
+      if (Exchanging(s, station).has_current) SendData(s, station);
       return;
     case FrameKind::kRts:
+    case FrameKind::kCfEnd:
       return;
   }
 }

@@ -10,6 +10,7 @@
 #ifndef SITLNET_MAC_PHY_SIM_MAC_PHY_SIM_H_
 #define SITLNET_MAC_PHY_SIM_MAC_PHY_SIM_H_
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -38,6 +39,30 @@ enum class Standard : uint8_t {
 // True for the HT and VHT standards (802.11n, 802.11ac): data goes at an MCS, stations are QoS
 // stations (ns-3 3.37 allows nothing else).
 bool IsHtOrVht(Standard standard);
+
+// EDCA access categories, lowest priority first (IEEE 802.11-2016 10.22.2; docs/mac_phy_sim.md,
+// "EDCA"). A higher value wins an internal collision.
+enum class AccessCategory : uint8_t { kBackground, kBestEffort, kVideo, kVoice };
+inline constexpr int kAccessCategoryCount = 4;
+
+// The 802.11 user priority (0-7) of an Ethernet frame: its IPv4 DS byte >> 5 (IPv6: traffic
+// class >> 5), as Linux before 6.8 and ns-3 3.37 classify; 0 for ARP and other non-IP frames.
+int UserPriorityOf(std::span<const uint8_t> ethernet_frame);
+// Table 10-1: user priority 1, 2 -> background; 0, 3 -> best effort; 4, 5 -> video; 6, 7 -> voice.
+AccessCategory AccessCategoryOf(int user_priority);
+
+// Contention parameters of one access category (or of the DCF).
+struct EdcaParameters {
+  int aifsn = 2;
+  int cw_min = 15;
+  int cw_max = 1023;
+  TimeNs txop_limit_ns = 0;  // 0: one frame exchange per channel access.
+  friend bool operator==(const EdcaParameters&, const EdcaParameters&) = default;
+};
+// ns-3 3.37's defaults (WifiMac::ConfigureDcf) from the PHY's aCWmin and aCWmax: AIFSN 7/3/2/2,
+// CWmin aCWmin/aCWmin/(aCWmin+1)/2-1/(aCWmin+1)/4-1, CWmax aCWmax/aCWmax/aCWmin/(aCWmin+1)/2-1
+// for BK/BE/VI/VO; TXOP limits VI 4.096 ms, VO 2.080 ms (DSSS PHYs: 6.016, 3.264), BE and BK 0.
+EdcaParameters DefaultEdcaParameters(AccessCategory ac, int cw_min, int cw_max, bool dsss);
 
 // Plain values only; every field has the default ns-3 3.37 uses (see
 // docs/references.md#radio-defaults) unless noted. Validated by the Medium constructor. The
@@ -93,6 +118,9 @@ struct MediumConfig {
   int long_retry_limit = 4;   // dot11LongRetryLimit: attempts when RTS is used.
   std::optional<int> cw_min;  // Override of the standard's CWmin (tests).
   std::optional<int> cw_max;  // Override of the standard's CWmax (tests).
+  // a/b/g: a QoS station with four EDCA access categories (ns-3's QosSupported) instead of the
+  // DCF. n/ac stations are QoS stations whatever this says.
+  bool qos = false;
   bool short_slot = false;    // 802.11g only: 9 us slot instead of 20 us.
   // Frame capture (ns-3 SimpleFrameCaptureModel): while the preamble of the
   // frame being received is still in progress, switch to a new frame that is
@@ -148,12 +176,14 @@ struct PhyInfo {
   double group_rate_mbps = 0;    // Rate of group-addressed DATA frames.
   TimeNs slot_ns = 0, sifs_ns = 0, difs_ns = 0, eifs_ns = 0;
   int cw_min = 0, cw_max = 0;
-  // Contention of the one transmit queue. a/b/g: DCF (AIFSN 2: aifs_ns = difs_ns). n/ac: QoS
-  // stations whose frames all go in the best-effort access category (AIFSN 3, CWmin 15, CWmax
-  // 1023, ns-3 3.37's EDCA defaults); eifs_ns and cw_min/cw_max are then that category's.
+  // Contention. a/b/g without qos: the DCF, one queue (AIFSN 2: aifs_ns = difs_ns). QoS stations
+  // (n/ac, or qos set): four EDCA queues with edca's parameters; aifsn, aifs_ns, eifs_ns and
+  // cw_min/cw_max are then best effort's, where every frame without a DS marking goes.
   bool qos = false;
   int aifsn = 2;
   TimeNs aifs_ns = 0;  // aSIFSTime + aifsn x aSlotTime (10.22.2.4).
+  // By AccessCategory; a DCF station uses only best effort's entry (its DCF parameters).
+  std::array<EdcaParameters, kAccessCategoryCount> edca{};
 };
 
 // Computes the derived constants; throws Error("<field> <value> ...") for a rate the standard lacks
@@ -207,7 +237,9 @@ struct Delivery {
 
 //------------------------------ Outputs: trace ------------------------------
 
-enum class FrameKind : uint8_t { kData, kAck, kRts, kCts };
+// kCfEnd: sent by a QoS station that ends its TXOP early (ns-3 3.37's SendCfEndIfNeeded); it
+// resets the NAV of the stations that decode it.
+enum class FrameKind : uint8_t { kData, kAck, kRts, kCts, kCfEnd };
 
 enum class RxOutcome : uint8_t {
   kReceived,          // Decoded (it may still be a duplicate or for another station).
@@ -264,7 +296,8 @@ struct TxRecord {
   int spatial_streams = 1;
   int channel_width_mhz = 20;
   bool short_guard_interval = false;
-  bool qos = false;  // A QoS Data frame (n/ac stations); its TID is 0 (best effort).
+  bool qos = false;  // A QoS Data frame (QoS stations); its QoS Control field carries tid.
+  uint8_t tid = 0;   // QoS Data: the frame's user priority (UserPriorityOf).
   MacAddress receiver;     // addr1 (broadcast for group frames).
   MacAddress transmitter;  // addr2 (absent on air for ACK/CTS; still filled).
   // DATA: the Ethernet frame carried, as submitted (shared with the queue, not copied); null
@@ -313,6 +346,8 @@ struct StationCounters {
   uint64_t rts_tx = 0, cts_tx = 0, ack_tx = 0;
   uint64_t tx_failures = 0;       // ACK or CTS timeouts (collisions or errors).
   uint64_t sent_ok = 0;           // Unicast acknowledged, or group frame sent.
+  uint64_t internal_collisions = 0;  // EDCA: access categories that lost to a higher one.
+  uint64_t cf_end_tx = 0;            // EDCA: CF-End frames ending a TXOP early.
   uint64_t lost_retry_limit = 0;  // Dropped after the last attempt.
   // Receive side.
   uint64_t rx_delivered = 0;   // Deliveries to this station.

@@ -54,6 +54,9 @@ void Dispatch(State& s, const Event& e) {
     case EventType::kSignalEnd:
       OnSignalEnd(s, static_cast<int>(e.aux >> 32), static_cast<int>(e.aux & 0xffffffffu));
       return;
+    case EventType::kContinueTxop:
+      OnContinueTxop(s, e.station, static_cast<int>(e.aux));
+      return;
   }
 }
 
@@ -148,7 +151,7 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
           : (margin_loss_db <= 0
                  ? 0.0
                  : std::pow(10.0, margin_loss_db / (5 * s.config.path_loss_exponent)) * (1 + 1e-9));
-  st.cw = s.phy.cw_min;
+  for (int ac = 0; ac < kAccessCategoryCount; ++ac) st.acs[ac].cw = s.phy.edca[ac].cw_min;
   st.idle_since_ns = s.now_ns;
   s.channel.AddStation(position_m);
   if (s.speed_doppler) s.speed_doppler->AddStation(position_m, s.now_ns);
@@ -256,7 +259,9 @@ const StationCounters& Medium::counters(StationId station) const {
 
 size_t Medium::queued_frames(StationId station) const {
   SITLNET_DEMAND(station >= 0 && station < station_count());
-  return state_->stations[station].queue.size();
+  size_t queued = 0;
+  for (const AccessFunction& f : state_->stations[station].acs) queued += f.queue.size();
+  return queued;
 }
 
 double Medium::LossDb(StationId a, StationId b) {

@@ -1,7 +1,7 @@
 // Internal state of a Medium and the stages that act on it. The stages are
 // split by responsibility (ns-3's decomposition, without its object system):
-//   channel_access.cc  CCA busy/idle, NAV, IFS, backoff countdown (DCF)
-//   frame_exchange.cc  queue, DATA/ACK, RTS/CTS, timeouts, retries, duplicates
+//   channel_access.cc  CCA busy/idle, NAV, IFS, backoff countdown (DCF, EDCA)
+//   frame_exchange.cc  queues, DATA/ACK, RTS/CTS, TXOPs, timeouts, retries, duplicates
 //   reception.cc       PHY: signal arrival, preamble lock, interference/SINR
 //                      chunks, error-rate draw at the end
 //   transmission.cc    putting a PPDU on the air and taking it off (+ trace)
@@ -9,6 +9,7 @@
 #ifndef SITLNET_MAC_PHY_SIM_MEDIUM_STATE_H_
 #define SITLNET_MAC_PHY_SIM_MEDIUM_STATE_H_
 
+#include <array>
 #include <deque>
 #include <memory>
 #include <optional>
@@ -72,6 +73,7 @@ struct QueuedFrame {
   Bytes ethernet;
   MacAddress destination;
   bool group = false;
+  uint8_t tid = 0;  // QoS stations: the user priority (QoS Control); DCF: 0.
   uint16_t sequence_number = 0;
   TimeNs enqueued_ns = 0;         // For queue_max_delay_ns.
   bool data_sent_before = false;  // Sets the Retry bit.
@@ -103,6 +105,7 @@ struct Transmission {
   const ModeEntry* mode = nullptr;
   bool retry = false;
   bool group = false;
+  uint8_t tid = 0;  // QoS Data frames.
   uint16_t sequence_number = 0;
   uint16_t duration_us = 0;
   MacAddress ra, ta;
@@ -136,6 +139,27 @@ struct ActiveSignal {
 
 enum class Exchange : uint8_t { kIdle, kWaitAck, kWaitCts };
 
+// One channel access function: the DCF, or an EDCAF of one access category. Its own queue
+// (ns-3 3.37 keeps one WifiMacQueue per access category), contention window, retry counts and
+// backoff; the medium's state (busy, NAV, EIFS) is the station's.
+struct AccessFunction {
+  std::deque<QueuedFrame> queue;  // Waiting frames.
+  bool has_current = false;
+  QueuedFrame current;  // The frame in service.
+  int cw = 0;
+  // Retry counts, SRC and LRC (IEEE 802.11-2016 10.3.4.4; QSRC/QLRC per access category,
+  // 10.22.2.11; ns-3's per-AC SSRC/SLRC): they count failures until a success or a discard,
+  // across frames, so a frame that expired in the queue passes its count on to the next one.
+  int short_retry_count = 0, long_retry_count = 0;
+  bool backoff_pending = false;   // Counting down (for a frame, or post-backoff).
+  bool immediate_access = false;  // Pending access without a drawn backoff (10.3.4.2).
+  int backoff_slots = 0;
+  TimeNs backoff_start_ns = 0;
+  TimeNs count_origin_ns = 0;  // Where slot counting starts for the scheduled access.
+  TimeNs access_at_ns = -1;    // Scheduled access, -1 if none (State::SetAccessAt).
+  TimeNs txop_start_ns = -1;   // Start of the TXOP it holds (10.22.2.8), -1 if none.
+};
+
 struct StationState {
   MacAddress mac;
   double tx_power_dbm = 0, tx_power_mw = 0;
@@ -150,30 +174,23 @@ struct StationState {
   // State::fading_margin_db under the sensitivity on path loss alone (never drawn).
   double fading_reach_m2 = 0;
   StationCounters counters;
-  // Transmit queue and the frame in service.
-  std::deque<QueuedFrame> queue;
-  bool has_current = false;
-  QueuedFrame current;
-  uint16_t next_sequence_number = 0;
-  int cw = 0;
-  // Station retry counts, SRC and LRC (IEEE 802.11-2016 10.3.4.4; ns-3's
-  // per-station SSRC/SLRC): they count failures until a success or a
-  // discard, across frames, so a frame that expired in the queue passes its
-  // count on to the next one.
-  int short_retry_count = 0, long_retry_count = 0;
-  // Channel access (DCF).
+  int exchange_ac = 0;  // The access category whose frame exchange is under way.
+  // Bit ac set while acs[ac].backoff_pending: the loops over access functions visit only these
+  // (a DCF station has at most one), so the DCF costs what it did before EDCA.
+  uint8_t pending_mask = 0;
+  // Next sequence number per TID (ns-3 counts per receiver and TID; one counter per TID gives
+  // the same numbers for one receiver and no gaps a receiver could notice otherwise).
+  std::array<uint16_t, 8> next_sequence_number{};
+  // Channel access (DCF and EDCA alike).
   bool busy = false;
   TimeNs idle_since_ns = 0;
-  bool use_eifs = false;          // Last reception failed (10.3.2.3.7).
-  bool backoff_pending = false;   // Counting down (for a frame, or post-backoff).
-  bool immediate_access = false;  // Pending access without a drawn backoff (10.3.4.2).
-  int backoff_slots = 0;
-  TimeNs backoff_start_ns = 0;
-  TimeNs count_origin_ns = 0;  // Where slot counting starts for the scheduled access.
-  TimeNs access_at_ns = -1;    // Scheduled access, -1 if none (SetAccessAt).
+  bool use_eifs = false;       // Last reception failed (10.3.2.3.7).
+  TimeNs access_at_ns = -1;    // Earliest access over the access functions, -1 if none.
   TimeNs nav_event_ns = -1;    // Pending kNavEnd event time, -1 if none.
   TimeNs nav_until_ns = 0;
-  TimeNs timeout_end_ns = -kNsPerS;  // Last ACK/CTS timeout that expired with nothing received.
+  // End of the last ACK/CTS timeout: from when it starts (ns-3's NotifyAckTimeoutStartNow)
+  // until the response ends it; no access function counts its AIFS before it.
+  TimeNs timeout_end_ns = -kNsPerS;
   // PHY.
   int transmitting_tx = -1;
   int active_signals = 0;
@@ -190,7 +207,12 @@ struct StationState {
   uint16_t response_duration_us = 0;
   const RateEntry* response_rate = nullptr;  // Rate of the frame being answered.
   double response_snr = 0;
-  std::vector<int> last_sequence_from;  // Per source station, -1: none (duplicates).
+  // Last sequence number per source station and TID (index source * 8 + tid), -1: none.
+  std::vector<int> last_sequence_from;
+  // One channel access function per access category (EDCAF, 10.22.2), indexed by
+  // AccessCategory; a DCF station uses only best effort's (PhyInfo::edca). Last: large and
+  // mostly idle, kept after the fields every frame touches.
+  std::array<AccessFunction, kAccessCategoryCount> acs;
 };
 
 struct PendingMove {
@@ -240,7 +262,8 @@ struct Medium::State {
   bool earliest_access_valid = true;
   TimeNs earliest_access_ns = -1;
   int earliest_access_station = -1;
-  void SetAccessAt(int station, TimeNs at_ns);
+  // Sets the scheduled access of access function `ac` of `station` (-1: none).
+  void SetAccessAt(int station, int ac, TimeNs at_ns);
   void EarliestAccess(TimeNs* at_ns, int* station);
 
   bool trace_enabled = false;
@@ -253,15 +276,25 @@ using State = Medium::State;
 
 // ---- channel_access.cc
 void UpdateCca(State& s, int station);
-void RequestAccess(State& s, int station);  // A frame became current.
-void StartBackoff(State& s, int station);   // Draw from CW and count down.
-void OnAccess(State& s, int station);       // Its access time is now.
+void RequestAccess(State& s, int station, int ac);  // A frame became current.
+void StartBackoff(State& s, int station, int ac);   // Draw from CW and count down.
+// Re-times every counting access function (an ACK/CTS timeout started).
+void RescheduleAccess(State& s, int station);
+void OnAccess(State& s, int station);  // One or more of its access functions' time is now.
 void SetNav(State& s, int station, TimeNs until_ns);
 int DrawUniform(StationState& st, int max_inclusive);
+// The access category a frame of `tid` goes in: its own on QoS stations, best effort (the
+// DCF) otherwise.
+int AccessFunctionFor(const State& s, int tid);
 
 // ---- frame_exchange.cc
 void OnEnqueue(State& s, int station, Bytes ethernet);
-void StartCurrentFrame(State& s, int station);      // Backoff done: RTS or DATA.
+// Backoff of `ac` done: RTS or DATA. False if it had nothing left to send (every frame expired).
+bool StartCurrentFrame(State& s, int station, int ac);
+// `ac` lost an internal collision to a higher access category of its station (10.22.2.11.2).
+void OnInternalCollision(State& s, int station, int ac);
+// A SIFS after a successful exchange within the TXOP of `ac`: its next frame, or a CF-End.
+void OnContinueTxop(State& s, int station, int ac);
 void OnOwnTxEnd(State& s, const Transmission& tx);  // MAC side of a finished PPDU.
 void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntry& entry);
 void OnLockedRxEnd(State& s, int station);  // Resolves a deferred timeout.
@@ -271,7 +304,7 @@ void OnRespond(State& s, int station);
 // ---- rate_control.cc
 void BuildRates(State& s);
 const RateEntry& RateFor(const State& s, const PhyMode& mode);
-// Picks the DATA (and RTS) rate of the current frame's next attempt.
+// Picks the DATA (and RTS) rate of the next attempt of the current frame of exchange_ac.
 void ChooseRates(State& s, int station);
 // kIdeal: the destination measured `snr` (linear) on a frame of ours.
 void ReportSnr(State& s, int station, const MacAddress& destination, double snr);

@@ -40,7 +40,7 @@ uint32_t Crc32(std::span<const uint8_t> bytes) {
 
 void BuildDataMpdu(const MacAddress& ra, const MacAddress& ta, uint16_t duration_us,
                    uint16_t sequence_number, bool retry, std::span<const uint8_t> ethernet_frame,
-                   std::vector<uint8_t>* out, bool qos) {
+                   std::vector<uint8_t>* out, bool qos, uint8_t tid) {
   out->clear();
   out->reserve(ethernet_frame.size() + 24);
   out->push_back(qos ? 0x88 : 0x08);    // Type data, subtype 0 (Data) or 8 (QoS Data).
@@ -50,7 +50,7 @@ void BuildDataMpdu(const MacAddress& ra, const MacAddress& ta, uint16_t duration
   PutMac(out, ta);
   PutMac(out, kBssid);
   Put16(out, static_cast<uint16_t>((sequence_number & 0x0fff) << 4));
-  if (qos) Put16(out, 0);  // QoS Control: TID 0, normal ack, no A-MSDU.
+  if (qos) Put16(out, tid & 0x0f);  // QoS Control: TID, normal ack, no A-MSDU (9.2.4.5).
   // RFC 1042 LLC/SNAP, then the Ethernet type and payload.
   for (uint8_t b : {0xAA, 0xAA, 0x03, 0x00, 0x00, 0x00}) out->push_back(b);
   out->insert(out->end(), ethernet_frame.begin() + 12, ethernet_frame.end());
@@ -60,12 +60,17 @@ void BuildDataMpdu(const MacAddress& ra, const MacAddress& ta, uint16_t duration
 void BuildControlMpdu(FrameKind kind, const MacAddress& ra, const MacAddress& ta,
                       uint16_t duration_us, std::vector<uint8_t>* out) {
   out->clear();
-  const uint8_t fc0 = kind == FrameKind::kAck ? 0xD4 : kind == FrameKind::kCts ? 0xC4 : 0xB4;
+  // Control subtypes (9.2.4.1.3): RTS 11, CTS 12, ACK 13, CF-End 14.
+  const uint8_t fc0 = kind == FrameKind::kAck   ? 0xD4
+                      : kind == FrameKind::kCts ? 0xC4
+                      : kind == FrameKind::kRts ? 0xB4
+                                                : 0xE4;
   out->push_back(fc0);
   out->push_back(0x00);
   Put16(out, duration_us);
   PutMac(out, ra);
   if (kind == FrameKind::kRts) PutMac(out, ta);
+  if (kind == FrameKind::kCfEnd) PutMac(out, kBssid);  // 9.3.1.9: the BSSID (TA).
   PutFcs(out);
 }
 
@@ -74,7 +79,7 @@ std::vector<uint8_t> MpduBytes(const TxRecord& tx) {
   if (tx.kind == FrameKind::kData) {
     SITLNET_DEMAND(tx.ethernet_frame != nullptr && tx.ethernet_frame->size() >= 14);
     BuildDataMpdu(tx.receiver, tx.transmitter, tx.duration_us, tx.sequence_number, tx.retry,
-                  *tx.ethernet_frame, &mpdu, tx.qos);
+                  *tx.ethernet_frame, &mpdu, tx.qos, tx.tid);
   } else {
     BuildControlMpdu(tx.kind, tx.receiver, tx.transmitter, tx.duration_us, &mpdu);
   }

@@ -18,10 +18,10 @@ inline constexpr MacAddress kBssid{{0x02, 0x53, 0x4e, 0x45, 0x54, 0x00}};
 uint32_t Crc32(std::span<const uint8_t> bytes);  // IEEE 802.3 CRC-32 (reflected).
 
 // Appends the MPDU to *out (cleared first). `qos`: a QoS Data frame (subtype 8) whose QoS
-// Control field says TID 0 (best effort), normal acknowledgement (9.2.4.5).
+// Control field carries `tid`, normal acknowledgement (9.2.4.5).
 void BuildDataMpdu(const MacAddress& ra, const MacAddress& ta, uint16_t duration_us,
                    uint16_t sequence_number, bool retry, std::span<const uint8_t> ethernet_frame,
-                   std::vector<uint8_t>* out, bool qos = false);
+                   std::vector<uint8_t>* out, bool qos = false, uint8_t tid = 0);
 void BuildControlMpdu(FrameKind kind, const MacAddress& ra, const MacAddress& ta,
                       uint16_t duration_us, std::vector<uint8_t>* out);
 

@@ -344,16 +344,23 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
   // WifiPhy::GetAckTxTime; its 11g PHY is configured on top of the 11b one).
   // QoS stations (n/ac): AC_BE's AIFS instead of DIFS, here and in EIFS (ns-3's
   // ChannelAccessManager: EIFS - DIFS, then AIFS).
-  const AccessCategory dcf{2, b ? 31 : 15, 1023};
-  const AccessCategory& category = ht ? kBestEffort : dcf;
-  info.qos = ht;
-  info.aifsn = category.aifsn;
+  // aCWmin, aCWmax: 31/1023 DSSS (15.4.5), 15/1023 OFDM and ERP (ns-3's 11g, as its DCF).
+  const int a_cw_min = b ? 31 : 15, a_cw_max = 1023;
+  info.qos = ht || config.qos;
+  for (int ac = 0; ac < kAccessCategoryCount; ++ac) {
+    info.edca[ac] = DefaultEdcaParameters(static_cast<AccessCategory>(ac), a_cw_min, a_cw_max, b);
+  }
+  EdcaParameters& best_effort = info.edca[static_cast<int>(AccessCategory::kBestEffort)];
+  if (!info.qos) best_effort = EdcaParameters{2, a_cw_min, a_cw_max, 0};  // The DCF.
+  best_effort.cw_min = config.cw_min.value_or(best_effort.cw_min);
+  best_effort.cw_max = config.cw_max.value_or(best_effort.cw_max);
+  info.aifsn = best_effort.aifsn;
   info.aifs_ns = info.sifs_ns + info.aifsn * info.slot_ns;
   info.eifs_ns = info.sifs_ns +
                  PpduDurationNs(config.standard, LowestBasicRate(config.standard), kAckBytes) +
                  info.aifs_ns;
-  info.cw_min = config.cw_min.value_or(category.cw_min);
-  info.cw_max = config.cw_max.value_or(category.cw_max);
+  info.cw_min = best_effort.cw_min;
+  info.cw_max = best_effort.cw_max;
   demand(info.cw_min >= 0 && info.cw_max >= info.cw_min && info.cw_max <= 65535,
          "need 0 <= cw_min <= cw_max <= 65535");
   return info;

@@ -104,6 +104,7 @@ inline constexpr int kFcsBytes = 4;
 inline constexpr int kAckBytes = 14;
 inline constexpr int kCtsBytes = 14;
 inline constexpr int kRtsBytes = 20;
+inline constexpr int kCfEndBytes = 20;  // 9.3.1.9: FC, Duration, RA, BSSID (TA), FCS.
 inline constexpr int kEthernetHeaderBytes = 14;
 inline constexpr int kMaxMsduBytes = 2304;  // 9.2.4.7.1
 // An Ethernet II frame of E bytes becomes an MPDU of E + 22 bytes.
@@ -116,16 +117,6 @@ inline constexpr int MpduBytesForEthernet(int ethernet_bytes, bool qos = false) 
          kLlcSnapBytes + kFcsBytes;
 }
 
-// Contention parameters of an EDCA access category (10.22.2). Only best effort is used so far:
-// every frame of an n/ac station goes in it (docs/mac_phy_sim.md).
-struct AccessCategory {
-  int aifsn = 3;
-  int cw_min = 15;
-  int cw_max = 1023;
-};
-// AC_BE as ns-3 3.37 configures it for an OFDM-based PHY (QosTxop defaults, WifiMac::
-// ConfigureStandard): AIFSN 3, CWmin 15, CWmax 1023, no TXOP limit.
-inline constexpr AccessCategory kBestEffort{3, 15, 1023};
 
 }  // namespace sitlnet::mac
 

@@ -105,7 +105,7 @@ const RateEntry& RateFor(const State& s, const PhyMode& mode) {
 
 void ChooseRates(State& s, int station) {
   StationState& st = s.stations[station];
-  QueuedFrame& f = st.current;
+  QueuedFrame& f = st.acs[st.exchange_ac].current;
   if (f.group) {
     f.rate = f.rts_rate = s.group_rate;
     return;

@@ -69,6 +69,7 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
     config.channel_width_mhz = static_cast<int>(radio.channel_width_mhz());
   }
   config.short_guard_interval = radio.short_guard_interval();
+  config.qos = radio.qos();
   config.path_loss_model = PathLossFromScenario(radio.path_loss_model());
   if (radio.has_path_loss_frequency_mhz()) {
     config.path_loss_frequency_hz = radio.path_loss_frequency_mhz() * 1e6;

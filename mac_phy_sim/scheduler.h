@@ -25,6 +25,7 @@ enum class EventType : uint8_t {
   kNavEnd,       // The NAV of `station` may have expired.
   kSignalStart,  // A delayed signal reaches its receiver (aux: tx id << 32 | entry index).
   kSignalEnd,    // A delayed signal leaves its receiver (aux: as kSignalStart).
+  kContinueTxop,  // `station` goes on with its TXOP (aux: the access category).
 };
 
 struct Event {

@@ -40,6 +40,7 @@ void TraceTransmission(State& s, const Transmission& tx) {
     record.short_guard_interval = mode.short_guard_interval;
   }
   record.qos = tx.kind == FrameKind::kData && s.phy.qos;
+  record.tid = tx.tid;
   record.receiver = tx.ra;
   record.transmitter = tx.ta;
   if (tx.kind == FrameKind::kData) record.ethernet_frame = tx.ethernet;
@@ -186,6 +187,8 @@ void EndAtReceiver(State& s, Transmission& tx, int i) {
   if (decoded && !(tx.ra == st.mac) && tx.duration_us > 0) {
     SetNav(s, r, s.now_ns + tx.duration_us * kNsPerUs);
   }
+  // A CF-End resets the NAV (9.3.1.9; ns-3's NavResetTimeout).
+  if (decoded && tx.kind == FrameKind::kCfEnd) st.nav_until_ns = std::min(st.nav_until_ns, s.now_ns);
   UpdateCca(s, r);
   CountReceiverOutcome(st, tx, tx.rx[i]);
   if (decoded) OnFrameReceived(s, r, tx, tx.rx[i]);
@@ -228,6 +231,7 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   tx.group = ra.IsGroup();
   tx.retry = false;
   tx.sequence_number = 0;
+  tx.tid = 0;
   tx.ethernet.reset();
   tx.reported_snr = 0;
   tx.rx.clear();

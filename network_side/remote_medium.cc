@@ -59,6 +59,7 @@ void ToProto(const tapbridge::AirFrame& f, pm::MediumReply* reply) {
   out->set_sender(MacBytes(tx.transmitter));
   out->set_frame_index(tx.ethernet_frame ? SharedFrameIndex(*tx.ethernet_frame, reply) : -1);
   out->set_qos(tx.qos);
+  out->set_tid(tx.tid);
   if (tx.mcs >= 0) {
     pm::HtMode* ht = out->mutable_ht();
     ht->set_mcs(tx.mcs);
@@ -78,7 +79,7 @@ tapbridge::AirFrame FromProto(const pm::AirFrame& p, const pm::MediumReply& repl
                               const std::function<std::string()>& describe) {
   tapbridge::AirFrame f;
   mac::TxRecord& tx = f.tx;
-  if (p.kind() < 0 || p.kind() > static_cast<int32_t>(mac::FrameKind::kCts) ||
+  if (p.kind() < 0 || p.kind() > static_cast<int32_t>(mac::FrameKind::kCfEnd) ||
       p.duration_ns() < 0 || p.start_ns() > std::numeric_limits<TimeNs>::max() - p.duration_ns()) {
     throw Error(describe() + ": medium reply has an air frame of kind " + std::to_string(p.kind()) +
                 " lasting " + std::to_string(p.duration_ns()) + " ns");
@@ -104,6 +105,7 @@ tapbridge::AirFrame FromProto(const pm::AirFrame& p, const pm::MediumReply& repl
   tx.receiver = MacFrom(p.receiver());
   tx.transmitter = MacFrom(p.sender());
   tx.qos = p.qos();
+  tx.tid = static_cast<uint8_t>(p.tid() & 0x0f);
   if (p.has_ht()) {
     // Radiotap fields again: a mode mac_phy_sim can send.
     const pm::HtMode& ht = p.ht();

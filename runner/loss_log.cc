@@ -27,6 +27,8 @@ const char* KindName(mac::FrameKind kind) {
       return "RTS";
     case mac::FrameKind::kCts:
       return "CTS";
+    case mac::FrameKind::kCfEnd:
+      return "CF-End";
   }
   return "?";
 }

@@ -92,6 +92,10 @@ void ValidateObstacles(const SourceLocator& at, const proto::Scenario& spec) {
 
 // The data mode: rate_mbps for a/b/g, mcs with streams, width and guard interval for n/ac.
 void ValidateRadioMode(const SourceLocator& at, const proto::Radio& radio) {
+  if (IsHtOrVht(radio.standard()) && radio.has_qos() && !radio.qos()) {
+    at.Fail({{"radio"}, {"qos"}},
+            "radio: qos false: 802.11n/ac stations are always QoS stations (as in ns-3 3.37)");
+  }
   if (!IsHtOrVht(radio.standard())) {
     for (const char* field : {"mcs", "spatial_streams", "channel_width_mhz", "short_guard_interval"}) {
       const auto* descriptor = radio.GetDescriptor()->FindFieldByName(field);

@@ -177,7 +177,12 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
                                            band + ", 0}"));
   }
   WifiMacHelper mac;
-  if (ht) {
+  if (sitlnet::side_by_side::IsEdcaCell(c)) {
+    // QoS stations, no A-MPDU in any access category (VI's default is 65535 B).
+    mac.SetType("ns3::AdhocWifiMac", "QosSupported", BooleanValue(true), "BE_MaxAmpduSize",
+                UintegerValue(0), "BK_MaxAmpduSize", UintegerValue(0), "VI_MaxAmpduSize",
+                UintegerValue(0), "VO_MaxAmpduSize", UintegerValue(0));
+  } else if (ht) {
     mac.SetType("ns3::AdhocWifiMac", "BE_MaxAmpduSize", UintegerValue(0));  // No A-MPDU.
   } else {
     mac.SetType("ns3::AdhocWifiMac");
@@ -192,28 +197,34 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
   PacketSocketHelper packet_socket;
   packet_socket.Install(nodes);
   const Time interval = NanoSeconds(sitlnet::side_by_side::OfferIntervalNs(c));
-  std::vector<bool> has_server(n, false);
+  // One server per receiver and priority (packet-socket protocol 1 + priority), so an EDCA cell
+  // counts only its measured priority's packets.
+  std::vector<std::vector<bool>> has_server(n, std::vector<bool>(8, false));
   int k = 0;
   for (const auto& flow : layout.flows) {
     PacketSocketAddress remote;
     remote.SetSingleDevice(devices.Get(flow.from)->GetIfIndex());
     remote.SetPhysicalAddress(devices.Get(flow.to)->GetAddress());
-    remote.SetProtocol(1);
+    remote.SetProtocol(1 + flow.priority);
     Ptr<PacketSocketClient> client = CreateObject<PacketSocketClient>();
     client->SetRemote(remote);
     client->SetAttribute("PacketSize", UintegerValue(c.payload_bytes));
     client->SetAttribute("MaxPackets", UintegerValue(0));
     client->SetAttribute("Interval", TimeValue(interval));
+    // The socket priority becomes the TID (QosUtilsGetTidForPacket), as the DS byte does here.
+    client->SetAttribute("Priority", UintegerValue(flow.priority));
     client->SetStartTime(NanoSeconds(sitlnet::side_by_side::OfferStartNs(k++)));
     nodes.Get(flow.from)->AddApplication(client);
-    if (has_server[flow.to]) continue;
-    has_server[flow.to] = true;
+    if (has_server[flow.to][flow.priority]) continue;
+    has_server[flow.to][flow.priority] = true;
     PacketSocketAddress local;
     local.SetSingleDevice(devices.Get(flow.to)->GetIfIndex());
-    local.SetProtocol(1);
+    local.SetProtocol(1 + flow.priority);
     Ptr<PacketSocketServer> server = CreateObject<PacketSocketServer>();
     server->SetLocal(local);
-    server->TraceConnectWithoutContext("Rx", MakeCallback(&OnRx));
+    if (!sitlnet::side_by_side::IsEdcaCell(c) || flow.priority == c.measured_priority) {
+      server->TraceConnectWithoutContext("Rx", MakeCallback(&OnRx));
+    }
     nodes.Get(flow.to)->AddApplication(server);
   }
   g_rx_bytes = 0;

@@ -272,6 +272,37 @@ std::vector<Case> Cells() {
     }
   }
   for (int mcs = 0; mcs < 10; ++mcs) mcs_cell(Standard::kAc, mcs, 80, false, 5);
+  // EDCA: every sender saturates voice (UP 6) or video (UP 5) and best effort (UP 0) to a sink;
+  // one row measures the higher category's throughput, the next best effort's (issue 44).
+  // 802.11n HT MCS 7 20 MHz and 802.11a 54 Mb/s with QoS stations, n = 2 and 4 senders. Best
+  // effort's share is small (VO and VI hold TXOPs): its rows measure ten times longer.
+  auto edca_cell = [&](Standard s, int high_priority, int n, bool measure_high) {
+    Case c = sat(s, 54, n, Topology::kSink, 1500);
+    const char* standard_part = "a54";
+    if (s == Standard::kN5) {
+      c.mcs = 7;
+      c.rate_mbps = sitlnet::mac::McsModeFor(sitlnet::mac::Standard::k80211n5GHz, 7, 1, 20, false)
+                        .rate_mbps;
+      standard_part = "n5-mcs7-20MHz";
+    } else {
+      c.qos = true;
+    }
+    c.high_priority = high_priority;
+    c.measured_priority = measure_high ? high_priority : 0;
+    const char* high = high_priority == 6 ? "vo" : "vi";
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s-edca-%s-be-n%d-%s", standard_part, high, n,
+                  measure_high ? high : "be");
+    add(c, buf, s == Standard::kN5 && n == 2 && high_priority == 6 && measure_high);
+    if (!measure_high) cells.back().measure_s *= 10;
+  };
+  for (Standard s : {Standard::kN5, Standard::kA}) {
+    for (int high_priority : {6, 5}) {
+      for (int n : {2, 4}) {
+        for (bool measure_high : {true, false}) edca_cell(s, high_priority, n, measure_high);
+      }
+    }
+  }
   // Delivery against distance with the two-ray and 3GPP V2V models (issue 45): one 11a link,
   // 5.15 GHz, the standard's retry limits, antennas as AntennaHeightM says. Two-ray is Friis
   // up to its crossover (486 m here): 54 Mb/s across its cliff, 6 Mb/s up to the preamble
@@ -521,6 +552,12 @@ int PrintTable(const std::string& in_path) {
     }
     if (c.table_error_model) {
       channel = channel == "-" ? "table-based errors" : channel + ", table-based errors";
+    }
+    if (sitlnet::side_by_side::IsEdcaCell(c)) {
+      const char* names[8] = {"BE", "BK", "BK", "BE", "VI", "VI", "VO", "VO"};
+      channel = std::string(names[c.high_priority]) + " and BE saturated, " +
+                names[c.measured_priority] + "'s share" + (c.qos ? ", QoS stations" : "") +
+                (channel == "-" ? "" : ", " + channel);
     }
     if (sitlnet::side_by_side::IsHtOrVht(c.standard)) {
       channel = "MCS " + std::to_string(c.mcs) + ", " + std::to_string(c.channel_width_mhz) +

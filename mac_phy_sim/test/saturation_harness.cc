@@ -16,6 +16,7 @@ std::vector<uint8_t> MakeEthernetFrame(const MacAddress& to, const MacAddress& f
 namespace {
 
 struct FlowRun {
+  int measured_priority = -1;  // Count only frames of this user priority; -1: all.
   std::vector<Vec3d> positions_m;
   std::vector<side_by_side::Flow> flows;
   int payload_bytes = 1500;
@@ -36,6 +37,8 @@ SaturationResult RunFlows(const MediumConfig& config, const FlowRun& run) {
   for (size_t i = 0; i < run.flows.size(); ++i) {
     const side_by_side::Flow& flow = run.flows[i];
     frames.push_back(MakeEthernetFrame(RobotMac(flow.to), RobotMac(flow.from), run.payload_bytes));
+    // The IPv4 DS byte carries the flow's user priority (priority 0 keeps the frame's byte 1).
+    if (flow.priority > 0) frames.back()[15] = static_cast<uint8_t>(flow.priority << 5);
     next_offer_ns.push_back(side_by_side::OfferStartNs(static_cast<int>(i)));
   }
   const TimeNs end_ns = run.warmup_ns + run.measure_ns;
@@ -44,6 +47,9 @@ SaturationResult RunFlows(const MediumConfig& config, const FlowRun& run) {
   uint64_t payload_bytes = 0;
   auto count = [&] {
     for (const Delivery& d : deliveries) {
+      if (run.measured_priority >= 0 && UserPriorityOf(d.ethernet_frame) != run.measured_priority) {
+        continue;
+      }
       if (d.delivery_ns > run.warmup_ns && d.delivery_ns <= end_ns) {
         ++result.frames_delivered;
         payload_bytes += d.ethernet_frame.size() - 14;
@@ -79,6 +85,7 @@ FlowRun MakeFlowRun(const side_by_side::Case& c) {
   FlowRun run;
   for (const side_by_side::Point& p : layout.positions) run.positions_m.push_back({p.x, p.y, p.z});
   run.flows = layout.flows;
+  if (side_by_side::IsEdcaCell(c)) run.measured_priority = c.measured_priority;
   run.payload_bytes = c.payload_bytes;
   run.offer_interval_ns = side_by_side::OfferIntervalNs(c);
   run.warmup_ns = static_cast<TimeNs>(c.warmup_s * 1e9);
@@ -177,6 +184,7 @@ MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
     config.short_guard_interval = c.short_gi;
   }
   config.rts_threshold_bytes = c.rts_threshold_bytes;
+  config.qos = c.qos;
   // ns-3's Yans channel always has its constant-speed delay; at 1 mm it is 0 ns here.
   config.propagation_delay = true;
   config.jakes_fading = c.jakes;

@@ -228,6 +228,23 @@ TEST(ScenarioAdapterTest, RefusesBadPathLossFieldsInOneLocatedLine) {
   EXPECT_NE(message("path_loss_model: PATH_LOSS_FOO").find("t.textproto:3:"), std::string::npos);
 }
 
+// radio.qos makes a/b/g stations QoS stations; n/ac always are, and `qos: false` there is refused.
+TEST(ScenarioAdapterTest, MapsQosAndRefusesItOffForHtInOneLocatedLine) {
+  const std::string head = "name: \"t\"\nrobot { name: \"a\" }\nradio { ";
+  EXPECT_TRUE(MediumConfigFromScenario(LoadScenarioText(head + "qos: true }\n", "t.textproto")).qos);
+  EXPECT_FALSE(MediumConfigFromScenario(LoadScenarioText(head + "}\n", "t.textproto")).qos);
+  const Scenario ht = LoadScenarioText(head + "standard: STANDARD_80211N_5GHZ }\n", "t.textproto");
+  EXPECT_TRUE(DerivePhyInfo(MediumConfigFromScenario(ht)).qos);
+  try {
+    LoadScenarioText(head + "standard: STANDARD_80211AC qos: false }\n", "t.textproto");
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "t.textproto:3:36: radio: qos false: 802.11n/ac stations are always QoS stations "
+              "(as in ns-3 3.37)");
+  }
+}
+
 // Robot a sends 100 B to b at 0, b to a at 5 ms: the deliveries by 10 ms.
 std::vector<Delivery> ExchangeOneFrameEachWay(Medium& medium) {
   medium.SubmitFrame(0, testing::MakeEthernetFrame(RobotMac(1), RobotMac(0), 100), 0);

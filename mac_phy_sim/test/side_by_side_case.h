@@ -87,13 +87,21 @@ struct Case {
   // Jakes fading with ns-3's defaults (80 Hz, 20 oscillators). Not in the CSV: only
   // ns3_jakes_side_by_side runs such cells.
   bool jakes = false;
+  // EDCA cells (kSink only): every sender saturates two access categories, user priority
+  // `high_priority` (6: voice, 5: video) and 0 (best effort), and the cell measures the
+  // throughput of `measured_priority`'s frames. -1: one flow per sender at priority 0.
+  int high_priority = -1;
+  int measured_priority = 0;
+  bool qos = false;  // a/b/g: QoS stations (ns-3's QosSupported); n/ac always are.
 };
+inline bool IsEdcaCell(const Case& c) { return c.high_priority >= 0; }
 
 struct Point {
   double x = 0, y = 0, z = 0;
 };
 struct Flow {
   int from = 0, to = 0;
+  int priority = 0;  // 802.11 user priority (IPv4 DS byte >> 5; ns-3's socket priority).
 };
 struct Layout {
   std::vector<Point> positions;
@@ -111,7 +119,10 @@ inline Layout MakeLayout(const Case& c) {
       break;
     case Topology::kSink:
       for (int i = 0; i <= c.senders; ++i) layout.positions.push_back({0.001 * i, 0, 0});
-      for (int i = 1; i <= c.senders; ++i) layout.flows.push_back({i, 0});
+      for (int i = 1; i <= c.senders; ++i) {
+        if (IsEdcaCell(c)) layout.flows.push_back({i, 0, c.high_priority});
+        layout.flows.push_back({i, 0, 0});
+      }
       break;
     case Topology::kHidden:
       layout.positions = {{0, 0, 0}, {c.near_m, 0, 0}, {c.near_m + c.far_m, 0, 0}};

@@ -18,6 +18,8 @@ constexpr const char* kColumns =
 // Rows of n/ac cells carry three more columns (a/b/g rows keep the 27 above).
 constexpr const char* kHtColumns = ",mcs,channel_width_mhz,short_gi";
 constexpr size_t kColumnCount = 27;
+// EDCA rows carry three more after those (side_by_side_case.h).
+constexpr const char* kEdcaColumns = ",qos,high_priority,measured_priority";
 
 bool ParseStandard(const std::string& s, Standard* out) {
   for (Standard standard : {Standard::kA, Standard::kB, Standard::kG, Standard::kN24,
@@ -71,7 +73,13 @@ bool ParseLine(const std::string& line, Row* row) {
     Case& c = row->c;
     c.id = f[0];
     if (f.size() < 2 || !ParseStandard(f[1], &c.standard)) return false;
-    if (f.size() != kColumnCount + (IsHtOrVht(c.standard) ? 3 : 0)) return false;
+    const size_t base = kColumnCount + (IsHtOrVht(c.standard) ? 3 : 0);
+    if (f.size() != base && f.size() != base + 3) return false;
+    if (f.size() == base + 3) {
+      c.qos = f[base] == "1";
+      c.high_priority = std::stoi(f[base + 1]);
+      c.measured_priority = std::stoi(f[base + 2]);
+    }
     if (!ParseTopology(f[5], &c.topology)) return false;
     c.short_slot = f[2] == "1";
     c.rate_mbps = std::stod(f[3]);
@@ -130,6 +138,10 @@ std::string FormatRow(const Row& r) {
     line += "," + std::to_string(c.mcs) + "," + std::to_string(c.channel_width_mhz) + "," +
             (c.short_gi ? "1" : "0");
   }
+  if (IsEdcaCell(c)) {
+    line += std::string(",") + (c.qos ? "1" : "0") + "," + std::to_string(c.high_priority) + "," +
+            std::to_string(c.measured_priority);
+  }
   return line;
 }
 
@@ -146,7 +158,7 @@ bool ReadCsv(const std::string& path, std::vector<Row>* rows, std::string* error
     Row row;
     if (!ParseLine(line, &row)) {
       *error = path + ":" + std::to_string(line_number) + ": not a row of " + kColumns +
-               " (n/ac rows: then" + kHtColumns + ")";
+               " (n/ac rows: then" + kHtColumns + "; EDCA rows: then" + kEdcaColumns + ")";
       return false;
     }
     rows->push_back(row);

@@ -92,10 +92,11 @@ TEST(PcapWriter, FailedFrameHasBadFcsFlagAndBadFcs) {
 }
 
 // An 802.11n QoS data frame at HT MCS 7, 40 MHz, short GI; an 802.11ac one at VHT MCS 9 x 2
-// streams, 80 MHz.
+// streams, 80 MHz, at voice (TID 6: `ping -Q 0xc0`).
 AirFrame HtFrame(bool vht) {
   AirFrame f = DataFrame();
   f.tx.qos = true;
+  f.tx.tid = vht ? 6 : 0;
   f.tx.vht = vht;
   f.tx.mcs = vht ? 9 : 7;
   f.tx.spatial_streams = vht ? 2 : 1;
@@ -152,11 +153,11 @@ TEST(PcapWriter, TsharkDecodesMcsBandwidthAndGi) {
   }
   std::remove(path);
   // HT: MCS 7, 40 MHz (bw 1), short GI (1), QoS Data (0x0028), TID 0, and the rate Wireshark
-  // derives from them: 150 Mb/s. VHT: MCS 9, 2 streams, 80 MHz (bw 4), long GI (0). 802.11a:
+  // derives from them: 150 Mb/s. VHT: MCS 9, 2 streams, 80 MHz (bw 4), long GI (0), TID 6. 802.11a:
   // Data (0x0020) at 54 Mb/s, no MCS fields.
   EXPECT_EQ(output,
             "7,1,1,,,,,0x0028,0,150\n"
-            ",,,9,2,4,0,0x0028,0,\n"
+            ",,,9,2,4,0,0x0028,6,\n"
             ",,,,,,,0x0020,,54\n");
 }
 
