@@ -28,6 +28,9 @@ struct LinkRow {
   uint64_t frames = 0, delivered = 0;
   const char* main_cause = "none";
   uint64_t main_cause_frames = 0;
+  // The PHY rate and, for HT/VHT, the MCS (else -1) of the link's last DATA frame in the second.
+  double rate_mbps = 0;
+  int mcs = -1;
 };
 
 // What the GCS relay heard of one vehicle (a MAVLink system id) so far: gcs::VehicleCounters,

@@ -110,6 +110,8 @@ const char* DropName(mac::DropReason reason) {
 struct LossLog::Counts {
   uint64_t frames = 0, delivered = 0;
   std::array<uint64_t, kLossKinds> losses{};
+  double rate_mbps = 0;  // Of the last DATA frame counted.
+  int mcs = -1;
 };
 
 struct LossLog::ZStream {
@@ -170,6 +172,8 @@ LinkRow LossLog::RowOf(uint64_t key, const Counts& c) {
   const auto main = std::max_element(c.losses.begin(), c.losses.end());
   row.main_cause_frames = *main;
   if (*main > 0) row.main_cause = kLossNames[main - c.losses.begin()];
+  row.rate_mbps = c.rate_mbps;
+  row.mcs = c.mcs;
   return row;
 }
 
@@ -258,6 +262,8 @@ void LossLog::AddTransmission(const mac::TxRecord& tx) {
     if (!data || (to >= 0 && r.station != to) || (to < 0 && !tx.receiver.IsGroup())) continue;
     Counts& c = Link(tx.start_ns, tx.source, r.station);
     ++c.frames;
+    c.rate_mbps = tx.rate_mbps;
+    c.mcs = tx.mcs;
     switch (r.cause) {
       case mac::RxCause::kDecoded:
         ++c.delivered;
@@ -320,6 +326,10 @@ void LossLog::Finish() {
     line += row.main_cause;
     line += ',';
     line += std::to_string(row.main_cause_frames);
+    char rate[48];
+    std::snprintf(rate, sizeof rate, ",%g,", row.rate_mbps);
+    line += rate;
+    if (row.mcs >= 0) line += std::to_string(row.mcs);
     links.Append(line);
   }
   links.Flush();

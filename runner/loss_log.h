@@ -22,7 +22,7 @@ inline constexpr char kLossHeader[] =
     "time_ns,from,to,kind,seq,retry,station,cause,interferer,rx_power_dbm,sinr_db,path_loss_db,"
     "obstacle_loss_db";
 inline constexpr char kLinkHeader[] =
-    "second,from,to,frames,delivered,delivery_ratio,main_cause,main_cause_frames";
+    "second,from,to,frames,delivered,delivery_ratio,main_cause,main_cause_frames,rate_mbps,mcs";
 
 // The word losses.csv.gz and links.csv use for a cause.
 const char* CauseName(mac::RxCause cause);

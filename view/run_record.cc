@@ -120,7 +120,7 @@ void ReadLinks(const std::string& path, RunRecord* record) {
   CsvReader csv(path, runner::kLinkHeader,
                 [&](std::string* line) { return static_cast<bool>(std::getline(text, *line)); });
   std::vector<std::string> cells;
-  while (csv.Next(8, &cells)) {
+  while (csv.Next(10, &cells)) {
     LinkSecond link;
     link.second = csv.Parse<int>(cells[0], "second");
     link.from = csv.Parse<int>(cells[1], "from");
@@ -130,6 +130,8 @@ void ReadLinks(const std::string& path, RunRecord* record) {
     if (!cells[5].empty()) link.delivery_ratio = csv.Parse<double>(cells[5], "delivery_ratio");
     link.main_cause = cells[6];
     link.main_cause_frames = csv.Parse<int>(cells[7], "main_cause_frames");
+    link.rate_mbps = csv.Parse<double>(cells[8], "rate_mbps");
+    if (!cells[9].empty()) link.mcs = csv.Parse<int>(cells[9], "mcs");
     record->links.push_back(link);
   }
 }

@@ -33,6 +33,8 @@ struct LinkSecond {
   double delivery_ratio = -1;
   std::string main_cause;
   int main_cause_frames = 0;
+  double rate_mbps = 0;
+  int mcs = -1;  // -1: not an HT/VHT link (links.csv's empty cell)
 };
 
 // One row of losses.csv.gz: the fields a query selects on, and the row's cells as written.

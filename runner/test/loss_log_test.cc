@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace sitlnet::runner {
@@ -94,13 +95,51 @@ TEST(LossLogTest, WritesEveryReceptionAboveTheNoiseFloorAndPerSecondLinks) {
   const std::vector<std::string> links = Lines(links_text.str());
   const std::vector<std::string> expected = {
       kLinkHeader,
-      "0,1,0,1,0,0.000,collision,1",
-      "0,1,2,1,0,0.000,range,1",
-      "0,2,0,1,0,0.000,already_receiving,1",
-      "0,2,1,1,0,0.000,own_transmission,1",
-      "1,0,1,1,1,1.000,none,0",
+      // The last two columns: the rate and no MCS (11a). B's and C's group frames go at 11a's
+      // lowest basic rate, 6 Mb/s (IEEE 802.11-2016 10.6.6.2, as ns-3); A's unicast frame at the
+      // medium's fixed 12 Mb/s (config.rate_mbps).
+      "0,1,0,1,0,0.000,collision,1,6,",
+      "0,1,2,1,0,0.000,range,1,6,",
+      "0,2,0,1,0,0.000,already_receiving,1,6,",
+      "0,2,1,1,0,0.000,own_transmission,1,6,",
+      "1,0,1,1,1,1.000,none,0,12,",
   };
   EXPECT_EQ(links, expected);
+}
+
+// Issue 44, item 5: an 802.11n link's row names its MCS and rate, those of its last DATA frame
+// in the second (here MCS 7 at 65 Mb/s, then MCS 4 at 39 Mb/s: IEEE 802.11-2016 Table 19-27).
+TEST(LossLogTest, ALinksRowNamesTheRateAndMcsOfItsLastDataFrame) {
+  const std::string dir = ::testing::TempDir() + "/loss_log_mcs_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const MacAddress a{{2, 0, 0, 0, 0, 1}}, b{{2, 0, 0, 0, 0, 2}};
+  {
+    LossLog log(dir, {a, b}, -95, -82);
+    for (const auto& [start_ns, mcs, rate_mbps] :
+         {std::tuple{1000, 7, 65.0}, std::tuple{2000000, 4, 39.0}}) {
+      mac::TxRecord tx;
+      tx.start_ns = start_ns;
+      tx.end_ns = start_ns + 200000;
+      tx.source = 0;
+      tx.receiver = b;
+      tx.transmitter = a;
+      tx.mcs = mcs;
+      tx.rate_mbps = rate_mbps;
+      mac::RxRecord rx;
+      rx.station = 1;
+      rx.rx_power_dbm = -60;
+      rx.cause = mac::RxCause::kDecoded;
+      tx.receptions = {rx};
+      log.Add(mac::TraceEvent{tx, std::nullopt});
+    }
+    log.Finish();
+  }
+  std::ifstream links_file(dir + "/links.csv");
+  std::stringstream links_text;
+  links_text << links_file.rdbuf();
+  EXPECT_EQ(Lines(links_text.str()),
+            (std::vector<std::string>{kLinkHeader, "0,0,1,2,2,1.000,none,0,39,4"}));
 }
 
 }  // namespace

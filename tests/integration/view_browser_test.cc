@@ -530,7 +530,7 @@ std::string WriteSplitFolder() {
       if (from == to) continue;
       const bool same_side = (from % 2) == (to % 2);  // uav1, uav3 south; uav2, uav4 north
       links += "0," + std::to_string(from) + "," + std::to_string(to) +
-               (same_side ? ",10,10,1,none,0\n" : ",10,0,0,below_threshold,10\n");
+               (same_side ? ",10,10,1,none,0,6,\n" : ",10,0,0,below_threshold,10,6,\n");
     }
   }
   WriteText(dir + "/links.csv", links);

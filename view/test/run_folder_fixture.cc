@@ -43,7 +43,7 @@ std::string WriteRunFolder(const std::string& name, const std::string& losses) {
   }
   WriteFile(dir + "/trajectories.csv", trajectories);
   WriteFile(dir + "/links.csv", std::string(runner::kLinkHeader) +
-                                    "\n0,0,1,4,3,0.75,collision,1\n0,1,-1,0,0,,queue_full,2\n");
+                                    "\n0,0,1,4,3,0.75,collision,1,54,\n0,1,-1,0,0,,queue_full,2,0,\n");
   WriteFile(dir + "/losses.csv.gz", std::string(runner::kLossHeader) + "\n" + losses, true);
   // Apart at 0.1 s, together at 0.2 s and 0.3 s (the last is no change).
   WriteFile(dir + "/connectivity.csv",
