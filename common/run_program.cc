@@ -1,5 +1,7 @@
 // Helper programs run to their end (a container engine's `rm`, gnuplot), without a shell.
 #include <fcntl.h>
+#include <pthread.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -60,15 +62,30 @@ std::string RunGnuplot(const std::string& script, const std::string& dir,
     _exit(127);
   }
   close(to_gnuplot[0]);
+  // A gnuplot that ends early must not end us with SIGPIPE: the signal is blocked in this thread
+  // while it writes, and one it raised is taken back before the mask is restored.
+  sigset_t pipe_signal, previous;
+  sigemptyset(&pipe_signal);
+  sigaddset(&pipe_signal, SIGPIPE);
+  pthread_sigmask(SIG_BLOCK, &pipe_signal, &previous);
+  bool raised_pipe = false;
   for (size_t done = 0; done < script.size();) {
     const ssize_t n = write(to_gnuplot[1], script.data() + done, script.size() - done);
     if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && errno == EPIPE) raised_pipe = true;
     if (n <= 0) break;  // gnuplot is gone: its status says why.
     done += static_cast<size_t>(n);
   }
   close(to_gnuplot[1]);
+  if (raised_pipe && !sigismember(&previous, SIGPIPE)) {
+    const timespec no_wait{};
+    sigtimedwait(&pipe_signal, nullptr, &no_wait);
+  }
+  pthread_sigmask(SIG_SETMASK, &previous, nullptr);
   int status = 0;
-  waitpid(pid, &status, 0);
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return SystemErrorMessage("wait for gnuplot", errno);
+  }
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
   if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
     return "gnuplot not found (apt-get install gnuplot-nox; scripts/setup does)";

@@ -2,7 +2,9 @@
 // every trajectories.csv sample, each second's links as links.csv will count them, each
 // connectivity.csv sample, each second's iteration timing, and what the GCS relay heard. Called
 // on the run's own threads (physics, coordinator), at most every 100 ms of simulated time each:
-// an implementation must never block or wait.
+// an implementation must never block or wait. One exception, bounded: the GCS relay's counts are
+// copied at most every 200 ms of wall time under the relay's lock, which its thread holds for
+// one wake-up's work (runner/gcs_relay_stage.cc).
 #ifndef SITLNET_RUNNER_LIVE_SINK_H_
 #define SITLNET_RUNNER_LIVE_SINK_H_
 

@@ -80,8 +80,8 @@ RunReport RunScenario(const RunOptions& options) {
   const TimeNs begin_ns = MonotonicNowNs();
   const Scenario scenario = LoadWithOverrides(options);
   RunReport report;
-  report.started_realtime_ns = CoarseRealtimeNowNs();
   report.run_dir = options.out_dir.empty() ? DefaultRunDir(scenario.name) : options.out_dir;
+  report.files_before = ListRunFolderFiles(report.run_dir);
   // The robots on node hosts: this host runs the medium and the coordinator only.
   if (RunsOnNodeHosts(scenario, options)) {
     return RunOnNodeHosts(scenario, options, std::move(report), begin_ns);

@@ -6,32 +6,56 @@
 #include <sys/stat.h>
 
 #include <algorithm>
-#include <ctime>
 #include <filesystem>
 #include <vector>
 
 namespace sitlnet::runner {
 
-TimeNs CoarseRealtimeNowNs() {
-  timespec now{};
-  clock_gettime(CLOCK_REALTIME_COARSE, &now);
-  return static_cast<TimeNs>(now.tv_sec) * kNsPerS + now.tv_nsec;
+namespace {
+
+FileStamp StampOf(const struct stat& info) {
+  FileStamp stamp;
+  stamp.device = info.st_dev;
+  stamp.inode = info.st_ino;
+  stamp.modified_ns = static_cast<int64_t>(info.st_mtim.tv_sec) * kNsPerS + info.st_mtim.tv_nsec;
+  stamp.changed_ns = static_cast<int64_t>(info.st_ctim.tv_sec) * kNsPerS + info.st_ctim.tv_nsec;
+  stamp.bytes = info.st_size;
+  return stamp;
 }
 
-std::vector<OutputHash> HashOutputs(const std::string& run_dir, TimeNs since_realtime_ns) {
+}  // namespace
+
+RunFolderFiles ListRunFolderFiles(const std::string& run_dir) {
+  namespace fs = std::filesystem;
+  RunFolderFiles files;
+  std::error_code error;
+  for (fs::recursive_directory_iterator it(run_dir, error), end; !error && it != end;
+       it.increment(error)) {
+    // An entry's own checks have their own error code: a dangling link (ENOENT) is skipped, not
+    // taken for a failed walk.
+    std::error_code entry_error;
+    if (it->is_symlink(entry_error) || !it->is_regular_file(entry_error)) continue;
+    struct stat info {};
+    if (lstat(it->path().c_str(), &info) != 0) continue;
+    files[fs::relative(it->path(), run_dir).string()] = StampOf(info);
+  }
+  return files;  // A folder that cannot be listed (absent) has no earlier files.
+}
+
+std::vector<OutputHash> HashOutputs(const std::string& run_dir, const RunFolderFiles& before) {
   namespace fs = std::filesystem;
   std::vector<std::string> paths;
   std::error_code error;
   for (fs::recursive_directory_iterator it(run_dir, error), end; !error && it != end;
        it.increment(error)) {
-    if (!it->is_regular_file(error) || it->is_symlink(error)) continue;
+    std::error_code entry_error;
+    if (it->is_symlink(entry_error) || !it->is_regular_file(entry_error)) continue;
     const std::string relative = fs::relative(it->path(), run_dir).string();
     if (relative == "summary.json") continue;
     struct stat info {};
     if (lstat(it->path().c_str(), &info) != 0) continue;
-    const TimeNs modified_ns = static_cast<TimeNs>(info.st_mtim.tv_sec) * kNsPerS +
-                               info.st_mtim.tv_nsec;
-    if (modified_ns < since_realtime_ns) continue;
+    const auto earlier = before.find(relative);
+    if (earlier != before.end() && earlier->second == StampOf(info)) continue;  // not written since
     paths.push_back(relative);
   }
   if (error) throw Error("list run folder \"" + run_dir + "\" to hash its files: " + error.message());

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/common.h"
+#include "runner/runner.h"
 #include "scenario/scenario.h"
 
 namespace sitlnet::runner {
@@ -19,14 +20,10 @@ struct OutputHash {
 };
 
 // The run folder's files this run wrote, each with its SHA-256 and size, sorted by path. Left
-// out: summary.json (it holds the record), anything that is not a regular file, and files last
-// modified before `since_realtime_ns` (CLOCK_REALTIME_COARSE, the clock of file times): an
-// earlier run's in the same folder. Call it once every output is complete. Throws Error naming
-// a file it cannot read.
-std::vector<OutputHash> HashOutputs(const std::string& run_dir, TimeNs since_realtime_ns);
-
-// CLOCK_REALTIME_COARSE now, in ns: the clock the kernel stamps file times with.
-TimeNs CoarseRealtimeNowNs();
+// out: summary.json (it holds the record), anything that is not a regular file, and the files
+// of `before` (RunFolderFiles at the run's start) not written since: an earlier run's in the same
+// folder. Call it once every output is complete. Throws Error naming a file it cannot read.
+std::vector<OutputHash> HashOutputs(const std::string& run_dir, const RunFolderFiles& before);
 
 }  // namespace sitlnet::runner
 

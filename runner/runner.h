@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -61,11 +62,26 @@ struct RunOptions {
   LiveSink* live = nullptr;
 };
 
+// A file's identity and last change: what tells a file this run wrote from one it found.
+struct FileStamp {
+  uint64_t device = 0, inode = 0;
+  int64_t modified_ns = 0, changed_ns = 0;  // mtime and ctime, as the file system keeps them
+  int64_t bytes = 0;
+  bool operator==(const FileStamp&) const = default;
+};
+// By path relative to the run folder.
+using RunFolderFiles = std::map<std::string, FileStamp>;
+
+// Every regular file under `run_dir` (no link followed) with its stamp; empty if the folder does
+// not exist.
+RunFolderFiles ListRunFolderFiles(const std::string& run_dir);
+
 struct RunReport {
   std::string run_dir;
-  // CLOCK_REALTIME_COARSE at the run's start (the clock of file times): files of the run folder
-  // last modified before it are an earlier run's, left out of summary.json's "outputs".
-  TimeNs started_realtime_ns = 0;
+  // The run folder's files at the run's start (none if it did not exist): those still as they
+  // were at the end are an earlier run's, left out of summary.json's "outputs". By their stamp,
+  // not by comparing file times with this host's clock: a shared volume stamps with its own.
+  RunFolderFiles files_before;
   int exit_code = 0;  // 0 ok, 1 failure (robot failure by policy, error), 130 interrupted.
   bool interrupted = false;
   // Wall-clock phases and CPU, for bench/scale (summary.json "resources").

@@ -232,7 +232,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
   const TimeNs hash_begin_ns = MonotonicNowNs();
   std::string outputs = "{";
   try {
-    for (const OutputHash& output : HashOutputs(dir, report.started_realtime_ns)) {
+    for (const OutputHash& output : HashOutputs(dir, report.files_before)) {
       outputs += (outputs.size() > 1 ? "," : "") + Quote(output.path) + ":{\"sha256\":\"" +
                  output.sha256 + "\",\"bytes\":" + std::to_string(output.bytes) + "}";
     }

@@ -1,6 +1,7 @@
 // The sweep's plots: each metric against each swept field, with 95 % interval bars (gnuplot, as
 // `sitlnet run`'s plots). The numbers go into the script as data blocks, so gnuplot reads no file
 // and no value of the user's is parsed as a command (GnuplotQuoted).
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +9,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/common.h"
@@ -35,15 +37,16 @@ bool AllNumbers(const std::vector<std::string>& values) {
 // The plot of `metric` against axis `a`: one data block and one line per combination of the other
 // axes' values (in the grid's order; axes of one value name no line), each point its x, mean and
 // interval half-width.
-std::string OnePlot(size_t plot, size_t a, size_t metric, const std::vector<SweepAxis>& axes,
+std::string OnePlot(size_t plot_index, size_t a, size_t metric, const std::vector<SweepAxis>& axes,
                     const std::vector<SweepPoint>& points,
                     const std::vector<CombinationSummary>& rows, const std::string& metric_name,
                     const std::string& png) {
   const bool numeric = AllNumbers(axes[a].values);
   std::map<std::string, size_t> value_index;
   for (size_t i = 0; i < axes[a].values.size(); ++i) value_index[axes[a].values[i]] = i;
-  std::vector<std::string> labels;                 // Per line, in first-seen order.
-  std::map<std::string, std::ostringstream> data;  // Per line label.
+  std::vector<std::string> labels;  // Per line, in first-seen order.
+  // Per line label: (x, its data row), drawn in ascending x so that the line does not zig-zag.
+  std::map<std::string, std::vector<std::pair<double, std::string>>> data;
   for (const CombinationSummary& row : rows) {
     if (row.metric != metric || row.stats.n == 0 || !std::isfinite(row.stats.mean)) continue;
     const std::vector<std::string>& values = points[row.first_point].values;
@@ -54,16 +57,22 @@ std::string OnePlot(size_t plot, size_t a, size_t metric, const std::vector<Swee
     }
     if (data.find(label) == data.end()) labels.push_back(label);
     const double half_width = std::isfinite(row.stats.ci95_half_width) ? row.stats.ci95_half_width : 0;
-    char line[96];
-    std::snprintf(line, sizeof line, "%s %.10g %.10g\n",
-                  numeric ? values[a].c_str() : std::to_string(value_index[values[a]]).c_str(),
-                  row.stats.mean, half_width);
-    data[label] << line;
+    const double x = numeric ? std::strtod(values[a].c_str(), nullptr)
+                             : static_cast<double>(value_index[values[a]]);
+    char numbers[64];
+    std::snprintf(numbers, sizeof numbers, " %.10g %.10g\n", row.stats.mean, half_width);
+    data[label].emplace_back(
+        x, (numeric ? values[a] : std::to_string(value_index[values[a]])) + numbers);
   }
   if (labels.empty()) return "";
   std::ostringstream script;
   for (size_t line = 0; line < labels.size(); ++line) {
-    script << "$p" << plot << "_" << line << " << EOD\n" << data[labels[line]].str() << "EOD\n";
+    std::vector<std::pair<double, std::string>>& rows_of_line = data[labels[line]];
+    std::stable_sort(rows_of_line.begin(), rows_of_line.end(),
+                     [](const auto& p, const auto& q) { return p.first < q.first; });
+    script << "$p" << plot_index << "_" << line << " << EOD\n";
+    for (const auto& [x, text] : rows_of_line) script << text;
+    script << "EOD\n";
   }
   script << "set output " << GnuplotQuoted(png) << "\n"
          << "set title " << GnuplotQuoted(metric_name + " against " + axes[a].field_path +
@@ -81,7 +90,7 @@ std::string OnePlot(size_t plot, size_t a, size_t metric, const std::vector<Swee
   }
   script << "plot ";
   for (size_t line = 0; line < labels.size(); ++line) {
-    script << (line ? ", " : "") << "$p" << plot << "_" << line
+    script << (line ? ", " : "") << "$p" << plot_index << "_" << line
            << " using 1:2:3 with yerrorlines pt 7 title "
            << GnuplotQuoted(labels[line].empty() ? metric_name : labels[line]);
   }
@@ -105,9 +114,10 @@ std::vector<std::string> DrawPlots(const std::string& out_dir, const std::vector
       for (size_t m = 0; m < metrics.size(); ++m) {
         const std::string png =
             "plot_" + FileNamePart(metrics[m]) + "_vs_" + FileNamePart(axes[a].field_path) + ".png";
-        const std::string plot = OnePlot(pngs.size(), a, m, axes, points, rows, metrics[m], png);
-        if (plot.empty()) continue;
-        script << plot;
+        const std::string plot_script =
+            OnePlot(pngs.size(), a, m, axes, points, rows, metrics[m], png);
+        if (plot_script.empty()) continue;
+        script << plot_script;
         pngs.push_back(out_dir + "/" + png);
       }
     }

@@ -110,7 +110,8 @@ struct SweepOptions {
   std::vector<std::string> run_args; // More arguments for every `sitlnet run` (--no-losses).
   // A cluster's pod (deploy/kubernetes/sweep-job.yaml): run only the point of this index
   // (ExpandGrid's order, from 0) in job slot 0, unless finished, and write no tables: the other
-  // points' pods write to the same folder at once. Throws Error naming --point if out of range.
+  // points' pods write to the same folder at once. Exit code 0 also when the run failed (it is
+  // recorded; --collect reports it). Throws Error naming --point if out of range.
   std::optional<size_t> only_point;
   // `--collect`: run nothing; tabulate the point folders already in out_dir (what the pods wrote).
   bool collect_only = false;

@@ -26,6 +26,10 @@ RunRecord ReadRunRecord(const std::string& run_dir) {
   if (!google::protobuf::util::JsonStringToMessage(text, &summary).ok()) {
     throw Error(path + ": not a whole JSON object (the run did not finish writing it?)");
   }
+  if (Member(summary, "outputs", Value::kNullValue) != nullptr) {
+    throw Error(path + ": \"outputs\" is null: the run could not hash its outputs (its stderr "
+                "says why); run the scenario again");
+  }
   const Value* outputs = Member(summary, "outputs", Value::kStructValue);
   const Value* scenario_text = Member(summary, "scenario_text", Value::kStringValue);
   const Value* pacing = Member(summary, "pacing", Value::kStringValue);

@@ -35,13 +35,17 @@ void Report(const RunRecord& a, const RunRecord& b, OutputSet outputs, VerifyRep
                 output.detail.empty() ? "" : ": ", output.detail.c_str());
   }
   const int differ = counts[static_cast<int>(Verdict::kDiffers)];
+  // Nothing same or within bound proves nothing: say so, and fail.
+  const bool compared = counts[static_cast<int>(Verdict::kSame)] +
+                            counts[static_cast<int>(Verdict::kWithinBound)] >
+                        0;
   std::printf("%d same, %d within bound, %d not compared, %d differ: %s\n",
               counts[static_cast<int>(Verdict::kSame)],
               counts[static_cast<int>(Verdict::kWithinBound)],
               counts[static_cast<int>(Verdict::kNotCompared)], differ,
-              differ == 0 ? "reproduced" : "not reproduced");
+              differ > 0 ? "not reproduced" : compared ? "reproduced" : "nothing compared");
   std::fflush(stdout);
-  report->exit_code = differ == 0 ? 0 : 1;
+  report->exit_code = differ == 0 && compared ? 0 : 1;
 }
 
 }  // namespace

@@ -115,12 +115,18 @@ void ReadTrajectories(const std::string& path, RunRecord* record) {
   }
 }
 
+// links.csv as written before it named each link's rate and MCS (issue 44): still read.
+constexpr char kLinkHeaderWithoutRates[] =
+    "second,from,to,frames,delivered,delivery_ratio,main_cause,main_cause_frames";
+
 void ReadLinks(const std::string& path, RunRecord* record) {
-  std::istringstream text(ReadText(path));
-  CsvReader csv(path, runner::kLinkHeader,
+  const std::string whole = ReadText(path);
+  const bool with_rates = whole.compare(0, whole.find('\n'), kLinkHeaderWithoutRates) != 0;
+  std::istringstream text(whole);
+  CsvReader csv(path, with_rates ? runner::kLinkHeader : kLinkHeaderWithoutRates,
                 [&](std::string* line) { return static_cast<bool>(std::getline(text, *line)); });
   std::vector<std::string> cells;
-  while (csv.Next(10, &cells)) {
+  while (csv.Next(with_rates ? 10 : 8, &cells)) {
     LinkSecond link;
     link.second = csv.Parse<int>(cells[0], "second");
     link.from = csv.Parse<int>(cells[1], "from");
@@ -130,8 +136,10 @@ void ReadLinks(const std::string& path, RunRecord* record) {
     if (!cells[5].empty()) link.delivery_ratio = csv.Parse<double>(cells[5], "delivery_ratio");
     link.main_cause = cells[6];
     link.main_cause_frames = csv.Parse<int>(cells[7], "main_cause_frames");
-    link.rate_mbps = csv.Parse<double>(cells[8], "rate_mbps");
-    if (!cells[9].empty()) link.mcs = csv.Parse<int>(cells[9], "mcs");
+    if (with_rates) {
+      link.rate_mbps = csv.Parse<double>(cells[8], "rate_mbps");
+      if (!cells[9].empty()) link.mcs = csv.Parse<int>(cells[9], "mcs");
+    }
     record->links.push_back(link);
   }
 }

@@ -33,8 +33,8 @@ struct LinkSecond {
   double delivery_ratio = -1;
   std::string main_cause;
   int main_cause_frames = 0;
-  double rate_mbps = 0;
-  int mcs = -1;  // -1: not an HT/VHT link (links.csv's empty cell)
+  double rate_mbps = 0;  // 0: a links.csv older than these columns
+  int mcs = -1;          // -1: not an HT/VHT link (links.csv's empty cell), or an older links.csv
 };
 
 // One row of losses.csv.gz: the fields a query selects on, and the row's cells as written.

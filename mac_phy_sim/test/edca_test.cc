@@ -170,6 +170,7 @@ TEST(EdcaTest, VoiceTxopHoldsFramesSifsApartWhileTheyFitThenSendsCfEnd) {
     while (true) {
       const TxRecord& data = air[i];
       ASSERT_EQ(data.kind, FrameKind::kData);
+      ASSERT_LT(i + 1, air.size()) << "a DATA frame with no ACK after it";
       ASSERT_EQ(air[i + 1].kind, FrameKind::kAck);
       const TxRecord& ack = air[i + 1];
       ++frames;
@@ -193,7 +194,9 @@ TEST(EdcaTest, VoiceTxopHoldsFramesSifsApartWhileTheyFitThenSendsCfEnd) {
       if (i == air.size()) break;
       // The next frame does not fit, or there is none (the queue ran dry): ns-3 ends the TXOP
       // alike (StartFrameExchange fails, SendCfEndIfNeeded).
-      if (sent < 40) EXPECT_GT(exchange_ns, remaining_ns) << "a frame that fits was not sent";
+      if (sent < 40) {
+        EXPECT_GT(exchange_ns, remaining_ns) << "a frame that fits was not sent";
+      }
       if (remaining_ns > cf_end_ns) {
         ASSERT_EQ(air[i].kind, FrameKind::kCfEnd);
         EXPECT_EQ(air[i].start_ns, next_ns);
@@ -220,6 +223,7 @@ TEST(EdcaTest, BestEffortSendsOneFramePerAccess) {
     EXPECT_NE(air[i].kind, FrameKind::kCfEnd);
     if (air[i].kind != FrameKind::kData) continue;
     ++data;
+    ASSERT_LT(i + 1, air.size()) << "a DATA frame with no ACK after it";
     EXPECT_GE(air[i].start_ns - air[i - 1].end_ns, kSifsNs + 3 * kSlotNs);
     EXPECT_EQ(air[i].duration_us, 16 + (air[i + 1].end_ns - air[i + 1].start_ns) / kNsPerUs);
   }

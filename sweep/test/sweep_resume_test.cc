@@ -186,6 +186,24 @@ TEST_F(SweepResumeTest, PointsRunOneByOneThenCollectedGiveTheSweepsTables) {
     EXPECT_EQ(ReadAll(collect.out_dir + table), ReadAll(whole.out_dir + table)) << table;
   }
 
+  // A point whose run fails: recorded, and the pod ends with 0 (a Job would only rerun it);
+  // --collect reports it and fails.
+  std::ofstream(dir_ + "/fail") << "";
+  SweepOptions failing = Options();
+  failing.out_dir = dir_ + "/failing";
+  failing.only_point = 2;  // rate 6, seed 3
+  const SweepReport failed = RunSweep(failing);
+  EXPECT_EQ(failed.failed, 1);
+  EXPECT_EQ(failed.exit_code, 0);
+  EXPECT_TRUE(std::ifstream(failing.out_dir + "/radio.rate_mbps=6,seed=3/sweep-failure.txt"));
+  failing.only_point.reset();
+  failing.collect_only = true;
+  const SweepReport collected = RunSweep(failing);
+  EXPECT_EQ(collected.failed, 1);
+  EXPECT_EQ(collected.not_run, 5);
+  EXPECT_EQ(collected.exit_code, 1);
+  std::remove((dir_ + "/fail").c_str());
+
   SweepOptions past = Options();
   past.only_point = 6;
   try {

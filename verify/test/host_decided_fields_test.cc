@@ -26,13 +26,15 @@ struct UdpFrame {
   uint16_t udp_checksum = 0x7777;
   uint32_t fcs = 0xdeadbeef;
   std::string payload = "MAVLINK";
+  bool qos = false;  // A QoS Data frame (802.11n/ac, or a/b/g with radio.qos): 2 more header bytes.
 };
 
 // A pcap with one record: radiotap (8 bytes, no fields), 802.11 data header (24 bytes), LLC/SNAP
 // for IPv4, a 20-byte IPv4 header, UDP, the payload, the FCS.
 std::string Capture(const UdpFrame& f) {
   std::string frame = std::string("\0\0\x08\0\0\0\0\0", 8);  // radiotap v0, length 8
-  frame += std::string("\x08\x02", 2) + std::string(22, '\x11');  // data, from DS; addresses
+  frame += std::string(f.qos ? "\x88\x02" : "\x08\x02", 2) + std::string(22, '\x11');  // addresses
+  if (f.qos) frame += std::string("\x06\x00", 2);  // QoS Control: TID 6 (voice)
   frame += std::string("\xaa\xaa\x03\x00\x00\x00\x08\x00", 8);
   const uint16_t ip_length = static_cast<uint16_t>(20 + 8 + f.payload.size());
   frame += "\x45";
@@ -106,6 +108,21 @@ TEST(HostDecidedFieldsTest, MasksArduCoptersLoggerHealthBitAndItsChecksumOnly) {
   not_sys_status_other.payload = SysStatus(0x44119c0b, 0x3ee8, 2) + SysStatus(0x44119c0b, 0x3ee8, 2);
   EXPECT_NE(WithoutHostDecidedFields(Capture(not_sys_status)),
             WithoutHostDecidedFields(Capture(not_sys_status_other)));
+}
+
+// The same fields sit two bytes further in a QoS Data frame (IEEE 802.11-2016 9.3.2.1).
+TEST(HostDecidedFieldsTest, MasksTheSameFieldsInQosDataFrames) {
+  UdpFrame first, second;
+  first.qos = second.qos = true;
+  second.ip_id = 0x9abc;
+  second.destination_port = 51000;
+  second.udp_checksum = 0x2222;
+  second.fcs = 0x01020304;
+  EXPECT_EQ(WithoutHostDecidedFields(Capture(first)), WithoutHostDecidedFields(Capture(second)));
+  UdpFrame other_payload = first;
+  other_payload.payload = "MAVLINX";
+  EXPECT_NE(WithoutHostDecidedFields(Capture(first)),
+            WithoutHostDecidedFields(Capture(other_payload)));
 }
 
 TEST(HostDecidedFieldsTest, ATruncatedCaptureIsLeftAsItIs) {

@@ -39,6 +39,8 @@ TEST(RunRecordTest, ReadsEveryFile) {
   EXPECT_DOUBLE_EQ(record.links[0].delivery_ratio, 0.75);
   EXPECT_LT(record.links[1].delivery_ratio, 0);  // Only drops: the file leaves it empty.
   EXPECT_EQ(record.links[1].main_cause, "queue_full");
+  EXPECT_DOUBLE_EQ(record.links[0].rate_mbps, 54);
+  EXPECT_EQ(record.links[0].mcs, -1);  // 11a: the file leaves it empty
   ASSERT_EQ(record.losses.size(), 3u);
   EXPECT_EQ(record.losses[1].cells[7], "collision");
   EXPECT_EQ(record.losses_by_link.at({0, 1}), (std::vector<size_t>{0, 1}));
@@ -54,6 +56,19 @@ TEST(RunRecordTest, AMissingFileIsNamedWithWhy) {
   std::filesystem::remove(dir + "/summary.json");
   EXPECT_NE(LoadError(dir).find("no summary.json (the run did not finish)"), std::string::npos);
   EXPECT_NE(LoadError(dir + "/nothing").find("No such file or directory"), std::string::npos);
+}
+
+// A run folder written before links.csv named rates (8 columns) still loads.
+TEST(RunRecordTest, ALinksCsvWithoutRatesStillLoads) {
+  const std::string dir = WriteRunFolder("run_record_old_links", kLosses);
+  WriteFile(dir + "/links.csv",
+            "second,from,to,frames,delivered,delivery_ratio,main_cause,main_cause_frames\n"
+            "0,0,1,4,3,0.75,collision,1\n");
+  const RunRecord record = LoadRunRecord(dir);
+  ASSERT_EQ(record.links.size(), 1u);
+  EXPECT_DOUBLE_EQ(record.links[0].delivery_ratio, 0.75);
+  EXPECT_DOUBLE_EQ(record.links[0].rate_mbps, 0);
+  EXPECT_EQ(record.links[0].mcs, -1);
 }
 
 TEST(RunRecordTest, AnotherVersionsHeaderAndABadRowAreNamed) {
