@@ -76,6 +76,7 @@ LoopOutcome CoordinatedRun::Run() {
   }
   metrics_csv_.Flush();
   physics_.Flush();
+  outcome.closest_approach = physics_.closest_approach();
   outcome.metrics = metrics_.Summarize();
   return outcome;
 }

@@ -26,6 +26,7 @@ struct LoopOutcome {
   TimeNs begin_ns = 0;  // Monotonic instants of the loop's start and end.
   TimeNs end_ns = 0;
   double self_cpu_s = 0;  // user+sys of this process (all threads) at the loop's end.
+  std::optional<ClosestApproach> closest_approach;  // Over trajectories.csv's samples.
 };
 
 class CoordinatedRun {

@@ -19,6 +19,9 @@ class LocalPhysics final : public RunPhysics {
   LocalPhysics(RunSetup* setup, const RunOptions& options, const std::string& run_dir);
   coordinator::Connector& connector() override { return *connector_; }
   void Flush() override { recording_.Flush(); }
+  std::optional<ClosestApproach> closest_approach() const override {
+    return recording_.closest_approach();
+  }
 
  private:
   physics_side::PhysicsServerSimulator simulator_;

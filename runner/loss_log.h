@@ -28,6 +28,19 @@ inline constexpr char kLinkHeader[] =
 const char* CauseName(mac::RxCause cause);
 const char* DropName(mac::DropReason reason);
 
+// DATA transmissions at the station they are for (every station for a group frame), as
+// links.csv counts them, split by link class (summary.json "delivery").
+struct DeliveryCounts {
+  uint64_t frames = 0;
+  uint64_t delivered = 0;
+};
+struct DeliveryByLinkClass {
+  DeliveryCounts line_of_sight;  // The obstacle model took no loss on the path.
+  DeliveryCounts obstructed;     // Boxes took more than kObstructedMinLossDb on it.
+};
+// Above the rounding of (total - path - log-normal) loss, below any wall's loss.
+inline constexpr double kObstructedMinLossDb = 0.01;
+
 class LossLog {
  public:
   // Creates run_dir/losses.csv.gz (zlib, gzip format) and, at Finish,
@@ -48,6 +61,7 @@ class LossLog {
   void SetLiveSink(LiveSink* sink) { live_ = sink; }
   // Ends losses.csv.gz and writes links.csv. Throws Error naming a file.
   void Finish();
+  const DeliveryByLinkClass& delivery_by_link_class() const { return by_link_class_; }
 
  private:
   struct Counts;
@@ -68,6 +82,7 @@ class LossLog {
   std::string pending_;  // CSV text not yet deflated.
   // Key: second << 32 | (from + 1) << 16 | (to + 1) (to is -1 for group frames).
   std::unordered_map<uint64_t, Counts> links_;
+  DeliveryByLinkClass by_link_class_;
   bool finished_ = false;
   LiveSink* live_ = nullptr;
   int64_t next_live_second_ = 0;

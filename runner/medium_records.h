@@ -22,6 +22,8 @@ class MediumRecords {
   // Records every air frame and delivery of `bridge` from now on; this must outlive its use.
   void Attach(tapbridge::BridgeCore* bridge);
   ConnectivityTracker& connectivity() { return connectivity_; }
+  // The loss log (losses.csv.gz, links.csv), or null when the run records no losses.
+  const LossLog* losses() const { return losses_; }
   // deliveries.csv, medium.pcap, then the loss log; throws Error naming the file that cannot
   // be written.
   void Flush();

@@ -4,6 +4,7 @@
 #ifndef SITLNET_RUNNER_RECORDING_CONNECTOR_H_
 #define SITLNET_RUNNER_RECORDING_CONNECTOR_H_
 
+#include <optional>
 #include <string>
 
 #include "common/common.h"
@@ -30,6 +31,9 @@ class RecordingConnector final : public coordinator::Connector {
   bool runs_on_caller_thread() const override { return inner_.runs_on_caller_thread(); }
   void Stop(const std::string& reason) override { inner_.Stop(reason); }
   void Flush() { recorder_.Flush(); }
+  const std::optional<ClosestApproach>& closest_approach() const {
+    return recorder_.closest_approach();
+  }
 
  private:
   coordinator::Connector& inner_;

@@ -2,6 +2,7 @@
 #ifndef SITLNET_RUNNER_RECORDING_PHYSICS_H_
 #define SITLNET_RUNNER_RECORDING_PHYSICS_H_
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ class RecordingPhysics final : public coordinator::Simulator {
   // /clock publishers read it).
   void ShareTimeWith(ros2_clock::SharedVirtualTime* shared) { shared_time_ = shared; }
   void Flush() { recorder_.Flush(); }
+  const std::optional<ClosestApproach>& closest_approach() const {
+    return recorder_.closest_approach();
+  }
   // `sink` (may be null; outlives this) is told every sample too.
   void SetLiveSink(LiveSink* sink) { recorder_.SetLiveSink(sink); }
 

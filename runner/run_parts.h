@@ -4,6 +4,7 @@
 #ifndef SITLNET_RUNNER_RUN_PARTS_H_
 #define SITLNET_RUNNER_RUN_PARTS_H_
 
+#include <optional>
 #include <vector>
 
 #include "clock/clock.h"
@@ -11,6 +12,7 @@
 #include "coordinator/coordinator.h"
 #include "network_side/network_side.h"
 #include "physics_mujoco/physics_mujoco.h"
+#include "runner/closest_approach.h"
 #include "runner/medium_records.h"
 #include "runner/robot_slot.h"
 #include "scenario/scenario.h"
@@ -44,6 +46,8 @@ class RunPhysics {
   virtual coordinator::Connector& connector() = 0;
   // Writes what trajectories.csv holds so far; throws Error naming the file.
   virtual void Flush() = 0;
+  // The closest two robots came at trajectories.csv's samples; null with fewer than two robots.
+  virtual std::optional<ClosestApproach> closest_approach() const = 0;
 };
 
 }  // namespace sitlnet::runner

@@ -71,7 +71,7 @@ void ReportRun(RunParts& setup, const LoopOutcome& loop, RunReport* report) {
   WriteSummaryAndPlots(setup.scenario(), *report, loop.metrics,
                        std::max<int64_t>(loop.result.iterations_done, loop.metrics.iterations),
                        setup.robots(), setup.bridge(), setup.local_physics(),
-                       &setup.medium_records().connectivity(), failure);
+                       setup.medium_records(), loop.closest_approach, failure);
   if (remote_medium) {
     remote_medium->Stop(failure.empty() ? (loop.result.interrupted ? "interrupted" : "run finished")
                                         : failure);

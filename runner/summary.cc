@@ -5,6 +5,7 @@
 
 #include "runner/connectivity.h"
 #include "runner/gcs_relay_stage.h"
+#include "runner/loss_log.h"
 #include "runner/outputs.h"
 #include "runner/run_folder.h"
 #include "runner/run_record.h"
@@ -51,6 +52,31 @@ std::string ConnectivityJson(const std::vector<ConnectivitySample>& samples) {
          ",\"last_merge_s\":" + (last_merge < 0 ? "null" : Seconds(last_merge)) +
          ",\"final_components\":" +
          std::to_string(samples.empty() ? 0 : samples.back().components) + "}";
+}
+
+// The closest approach of two robots, or null with fewer than two.
+std::string SeparationJson(const Scenario& scenario, const std::optional<ClosestApproach>& closest) {
+  if (!closest) return "null";
+  return "{\"min_m\":" + std::to_string(closest->distance_m) +
+         ",\"at_s\":" + Seconds(closest->time_ns) + ",\"robots\":[" +
+         Quote(scenario.robots[closest->robot_a].name) + "," +
+         Quote(scenario.robots[closest->robot_b].name) + "]}";
+}
+
+// DATA frames at the station they are for, by link class; null when no loss log was kept.
+std::string DeliveryJson(const LossLog* losses) {
+  if (losses == nullptr) return "null";
+  const auto counts = [](const DeliveryCounts& c) {
+    std::string ratio = "null";
+    if (c.frames > 0) {
+      ratio = std::to_string(static_cast<double>(c.delivered) / static_cast<double>(c.frames));
+    }
+    return "{\"frames\":" + std::to_string(c.frames) +
+           ",\"delivered\":" + std::to_string(c.delivered) + ",\"ratio\":" + ratio + "}";
+  };
+  const DeliveryByLinkClass& by_class = losses->delivery_by_link_class();
+  return "{\"line_of_sight\":" + counts(by_class.line_of_sight) +
+         ",\"obstructed\":" + counts(by_class.obstructed) + "}";
 }
 
 // What the GCS heard of each vehicle: a JSON array by system id, each with the address it sent
@@ -212,12 +238,13 @@ std::string FleetRealtimeJson(const RunReport& report) {
 void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
                           const coordinator::MetricsSummary& metrics, int64_t iterations_done,
                           const std::vector<RobotSlot>& robots, tapbridge::BridgeCore& bridge,
-                          const physics::PhysicsServer* physics, ConnectivityTracker* connectivity,
+                          const physics::PhysicsServer* physics, MediumRecords& records,
+                          const std::optional<ClosestApproach>& closest,
                           const std::string& failure) {
   const std::string& dir = report.run_dir;
   const int robot_count = static_cast<int>(scenario.robots.size());
   const TimeNs simulated_ns = iterations_done * scenario.iteration_ns;
-  const auto samples = connectivity->Finish(simulated_ns);
+  const auto samples = records.connectivity().Finish(simulated_ns);
   WriteConnectivityCsv(dir + "/connectivity.csv", samples, robot_count);
 
   std::vector<std::string> warnings;
@@ -264,6 +291,8 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
   json += ",\"failure\":" + (failure.empty() ? std::string("null") : Quote(failure));
   json += ",\"metrics\":" + metrics.ToJson();
   json += ",\"connectivity\":" + ConnectivityJson(samples);
+  json += ",\"separation\":" + SeparationJson(scenario, closest);
+  json += ",\"delivery\":" + DeliveryJson(records.losses());
   json += ",\"resources\":{\"startup_s\":" + Seconds(report.startup_ns) +
           ",\"loop_s\":" + Seconds(report.loop_ns) +
           ",\"stop_robots_s\":" + Seconds(report.stop_ns) +

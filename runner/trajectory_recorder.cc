@@ -45,6 +45,8 @@ void TrajectoryRecorder::Record(TimeNs time_ns, const proto::coord::Poses& poses
     }
   }
   if (live_ != nullptr) live_->Poses(time_ns, live_poses_);
+  positions_m_.assign(poses.position_m().begin(), poses.position_m().end());
+  closest_approach_.Sample(time_ns, positions_m_);
 }
 
 }  // namespace sitlnet::runner

@@ -1,15 +1,17 @@
-// trajectories.csv from the robots' poses as the coordinator carries them (proto Poses), and the
-// live view's samples of them. One formatter for a run on one host (RecordingPhysics) and for a
-// central host that receives the poses of its node hosts (issue 35): the same doubles, the same
-// bytes.
+// trajectories.csv from the robots' poses as the coordinator carries them (proto Poses), the
+// live view's samples of them, and the closest approach over them (summary.json "separation").
+// One formatter for a run on one host (RecordingPhysics) and for a central host that receives
+// the poses of its node hosts (issue 35): the same doubles, the same bytes.
 #ifndef SITLNET_RUNNER_TRAJECTORY_RECORDER_H_
 #define SITLNET_RUNNER_TRAJECTORY_RECORDER_H_
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/common.h"
 #include "physics_mujoco/physics_mujoco.h"
+#include "runner/closest_approach.h"
 #include "runner/live_sink.h"
 #include "sitlnet/coordinator.pb.h"
 
@@ -27,12 +29,18 @@ class TrajectoryRecorder {
   void Flush() { csv_.Flush(); }
   // `sink` (may be null; outlives this) is told every sample too.
   void SetLiveSink(LiveSink* sink) { live_ = sink; }
+  // The closest two robots came at the samples recorded so far.
+  const std::optional<ClosestApproach>& closest_approach() const {
+    return closest_approach_.closest();
+  }
 
  private:
   physics::GeodeticFrame frame_;
   LineFile csv_;
   LiveSink* live_ = nullptr;
   std::vector<LivePose> live_poses_;  // Reused: no allocation per sample.
+  ClosestApproachTracker closest_approach_;
+  std::vector<double> positions_m_;  // Reused: the sample's positions for the tracker.
 };
 
 }  // namespace sitlnet::runner

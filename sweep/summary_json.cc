@@ -71,8 +71,15 @@ std::optional<double> SummaryMetric(const Struct& summary, const std::string& pa
 }
 
 std::vector<std::string> DefaultMetrics() {
-  return {"metrics.stf.mean",           "metrics.t_overhead_ms.mean", "metrics.overhead_share",
-          "connectivity.max_components", "connectivity.time_split_s",  "resources.loop_s"};
+  return {"metrics.stf.mean",
+          "metrics.t_overhead_ms.mean",
+          "metrics.overhead_share",
+          "connectivity.max_components",
+          "connectivity.time_split_s",
+          "separation.min_m",
+          "delivery.line_of_sight.ratio",
+          "delivery.obstructed.ratio",
+          "resources.loop_s"};
 }
 
 }  // namespace sitlnet::sweep

@@ -28,6 +28,53 @@
 namespace sitlnet::nns::testing {
 namespace {
 
+// summary.json's derived metrics (docs/sweep-reference.md, "Metrics") against the files they
+// summarise: the closest approach by brute force over trajectories.csv's rows (printed with
+// 6 decimals, hence the 1 mm), and the delivery classes' frames against links.csv's sum.
+void ExpectDerivedMetricsMatchTheirFiles(const std::string& run_dir) {
+  const std::string summary = ReadAll(run_dir + "/summary.json");
+  std::map<std::string, std::vector<std::array<double, 3>>> by_time;
+  std::istringstream trajectories(ReadAll(run_dir + "/trajectories.csv"));
+  std::string line;
+  std::getline(trajectories, line);  // The header.
+  while (std::getline(trajectories, line)) {
+    std::istringstream row(line);
+    std::string time, robot, x, y, z;
+    std::getline(row, time, ',');
+    std::getline(row, robot, ',');
+    std::getline(row, x, ',');
+    std::getline(row, y, ',');
+    std::getline(row, z, ',');
+    by_time[time].push_back({std::stod(x), std::stod(y), std::stod(z)});
+  }
+  double closest_m = INFINITY;
+  for (const auto& [time, positions] : by_time) {
+    for (size_t a = 0; a < positions.size(); ++a) {
+      for (size_t b = a + 1; b < positions.size(); ++b) {
+        closest_m = std::min(closest_m, std::hypot(positions[a][0] - positions[b][0],
+                                                   positions[a][1] - positions[b][1],
+                                                   positions[a][2] - positions[b][2]));
+      }
+    }
+  }
+  EXPECT_NEAR(SummaryNumber(summary, "\"separation\":", "\"min_m\":"), closest_m, 1e-3)
+      << summary;
+  uint64_t link_frames = 0;
+  std::istringstream links(ReadAll(run_dir + "/links.csv"));
+  std::getline(links, line);
+  while (std::getline(links, line)) {
+    std::istringstream row(line);
+    std::string field;
+    for (int column = 0; column < 4; ++column) std::getline(row, field, ',');
+    link_frames += std::stoull(field);  // `frames`, the fourth column.
+  }
+  const double line_of_sight =
+      SummaryNumber(summary, "\"line_of_sight\":", "\"frames\":");
+  const double obstructed = SummaryNumber(summary, "\"obstructed\":", "\"frames\":");
+  EXPECT_GT(link_frames, 0u);
+  EXPECT_EQ(line_of_sight + obstructed, static_cast<double>(link_frames)) << summary;
+}
+
 TEST(RunTest, LockstepRunsAreByteIdenticalAndTheSeedMatters) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const RunScenario scenario = WriteScenario(0, kTwoFlockers, "timing { duration_ms: 5000 }\n");
@@ -72,6 +119,8 @@ TEST(RunTest, LockstepRunsAreByteIdenticalAndTheSeedMatters) {
   EXPECT_NE(stat((base + "4/links.csv").c_str(), &none), 0);
   // Another seed changes the medium's draws (backoff slots, intra-step offsets).
   EXPECT_NE(pcap, ReadAll(base + "3/medium.pcap"));
+  ExpectDerivedMetricsMatchTheirFiles(base + "1");
+  EXPECT_NE(ReadAll(base + "4/summary.json").find("\"delivery\":null"), std::string::npos);
   ExpectNothingLeft(scenario.name);
 }
 
