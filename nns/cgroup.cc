@@ -17,7 +17,7 @@
 #include <map>
 #include <sstream>
 
-#include "nns/internal.h"
+#include "nns/nns_internal.h"
 #include "nns/nns.h"
 
 namespace sitlnet::nns {

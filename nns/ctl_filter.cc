@@ -13,7 +13,7 @@
 #include <memory>
 #include <string>
 
-#include "nns/internal.h"
+#include "nns/nns_internal.h"
 
 namespace sitlnet::nns::internal {
 namespace {

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "nns/internal.h"
+#include "nns/nns_internal.h"
 #include "nns/nns.h"
 
 namespace sitlnet::nns {

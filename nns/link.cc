@@ -18,7 +18,7 @@
 #include <cstring>
 #include <memory>
 
-#include "nns/internal.h"
+#include "nns/nns_internal.h"
 
 namespace sitlnet::nns {
 namespace internal {

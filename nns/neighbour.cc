@@ -6,7 +6,7 @@
 
 #include <memory>
 
-#include "nns/internal.h"
+#include "nns/nns_internal.h"
 
 namespace sitlnet::nns::internal {
 

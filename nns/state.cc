@@ -13,7 +13,7 @@
 #include <optional>
 #include <sstream>
 
-#include "nns/internal.h"
+#include "nns/nns_internal.h"
 
 namespace sitlnet::nns {
 

@@ -2,7 +2,7 @@
 // kernel (links, addresses, processes), not from memory.
 #include <memory>
 
-#include "nns/internal.h"
+#include "nns/nns_internal.h"
 
 namespace sitlnet::nns {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "nns/internal.h"
+#include "nns/nns_internal.h"
 
 namespace sitlnet::nns::internal {
 namespace {

@@ -9,7 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "nns/internal.h"
+#include "nns/nns_internal.h"
 
 namespace sitlnet::nns {
 namespace {

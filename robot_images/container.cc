@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "robot_images/internal.h"
+#include "robot_images/images_internal.h"
 #include "robot_images/robot_images.h"
 #include "scenario/scenario.h"
 

@@ -10,7 +10,7 @@
 #include <cstring>
 #include <string_view>
 
-#include "robot_images/internal.h"
+#include "robot_images/images_internal.h"
 
 namespace sitlnet::images::internal {
 namespace {

@@ -13,7 +13,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "robot_images/internal.h"
+#include "robot_images/images_internal.h"
 #include "robot_images/robot_images.h"
 
 namespace sitlnet::images {

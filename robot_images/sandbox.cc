@@ -16,7 +16,7 @@
 #include <filesystem>
 #include <string_view>
 
-#include "robot_images/internal.h"
+#include "robot_images/images_internal.h"
 
 namespace sitlnet::images::internal {
 namespace {

@@ -11,7 +11,7 @@
 #include "common/common.h"
 #include "view/http_server.h"
 #include "view/replay_json.h"
-#include "view/run_record.h"
+#include "view/replayed_run.h"
 #include "view/view.h"
 
 namespace sitlnet::view {
@@ -54,7 +54,7 @@ double NumberParam(const HttpServer::Params& params, const char* name,
 
 // The documents of a run folder (docs/view-reference.md, "Endpoints"); `record` outlives the
 // server. Those that do not depend on a query are built once.
-void AddReplayDocuments(const RunRecord& record, HttpServer* server) {
+void AddReplayDocuments(const ReplayedRun& record, HttpServer* server) {
   const auto constant = [](std::string json) {
     return [json = std::make_shared<const std::string>(std::move(json))](
                const HttpServer::Params&) { return *json; };
@@ -81,7 +81,7 @@ void AddReplayDocuments(const RunRecord& record, HttpServer* server) {
 
 void ServeReplay(const ReplayOptions& options,
                  const std::function<void(const std::string& url)>& on_listening) {
-  const RunRecord record = LoadRunRecord(options.run_dir);
+  const ReplayedRun record = LoadReplayedRun(options.run_dir);
   HttpServer server(options.web_dir);
   AddReplayDocuments(record, &server);
   const ListenAddress bound = server.Bind(options.listen);

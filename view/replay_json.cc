@@ -45,24 +45,24 @@ std::string RunJson(const Scenario& scenario, const std::string& run_dir, TimeNs
   return json + "}";
 }
 
-std::string RunJson(const RunRecord& record) {
+std::string RunJson(const ReplayedRun& record) {
   TimeNs end_ns = 0;
   for (const PoseSample& pose : record.poses) end_ns = std::max(end_ns, pose.time_ns);
   return RunJson(record.scenario, record.run_dir, end_ns, false);
 }
 
-std::string ModesJson(const RunRecord& record) {
+std::string ModesJson(const ReplayedRun& record) {
   return "{\"modes\":" + ModeChangesArray(record.modes) + "}";
 }
 
-std::string GcsJson(const RunRecord& record) {
+std::string GcsJson(const ReplayedRun& record) {
   std::vector<std::string> names;
   for (const RobotPlan& robot : record.scenario.robots) names.push_back(robot.name);
   return "{\"vehicles\":" + GcsVehiclesArray(GcsVehiclesOfSummary(record.summary_json, names)) +
          "}";
 }
 
-std::string TrajectoriesJson(const RunRecord& record) {
+std::string TrajectoriesJson(const ReplayedRun& record) {
   std::vector<std::string> per_robot(record.scenario.robots.size());
   for (const PoseSample& pose : record.poses) {
     std::string& samples = per_robot[pose.robot];
@@ -75,18 +75,18 @@ std::string TrajectoriesJson(const RunRecord& record) {
          Array(per_robot, [](const std::string& samples) { return "[" + samples + "]"; }) + "}";
 }
 
-std::string LinksJson(const RunRecord& record) {
+std::string LinksJson(const ReplayedRun& record) {
   return "{\"links\":" + Array(record.links, [](const LinkSecond& link) {
            return LinkArray(link.second, link.from, link.to, link.frames, link.delivered,
                             link.delivery_ratio, link.main_cause, link.main_cause_frames);
          }) + "}";
 }
 
-std::string TimelineJson(const RunRecord& record) {
+std::string TimelineJson(const ReplayedRun& record) {
   return "{" + TimelineMembers(record.connectivity, record.timing) + "}";
 }
 
-std::string FramesJson(const RunRecord& record, int from, int station, TimeNs end_ns,
+std::string FramesJson(const ReplayedRun& record, int from, int station, TimeNs end_ns,
                        TimeNs window_ns) {
   std::vector<const LossRow*> rows;
   const auto link = record.losses_by_link.find({from, station});

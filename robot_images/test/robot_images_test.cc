@@ -12,7 +12,7 @@
 #include <cstdlib>
 #include <fstream>
 
-#include "robot_images/internal.h"
+#include "robot_images/images_internal.h"
 
 namespace sitlnet::images {
 namespace {

@@ -208,10 +208,10 @@ TEST_F(AirModesTest, ReplayListsARunFoldersModeChanges) {
                      tapbridge::PcapFileHeader() + Record(0, kNsPerS, Named("GUIDED")) +
                          Record(0, 2 * kNsPerS, Named("GUIDED")) +
                          Record(0, 3 * kNsPerS + 500 * kNsPerMs, Named("LAND")));
-  EXPECT_EQ(ModesJson(LoadRunRecord(dir)), "{\"modes\":[[1,0,\"GUIDED\"],[3.5,0,\"LAND\"]]}");
+  EXPECT_EQ(ModesJson(LoadReplayedRun(dir)), "{\"modes\":[[1,0,\"GUIDED\"],[3.5,0,\"LAND\"]]}");
   testing::WriteFile(dir + "/medium.pcap", "not a pcap file, but long enough to have a header");
   try {
-    LoadRunRecord(dir);
+    LoadReplayedRun(dir);
     ADD_FAILURE() << "no error";
   } catch (const Error& error) {
     EXPECT_EQ(std::string(error.what()),

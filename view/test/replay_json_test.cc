@@ -19,7 +19,7 @@ constexpr char kLosses[] =
     "2000000000,0,1,DATA,6,0,1,decoded,-1,-60.0,30.0,,\n";
 
 TEST(ReplayJsonTest, FramesOfALinkInASecondInTimeOrder) {
-  const RunRecord record = LoadRunRecord(testing::WriteRunFolder("replay_json_frames", kLosses));
+  const ReplayedRun record = LoadReplayedRun(testing::WriteRunFolder("replay_json_frames", kLosses));
   EXPECT_EQ(FramesJson(record, 0, 1, 2 * kNsPerS, kNsPerS),
             "{\"from\":0,\"station\":1,\"start_ns\":1000000000,\"end_ns\":2000000000,\"total\":3,"
             "\"rows\":["
@@ -35,7 +35,7 @@ TEST(ReplayJsonTest, FramesOfALinkInASecondInTimeOrder) {
 }
 
 TEST(ReplayJsonTest, RunTrajectoriesAndLinks) {
-  const RunRecord record = LoadRunRecord(testing::WriteRunFolder("replay_json_run", ""));
+  const ReplayedRun record = LoadReplayedRun(testing::WriteRunFolder("replay_json_run", ""));
   const std::string run = RunJson(record);
   EXPECT_NE(run.find("\"robots\":[{\"index\":0,\"name\":\"a\",\"autopilot\":null},"
                      "{\"index\":1,\"name\":\"b\",\"autopilot\":null}]"),
@@ -56,7 +56,7 @@ TEST(ReplayJsonTest, RunTrajectoriesAndLinks) {
 // The components where they change (the third row repeats the second), and per second the
 // mean and largest STF and the largest lag of its iterations.
 TEST(ReplayJsonTest, TimelineOfComponentsAndTimingPerSecond) {
-  const RunRecord record = LoadRunRecord(testing::WriteRunFolder("replay_json_timeline", ""));
+  const ReplayedRun record = LoadReplayedRun(testing::WriteRunFolder("replay_json_timeline", ""));
   EXPECT_EQ(TimelineJson(record),
             "{\"connectivity\":[[0.1,2,[0,1]],[0.2,1,[0,0]]],"
             "\"timing\":[[0,2,0.375,0.5,2],[1,1,1.5,1.5,0]]}");

@@ -1,4 +1,4 @@
-#include "view/run_record.h"
+#include "view/replayed_run.h"
 
 #include <sys/stat.h>
 #include <zlib.h>
@@ -91,7 +91,7 @@ std::string ReadText(const std::string& path) {
   return text.str();
 }
 
-void ReadTrajectories(const std::string& path, RunRecord* record) {
+void ReadTrajectories(const std::string& path, ReplayedRun* record) {
   std::istringstream text(ReadText(path));
   CsvReader csv(path, runner::kTrajectoryHeader,
                 [&](std::string* line) { return static_cast<bool>(std::getline(text, *line)); });
@@ -119,7 +119,7 @@ void ReadTrajectories(const std::string& path, RunRecord* record) {
 constexpr char kLinkHeaderWithoutRates[] =
     "second,from,to,frames,delivered,delivery_ratio,main_cause,main_cause_frames";
 
-void ReadLinks(const std::string& path, RunRecord* record) {
+void ReadLinks(const std::string& path, ReplayedRun* record) {
   const std::string whole = ReadText(path);
   const bool with_rates = whole.compare(0, whole.find('\n'), kLinkHeaderWithoutRates) != 0;
   std::istringstream text(whole);
@@ -144,7 +144,7 @@ void ReadLinks(const std::string& path, RunRecord* record) {
   }
 }
 
-void ReadConnectivity(const std::string& path, RunRecord* record) {
+void ReadConnectivity(const std::string& path, ReplayedRun* record) {
   std::istringstream text(ReadText(path));
   const size_t robots = record->scenario.robots.size();
   std::string header = "time_s,components";
@@ -163,7 +163,7 @@ void ReadConnectivity(const std::string& path, RunRecord* record) {
   }
 }
 
-void ReadMetrics(const std::string& path, RunRecord* record) {
+void ReadMetrics(const std::string& path, ReplayedRun* record) {
   std::istringstream text(ReadText(path));
   std::string header = coordinator::MetricsCsvWriter::Header();
   header.pop_back();  // Its '\n'.
@@ -181,7 +181,7 @@ void ReadMetrics(const std::string& path, RunRecord* record) {
   keep(seconds.Finish());
 }
 
-void ReadLosses(const std::string& path, RunRecord* record) {
+void ReadLosses(const std::string& path, ReplayedRun* record) {
   gzFile file = gzopen(path.c_str(), "rb");
   if (file == nullptr) throw Error(SystemErrorMessage("open \"" + path + "\"", errno));
   std::unique_ptr<gzFile_s, int (*)(gzFile)> closer(file, gzclose);
@@ -213,8 +213,8 @@ void ReadLosses(const std::string& path, RunRecord* record) {
 
 }  // namespace
 
-RunRecord LoadRunRecord(const std::string& run_dir) {
-  RunRecord record;
+ReplayedRun LoadReplayedRun(const std::string& run_dir) {
+  ReplayedRun record;
   record.run_dir = run_dir;
   struct stat info {};
   if (stat(run_dir.c_str(), &info) != 0) {

@@ -1,6 +1,6 @@
 // nns internals shared by the library's files; not part of the public API.
-#ifndef SITLNET_NNS_INTERNAL_H_
-#define SITLNET_NNS_INTERNAL_H_
+#ifndef SITLNET_NNS_NNS_INTERNAL_H_
+#define SITLNET_NNS_NNS_INTERNAL_H_
 
 #include <sys/types.h>
 
@@ -159,4 +159,4 @@ int RemoveScenarioCgroups(const std::string& scenario);
 
 }  // namespace sitlnet::nns::internal
 
-#endif  // SITLNET_NNS_INTERNAL_H_
+#endif  // SITLNET_NNS_NNS_INTERNAL_H_

@@ -1,8 +1,8 @@
 // A finished run folder (docs/run.md) as `sitlnet view` replays it: the effective scenario
 // (robots, obstacles), trajectories.csv, links.csv, losses.csv.gz, connectivity.csv, metrics.csv,
 // summary.json, and the autopilots' modes heard in medium.pcap.
-#ifndef SITLNET_VIEW_RUN_RECORD_H_
-#define SITLNET_VIEW_RUN_RECORD_H_
+#ifndef SITLNET_VIEW_REPLAYED_RUN_H_
+#define SITLNET_VIEW_REPLAYED_RUN_H_
 
 #include <map>
 #include <string>
@@ -45,7 +45,7 @@ struct LossRow {
   std::vector<std::string> cells;
 };
 
-struct RunRecord {
+struct ReplayedRun {
   std::string run_dir;
   Scenario scenario;                  // scenario.textproto
   std::vector<PoseSample> poses;      // trajectories.csv, in file order
@@ -62,8 +62,8 @@ struct RunRecord {
 // Reads every file of `run_dir`. Throws Error, one line naming the folder or file:line and
 // what is wrong: a missing file (an unfinished run, one with --no-losses or --remote network),
 // a header of another sitlnet version, a malformed row.
-RunRecord LoadRunRecord(const std::string& run_dir);
+ReplayedRun LoadReplayedRun(const std::string& run_dir);
 
 }  // namespace sitlnet::view
 
-#endif  // SITLNET_VIEW_RUN_RECORD_H_
+#endif  // SITLNET_VIEW_REPLAYED_RUN_H_

@@ -1,6 +1,6 @@
 // Shared between the files of robot_images; not part of its public header.
-#ifndef SITLNET_ROBOT_IMAGES_INTERNAL_H_
-#define SITLNET_ROBOT_IMAGES_INTERNAL_H_
+#ifndef SITLNET_ROBOT_IMAGES_IMAGES_INTERNAL_H_
+#define SITLNET_ROBOT_IMAGES_IMAGES_INTERNAL_H_
 
 #include <sys/types.h>
 
@@ -79,4 +79,4 @@ std::vector<std::string> ContainerRunArgs(const Image& image, const LaunchContex
 
 }  // namespace sitlnet::images::internal
 
-#endif  // SITLNET_ROBOT_IMAGES_INTERNAL_H_
+#endif  // SITLNET_ROBOT_IMAGES_IMAGES_INTERNAL_H_

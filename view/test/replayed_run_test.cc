@@ -1,5 +1,5 @@
 // Reading a run folder: every file, and one line naming what is missing or malformed.
-#include "view/run_record.h"
+#include "view/replayed_run.h"
 
 #include <gtest/gtest.h>
 
@@ -20,7 +20,7 @@ constexpr char kLosses[] =
 
 std::string LoadError(const std::string& dir) {
   try {
-    LoadRunRecord(dir);
+    LoadReplayedRun(dir);
   } catch (const Error& error) {
     return error.what();
   }
@@ -28,7 +28,7 @@ std::string LoadError(const std::string& dir) {
 }
 
 TEST(RunRecordTest, ReadsEveryFile) {
-  const RunRecord record = LoadRunRecord(WriteRunFolder("run_record_ok", kLosses));
+  const ReplayedRun record = LoadReplayedRun(WriteRunFolder("run_record_ok", kLosses));
   EXPECT_EQ(record.scenario.name, "vt");
   ASSERT_EQ(record.poses.size(), 6u);
   EXPECT_EQ(record.poses[5].time_ns, 200 * kNsPerMs);
@@ -64,7 +64,7 @@ TEST(RunRecordTest, ALinksCsvWithoutRatesStillLoads) {
   WriteFile(dir + "/links.csv",
             "second,from,to,frames,delivered,delivery_ratio,main_cause,main_cause_frames\n"
             "0,0,1,4,3,0.75,collision,1\n");
-  const RunRecord record = LoadRunRecord(dir);
+  const ReplayedRun record = LoadReplayedRun(dir);
   ASSERT_EQ(record.links.size(), 1u);
   EXPECT_DOUBLE_EQ(record.links[0].delivery_ratio, 0.75);
   EXPECT_DOUBLE_EQ(record.links[0].rate_mbps, 0);
