@@ -16,13 +16,16 @@ constexpr const char* kViewDescription =
     "A timeline shows the connectivity components, STF and lag over time.\n"
     "Clicking a link lists its frames of that second with the cause of each\n"
     "loss (losses.csv.gz). Prints the page's URL, then serves until Ctrl-C.\n"
+    "A sweep's folder (sitlnet sweep --out DIR) shows its summary instead:\n"
+    "each metric's mean and 95 % interval against the swept fields, and\n"
+    "every point with its status and values.\n"
     "Listens on loopback unless --allow-remote; port 0 takes a free port.\n"
     "The page is built with sitlnet (no network at run time; docs/view.md).";
 
 constexpr const char* kViewExitCodes =
     "exit codes: 0 stopped by Ctrl-C or SIGTERM, 1 the address cannot be bound\n"
     "(in use, not this host's), 2 usage, a non-loopback address without\n"
-    "--allow-remote, an incomplete run folder or one of another version.";
+    "--allow-remote, an incomplete run or sweep folder or one of another version.";
 
 struct ViewArguments {
   std::string run_dir;
@@ -36,7 +39,7 @@ Command AddViewCommand(CLI::App& sitlnet) {
   CLI::App* command = sitlnet.add_subcommand("view", "replay a run folder in a web page");
   command->footer(std::string(kViewDescription) + "\n\n" + kViewExitCodes);
   auto arguments = std::make_shared<ViewArguments>();
-  command->add_option("RUN_DIR", arguments->run_dir, "the run folder")->required();
+  command->add_option("RUN_DIR", arguments->run_dir, "the run folder (or a sweep's folder)")->required();
   command
       ->add_option("--listen", arguments->listen,
                    std::string("address and port to serve on (default ") + view::kDefaultListen +

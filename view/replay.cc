@@ -12,6 +12,7 @@
 #include "view/http_server.h"
 #include "view/replay_json.h"
 #include "view/replayed_run.h"
+#include "view/sweep_folder.h"
 #include "view/view.h"
 
 namespace sitlnet::view {
@@ -81,6 +82,14 @@ void AddReplayDocuments(const ReplayedRun& record, HttpServer* server) {
 
 void ServeReplay(const ReplayOptions& options,
                  const std::function<void(const std::string& url)>& on_listening) {
+  if (IsSweepFolder(options.run_dir)) {
+    const auto sweep = std::make_shared<const std::string>(SweepJson(options.run_dir));
+    HttpServer server(options.web_dir);
+    server.Json("/api/sweep", [sweep](const HttpServer::Params&) { return *sweep; });
+    on_listening(PageUrl(server.Bind(options.listen)) + kSweepPage);
+    ServeUntilStopSignal(&server);
+    return;
+  }
   const ReplayedRun record = LoadReplayedRun(options.run_dir);
   HttpServer server(options.web_dir);
   AddReplayDocuments(record, &server);

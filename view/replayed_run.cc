@@ -83,14 +83,6 @@ std::string RequireFile(const std::string& run_dir, const std::string& name, con
   return path;
 }
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(SystemErrorMessage("open \"" + path + "\"", errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 void ReadTrajectories(const std::string& path, ReplayedRun* record) {
   std::istringstream text(ReadText(path));
   CsvReader csv(path, runner::kTrajectoryHeader,
@@ -212,6 +204,14 @@ void ReadLosses(const std::string& path, ReplayedRun* record) {
 }
 
 }  // namespace
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(SystemErrorMessage("open \"" + path + "\"", errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
 
 ReplayedRun LoadReplayedRun(const std::string& run_dir) {
   ReplayedRun record;

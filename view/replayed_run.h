@@ -64,6 +64,9 @@ struct ReplayedRun {
 // a header of another sitlnet version, a malformed row.
 ReplayedRun LoadReplayedRun(const std::string& run_dir);
 
+// The whole of the file at `path`. Throws Error naming it.
+std::string ReadText(const std::string& path);
+
 }  // namespace sitlnet::view
 
 #endif  // SITLNET_VIEW_REPLAYED_RUN_H_

@@ -325,9 +325,10 @@ int LoopbackSocket(int type, int* port) {
 
 // `sitlnet view DIR ARGS...` in the background, and the URL it prints.
 struct ViewServer {
-  explicit ViewServer(const std::string& dir)
+  // `url_end`: how the printed URL ends ("/" for a run, "/sweep.html" for a sweep's folder).
+  explicit ViewServer(const std::string& dir, const std::string& url_end = "/")
       : child({integration_test::SitlnetBinary(), "view", dir, "--listen", "127.0.0.1:0"}) {
-    if (child.WaitForOutput(false, "/\n", 30 * kNsPerS)) {
+    if (child.WaitForOutput(false, url_end + "\n", 30 * kNsPerS)) {
       const size_t at = child.out().find("http://");
       if (at != std::string::npos) url = child.out().substr(at, child.out().find('\n') - at);
     }
@@ -790,6 +791,89 @@ TEST(ViewBrowserTest, APortInUseANonLocalAddressAndAnIncompleteFolderAreOneLine)
                                 "\" is incomplete: no scenario.textproto (the run did not "
                                 "finish)\n");
   EXPECT_EQ(busy.out + remote.out + incomplete.out, "");
+}
+
+// Issue 48, item 2: `sitlnet view SWEEP_DIR` shows a real sweep (2 flockers, 2 rates x 2 seeds,
+// 1 s each). Oracle: the sweep's own summary.csv and points.csv. Each metric with a mean gets a
+// plot against the rate with one mark per rate, drawn from that row's mean and half-width; a
+// metric with no mean (no obstacle: delivery.obstructed.ratio) gets none.
+TEST(ViewBrowserTest, ASweepsPagePlotsEachMetricsMeanAndIntervalAsSummaryCsvHoldsThem) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE_SETUP_GROUP("browser", ChromiumMissing());
+  SITLNET_REQUIRE(PlaywrightMissing());
+  const RunScenario scenario = WriteScenario(
+      9,
+      "robot { name: \"a\" position_m { x: 0 y: 0 z: 0.2 } image: \"flocker\" "
+      "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n"
+      "robot { name: \"b\" position_m { x: 0 y: 6 z: 0.2 } image: \"flocker\" "
+      "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n",
+      "timing { duration_ms: 1000 pacing: PACING_LOCKSTEP }\n");
+  const std::string out = TempDir() + "/" + scenario.name + "-sweep";
+  RunCommand({"rm", "-rf", out});
+  const CommandResult sweep =
+      RunCommand({integration_test::SitlnetBinary(), "sweep", scenario.path, "--seeds", "1-2",
+                  "--set", "radio.rate_mbps=6,54", "--jobs", "2", "--out", out},
+                 120 * kNsPerS);
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
+  ViewServer server(out, "/sweep.html");
+  ASSERT_FALSE(server.url.empty()) << server.child.out() << server.child.err();
+  const CommandResult page = RunCommand(
+      {"node", PlaywrightDir() + "/test/check_sweep.cjs", server.url, ArtifactDir()},
+      60 * kNsPerS);
+  kill(server.child.pid(), SIGTERM);
+  EXPECT_EQ(server.child.Wait(10 * kNsPerS), 0) << server.child.err();
+  ASSERT_EQ(page.exit_code, 0) << page.out << page.err;
+  EXPECT_EQ(page.out.find("console_error"), std::string::npos) << page.out;
+
+  // summary.csv: radio.rate_mbps,metric,n,mean,sd,ci95_half_width.
+  std::map<std::string, std::vector<std::vector<std::string>>> rows_by_metric;
+  std::istringstream summary(ReadAll(out + "/summary.csv"));
+  std::string line;
+  int summary_rows = 0;
+  std::getline(summary, line);
+  while (std::getline(summary, line)) {
+    ++summary_rows;
+    std::vector<std::string> cells;
+    std::istringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    cells.resize(6);
+    if (!cells[3].empty()) rows_by_metric[cells[1]].push_back(cells);
+  }
+  std::map<std::string, std::vector<std::vector<std::string>>> marks_by_metric;
+  std::set<std::string> plotted;
+  std::istringstream facts(page.out);
+  while (std::getline(facts, line)) {
+    std::istringstream fields(line);
+    std::string kind, metric, field;
+    fields >> kind >> metric >> field;
+    if (kind == "plot") {
+      EXPECT_EQ(field, "radio.rate_mbps");
+      plotted.insert(metric);
+    }
+    if (kind == "mark") {
+      std::string x, mean, half;
+      fields >> x >> mean >> half;
+      marks_by_metric[metric].push_back({x, mean, half});
+    }
+  }
+  EXPECT_EQ(plotted.size(), rows_by_metric.size()) << page.out;
+  EXPECT_EQ(plotted.count("delivery.obstructed.ratio"), 0u) << page.out;
+  for (const auto& [metric, rows] : rows_by_metric) {
+    SCOPED_TRACE(metric);
+    const auto& marks = marks_by_metric[metric];
+    ASSERT_EQ(marks.size(), rows.size()) << page.out;
+    for (size_t i = 0; i < rows.size(); ++i) {
+      EXPECT_EQ(marks[i][0], rows[i][0]);
+      EXPECT_DOUBLE_EQ(std::stod(marks[i][1]), std::stod(rows[i][3]));
+      EXPECT_DOUBLE_EQ(std::stod(marks[i][2]), rows[i][5].empty() ? 0 : std::stod(rows[i][5]));
+    }
+  }
+  EXPECT_NE(page.out.find("table summary " + std::to_string(summary_rows) + " 6\n"),
+            std::string::npos)
+      << page.out;
+  EXPECT_NE(page.out.find("table points 4 "), std::string::npos) << page.out;
+  EXPECT_NE(page.out.find("failed_rows 0\n"), std::string::npos) << page.out;
+  if (!::testing::Test::HasFailure()) RunCommand({"rm", "-rf", out});
 }
 
 }  // namespace

@@ -16,3 +16,6 @@ export const loadGcs = () => getJson('api/gcs');
 // Rows of losses.csv.gz for frames by `from` that reached `station` in [endS - 1 s, endS).
 export const loadFrames = (from, station, endS) =>
   getJson(`api/frames?from=${from}&to=${station}&t=${endS}&window=1`);
+
+// A sweep's folder: its points.csv and summary.csv as text (`sitlnet view SWEEP_DIR`).
+export const loadSweep = () => getJson('api/sweep');
