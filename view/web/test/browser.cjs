@@ -44,4 +44,20 @@ async function gcsRows(page) {
     .map((v) => (v === undefined || v === '' ? '-' : v.replace(/ /g, '_')))));
 }
 
-module.exports = { gcsRows, openBrowser, printErrors };
+// Saves a full-page screenshot of `page` as ARTIFACTS/NAME and prints "screenshot PATH".
+async function screenshot(page, artifacts, name) {
+  const file = path.join(artifacts, name);
+  await page.screenshot({ path: file, fullPage: true });
+  console.log(`screenshot ${file}`);
+}
+
+// Runs a driver's async `main`; an error it throws is printed as "console_error driver: ..."
+// (the tests' failure line) and the exit status is 1.
+function runDriver(main) {
+  main().catch((error) => {
+    console.log(`console_error driver: ${error.message.split('\n')[0]}`);
+    process.exitCode = 1;
+  });
+}
+
+module.exports = { gcsRows, openBrowser, printErrors, runDriver, screenshot };

@@ -5,9 +5,8 @@
 // Usage: node check_live_gcs.cjs URL ARTIFACT_DIR VEHICLES
 // Prints: console_error TEXT; gcs INDEX SYSTEM_ID MODE ARMED LOSS ("-": none, "_" for a space);
 //         status INDEX TEXT (a label's second line); screenshot PATH
-const path = require('node:path');
 const fs = require('node:fs');
-const { gcsRows, openBrowser, printErrors } = require('./browser.cjs');
+const { gcsRows, openBrowser, printErrors, runDriver, screenshot } = require('./browser.cjs');
 
 async function main() {
   const [url, artifacts, vehicles] = process.argv.slice(2);
@@ -23,15 +22,10 @@ async function main() {
     const statuses = await page.$$eval('#map text.robot-label', (labels) =>
       labels.map((l) => [l.dataset.robot, l.dataset.status ?? '']));
     for (const [index, status] of statuses) console.log(`status ${index} ${status}`);
-    const file = path.join(artifacts, 'live-gcs.png');
-    await page.screenshot({ path: file, fullPage: true });
-    console.log(`screenshot ${file}`);
+    await screenshot(page, artifacts, 'live-gcs.png');
   } finally {
     await close();
   }
 }
 
-main().catch((error) => {
-  console.log(`console_error driver: ${error.message.split('\n')[0]}`);
-  process.exitCode = 1;
-});
+runDriver(main);

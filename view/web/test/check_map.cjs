@@ -14,9 +14,8 @@
 //   screenshot PATH
 // STAGE: whole (as loaded, at TIME_S), fit (after "Fit the fleet"), zoom (then the wheel, 3
 // notches in, over robot 0), pan (then a drag of +60, +40 px from the svg's middle).
-const path = require('node:path');
 const fs = require('node:fs');
-const { gcsRows, openBrowser, printErrors } = require('./browser.cjs');
+const { gcsRows, openBrowser, printErrors, runDriver, screenshot } = require('./browser.cjs');
 
 // The map's facts, read in one go.
 async function readMap(page, stage) {
@@ -50,11 +49,7 @@ async function main() {
   const [url, artifacts, time] = process.argv.slice(2);
   fs.mkdirSync(artifacts, { recursive: true });
   const { page, close } = await openBrowser();
-  const shot = async (name) => {
-    const file = path.join(artifacts, name);
-    await page.screenshot({ path: file, fullPage: true });
-    console.log(`screenshot ${file}`);
-  };
+  const shot = (name) => screenshot(page, artifacts, name);
   try {
     printErrors(page);
     await page.goto(url);
@@ -99,7 +94,4 @@ async function main() {
   }
 }
 
-main().catch((error) => {
-  console.log(`console_error driver: ${error.message.split('\n')[0]}`);
-  process.exitCode = 1;
-});
+runDriver(main);

@@ -20,9 +20,8 @@
 //   scale ...                       map's scale then (it rescales when robots leave it),
 //   robot TIME_S INDEX CX_PX CY_PX  the robots and each drawn link:
 //   link FROM TO FRAMES DELIVERED
-const path = require('node:path');
 const fs = require('node:fs');
-const { openBrowser, printErrors } = require('./browser.cjs');
+const { openBrowser, printErrors, runDriver, screenshot } = require('./browser.cjs');
 
 // The timeline's facts at the time shown (data attributes of svg#timeline).
 async function timelineFacts(page) {
@@ -97,11 +96,7 @@ async function main() {
     const scale = await page.$eval('#map', (svg) =>
       [svg.dataset.pxPerM, svg.dataset.minXM, svg.dataset.maxYM]);
     console.log(`scale ${scale.join(' ')}`);
-    const shot = async (name) => {
-      const file = path.join(artifacts, name);
-      await page.screenshot({ path: file, fullPage: true });
-      console.log(`screenshot ${file}`);
-    };
+    const shot = (name) => screenshot(page, artifacts, name);
     if (liveAt >= 0) {
       await checkLive(page, Number(times[0]), shot);
       return;
@@ -139,7 +134,4 @@ async function main() {
   }
 }
 
-main().catch((error) => {
-  console.log(`console_error driver: ${error.message.split('\n')[0]}`);
-  process.exitCode = 1;
-});
+runDriver(main);

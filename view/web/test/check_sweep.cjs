@@ -9,9 +9,8 @@
 //   table ID ROWS COLUMNS                  a table's body rows and header cells
 //   failed_rows N                          points rows marked failed
 //   screenshot PATH
-const path = require('node:path');
 const fs = require('node:fs');
-const { openBrowser, printErrors } = require('./browser.cjs');
+const { openBrowser, printErrors, runDriver, screenshot } = require('./browser.cjs');
 
 async function main() {
   const [url, artifacts] = process.argv.slice(2);
@@ -41,15 +40,10 @@ async function main() {
     }
     for (const t of facts.tables) console.log(`table ${t.join(' ')}`);
     console.log(`failed_rows ${facts.failed}`);
-    const file = path.join(artifacts, 'sweep.png');
-    await page.screenshot({ path: file, fullPage: true });
-    console.log(`screenshot ${file}`);
+    await screenshot(page, artifacts, 'sweep.png');
   } finally {
     await close();
   }
 }
 
-main().catch((error) => {
-  console.log(`console_error driver: ${error.message.split('\n')[0]}`);
-  process.exitCode = 1;
-});
+runDriver(main);
