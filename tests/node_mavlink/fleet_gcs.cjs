@@ -6,12 +6,15 @@
 // PORT 0: any free port. Prints "LISTENING on UDP port N" once bound. Every vehicle's datagrams
 // come from the relay, and the commands go back there: the relay sends a command to the vehicle
 // its target system names (to every vehicle when it names none). Sends each PX4 a HEARTBEAT each
-// wall second, as fly_px4.cjs does. Exits 0 once every vehicle disarmed after landing. Its
+// wall second, as fly_px4.cjs does. On the first HEARTBEAT of each system id, flown or not, it
+// prints "HEARD sysid=S msgid=0 name=HEARTBEAT wall_ms=W" (W: ms since it bound), as
+// host_gcs.cjs does. Exits 0 once every vehicle disarmed after landing. Its
 // commands reach the vehicles when the host schedules it: a lockstep run with it is not
 // reproducible.
 // Used by tests/integration/shipped_fleet_scenarios_test.cc.
 'use strict';
 const dgram = require('dgram');
+const { MavLinkPacketSplitter, MavLinkPacketParser } = require('node-mavlink');
 const { fleetFlight } = require('./fleet_flight_plan.cjs');
 
 const [port, ...fleetArgs] = process.argv.slice(2);
@@ -33,12 +36,26 @@ const fleet = fleetFlight({
     socket.close();
   },
 });
-socket.on('message', fleet.take);
+// Every system's first HEARTBEAT, parsed by node-mavlink (a datagram holds whole frames).
+let boundAt = 0;
+const heard = new Set();
+const splitter = new MavLinkPacketSplitter();
+splitter.pipe(new MavLinkPacketParser()).on('data', (packet) => {
+  const h = packet.header;
+  if (h.msgid !== 0 || heard.has(h.sysid)) return;
+  heard.add(h.sysid);
+  process.stdout.write(`HEARD sysid=${h.sysid} msgid=0 name=HEARTBEAT wall_ms=${Date.now() - boundAt}\n`);
+});
+socket.on('message', (datagram, from) => {
+  splitter.write(datagram);
+  fleet.take(datagram, from);
+});
 socket.on('error', (error) => {
   process.stdout.write(`ERROR ${error.message}\n`);
   process.exit(1);
 });
 socket.bind(Number(port), () => {
+  boundAt = Date.now();
   process.stdout.write(`LISTENING on UDP port ${socket.address().port}\n`);
   heartbeats = setInterval(fleet.heartbeatPx4s, 1000);
 });
