@@ -99,6 +99,7 @@ Command AddNodeCommand(CLI::App& sitlnet) {
   node->add_option("--out", options.run.out_dir,
                    "folder of the robots' logs (default runs/<scenario>-<node>)")
       ->type_name("DIR");
+  AddGcsOption(*node, &options.run.gcs);
   AddPeerTimeoutOption(*node, "--connect-timeout",
                        "longest wait for the central to listen and answer, retrying meanwhile",
                        &options.connect_timeout_ns, 120);
