@@ -173,8 +173,9 @@ TEST(ShippedFleetScenariosTest,
 
 // Issue 47, item 4, with the real autopilots: the shipped PX4 fleet, its GCS (node-mavlink)
 // started 5 s after the run's relay and restarted once. Each instance hears every vehicle's
-// HEARTBEAT within a second of binding its port: PX4 sends one each second of its clock, and
-// lockstep runs faster than the wall clock here (100 ms slack, not derived). The first instance
+// HEARTBEAT within a second of the vehicles' clock after it began to hear them: PX4 sends one
+// each second of its clock (100 ms slack, not derived). That clock is the run's (lockstep), so
+// the bound holds however fast the host runs it; the wall time is printed. The first instance
 // (host_gcs.cjs) only listens. The restarted one (fleet_gcs.cjs) arms and takes off vehicle
 // kFlown alone; the run stops once it held the altitude (px4_flight_plan.cjs's HOLD). Oracles:
 // trajectories.csv (it held the altitude, the others never left the ground) and medium.pcap
@@ -215,19 +216,19 @@ TEST(ShippedFleetScenariosTest,
   kill(restarted.gcs().pid(), SIGTERM);
   restarted.gcs().Wait(10 * kNsPerS);
   const std::string flown_log = ReadAll(flown_output);
-  const std::map<int, int> instances[] = {FirstHeartbeatMs(first_gcs->out()),
-                                          FirstHeartbeatMs(flown_log)};
+  const std::string outputs[] = {first_gcs->out(), flown_log};
   for (int instance = 1; instance <= 2; ++instance) {
-    const std::map<int, int>& first = instances[instance - 1];
+    const std::map<int, int> clock = FirstHeartbeatClockMs(outputs[instance - 1]);
+    const std::map<int, int> wall = FirstHeartbeatMs(outputs[instance - 1]);
     for (int id = 1; id <= kVehicles; ++id) {
-      ASSERT_TRUE(first.count(id))
+      ASSERT_TRUE(clock.count(id) && wall.count(id))
           << "instance " << instance << ", system " << id << "\n"
-          << (instance == 1 ? first_gcs->out() : flown_log).substr(0, 2000);
-      EXPECT_LE(first.at(id), 1100) << "instance " << instance << ", system " << id;
+          << outputs[instance - 1].substr(0, 2000);
+      EXPECT_LE(clock.at(id), 1100) << "instance " << instance << ", system " << id;
       std::printf(
-          "[ measured ] PX4 fleet, GCS instance %d: system %d's first heartbeat %d ms "
-          "after binding\n",
-          instance, id, first.at(id));
+          "[ measured ] PX4 fleet, GCS instance %d: system %d's first heartbeat %d ms of the "
+          "vehicles' clock (%d ms wall) after binding\n",
+          instance, id, clock.at(id), wall.at(id));
     }
   }
   const std::string summary = ReadAll(out + "/summary.json");
