@@ -22,8 +22,10 @@ constexpr const char* kNodeFooter =
     "the one medium on the central host; deliveries and poses cross the same\n"
     "link. The run's outputs are written on the central host; the robots' logs\n"
     "are in --out DIR/robots (default runs/<scenario>-<node>). Then it stops the\n"
-    "robots and takes its namespaces down. Give the central's --seed and\n"
-    "--pacing: both ends must load the same scenario. Two nodes on one host need\n"
+    "robots and takes its namespaces down. The node that runs the scenario's\n"
+    "ground station relays its MAVLink to a GCS (--gcs; gcs.tlog in --out).\n"
+    "Give the central's --seed and --pacing: both ends must load the same\n"
+    "scenario. Two nodes on one host need\n"
     "a network and mount namespace each, as pods have (docs/scale-out.md).\n"
     "\n"
     "exit codes: 0 the run ended (the central sent Stop), 1 failed (the central\n"
@@ -99,6 +101,7 @@ Command AddNodeCommand(CLI::App& sitlnet) {
   node->add_option("--out", options.run.out_dir,
                    "folder of the robots' logs (default runs/<scenario>-<node>)")
       ->type_name("DIR");
+  AddGcsOption(*node, &options.run.gcs);
   AddPeerTimeoutOption(*node, "--connect-timeout",
                        "longest wait for the central to listen and answer, retrying meanwhile",
                        &options.connect_timeout_ns, 120);

@@ -45,6 +45,22 @@ CLI::Option* AddRtPriorityOption(CLI::App& command, int* priority) {
       ->capture_default_str();
 }
 
+CLI::Option* AddGcsOption(CLI::App& command, std::vector<std::string>* gcs) {
+  // One value per --gcs, repeatable; the forms are checked by the runner, before anything starts.
+  return command
+      .add_option("--gcs", *gcs,
+                  "where the MAVLink of the scenario's ground station (its first ground_station "
+                  "robot without an image) meets a GCS on this host: udp:HOST:PORT (from an "
+                  "unconnected socket; answers taken from any sender), tcp-listen:PORT (on "
+                  "127.0.0.1; GCSs connect), or none. Repeatable. Default udp:127.0.0.1:14550, "
+                  "where QGroundControl listens. Writes gcs.tlog in the --out folder. A fleet's "
+                  "relay runs on the node host of the station (docs/autopilots.md, \"Ground "
+                  "stations\")")
+      ->type_name("udp:HOST:PORT|tcp-listen:PORT|none")
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
 CLI::Validator SecondsIn(double min_s, bool min_allowed, double max_s) {
   std::ostringstream rule;
   rule << std::setprecision(12) << min_s << (min_allowed ? " <= " : " < ") << "S <= " << max_s;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/common.h"
 
@@ -26,6 +27,10 @@ CLI::Option* AddSecretFileOption(CLI::App& command, std::string* secret_file);
 
 // --rt-priority P: SCHED_FIFO priority 0..99 of sitlnet's own threads (0: normal).
 CLI::Option* AddRtPriorityOption(CLI::App& command, int* priority);
+
+// --gcs udp:HOST:PORT|tcp-listen:PORT|none, repeatable: where the ground station's MAVLink meets
+// a GCS on this host (runner/gcs_relay_stage.h checks the forms).
+CLI::Option* AddGcsOption(CLI::App& command, std::vector<std::string>* gcs);
 
 // Checks a number of seconds: finite, above `min_s` (or equal to it when `min_allowed`) and
 // at most `max_s`; its message says so ("not 0 < S <= 86400 seconds").

@@ -103,17 +103,7 @@ Command AddRunCommand(CLI::App& sitlnet) {
       "--no-losses", [options](int64_t) { options->record_losses = false; },
       "no losses.csv.gz and links.csv (the cause of every lost frame; docs/run.md)");
   AddRtPriorityOption(*run, &options->realtime_priority);
-  // One value per --gcs, repeatable; the forms are checked by the runner, before anything starts.
-  run->add_option("--gcs", options->gcs,
-                  "where the MAVLink of the scenario's ground station (its first ground_station "
-                  "robot without an image) meets a GCS on this host: udp:HOST:PORT (from an "
-                  "unconnected socket; answers taken from any sender), tcp-listen:PORT (on "
-                  "127.0.0.1; GCSs connect), or none. Repeatable. Default udp:127.0.0.1:14550, "
-                  "where QGroundControl listens. Writes gcs.tlog in the run folder "
-                  "(docs/autopilots.md, \"Ground stations\")")
-      ->type_name("udp:HOST:PORT|tcp-listen:PORT|none")
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  AddGcsOption(*run, &options->gcs);
   CLI::Option* listen =
       run->add_option("--listen", options->listen,
                       "listen on HOST:PORT (0.0.0.0:7100; port 0 picks one, printed; or "

@@ -8,6 +8,7 @@
 #include "fleet/node_link.h"
 #include "runner/coordinated_run.h"
 #include "runner/cpu_time.h"
+#include "runner/gcs_relay_stage.h"
 #include "runner/physics_options.h"
 #include "runner/recording_connector.h"
 #include "runner/remote_network.h"
@@ -25,6 +26,14 @@ void RefuseFleetOptions(const Scenario& scenario, const RunOptions& options) {
     throw Error("scenario " + scenario.name +
                 " has nodes: its robots run on node hosts, and --remote network moves the medium "
                 "away from them; give one or the other (or --one-host)");
+  }
+  // The relay runs where the station's namespace is: on its node host (runner/node_run.cc).
+  if (const RobotPlan* station = RelayedGroundStation(scenario);
+      station != nullptr && !options.gcs.empty() &&
+      options.gcs != std::vector<std::string>{"none"}) {
+    throw Error("--gcs: ground station \"" + station->name + "\" runs on node '" +
+                scenario.nodes[station->node].name +
+                "', and its MAVLink is relayed there: give --gcs to that `sitlnet node`");
   }
   if (options.listen.empty()) {
     throw Error("scenario " + scenario.name +
@@ -128,6 +137,12 @@ std::vector<RunReport::NodeLateness> RealtimeNodes(const Scenario& scenario,
 RunReport RunOnNodeHosts(const Scenario& scenario, const RunOptions& options, RunReport report,
                          TimeNs begin_ns) {
   RefuseFleetOptions(scenario, options);
+  if (const RobotPlan* station = RelayedGroundStation(scenario)) {
+    std::fprintf(stderr,
+                 "sitlnet run: ground station \"%s\" is on node '%s': its `sitlnet node` relays "
+                 "its MAVLink to a GCS (docs/autopilots.md, \"Ground stations\")\n",
+                 station->name.c_str(), scenario.nodes[station->node].name.c_str());
+  }
   StopSignal stop;  // Ctrl-C from here on stops in order.
   std::vector<std::unique_ptr<fleet::NodeLink>> nodes;
   try {

@@ -26,7 +26,8 @@ const RobotPlan* RelayedGroundStation(const Scenario& scenario) {
 
 std::unique_ptr<gcs::GcsRelay> StartGcsRelay(const Scenario& scenario,
                                              const std::vector<gcs::GcsEndpoint>& endpoints,
-                                             const std::string& run_dir) {
+                                             const std::string& run_dir,
+                                             const std::string& program) {
   const RobotPlan* station = RelayedGroundStation(scenario);
   if (station == nullptr || endpoints.empty()) return nullptr;
   gcs::GcsRelayOptions options;
@@ -34,28 +35,29 @@ std::unique_ptr<gcs::GcsRelay> StartGcsRelay(const Scenario& scenario,
   options.endpoints = endpoints;
   options.tlog_path = run_dir + "/gcs.tlog";
   auto relay = std::make_unique<gcs::GcsRelay>(options);
-  std::fprintf(stderr, "sitlnet run: ground station \"%s\": MAVLink on UDP %u relayed to %s\n",
-               station->name.c_str(), static_cast<unsigned>(options.station_port),
+  std::fprintf(stderr, "%s: ground station \"%s\": MAVLink on UDP %u relayed to %s\n",
+               program.c_str(), station->name.c_str(), static_cast<unsigned>(options.station_port),
                relay->Describe().c_str());
   return relay;
 }
 
-std::optional<RunReport::GcsRelayReport> StopGcsRelay(gcs::GcsRelay* relay) {
+std::optional<RunReport::GcsRelayReport> StopGcsRelay(gcs::GcsRelay* relay,
+                                                      const std::string& program) {
   if (relay == nullptr) return std::nullopt;
   try {
     relay->Stop();
   } catch (const Error& error) {
-    std::fprintf(stderr, "sitlnet run: %s\n", error.what());
+    std::fprintf(stderr, "%s: %s\n", program.c_str(), error.what());
   }
   const RunReport::GcsRelayReport report{relay->Describe(), relay->counters()};
   const gcs::GcsRelayCounters& c = report.counters;
   std::fprintf(
       stderr,
-      "sitlnet run: GCS relay: %llu datagrams from %llu vehicle addresses, %llu to %s "
+      "%s: GCS relay: %llu datagrams from %llu vehicle addresses, %llu to %s "
       "(%llu not received), %llu from the GCS (%llu without a frame, dropped), %llu sent to "
       "vehicles (%llu failed), "
       "%llu frames in gcs.tlog\n",
-      static_cast<unsigned long long>(c.from_vehicles),
+      program.c_str(), static_cast<unsigned long long>(c.from_vehicles),
       static_cast<unsigned long long>(c.vehicle_addresses),
       static_cast<unsigned long long>(c.to_gcs), report.endpoints.c_str(),
       static_cast<unsigned long long>(c.to_gcs_unreceived),
@@ -69,9 +71,9 @@ std::optional<RunReport::GcsRelayReport> StopGcsRelay(gcs::GcsRelay* relay) {
                                       ? "no autopilot heartbeat"
                                       : std::string(v.armed ? "armed" : "disarmed") +
                                             ", custom mode " + std::to_string(v.custom_mode);
-    std::fprintf(stderr,
-                 "sitlnet run: GCS relay: system %u: %llu messages, %llu missing by sequence, %s\n",
-                 static_cast<unsigned>(v.system_id), static_cast<unsigned long long>(v.messages),
+    std::fprintf(stderr, "%s: GCS relay: system %u: %llu messages, %llu missing by sequence, %s\n",
+                 program.c_str(), static_cast<unsigned>(v.system_id),
+                 static_cast<unsigned long long>(v.messages),
                  static_cast<unsigned long long>(v.sequence_gaps), heartbeat.c_str());
   }
   return report;

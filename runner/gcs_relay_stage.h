@@ -23,15 +23,18 @@ std::vector<gcs::GcsEndpoint> GcsEndpointsOf(const std::vector<std::string>& tex
 // image (one with an image runs its own GCS on port 14550); null if there is none.
 const RobotPlan* RelayedGroundStation(const Scenario& scenario);
 
-// The relay for `scenario`'s ground station, writing run_dir/gcs.tlog, with a line on stderr;
-// null (nothing started) when there is no such station or `endpoints` is empty. Throws Error.
+// The relay for `scenario`'s ground station, writing run_dir/gcs.tlog, with a line on stderr
+// that begins with `program`; null (nothing started) when there is no such station or
+// `endpoints` is empty. Throws Error.
 std::unique_ptr<gcs::GcsRelay> StartGcsRelay(const Scenario& scenario,
                                              const std::vector<gcs::GcsEndpoint>& endpoints,
-                                             const std::string& run_dir);
+                                             const std::string& run_dir,
+                                             const std::string& program = "sitlnet run");
 
-// Stops `relay` (null: nothing) and returns what it did for the report, with a line on stderr; a
-// tlog that could not be written is said there too, never fatal.
-std::optional<RunReport::GcsRelayReport> StopGcsRelay(gcs::GcsRelay* relay);
+// Stops `relay` (null: nothing) and returns what it did for the report, with lines on stderr
+// that begin with `program`; a tlog that could not be written is said there too, never fatal.
+std::optional<RunReport::GcsRelayReport> StopGcsRelay(gcs::GcsRelay* relay,
+                                                      const std::string& program = "sitlnet run");
 
 // The index of the robot in `scenario` whose wlan0 address is `address` (a vehicle's
 // VehicleCounters::address), or -1 when no robot has it.

@@ -1,5 +1,6 @@
 #include "runner/node_run.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -8,6 +9,7 @@
 #include "coordinator/coordinator.h"
 #include "fleet/node_ports.h"
 #include "physics_side/physics_side.h"
+#include "runner/gcs_relay_stage.h"
 #include "runner/iteration_observer.h"
 #include "runner/physics_options.h"
 #include "runner/robot_host.h"
@@ -74,6 +76,21 @@ class NodeSetup {
   std::vector<RobotSlot> robots_;
 };
 
+// The relay of the scenario's ground station when this node runs it: the relay enters the
+// station's namespace, which exists on this host only (docs/autopilots.md, "Ground stations").
+// Null when the station is another node's, there is none, or --gcs none.
+std::unique_ptr<gcs::GcsRelay> StartNodeGcsRelay(const Scenario& scenario,
+                                                 const fleet::NodeSlice& slice,
+                                                 const RunOptions& options,
+                                                 const std::string& out_dir) {
+  const RobotPlan* station = RelayedGroundStation(scenario);
+  if (station == nullptr ||
+      std::find(slice.robots.begin(), slice.robots.end(), station->index) == slice.robots.end()) {
+    return nullptr;
+  }
+  return StartGcsRelay(scenario, GcsEndpointsOf(options.gcs), out_dir, options.program);
+}
+
 coordinator::Channel ConnectToCentral(const coordinator::Endpoint& endpoint, TimeNs timeout_ns) {
   try {
     return coordinator::Channel(coordinator::Connect(endpoint, MonotonicNowNs() + timeout_ns));
@@ -90,6 +107,7 @@ std::string ServeNodeHost(const NodeOptions& options) {
   const fleet::NodeSlice slice = SliceOf(scenario, options.node);
   RefuseUnsupported(scenario);
   const coordinator::Endpoint endpoint = coordinator::ParseEndpoint(options.connect);
+  GcsEndpointsOf(options.run.gcs);  // A bad --gcs is refused before anything is created.
   const std::string secret = options.run.secret_file.empty()
                                  ? std::string()
                                  : coordinator::LoadSecretFile(options.run.secret_file);
@@ -107,6 +125,12 @@ std::string ServeNodeHost(const NodeOptions& options) {
     RequestRealtimeRunPriority(options.run.realtime_priority, "sitlnet node");
   clock::Timebase realtime(scenario.spec.timing().realtime_factor());  // Lockstep: unused.
   NodeSetup setup(scenario, options.run, out_dir, slice, &realtime);
+  const std::unique_ptr<gcs::GcsRelay> gcs_relay =
+      StartNodeGcsRelay(scenario, slice, options.run, out_dir);
+  // gcs.tlog is stamped with each iteration's start in both pacings: this node's realtime clock
+  // may begin again when it runs late (NodeSimulator), and the relay keeps the one it was given.
+  std::optional<GcsRelayClock> gcs_clock;
+  if (gcs_relay) gcs_clock.emplace(gcs_relay.get(), &realtime, /*lockstep=*/true);
 
   physics_side::PhysicsServerSimulator physics(scenario, &setup.physics_server(),
                                                RobotLockstep(scenario, scenario.lockstep()));
@@ -117,7 +141,9 @@ std::string ServeNodeHost(const NodeOptions& options) {
   RobotSupervisor supervisor(
       &setup.robots(), scenario.spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP,
       nullptr, options.run.program);
-  ObservedSimulator supervised(&node, {&supervisor});
+  std::vector<IterationObserver*> observers = {&supervisor};
+  if (gcs_clock) observers.push_back(&*gcs_clock);
+  ObservedSimulator supervised(&node, observers);
 
   std::fprintf(stderr, "sitlnet node: %s: connecting to the central host at %s\n",
                described.c_str(), endpoint.ToString().c_str());
@@ -139,6 +165,7 @@ std::string ServeNodeHost(const NodeOptions& options) {
                described.c_str(),
                static_cast<unsigned long long>(channel.bytes_sent() - sent_before),
                static_cast<unsigned long long>(channel.bytes_received() - received_before));
+  StopGcsRelay(gcs_relay.get(), options.run.program);  // Its counts on stderr only.
   return reason;
 }
 

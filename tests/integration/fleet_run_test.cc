@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <regex>
 #include <sstream>
@@ -52,9 +53,10 @@ RunScenario WriteFleetScenario(int slot, const std::string& target = "40,0") {
 // cgroup2 file system from it too, as on a host (or pod) that offers none.
 class NodeChild {
  public:
+  // `loopback_up`: its namespace's lo is brought up first, for a GCS in it (the node's "host").
   NodeChild(const RunScenario& scenario, const std::string& node, const std::string& endpoint,
             const std::string& key, const std::string& out, const std::string& pacing = "lockstep",
-            bool without_cgroups = false)
+            bool without_cgroups = false, bool loopback_up = false)
       : child_({"unshare",
                 "--net",
                 "--mount",
@@ -66,7 +68,7 @@ class NodeChild {
                             "fleet-test /run/netns && mount -t tmpfs -o mode=0755 fleet-test "
                             "/run/sitlnet && ") +
                     (without_cgroups ? "mount -t tmpfs fleet-test /sys/fs/cgroup && " : "") +
-                    "exec \"$@\"",
+                    (loopback_up ? "ip link set lo up && " : "") + "exec \"$@\"",
                 "sh",
                 SitlnetBinary(),
                 "node",
@@ -374,6 +376,87 @@ TEST(FleetRunTest, InRealtimeAutopilotsOnNodesAreServedAtTheWallInstantOfTheirTi
     ASSERT_GT(served.late_phase, 50u) << robot;
     EXPECT_LT(std::abs(served.phase_gap_ms), 2.5) << robot;
   }
+  ExpectNothingLeft(scenario.name);
+}
+
+// Issue 47 over node hosts: the ground station's relay runs where its namespace is, on its node
+// host (n0), with `sitlnet node`'s default --gcs (udp:127.0.0.1:14550 of that host: here n0's
+// own network namespace, where the GCS, node-mavlink's host_gcs.cjs, runs). The GCS hears both
+// vehicles, the test autopilot on n0 and the one on n1; its command to each crosses the one
+// medium (the central's medium.pcap) to that vehicle alone. gcs.tlog is n0's. The central refuses
+// a --gcs of its own in one line, naming the node.
+TEST(FleetRunTest, AGroundStationOnANodeIsRelayedThereToItsHostsGcs) {
+  SITLNET_REQUIRE_NNS_PRIVILEGES();
+  SITLNET_REQUIRE(NodeMavlinkMissing());
+  constexpr int kSlot = 9;
+  const std::string station = WlanPrefix(kSlot) + "1";
+  const RunScenario scenario = WriteScenario(
+      kSlot,
+      "robot { name: \"gcs\" node: \"n0\" position_m { x: 0 y: -10 z: 2 } ground_station: true "
+      "}\n"
+      "robot { name: \"ap\" node: \"n1\" position_m { x: 0 y: 0 z: 0.2 } image: "
+      "\"test_autopilot\" ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", "
+      "\"--telemetry\", \"" +
+          station +
+          ":14550\"] }\n"
+          "robot { name: \"px\" node: \"n0\" position_m { x: 5 y: 0 z: 0.2 } image: "
+          "\"test_autopilot\" px4_sim_port: 4560 args: [\"--px4-port\", \"4560\", "
+          "\"--telemetry\", \"" +
+          station + ":14550\"] }\n",
+      "nodes { name: \"n0\" } nodes { name: \"n1\" }\ntiming { duration_ms: 600000 }\n");
+  DownGuard guard(scenario.name);
+  const FleetFiles files(scenario);
+  const std::string& base = files.base;
+
+  const CommandResult refused =
+      integration_test::RunCommand(files.Central(scenario, {"--gcs", "udp:127.0.0.1:14550"}));
+  EXPECT_EQ(refused.exit_code, 2) << refused.err;
+  EXPECT_EQ(refused.err,
+            "sitlnet run: --gcs: ground station \"gcs\" runs on node 'n0', and its MAVLink is "
+            "relayed there: give --gcs to that `sitlnet node`\n");
+
+  integration_test::Child central(files.Central(scenario, {"--duration", "4"}));
+  ASSERT_TRUE(central.WaitForOutput(true, "waiting", 30 * kNsPerS)) << central.err();
+  NodeChild n0(scenario, "n0", files.endpoint, files.key, base + "-n0", "lockstep", false, true);
+  ASSERT_TRUE(n0.child().WaitForOutput(true, "relayed to udp:127.0.0.1:14550", 60 * kNsPerS))
+      << n0.child().err();
+  // The GCS in n0's network namespace, listening before n1 joins and the run begins.
+  integration_test::Child gcs({"nsenter",
+                               "--net=/proc/" + std::to_string(n0.child().pid()) + "/ns/net",
+                               "node", NodeMavlinkDir() + "/host_gcs.cjs", "14550", "0"});
+  ASSERT_TRUE(gcs.WaitForOutput(false, "LISTENING on UDP port 14550", 30 * kNsPerS)) << gcs.err();
+  NodeChild n1(scenario, "n1", files.endpoint, files.key, base + "-n1");
+  ASSERT_EQ(central.Wait(kRunTimeoutNs), 0) << central.err();
+  for (NodeChild* node : {&n0, &n1}) {
+    EXPECT_EQ(node->child().Wait(kRunTimeoutNs), 0) << node->child().err();
+  }
+  kill(gcs.pid(), SIGTERM);
+  ASSERT_EQ(gcs.Wait(10 * kNsPerS), 0) << gcs.err();
+
+  const std::map<int, int> first = FirstHeartbeatMs(gcs.out());
+  EXPECT_TRUE(first.count(2) && first.count(3))
+      << gcs.out().substr(0, 2000) << n0.child().err() << central.err();
+  EXPECT_NE(gcs.out().find(" invalid=0 unknown=0"), std::string::npos) << gcs.out();
+  for (const char* vehicle : {"2", "3"}) {
+    EXPECT_NE(gcs.out().find(std::string("SENT sysid=") + vehicle), std::string::npos) << gcs.out();
+    EXPECT_EQ(CapturedTimes(base + "-fleet", "ip.src == " + station +
+                                                 " && ip.dst == " + WlanPrefix(kSlot) + vehicle +
+                                                 " && udp.srcport == 14550")
+                  .size(),
+              1u)
+        << "to " << vehicle;
+  }
+  EXPECT_NE(central.err().find("ground station \"gcs\" is on node 'n0'"), std::string::npos)
+      << central.err();
+  EXPECT_NE(n0.child().err().find("sitlnet node: GCS relay: system 2: "), std::string::npos)
+      << n0.child().err();
+  EXPECT_GT(std::filesystem::file_size(base + "-n0/gcs.tlog"), 0u);
+  EXPECT_FALSE(std::filesystem::exists(base + "-n1/gcs.tlog"));
+  EXPECT_FALSE(std::filesystem::exists(base + "-fleet/gcs.tlog"));
+  std::printf(
+      "[ measured ] GCS in n0's namespace: first heartbeat of system 2 (on n1) %d ms, "
+      "of system 3 (on n0) %d ms after binding\n",
+      first.count(2) ? first.at(2) : -1, first.count(3) ? first.at(3) : -1);
   ExpectNothingLeft(scenario.name);
 }
 

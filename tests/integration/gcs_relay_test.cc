@@ -293,7 +293,8 @@ TEST(GcsRelayTest, AGcsConnectedOverTcpHearsEveryVehicleAndCommandsEach) {
   ASSERT_TRUE(gcs.WaitForOutput(false, "CONNECTED", 30 * kNsPerS)) << gcs.out() << gcs.err();
   ASSERT_EQ(run.Wait(60 * kNsPerS), 0) << run.err();
   kill(gcs.pid(), SIGTERM);
-  ASSERT_EQ(gcs.Wait(10 * kNsPerS), 0) << gcs.err();
+  ASSERT_EQ(gcs.Wait(10 * kNsPerS), 0)
+      << gcs.err() << gcs.out().substr(gcs.out().size() > 300 ? gcs.out().size() - 300 : 0);
   const std::string heard = gcs.out();
   const std::string summary = ReadAll(out + "/summary.json");
   const std::map<int, int> first = FirstHeartbeatMs(heard);

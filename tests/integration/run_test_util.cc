@@ -189,6 +189,26 @@ std::map<int, int> FirstHeartbeatMs(const std::string& gcs_output) {
   return first;
 }
 
+std::map<int, int> FirstHeartbeatClockMs(const std::string& gcs_output) {
+  std::map<int, int> first;
+  int64_t first_boot_ms = -1, latest_boot_ms = -1;
+  std::istringstream lines(gcs_output);
+  for (std::string line; std::getline(lines, line);) {
+    int sysid = 0, msgid = -1;
+    if (std::sscanf(line.c_str(), "HEARD sysid=%d msgid=%d", &sysid, &msgid) != 2) continue;
+    const size_t boot = line.find(" boot_ms=");
+    if (boot != std::string::npos) {
+      const int64_t boot_ms = std::strtoll(line.c_str() + boot + 9, nullptr, 10);
+      if (first_boot_ms < 0) first_boot_ms = boot_ms;
+      latest_boot_ms = std::max(latest_boot_ms, boot_ms);
+    }
+    if (msgid == 0 && !first.count(sysid)) {
+      first[sysid] = first_boot_ms < 0 ? 0 : static_cast<int>(latest_boot_ms - first_boot_ms);
+    }
+  }
+  return first;
+}
+
 // A ground station's robot image: `script` of tests/node_mavlink with `args`, run by node, the
 // folder (and its node_modules) bound in. Ready once bound (lockstep_station.cjs).
 std::string WriteStationImage(const std::string& script, const std::vector<std::string>& args) {

@@ -121,6 +121,12 @@ int StartHostGcs(std::optional<integration_test::Child>* gcs, const std::vector<
 // in host_gcs.cjs's output: ms from binding its port to hearing it.
 std::map<int, int> FirstHeartbeatMs(const std::string& gcs_output);
 
+// The same in the vehicles' clock, for vehicles that share one (a lockstep run's autopilots): ms
+// from the first time_boot_ms the GCS heard (" boot_ms=T") to the latest one heard before each
+// system's first HEARTBEAT. Both are at most one message late, so this may be short by the gap
+// between two messages; it does not depend on how fast the host runs the clock.
+std::map<int, int> FirstHeartbeatClockMs(const std::string& gcs_output);
+
 // A lockstep ground station's robot image (tests/node_mavlink/lockstep_station.cjs): `script` of
 // tests/node_mavlink with `args`, run by node, the folder bound in; ready once bound. Returns the
 // manifest's path.

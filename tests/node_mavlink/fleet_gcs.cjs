@@ -6,12 +6,16 @@
 // PORT 0: any free port. Prints "LISTENING on UDP port N" once bound. Every vehicle's datagrams
 // come from the relay, and the commands go back there: the relay sends a command to the vehicle
 // its target system names (to every vehicle when it names none). Sends each PX4 a HEARTBEAT each
-// wall second, as fly_px4.cjs does. Exits 0 once every vehicle disarmed after landing. Its
+// wall second, as fly_px4.cjs does. Until the first HEARTBEAT of each system id, flown or not,
+// it prints each of its messages as host_gcs.cjs does: "HEARD sysid=S msgid=M name=NAME
+// wall_ms=W" (W: ms since it bound), with " boot_ms=T" for a message with a time_boot_ms. Exits 0 once every vehicle disarmed after landing. Its
 // commands reach the vehicles when the host schedules it: a lockstep run with it is not
 // reproducible.
 // Used by tests/integration/shipped_fleet_scenarios_test.cc.
 'use strict';
 const dgram = require('dgram');
+const { MavLinkPacketSplitter, MavLinkPacketParser } = require('node-mavlink');
+const { heardLine } = require('./heard_line.cjs');
 const { fleetFlight } = require('./fleet_flight_plan.cjs');
 
 const [port, ...fleetArgs] = process.argv.slice(2);
@@ -33,12 +37,27 @@ const fleet = fleetFlight({
     socket.close();
   },
 });
-socket.on('message', fleet.take);
+// Each system's messages up to its first HEARTBEAT, parsed by node-mavlink (a datagram holds
+// whole frames).
+let boundAt = 0;
+const heard = new Set();
+const splitter = new MavLinkPacketSplitter();
+splitter.pipe(new MavLinkPacketParser()).on('data', (packet) => {
+  const h = packet.header;
+  if (heard.has(h.sysid)) return;
+  if (h.msgid === 0) heard.add(h.sysid);
+  process.stdout.write(heardLine(packet, Date.now() - boundAt));
+});
+socket.on('message', (datagram, from) => {
+  splitter.write(datagram);
+  fleet.take(datagram, from);
+});
 socket.on('error', (error) => {
   process.stdout.write(`ERROR ${error.message}\n`);
   process.exit(1);
 });
 socket.bind(Number(port), () => {
+  boundAt = Date.now();
   process.stdout.write(`LISTENING on UDP port ${socket.address().port}\n`);
   heartbeats = setInterval(fleet.heartbeatPx4s, 1000);
 });

@@ -5,7 +5,8 @@
 // "tcp:N" it connects to 127.0.0.1:N instead (`--gcs tcp-listen:N`) and prints "CONNECTED to TCP
 // port N"; JUNK is then written once the connection is up. Prints
 // "HEARD sysid=S msgid=M name=NAME wall_ms=W compid=C seq=Q" for each message (W: ms since it
-// bound; a HEARTBEAT adds " base_mode=B custom_mode=M"), and on the
+// bound; a HEARTBEAT adds " base_mode=B custom_mode=M"; a message with a time_boot_ms adds
+// " boot_ms=T", the vehicle's clock), and on the
 // first HEARTBEAT of each system id sends that system a COMMAND_LONG (MAV_CMD_REQUEST_MESSAGE of
 // AUTOPILOT_VERSION, target_system = S) to whoever sent it, printing "SENT sysid=S". With JUNK,
 // each datagram it gets is first answered with JUNK datagrams of bytes that begin no frame.
@@ -17,7 +18,7 @@ const dgram = require('dgram');
 const { MavLinkPacketSplitter, MavLinkPacketParser, MavLinkProtocolV2, minimal, common } =
     require('node-mavlink');
 
-const REGISTRY = { ...minimal.REGISTRY, ...common.REGISTRY };
+const { heardLine } = require('./heard_line.cjs');
 const tcpPrefix = 'tcp:';
 const tcp = (process.argv[2] || '').startsWith(tcpPrefix);
 const [port, seconds, junk] =
@@ -38,15 +39,12 @@ let boundAt = 0;
 let seq = 0;
 splitter.pipe(new MavLinkPacketParser()).on('data', (packet) => {
   const h = packet.header;
-  const clazz = REGISTRY[h.msgid];
-  const name = clazz ? clazz.MSG_NAME : 'UNKNOWN';
   let extra = '';
   if (h.msgid === 0) {
     const heartbeat = packet.protocol.data(packet.payload, minimal.Heartbeat);
     extra = ` base_mode=${heartbeat.baseMode} custom_mode=${heartbeat.customMode}`;
   }
-  process.stdout.write(`HEARD sysid=${h.sysid} msgid=${h.msgid} name=${name} ` +
-                       `wall_ms=${Date.now() - boundAt} compid=${h.compid} seq=${h.seq}${extra}\n`);
+  process.stdout.write(heardLine(packet, Date.now() - boundAt, { sequence: true, extra }));
   if (h.msgid !== 0 || commanded.has(h.sysid)) return;
   commanded.add(h.sysid);
   const command = new common.CommandLong();
