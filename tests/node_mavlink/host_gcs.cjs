@@ -80,6 +80,12 @@ if (tcp) {
   stream.on('data', (bytes) => splitter.write(bytes));
   stream.on('close', finish);  // The run ended: the relay closed the connection.
   stream.on('error', (error) => {
+    // A relay that ends its run closes the connection; when the kernel still held bytes for
+    // either side, that close is a reset. The run's end, not a fault: the counts follow.
+    if (error.code === 'ECONNRESET' || error.code === 'EPIPE') {
+      process.stdout.write(`CLOSED ${error.code}\n`);
+      finish();
+    }
     process.stdout.write(`ERROR ${error.message}\n`);
     process.exit(1);
   });
