@@ -129,7 +129,7 @@ std::string RestartClockSaid(const std::string& log) {
 }
 
 // The longest physics part of an iteration (metrics.csv's t_phy_ns, ms) after iteration `after`:
-// in lockstep it holds the wait for the autopilot's answers, which the drop bounds (300 ms here).
+// in lockstep it holds the wait for the autopilot's answers, which the drop bounds (1 s here).
 double LongestPhysicsMsAfter(const std::string& out, long after) {
   double longest_ms = 0;
   std::istringstream lines(ReadAll(out + "/metrics.csv"));
@@ -303,9 +303,14 @@ void KilledMidFlightIsDroppedAndRestartedFliesAgain(const Autopilot& autopilot, 
   // steps (STF 0.015 at p50 here) while the autopilot boots on the wall clock. PX4 rebooting
   // beside two busy loops reconnected 246 s (virtual) after its kill; with a cap of 300 s, 1 run
   // of 13 ended before it flew again. A day is 20000 s beyond the test's own 300 s wait at 67x.
+  // The silent-robot timeout is the default, 1 s: it bounds every wait for an answer of both
+  // lives, and a restarted PX4 dropped a second time flies with its motors cut (what CI saw:
+  // armed, "Takeoff detected", no climb, the clock free at STF 0.07). Beside two busy loops (load
+  // 20-35) the longest physics part of an iteration after the drop was 29-502 ms in 8 runs, 285
+  // and 502 ms in two: the 300 ms this test used to set left no margin.
   KilledFlight flight(autopilot, manifest, slot,
                       "timing { duration_ms: 86400000 pacing: PACING_LOCKSTEP }\n"
-                      "silent_robot_timeout_ms: 300\non_silent_robot: SILENT_ROBOT_DROP\n");
+                      "on_silent_robot: SILENT_ROBOT_DROP\n");
   const RunScenario& scenario = flight.scenario;
   const std::string& out = flight.out;
   Child& run = flight.run;
@@ -342,7 +347,7 @@ void KilledMidFlightIsDroppedAndRestartedFliesAgain(const Autopilot& autopilot, 
   ExpectUpDownUp(z, autopilot.start_z, kAltitudeM);
   std::printf("[ measured ] %s dropped and restarted %.2f s (wall) after the kill, at %.1f m "
               "again %.1f s after it; %.1f s virtual, %.1f s wall in all%s; after the drop the "
-              "longest iteration's physics took %.0f ms (the drop's bound: 300)\n",
+              "longest iteration's physics took %.0f ms (the drop's bound: 1000)\n",
               autopilot.image, restarted_s, z.back() - autopilot.start_z, flying_again_s,
               z.size() / 10.0, SecondsSince(flight.start),
               RestartClockSaid(ReadAll(out + "/robots/a.log")).c_str(),
