@@ -74,6 +74,9 @@ struct PhysicsServer::Impl {
   void WaitForAutopilots() {
     const auto awaited = [](const std::unique_ptr<RobotLink>& link) { return link->Awaited(); };
     if (AwaitAnswers(MonotonicNowNs() + frame_gate_timeout_ns, awaited)) return;
+    // An answer that arrived while this thread waited for a CPU (a busy host) is in its socket,
+    // unread: AwaitAnswers looks at the clock before it reads. Taken before anyone is named.
+    Poll();
     for (const std::unique_ptr<RobotLink>& link : links) {
       if (!link->Awaited()) continue;  // Answered, or reported silent before.
       link->Mute();
