@@ -205,10 +205,23 @@ std::vector<Case> Cells() {
   for (double distance_m : {5.0, 20.0, 30.0, 40.0, 45.0, 50.0}) {
     Case c = geo(Standard::kA, 54, Topology::kLink, distance_m, 0, 0, false);
     c.senders = 1;
-    c.ideal_rate = true;
+    c.rate_control = sitlnet::side_by_side::RateControl::kIdeal;
     char buf[64];
     std::snprintf(buf, sizeof buf, "a-ideal-link-%g", distance_m);
     add(c, buf, distance_m == 40);
+  }
+  // Minstrel (ns-3's MinstrelWifiManager, default attributes) on the same link over the
+  // range of 11a's rates: 54 Mb/s fails beyond about 30 m, 6 Mb/s's preamble beyond 51 m.
+  // Minstrel starts at 6 Mb/s and learns in 100 ms steps: a 1 s warm-up, 5 s measured.
+  for (double distance_m : {5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0}) {
+    Case c = geo(Standard::kA, 54, Topology::kLink, distance_m, 0, 0, false);
+    c.senders = 1;
+    c.rate_control = sitlnet::side_by_side::RateControl::kMinstrel;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "a-minstrel-link-%g", distance_m);
+    add(c, buf, distance_m == 30);
+    cells.back().warmup_s = 1;
+    cells.back().measure_s = 5;
   }
   Case shadowed = geo(Standard::kA, 6, Topology::kHidden, 40, 40, 0, false);
   shadowed.lognormal_sigma_db = 6;
@@ -544,7 +557,11 @@ int PrintTable(const std::string& in_path) {
     } else if (c.topology == Topology::kLink) {
       std::snprintf(geometry, sizeof geometry, "%g", c.near_m);
     }
-    std::string channel = c.ideal_rate ? "Ideal rate control" : "-";
+    std::string channel = c.rate_control == sitlnet::side_by_side::RateControl::kIdeal
+                              ? "Ideal rate control"
+                          : c.rate_control == sitlnet::side_by_side::RateControl::kMinstrel
+                              ? "Minstrel rate control"
+                              : "-";
     if (c.nakagami_m > 0) channel = "Nakagami m " + FormatG(c.nakagami_m);
     if (c.lognormal_sigma_db > 0) channel = "log-normal " + FormatG(c.lognormal_sigma_db) + " dB";
     if (c.path_loss != sitlnet::side_by_side::PathLoss::kLogDistance) {
