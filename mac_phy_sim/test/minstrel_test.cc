@@ -174,5 +174,46 @@ TEST(MinstrelTest, OnAMediumLearnsTheLinkAndRepeatsItsChoicesForASeed) {
   EXPECT_LT(std::count(far_late, far.end(), 54.0), 20);
 }
 
+// One frame to a station out of reach (nothing is ever received), with or without RTS.
+std::vector<TraceEvent> UnansweredFrame(MediumConfig::RateControl rate_control, bool rts) {
+  MediumConfig config;
+  config.rate_control = rate_control;
+  config.rts_threshold_bytes = rts ? 1 : 0;
+  Medium medium(config);
+  medium.AddStation(RobotMac(0), {0, 0, 0});
+  medium.AddStation(RobotMac(1), {500, 0, 0});
+  medium.EnableTrace(true);
+  medium.SubmitFrame(0, MakeEthernetFrame(RobotMac(1), RobotMac(0), 500), 0);
+  medium.AdvanceTo(2 * kNsPerS, nullptr);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  return trace;
+}
+
+int Count(const std::vector<TraceEvent>& trace, FrameKind kind) {
+  return static_cast<int>(std::count_if(trace.begin(), trace.end(), [&](const TraceEvent& e) {
+    return e.tx && e.tx->kind == kind;
+  }));
+}
+
+TEST(MinstrelTest, RetryChainReplacesTheRetryLimit) {
+  // Constant rate: 7 attempts (dot11ShortRetryLimit), then a retry-limit drop.
+  const std::vector<TraceEvent> constant = UnansweredFrame(MediumConfig::RateControl::kConstant, false);
+  EXPECT_EQ(Count(constant, FrameKind::kData), 7);
+  // Minstrel before any statistics: every stage is 6 Mb/s with 2 retries (worked above), so
+  // ns-3's CountRetries is 2 + 2 + 2 + 2 and the frame goes 8 times (DoNeedRetransmission).
+  const std::vector<TraceEvent> minstrel = UnansweredFrame(MediumConfig::RateControl::kMinstrel, false);
+  EXPECT_EQ(Count(minstrel, FrameKind::kData), 8);
+  ASSERT_TRUE(minstrel.back().drop.has_value());
+  EXPECT_EQ(minstrel.back().drop->reason, DropReason::kRetryLimit);
+  // RTS failures do not count towards the chain (only DATA failures raise ns-3's m_longRetry):
+  // the RTS goes again and again until the frame expires in the queue (500 ms).
+  const std::vector<TraceEvent> rts = UnansweredFrame(MediumConfig::RateControl::kMinstrel, true);
+  EXPECT_GT(Count(rts, FrameKind::kRts), 20);
+  EXPECT_EQ(Count(rts, FrameKind::kData), 0);
+  ASSERT_TRUE(rts.back().drop.has_value());
+  EXPECT_EQ(rts.back().drop->reason, DropReason::kQueueExpired);
+}
+
 }  // namespace
 }  // namespace sitlnet::mac
