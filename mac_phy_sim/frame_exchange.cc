@@ -109,8 +109,21 @@ void ExchangeFailed(State& s, int station) {
   int& count = data_after_cts ? af.long_retry_count : af.short_retry_count;
   ++count;
   const int limit = data_after_cts ? s.config.long_retry_limit : s.config.short_retry_limit;
-  if (count >= limit) {
+  // ns-3 3.37's NormalAckTimeout / DoCtsTimeout: report the failure, then ask the rate
+  // manager whether to retry (Minstrel answers by its retry chain, not the limit).
+  RateManager& rates = *st.rate_manager;
+  if (was_cts) {
+    rates.ReportRtsFailed(f.destination);
+  } else {
+    rates.ReportDataFailed(f.destination);
+  }
+  if (!rates.NeedRetransmission(f.destination, count < limit)) {
     count = 0;
+    if (was_cts) {
+      rates.ReportFinalRtsFailed(f.destination);
+    } else {
+      rates.ReportFinalDataFailed(f.destination, s.now_ns);
+    }
     ++st.counters.lost_retry_limit;
     TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
               f.ethernet->size());
@@ -168,9 +181,7 @@ void SendCurrent(State& s, int station) {
     SendData(s, station);
     return;
   }
-  const ModeEntry& rts_mode = s.config.rate_control == MediumConfig::RateControl::kIdeal
-                                  ? f.rts_rate->data
-                                  : f.rts_rate->control;
+  const ModeEntry& rts_mode = *f.rts_mode;
   // RTS Duration: CTS + DATA + ACK + 3 SIFS (9.3.1.2). RTS at the control
   // rate of the DATA rate (or Ideal's RTS rate); CTS answers at the control
   // rate of the RTS's. Within a TXOP: the rest of the TXOP (ns-3's GetRtsDurationId).
@@ -282,8 +293,11 @@ void OnInternalCollision(State& s, int station, int ac) {
   if (!f.group) {
     int& count = f.use_rts ? af.long_retry_count : af.short_retry_count;
     const int limit = f.use_rts ? s.config.long_retry_limit : s.config.short_retry_limit;
-    if (++count >= limit) {
+    RateManager& rates = *st.rate_manager;
+    rates.ReportDataFailed(f.destination);
+    if (!rates.NeedRetransmission(f.destination, ++count < limit)) {
       count = 0;
+      rates.ReportFinalDataFailed(f.destination, s.now_ns);
       ++st.counters.lost_retry_limit;
       TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
                 f.ethernet->size());
@@ -316,9 +330,7 @@ void OnContinueTxop(State& s, int station, int ac) {
     TimeNs needed_ns = DataDurationNs(s, f);
     if (!f.group) needed_ns += s.phy.sifs_ns + f.rate->ack_ns;
     if (f.use_rts) {
-      const ModeEntry& rts_mode = s.config.rate_control == MediumConfig::RateControl::kIdeal
-                                      ? f.rts_rate->data
-                                      : f.rts_rate->control;
+      const ModeEntry& rts_mode = *f.rts_mode;
       needed_ns += PpduDurationNs(rts_mode.mode, rts_mode.header, kRtsBytes) +
                    2 * s.phy.sifs_ns + f.rts_rate->cts_ns;
     }
@@ -419,7 +431,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
         EndTimeout(s, station);
         st.exchange = Exchange::kIdle;
         Exchanging(s, station).short_retry_count = 0;  // ns-3 ReportRtsOk.
-        ReportSnr(s, station, tx.ta, tx.reported_snr);
+        st.rate_manager->ReportRtsOk(tx.ta, tx.reported_snr);
         ScheduleResponse(s, station, FrameKind::kData, Exchanging(s, station).current.destination,
                          0);
       }
@@ -430,7 +442,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
         ++st.counters.sent_ok;
         AccessFunction& af = Exchanging(s, station);
         (af.current.use_rts ? af.long_retry_count : af.short_retry_count) = 0;
-        ReportSnr(s, station, tx.ta, tx.reported_snr);  // ns-3 ReportDataOk.
+        st.rate_manager->ReportDataOk(tx.ta, tx.reported_snr, s.now_ns);
         ExchangeSucceeded(s, station);
       }
       return;

@@ -152,10 +152,23 @@ struct MediumConfig {
   // (rate_mbps or its StationRadio). kIdeal: per destination, the highest
   // rate whose SNR for a bit error rate of ideal_ber is below the SNR the
   // destination last measured on an acknowledged frame (ns-3's
-  // IdealWifiManager; starts at the lowest rate).
-  enum class RateControl : uint8_t { kConstant, kIdeal };
+  // IdealWifiManager; starts at the lowest rate). kMinstrel: ns-3 3.37's
+  // MinstrelWifiManager (a/b/g only): per destination, success statistics per
+  // rate, a sample table and a multi-rate retry chain (docs/mac_phy_sim.md).
+  enum class RateControl : uint8_t { kConstant, kIdeal, kMinstrel };
   RateControl rate_control = RateControl::kConstant;
   double ideal_ber = 1e-6;  // ns-3 IdealWifiManager's BerThreshold.
+  // ns-3 3.37 MinstrelWifiManager's attributes and defaults (UpdateStatistics, LookAroundRate,
+  // EWMA, SampleColumn, PacketLength).
+  struct Minstrel {
+    TimeNs update_stats_ns = 100 * kNsPerMs;  // Statistics refresh interval.
+    int look_around_percent = 10;             // Share of frames sent at a sampled rate.
+    int ewma_percent = 75;                    // Weight of the old success probability.
+    int sample_columns = 10;                  // Columns of the random sample table.
+    int packet_bytes = 1200;                  // PSDU size of the rates' perfect TX times.
+    friend bool operator==(const Minstrel&, const Minstrel&) = default;
+  };
+  Minstrel minstrel;
   // Error model of OFDM frames. kNist: ns-3's NistErrorRateModel (formulas;
   // what runs used before this field existed). kTableBased: ns-3 3.37's
   // TableBasedErrorRateModel, the default of its Wi-Fi PHY (PER tables from

@@ -139,6 +139,7 @@ StationId Medium::AddStation(const MacAddress& mac, const Vec3d& position_m,
   st.rng.seed(SplitMix64(s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));
   // A stream of its own, so turning fading on leaves the other draws as they were.
   st.fading_rng.seed(SplitMix64(~s.config.seed ^ SplitMix64(static_cast<uint64_t>(id) + 1)));
+  st.rate_manager = MakeRateManager(s, id);
   // Path loss ref + 10 n log10(d) (the reference loss up to 1 m) under the
   // margin's loss; a hair wider, as links drawn in vain are still dead for
   // the exact loss (transmission.cc). Log-normal shadowing can lower any

@@ -22,6 +22,7 @@
 #include "mac_phy_sim/jakes_fading.h"
 #include "mac_phy_sim/mac_phy_sim.h"
 #include "mac_phy_sim/phy_mode.h"
+#include "mac_phy_sim/rate_manager.h"
 #include "mac_phy_sim/scheduler.h"
 
 namespace sitlnet::mac {
@@ -79,7 +80,8 @@ struct QueuedFrame {
   bool data_sent_before = false;  // Sets the Retry bit.
   bool use_rts = false;
   const RateEntry* rate = nullptr;      // DATA rate of the current attempt (rate_control.cc).
-  const RateEntry* rts_rate = nullptr;  // RTS rate of the current attempt.
+  const RateEntry* rts_rate = nullptr;  // Times the CTS answering the current attempt's RTS.
+  const ModeEntry* rts_mode = nullptr;  // Mode of the current attempt's RTS.
 };
 
 // What one receiver saw of one transmission.
@@ -164,8 +166,7 @@ struct StationState {
   MacAddress mac;
   double tx_power_dbm = 0, tx_power_mw = 0;
   const RateEntry* rate = nullptr;  // Its constant data rate.
-  // kIdeal: last SNR (linear) each destination measured on our frames.
-  std::vector<std::pair<MacAddress, double>> ideal_snr;
+  std::unique_ptr<RateManager> rate_manager;  // Chooses its unicast rates (rate_manager.h).
   std::mt19937_64 rng;
   // Only drawn from with nakagami_fading (runs without it unchanged); its own
   // generator, cheaper than rng's (gamma.h).
@@ -304,10 +305,15 @@ void OnRespond(State& s, int station);
 // ---- rate_control.cc
 void BuildRates(State& s);
 const RateEntry& RateFor(const State& s, const PhyMode& mode);
+// The rate manager of `station` for config.rate_control (its rate set first).
+std::unique_ptr<RateManager> MakeRateManager(const State& s, int station);
 // Picks the DATA (and RTS) rate of the next attempt of the current frame of exchange_ac.
 void ChooseRates(State& s, int station);
-// kIdeal: the destination measured `snr` (linear) on a frame of ours.
-void ReportSnr(State& s, int station, const MacAddress& destination, double snr);
+
+// ---- ideal_rate_manager.cc, minstrel_rate_manager.cc
+std::unique_ptr<RateManager> MakeIdealRateManager(const State& s);
+// `seed` seeds its sample tables' stream.
+std::unique_ptr<RateManager> MakeMinstrelRateManager(const State& s, uint64_t seed);
 
 // ---- transmission.cc
 Transmission& StartTransmission(State& s, int source, FrameKind kind, const ModeEntry& mode,

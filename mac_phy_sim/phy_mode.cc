@@ -295,7 +295,13 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
 
   const bool ht = IsHtOrVht(config.standard);
   demand(!ht || config.rate_control == MediumConfig::RateControl::kConstant,
-         "rate_control ideal is modelled for 802.11a/b/g only");
+         "rate_control ideal and minstrel are modelled for 802.11a/b/g only");
+  const MediumConfig::Minstrel& minstrel = config.minstrel;
+  demand(minstrel.update_stats_ns > 0 && minstrel.look_around_percent >= 0 &&
+             minstrel.look_around_percent <= 100 && minstrel.ewma_percent >= 0 &&
+             minstrel.ewma_percent <= 100 && minstrel.sample_columns >= 1 &&
+             minstrel.packet_bytes >= 1,
+         "minstrel parameters out of range");
   PhyInfo info;
   const bool b = config.standard == Standard::k80211b;
   const bool a = IsFiveGhz(config.standard);

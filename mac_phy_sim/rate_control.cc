@@ -1,11 +1,10 @@
 // Rate selection: the table of rates of the standard with their control
-// responses, the per-station constant rate, and ns-3 3.37's IdealWifiManager
-// (per destination, the highest rate whose SNR threshold for ideal_ber is
-// below the SNR the destination last measured on an acknowledged frame of
-// ours; RTS at the highest basic rate whose threshold is below it).
+// responses, the constant-rate manager, the choice of a station's manager,
+// and the frame exchange's calls into it (rate_manager.h).
 #include <cmath>
 
 #include "mac_phy_sim/error_rate.h"
+#include "mac_phy_sim/gamma.h"
 #include "mac_phy_sim/medium_state.h"
 
 namespace sitlnet::mac {
@@ -59,12 +58,17 @@ RateEntry MakeRate(const State& s, const PhyMode& mode) {
   return entry;
 }
 
-double LastSnr(const StationState& st, const MacAddress& destination) {
-  for (const auto& [mac, snr] : st.ideal_snr) {
-    if (mac == destination) return snr;
+// ns-3's ConstantRateWifiManager: the station's rate; RTS at that rate's control rate.
+class ConstantRateManager final : public RateManager {
+ public:
+  explicit ConstantRateManager(const RateEntry* rate) : rate_(rate) {}
+  TxRates Choose(const MacAddress& /*destination*/, TimeNs /*now_ns*/) override {
+    return TxRates{rate_, rate_, &rate_->control};
   }
-  return 0;  // ns-3: m_lastSnrObserved starts at 0, so the lowest rate.
-}
+
+ private:
+  const RateEntry* rate_;
+};
 
 }  // namespace
 
@@ -103,43 +107,35 @@ const RateEntry& RateFor(const State& s, const PhyMode& mode) {
   return s.rates.front();
 }
 
+std::unique_ptr<RateManager> MakeRateManager(const State& s, int station) {
+  switch (s.config.rate_control) {
+    case MediumConfig::RateControl::kConstant:
+      return std::make_unique<ConstantRateManager>(s.stations[station].rate);
+    case MediumConfig::RateControl::kIdeal:
+      return MakeIdealRateManager(s);
+    case MediumConfig::RateControl::kMinstrel:
+      // Its own stream ("minstrel"), apart from the MAC's and the channel's: turning it on
+      // leaves every other draw as it was.
+      return MakeMinstrelRateManager(
+          s, SplitMix64(s.config.seed ^ 0x6d696e737472656cull ^
+                        SplitMix64(static_cast<uint64_t>(station) + 1)));
+  }
+  SITLNET_DEMAND(false && "unknown rate control");
+  return nullptr;
+}
+
 void ChooseRates(State& s, int station) {
   StationState& st = s.stations[station];
   QueuedFrame& f = st.acs[st.exchange_ac].current;
   if (f.group) {
     f.rate = f.rts_rate = s.group_rate;
+    f.rts_mode = &s.group_rate->control;
     return;
   }
-  if (s.config.rate_control == MediumConfig::RateControl::kConstant) {
-    f.rate = f.rts_rate = st.rate;
-    return;
-  }
-  const double snr = LastSnr(st, f.destination);
-  f.rate = &s.rates.front();
-  f.rts_rate = nullptr;
-  for (const RateEntry& entry : s.rates) {
-    if (entry.ideal_snr_threshold < snr &&
-        entry.data.mode.rate_mbps > f.rate->data.mode.rate_mbps) {
-      f.rate = &entry;
-    }
-    if (entry.basic && entry.ideal_snr_threshold < snr &&
-        (f.rts_rate == nullptr || entry.ideal_snr_threshold > f.rts_rate->ideal_snr_threshold)) {
-      f.rts_rate = &entry;
-    }
-  }
-  if (f.rts_rate == nullptr) f.rts_rate = &s.rates.front();  // ns-3: the default mode.
-}
-
-void ReportSnr(State& s, int station, const MacAddress& destination, double snr) {
-  if (s.config.rate_control != MediumConfig::RateControl::kIdeal) return;
-  StationState& st = s.stations[station];
-  for (auto& [mac, last] : st.ideal_snr) {
-    if (mac == destination) {
-      last = snr;
-      return;
-    }
-  }
-  st.ideal_snr.emplace_back(destination, snr);
+  const TxRates rates = st.rate_manager->Choose(f.destination, s.now_ns);
+  f.rate = rates.data;
+  f.rts_rate = rates.rts;
+  f.rts_mode = rates.rts_mode;
 }
 
 }  // namespace sitlnet::mac

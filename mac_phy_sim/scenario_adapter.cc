@@ -60,6 +60,14 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
   if (radio.rate_control() == proto::Radio::RATE_CONTROL_IDEAL) {
     config.rate_control = MediumConfig::RateControl::kIdeal;
   }
+  if (radio.rate_control() == proto::Radio::RATE_CONTROL_MINSTREL) {
+    config.rate_control = MediumConfig::RateControl::kMinstrel;
+  }
+  config.minstrel.update_stats_ns = static_cast<TimeNs>(radio.minstrel_update_stats_ms()) * kNsPerMs;
+  config.minstrel.look_around_percent = static_cast<int>(radio.minstrel_look_around_percent());
+  config.minstrel.ewma_percent = static_cast<int>(radio.minstrel_ewma_percent());
+  config.minstrel.sample_columns = static_cast<int>(radio.minstrel_sample_columns());
+  config.minstrel.packet_bytes = static_cast<int>(radio.minstrel_packet_bytes());
   if (radio.error_model() == proto::Radio::ERROR_MODEL_TABLE_BASED) {
     config.error_model = MediumConfig::ErrorModel::kTableBased;
   }

@@ -112,7 +112,9 @@ void ValidateRadioMode(const SourceLocator& at, const proto::Radio& radio) {
   }
   if (radio.rate_control() != proto::Radio::RATE_CONTROL_CONSTANT) {
     at.Fail({{"radio"}, {"rate_control"}},
-            "radio: rate_control RATE_CONTROL_IDEAL is modelled for 802.11a/b/g only");
+            "radio: rate_control " +
+                proto::Radio::RateControl_Name(radio.rate_control()) +
+                " is modelled for 802.11a/b/g only (Minstrel-HT is not modelled yet)");
   }
   const std::string problem = McsProblem(radio, radio.mcs());
   if (!problem.empty()) {
@@ -166,9 +168,25 @@ void ValidatePathLossParameters(const SourceLocator& at, const proto::Radio& rad
   }
 }
 
+// Minstrel's parameters are refused under another rate control (as path-loss parameters are).
+void ValidateMinstrelParameters(const SourceLocator& at, const proto::Radio& radio) {
+  if (radio.rate_control() == proto::Radio::RATE_CONTROL_MINSTREL) return;
+  for (const char* field : {"minstrel_update_stats_ms", "minstrel_look_around_percent",
+                            "minstrel_ewma_percent", "minstrel_sample_columns",
+                            "minstrel_packet_bytes"}) {
+    const google::protobuf::FieldDescriptor* descriptor =
+        radio.GetDescriptor()->FindFieldByName(field);
+    SITLNET_DEMAND(descriptor != nullptr);  // A renamed field in scenario.proto: a bug.
+    if (!radio.GetReflection()->HasField(radio, descriptor)) continue;
+    at.Fail({{"radio"}, {field}}, "radio: " + std::string(field) +
+                                      " applies to rate_control RATE_CONTROL_MINSTREL only");
+  }
+}
+
 // Ranges and rates come from the fields' options (field_rules.h); what follows relates fields.
 void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
   CheckFieldRules(at, {{"radio"}}, "radio: ", radio, radio.standard());
+  ValidateMinstrelParameters(at, radio);
   if (radio.short_slot() && radio.standard() != proto::Radio::STANDARD_80211G) {
     at.Fail({{"radio"}, {"short_slot"}}, "radio: short_slot applies to STANDARD_80211G only");
   }

@@ -89,8 +89,12 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
   WifiHelper wifi;
   wifi.SetStandard(Ns3Standard(c.standard));
   const UintegerValue rts_threshold(c.rts_threshold_bytes == 0 ? 65535 : c.rts_threshold_bytes);
-  if (c.ideal_rate) {
+  if (c.rate_control == sitlnet::side_by_side::RateControl::kIdeal) {
     wifi.SetRemoteStationManager("ns3::IdealWifiManager", "RtsCtsThreshold", rts_threshold);
+  } else if (c.rate_control == sitlnet::side_by_side::RateControl::kMinstrel) {
+    // Its attributes at their defaults (UpdateStatistics 100 ms, LookAroundRate 10, EWMA 75,
+    // SampleColumn 10, PacketLength 1200), as mac_phy_sim's.
+    wifi.SetRemoteStationManager("ns3::MinstrelWifiManager", "RtsCtsThreshold", rts_threshold);
   } else {
     wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode",
                                  StringValue(DataModeName(c)), "ControlMode",

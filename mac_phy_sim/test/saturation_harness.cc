@@ -193,7 +193,12 @@ MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
     config.nakagami_m0 = config.nakagami_m1 = config.nakagami_m2 = c.nakagami_m;
   }
   config.lognormal_shadowing_sigma_db = c.lognormal_sigma_db;
-  if (c.ideal_rate) config.rate_control = MediumConfig::RateControl::kIdeal;
+  if (c.rate_control == side_by_side::RateControl::kIdeal) {
+    config.rate_control = MediumConfig::RateControl::kIdeal;
+  }
+  if (c.rate_control == side_by_side::RateControl::kMinstrel) {
+    config.rate_control = MediumConfig::RateControl::kMinstrel;
+  }
   if (c.table_error_model) config.error_model = MediumConfig::ErrorModel::kTableBased;
   if (c.capture) config.capture_margin_db = 5;  // ns-3 SimpleFrameCaptureModel's default margin.
   // At the default frequency: 5150 MHz for 11a, as ns-3's side sets.

@@ -44,6 +44,10 @@ TEST(ScenarioAdapterTest, EveryRadioValueTheScenarioAcceptsBuildsAMedium) {
         // The MCS fields belong to 802.11n/ac: HT takes MCS 0-15, VHT two streams at MCS 7.
         if (field->name() == "mcs") spec->set_standard(proto::Radio::STANDARD_80211N_5GHZ);
         if (field->name() == "spatial_streams") spec->set_standard(proto::Radio::STANDARD_80211AC);
+        // Minstrel's parameters belong to its rate control.
+        if (field->name().rfind("minstrel_", 0) == 0) {
+          spec->set_rate_control(proto::Radio::RATE_CONTROL_MINSTREL);
+        }
         const auto* reflection = spec->GetReflection();
         if (field->cpp_type() == google::protobuf::FieldDescriptor::CPPTYPE_DOUBLE) {
           reflection->SetDouble(spec, field, value);
@@ -129,6 +133,33 @@ TEST(ScenarioAdapterTest, MapsTheNs3FidelityOptions) {
   EXPECT_EQ(config.lognormal_shadowing_sigma_db, 4);
   EXPECT_EQ(config.rate_control, MediumConfig::RateControl::kIdeal);
   EXPECT_EQ(config.error_model, MediumConfig::ErrorModel::kTableBased);
+}
+
+TEST(ScenarioAdapterTest, MapsMinstrelAndItsParametersWithNs3sDefaults) {
+  const MediumConfig defaults = MediumConfigFromScenario(LoadScenarioText(R"(
+    name: "m" robot { name: "a" } radio { rate_control: RATE_CONTROL_MINSTREL }
+  )", "m.textproto"));
+  EXPECT_EQ(defaults.rate_control, MediumConfig::RateControl::kMinstrel);
+  // ns-3 3.37 MinstrelWifiManager's attribute defaults.
+  EXPECT_EQ(defaults.minstrel, MediumConfig::Minstrel{});
+  EXPECT_EQ(defaults.minstrel.update_stats_ns, 100 * kNsPerMs);
+  EXPECT_EQ(defaults.minstrel.look_around_percent, 10);
+  EXPECT_EQ(defaults.minstrel.ewma_percent, 75);
+  EXPECT_EQ(defaults.minstrel.sample_columns, 10);
+  EXPECT_EQ(defaults.minstrel.packet_bytes, 1200);
+  const MediumConfig set = MediumConfigFromScenario(LoadScenarioText(R"(
+    name: "m" robot { name: "a" }
+    radio {
+      rate_control: RATE_CONTROL_MINSTREL minstrel_update_stats_ms: 50
+      minstrel_look_around_percent: 20 minstrel_ewma_percent: 50 minstrel_sample_columns: 4
+      minstrel_packet_bytes: 1500
+    }
+  )", "m.textproto"));
+  EXPECT_EQ(set.minstrel.update_stats_ns, 50 * kNsPerMs);
+  EXPECT_EQ(set.minstrel.look_around_percent, 20);
+  EXPECT_EQ(set.minstrel.ewma_percent, 50);
+  EXPECT_EQ(set.minstrel.sample_columns, 4);
+  EXPECT_EQ(set.minstrel.packet_bytes, 1500);
 }
 
 TEST(ScenarioAdapterTest, MapsJakesFading) {

@@ -46,6 +46,9 @@ inline bool HasV2vShadowing(PathLoss p) {
 // blockage loss (a drone flies above the traffic).
 inline double AntennaHeightM(PathLoss p) { return IsV2v(p) ? 2.0 : 1.5; }
 
+// ConstantRateWifiManager, IdealWifiManager, MinstrelWifiManager.
+enum class RateControl { kConstant = 0, kIdeal = 1, kMinstrel = 2 };
+
 struct Case {
   std::string id;  // Unique, stable: names the CSV row.
   Standard standard = Standard::kA;
@@ -63,7 +66,8 @@ struct Case {
   bool capture = false;              // SimpleFrameCaptureModel, 5 dB margin.
   double nakagami_m = 0;             // Nakagami fading with this m at every distance; 0: off.
   double lognormal_sigma_db = 0;     // Log-normal shadowing per link; 0: off.
-  bool ideal_rate = false;           // Rate control: ns-3's IdealWifiManager (rate_mbps unused).
+  // Rate control; rate_mbps then only sizes the offered load. In the CSV as 0, 1, 2.
+  RateControl rate_control = RateControl::kConstant;
   // Error model: ns-3's TableBasedErrorRateModel (the default of its PHY) on
   // both sides instead of NistErrorRateModel.
   bool table_error_model = false;

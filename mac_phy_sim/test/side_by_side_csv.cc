@@ -10,7 +10,7 @@ namespace {
 
 constexpr const char* kColumns =
     "id,standard,short_slot,rate_mbps,senders,topology,payload_bytes,rts_threshold_bytes,capture,"
-    "near_m,far_m,nakagami_m,lognormal_sigma_db,ideal_rate,table_error_model,warmup_s,measure_s,"
+    "near_m,far_m,nakagami_m,lognormal_sigma_db,rate_control,table_error_model,warmup_s,measure_s,"
     "unlimited_retries,path_loss,"
     "fast,seeds,"
     "ns3_mean_mbps,ns3_sd_mbps,"
@@ -91,7 +91,9 @@ bool ParseLine(const std::string& line, Row* row) {
     c.far_m = std::stod(f[10]);
     c.nakagami_m = std::stod(f[11]);
     c.lognormal_sigma_db = std::stod(f[12]);
-    c.ideal_rate = f[13] == "1";
+    const int rate_control = std::stoi(f[13]);
+    if (rate_control < 0 || rate_control > 2) return false;
+    c.rate_control = static_cast<RateControl>(rate_control);
     c.table_error_model = f[14] == "1";
     c.warmup_s = std::stod(f[15]);
     c.measure_s = std::stod(f[16]);
@@ -129,7 +131,7 @@ std::string FormatRow(const Row& r) {
                 c.id.c_str(), StandardName(c.standard), c.short_slot ? 1 : 0, c.rate_mbps,
                 c.senders, TopologyName(c.topology), c.payload_bytes, c.rts_threshold_bytes,
                 c.capture ? 1 : 0, c.near_m, c.far_m, c.nakagami_m, c.lognormal_sigma_db,
-                c.ideal_rate ? 1 : 0, c.table_error_model ? 1 : 0, c.warmup_s, c.measure_s,
+                static_cast<int>(c.rate_control), c.table_error_model ? 1 : 0, c.warmup_s, c.measure_s,
                 c.unlimited_retries ? 1 : 0, CellPathLossName(c).c_str(), c.fast ? 1 : 0, r.seeds,
                 r.ns3_mean_mbps, r.ns3_sd_mbps, r.ours_mean_mbps, r.ours_sd_mbps, r.ns3_wall_s,
                 r.ours_wall_s);

@@ -142,6 +142,24 @@ TEST(ScenarioTest, RejectsBadHtVhtModes) {
       "t.textproto"));
 }
 
+// Minstrel is ns-3's a/b/g manager (ns-3 refuses it on HT stations); its parameters would be
+// ignored under another rate control. Both refused, located.
+TEST(ScenarioTest, RejectsMinstrelOnHtAndItsParametersWithoutIt) {
+  ExpectRejected(std::string(kTwo) +
+                     "radio { standard: STANDARD_80211N_5GHZ rate_control: RATE_CONTROL_MINSTREL }\n",
+                 "t.textproto:4:40",
+                 "radio: rate_control RATE_CONTROL_MINSTREL is modelled for 802.11a/b/g only");
+  ExpectRejected(std::string(kTwo) + "radio { minstrel_ewma_percent: 50 }\n", "t.textproto:4:9",
+                 "radio: minstrel_ewma_percent applies to rate_control RATE_CONTROL_MINSTREL only");
+  ExpectRejected(std::string(kTwo) +
+                     "radio { rate_control: RATE_CONTROL_MINSTREL minstrel_look_around_percent: 101 }\n",
+                 "t.textproto:4:45", "minstrel_look_around_percent 101 out of range");
+  EXPECT_NO_THROW(LoadScenarioText(
+      std::string(kTwo) + "radio { standard: STANDARD_80211G rate_control: RATE_CONTROL_MINSTREL "
+                          "minstrel_update_stats_ms: 50 minstrel_sample_columns: 4 }\n",
+      "t.textproto"));
+}
+
 // A parameter of a path-loss model that is not chosen would be ignored: refused, located.
 TEST(ScenarioTest, RejectsParametersOfAPathLossModelNotChosen) {
   ExpectRejected(std::string(kTwo) + "radio { two_ray_system_loss: 2 }\n", "t.textproto:4:9",
