@@ -172,8 +172,11 @@ void FlyPx4(int slot, const char* pacing, bool may_fly_again, bool* starved) {
   SITLNET_REQUIRE(NodeMavlinkMissing());
   const RunScenario scenario = WriteScenario(
       slot,
-      "robot { name: \"px\" position_m { x: 3 y: -2 z: 0.2 } image: \"px4\" "
-      "px4_sim_port: 4560 }\n",
+      std::string("robot { name: \"px\" position_m { x: 3 y: -2 z: 0.2 } image: \"px4\" "
+                  "px4_sim_port: 4560") +
+          // Lean: PX4's own GCS link is off; the manifest's --gcs link to the robot's own
+          // localhost takes its place (fly_px4.cjs listens there on 14550).
+          (LeanAutopilots() ? " args: [\"--lean\", \"--gcs\", \"127.0.0.1\"]" : "") + " }\n",
       "timing { duration_ms: " + std::to_string(static_cast<int>(kDurationS * 1000)) +
           " pacing: " + pacing + " }\n");
   DownGuard guard(scenario.name);
