@@ -6,7 +6,7 @@
 Runs `SITLNET run SCENARIO --out OUT_DIR/run` with its progress line on (to a file, one line
 every 5 wall seconds, each giving the virtual time). At each progress line it reads, at once:
   - /proc/stat: the host's user, system, softirq, irq and idle time, and its context switches;
-  - every thread of sitlnet: CPU (utime + stime) and voluntary / involuntary context switches;
+  - every thread of sitlnet: CPU (schedstat) and voluntary / involuntary context switches;
   - every robot's cgroup (cgroup v2 cpu.stat: usage, user, system) and the context switches of
     every thread of every process in it, with the CPU of each thread by name (PX4 names its
     threads after its modules: logger, mavlink_if0, wq:rate_ctrl, ...).
@@ -44,8 +44,11 @@ def thread_stats(pid):
         if not stat or not status:
             continue
         comm = stat[stat.index("(") + 1:stat.rindex(")")]
-        fields = stat[stat.rindex(")") + 2:].split()
-        cpu_s = (int(fields[11]) + int(fields[12])) / TICK
+        # schedstat's first field: nanoseconds on a CPU, exact (stat's utime and stime are ticks).
+        schedstat = read(task + "/schedstat").split()
+        if not schedstat:
+            continue
+        cpu_s = int(schedstat[0]) / 1e9
         vol = int(re.search(r"^voluntary_ctxt_switches:\s+(\d+)", status, re.M).group(1))
         invol = int(re.search(r"^nonvoluntary_ctxt_switches:\s+(\d+)", status, re.M).group(1))
         out[int(os.path.basename(task))] = (comm, cpu_s, vol, invol)
