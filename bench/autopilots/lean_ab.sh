@@ -15,7 +15,9 @@ trap 'rm -f "$rows"' EXIT
 run() {  # PROFILE KIND N
   local args=""
   [[ $1 == lean ]] && args="--lean"
-  ARGS=$args KINDS=$2 "$here/real_fleet.sh" "$build" "$seconds" 1 "$3" lockstep 2>/dev/null |
+  # real_fleet.sh's stderr: only why a run failed.
+  ARGS=$args KINDS=$2 "$here/real_fleet.sh" "$build" "$seconds" 1 "$3" lockstep \
+    2> >(grep 'run failed' >&2) |
     tail -n +2 | sed "s/^/$1,/" | tee -a "$rows"
 }
 echo "profile,kind,robots,run,pacing,stf_mean,loop_s,cpu_s_per_autopilot_per_virtual_s,lag_p99_ms,timing_complaints,load1,min_frames_per_virtual_s"
