@@ -18,7 +18,8 @@
 # (4 + 4; SITLNET_FLEET_EACH=N for N + N).
 #
 #   sudo -E bench/autopilots/real_fleet.sh [BUILD=build] [SECONDS=20] [RUNS=3] [SIZES="1 4 8"] \
-#       [PACING=lockstep]   (KINDS="px4 arducopter" by default: the kinds flown)
+#       [PACING=lockstep]   (KINDS="px4 arducopter" by default: the kinds flown; ARGS="--lean":
+#       every robot's extra args, e.g. the manifests' lean profile)
 set -euo pipefail
 build=${1:-build} seconds=${2:-20} runs=${3:-3} sizes=${4:-"1 4 8"} pacing=${5:-lockstep}
 : "${SITLNET_PX4_DIR:?point it at a PX4 build (docs/autopilots.md)}"
@@ -26,21 +27,9 @@ build=${1:-build} seconds=${2:-20} runs=${3:-3} sizes=${4:-"1 4 8"} pacing=${5:-
 out=$(mktemp -d /tmp/sitlnet-real-autopilots-XXXXXX)
 trap 'rm -rf "$out"' EXIT
 
-scenario() {  # KIND N FILE: robots on a 3 m grid
-  python3 - "$1" "$2" "$3" "$seconds" "${pacing^^}" <<'PY'
-import sys
-kind, n, path, seconds, pacing = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4]), sys.argv[5]
-side = int(n ** 0.5 + 0.999)
-with open(path, "w") as f:
-    f.write('name: "rabench"\naddresses { wlan_subnet: "10.68.0.0/16" ctl_subnet: "10.69.0.0/16" }\n')
-    for i in range(n):
-        x, y = 3 * (i % side), 3 * (i // side)
-        link = 'px4_sim_port: 4560 image: "px4"' if kind == "px4" else \
-               'ardupilot_json_port: 9002 image: "arducopter"'
-        f.write(f'robot {{ name: "r{i}" position_m {{ x: {x} y: {y} z: 0.2 }} {link} '
-                f'args: ["--sysid", "{i + 1}"] }}\n')
-    f.write(f"timing {{ duration_ms: {seconds * 1000} pacing: PACING_{pacing} }}\n")
-PY
+scenario() {  # KIND N FILE: robots on a 3 m grid, each with the args in ARGS (e.g. --lean)
+  # shellcheck disable=SC2086  # ARGS: words
+  python3 "$(dirname "$0")/fleet_scenario.py" "$1" "$2" "$3" "$seconds" "${pacing^^}" ${ARGS:-}
 }
 
 # One status_texts.cjs per ArduCopter of the run RUN_PID (robots r0..rN-1, system ids 1..N), in

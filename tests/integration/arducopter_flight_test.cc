@@ -83,8 +83,9 @@ class ArduCopterFlightTest : public ::testing::Test {
 bool FlyGuided(bool lockstep, bool may_retry) {
   const RunScenario scenario =
       WriteScenario(9,
-                    "robot { name: \"c1\" position_m { x: 0 y: 0 z: 0.1 } "
-                    "ardupilot_json_port: 9002 image: \"arducopter\" }\n",
+                    std::string("robot { name: \"c1\" position_m { x: 0 y: 0 z: 0.1 } "
+                                "ardupilot_json_port: 9002 image: \"arducopter\"") +
+                        (LeanAutopilots() ? " args: [\"--lean\"]" : "") + " }\n",
                     std::string("timing { duration_ms: 150000 pacing: ") +
                         (lockstep ? "PACING_LOCKSTEP" : "PACING_REALTIME") + " }\n");
   DownGuard guard(scenario.name);

@@ -80,11 +80,13 @@ TEST(AutopilotFleetTest, EveryVehicleOfAMixedFleetReachesEveryWaypointWithin1M) 
     std::snprintf(position, sizeof position, "position_m { x: %.1f y: %.1f z: %.1f }", x_m, y_m,
                   px4 ? 0.2 : 0.1);
     const std::string sysid = std::to_string(id);
+    const std::string lean = LeanAutopilots() ? "\"--lean\", " : "";
     robots += "robot { name: \"v" + sysid + "\" " + position +
-              (px4 ? " px4_sim_port: 4560 image: \"px4\" args: [\"--gcs\", \"" + station +
-                         "\", \"--sysid\", \"" + sysid + "\"] }\n"
-                   : " ardupilot_json_port: 9002 image: \"arducopter\" args: [\"--serial0\", "
-                     "\"udpclient:" +
+              (px4 ? " px4_sim_port: 4560 image: \"px4\" args: [" + lean + "\"--gcs\", \"" +
+                         station + "\", \"--sysid\", \"" + sysid + "\"] }\n"
+                   : " ardupilot_json_port: 9002 image: \"arducopter\" args: [" + lean +
+                         "\"--serial0\", "
+                         "\"udpclient:" +
                          station + ":14550\", \"--sysid\", \"" + sysid + "\"] }\n");
     station_args.push_back((px4 ? "px4:" : "arducopter:") + sysid);
   }

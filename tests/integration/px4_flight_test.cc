@@ -166,14 +166,19 @@ int HrtThreadPolicy(const std::string& netns) {
 
 // Flies PX4 and checks the flight; sets `*starved` instead when `may_fly_again` (realtime
 // pacing only) and PX4's own timers stalled (above): that flight is then flown once more.
-void FlyPx4(int slot, const char* pacing, bool may_fly_again, bool* starved) {
+// `lean`: the manifest's lean profile (also under SITLNET_TEST_AUTOPILOT_PROFILE=lean).
+void FlyPx4(int slot, const char* pacing, bool may_fly_again, bool* starved, bool lean = false) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   SITLNET_REQUIRE(Px4Missing());
   SITLNET_REQUIRE(NodeMavlinkMissing());
   const RunScenario scenario = WriteScenario(
       slot,
-      "robot { name: \"px\" position_m { x: 3 y: -2 z: 0.2 } image: \"px4\" "
-      "px4_sim_port: 4560 }\n",
+      std::string("robot { name: \"px\" position_m { x: 3 y: -2 z: 0.2 } image: \"px4\" "
+                  "px4_sim_port: 4560") +
+          // Lean: PX4's own GCS link is off; the manifest's --gcs link to the robot's own
+          // localhost takes its place (fly_px4.cjs listens there on 14550).
+          (lean || LeanAutopilots() ? " args: [\"--lean\", \"--gcs\", \"127.0.0.1\"]" : "") +
+          " }\n",
       "timing { duration_ms: " + std::to_string(static_cast<int>(kDurationS * 1000)) +
           " pacing: " + pacing + " }\n");
   DownGuard guard(scenario.name);
@@ -296,6 +301,13 @@ void FlyPx4(int slot, const char* pacing, bool may_fly_again, bool* starved) {
 TEST(Px4FlightTest, InLockstepPacingPx4TakesOffHoldsFliesToAWaypointAndLands) {
   bool starved = false;
   FlyPx4(0, "PACING_LOCKSTEP", false, &starved);
+}
+
+// The lean profile (docs/autopilots.md): no MAVLink links of PX4's own, no logger; the same
+// flight and oracles, commanded over the manifest's --gcs link instead. About 20 s of wall time.
+TEST(Px4FlightTest, InLockstepPacingTheLeanProfileFliesTheSameFlight) {
+  bool starved = false;
+  FlyPx4(2, "PACING_LOCKSTEP", false, &starved, /*lean=*/true);
 }
 
 TEST(Px4FlightTest, InRealtimePacingPx4TakesOffHoldsFliesToAWaypointAndLands) {

@@ -251,6 +251,11 @@ std::string Px4Missing() {
                                "etc/), docs/autopilots.md \"Building PX4\"");
 }
 
+bool LeanAutopilots() {
+  const char* profile = std::getenv("SITLNET_TEST_AUTOPILOT_PROFILE");
+  return profile != nullptr && std::string(profile) == "lean";
+}
+
 std::string NodeMavlinkMissing() {
   if (std::system("node --version >/dev/null 2>&1") != 0) return "node is not installed";
   if (!std::filesystem::exists(NodeMavlinkDir() + "/node_modules/node-mavlink/package.json")) {

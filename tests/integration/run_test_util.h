@@ -141,6 +141,10 @@ std::string ArduPilotMissing();
 std::string Px4Missing();
 // Why node-mavlink cannot run here, or "" if it can.
 std::string NodeMavlinkMissing();
+// The flight tests' autopilots in the manifests' lean profile (docs/autopilots.md, "The lean
+// profile"): true when SITLNET_TEST_AUTOPILOT_PROFILE is "lean". Every real autopilot of
+// px4_flight_test, arducopter_flight_test and autopilot_fleet_test then gets `--lean`.
+bool LeanAutopilots();
 
 }  // namespace sitlnet::nns::testing
 
