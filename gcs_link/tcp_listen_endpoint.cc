@@ -44,6 +44,20 @@ class TcpListenEndpoint final : public HostEndpoint {
     }
   }
 
+  // A GCS still connected at the run's end: our side of the stream ends first, and the bytes it
+  // sent that nobody read are taken, so closing is a FIN, not a reset (a close with unread
+  // bytes is a reset: QGroundControl would report a lost link, not a closed one).
+  ~TcpListenEndpoint() override {
+    for (const Client& client : clients_) {
+      shutdown(client.socket.get(), SHUT_WR);
+      uint8_t buffer[kReadBytes];
+      // Bounded: a GCS that floods the link cannot hold the run's end.
+      for (int reads = 0; reads < 64; ++reads) {
+        if (recv(client.socket.get(), buffer, sizeof buffer, MSG_DONTWAIT) <= 0) break;
+      }
+    }
+  }
+
   void AppendPollFds(std::vector<pollfd>* fds) const override {
     fds->push_back({listener_.get(), POLLIN, 0});
     for (const Client& client : clients_) {

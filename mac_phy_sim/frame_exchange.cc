@@ -113,14 +113,14 @@ void ExchangeFailed(State& s, int station) {
   // manager whether to retry (Minstrel answers by its retry chain, not the limit).
   RateManager& rates = *st.rate_manager;
   if (was_cts) {
-    rates.ReportRtsFailed(f.destination);
+    rates.ReportRtsFailed(f.destination, s.now_ns);
   } else {
-    rates.ReportDataFailed(f.destination);
+    rates.ReportDataFailed(f.destination, s.now_ns);
   }
-  if (!rates.NeedRetransmission(f.destination, count < limit)) {
+  if (!rates.NeedRetransmission(f.destination, count < limit, s.now_ns)) {
     count = 0;
     if (was_cts) {
-      rates.ReportFinalRtsFailed(f.destination);
+      rates.ReportFinalRtsFailed(f.destination, s.now_ns);
     } else {
       rates.ReportFinalDataFailed(f.destination, s.now_ns);
     }
@@ -294,8 +294,8 @@ void OnInternalCollision(State& s, int station, int ac) {
     int& count = f.use_rts ? af.long_retry_count : af.short_retry_count;
     const int limit = f.use_rts ? s.config.long_retry_limit : s.config.short_retry_limit;
     RateManager& rates = *st.rate_manager;
-    rates.ReportDataFailed(f.destination);
-    if (!rates.NeedRetransmission(f.destination, ++count < limit)) {
+    rates.ReportDataFailed(f.destination, s.now_ns);
+    if (!rates.NeedRetransmission(f.destination, ++count < limit, s.now_ns)) {
       count = 0;
       rates.ReportFinalDataFailed(f.destination, s.now_ns);
       ++st.counters.lost_retry_limit;

@@ -291,7 +291,13 @@ struct RxRecord {
   // Under the sensitivity the obstacle part may be a lower bound (channel.h).
   double path_loss_db = 0;
   double obstacle_loss_db = 0;
+  // DATA frames only: a box crosses the segment from the source to this station, whatever the
+  // loss models made of it: a wall's loss at the frame's start, else the geometry at its end.
+  bool obstructed = false;
 };
+// A wall's loss above this marks a path as obstructed without asking the geometry: above the
+// rounding of (total - path - log-normal) loss, below any wall's loss.
+inline constexpr double kObstructedMinLossDb = 0.01;
 
 // One transmission on the air. Emitted when it ends, so the trace is ordered
 // by end_ns (equal ends in event order); start_ns gives the pcap timestamp.

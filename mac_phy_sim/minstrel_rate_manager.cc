@@ -41,28 +41,30 @@ class MinstrelRateManager final : public RateManager {
     // ns-3's GetRtsTxVector: the first supported mode.
     return TxRates{data, supported_.front(), &supported_.front()->data};
   }
-  void ReportRtsFailed(const MacAddress& destination) override {
-    Minstrel::ReportRtsFailed(Remote(destination));
+  void ReportRtsFailed(const MacAddress& destination, TimeNs now_ns) override {
+    Minstrel::ReportRtsFailed(Remote(destination, now_ns));
   }
-  void ReportFinalRtsFailed(const MacAddress& destination) override {
-    Minstrel::ReportFinalRtsFailed(Remote(destination));
+  void ReportFinalRtsFailed(const MacAddress& destination, TimeNs now_ns) override {
+    Minstrel::ReportFinalRtsFailed(Remote(destination, now_ns));
   }
   void ReportDataOk(const MacAddress& destination, double /*data_snr*/, TimeNs now_ns) override {
-    minstrel_.ReportDataOk(Remote(destination), now_ns);
+    minstrel_.ReportDataOk(Remote(destination, now_ns), now_ns);
   }
-  void ReportDataFailed(const MacAddress& destination) override {
-    minstrel_.ReportDataFailed(Remote(destination));
+  void ReportDataFailed(const MacAddress& destination, TimeNs now_ns) override {
+    minstrel_.ReportDataFailed(Remote(destination, now_ns));
   }
   void ReportFinalDataFailed(const MacAddress& destination, TimeNs now_ns) override {
-    minstrel_.ReportFinalDataFailed(Remote(destination), now_ns);
+    minstrel_.ReportFinalDataFailed(Remote(destination, now_ns), now_ns);
   }
-  bool NeedRetransmission(const MacAddress& destination, bool /*normally*/) override {
-    return Minstrel::NeedRetransmission(Remote(destination));
+  bool NeedRetransmission(const MacAddress& destination, bool /*normally*/,
+                          TimeNs now_ns) override {
+    return Minstrel::NeedRetransmission(Remote(destination, now_ns));
   }
 
  private:
-  // Reports come only for destinations already chosen for (Choose created them).
-  MinstrelRemote& Remote(const MacAddress& destination, TimeNs now_ns = 0) {
+  // A destination's state, made at `now_ns` when first met: by Choose, or by a report that
+  // comes first (an internal collision of a frame not yet sent), as ns-3 makes its station.
+  MinstrelRemote& Remote(const MacAddress& destination, TimeNs now_ns) {
     for (auto& [mac, remote] : remotes_) {
       if (mac == destination) return remote;
     }

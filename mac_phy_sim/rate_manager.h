@@ -33,18 +33,20 @@ class RateManager {
   // ns-3's GetDataTxVector / GetRtsTxVector for the next attempt to `destination`.
   virtual TxRates Choose(const MacAddress& destination, TimeNs now_ns) = 0;
 
-  // Outcomes, in the order ns-3 3.37's FrameExchangeManager reports them. SNRs are linear:
+  // Outcomes, in the order ns-3 3.37's FrameExchangeManager reports them, at `now_ns` (a
+  // report may come before any Choose: an internal collision). SNRs are linear:
   // what the destination measured on our RTS or DATA (ns-3's SnrTag in the CTS/ACK).
   virtual void ReportRtsOk(const MacAddress& /*destination*/, double /*rts_snr*/) {}
-  virtual void ReportRtsFailed(const MacAddress& /*destination*/) {}
-  virtual void ReportFinalRtsFailed(const MacAddress& /*destination*/) {}
+  virtual void ReportRtsFailed(const MacAddress& /*destination*/, TimeNs /*now_ns*/) {}
+  virtual void ReportFinalRtsFailed(const MacAddress& /*destination*/, TimeNs /*now_ns*/) {}
   virtual void ReportDataOk(const MacAddress& /*destination*/, double /*data_snr*/,
                             TimeNs /*now_ns*/) {}
-  virtual void ReportDataFailed(const MacAddress& /*destination*/) {}
+  virtual void ReportDataFailed(const MacAddress& /*destination*/, TimeNs /*now_ns*/) {}
   virtual void ReportFinalDataFailed(const MacAddress& /*destination*/, TimeNs /*now_ns*/) {}
   // Whether a failed frame is tried again; `normally` is the retry-limit answer (ns-3's
   // DoNeedRetransmission: Minstrel replaces it by its retry chain's length).
-  virtual bool NeedRetransmission(const MacAddress& /*destination*/, bool normally) {
+  virtual bool NeedRetransmission(const MacAddress& /*destination*/, bool normally,
+                                  TimeNs /*now_ns*/) {
     return normally;
   }
   // The outcome of one A-MPDU at one rate: MPDUs acknowledged and not, the SNR of the Block

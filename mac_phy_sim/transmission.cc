@@ -74,6 +74,15 @@ void TraceTransmission(State& s, const Transmission& tx) {
         }
       }
     }
+    if (s.record_causes && tx.kind == FrameKind::kData) {
+      RxRecord& out = record.receptions.back();
+      // A wall that took loss crossed the path; otherwise ask the geometry: the loss split is
+      // cut short on dead links, and the 3GPP models put their NLOS loss in the path loss.
+      out.obstructed = out.obstacle_loss_db > kObstructedMinLossDb ||
+                       (s.channel.obstacle_count() > 0 &&
+                        s.channel.SegmentBlocked(s.channel.position(tx.source),
+                                                 s.channel.position(r)));
+    }
   }
   TraceEvent event;
   event.tx = std::move(record);

@@ -262,9 +262,8 @@ void LossLog::AddTransmission(const mac::TxRecord& tx) {
     if (!data || (to >= 0 && r.station != to) || (to < 0 && !tx.receiver.IsGroup())) continue;
     Counts& c = Link(tx.start_ns, tx.source, r.station);
     ++c.frames;
-    DeliveryCounts& by_class = r.obstacle_loss_db > kObstructedMinLossDb
-                                   ? by_link_class_.obstructed
-                                   : by_link_class_.line_of_sight;
+    DeliveryCounts& by_class =
+        r.obstructed ? by_link_class_.obstructed : by_link_class_.line_of_sight;
     ++by_class.frames;
     if (r.cause == mac::RxCause::kDecoded) ++by_class.delivered;
     c.rate_mbps = tx.rate_mbps;

@@ -35,11 +35,9 @@ struct DeliveryCounts {
   uint64_t delivered = 0;
 };
 struct DeliveryByLinkClass {
-  DeliveryCounts line_of_sight;  // The obstacle model took no loss on the path.
-  DeliveryCounts obstructed;     // Boxes took more than kObstructedMinLossDb on it.
+  DeliveryCounts line_of_sight;  // No box crosses the segment from sender to receiver.
+  DeliveryCounts obstructed;     // A box does (mac::RxRecord::obstructed).
 };
-// Above the rounding of (total - path - log-normal) loss, below any wall's loss.
-inline constexpr double kObstructedMinLossDb = 0.01;
 
 class LossLog {
  public:

@@ -170,7 +170,17 @@ void ValidatePathLossParameters(const SourceLocator& at, const proto::Radio& rad
 
 // Minstrel's parameters are refused under another rate control (as path-loss parameters are).
 void ValidateMinstrelParameters(const SourceLocator& at, const proto::Radio& radio) {
-  if (radio.rate_control() == proto::Radio::RATE_CONTROL_MINSTREL) return;
+  if (radio.rate_control() == proto::Radio::RATE_CONTROL_MINSTREL) {
+    // ns-3's Minstrel never gives up on a frame whose RTS fails (it leaves that to the queue's
+    // MaxDelay): with frames that never expire, one unreachable receiver would hold its queue.
+    if (radio.rts_threshold_bytes() > 0 && radio.queue_max_delay_ms() == 0) {
+      at.Fail({{"radio"}, {"queue_max_delay_ms"}},
+              "radio: queue_max_delay_ms 0 (frames never expire) with RTS/CTS and "
+              "RATE_CONTROL_MINSTREL: Minstrel retries a frame whose RTS fails until it "
+              "expires; give queue_max_delay_ms a bound");
+    }
+    return;
+  }
   for (const char* field : {"minstrel_update_stats_ms", "minstrel_look_around_percent",
                             "minstrel_ewma_percent", "minstrel_sample_columns",
                             "minstrel_packet_bytes"}) {

@@ -145,12 +145,13 @@ TEST(LossLogTest, ALinksRowNamesTheRateAndMcsOfItsLastDataFrame) {
 // summary.json's "delivery": B sends A (in the clear) and C (behind a 2 m wall, 9 dB + 0.8 dB
 // of Sommer et al.'s model, still decoded at 12 Mb/s) one unicast frame each second. Every
 // DATA transmission at the station it is for counts once, in the class of its path.
-TEST(LossLogTest, CountsDeliveriesByLineOfSightAndObstructedLinks) {
+void ExpectClassesOfAClearAndAWalledLink(bool shadowing) {
   const std::string dir = ::testing::TempDir() + "/loss_log_class_test";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   mac::MediumConfig config;
   config.rate_mbps = 12;
+  config.shadowing = shadowing;
   mac::Medium medium(config);
   medium.EnableTrace(true);
   medium.EnableCauses(true);
@@ -174,6 +175,15 @@ TEST(LossLogTest, CountsDeliveriesByLineOfSightAndObstructedLinks) {
   EXPECT_EQ(by_class.line_of_sight.delivered, 3u);
   EXPECT_EQ(by_class.obstructed.frames, 3u);
   EXPECT_EQ(by_class.obstructed.delivered, 3u);
+}
+
+// The class is the geometry's, not the loss model's: with obstacle shadowing off, the wall
+// takes no loss and C decodes every frame, yet its path is obstructed.
+TEST(LossLogTest, CountsDeliveriesByLineOfSightAndObstructedLinks) {
+  for (const bool shadowing : {true, false}) {
+    SCOPED_TRACE(shadowing ? "shadowing" : "no shadowing");
+    ExpectClassesOfAClearAndAWalledLink(shadowing);
+  }
 }
 
 }  // namespace

@@ -154,6 +154,10 @@ TEST(ScenarioTest, RejectsMinstrelOnHtAndItsParametersWithoutIt) {
   ExpectRejected(std::string(kTwo) +
                      "radio { rate_control: RATE_CONTROL_MINSTREL minstrel_look_around_percent: 101 }\n",
                  "t.textproto:4:45", "minstrel_look_around_percent 101 out of range");
+  ExpectRejected(std::string(kTwo) +
+                     "radio { rate_control: RATE_CONTROL_MINSTREL rts_threshold_bytes: 100 "
+                     "queue_max_delay_ms: 0 }\n",
+                 "t.textproto:4:70", "radio: queue_max_delay_ms 0 (frames never expire)");
   EXPECT_NO_THROW(LoadScenarioText(
       std::string(kTwo) + "radio { standard: STANDARD_80211G rate_control: RATE_CONTROL_MINSTREL "
                           "minstrel_update_stats_ms: 50 minstrel_sample_columns: 4 }\n",

@@ -10,10 +10,12 @@ const kColours = ['#1f77b4', '#d62728', '#2ca02c', '#9467bd', '#ff7f0e', '#8c564
 
 // summary.csv's rows of `metric` as series against `field`: [{label, points: [{x, mean, half}]}],
 // points in ascending x (numbers) or in the order met (other values). Null when the field takes
-// fewer than two values (nothing to plot against) or no row of the metric has a mean; a row
-// without a mean is left out.
+// fewer than two values (nothing to plot against) or no row of the metric has a finite mean; a
+// row without one is left out, and an undefined half-width draws no bar.
 export function plotSeries(summary, fields, field, metric) {
-  const rows = summary.filter((row) => row.metric === metric && row.mean !== '');
+  // summary.csv writes %.10g: a mean of inf or nan reads as a number that cannot be drawn.
+  const rows = summary.filter((row) => row.metric === metric && row.mean !== '' &&
+    Number.isFinite(Number(row.mean)));
   const values = [...new Set(summary.map((row) => row[field]))];
   if (values.length < 2 || rows.length === 0) return null;
   const others = fields.filter((f) => f !== field);
@@ -24,7 +26,8 @@ export function plotSeries(summary, fields, field, metric) {
     byLabel.get(label).push({
       x: row[field],
       mean: Number(row.mean),
-      half: row.ci95_half_width === '' ? 0 : Number(row.ci95_half_width),
+      half: Number.isFinite(Number(row.ci95_half_width)) && row.ci95_half_width !== ''
+        ? Number(row.ci95_half_width) : 0,
     });
   }
   const numeric = values.every((v) => v !== '' && Number.isFinite(Number(v)));
