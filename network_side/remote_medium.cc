@@ -79,7 +79,7 @@ tapbridge::AirFrame FromProto(const pm::AirFrame& p, const pm::MediumReply& repl
                               const std::function<std::string()>& describe) {
   tapbridge::AirFrame f;
   mac::TxRecord& tx = f.tx;
-  if (p.kind() < 0 || p.kind() > static_cast<int32_t>(mac::FrameKind::kCfEnd) ||
+  if (p.kind() < 0 || p.kind() > static_cast<int32_t>(mac::kLastFrameKind) ||
       p.duration_ns() < 0 || p.start_ns() > std::numeric_limits<TimeNs>::max() - p.duration_ns()) {
     throw Error(describe() + ": medium reply has an air frame of kind " + std::to_string(p.kind()) +
                 " lasting " + std::to_string(p.duration_ns()) + " ns");
