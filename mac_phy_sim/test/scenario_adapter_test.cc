@@ -44,6 +44,10 @@ TEST(ScenarioAdapterTest, EveryRadioValueTheScenarioAcceptsBuildsAMedium) {
         // The MCS fields belong to 802.11n/ac: HT takes MCS 0-15, VHT two streams at MCS 7.
         if (field->name() == "mcs") spec->set_standard(proto::Radio::STANDARD_80211N_5GHZ);
         if (field->name() == "spatial_streams") spec->set_standard(proto::Radio::STANDARD_80211AC);
+        // The A-MPDU sizes too; VHT takes the largest (1048575 B).
+        if (field->name().rfind("ampdu_max_bytes_", 0) == 0) {
+          spec->set_standard(proto::Radio::STANDARD_80211AC);
+        }
         const auto* reflection = spec->GetReflection();
         if (field->cpp_type() == google::protobuf::FieldDescriptor::CPPTYPE_DOUBLE) {
           reflection->SetDouble(spec, field, value);
