@@ -121,6 +121,14 @@ struct MediumConfig {
   // a/b/g: a QoS station with four EDCA access categories (ns-3's QosSupported) instead of the
   // DCF. n/ac stations are QoS stations whatever this says.
   bool qos = false;
+  // 802.11n/ac only: A-MPDU aggregation under a Block Ack agreement (docs/mac_phy_sim.md,
+  // "A-MPDU and Block Ack"). max_ampdu_bytes by AccessCategory (BK, BE, VI, VO) is ns-3
+  // 3.37's {BK,BE,VI,VO}_MaxAmpduSize (WifiMac): 0 / 65535 / 65535 / 0; 0 turns an access
+  // category's aggregation off. aggregation = false turns it off in all four (ns-3: every
+  // *_MaxAmpduSize 0). a/b/g stations never aggregate. Off by default, unlike ns-3, until the
+  // A-MPDU cells with several senders match it (docs/validation.md).
+  bool aggregation = false;
+  std::array<uint32_t, kAccessCategoryCount> max_ampdu_bytes = {0, 65535, 65535, 0};
   bool short_slot = false;    // 802.11g only: 9 us slot instead of 20 us.
   // Frame capture (ns-3 SimpleFrameCaptureModel): while the preamble of the
   // frame being received is still in progress, switch to a new frame that is
@@ -252,7 +260,10 @@ struct Delivery {
 
 // kCfEnd: sent by a QoS station that ends its TXOP early (ns-3 3.37's SendCfEndIfNeeded); it
 // resets the NAV of the stations that decode it.
-enum class FrameKind : uint8_t { kData, kAck, kRts, kCts, kCfEnd };
+// kBlockAck / kBlockAckReq: compressed BlockAck (32 B) and BlockAckReq (24 B), 9.3.1.8-9.
+// kAction: an ADDBA Request or Response (Block Ack action frames, 9.6.5), 37 B.
+enum class FrameKind : uint8_t { kData, kAck, kRts, kCts, kCfEnd, kBlockAck, kBlockAckReq, kAction };
+inline constexpr FrameKind kLastFrameKind = FrameKind::kAction;
 
 enum class RxOutcome : uint8_t {
   kReceived,          // Decoded (it may still be a duplicate or for another station).
@@ -316,6 +327,15 @@ struct TxRecord {
   int channel_width_mhz = 20;
   bool short_guard_interval = false;
   bool qos = false;  // A QoS Data frame (QoS stations); its QoS Control field carries tid.
+  // An MPDU of an A-MPDU: the A-MPDU's reference number (radiotap's A-MPDU status field; one
+  // record per MPDU, all with the PPDU's start and end), and whether it is the last MPDU.
+  std::optional<uint32_t> ampdu_reference;
+  bool ampdu_last = false;
+  // kAction: true for an ADDBA Response, false for a Request (its sequence_number is the
+  // management frames' counter). The BlockAck's bitmap ba_bitmap.
+  bool addba_response = false;
+  uint16_t ba_starting_sequence = 0;  // ADDBA Request, BlockAckReq, BlockAck.
+  uint64_t ba_bitmap = 0;
   uint8_t tid = 0;   // QoS Data: the frame's user priority (UserPriorityOf).
   MacAddress receiver;     // addr1 (broadcast for group frames).
   MacAddress transmitter;  // addr2 (absent on air for ACK/CTS; still filled).
@@ -368,6 +388,9 @@ struct StationCounters {
   uint64_t internal_collisions = 0;  // EDCA: access categories that lost to a higher one.
   uint64_t cf_end_tx = 0;            // EDCA: CF-End frames ending a TXOP early.
   uint64_t lost_retry_limit = 0;  // Dropped after the last attempt.
+  // 802.11n/ac Block Ack (docs/mac_phy_sim.md, "A-MPDU and Block Ack").
+  uint64_t ampdu_tx = 0;          // A-MPDUs sent (their MPDUs count in data_tx).
+  uint64_t block_ack_tx = 0, block_ack_req_tx = 0, addba_tx = 0;
   // Receive side.
   uint64_t rx_delivered = 0;   // Deliveries to this station.
   uint64_t rx_duplicates = 0;  // Retransmissions already delivered.

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "mac_phy_sim/channel.h"
+#include "mac_phy_sim/block_ack.h"
 #include "mac_phy_sim/gamma.h"
 #include "mac_phy_sim/jakes_doppler.h"
 #include "mac_phy_sim/jakes_fading.h"
@@ -69,8 +70,15 @@ struct RateEntry {
   bool basic = false;  // In the basic rate set (phy_mode.h).
 };
 
+// What a queued MPDU is: a QoS Data frame carrying an MSDU, or a Block Ack action frame
+// (ns-3 queues those in the TID's access category, at the head).
+enum class MpduType : uint8_t { kData, kAddbaRequest, kAddbaResponse };
+
 // An MSDU in a station's queue or in service.
 struct QueuedFrame {
+  MpduType type = MpduType::kData;
+  bool sequence_assigned = false;  // Kept when the frame goes back to the queue (Block Ack).
+  uint16_t ba_ssn = 0;             // ADDBA Request: the agreement's starting sequence number.
   Bytes ethernet;
   MacAddress destination;
   bool group = false;
@@ -113,6 +121,14 @@ struct Transmission {
   MacAddress ra, ta;
   double reported_snr = 0;  // ACK/CTS: SNR (linear) of the frame answered, as ns-3's SnrTag.
   Bytes ethernet;           // DATA only.
+  // An A-MPDU's MPDUs (empty for any other PPDU; block_ack.h), their outcome at the addressed
+  // receiver, and its reference number for the trace.
+  std::vector<AmpduSubframe> subframes;
+  std::vector<RxOutcome> subframe_outcome;
+  uint32_t ampdu_reference = 0;
+  bool addba_response = false;  // kAction.
+  uint16_t ba_ssn = 0;          // ADDBA Request, BlockAckReq, BlockAck: starting sequence number.
+  uint64_t ba_bitmap = 0;       // kBlockAck; its starting sequence number is sequence_number.
   std::vector<RxEntry> rx;  // Receivers above sensitivity, by station id.
   int signals_pending = 0;  // Delayed receivers whose signal has not ended yet.
   bool on_air = false;      // Between StartTransmission and OnTxEnd.
@@ -125,7 +141,8 @@ struct Reception {
   double power_mw = 0;
   TimeNs start_ns = 0, chunk_start_ns = 0;
   double interference_mw = 0;
-  double success_probability = 1;
+  double success_probability = 1;  // Of the whole frame; of its PHY header for an A-MPDU.
+  std::array<double, kMaxAmpduSubframes> subframe_success{};  // An A-MPDU's MPDUs.
   double min_sinr = 0;
   bool interfered = false;
   // With record_causes: source and power of the strongest overlapping signal.
@@ -139,7 +156,8 @@ struct ActiveSignal {
   int entry = 0;
 };
 
-enum class Exchange : uint8_t { kIdle, kWaitAck, kWaitCts };
+// kWaitBlockAck: after an A-MPDU or a BlockAckReq.
+enum class Exchange : uint8_t { kIdle, kWaitAck, kWaitCts, kWaitBlockAck };
 
 // One channel access function: the DCF, or an EDCAF of one access category. Its own queue
 // (ns-3 3.37 keeps one WifiMacQueue per access category), contention window, retry counts and
@@ -160,6 +178,10 @@ struct AccessFunction {
   TimeNs count_origin_ns = 0;  // Where slot counting starts for the scheduled access.
   TimeNs access_at_ns = -1;    // Scheduled access, -1 if none (State::SetAccessAt).
   TimeNs txop_start_ns = -1;   // Start of the TXOP it holds (10.22.2.8), -1 if none.
+  // Block Ack (block_ack.h): the MPDUs of the A-MPDU under way after `current` (empty outside
+  // an A-MPDU's exchange), and a BlockAckReq owed after a missed BlockAck.
+  std::vector<QueuedFrame> ampdu_rest;
+  bool bar_pending = false;
 };
 
 struct StationState {
@@ -182,6 +204,12 @@ struct StationState {
   // Next sequence number per TID (ns-3 counts per receiver and TID; one counter per TID gives
   // the same numbers for one receiver and no gaps a receiver could notice otherwise).
   std::array<uint16_t, 8> next_sequence_number{};
+  uint16_t next_management_sequence = 0;  // Action frames' own counter (ns-3's non-QoS one).
+  // Block Ack agreements (block_ack.h) as originator and as recipient; few, searched linearly.
+  std::vector<BaOriginator> ba_originator;
+  std::vector<BaRecipient> ba_recipient;
+  uint32_t next_ampdu_reference = 0;
+  std::vector<AmpduSubframe> ampdu_staging;  // Reused: the next A-MPDU's subframes.
   // Channel access (DCF and EDCA alike).
   bool busy = false;
   TimeNs idle_since_ns = 0;
@@ -208,6 +236,9 @@ struct StationState {
   uint16_t response_duration_us = 0;
   const RateEntry* response_rate = nullptr;  // Rate of the frame being answered.
   double response_snr = 0;
+  bool response_ba = false;       // kBlockAck: answers a BlockAckReq (else an A-MPDU).
+  uint8_t response_tid = 0;
+  int response_source = 0;
   // Last sequence number per source station and TID (index source * 8 + tid), -1: none.
   std::vector<int> last_sequence_from;
   // One channel access function per access category (EDCAF, 10.22.2), indexed by
@@ -302,6 +333,37 @@ void OnLockedRxEnd(State& s, int station);  // Resolves a deferred timeout.
 void OnTimeout(State& s, int station, uint64_t generation);
 void OnRespond(State& s, int station);
 
+// ---- block_ack.cc
+// ns-3 3.37's NeedSetupBlockAck: frame `f` of access category `ac` needs an ADDBA Request first.
+bool NeedSetupBlockAck(State& s, int station, int ac, const QueuedFrame& f);
+// The agreement of `station` as originator with `recipient` for `tid`, established, or null.
+BaOriginator* EstablishedAgreement(State& s, int station, const MacAddress& recipient, int tid);
+// The A-MPDU limit of `ac` for data at `mode` (0: no aggregation), ns-3's GetMaxAmpduSize.
+uint32_t MaxAmpduBytes(const State& s, int ac, const PhyMode& mode);
+// Receiver side: an MPDU of `source` under an agreement; delivers in order (reordering buffer).
+void ReceiveUnderAgreement(State& s, int station, BaRecipient& agreement, uint16_t sequence_number,
+                           const Bytes& ethernet, double power_dbm, double sinr);
+BaRecipient* RecipientAgreement(State& s, int station, int source, int tid);
+// The recipient's side of an ADDBA Request from `source`: a fresh buffer at the Request's
+// starting sequence number.
+BaRecipient& CreateRecipientAgreement(State& s, int station, int source, int tid,
+                                      uint16_t starting_sequence);
+// Originator phases: Request sent (pending), its ACK (response timer), discarded at the retry
+// limit (no reply), Response received (established).
+void OnAddbaRequestSent(State& s, int station, const MacAddress& recipient, int tid);
+void OnAddbaRequestAcked(State& s, int station, const MacAddress& recipient, int tid);
+void OnAddbaRequestDiscarded(State& s, int station, const MacAddress& recipient, int tid);
+void OnAddbaResponse(State& s, int station, const MacAddress& recipient, int tid);
+// A compressed BlockAck of starting sequence number `ssn` and `bitmap` acknowledges the MPDU.
+bool BlockAckCovers(uint16_t ssn, uint64_t bitmap, uint16_t sequence_number);
+// BlockAckReq with starting sequence number `ssn`: flushes the buffer below it.
+void ReceiveBlockAckReq(State& s, int station, BaRecipient& agreement, uint16_t ssn);
+// ns-3's ReportAmpduTxStatus: the outcome of one A-MPDU (or BlockAckReq) exchange with
+// `recipient` at the data rate `rate`: MPDUs acknowledged and not. The one place rate control
+// learns from Block Acks (Minstrel-HT hooks here); Ideal takes the BlockAck's SNR.
+void ReportAmpduTxStatus(State& s, int station, const MacAddress& recipient, int acked, int failed,
+                         const RateEntry* rate, double block_ack_snr);
+
 // ---- rate_control.cc
 void BuildRates(State& s);
 const RateEntry& RateFor(const State& s, const PhyMode& mode);
@@ -316,8 +378,10 @@ std::unique_ptr<RateManager> MakeIdealRateManager(const State& s);
 std::unique_ptr<RateManager> MakeMinstrelRateManager(const State& s, uint64_t seed);
 
 // ---- transmission.cc
+// `subframes`: an A-MPDU's MPDUs, moved into the transmission before any receiver sees it.
 Transmission& StartTransmission(State& s, int source, FrameKind kind, const ModeEntry& mode,
-                                int psdu_bytes, const MacAddress& ra, uint16_t duration_us);
+                                int psdu_bytes, const MacAddress& ra, uint16_t duration_us,
+                                std::vector<AmpduSubframe>* subframes = nullptr);
 void OnTxEnd(State& s, int tx_id);
 // With propagation_delay: signal entry `entry` of `tx_id` starts / ends at its receiver.
 void OnSignalStart(State& s, int tx_id, int entry);

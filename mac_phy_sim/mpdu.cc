@@ -74,9 +74,57 @@ void BuildControlMpdu(FrameKind kind, const MacAddress& ra, const MacAddress& ta
   PutFcs(out);
 }
 
+void BuildBlockAckMpdu(FrameKind kind, const MacAddress& ra, const MacAddress& ta,
+                       uint16_t duration_us, uint8_t tid, uint16_t starting_sequence,
+                       uint64_t bitmap, std::vector<uint8_t>* out) {
+  out->clear();
+  out->push_back(kind == FrameKind::kBlockAck ? 0x94 : 0x84);  // Subtype 9 BA, 8 BAR.
+  out->push_back(0x00);
+  Put16(out, duration_us);
+  PutMac(out, ra);
+  PutMac(out, ta);
+  // BA/BAR Control (9.3.1.8.1): immediate ack policy 0, compressed bitmap (bit 2), TID in 12-15.
+  Put16(out, static_cast<uint16_t>(0x0004 | (tid & 0x0f) << 12));
+  Put16(out, static_cast<uint16_t>((starting_sequence & 0x0fff) << 4));  // Fragment 0.
+  if (kind == FrameKind::kBlockAck) {
+    for (int i = 0; i < 8; ++i) out->push_back(static_cast<uint8_t>(bitmap >> (8 * i)));
+  }
+  PutFcs(out);
+}
+
+void BuildAddbaMpdu(bool response, const MacAddress& ra, const MacAddress& ta,
+                    uint16_t duration_us, uint16_t sequence_number, bool retry, uint8_t tid,
+                    uint16_t starting_sequence, std::vector<uint8_t>* out) {
+  out->clear();
+  out->push_back(0xD0);  // Management, subtype 13: Action.
+  out->push_back(retry ? 0x08 : 0x00);
+  Put16(out, duration_us);
+  PutMac(out, ra);
+  PutMac(out, ta);
+  PutMac(out, kBssid);
+  Put16(out, static_cast<uint16_t>((sequence_number & 0x0fff) << 4));
+  out->push_back(3);                 // Category: Block Ack (9.4.1.11).
+  out->push_back(response ? 1 : 0);  // ADDBA Request 0, Response 1 (9.6.5.1).
+  out->push_back(1);                 // Dialog token.
+  if (response) Put16(out, 0);       // Status: success.
+  // Block Ack Parameter Set (9.4.1.14): A-MSDU supported, immediate, TID, buffer size 64
+  // (ns-3's Request says 0: the recipient chooses).
+  const uint16_t buffer = response ? 64 : 0;
+  Put16(out, static_cast<uint16_t>(0x0001 | 0x0002 | (tid & 0x0f) << 2 | buffer << 6));
+  Put16(out, 0);  // Block Ack Timeout: none.
+  if (!response) Put16(out, static_cast<uint16_t>((starting_sequence & 0x0fff) << 4));
+  PutFcs(out);
+}
+
 std::vector<uint8_t> MpduBytes(const TxRecord& tx) {
   std::vector<uint8_t> mpdu;
-  if (tx.kind == FrameKind::kData) {
+  if (tx.kind == FrameKind::kBlockAck || tx.kind == FrameKind::kBlockAckReq) {
+    BuildBlockAckMpdu(tx.kind, tx.receiver, tx.transmitter, tx.duration_us, tx.tid,
+                      tx.ba_starting_sequence, tx.ba_bitmap, &mpdu);
+  } else if (tx.kind == FrameKind::kAction) {
+    BuildAddbaMpdu(tx.addba_response, tx.receiver, tx.transmitter, tx.duration_us,
+                   tx.sequence_number, tx.retry, tx.tid, tx.ba_starting_sequence, &mpdu);
+  } else if (tx.kind == FrameKind::kData) {
     SITLNET_DEMAND(tx.ethernet_frame != nullptr && tx.ethernet_frame->size() >= 14);
     BuildDataMpdu(tx.receiver, tx.transmitter, tx.duration_us, tx.sequence_number, tx.retry,
                   *tx.ethernet_frame, &mpdu, tx.qos, tx.tid);

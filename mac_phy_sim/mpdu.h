@@ -24,6 +24,14 @@ void BuildDataMpdu(const MacAddress& ra, const MacAddress& ta, uint16_t duration
                    std::vector<uint8_t>* out, bool qos = false, uint8_t tid = 0);
 void BuildControlMpdu(FrameKind kind, const MacAddress& ra, const MacAddress& ta,
                       uint16_t duration_us, std::vector<uint8_t>* out);
+// Compressed BlockAck (32 B, with `bitmap`) or BlockAckReq (24 B) for `tid` (9.3.1.8-9).
+void BuildBlockAckMpdu(FrameKind kind, const MacAddress& ra, const MacAddress& ta,
+                       uint16_t duration_us, uint8_t tid, uint16_t starting_sequence,
+                       uint64_t bitmap, std::vector<uint8_t>* out);
+// ADDBA Request (with `starting_sequence`) or Response, 37 B each (9.6.5.2-3).
+void BuildAddbaMpdu(bool response, const MacAddress& ra, const MacAddress& ta,
+                    uint16_t duration_us, uint16_t sequence_number, bool retry, uint8_t tid,
+                    uint16_t starting_sequence, std::vector<uint8_t>* out);
 
 }  // namespace sitlnet::mac
 

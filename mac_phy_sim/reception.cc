@@ -40,6 +40,32 @@ double ChunkSuccess(const State& s, const Transmission& tx, TimeNs a, TimeNs b, 
   return success;
 }
 
+// An A-MPDU's chunk [a, b) at constant `sinr`: its PHY header part goes to the frame's success
+// probability, each MPDU's payload part to that MPDU's (ns-3 3.37 decides each MPDU over its own
+// window of the payload, PhyEntity::EndOfMpdu, after the PHY header succeeded).
+void AmpduChunk(const State& s, const Transmission& tx, TimeNs a, TimeNs b, double sinr,
+                Reception& rx) {
+  const PhyHeader& header = tx.mode->header;
+  const TimeNs header_end = tx.start_ns + header.preamble_and_header_ns;
+  const TimeNs header_overlap = std::min(b, header_end) - std::max(a, tx.start_ns);
+  if (header_overlap > 0 && sinr < tx.mode->header_perfect_sinr) {
+    const double bits =
+        header.header_bits * static_cast<double>(header_overlap) / header.preamble_and_header_ns;
+    rx.success_probability *= ChunkSuccessRate(s.config.error_model, header.header_mode, sinr, bits);
+  }
+  if (b <= header_end || sinr >= tx.mode->perfect_sinr) return;
+  const TimeNs payload_ns = tx.end_ns - header.signal_extension_ns - header_end;
+  const double rate_mbps = tx.mode->mode.rate_mbps;
+  const int n = static_cast<int>(tx.subframes.size());
+  for (int i = 0; i < n; ++i) {
+    const SubframeWindowNs w = SubframeWindow(tx.subframes, i, rate_mbps, payload_ns);
+    const TimeNs overlap = std::min(b, header_end + w.end_ns) - std::max(a, header_end + w.begin_ns);
+    if (overlap <= 0) continue;
+    const double bits = rate_mbps * static_cast<double>(overlap) / 1000.0;
+    rx.subframe_success[i] *= ChunkSuccessRate(s.config.error_model, tx.mode->mode, sinr, bits);
+  }
+}
+
 // Closes the current constant-interference chunk of the locked frame at now.
 void CloseChunk(State& s, StationState& st) {
   Reception& rx = st.rx;
@@ -51,8 +77,12 @@ void CloseChunk(State& s, StationState& st) {
     // In the transmitter's time frame: the signal reached this receiver delay_ns late.
     const Transmission& tx = s.transmissions[rx.tx];
     const TimeNs delay_ns = tx.rx[rx.entry].delay_ns;
-    rx.success_probability *=
-        ChunkSuccess(s, tx, rx.chunk_start_ns - delay_ns, s.now_ns - delay_ns, sinr);
+    if (!tx.subframes.empty()) {
+      AmpduChunk(s, tx, rx.chunk_start_ns - delay_ns, s.now_ns - delay_ns, sinr, rx);
+    } else {
+      rx.success_probability *=
+          ChunkSuccess(s, tx, rx.chunk_start_ns - delay_ns, s.now_ns - delay_ns, sinr);
+    }
   }
   rx.chunk_start_ns = s.now_ns;
 }
@@ -116,11 +146,31 @@ void Lock(State& s, StationState& st, Transmission& tx, int entry_index, double 
   rx.start_ns = rx.chunk_start_ns = s.now_ns;
   rx.interference_mw = interference_mw;
   rx.success_probability = 1;
+  if (!tx.subframes.empty()) std::fill_n(rx.subframe_success.begin(), tx.subframes.size(), 1.0);
   rx.min_sinr = std::numeric_limits<double>::infinity();
   rx.interfered = interference_mw > 0;
   rx.interferer = -1;
   rx.interferer_mw = 0;
   if (s.record_causes) rx.interferer = StrongestOther(s, st, tx.id, &rx.interferer_mw);
+}
+
+// An A-MPDU whose PHY header was `header_ok`: each MPDU succeeds on its own draw; the PPDU
+// counts as decoded if any did (ns-3 reports RxOk then). The addressed receiver keeps each
+// MPDU's outcome on the transmission.
+bool DrawSubframes(State& s, StationState& st, Transmission& tx, bool header_ok) {
+  const bool addressed = tx.ra == st.mac;
+  const int n = static_cast<int>(tx.subframes.size());
+  const RxOutcome lost = st.rx.interfered ? RxOutcome::kCollided : RxOutcome::kError;
+  if (addressed) tx.subframe_outcome.assign(n, lost);
+  if (!header_ok) return false;
+  bool any = false;
+  for (int i = 0; i < n; ++i) {
+    const double p = st.rx.subframe_success[i];
+    const bool ok = p >= 1.0 || (p > 0.0 && std::generate_canonical<double, 53>(st.rng) < p);
+    any = any || ok;
+    if (addressed && ok) tx.subframe_outcome[i] = RxOutcome::kReceived;
+  }
+  return any;
 }
 
 }  // namespace
@@ -213,6 +263,7 @@ bool SignalEnds(State& s, int station, Transmission& tx, int entry_index) {
     CloseChunk(s, st);
     const double p = st.rx.success_probability;
     decoded = p >= 1.0 || (p > 0.0 && std::generate_canonical<double, 53>(st.rng) < p);
+    if (!tx.subframes.empty()) decoded = DrawSubframes(s, st, tx, decoded);
     entry.sinr = st.rx.min_sinr;
     entry.outcome = decoded ? RxOutcome::kReceived
                             : (st.rx.interfered ? RxOutcome::kCollided : RxOutcome::kError);

@@ -78,6 +78,9 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
   }
   config.short_guard_interval = radio.short_guard_interval();
   config.qos = radio.qos();
+  config.aggregation = radio.aggregation();
+  config.max_ampdu_bytes = {radio.ampdu_max_bytes_bk(), radio.ampdu_max_bytes_be(),
+                            radio.ampdu_max_bytes_vi(), radio.ampdu_max_bytes_vo()};
   config.path_loss_model = PathLossFromScenario(radio.path_loss_model());
   if (radio.has_path_loss_frequency_mhz()) {
     config.path_loss_frequency_hz = radio.path_loss_frequency_mhz() * 1e6;

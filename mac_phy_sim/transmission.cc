@@ -84,9 +84,36 @@ void TraceTransmission(State& s, const Transmission& tx) {
                                                  s.channel.position(r)));
     }
   }
-  TraceEvent event;
-  event.tx = std::move(record);
-  s.trace.push_back(std::move(event));
+  record.addba_response = tx.addba_response;
+  record.ba_starting_sequence = tx.ba_ssn;
+  record.ba_bitmap = tx.ba_bitmap;
+  if (tx.subframes.empty()) {
+    TraceEvent event;
+    event.tx = std::move(record);
+    s.trace.push_back(std::move(event));
+    return;
+  }
+  // An A-MPDU: one record per MPDU (what a capture shows), each with the A-MPDU's reference;
+  // the addressed receiver's outcome is the MPDU's own.
+  const int count = static_cast<int>(tx.subframes.size());
+  record.ampdu_reference = tx.ampdu_reference;
+  for (int i = 0; i < count; ++i) {
+    TraceEvent event;
+    event.tx = record;
+    TxRecord& r = *event.tx;
+    const AmpduSubframe& m = tx.subframes[i];
+    r.sequence_number = m.sequence_number;
+    r.retry = m.retry;
+    r.ethernet_frame = m.ethernet;
+    r.ampdu_last = i + 1 == count;
+    for (RxRecord& rx : r.receptions) {
+      if (s.stations[rx.station].mac == tx.ra && !tx.subframe_outcome.empty() &&
+          rx.outcome == RxOutcome::kReceived) {
+        rx.outcome = tx.subframe_outcome[i];
+      }
+    }
+    s.trace.push_back(std::move(event));
+  }
 }
 
 void CountReceiverOutcome(StationState& st, const Transmission& tx, const RxEntry& e) {
@@ -208,6 +235,7 @@ void EndAtReceiver(State& s, Transmission& tx, int i) {
 void Release(State& s, Transmission& tx) {
   if (s.trace_enabled) TraceTransmission(s, tx);
   tx.ethernet.reset();
+  tx.subframes.clear();
   s.free_transmissions.push_back(tx.id);
 }
 
@@ -218,7 +246,8 @@ uint64_t SignalAux(int tx_id, int entry) {
 }  // namespace
 
 Transmission& StartTransmission(State& s, int source, FrameKind kind, const ModeEntry& mode,
-                                int psdu_bytes, const MacAddress& ra, uint16_t duration_us) {
+                                int psdu_bytes, const MacAddress& ra, uint16_t duration_us,
+                                std::vector<AmpduSubframe>* subframes) {
   int id;
   if (!s.free_transmissions.empty()) {
     id = s.free_transmissions.back();
@@ -242,6 +271,12 @@ Transmission& StartTransmission(State& s, int source, FrameKind kind, const Mode
   tx.sequence_number = 0;
   tx.tid = 0;
   tx.ethernet.reset();
+  tx.subframes.clear();
+  if (subframes != nullptr) tx.subframes.swap(*subframes);
+  tx.subframe_outcome.clear();
+  tx.addba_response = false;
+  tx.ba_ssn = 0;
+  tx.ba_bitmap = 0;
   tx.reported_snr = 0;
   tx.rx.clear();
   tx.signals_pending = 0;

@@ -60,6 +60,10 @@ void ToProto(const tapbridge::AirFrame& f, pm::MediumReply* reply) {
   out->set_frame_index(tx.ethernet_frame ? SharedFrameIndex(*tx.ethernet_frame, reply) : -1);
   out->set_qos(tx.qos);
   out->set_tid(tx.tid);
+  if (tx.ampdu_reference) out->set_ampdu_reference(*tx.ampdu_reference);
+  out->set_block_ack((tx.ba_starting_sequence & 0x0fffu) | (tx.ampdu_last ? 1u << 12 : 0u) |
+                     (tx.addba_response ? 1u << 13 : 0u));
+  out->set_ba_bitmap(tx.ba_bitmap);
   if (tx.mcs >= 0) {
     pm::HtMode* ht = out->mutable_ht();
     ht->set_mcs(tx.mcs);
@@ -79,7 +83,7 @@ tapbridge::AirFrame FromProto(const pm::AirFrame& p, const pm::MediumReply& repl
                               const std::function<std::string()>& describe) {
   tapbridge::AirFrame f;
   mac::TxRecord& tx = f.tx;
-  if (p.kind() < 0 || p.kind() > static_cast<int32_t>(mac::FrameKind::kCfEnd) ||
+  if (p.kind() < 0 || p.kind() > static_cast<int32_t>(mac::kLastFrameKind) ||
       p.duration_ns() < 0 || p.start_ns() > std::numeric_limits<TimeNs>::max() - p.duration_ns()) {
     throw Error(describe() + ": medium reply has an air frame of kind " + std::to_string(p.kind()) +
                 " lasting " + std::to_string(p.duration_ns()) + " ns");
@@ -106,6 +110,11 @@ tapbridge::AirFrame FromProto(const pm::AirFrame& p, const pm::MediumReply& repl
   tx.transmitter = MacFrom(p.sender());
   tx.qos = p.qos();
   tx.tid = static_cast<uint8_t>(p.tid() & 0x0f);
+  if (p.has_ampdu_reference()) tx.ampdu_reference = p.ampdu_reference();
+  tx.ba_starting_sequence = static_cast<uint16_t>(p.block_ack() & 0x0fff);
+  tx.ampdu_last = (p.block_ack() >> 12) & 1;
+  tx.addba_response = (p.block_ack() >> 13) & 1;
+  tx.ba_bitmap = p.ba_bitmap();
   if (p.has_ht()) {
     // Radiotap fields again: a mode mac_phy_sim can send.
     const pm::HtMode& ht = p.ht();

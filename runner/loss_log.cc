@@ -29,6 +29,12 @@ const char* KindName(mac::FrameKind kind) {
       return "CTS";
     case mac::FrameKind::kCfEnd:
       return "CF-End";
+    case mac::FrameKind::kBlockAck:
+      return "BlockAck";
+    case mac::FrameKind::kBlockAckReq:
+      return "BlockAckReq";
+    case mac::FrameKind::kAction:
+      return "Action";
   }
   return "?";
 }

@@ -97,7 +97,9 @@ void ValidateRadioMode(const SourceLocator& at, const proto::Radio& radio) {
             "radio: qos false: 802.11n/ac stations are always QoS stations (as in ns-3 3.37)");
   }
   if (!IsHtOrVht(radio.standard())) {
-    for (const char* field : {"mcs", "spatial_streams", "channel_width_mhz", "short_guard_interval"}) {
+    for (const char* field : {"mcs", "spatial_streams", "channel_width_mhz", "short_guard_interval",
+                              "aggregation", "ampdu_max_bytes_be", "ampdu_max_bytes_vi",
+                              "ampdu_max_bytes_bk", "ampdu_max_bytes_vo"}) {
       const auto* descriptor = radio.GetDescriptor()->FindFieldByName(field);
       if (radio.GetReflection()->HasField(radio, descriptor)) {
         at.Fail({{"radio"}, {field}}, std::string("radio: ") + field +

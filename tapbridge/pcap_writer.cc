@@ -24,6 +24,13 @@ constexpr uint32_t kRadiotapPresentMcs = (kRadiotapPresent & ~(1u << 2)) | (1u <
 constexpr uint32_t kRadiotapPresentVht = (kRadiotapPresent & ~(1u << 2)) | (1u << 21);
 constexpr size_t kRadiotapLengthMcs = 28;
 constexpr size_t kRadiotapLengthVht = 38;  // 25, a pad byte to even, 12 bytes.
+// An MPDU of an A-MPDU adds the A-MPDU status field (bit 20, 4-aligned: reference u32, flags
+// u16, delimiter CRC, reserved; 8 bytes) after the MCS field (HT: 28 + 8 = 36) or before the
+// VHT field (VHT: 25, 3 pad bytes, 8, then VHT at 36: 48).
+constexpr uint32_t kRadiotapPresentAmpdu = 1u << 20;
+constexpr size_t kRadiotapAmpduBytes = 8;
+constexpr size_t kRadiotapLengthVhtAmpdu = 48;
+constexpr uint16_t kAmpduLastKnown = 0x0004, kAmpduIsLast = 0x0008;
 constexpr uint8_t kMcsKnownBandwidthIndexGiFec = 0x01 | 0x02 | 0x04 | 0x10;
 constexpr uint16_t kVhtKnownGiBandwidth = 0x0004 | 0x0040;
 constexpr uint8_t kRadiotapFlagFcsAtEnd = 0x10;
@@ -76,7 +83,8 @@ std::vector<uint8_t> Encode80211Mpdu(const AirFrame& frame) {
 namespace {
 
 // The MCS or VHT radiotap field of an HT/VHT frame (radiotap.org "MCS", "VHT").
-void PutMcsField(const mac::TxRecord& tx, std::string* out) {
+// `vht_pad`: the byte that aligns the VHT field right after Antenna (offset 25).
+void PutMcsField(const mac::TxRecord& tx, std::string* out, bool vht_pad = true) {
   if (!tx.vht) {
     out->push_back(static_cast<char>(kMcsKnownBandwidthIndexGiFec));
     // Bandwidth 0: 20, 1: 40 MHz; bit 2: short GI; FEC 0: BCC.
@@ -85,7 +93,7 @@ void PutMcsField(const mac::TxRecord& tx, std::string* out) {
     out->push_back(static_cast<char>(tx.mcs));
     return;
   }
-  out->push_back(0);  // Pad to the field's 2-byte alignment.
+  if (vht_pad) out->push_back(0);  // Pad to the field's 2-byte alignment.
   PutLe16(out, kVhtKnownGiBandwidth);
   out->push_back(static_cast<char>(tx.short_guard_interval ? 0x04 : 0));
   // Bandwidth: 0: 20, 1: 40, 4: 80 MHz.
@@ -97,13 +105,22 @@ void PutMcsField(const mac::TxRecord& tx, std::string* out) {
   PutLe16(out, 0);    // Partial AID.
 }
 
+void PutAmpduField(const mac::TxRecord& tx, std::string* out) {
+  PutLe32(out, *tx.ampdu_reference);
+  PutLe16(out, static_cast<uint16_t>(kAmpduLastKnown | (tx.ampdu_last ? kAmpduIsLast : 0)));
+  out->push_back(0);  // Delimiter CRC (not known).
+  out->push_back(0);  // Reserved.
+}
+
 }  // namespace
 
 std::string EncodePcapRecord(const AirFrame& frame, TimeNs epoch_offset_ns) {
   const std::vector<uint8_t> mpdu = Encode80211Mpdu(frame);
   const bool mcs = frame.tx.mcs >= 0;
-  const size_t radiotap_length =
+  const bool ampdu = mcs && frame.tx.ampdu_reference.has_value();
+  size_t radiotap_length =
       !mcs ? kRadiotapLength : (frame.tx.vht ? kRadiotapLengthVht : kRadiotapLengthMcs);
+  if (ampdu) radiotap_length = frame.tx.vht ? kRadiotapLengthVhtAmpdu : radiotap_length + kRadiotapAmpduBytes;
   const uint32_t captured = static_cast<uint32_t>(radiotap_length + mpdu.size());
   std::string out;
   out.reserve(16 + captured);
@@ -116,8 +133,9 @@ std::string EncodePcapRecord(const AirFrame& frame, TimeNs epoch_offset_ns) {
   out.push_back(0);  // it_version
   out.push_back(0);  // it_pad
   PutLe16(&out, static_cast<uint16_t>(radiotap_length));
-  PutLe32(&out, !mcs ? kRadiotapPresent
-                     : (frame.tx.vht ? kRadiotapPresentVht : kRadiotapPresentMcs));
+  PutLe32(&out, (!mcs ? kRadiotapPresent
+                      : (frame.tx.vht ? kRadiotapPresentVht : kRadiotapPresentMcs)) |
+                    (ampdu ? kRadiotapPresentAmpdu : 0));
   PutLe64(&out, static_cast<uint64_t>(frame.tx.start_ns / kNsPerUs));  // TSFT, µs (offset 8)
   uint8_t flags = kRadiotapFlagFcsAtEnd;
   if (frame.failed) flags |= kRadiotapFlagBadFcs;
@@ -135,7 +153,14 @@ std::string EncodePcapRecord(const AirFrame& frame, TimeNs epoch_offset_ns) {
   out.push_back(static_cast<char>(ClampDbm(frame.signal_dbm)));  // offset 22
   out.push_back(static_cast<char>(ClampDbm(frame.noise_dbm)));
   out.push_back(0);  // antenna 0
-  if (mcs) PutMcsField(frame.tx, &out);
+  if (ampdu && frame.tx.vht) {
+    out.append(3, '\0');  // Offset 25 to the A-MPDU field's 4-byte alignment.
+    PutAmpduField(frame.tx, &out);
+    PutMcsField(frame.tx, &out, /*vht_pad=*/false);
+  } else if (mcs) {
+    PutMcsField(frame.tx, &out);
+    if (ampdu) PutAmpduField(frame.tx, &out);  // At 28, 4-aligned.
+  }
   out.append(reinterpret_cast<const char*>(mpdu.data()), mpdu.size());
   return out;
 }

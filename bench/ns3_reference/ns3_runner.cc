@@ -186,6 +186,8 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
     mac.SetType("ns3::AdhocWifiMac", "QosSupported", BooleanValue(true), "BE_MaxAmpduSize",
                 UintegerValue(0), "BK_MaxAmpduSize", UintegerValue(0), "VI_MaxAmpduSize",
                 UintegerValue(0), "VO_MaxAmpduSize", UintegerValue(0));
+  } else if (ht && c.ampdu) {
+    mac.SetType("ns3::AdhocWifiMac");  // ns-3 3.37's A-MPDU defaults (BE and VI 65535 B).
   } else if (ht) {
     mac.SetType("ns3::AdhocWifiMac", "BE_MaxAmpduSize", UintegerValue(0));  // No A-MPDU.
   } else {

@@ -284,6 +284,27 @@ std::vector<Case> Cells() {
     }
   }
   for (int mcs = 0; mcs < 10; ++mcs) mcs_cell(Standard::kAc, mcs, 80, false, 5);
+  // With A-MPDU and Block Ack, ns-3 3.37's defaults on both sides (BE_MaxAmpduSize 65535):
+  // HT MCS 0-7 at 20 MHz, n = 1, 5, 10; VHT MCS 0-9 at 80 MHz, n = 5. The id ends in "-ampdu".
+  auto ampdu_cell = [&](Standard s, int mcs, int width, int n) {
+    mcs_cell(s, mcs, width, false, n);
+    Case c = cells.back();
+    cells.pop_back();
+    c.ampdu = true;
+    add(c, c.id + "-ampdu");
+  };
+  for (int mcs = 0; mcs < 8; ++mcs) {
+    for (int n : {1, 5, 10}) ampdu_cell(Standard::kN5, mcs, 20, n);
+  }
+  for (int mcs = 0; mcs < 10; ++mcs) ampdu_cell(Standard::kAc, mcs, 80, 5);
+  // A hidden pair with A-MPDU: HT MCS 0, 20 MHz, 30 m either side of the receiver.
+  {
+    Case c = geo(Standard::kN5, 6.5, Topology::kHidden, 30, 30, 0, false);
+    c.mcs = 0;
+    c.channel_width_mhz = 20;
+    c.ampdu = true;
+    add(c, "n5-mcs0-20MHz-lgi-hidden-30-30-ampdu");
+  }
   // EDCA: every sender saturates voice (UP 6) or video (UP 5) and best effort (UP 0) to a sink;
   // one row measures the higher category's throughput, the next best effort's (issue 44).
   // 802.11n HT MCS 7 20 MHz and 802.11a 54 Mb/s with QoS stations, n = 2 and 4 senders. Best

@@ -182,6 +182,7 @@ MediumConfig ConfigForCase(const side_by_side::Case& c, uint64_t seed) {
     config.mcs = c.mcs;
     config.channel_width_mhz = c.channel_width_mhz;
     config.short_guard_interval = c.short_gi;
+    config.aggregation = c.ampdu;
   }
   config.rts_threshold_bytes = c.rts_threshold_bytes;
   config.qos = c.qos;

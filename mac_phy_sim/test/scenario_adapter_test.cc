@@ -48,6 +48,10 @@ TEST(ScenarioAdapterTest, EveryRadioValueTheScenarioAcceptsBuildsAMedium) {
         if (field->name().rfind("minstrel_", 0) == 0) {
           spec->set_rate_control(proto::Radio::RATE_CONTROL_MINSTREL);
         }
+        // The A-MPDU sizes too; VHT takes the largest (1048575 B).
+        if (field->name().rfind("ampdu_max_bytes_", 0) == 0) {
+          spec->set_standard(proto::Radio::STANDARD_80211AC);
+        }
         const auto* reflection = spec->GetReflection();
         if (field->cpp_type() == google::protobuf::FieldDescriptor::CPPTYPE_DOUBLE) {
           reflection->SetDouble(spec, field, value);

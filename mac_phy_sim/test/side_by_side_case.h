@@ -54,11 +54,13 @@ struct Case {
   Standard standard = Standard::kA;
   bool short_slot = false;  // 11g only.
   double rate_mbps = 54;  // n/ac: the MCS's data rate (sizes the offered load; not configured).
-  // n/ac only: ns-3's HtMcs / VhtMcs index (one spatial stream), width and guard interval;
-  // A-MPDU off on both sides (ns-3: BE_MaxAmpduSize 0).
+  // n/ac only: ns-3's HtMcs / VhtMcs index (one spatial stream), width and guard interval.
   int mcs = -1;
   int channel_width_mhz = 20;
   bool short_gi = false;
+  // n/ac only: A-MPDU and Block Ack with ns-3 3.37's defaults on both sides (BE 65535 B); else
+  // off on both (ns-3: BE_MaxAmpduSize 0). In the CSV as the id's "-ampdu" suffix (IsAmpduId).
+  bool ampdu = false;
   int senders = 5;
   Topology topology = Topology::kRing;
   int payload_bytes = 1500;          // Ethernet/packet payload; MPDU = payload + 36 bytes.
@@ -99,6 +101,9 @@ struct Case {
   bool qos = false;  // a/b/g: QoS stations (ns-3's QosSupported); n/ac always are.
 };
 inline bool IsEdcaCell(const Case& c) { return c.high_priority >= 0; }
+inline bool IsAmpduId(const std::string& id) {
+  return id.size() > 6 && id.compare(id.size() - 6, 6, "-ampdu") == 0;
+}
 
 struct Point {
   double x = 0, y = 0, z = 0;
@@ -167,7 +172,8 @@ inline int64_t OfferIntervalNs(const Case& c) {
   const double bits = 8.0 * (c.payload_bytes + 36);
   const double data_us = (dsss ? 192 : 20) + bits / c.rate_mbps;
   const double cycle_us = 50 + 7.5 * slot_us + data_us + 250;
-  return static_cast<int64_t>(cycle_us * 1000 / 2);
+  // A-MPDUs carry frames faster than one per cycle (up to 64 per access): eight times the load.
+  return static_cast<int64_t>(cycle_us * 1000 / (c.ampdu ? 8 : 2));
 }
 inline int64_t OfferStartNs(int flow_index) { return 1000000LL * flow_index; }
 

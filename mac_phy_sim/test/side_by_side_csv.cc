@@ -72,6 +72,7 @@ bool ParseLine(const std::string& line, Row* row) {
   try {
     Case& c = row->c;
     c.id = f[0];
+    c.ampdu = IsAmpduId(c.id);
     if (f.size() < 2 || !ParseStandard(f[1], &c.standard)) return false;
     const size_t base = kColumnCount + (IsHtOrVht(c.standard) ? 3 : 0);
     if (f.size() != base && f.size() != base + 3) return false;

@@ -127,6 +127,11 @@ TEST(ScenarioTest, RejectsBadHtVhtModes) {
                  "t.textproto:4:36", "mcs 10 out of range [0, 9] for 802.11ac");
   ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211N_5GHZ mcs: 16 }\n",
                  "t.textproto:4:40", "mcs 16 out of range [0, 15]");
+  // A-MPDU fields: 802.11n/ac only, sizes within ns-3's cap (block_ack.h).
+  ExpectRejected(std::string(kTwo) + "radio { aggregation: false }\n", "t.textproto:4:9",
+                 "aggregation applies to STANDARD_80211N_* and STANDARD_80211AC only");
+  ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211AC ampdu_max_bytes_be: 2000000 }\n",
+                 "t.textproto:4:36", "ampdu_max_bytes_be 2000000 out of range [0, 1048575]");
   ExpectRejected("name: \"t\"\nradio { standard: STANDARD_80211AC channel_width_mhz: 20 }\n"
                  "robot { name: \"a\" mcs: 9 }\n",
                  "t.textproto:3:19", "robot \"a\": VHT mcs 9 is not valid at 20 MHz");

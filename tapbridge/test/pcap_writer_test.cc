@@ -161,6 +161,56 @@ TEST(PcapWriter, TsharkDecodesMcsBandwidthAndGi) {
             ",,,,,,,0x0020,,54\n");
 }
 
+// MPDUs of A-MPDUs carry radiotap's A-MPDU status field (reference, last-subframe flags) after
+// the MCS field (HT) or before the VHT field (VHT); the Block Ack frames decode as such.
+TEST(PcapWriter, TsharkDecodesAmpduReferenceAndBlockAckFrames) {
+  if (std::system("tshark --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "no tshark";
+  char path[] = "/tmp/pcap_writer_test_XXXXXX";
+  const int fd = mkstemp(path);
+  ASSERT_GE(fd, 0);
+  close(fd);
+  AirFrame ht_first = HtFrame(false), ht_last = HtFrame(false), vht = HtFrame(true);
+  ht_first.tx.ampdu_reference = ht_last.tx.ampdu_reference = 5;
+  ht_last.tx.ampdu_last = true;
+  ht_last.tx.sequence_number = 1;
+  vht.tx.ampdu_reference = 7;
+  AirFrame block_ack = DataFrame(), block_ack_req = DataFrame(), addba = DataFrame();
+  block_ack.tx.kind = mac::FrameKind::kBlockAck;
+  block_ack.tx.ba_bitmap = 0x3;
+  block_ack_req.tx.kind = mac::FrameKind::kBlockAckReq;
+  addba.tx.kind = mac::FrameKind::kAction;
+  for (const AirFrame* f : {&block_ack, &block_ack_req, &addba}) {
+    EXPECT_EQ(Encode80211Mpdu(*f).size(),
+              f == &block_ack ? 32u : (f == &block_ack_req ? 24u : 37u));
+  }
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << PcapFileHeader() << EncodePcapRecord(ht_first, 0) << EncodePcapRecord(ht_last, 0)
+        << EncodePcapRecord(vht, 1000) << EncodePcapRecord(block_ack, 2000)
+        << EncodePcapRecord(block_ack_req, 3000) << EncodePcapRecord(addba, 4000);
+  }
+  const std::string command =
+      std::string("tshark -r ") + path +
+      " -T fields -E separator=, -e radiotap.ampdu.reference -e radiotap.ampdu.flags.last"
+      " -e radiotap.mcs.index -e radiotap.vht.mcs.0 -e wlan.seq -e wlan.fc.type_subtype"
+      " 2>/dev/null";
+  std::string output;
+  if (FILE* pipe = popen(command.c_str(), "r")) {
+    char buffer[256];
+    while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+    pclose(pipe);
+  }
+  std::remove(path);
+  // DataFrame()'s sequence number is 5. BlockAck 0x0019, BlockAckReq 0x0018, Action 0x000d.
+  EXPECT_EQ(output,
+            "5,0,7,,5,0x0028\n"
+            "5,1,7,,1,0x0028\n"
+            "7,0,,9,5,0x0028\n"
+            ",,,,,0x0019\n"
+            ",,,,,0x0018\n"
+            ",,,,5,0x000d\n");
+}
+
 TEST(PcapWriter, ControlFrameSizes) {
   AirFrame f;
   f.tx.kind = mac::FrameKind::kAck;

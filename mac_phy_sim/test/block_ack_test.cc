@@ -1,0 +1,180 @@
+// A-MPDU and Block Ack (block_ack.h, frame_exchange.cc): the A-MPDU length with delimiters and
+// padding (IEEE 802.11-2016 9.7.1; ns-3 3.37's MpduAggregator), the agreement set up on the air
+// as ns-3 does, the 5484 us PPDU limit, the Block Ack window, retransmission of lost MPDUs only,
+// and the BlockAckReq after a missed BlockAck.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "mac_phy_sim/block_ack.h"
+#include "mac_phy_sim/mac_phy_sim.h"
+#include "mac_phy_sim/test/saturation_harness.h"
+
+namespace sitlnet::mac {
+namespace {
+
+using testing::DrainTransmissions;
+using testing::MakeEthernetFrame;
+
+const MacAddress kA{{2, 0, 0, 0, 0, 1}}, kB{{2, 0, 0, 0, 0, 2}};
+
+// A station sends `frames` frames of 1500 B to a second one `distance_m` away; the trace.
+std::vector<TxRecord> RunPair(MediumConfig config, int frames, double distance_m, TimeNs until_ns,
+                          std::vector<Delivery>* deliveries = nullptr) {
+  Medium medium(config);
+  medium.EnableTrace(true);
+  medium.AddStation(kA, {0, 0, 0});
+  medium.AddStation(kB, {distance_m, 0, 0});
+  for (int i = 0; i < frames; ++i) medium.SubmitFrame(0, MakeEthernetFrame(kB, kA, 1500), 0);
+  std::vector<Delivery> local;
+  medium.AdvanceTo(until_ns, deliveries != nullptr ? deliveries : &local);
+  return DrainTransmissions(medium);
+}
+
+// Aggregation on (radio.aggregation: true; off by default).
+MediumConfig Ht(int mcs) {
+  MediumConfig config;
+  config.standard = Standard::k80211n5GHz;
+  config.mcs = mcs;
+  config.aggregation = true;
+  return config;
+}
+
+// The MPDUs of the first A-MPDU in a trace.
+int FirstAmpduMpdus(const std::vector<TxRecord>& txs) {
+  int count = 0;
+  for (const TxRecord& t : txs) {
+    if (t.ampdu_reference && *t.ampdu_reference == 0) ++count;
+  }
+  return count;
+}
+
+// 9.7.1: every subframe but the last is padded to 4 bytes; each has a 4-byte delimiter.
+TEST(BlockAckTest, AmpduLengthCountsDelimitersAndPadding) {
+  EXPECT_EQ(AmpduBytesIfAggregated(0, 1538), 4 + 1538);
+  EXPECT_EQ(AmpduBytesIfAggregated(1542, 1538), 1542 + 2 + 4 + 1538);
+  EXPECT_EQ(AmpduBytesIfAggregated(1544, 100), 1544 + 4 + 100);
+  int bytes = 0;
+  for (int i = 0; i < 3; ++i) bytes = AmpduBytesIfAggregated(bytes, 37);
+  EXPECT_EQ(bytes, 44 + 44 + 41);  // 4 + 37 + 3 padding, twice, then 4 + 37.
+}
+
+// The agreement as ns-3 3.37 sets it up: with more than one frame queued for the receiver, an
+// ADDBA Request (an action frame at the lowest basic rate, 6 Mb/s), its ACK, the Response the
+// receiver queues and sends after its own access, its ACK; then A-MPDUs, each answered by a
+// compressed BlockAck a SIFS later at the ACK's rate.
+TEST(BlockAckTest, AgreementOnTheAirThenAmpdusAndBlockAcks) {
+  const std::vector<TxRecord> txs = RunPair(Ht(7), 100, 1, 20 * kNsPerMs);
+  ASSERT_GE(txs.size(), 6u);
+  EXPECT_EQ(txs[0].kind, FrameKind::kAction);
+  EXPECT_FALSE(txs[0].addba_response);
+  EXPECT_EQ(txs[0].source, 0);
+  EXPECT_EQ(txs[0].rate_mbps, 6);
+  EXPECT_EQ(txs[0].end_ns - txs[0].start_ns, (20 + 4 * ((16 + 8 * 37 + 6 + 23) / 24)) * kNsPerUs);
+  EXPECT_EQ(txs[1].kind, FrameKind::kAck);
+  EXPECT_EQ(txs[2].kind, FrameKind::kAction);
+  EXPECT_TRUE(txs[2].addba_response);
+  EXPECT_EQ(txs[2].source, 1);
+  EXPECT_EQ(txs[3].kind, FrameKind::kAck);
+  EXPECT_EQ(txs[4].kind, FrameKind::kData);
+  ASSERT_TRUE(txs[4].ampdu_reference.has_value());
+  size_t i = 4;
+  while (i < txs.size() && txs[i].kind == FrameKind::kData) ++i;
+  ASSERT_LT(i, txs.size());
+  EXPECT_EQ(txs[i].kind, FrameKind::kBlockAck);
+  EXPECT_EQ(txs[i].start_ns, txs[i - 1].end_ns + 16 * kNsPerUs);
+  // 24 Mb/s answers MCS 7's 65 Mb/s (ns-3's control answer mode): 32 B in 20 + 4 x 4 us.
+  EXPECT_EQ(txs[i].rate_mbps, 24);
+  EXPECT_EQ(txs[i].end_ns - txs[i].start_ns, (20 + 4 * ((16 + 8 * 32 + 6 + 95) / 96)) * kNsPerUs);
+  EXPECT_TRUE(txs[i - 1].ampdu_last);
+  // One frame alone: no agreement on HT (ns-3's "packets > 1"), a plain QoS Data and its ACK.
+  const std::vector<TxRecord> one = RunPair(Ht(7), 1, 1, 10 * kNsPerMs);
+  ASSERT_EQ(one.size(), 2u);
+  EXPECT_EQ(one[0].kind, FrameKind::kData);
+  EXPECT_FALSE(one[0].ampdu_reference.has_value());
+}
+
+// The PPDU limit, aPPDUMaxTime 5484 us (19.4.4). HT MCS 7, 20 MHz, 800 ns GI: 36 us of
+// HT-mixed preamble, 260 bits per 4 us symbol. N MPDUs of 1538 B make a PSDU of 1544 N - 2 B,
+// 16 + 8 L + 6 bits. The largest N that fits and the 65535 B size limit's (42) differ; a small
+// size limit binds first.
+TEST(BlockAckTest, AmpduStopsAtThePpduDurationLimitAndTheSizeLimit) {
+  auto duration_us = [](int n) {
+    const int psdu = 1544 * n - 2;
+    return 36 + 4 * ((16 + 8 * psdu + 6 + 259) / 260);
+  };
+  int expected = 1;
+  while (duration_us(expected + 1) <= 5484 && 1544 * (expected + 1) - 2 <= 65535) ++expected;
+  EXPECT_LT(expected, 42);
+  EXPECT_EQ(FirstAmpduMpdus(RunPair(Ht(7), 100, 1, 20 * kNsPerMs)), expected);
+  MediumConfig small = Ht(7);
+  small.max_ampdu_bytes[static_cast<int>(AccessCategory::kBestEffort)] = 8000;
+  EXPECT_EQ(FirstAmpduMpdus(RunPair(small, 100, 1, 20 * kNsPerMs)), (8000 + 2) / 1544);
+  MediumConfig off = Ht(7);
+  off.aggregation = false;
+  EXPECT_EQ(FirstAmpduMpdus(RunPair(off, 100, 1, 20 * kNsPerMs)), 0);
+}
+
+// No A-MPDU holds more than the 64-MPDU window: VHT MCS 9, 80 MHz (390 Mb/s) with ns-3's VHT
+// cap of 1048575 B would fit about 170 frames in 5484 us.
+TEST(BlockAckTest, AmpduStaysWithinTheBlockAckWindow) {
+  MediumConfig config;
+  config.standard = Standard::k80211ac;
+  config.mcs = 9;
+  config.aggregation = true;
+  config.max_ampdu_bytes[static_cast<int>(AccessCategory::kBestEffort)] = kMaxAmpduBytesVht;
+  std::vector<Delivery> deliveries;
+  const std::vector<TxRecord> txs = RunPair(config, 300, 1, 30 * kNsPerMs, &deliveries);
+  EXPECT_EQ(FirstAmpduMpdus(txs), kBlockAckWindow);
+  EXPECT_EQ(deliveries.size(), 300u);
+}
+
+// On a lossy link each MPDU lives or dies on its own: the next A-MPDU retransmits exactly the
+// MPDUs the receiver missed (Retry set), and never one it got; every frame arrives once, in
+// order. An A-MPDU the receiver lost whole gets no BlockAck: a BlockAckReq follows (ns-3 3.37's
+// UseExplicitBarAfterMissedBlockAck), answered by a BlockAck.
+// HT MCS 7 at 22 m: about two MPDUs in three lost (log-distance, exponent 3).
+constexpr double kLossyDistanceM = 22;
+TEST(BlockAckTest, OnlyLostMpdusAreRetransmittedAndAMissedBlockAckBringsABlockAckReq) {
+  MediumConfig config = Ht(7);
+  config.max_ampdu_bytes[static_cast<int>(AccessCategory::kBestEffort)] = 3200;  // 2 MPDUs.
+  config.short_retry_limit = 1000;
+  std::vector<Delivery> deliveries;
+  const std::vector<TxRecord> txs = RunPair(config, 300, kLossyDistanceM, 400 * kNsPerMs, &deliveries);
+  std::vector<int> received_at(4096, 0);
+  int lost = 0, retried = 0, bars = 0, bars_answered = 0;
+  std::vector<int> missed;  // Sequence numbers B missed, not yet retransmitted.
+  for (size_t i = 0; i < txs.size(); ++i) {
+    const TxRecord& t = txs[i];
+    if (t.kind == FrameKind::kBlockAckReq) {
+      ++bars;
+      if (i + 1 < txs.size() && txs[i + 1].kind == FrameKind::kBlockAck) ++bars_answered;
+      continue;
+    }
+    if (t.kind != FrameKind::kData) continue;  // A last frame alone goes without an A-MPDU.
+    const bool got = t.receptions[0].outcome == RxOutcome::kReceived;
+    if (t.retry) {
+      ++retried;
+      EXPECT_EQ(received_at[t.sequence_number], 0) << "retransmitted after it arrived";
+      missed.erase(std::remove(missed.begin(), missed.end(), t.sequence_number), missed.end());
+    }
+    if (got) {
+      ++received_at[t.sequence_number];
+    } else {
+      ++lost;
+      missed.push_back(t.sequence_number);
+    }
+  }
+  EXPECT_GT(lost, 20);
+  EXPECT_GT(retried, 20);
+  EXPECT_GT(bars, 0);
+  EXPECT_EQ(bars, bars_answered);
+  ASSERT_EQ(deliveries.size(), 300u);
+  // In order and once each: the payloads carry nothing to tell apart, the count and the trace
+  // do (each sequence number received once).
+  for (int seq = 0; seq < 300; ++seq) EXPECT_EQ(received_at[seq], 1) << seq;
+}
+
+}  // namespace
+}  // namespace sitlnet::mac
