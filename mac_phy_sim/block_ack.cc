@@ -186,11 +186,11 @@ bool BlockAckCovers(uint16_t ssn, uint64_t bitmap, uint16_t sequence_number) {
 
 void ReportAmpduTxStatus(State& s, int station, const MacAddress& recipient, int acked,
                          int failed, const RateEntry* rate, double block_ack_snr) {
-  (void)failed;
-  (void)rate;
-  // ns-3's IdealWifiManager::DoReportAmpduTxStatus keeps the BlockAck's SNR when any MPDU got
-  // through. Minstrel-HT (another branch) takes acked, failed and rate here.
-  if (acked > 0) ReportSnr(s, station, recipient, block_ack_snr);
+  (void)rate;  // Minstrel-HT, when it comes, needs the rate too (rate_manager.h).
+  // ns-3's ReportAmpduTxStatus: the SNR the recipient measured on the A-MPDU comes back in the
+  // BlockAck (0: none came); IdealWifiManager keeps a non-zero one.
+  s.stations[station].rate_manager->ReportAmpduTxStatus(recipient, acked, failed, 0,
+                                                        block_ack_snr, s.now_ns);
 }
 
 }  // namespace sitlnet::mac
