@@ -225,9 +225,13 @@ TEST(ShippedFleetScenariosTest,
           << "instance " << instance << ", system " << id << "\n"
           << outputs[instance - 1].substr(0, 2000);
       EXPECT_LE(clock.at(id), 1100) << "instance " << instance << ", system " << id;
+      // The clock bound counts from the first message heard, so it cannot see a relay that
+      // starts late; the wall clock from the bind can, coarsely (1.1-1.4 s seen at load 29-34,
+      // when lockstep ran slower than real time).
+      EXPECT_LE(wall.at(id), 3000) << "instance " << instance << ", system " << id;
       std::printf(
           "[ measured ] PX4 fleet, GCS instance %d: system %d's first heartbeat %d ms of the "
-          "vehicles' clock (%d ms wall) after binding\n",
+          "vehicles' clock after the first message heard, %d ms wall after binding\n",
           instance, id, clock.at(id), wall.at(id));
     }
   }
