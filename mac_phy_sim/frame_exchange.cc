@@ -453,11 +453,21 @@ void ReleaseTxop(State& s, int station, int ac) {
   StartBackoff(s, station, ac);
 }
 
-// The addressed receiver decoded at least one MPDU of an A-MPDU: those it decoded go to the
-// reordering buffer, and a BlockAck answers a SIFS later at the ACK's rate (ns-3's
-// GetBlockAckTxVector: the control answer mode of the data's).
-void ReceiveAmpdu(State& s, int station, const Transmission& tx, const RxEntry& entry) {
+// A BlockAck answers `tx` (an A-MPDU or a BlockAckReq) a SIFS later at the ACK's rate (ns-3's
+// GetBlockAckTxVector: the control answer mode of the data's), its Duration the rest of tx's.
+void ScheduleBlockAck(State& s, int station, const Transmission& tx, const RxEntry& entry) {
   StationState& st = s.stations[station];
+  const RateEntry& answered = RateFor(s, tx.mode->mode);
+  const TimeNs rest_ns = tx.duration_us * kNsPerUs - s.phy.sifs_ns - BlockAckNs(answered);
+  ScheduleResponse(s, station, FrameKind::kBlockAck, tx.ta,
+                   rest_ns >= kNsPerUs ? Micros(rest_ns) : 0, &answered, entry.sinr);
+  st.response_source = tx.source;
+  st.response_tid = tx.tid;
+}
+
+// The addressed receiver decoded at least one MPDU of an A-MPDU: those it decoded go to the
+// reordering buffer, and a BlockAck answers.
+void ReceiveAmpdu(State& s, int station, const Transmission& tx, const RxEntry& entry) {
   BaRecipient* agreement = RecipientAgreement(s, station, tx.source, tx.tid);
   if (agreement == nullptr) return;  // No agreement: ns-3 drops it; no BlockAck.
   for (size_t i = 0; i < tx.subframes.size(); ++i) {
@@ -466,12 +476,7 @@ void ReceiveAmpdu(State& s, int station, const Transmission& tx, const RxEntry& 
     ReceiveUnderAgreement(s, station, *agreement, m.sequence_number, m.ethernet, entry.power_dbm,
                           entry.sinr);
   }
-  const RateEntry& answered = RateFor(s, tx.mode->mode);
-  const TimeNs rest_ns = tx.duration_us * kNsPerUs - s.phy.sifs_ns - BlockAckNs(answered);
-  ScheduleResponse(s, station, FrameKind::kBlockAck, tx.ta,
-                   rest_ns >= kNsPerUs ? Micros(rest_ns) : 0, &answered, entry.sinr);
-  st.response_source = tx.source;
-  st.response_tid = tx.tid;
+  ScheduleBlockAck(s, station, tx, entry);
 }
 
 // An ADDBA Request or Response addressed here: ACKed like data. A Request creates the
@@ -790,12 +795,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
       if (for_me) {
         BaRecipient* agreement = RecipientAgreement(s, station, tx.source, tx.tid);
         if (agreement != nullptr) ReceiveBlockAckReq(s, station, *agreement, tx.ba_ssn);
-        const RateEntry& answered = RateFor(s, tx.mode->mode);
-        const TimeNs rest_ns = tx.duration_us * kNsPerUs - s.phy.sifs_ns - BlockAckNs(answered);
-        ScheduleResponse(s, station, FrameKind::kBlockAck, tx.ta,
-                         rest_ns >= kNsPerUs ? Micros(rest_ns) : 0, &answered, entry.sinr);
-        st.response_source = tx.source;
-        st.response_tid = tx.tid;
+        ScheduleBlockAck(s, station, tx, entry);
       }
       return;
     case FrameKind::kBlockAck:

@@ -128,6 +128,21 @@ TEST(PcapWriter, VhtFramesCarryTheVhtField) {
   EXPECT_EQ(static_cast<uint8_t>(rt[30]), 0x92);  // MCS 9, 2 streams
 }
 
+// tshark's fields (`-e ...`, comma-separated, one line per frame) of the pcap at `path`, which
+// is removed afterwards.
+std::string TsharkFieldsOnce(const std::string& path, const std::string& fields) {
+  const std::string command =
+      "tshark -r " + path + " -T fields -E separator=, " + fields + " 2>/dev/null";
+  std::string output;
+  if (FILE* pipe = popen(command.c_str(), "r")) {
+    char buffer[256];
+    while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+    pclose(pipe);
+  }
+  std::remove(path.c_str());
+  return output;
+}
+
 // What Wireshark's dissector makes of them: the oracle for the field layout.
 TEST(PcapWriter, TsharkDecodesMcsBandwidthAndGi) {
   if (std::system("tshark --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "no tshark";
@@ -140,18 +155,11 @@ TEST(PcapWriter, TsharkDecodesMcsBandwidthAndGi) {
     out << PcapFileHeader() << EncodePcapRecord(HtFrame(false), 0)
         << EncodePcapRecord(HtFrame(true), 1000) << EncodePcapRecord(DataFrame(), 2000);
   }
-  const std::string command =
-      std::string("tshark -r ") + path +
-      " -T fields -E separator=, -e radiotap.mcs.index -e radiotap.mcs.bw -e radiotap.mcs.gi"
+  const std::string output = TsharkFieldsOnce(
+      path,
+      "-e radiotap.mcs.index -e radiotap.mcs.bw -e radiotap.mcs.gi"
       " -e radiotap.vht.mcs.0 -e radiotap.vht.nss.0 -e radiotap.vht.bw -e radiotap.vht.gi"
-      " -e wlan.fc.type_subtype -e wlan.qos.tid -e radiotap.datarate 2>/dev/null";
-  std::string output;
-  if (FILE* pipe = popen(command.c_str(), "r")) {
-    char buffer[256];
-    while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-    pclose(pipe);
-  }
-  std::remove(path);
+      " -e wlan.fc.type_subtype -e wlan.qos.tid -e radiotap.datarate");
   // HT: MCS 7, 40 MHz (bw 1), short GI (1), QoS Data (0x0028), TID 0, and the rate Wireshark
   // derives from them: 150 Mb/s. VHT: MCS 9, 2 streams, 80 MHz (bw 4), long GI (0), TID 6. 802.11a:
   // Data (0x0020) at 54 Mb/s, no MCS fields.
@@ -189,18 +197,10 @@ TEST(PcapWriter, TsharkDecodesAmpduReferenceAndBlockAckFrames) {
         << EncodePcapRecord(vht, 1000) << EncodePcapRecord(block_ack, 2000)
         << EncodePcapRecord(block_ack_req, 3000) << EncodePcapRecord(addba, 4000);
   }
-  const std::string command =
-      std::string("tshark -r ") + path +
-      " -T fields -E separator=, -e radiotap.ampdu.reference -e radiotap.ampdu.flags.last"
-      " -e radiotap.mcs.index -e radiotap.vht.mcs.0 -e wlan.seq -e wlan.fc.type_subtype"
-      " 2>/dev/null";
-  std::string output;
-  if (FILE* pipe = popen(command.c_str(), "r")) {
-    char buffer[256];
-    while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-    pclose(pipe);
-  }
-  std::remove(path);
+  const std::string output = TsharkFieldsOnce(
+      path,
+      "-e radiotap.ampdu.reference -e radiotap.ampdu.flags.last"
+      " -e radiotap.mcs.index -e radiotap.vht.mcs.0 -e wlan.seq -e wlan.fc.type_subtype");
   // DataFrame()'s sequence number is 5. BlockAck 0x0019, BlockAckReq 0x0018, Action 0x000d.
   EXPECT_EQ(output,
             "5,0,7,,5,0x0028\n"
