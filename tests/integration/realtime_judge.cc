@@ -33,6 +33,19 @@ void Report(const ::testing::TestPartResultArray& results) {
   }
 }
 
+// The first attempt's failures, at most five, one line each: shown, not counted.
+void PrintHeldFailures(const ::testing::TestPartResultArray& results) {
+  for (int i = 0; i < results.size() && i < 5; ++i) {
+    const ::testing::TestPartResult& result = results.GetTestPartResult(i);
+    if (!result.failed()) continue;
+    std::string summary = result.summary();
+    std::replace(summary.begin(), summary.end(), '\n', ' ');
+    std::printf("  %s:%d: %.300s\n", result.file_name() ? result.file_name() : "?",
+                result.line_number(), summary.c_str());
+  }
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 void FlyJudgedOnAHostThatKeptUp(const std::function<bool(bool may_fly_again)>& flight) {
@@ -52,16 +65,26 @@ void FlyJudgedOnAHostThatKeptUp(const std::function<bool(bool may_fly_again)>& f
   }
   std::printf("[ host     ] the first flight %s while %s; flying once more. Its failures:\n",
               starved ? "was starved, said the autopilot," : "failed", HostLoad(&watch).c_str());
-  for (int i = 0; i < first.size() && i < 5; ++i) {
-    const ::testing::TestPartResult& result = first.GetTestPartResult(i);
-    if (!result.failed()) continue;
-    std::string summary = result.summary();
-    std::replace(summary.begin(), summary.end(), '\n', ' ');
-    std::printf("  %s:%d: %.300s\n", result.file_name() ? result.file_name() : "?",
-                result.line_number(), summary.c_str());
-  }
-  std::fflush(stdout);
+  PrintHeldFailures(first);
   flight(false);
+}
+
+void RunOnceMoreIfItFails(const std::function<void()>& attempt) {
+  const HostCpuWatch watch;
+  ::testing::TestPartResultArray first;
+  {
+    const ::testing::ScopedFakeTestPartResultReporter intercept(
+        ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ALL_THREADS, &first);
+    attempt();
+  }
+  if (!Failed(first)) {
+    Report(first);
+    return;
+  }
+  std::printf("[ host     ] the first run failed while %s; running once more. Its failures:\n",
+              HostLoad(&watch).c_str());
+  PrintHeldFailures(first);
+  attempt();
 }
 
 }  // namespace sitlnet::integration_test
