@@ -396,19 +396,9 @@ void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {
         at.Fail({{"robot", i}, {"position_m"}}, who + "position_m must be finite, within 1e6 m");
       }
     }
-    // Declared ranges and rates: the radio overrides' (same_rules_as), lidar, IMU and GPS figures.
+    // Declared ranges and rates: ports, the failsafe, the radio overrides' (same_rules_as),
+    // lidar, IMU and GPS figures.
     CheckFieldRules(at, {{"robot", i}}, who, robot, spec.radio().standard());
-    if (robot.command_timeout_ms() < 0 || robot.command_timeout_ms() > kMaxDurationMs) {
-      at.Fail({{"robot", i}, {"command_timeout_ms"}},
-              who + "command_timeout_ms must be in [0, " + std::to_string(kMaxDurationMs) + "]");
-    }
-    if (robot.ardupilot_json_port() > 65535) {
-      at.Fail({{"robot", i}, {"ardupilot_json_port"}},
-              who + "ardupilot_json_port must be <= 65535");
-    }
-    if (robot.px4_sim_port() > 65535) {
-      at.Fail({{"robot", i}, {"px4_sim_port"}}, who + "px4_sim_port must be <= 65535");
-    }
     if (robot.ground_station() && (robot.px4_sim_port() != 0 || robot.ardupilot_json_port() != 0)) {
       at.Fail({{"robot", i}, {"ground_station"}},
               who + "is a ground station: it has no physics for an autopilot to fly");

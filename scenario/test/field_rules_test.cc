@@ -65,10 +65,14 @@ TEST(FieldRulesTest, EveryDefaultLiesInItsDeclaredRange) {
 }
 
 // kMaxDurationMs is a C++ constant (the remote medium and the CLI bound times with it at compile
-// time); the proto's bound must be the same number.
+// time); the proto's bounds of durations must be the same number.
 TEST(FieldRulesTest, DurationBoundIsKMaxDurationMs) {
-  const auto& rules = proto::Timing::descriptor()->FindFieldByName("duration_ms")->options();
-  EXPECT_EQ(rules.GetExtension(proto::range_max), static_cast<double>(kMaxDurationMs));
+  for (const google::protobuf::FieldDescriptor* field :
+       {proto::Timing::descriptor()->FindFieldByName("duration_ms"),
+        proto::Robot::descriptor()->FindFieldByName("command_timeout_ms")}) {
+    EXPECT_EQ(field->options().GetExtension(proto::range_max), static_cast<double>(kMaxDurationMs))
+        << field->full_name();
+  }
 }
 
 TEST(FieldRulesTest, MessagesNameTheFieldTheValueAndTheRule) {

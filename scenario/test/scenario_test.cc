@@ -324,7 +324,7 @@ TEST(ScenarioTest, RejectsBadHilSensorFigures) {
 
 TEST(ScenarioTest, RejectsBadAutopilotPorts) {
   ExpectRejected("name: \"t\"\nrobot { name: \"a\" px4_sim_port: 70000 }\n", "t.textproto:2:",
-                 "px4_sim_port must be <= 65535");
+                 "px4_sim_port 70000 out of range [0, 65535]");
   ExpectRejected(
       "name: \"t\"\nrobot { name: \"a\" px4_sim_port: 4560 ardupilot_json_port: 9002 }\n",
       "t.textproto:2:", "has both ardupilot_json_port and px4_sim_port");
