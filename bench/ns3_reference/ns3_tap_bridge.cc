@@ -7,7 +7,9 @@
 // of bench/ns3_reference's saturation matrix. tcp_side_by_side.sh runs it
 // and `sitlnet medium` in turn under the same iperf3 flow.
 //
-// Usage: ns3_tap_bridge NETNS_A NETNS_B DISTANCE_M RATE_MBPS
+// Usage: ns3_tap_bridge NETNS_A NETNS_B DISTANCE_M RADIO
+//   RADIO: an 802.11a rate in Mb/s (54), or 802.11n at 5 GHz, 20 MHz: ht-mcsM (no A-MPDU) or
+//   ht-mcsM-ampdu (ns-3's A-MPDU defaults), M in 0..7.
 //   Prints "ready" once both TAPs are attached; runs until SIGTERM or SIGINT;
 //   then prints the MAC-level counters of both devices and exits 0.
 //
@@ -147,7 +149,9 @@ extern "C" int execlp(const char* file, const char* arg, ...) {
 int main(int argc, char** argv) {
   using namespace ns3;
   if (argc != 5) {
-    std::fprintf(stderr, "usage: ns3_tap_bridge NETNS_A NETNS_B DISTANCE_M RATE_MBPS\n");
+    std::fprintf(stderr,
+                 "usage: ns3_tap_bridge NETNS_A NETNS_B DISTANCE_M RADIO (54, ht-mcs7, "
+                 "ht-mcs7-ampdu)\n");
     return 2;
   }
   if (access(kPackagedTapCreator, X_OK) != 0) {
@@ -156,7 +160,16 @@ int main(int argc, char** argv) {
   }
   const std::vector<std::string> netns = {argv[1], argv[2]};
   const double distance_m = std::stod(argv[3]);
-  const double rate_mbps = std::stod(argv[4]);
+  const std::string radio = argv[4];
+  int ht_mcs = -1;
+  char ampdu_suffix[8] = "";
+  const bool ht = std::sscanf(radio.c_str(), "ht-mcs%d%7s", &ht_mcs, ampdu_suffix) >= 1;
+  const bool ampdu = std::strcmp(ampdu_suffix, "-ampdu") == 0;
+  if (ht && (ht_mcs < 0 || ht_mcs > 7 || (ampdu_suffix[0] != '\0' && !ampdu))) {
+    std::fprintf(stderr, "ns3_tap_bridge: RADIO %s: want ht-mcsM or ht-mcsM-ampdu, M 0..7\n",
+                 radio.c_str());
+    return 2;
+  }
 
   // Blocked here, so every thread made later (ns-3's TAP readers too) has it
   // blocked and only the watcher below takes it.
@@ -169,7 +182,8 @@ int main(int argc, char** argv) {
   GlobalValue::Bind("SimulatorImplementationType", StringValue("ns3::RealtimeSimulatorImpl"));
   GlobalValue::Bind("ChecksumEnabled", BooleanValue(true));
 
-  const Ns3TwoStations stations = MakeTwo80211aStations(distance_m, rate_mbps);
+  const Ns3TwoStations stations = ht ? MakeTwoHtStations(distance_m, ht_mcs, ampdu)
+                                     : MakeTwo80211aStations(distance_m, std::stod(radio));
   const NodeContainer& nodes = stations.nodes;
   const NetDeviceContainer& devices = stations.devices;
 

@@ -17,7 +17,11 @@ std::string OfdmMode(double rate_mbps) {
 
 }  // namespace
 
-Ns3TwoStations MakeTwo80211aStations(double distance_m, double rate_mbps) {
+namespace {
+
+// Two nodes `distance_m` apart on a Yans channel with the matrix's log-distance loss; `phy`
+// gets the channel and the NIST error model.
+Ns3TwoStations PlaceTwoNodes(double distance_m, ns3::YansWifiPhyHelper* phy) {
   using namespace ns3;
   Ns3TwoStations stations;
   stations.nodes.Create(2);
@@ -28,22 +32,51 @@ Ns3TwoStations MakeTwo80211aStations(double distance_m, double rate_mbps) {
   mobility.SetPositionAllocator(positions);
   mobility.SetMobilityModel("ns3::ConstantPositionMobilityModel");
   mobility.Install(stations.nodes);
-  WifiHelper wifi;
-  wifi.SetStandard(WIFI_STANDARD_80211a);
-  wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode",
-                               StringValue(OfdmMode(rate_mbps)), "ControlMode",
-                               StringValue(OfdmMode(6)));
   Ptr<YansWifiChannel> channel = CreateObject<YansWifiChannel>();
   channel->SetPropagationDelayModel(CreateObject<ConstantSpeedPropagationDelayModel>());
   Ptr<LogDistancePropagationLossModel> loss = CreateObject<LogDistancePropagationLossModel>();
   loss->SetAttribute("Exponent", DoubleValue(3));
   loss->SetAttribute("ReferenceLoss", DoubleValue(Ns3Radio{}.reference_loss_db));
   channel->SetPropagationLossModel(loss);
+  phy->SetChannel(channel);
+  phy->SetErrorRateModel("ns3::NistErrorRateModel");
+  return stations;
+}
+
+}  // namespace
+
+Ns3TwoStations MakeTwo80211aStations(double distance_m, double rate_mbps) {
+  using namespace ns3;
   YansWifiPhyHelper phy;
-  phy.SetChannel(channel);
-  phy.SetErrorRateModel("ns3::NistErrorRateModel");
+  Ns3TwoStations stations = PlaceTwoNodes(distance_m, &phy);
+  WifiHelper wifi;
+  wifi.SetStandard(WIFI_STANDARD_80211a);
+  wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode",
+                               StringValue(OfdmMode(rate_mbps)), "ControlMode",
+                               StringValue(OfdmMode(6)));
   WifiMacHelper mac;
   mac.SetType("ns3::AdhocWifiMac");
+  stations.devices = wifi.Install(phy, mac, stations.nodes);
+  return stations;
+}
+
+Ns3TwoStations MakeTwoHtStations(double distance_m, int mcs, bool ampdu) {
+  using namespace ns3;
+  Config::SetDefault("ns3::HtConfiguration::ShortGuardIntervalSupported", BooleanValue(false));
+  YansWifiPhyHelper phy;
+  Ns3TwoStations stations = PlaceTwoNodes(distance_m, &phy);
+  phy.Set("ChannelSettings", StringValue("{0, 20, BAND_5GHZ, 0}"));
+  WifiHelper wifi;
+  wifi.SetStandard(WIFI_STANDARD_80211n);
+  wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode",
+                               StringValue("HtMcs" + std::to_string(mcs)), "ControlMode",
+                               StringValue(OfdmMode(6)));
+  WifiMacHelper mac;
+  if (ampdu) {
+    mac.SetType("ns3::AdhocWifiMac");
+  } else {
+    mac.SetType("ns3::AdhocWifiMac", "BE_MaxAmpduSize", UintegerValue(0));
+  }
   stations.devices = wifi.Install(phy, mac, stations.nodes);
   return stations;
 }

@@ -18,4 +18,10 @@ struct Ns3TwoStations {
 // ad hoc non-QoS MAC.
 Ns3TwoStations MakeTwo80211aStations(double distance_m, double rate_mbps);
 
+// The same two nodes and channel as 802.11n stations at 5 GHz, 20 MHz, 800 ns guard interval,
+// ConstantRateWifiManager at HtMcs`mcs` (RTS at 6 Mb/s): ns-3 3.37's QoS ad hoc MAC, with
+// its A-MPDU defaults when `ampdu` (BE and VI 65535 B), else BE_MaxAmpduSize 0 (no A-MPDU),
+// as bench/ns3_reference's saturation matrix sets its HT cells.
+Ns3TwoStations MakeTwoHtStations(double distance_m, int mcs, bool ampdu);
+
 #endif  // SITLNET_BENCH_NS3_REFERENCE_NS3_TWO_STATIONS_H_

@@ -1,19 +1,24 @@
 #!/bin/bash
-# TCP between two robots, sitlnet's medium and ns-3's TapBridge side by side
-# in one run: the same two namespaces (sitlnet up), the same unmodified
+# TCP or UDP between two robots, sitlnet's medium and ns-3's TapBridge side by
+# side in one run: the same two namespaces (sitlnet up), the same unmodified
 # iperf3 flow, the medium in between alternated (sitlnet medium, then ns-3,
 # then ns-3, then sitlnet, ... : ABBA rounds, so a drift of the host's load
-# falls on both). 802.11a ad hoc, two robots DISTANCE m apart (10: a clean
-# channel), RATE_MBPS (default 54). Prints one row per run, then the medians and their
-# ratio; writes the rows to <build-dir>/ns3_tcp.csv. Needs root; installs
-# Debian's libns3-dev and ns3 (TapBridge's TAP opener) if missing.
-# Usage: bench/ns3_reference/tcp_side_by_side.sh [build-dir] [rounds] [seconds] [rate-mbps]
+# falls on both). Ad hoc, two robots DISTANCE m apart (10: a clean channel).
+# RADIO: an 802.11a rate in Mb/s (default 54), or 802.11n at 5 GHz, 20 MHz, long
+# guard interval: ht-mcsM (no A-MPDU) or ht-mcsM-ampdu (radio.aggregation: true;
+# ns-3's A-MPDU defaults). PROTOCOL: tcp (default) or udp (iperf3 -u -b 100M -l
+# 1470: more than either medium carries; the receiver's goodput). Prints one row
+# per run, then the medians and their ratio; writes the rows to
+# <build-dir>/ns3_<protocol>[_<radio>].csv. Needs root; installs Debian's
+# libns3-dev and ns3 (TapBridge's TAP opener) if missing.
+# Usage: bench/ns3_reference/tcp_side_by_side.sh [build-dir] [rounds] [seconds] [radio] [protocol]
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$repo/build-bench}
 rounds=${2:-4}
 seconds=${3:-10}
-rate_mbps=${4:-54}
+radio=${4:-54}
+protocol=${5:-tcp}
 distance_m=10
 scenario=n3tcp
 if [ "$(id -u)" != 0 ]; then
@@ -51,11 +56,23 @@ cleanup() {
   rm -rf "$work"
 }
 trap cleanup EXIT
+case $radio in
+  ht-mcs[0-7]) radio_line="radio { standard: STANDARD_80211N_5GHZ mcs: ${radio#ht-mcs} channel_width_mhz: 20 }" ;;
+  ht-mcs[0-7]-ampdu)
+    mcs=${radio#ht-mcs}
+    radio_line="radio { standard: STANDARD_80211N_5GHZ mcs: ${mcs%-ampdu} channel_width_mhz: 20 aggregation: true }" ;;
+  *) radio_line="radio { standard: STANDARD_80211A rate_mbps: $radio }" ;;
+esac
+case $protocol in
+  tcp) flow=() ;;
+  udp) flow=(-u -b 100M -l 1470) ;;
+  *) echo "tcp_side_by_side.sh: protocol $protocol: want tcp or udp" >&2; exit 2 ;;
+esac
 cat > "$work/$scenario.textproto" << EOF
 name: "$scenario"
 robot { name: "a" position_m { x: 0 y: 0 z: 1 } }
 robot { name: "b" position_m { x: $distance_m y: 0 z: 1 } }
-radio { standard: STANDARD_80211A rate_mbps: $rate_mbps }
+$radio_line
 EOF
 "$sitlnet" up "$work/$scenario.textproto" > /dev/null
 server_address=$(ip -n "$scenario-b" -4 -o addr show wlan0 | awk '{print $4}' | cut -d/ -f1)
@@ -80,7 +97,7 @@ measure() {
     "$sitlnet" medium "$scenario" > /dev/null 2> "$work/out.fifo" &
     ready="robots attached"
   else
-    chrt -f 10 "$build/bin/ns3_tap_bridge" "$scenario-a" "$scenario-b" "$distance_m" "$rate_mbps" \
+    chrt -f 10 "$build/bin/ns3_tap_bridge" "$scenario-a" "$scenario-b" "$distance_m" "$radio" \
       > "$work/out.fifo" 2>&1 &
     ready="ready"
   fi
@@ -100,7 +117,7 @@ measure() {
   await_line "$from_server" "Server listening"
   cat <&"$from_server" > /dev/null &
   exec {from_server}<&-
-  "$sitlnet" exec "$scenario-a" -- iperf3 -c "$server_address" -t "$seconds" -O 1 --json \
+  "$sitlnet" exec "$scenario-a" -- iperf3 -c "$server_address" "${flow[@]}" -t "$seconds" -O 1 --json \
     > "$work/client.json"
   wait "$server_pid"
   server_pid=""
@@ -110,16 +127,23 @@ measure() {
   bridge_pid=""
   wait "$drain_pid"
   [ -n "${TCP_SIDE_BY_SIDE_LOGS:-}" ] && cp "$work/$side.log" "$TCP_SIDE_BY_SIDE_LOGS/$side.log"
+  # UDP: what the server received (its report, in the client's JSON); TCP has no datagram losses.
   python3 -c '
 import json, sys
 end = json.load(open(sys.argv[1]))["end"]
-print("%.3f %d" % (end["sum_received"]["bits_per_second"] / 1e6, end["sum_sent"]["retransmits"]))
+if "sum_received" in end:
+    print("%.3f %d" % (end["sum_received"]["bits_per_second"] / 1e6,
+                       end["sum_sent"].get("retransmits", 0)))
+else:
+    s = end["sum"]
+    print("%.3f 0" % ((s["packets"] - s["lost_packets"]) * 1470 * 8 / s["seconds"] / 1e6))
 ' "$work/client.json" > "$work/result"
 }
 
-csv=$build/ns3_tcp.csv
+csv=$build/ns3_$protocol.csv
+[ "$radio" != 54 ] && csv=$build/ns3_${protocol}_$radio.csv
 {
-  echo "# TCP between two robots (iperf3 $seconds s, first second omitted), 802.11a $rate_mbps Mb/s," \
+  echo "# $protocol between two robots (iperf3 $seconds s, first second omitted), radio $radio," \
     "$distance_m m: sitlnet medium vs ns-3 $(dpkg-query -W -f='${Version}' libns3-dev) TapBridge"
   echo "# sitlnet at commit $(git -C "$repo" rev-parse --short HEAD 2> /dev/null || echo unknown);" \
     "started $(date -u +%FT%TZ), load average $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -11,7 +11,7 @@
 
 namespace sitlnet::flocker {
 
-BeaconLink::BeaconLink(const std::string& device, uint16_t port) : port_(port) {
+BeaconLink::BeaconLink(const std::string& device, uint16_t port, int tos) : port_(port) {
   fd_ = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
   if (fd_ < 0) throw std::runtime_error(std::string("beacon socket: ") + std::strerror(errno));
   const int one = 1;
@@ -26,6 +26,7 @@ BeaconLink::BeaconLink(const std::string& device, uint16_t port) : port_(port) {
       setsockopt(fd_, SOL_SOCKET, SO_BROADCAST, &one, sizeof one) != 0 ||
       setsockopt(fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) != 0 ||
       setsockopt(fd_, IPPROTO_IP, IP_MTU_DISCOVER, &pmtu_do, sizeof pmtu_do) != 0 ||
+      setsockopt(fd_, IPPROTO_IP, IP_TOS, &tos, sizeof tos) != 0 ||
       bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local) != 0) {
     const std::string message = "beacon socket on " + device + " port " + std::to_string(port) +
                                 ": " + std::strerror(errno);

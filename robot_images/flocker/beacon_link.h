@@ -12,9 +12,9 @@ namespace sitlnet::flocker {
 
 class BeaconLink {
  public:
-  // Binds UDP `port` on `device` (SO_BINDTODEVICE), broadcast enabled. Throws
-  // std::runtime_error naming the device on failure.
-  BeaconLink(const std::string& device, uint16_t port);
+  // Binds UDP `port` on `device` (SO_BINDTODEVICE), broadcast enabled, its datagrams carrying
+  // IPv4 TOS byte `tos` (0-255). Throws std::runtime_error naming the device on failure.
+  BeaconLink(const std::string& device, uint16_t port, int tos = 0);
   ~BeaconLink();
   BeaconLink(const BeaconLink&) = delete;
   BeaconLink& operator=(const BeaconLink&) = delete;

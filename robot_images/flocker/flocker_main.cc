@@ -13,6 +13,7 @@
 #include <string>
 
 #include "physics_mujoco/client/physics_client.h"
+#include "robot_images/flocker/beacon_ages.h"
 #include "robot_images/flocker/beacon_link.h"
 #include "robot_images/flocker/controller.h"
 #include "robot_images/flocker/flocker_options.h"
@@ -88,8 +89,9 @@ int Run(const Options& options) {
   const uint32_t me = static_cast<uint32_t>(std::atoi(index_text));
 
   auto client = physics_client::PhysicsClient::FromEnvironment();
-  BeaconLink link(options.device, options.beacon_port);
+  BeaconLink link(options.device, options.beacon_port, options.tos);
   NeighbourTable table(static_cast<int64_t>(options.neighbour_timeout_s * 1e9));
+  BeaconAges beacon_ages;
   const FlockingParams& flocking = options.flocking;
   const ControllerGains gains;
   const int64_t beacon_period_ns =
@@ -127,6 +129,7 @@ int Run(const Options& options) {
 
     for (const proto::FlockerBeacon& beacon : link.Drain()) {
       if (beacon.robot() == me) continue;
+      beacon_ages.Add(beacon.sim_time_ns(), now_ns);
       table.Heard(beacon.robot(),
                   {{beacon.x_m(), beacon.y_m()}, {beacon.vx_m_s(), beacon.vy_m_s()}}, now_ns);
     }
@@ -166,9 +169,11 @@ int Run(const Options& options) {
     if (now_ns >= next_log_ns) {
       std::string heard;
       for (uint32_t index : table.Indices()) heard += " " + std::to_string(index);
-      std::printf("t=%.2f pos=%.2f,%.2f,%.2f vel=%.2f,%.2f neighbours=[%s ]\n", now_ns * 1e-9,
-                  vehicle.position_m.x(), vehicle.position_m.y(), vehicle.position_m.z(),
-                  velocity.x(), velocity.y(), heard.c_str());
+      // beacon_age_ms: median/max age of the beacons read since the last line.
+      std::printf("t=%.2f pos=%.2f,%.2f,%.2f vel=%.2f,%.2f neighbours=[%s ] beacon_age_ms=%s\n",
+                  now_ns * 1e-9, vehicle.position_m.x(), vehicle.position_m.y(),
+                  vehicle.position_m.z(), velocity.x(), velocity.y(), heard.c_str(),
+                  beacon_ages.TakeSummaryMs().c_str());
       std::fflush(stdout);
       next_log_ns = now_ns + log_period_ns;
     }

@@ -12,8 +12,10 @@ namespace {
 
 constexpr char kUsage[] =
     "usage: flocker [--target X,Y] [--altitude-m Z] [--broadcast-hz F] [--neighbour-timeout-s T]\n"
-    "               [--beacon-port P] [--device DEV] [--airframe TEXTPROTO] [--lidar-fov-deg D]\n"
-    "               [--obstacle-gap-m G] [--log-period-s S] [VAT parameter flags]\n"
+    "               [--beacon-port P] [--device DEV] [--tos T] [--airframe TEXTPROTO]\n"
+    "               [--lidar-fov-deg D] [--obstacle-gap-m G] [--log-period-s S] [VAT parameter flags]\n"
+    "--tos T: the beacons' IPv4 TOS byte, 0-255, decimal or 0x hex (default 0); on QoS radios\n"
+    "  its top three bits are the 802.11 user priority: 0xc0 is voice, 0 best effort.\n"
     "VAT parameter flags (symbols of docs/case-study.md; defaults there):\n"
     "  --flock-speed-m-s (v_flock) --max-speed-m-s (v_max) --migration-speed-m-s (v_mig)\n"
     "  --repulsion-range-m (r0_rep) --repulsion-gain (p_rep) --attraction-range-m (r0_att)\n"
@@ -90,6 +92,13 @@ Options ParseOptions(int argc, char** argv) {
       const double port = ParseNumber(flag, value);
       if (port < 1 || port > 65535 || port != std::floor(port)) Die("--beacon-port: 1..65535");
       options.beacon_port = static_cast<uint16_t>(port);
+    } else if (flag == "--tos") {
+      char* end = nullptr;
+      const long tos = std::strtol(value, &end, 0);
+      if (end == value || *end != '\0' || tos < 0 || tos > 255) {
+        Die(std::string("--tos: \"") + value + "\" is not a TOS byte (0-255, decimal or 0x hex)");
+      }
+      options.tos = static_cast<int>(tos);
     } else if (flag == "--device") {
       options.device = value;
     } else if (flag == "--airframe") {

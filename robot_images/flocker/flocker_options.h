@@ -16,6 +16,9 @@ struct Options {
   double neighbour_timeout_s = 2;  // tau
   uint16_t beacon_port = 47000;
   std::string device = "wlan0";
+  // IPv4 TOS byte of the beacons (IP_TOS). On QoS radios (802.11n/ac, or a/b/g with radio.qos)
+  // its top three bits are the user priority, so 0xc0 sends them at voice (docs/howto-qos.md).
+  int tos = 0;
   std::string airframe_text;  // proto Airframe in text format; empty: defaults
   double lidar_fov_deg = 360;
   // Adjacent lidar hits further apart than this belong to different obstacles.

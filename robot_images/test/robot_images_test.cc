@@ -48,7 +48,8 @@ std::string LoadError(const std::string& path, const std::string& text) {
 
 TEST(ImageTest, ShippedImagesLoad) {
   for (const char* name :
-       {"flocker", "iperf", "shell", "attacker", "babel", "test_autopilot", "arducopter", "px4"}) {
+       {"flocker", "flocker_video", "iperf", "shell", "attacker", "babel", "test_autopilot",
+        "arducopter", "px4"}) {
     const Image image = LoadImage(ImagesRoot(), name);
     EXPECT_EQ(image.manifest.name(), name);
   }

@@ -31,7 +31,7 @@ constexpr char kTwo[] = "name: \"t\"\nrobot { name: \"a\" }\nrobot { name: \"b\"
 
 TEST(ScenarioTest, ShippedExamplesLoad) {
   for (const char* file :
-       {"two_robots", "line3", "arrow_flocking", "px4_fleet", "ardupilot_fleet"}) {
+       {"two_robots", "line3", "arrow_flocking", "px4_fleet", "ardupilot_fleet", "qos_video"}) {
     const Scenario scenario = LoadScenarioFile(SourceDir() + "/scenarios/" + file + ".textproto");
     EXPECT_FALSE(scenario.robots.empty()) << file;
   }

@@ -60,6 +60,13 @@ TEST(FlockerOptionsTest, RobotFlagsAreRead) {
   EXPECT_EQ(options.device, "wlan1");
   EXPECT_EQ(options.airframe_text, "mass_kg: 2");
   EXPECT_EQ(options.broadcast_hz, 5);
+  EXPECT_EQ(options.tos, 0) << "beacons at best effort unless asked";
+}
+
+TEST(FlockerOptionsTest, TosIsATosByteInDecimalOrHex) {
+  EXPECT_EQ(Parse({"--tos", "0xc0"}).tos, 0xc0);
+  EXPECT_EQ(Parse({"--tos", "184"}).tos, 184);
+  EXPECT_EQ(Parse({"--tos", "0"}).tos, 0);
 }
 
 TEST(FlockerOptionsTest, BadInputExitsTwoNamingTheFlag) {
@@ -71,6 +78,9 @@ TEST(FlockerOptionsTest, BadInputExitsTwoNamingTheFlag) {
   EXPECT_EXIT(Parse({"--target", "120"}), exits_2, "--target wants X,Y");
   EXPECT_EXIT(Parse({"--beacon-port", "70000"}), exits_2, "--beacon-port: 1..65535");
   EXPECT_EXIT(Parse({"--altitude-m"}), exits_2, "--altitude-m needs a value");
+  EXPECT_EXIT(Parse({"--tos", "256"}), exits_2, "--tos: \"256\" is not a TOS byte");
+  EXPECT_EXIT(Parse({"--tos", "-1"}), exits_2, "--tos: \"-1\" is not a TOS byte");
+  EXPECT_EXIT(Parse({"--tos", "voice"}), exits_2, "--tos: \"voice\" is not a TOS byte");
   EXPECT_EXIT(Parse({"--broadcast-hz", "0"}), exits_2, "--broadcast-hz must be at least 0.001");
   // A period in ns past int64's end (1e9 / 1e-20 Hz) would be undefined behaviour in the cast.
   EXPECT_EXIT(Parse({"--broadcast-hz", "1e-20"}), exits_2, "--broadcast-hz must be at least");
