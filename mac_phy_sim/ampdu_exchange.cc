@@ -158,6 +158,8 @@ void SendBlockAckReq(State& s, int station, BaOriginator& agreement) {
                         kBlockAckReqBytes, agreement.recipient, DurationFieldUs(duration_ns));
   tx.ba_ssn = OriginatorWindowStart(s, station, agreement.recipient, agreement.tid);
   tx.tid = agreement.tid;
+  // Owed no more once sent (ns-3's GetBar removes it); a missed BlockAck owes it again.
+  agreement.bar_pending = false;
   ++st.counters.block_ack_req_tx;
   st.exchange = Exchange::kWaitBlockAck;
   st.block_ack_recipient = agreement.recipient;
@@ -293,6 +295,23 @@ void OnMpduDiscarded(State& s, int station, const QueuedFrame& f) {
   }
 }
 
+void ExpireInFlight(State& s, int station, int ac) {
+  StationState& st = s.stations[station];
+  const TimeNs max_delay = s.config.queue_max_delay_ns;
+  if (st.ba_originator.empty() || max_delay <= 0 || st.exchange == Exchange::kIdle ||
+      st.exchange_ac != ac) {
+    return;
+  }
+  AccessFunction& af = st.acs[ac];
+  auto expired = [&](const QueuedFrame& f) { return f.enqueued_ns + max_delay <= s.now_ns; };
+  // They stay until the exchange ends (the recipient may have them already); what matters is
+  // the BlockAckReq they owe, which then follows the BlockAck.
+  if (af.has_current && expired(af.current)) OnMpduDiscarded(s, station, af.current);
+  for (const QueuedFrame& f : af.ampdu_rest) {
+    if (expired(f)) OnMpduDiscarded(s, station, f);
+  }
+}
+
 void OnActionAcked(State& s, int station, const QueuedFrame& f) {
   if (f.type == MpduType::kAddbaRequest) {
     OnAddbaRequestAcked(s, station, f.destination, f.tid);
@@ -404,7 +423,6 @@ void ReceiveBlockAck(State& s, int station, const Transmission& tx) {
     }
   }
   st.counters.sent_ok += static_cast<uint64_t>(acked);
-  if (BaOriginator* a = EstablishedAgreement(s, station, recipient, tid)) a->bar_pending = false;
   (af.has_current && f.use_rts ? af.long_retry_count : af.short_retry_count) = 0;
   ReportAmpduTxStatus(s, station, tx.ta, acked, failed, af.has_current ? f.rate : st.rate,
                       tx.reported_snr);

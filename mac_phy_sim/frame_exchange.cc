@@ -352,7 +352,10 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
   const int tid = s.phy.qos ? UserPriorityOf(*ethernet) : 0;
   const int ac = AccessFunctionFor(s, tid);
   AccessFunction& af = st.acs[ac];
-  if (FramesHeld(af) >= s.config.queue_limit_frames) DropExpired(s, station, ac, false);
+  if (FramesHeld(af) >= s.config.queue_limit_frames) {
+    DropExpired(s, station, ac, false);
+    ExpireInFlight(s, station, ac);
+  }
   if (FramesHeld(af) >= s.config.queue_limit_frames) {
     ++st.counters.queue_drops;
     MacAddress destination;
