@@ -327,6 +327,33 @@ TEST(BlockAckTest, MpdusInAnAmpduCountAgainstTheQueueLimit) {
   EXPECT_GT(medium.counters(0).ampdu_tx, 3u);
 }
 
+// ns-3 3.37's WifiMacQueue::Insert: a frame arriving at a full queue wipes every expired MPDU,
+// in-flight ones too, and each of those owes a BlockAckReq (NotifyDiscardedMpdu); with a TXOP
+// limit of 0 it goes a SIFS after the BlockAck (HtFrameExchangeManager::TransmissionSucceeded).
+// A saturated sender whose queue's head frames are about to expire shows it after each A-MPDU.
+TEST(BlockAckTest, MpdusExpiringInFlightBringABlockAckReqASifsAfterTheBlockAck) {
+  MediumConfig config = Ht(7);
+  config.queue_limit_frames = 60;
+  config.queue_max_delay_ns = 3 * kNsPerMs;
+  Medium medium(config);
+  medium.EnableTrace(true);
+  medium.AddStation(kA, {0, 0, 0});
+  medium.AddStation(kB, {1, 0, 0});
+  for (TimeNs t = 0; t < 100 * kNsPerMs; t += 20 * kNsPerUs) {
+    medium.SubmitFrame(0, MakeEthernetFrame(kB, kA, 1500), t);
+  }
+  medium.AdvanceTo(100 * kNsPerMs, nullptr);
+  const std::vector<TxRecord> txs = DrainTransmissions(medium);
+  int bars_after_block_ack = 0;
+  for (size_t i = 1; i < txs.size(); ++i) {
+    if (txs[i].kind == FrameKind::kBlockAckReq && txs[i - 1].kind == FrameKind::kBlockAck &&
+        txs[i].start_ns == txs[i - 1].end_ns + 16 * kNsPerUs) {
+      ++bars_after_block_ack;
+    }
+  }
+  EXPECT_GT(bars_after_block_ack, 5);
+}
+
 // Recipient side, on the medium's state directly.
 class RecipientTest : public ::testing::Test {
  protected:
