@@ -253,6 +253,15 @@ TEST(BlockAckTest, AnExpiredMpduMovesTheRecipientsWindowAndNoneIsLeftBehind) {
   }
 }
 
+// Two stations 1 m apart, A and B, with the trace on.
+Medium TracedPair(const MediumConfig& config) {
+  Medium medium(config);
+  medium.EnableTrace(true);
+  medium.AddStation(kA, {0, 0, 0});
+  medium.AddStation(kB, {1, 0, 0});
+  return medium;
+}
+
 // The ADDBA Requests a station sends first (not retries), with their start times.
 std::vector<TimeNs> AddbaRequestStarts(Medium& medium, int station) {
   std::vector<TimeNs> starts;
@@ -279,10 +288,7 @@ void OfferPairs(Medium& medium, const MacAddress& to, TimeNs until_ns) {
 TEST(BlockAckTest, AnAddbaResponseThatDoesNotComeWithin1MsLetsANewRequestGo200MsLater) {
   MediumConfig config = Ht(7);
   config.short_retry_limit = 100000;
-  Medium medium(config);
-  medium.EnableTrace(true);
-  medium.AddStation(kA, {0, 0, 0});
-  medium.AddStation(kB, {1, 0, 0});
+  Medium medium = TracedPair(config);
   medium.SubmitFrame(1, MakeEthernetFrame(kAbsent, kB, 1500), 0);
   OfferPairs(medium, kB, 400 * kNsPerMs);
   medium.AdvanceTo(400 * kNsPerMs, nullptr);
@@ -299,10 +305,7 @@ TEST(BlockAckTest, AnExpiredAddbaRequestLetsANewRequestGo200MsLater) {
   MediumConfig config = Ht(7);
   config.short_retry_limit = 100000;
   config.queue_max_delay_ns = 30 * kNsPerMs;
-  Medium medium(config);
-  medium.EnableTrace(true);
-  medium.AddStation(kA, {0, 0, 0});
-  medium.AddStation(kB, {1, 0, 0});
+  Medium medium = TracedPair(config);
   OfferPairs(medium, kAbsent, 400 * kNsPerMs);
   medium.AdvanceTo(400 * kNsPerMs, nullptr);
   const std::vector<TimeNs> starts = AddbaRequestStarts(medium, 0);
@@ -315,9 +318,7 @@ TEST(BlockAckTest, AnExpiredAddbaRequestLetsANewRequestGo200MsLater) {
 TEST(BlockAckTest, MpdusInAnAmpduCountAgainstTheQueueLimit) {
   MediumConfig config = Ht(7);
   config.queue_limit_frames = 50;
-  Medium medium(config);
-  medium.AddStation(kA, {0, 0, 0});
-  medium.AddStation(kB, {1, 0, 0});
+  Medium medium = TracedPair(config);
   for (TimeNs t = 0; t < 30 * kNsPerMs; t += 20 * kNsPerUs) {
     medium.SubmitFrame(0, MakeEthernetFrame(kB, kA, 1500), t);
     medium.AdvanceTo(t, nullptr);
@@ -335,10 +336,7 @@ TEST(BlockAckTest, MpdusExpiringInFlightBringABlockAckReqASifsAfterTheBlockAck) 
   MediumConfig config = Ht(7);
   config.queue_limit_frames = 60;
   config.queue_max_delay_ns = 3 * kNsPerMs;
-  Medium medium(config);
-  medium.EnableTrace(true);
-  medium.AddStation(kA, {0, 0, 0});
-  medium.AddStation(kB, {1, 0, 0});
+  Medium medium = TracedPair(config);
   for (TimeNs t = 0; t < 100 * kNsPerMs; t += 20 * kNsPerUs) {
     medium.SubmitFrame(0, MakeEthernetFrame(kB, kA, 1500), t);
   }
