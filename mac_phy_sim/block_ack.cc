@@ -139,9 +139,12 @@ BaRecipient& CreateRecipientAgreement(State& s, int station, int source, int tid
     a->originator = source;
     a->tid = static_cast<uint8_t>(tid);
   }
+  // A new agreement replaces the old one: what the old buffer holds goes up first, in order,
+  // as when an agreement is torn down (10.24.5; ns-3 3.37's DestroyBlockAckAgreement flushes
+  // it), rather than being lost.
+  MoveWindow(s, station, *a, static_cast<uint16_t>((a->window_start + kBlockAckWindow) & 0x0fff));
   a->window_start = starting_sequence;
   a->received = 0;
-  for (auto& b : a->buffer) b.ethernet.reset();
   return *a;
 }
 

@@ -70,6 +70,11 @@ struct BaOriginator {
   Phase phase = Phase::kPending;
   TimeNs response_deadline_ns = -1;  // Pending with the Request ACKed: no reply after this.
   TimeNs reset_ns = -1;              // No reply: the agreement is gone from this time.
+  // A BlockAckReq is owed (ns-3's BlockAckManager::ScheduleBar): after a missed BlockAck, or
+  // after an MPDU sent under the agreement was given up. `bar_only_with_data`: send it only
+  // when a frame for the recipient and TID is queued (ns-3's skipIfNoDataQueued).
+  bool bar_pending = false;
+  bool bar_only_with_data = false;
 };
 
 // The recipient's agreement with one originator for one TID: the reordering buffer of the

@@ -205,7 +205,8 @@ void OnAccess(State& s, int station) {
   bool granted = false;
   for (int i = 0; i < due_count; ++i) {
     const int ac = due[i];
-    if (!st.acs[ac].has_current) continue;  // Post-backoff done.
+    // Post-backoff done, unless a BlockAckReq is owed (ns-3's QosTxop::HasFramesToTransmit).
+    if (!st.acs[ac].has_current && !HasBlockAckReqToSend(s, station, ac)) continue;
     if (granted) {
       OnInternalCollision(s, station, ac);
     } else if (st.transmitting_tx >= 0 || st.exchange != Exchange::kIdle) {

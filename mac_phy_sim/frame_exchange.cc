@@ -2,38 +2,62 @@
 // access category, DATA/ACK and RTS/CTS/DATA/ACK sequences, EDCA TXOPs (further frames SIFS
 // apart, a CF-End at the end), internal collisions, ACK/CTS timeouts (ns-3: SIFS + slot + PHY
 // preamble/header), retries with short/long retry counters and binary exponential backoff,
-// duplicate filtering by (TA, TID, sequence number).
+// duplicate filtering by (TA, TID, sequence number). The Block Ack exchanges (A-MPDU, BlockAckReq,
+// ADDBA) are in ampdu_exchange.cc.
 #include <algorithm>
 #include <cmath>
 
 #include "mac_phy_sim/medium_state.h"
 
 namespace sitlnet::mac {
-namespace {
 
-uint16_t Micros(TimeNs ns) { return static_cast<uint16_t>((ns + kNsPerUs - 1) / kNsPerUs); }
-
-constexpr MacAddress kBroadcastMac{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
+uint16_t DurationFieldUs(TimeNs ns) {
+  return static_cast<uint16_t>((ns + kNsPerUs - 1) / kNsPerUs);
+}
 
 int DataMpduBytes(const State& s, const QueuedFrame& frame) {
   if (frame.type != MpduType::kData) return kAddbaBytes;
   return MpduBytesForEthernet(static_cast<int>(frame.ethernet->size()), s.phy.qos);
 }
 
-size_t EthernetBytes(const QueuedFrame& f) { return f.ethernet ? f.ethernet->size() : 0; }
+namespace {
 
-int SequenceDistance(uint16_t from, uint16_t to) { return (to - from) & 0x0fff; }
+// The counter a frame's sequence number comes from. Action frames count apart, as ns-3's
+// non-QoS frames do; with aggregation QoS Data frames count per receiver and TID.
+uint16_t& SequenceCounter(State& s, int station, const MacAddress& receiver, int tid,
+                          MpduType type, bool group) {
+  StationState& st = s.stations[station];
+  if (type != MpduType::kData) return st.next_management_sequence;
+  if (!s.config.aggregation || group) return st.next_sequence_number[tid];
+  for (ReceiverSequences& r : st.receiver_sequences) {
+    if (r.receiver == receiver) return r.next[tid];
+  }
+  st.receiver_sequences.push_back(ReceiverSequences{receiver, {}});
+  return st.receiver_sequences.back().next[tid];
+}
 
-// Sequence numbers are given when a frame is first taken from the queue; a frame that goes back
-// (Block Ack retransmissions) keeps its own. Action frames count apart, as ns-3's non-QoS ones.
-void AssignSequence(StationState& st, QueuedFrame& f) {
+}  // namespace
+
+// Without aggregation a frame gets its number when it is taken into service (as before: the
+// golden test pins it); with aggregation when it is first sent. A frame that goes back to the
+// queue (Block Ack retransmissions) keeps its own.
+void AssignSequence(State& s, int station, QueuedFrame& f) {
   if (f.sequence_assigned) return;
   f.sequence_assigned = true;
-  uint16_t& next = f.type == MpduType::kData ? st.next_sequence_number[f.tid]
-                                             : st.next_management_sequence;
+  uint16_t& next = SequenceCounter(s, station, f.destination, f.tid, f.type, f.group);
   f.sequence_number = next;
   next = static_cast<uint16_t>((next + 1) & 0x0fff);
 }
+
+uint16_t PeekSequence(State& s, int station, const MacAddress& receiver, int tid) {
+  return SequenceCounter(s, station, receiver, tid, MpduType::kData, false);
+}
+
+namespace {
+
+constexpr MacAddress kBroadcastMac{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
+
+size_t EthernetBytes(const QueuedFrame& f) { return f.ethernet ? f.ethernet->size() : 0; }
 
 // Management frames go at the lowest basic rate (ns-3 3.37's GetDataTxVector for IsMgt()).
 const RateEntry* ManagementRate(const State& s) {
@@ -41,11 +65,6 @@ const RateEntry* ManagementRate(const State& s) {
     if (r.basic) return &r;
   }
   return &s.rates.front();
-}
-
-// The compressed BlockAck's airtime answering a frame at `answered`'s rate.
-TimeNs BlockAckNs(const RateEntry& answered) {
-  return PpduDurationNs(answered.control.mode, answered.control.header, kBlockAckBytes);
 }
 
 // The PSDU of the current attempt (its rate chosen): a VHT one is an S-MPDU.
@@ -58,6 +77,8 @@ TimeNs DataDurationNs(const State& s, const QueuedFrame& frame) {
   return PpduDurationNs(frame.rate->data.mode, frame.rate->data.header, DataPsduBytes(s, frame));
 }
 
+}  // namespace
+
 void TraceDrop(State& s, int station, DropReason reason, const MacAddress& destination,
                uint16_t sequence_number, size_t bytes) {
   if (!s.trace_enabled) return;
@@ -66,12 +87,16 @@ void TraceDrop(State& s, int station, DropReason reason, const MacAddress& desti
   s.trace.push_back(std::move(event));
 }
 
+namespace {
+
 AccessFunction& Exchanging(State& s, int station) {
   StationState& st = s.stations[station];
   return st.acs[st.exchange_ac];
 }
 
-// What is left of the TXOP `f` holds (ns-3's QosTxop::GetRemainingTxop), >= 0.
+}  // namespace
+
+// ns-3's QosTxop::GetRemainingTxop.
 TimeNs RemainingTxopNs(const State& s, const AccessFunction& f, int ac) {
   return std::max<TimeNs>(f.txop_start_ns + s.phy.edca[ac].txop_limit_ns - s.now_ns, 0);
 }
@@ -85,8 +110,10 @@ void NextFrame(State& s, int station, int ac) {
   f.current = std::move(f.queue.front());
   f.queue.pop_front();
   f.has_current = true;
-  AssignSequence(st, f.current);
+  if (!s.config.aggregation) AssignSequence(s, station, f.current);
 }
+
+namespace {
 
 // The frame in service is done (acknowledged, sent to a group, or dropped):
 // reset CW, end the TXOP, and run a post-backoff (10.3.4.3) carrying the next frame if any.
@@ -101,10 +128,11 @@ void FinishCurrent(State& s, int station, int ac, bool current_done = true) {
   StartBackoff(s, station, ac);
 }
 
-// The exchange of the frame in service succeeded. With time left in its TXOP the access
-// category sends its next frame a SIFS later (10.22.2.8; ns-3 3.37's
-// QosFrameExchangeManager::TransmissionSucceeded), else it releases the channel.
-void ExchangeSucceeded(State& s, int station, bool current_done = true) {
+}  // namespace
+
+// With time left in its TXOP the access category sends its next frame a SIFS later
+// (10.22.2.8; ns-3 3.37's QosFrameExchangeManager::TransmissionSucceeded).
+void ExchangeSucceeded(State& s, int station, bool current_done) {
   StationState& st = s.stations[station];
   const int ac = st.exchange_ac;
   AccessFunction& f = st.acs[ac];
@@ -119,24 +147,7 @@ void ExchangeSucceeded(State& s, int station, bool current_done = true) {
                    static_cast<uint64_t>(ac));
 }
 
-// The MPDUs after `current` of an A-MPDU go back to the head of the queue, in order.
-void RequeueAmpduRest(AccessFunction& af) {
-  for (auto it = af.ampdu_rest.rbegin(); it != af.ampdu_rest.rend(); ++it) {
-    af.queue.push_front(std::move(*it));
-  }
-  af.ampdu_rest.clear();
-}
-
-void DropAmpduRest(State& s, int station, int ac) {
-  StationState& st = s.stations[station];
-  AccessFunction& af = st.acs[ac];
-  for (const QueuedFrame& f : af.ampdu_rest) {
-    ++st.counters.lost_retry_limit;
-    TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
-              EthernetBytes(f));
-  }
-  af.ampdu_rest.clear();
-}
+namespace {
 
 void ExchangeFailed(State& s, int station) {
   StationState& st = s.stations[station];
@@ -150,6 +161,10 @@ void ExchangeFailed(State& s, int station) {
   // A failure ends the TXOP: the initial frame's as the standard says (10.22.2.2), a later
   // one's too here (ns-3 3.37 may instead resume after PIFS: docs/mac_phy_sim.md).
   af.txop_start_ns = -1;
+  if (was_block_ack) {
+    BlockAckMissed(s, station);
+    return;
+  }
   QueuedFrame& f = af.current;
   // Station retry counts (10.3.4.4): SRC for RTS and short DATA, LRC for DATA
   // after a CTS; at the limit the frame in service is discarded.
@@ -175,32 +190,18 @@ void ExchangeFailed(State& s, int station) {
     ++st.counters.lost_retry_limit;
     TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
               EthernetBytes(f));
-    if (f.type == MpduType::kAddbaRequest) {
-      OnAddbaRequestDiscarded(s, station, f.destination, f.tid);
-    }
-    // The MPDUs of an A-MPDU whose BlockAck never came go with it (ns-3's MissedBlockAck
-    // without a BlockAckReq to send: docs/mac_phy_sim.md).
-    DropAmpduRest(s, station, ac);
-    af.bar_pending = false;
+    OnMpduDiscarded(s, station, f);
     FinishCurrent(s, station, ac);
     return;
-  }
-  if (was_block_ack) {
-    // ns-3 3.37 (UseExplicitBarAfterMissedBlockAck): a BlockAckReq asks what got through; the
-    // MPDUs wait in the queue meanwhile, in sequence order.
-    if (!af.ampdu_rest.empty()) {
-      ReportAmpduTxStatus(s, station, f.destination, 0,
-                          1 + static_cast<int>(af.ampdu_rest.size()), f.rate, 0);
-    }
-    RequeueAmpduRest(af);
-    af.bar_pending = true;
   }
   af.cw = std::min(2 * af.cw + 1, s.phy.edca[ac].cw_max);
   StartBackoff(s, station, ac);
 }
 
+}  // namespace
+
 void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& ra,
-                      uint16_t duration_us, const RateEntry* answered = nullptr, double snr = 0) {
+                      uint16_t duration_us, const RateEntry* answered, double snr) {
   StationState& st = s.stations[station];
   st.response_rate = answered;
   st.response_snr = snr;
@@ -211,115 +212,15 @@ void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& r
   s.scheduler.Push(s.now_ns + s.phy.sifs_ns, EventType::kRespond, station, 0);
 }
 
-// Takes from the queue the MPDUs that join `current` in an A-MPDU (ns-3 3.37's
-// MpduAggregator::GetNextAmpdu): same receiver and TID, inside the Block Ack window that starts
-// at `current`, while the A-MPDU stays within `max_bytes` and its PPDU within 5484 us and what
-// is left of the TXOP (less SIFS and the BlockAck). Returns the PSDU length.
-int CollectAmpdu(State& s, int station, int ac, uint32_t max_bytes) {
-  StationState& st = s.stations[station];
-  AccessFunction& af = st.acs[ac];
-  QueuedFrame& f = af.current;
-  const ModeEntry& mode = f.rate->data;
-  TimeNs limit_ns = kMaxPpduDurationNs;
-  if (af.txop_start_ns >= 0) {
-    limit_ns = std::min(limit_ns,
-                        RemainingTxopNs(s, af, ac) - s.phy.sifs_ns - BlockAckNs(*f.rate));
-  }
-  int bytes = AmpduBytesIfAggregated(0, DataMpduBytes(s, f));
-  for (auto it = af.queue.begin();
-       it != af.queue.end() && static_cast<int>(af.ampdu_rest.size()) + 1 < kMaxAmpduSubframes;) {
-    if (it->type != MpduType::kData || it->tid != f.tid || !(it->destination == f.destination)) {
-      ++it;
-      continue;
-    }
-    const uint16_t sequence =
-        it->sequence_assigned ? it->sequence_number : st.next_sequence_number[it->tid];
-    if (SequenceDistance(f.sequence_number, sequence) >= kBlockAckWindow) break;
-    const int with = AmpduBytesIfAggregated(bytes, DataMpduBytes(s, *it));
-    if (static_cast<uint32_t>(with) > max_bytes ||
-        PpduDurationNs(mode.mode, mode.header, with) > limit_ns) {
-      break;
-    }
-    bytes = with;
-    AssignSequence(st, *it);
-    it->rate = f.rate;
-    it->rts_rate = f.rts_rate;
-    af.ampdu_rest.push_back(std::move(*it));
-    it = af.queue.erase(it);
-  }
-  return bytes;
-}
-
-// An A-MPDU of `current` and ampdu_rest, answered by a BlockAck (implicit BlockAckReq).
-void SendAmpdu(State& s, int station, int psdu_bytes) {
-  StationState& st = s.stations[station];
-  const int ac = st.exchange_ac;
-  AccessFunction& af = st.acs[ac];
-  QueuedFrame& f = af.current;
-  const TimeNs block_ack_time_ns = s.phy.sifs_ns + BlockAckNs(*f.rate);
-  TimeNs duration_ns = block_ack_time_ns;
-  const TimeNs ppdu_ns = PpduDurationNs(f.rate->data.mode, f.rate->data.header, psdu_bytes);
-  if (af.txop_start_ns >= 0) {
-    duration_ns = std::max(RemainingTxopNs(s, af, ac) - ppdu_ns, block_ack_time_ns);
-  }
-  std::vector<AmpduSubframe>& subframes = st.ampdu_staging;
-  subframes.clear();
-  const bool retry = f.data_sent_before;
-  int offset = 0;
-  auto add = [&](QueuedFrame& m) {
-    if (offset > 0) offset += (4 - offset % 4) % 4;
-    subframes.push_back({m.ethernet, m.sequence_number, m.data_sent_before, offset});
-    offset += kMpduDelimiterBytes + DataMpduBytes(s, m);
-    ++st.counters.data_tx;
-    if (m.data_sent_before) ++st.counters.retries;
-    m.data_sent_before = true;
-  };
-  add(f);
-  for (QueuedFrame& m : af.ampdu_rest) add(m);
-  SITLNET_DEMAND(offset == psdu_bytes);
-  Transmission& tx = StartTransmission(s, station, FrameKind::kData, f.rate->data, psdu_bytes,
-                                       f.destination, Micros(duration_ns), &subframes);
-  tx.retry = retry;
-  tx.sequence_number = f.sequence_number;
-  tx.tid = f.tid;
-  tx.ethernet = f.ethernet;
-  tx.ampdu_reference = st.next_ampdu_reference++;
-  ++st.counters.ampdu_tx;
-  st.exchange = Exchange::kWaitBlockAck;
-}
-
-// After a missed BlockAck: a compressed BlockAckReq from the frame in service, at the
-// BlockAck's rate (ns-3 3.37's SendMpduFromBaManager: "the same TXVECTOR as the BlockAck").
-void SendBlockAckReq(State& s, int station) {
-  StationState& st = s.stations[station];
-  AccessFunction& af = Exchanging(s, station);
-  QueuedFrame& f = af.current;
-  const RateEntry& bar_rate = RateFor(s, f.rate->control.mode);
-  const TimeNs duration_ns = s.phy.sifs_ns + BlockAckNs(bar_rate);
-  Transmission& tx = StartTransmission(s, station, FrameKind::kBlockAckReq, f.rate->control,
-                                       kBlockAckReqBytes, f.destination, Micros(duration_ns));
-  tx.ba_ssn = f.sequence_number;
-  tx.tid = f.tid;
-  ++st.counters.block_ack_req_tx;
-  st.exchange = Exchange::kWaitBlockAck;
-}
+namespace {
 
 void SendData(State& s, int station) {
   StationState& st = s.stations[station];
   const int ac = st.exchange_ac;
   AccessFunction& af = st.acs[ac];
   QueuedFrame& f = af.current;
-  if (f.type == MpduType::kData && !f.group &&
-      EstablishedAgreement(s, station, f.destination, f.tid) != nullptr) {
-    const uint32_t max_bytes = MaxAmpduBytes(s, ac, f.rate->data.mode);
-    if (max_bytes > 0) {
-      const int psdu_bytes = CollectAmpdu(s, station, ac, max_bytes);
-      if (!af.ampdu_rest.empty()) {
-        SendAmpdu(s, station, psdu_bytes);
-        return;
-      }
-    }
-  }
+  AssignSequence(s, station, f);
+  if (TrySendAmpdu(s, station)) return;
   const TimeNs ack_time_ns = f.group ? 0 : s.phy.sifs_ns + f.rate->ack_ns;
   TimeNs duration_ns = ack_time_ns;
   if (af.txop_start_ns >= 0) {
@@ -330,7 +231,7 @@ void SendData(State& s, int station) {
   const bool action = f.type != MpduType::kData;
   Transmission& tx =
       StartTransmission(s, station, action ? FrameKind::kAction : FrameKind::kData, f.rate->data,
-                        DataPsduBytes(s, f), f.destination, Micros(duration_ns));
+                        DataPsduBytes(s, f), f.destination, DurationFieldUs(duration_ns));
   tx.retry = f.data_sent_before;
   tx.sequence_number = f.sequence_number;
   tx.tid = f.tid;
@@ -362,32 +263,6 @@ void ChooseFrameRates(State& s, int station) {
   }
 }
 
-// What the access sends before the frame in service: a BlockAckReq owed after a missed
-// BlockAck (true: sent), or an ADDBA Request put in service ahead of the frame (ns-3 3.37's
-// HtFrameExchangeManager::StartFrameExchange). The Request's starting sequence number is the
-// frame's.
-bool PrepareCurrent(State& s, int station, int ac) {
-  StationState& st = s.stations[station];
-  AccessFunction& af = st.acs[ac];
-  if (af.bar_pending) {
-    ChooseRates(s, station);
-    SendBlockAckReq(s, station);
-    return true;
-  }
-  if (NeedSetupBlockAck(s, station, ac, af.current)) {
-    QueuedFrame request;
-    request.type = MpduType::kAddbaRequest;
-    request.destination = af.current.destination;
-    request.tid = af.current.tid;
-    request.ba_ssn = af.current.sequence_number;
-    request.enqueued_ns = s.now_ns;
-    af.queue.push_front(std::move(af.current));
-    af.current = std::move(request);
-    AssignSequence(st, af.current);
-  }
-  return false;
-}
-
 // RTS (if the frame needs one) or DATA of the frame in service of exchange_ac.
 void SendCurrent(State& s, int station) {
   StationState& st = s.stations[station];
@@ -411,10 +286,12 @@ void SendCurrent(State& s, int station) {
     duration_ns = std::max<TimeNs>(duration_ns, 0);
   }
   StartTransmission(s, station, FrameKind::kRts, rts_mode, kRtsBytes, f.destination,
-                    Micros(duration_ns));
+                    DurationFieldUs(duration_ns));
   ++st.counters.rts_tx;
   st.exchange = Exchange::kWaitCts;
 }
+
+}  // namespace
 
 // ns-3 3.37's WifiMacQueue::WipeAllExpiredMpdus: removes every frame that
 // has waited longer than MaxDelay since it was queued. ns-3 calls it when a
@@ -433,130 +310,39 @@ void DropExpired(State& s, int station, int ac, bool include_current) {
     TraceDrop(s, station, DropReason::kQueueExpired, f.destination, f.sequence_number,
               EthernetBytes(f));
   };
-  // Frames are queued in arrival order, so the expired ones are a prefix.
-  while (!af.queue.empty() && expired(af.queue.front())) {
-    drop(af.queue.front());
-    af.queue.pop_front();
+  // Data frames are queued in arrival order (retransmissions go back to the head in order), so
+  // the expired ones are a prefix, but for action frames put at the head later (an ADDBA
+  // Response), which must not shield older frames.
+  for (auto it = af.queue.begin(); it != af.queue.end();) {
+    if (expired(*it)) {
+      drop(*it);
+      OnMpduDiscarded(s, station, *it);
+      it = af.queue.erase(it);
+    } else if (it->type != MpduType::kData) {
+      ++it;
+    } else {
+      break;
+    }
   }
   if (include_current && af.has_current && expired(af.current)) {
     drop(af.current);
-    af.bar_pending = false;
+    OnMpduDiscarded(s, station, af.current);
     NextFrame(s, station, ac);  // The contention window stays as it is, as in ns-3.
   }
 }
 
-size_t FramesHeld(const AccessFunction& f) { return f.queue.size() + (f.has_current ? 1 : 0); }
+namespace {
+
+// What the category holds against queue_limit_frames: queued, in service, in an A-MPDU under
+// way (ns-3's WifiMacQueue keeps in-flight MPDUs).
+size_t FramesHeld(const AccessFunction& f) {
+  return f.queue.size() + (f.has_current ? 1 : 0) + f.ampdu_rest.size();
+}
 
 // Releases the TXOP of `ac` and draws a new backoff (ns-3's NotifyChannelReleased).
 void ReleaseTxop(State& s, int station, int ac) {
   s.stations[station].acs[ac].txop_start_ns = -1;
   StartBackoff(s, station, ac);
-}
-
-// A BlockAck answers `tx` (an A-MPDU or a BlockAckReq) a SIFS later at the ACK's rate (ns-3's
-// GetBlockAckTxVector: the control answer mode of the data's), its Duration the rest of tx's.
-void ScheduleBlockAck(State& s, int station, const Transmission& tx, const RxEntry& entry) {
-  StationState& st = s.stations[station];
-  const RateEntry& answered = RateFor(s, tx.mode->mode);
-  const TimeNs rest_ns = tx.duration_us * kNsPerUs - s.phy.sifs_ns - BlockAckNs(answered);
-  ScheduleResponse(s, station, FrameKind::kBlockAck, tx.ta,
-                   rest_ns >= kNsPerUs ? Micros(rest_ns) : 0, &answered, entry.sinr);
-  st.response_source = tx.source;
-  st.response_tid = tx.tid;
-}
-
-// The addressed receiver decoded at least one MPDU of an A-MPDU: those it decoded go to the
-// reordering buffer, and a BlockAck answers.
-void ReceiveAmpdu(State& s, int station, const Transmission& tx, const RxEntry& entry) {
-  BaRecipient* agreement = RecipientAgreement(s, station, tx.source, tx.tid);
-  if (agreement == nullptr) return;  // No agreement: ns-3 drops it; no BlockAck.
-  for (size_t i = 0; i < tx.subframes.size(); ++i) {
-    if (tx.subframe_outcome[i] != RxOutcome::kReceived) continue;
-    const AmpduSubframe& m = tx.subframes[i];
-    ReceiveUnderAgreement(s, station, *agreement, m.sequence_number, m.ethernet, entry.power_dbm,
-                          entry.sinr);
-  }
-  ScheduleBlockAck(s, station, tx, entry);
-}
-
-// An ADDBA Request or Response addressed here: ACKed like data. A Request creates the
-// recipient's agreement and queues the Response at the head of the TID's access category
-// (ns-3 3.37's SendAddBaResponse; a retried Request whose Response is still queued queues none).
-// A Response establishes the originator's agreement.
-void ReceiveAction(State& s, int station, const Transmission& tx, const RxEntry& entry) {
-  StationState& st = s.stations[station];
-  const RateEntry& answered = RateFor(s, tx.mode->mode);
-  const TimeNs rest_ns = tx.duration_us * kNsPerUs - s.phy.sifs_ns - answered.ack_ns;
-  ScheduleResponse(s, station, FrameKind::kAck, tx.ta, rest_ns >= kNsPerUs ? Micros(rest_ns) : 0,
-                   &answered, entry.sinr);
-  if (tx.addba_response) {
-    OnAddbaResponse(s, station, tx.ta, tx.tid);
-    return;
-  }
-  const int ac = AccessFunctionFor(s, tx.tid);
-  AccessFunction& af = st.acs[ac];
-  auto is_response = [&](const QueuedFrame& f) {
-    return f.type == MpduType::kAddbaResponse && f.destination == tx.ta && f.tid == tx.tid;
-  };
-  if ((af.has_current && is_response(af.current)) ||
-      std::any_of(af.queue.begin(), af.queue.end(), is_response)) {
-    return;
-  }
-  CreateRecipientAgreement(s, station, tx.source, tx.tid, tx.ba_ssn);
-  QueuedFrame response;
-  response.type = MpduType::kAddbaResponse;
-  response.destination = tx.ta;
-  response.tid = tx.tid;
-  response.enqueued_ns = s.now_ns;
-  af.queue.push_front(std::move(response));
-  if (!af.has_current) {
-    NextFrame(s, station, ac);
-    RequestAccess(s, station, ac);
-  }
-}
-
-// The BlockAck of an A-MPDU or a BlockAckReq: what it acknowledges is done; the rest goes back
-// to the head of the queue, in order, for the next A-MPDU (ns-3 3.37's
-// BlockAckManager::NotifyGotBlockAck). A BlockAck resets the contention window and the retry
-// count, as an ACK does.
-void ReceiveBlockAck(State& s, int station, const Transmission& tx) {
-  StationState& st = s.stations[station];
-  const int ac = st.exchange_ac;
-  AccessFunction& af = st.acs[ac];
-  QueuedFrame& f = af.current;
-  int acked = 0, failed = 0;
-  auto covered = [&](const QueuedFrame& m) {
-    return BlockAckCovers(tx.ba_ssn, tx.ba_bitmap, m.sequence_number);
-  };
-  const bool current_done = covered(f);
-  (current_done ? acked : failed) += 1;
-  if (!af.ampdu_rest.empty()) {
-    for (auto it = af.ampdu_rest.rbegin(); it != af.ampdu_rest.rend(); ++it) {
-      if (covered(*it)) {
-        ++acked;
-      } else {
-        ++failed;
-        af.queue.push_front(std::move(*it));
-      }
-    }
-    af.ampdu_rest.clear();
-  } else {
-    // After a BlockAckReq: the MPDUs sent before wait at the head of the queue.
-    for (auto it = af.queue.begin(); it != af.queue.end();) {
-      if (it->type == MpduType::kData && it->data_sent_before && it->tid == f.tid &&
-          it->destination == f.destination && covered(*it)) {
-        ++acked;
-        it = af.queue.erase(it);
-      } else {
-        ++it;
-      }
-    }
-  }
-  st.counters.sent_ok += static_cast<uint64_t>(acked);
-  af.bar_pending = false;
-  (f.use_rts ? af.long_retry_count : af.short_retry_count) = 0;
-  ReportAmpduTxStatus(s, station, tx.ta, acked, failed, f.rate, tx.reported_snr);
-  ExchangeSucceeded(s, station, current_done);
 }
 
 }  // namespace
@@ -566,7 +352,10 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
   const int tid = s.phy.qos ? UserPriorityOf(*ethernet) : 0;
   const int ac = AccessFunctionFor(s, tid);
   AccessFunction& af = st.acs[ac];
-  if (FramesHeld(af) >= s.config.queue_limit_frames) DropExpired(s, station, ac, false);
+  if (FramesHeld(af) >= s.config.queue_limit_frames) {
+    DropExpired(s, station, ac, false);
+    ExpireInFlight(s, station, ac);
+  }
   if (FramesHeld(af) >= s.config.queue_limit_frames) {
     ++st.counters.queue_drops;
     MacAddress destination;
@@ -595,14 +384,15 @@ bool StartCurrentFrame(State& s, int station, int ac) {
   st.exchange_ac = ac;
   DropExpired(s, station, ac, true);
   if (!af.has_current) {
-    // Everything expired: release the channel with a new backoff (ns-3's
-    // Txop::NotifyChannelReleased -> GenerateBackoff).
+    // A BlockAckReq owed goes alone; else everything expired: release the channel with a new
+    // backoff (ns-3's Txop::NotifyChannelReleased -> GenerateBackoff).
+    if (HasBlockAckReqToSend(s, station, ac)) return PrepareBlockAckExchange(s, station, ac);
     StartBackoff(s, station, ac);
     return false;
   }
   // A TXOP starts with the access (ns-3's QosTxop::NotifyChannelAccessed).
   if (s.phy.edca[ac].txop_limit_ns > 0) af.txop_start_ns = s.now_ns;
-  if (PrepareCurrent(s, station, ac)) return true;
+  if (PrepareBlockAckExchange(s, station, ac)) return true;
   SendCurrent(s, station);
   return true;
 }
@@ -616,7 +406,7 @@ void OnInternalCollision(State& s, int station, int ac) {
   AccessFunction& af = st.acs[ac];
   ++st.counters.internal_collisions;
   const QueuedFrame& f = af.current;
-  if (!f.group) {
+  if (af.has_current && !f.group) {
     int& count = f.use_rts ? af.long_retry_count : af.short_retry_count;
     const int limit = f.use_rts ? s.config.long_retry_limit : s.config.short_retry_limit;
     RateManager& rates = *st.rate_manager;
@@ -627,7 +417,7 @@ void OnInternalCollision(State& s, int station, int ac) {
       ++st.counters.lost_retry_limit;
       TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
                 EthernetBytes(f));
-      af.bar_pending = false;
+      OnMpduDiscarded(s, station, f);
       af.cw = s.phy.edca[ac].cw_min;
       NextFrame(s, station, ac);
       StartBackoff(s, station, ac);
@@ -652,7 +442,7 @@ void OnContinueTxop(State& s, int station, int ac) {
   if (af.has_current) {
     // The next frame goes if its exchange fits in what is left (ns-3's TryAddMpdu: PPDU
     // duration <= remaining - protection - SIFS - ACK).
-    if (PrepareCurrent(s, station, ac)) return;
+    if (PrepareBlockAckExchange(s, station, ac)) return;
     QueuedFrame& f = af.current;
     ChooseFrameRates(s, station);
     TimeNs needed_ns = DataDurationNs(s, f);
@@ -735,7 +525,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
         const RateEntry& answered = RateFor(s, tx.mode->mode);
         const TimeNs rest_ns = tx.duration_us * kNsPerUs - s.phy.sifs_ns - answered.ack_ns;
         ScheduleResponse(s, station, FrameKind::kAck, tx.ta,
-                         rest_ns >= kNsPerUs ? Micros(rest_ns) : 0, &answered, entry.sinr);
+                         rest_ns >= kNsPerUs ? DurationFieldUs(rest_ns) : 0, &answered, entry.sinr);
         if (BaRecipient* agreement = RecipientAgreement(s, station, tx.source, tx.tid)) {
           ReceiveUnderAgreement(s, station, *agreement, tx.sequence_number, tx.ethernet,
                                 entry.power_dbm, entry.sinr);
@@ -762,7 +552,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
       if (for_me && st.nav_until_ns <= s.now_ns) {
         const RateEntry& rts_rate = RateFor(s, tx.mode->mode);
         const TimeNs rest = tx.duration_us * kNsPerUs - s.phy.sifs_ns - rts_rate.cts_ns;
-        ScheduleResponse(s, station, FrameKind::kCts, tx.ta, Micros(std::max<TimeNs>(rest, 0)),
+        ScheduleResponse(s, station, FrameKind::kCts, tx.ta, DurationFieldUs(std::max<TimeNs>(rest, 0)),
                          &rts_rate, entry.sinr);
       }
       return;
@@ -783,6 +573,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
         AccessFunction& af = Exchanging(s, station);
         (af.current.use_rts ? af.long_retry_count : af.short_retry_count) = 0;
         st.rate_manager->ReportDataOk(tx.ta, tx.reported_snr, s.now_ns);
+        OnActionAcked(s, station, af.current);
         ExchangeSucceeded(s, station);
       }
       return;
@@ -793,9 +584,7 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
       return;
     case FrameKind::kBlockAckReq:
       if (for_me) {
-        BaRecipient* agreement = RecipientAgreement(s, station, tx.source, tx.tid);
-        if (agreement != nullptr) ReceiveBlockAckReq(s, station, *agreement, tx.ba_ssn);
-        ScheduleBlockAck(s, station, tx, entry);
+        ReceiveBlockAckReqFrame(s, station, tx, entry);
       }
       return;
     case FrameKind::kBlockAck:
@@ -846,23 +635,9 @@ void OnRespond(State& s, int station) {
     case FrameKind::kData:
       if (Exchanging(s, station).has_current) SendData(s, station);
       return;
-    case FrameKind::kBlockAck: {
-      // The recipient's scoreboard as it is now: the window's start and what is buffered
-      // beyond it (everything before the start was received or given up).
-      const BaRecipient* agreement = RecipientAgreement(s, station, st.response_source,
-                                                        st.response_tid);
-      Transmission& tx =
-          StartTransmission(s, station, FrameKind::kBlockAck, st.response_rate->control,
-                            kBlockAckBytes, st.response_ra, st.response_duration_us);
-      tx.reported_snr = st.response_snr;
-      tx.tid = st.response_tid;
-      if (agreement != nullptr) {
-        tx.ba_ssn = agreement->window_start;
-        tx.ba_bitmap = agreement->received;
-      }
-      ++st.counters.block_ack_tx;
+    case FrameKind::kBlockAck:
+      SendBlockAck(s, station);
       return;
-    }
     case FrameKind::kRts:
     case FrameKind::kCfEnd:
     case FrameKind::kBlockAckReq:

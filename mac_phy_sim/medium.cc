@@ -57,6 +57,9 @@ void Dispatch(State& s, const Event& e) {
     case EventType::kContinueTxop:
       OnContinueTxop(s, e.station, static_cast<int>(e.aux));
       return;
+    case EventType::kBlockAckReqDue:
+      OnBlockAckReqDue(s, e.station, static_cast<int>(e.aux));
+      return;
   }
 }
 

@@ -2,6 +2,8 @@
 // split by responsibility (ns-3's decomposition, without its object system):
 //   channel_access.cc  CCA busy/idle, NAV, IFS, backoff countdown (DCF, EDCA)
 //   frame_exchange.cc  queues, DATA/ACK, RTS/CTS, TXOPs, timeouts, retries, duplicates
+//   ampdu_exchange.cc  A-MPDU/BlockAck, BlockAckReq and ADDBA exchanges (802.11n/ac)
+//   block_ack.cc       Block Ack agreements and the recipient's reordering buffer
 //   reception.cc       PHY: signal arrival, preamble lock, interference/SINR
 //                      chunks, error-rate draw at the end
 //   transmission.cc    putting a PPDU on the air and taking it off (+ trace)
@@ -179,9 +181,15 @@ struct AccessFunction {
   TimeNs access_at_ns = -1;    // Scheduled access, -1 if none (State::SetAccessAt).
   TimeNs txop_start_ns = -1;   // Start of the TXOP it holds (10.22.2.8), -1 if none.
   // Block Ack (block_ack.h): the MPDUs of the A-MPDU under way after `current` (empty outside
-  // an A-MPDU's exchange), and a BlockAckReq owed after a missed BlockAck.
+  // an A-MPDU's exchange). They count against the queue's limit (ns-3 keeps in-flight MPDUs in
+  // its WifiMacQueue).
   std::vector<QueuedFrame> ampdu_rest;
-  bool bar_pending = false;
+};
+
+// The next QoS Data sequence number per TID for one receiver (ns-3's MacTxMiddle).
+struct ReceiverSequences {
+  MacAddress receiver;
+  std::array<uint16_t, 8> next{};
 };
 
 struct StationState {
@@ -201,15 +209,25 @@ struct StationState {
   // Bit ac set while acs[ac].backoff_pending: the loops over access functions visit only these
   // (a DCF station has at most one), so the DCF costs what it did before EDCA.
   uint8_t pending_mask = 0;
-  // Next sequence number per TID (ns-3 counts per receiver and TID; one counter per TID gives
-  // the same numbers for one receiver and no gaps a receiver could notice otherwise).
+  // Next sequence number per TID, across receivers: the numbering without aggregation, kept so
+  // that those runs keep their bytes (aggregation_off_golden_test.cc); a receiver without a
+  // Block Ack agreement only compares a frame's number with the last one's.
   std::array<uint16_t, 8> next_sequence_number{};
+  // With aggregation: per receiver and TID, as ns-3's MacTxMiddle, so that a recipient's
+  // reordering buffer sees no gaps; given when an MPDU is first sent, as ns-3 does, so that
+  // a frame that expires unsent leaves none either.
+  std::vector<ReceiverSequences> receiver_sequences;
   uint16_t next_management_sequence = 0;  // Action frames' own counter (ns-3's non-QoS one).
   // Block Ack agreements (block_ack.h) as originator and as recipient; few, searched linearly.
   std::vector<BaOriginator> ba_originator;
   std::vector<BaRecipient> ba_recipient;
   uint32_t next_ampdu_reference = 0;
   std::vector<AmpduSubframe> ampdu_staging;  // Reused: the next A-MPDU's subframes.
+  // The agreement a BlockAck is awaited for (Exchange::kWaitBlockAck), and whether it answers
+  // a BlockAckReq (else an A-MPDU).
+  MacAddress block_ack_recipient;
+  uint8_t block_ack_tid = 0;
+  bool block_ack_after_bar = false;
   // Channel access (DCF and EDCA alike).
   bool busy = false;
   TimeNs idle_since_ns = 0;
@@ -236,7 +254,6 @@ struct StationState {
   uint16_t response_duration_us = 0;
   const RateEntry* response_rate = nullptr;  // Rate of the frame being answered.
   double response_snr = 0;
-  bool response_ba = false;       // kBlockAck: answers a BlockAckReq (else an A-MPDU).
   uint8_t response_tid = 0;
   int response_source = 0;
   // Last sequence number per source station and TID (index source * 8 + tid), -1: none.
@@ -332,6 +349,64 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
 void OnLockedRxEnd(State& s, int station);  // Resolves a deferred timeout.
 void OnTimeout(State& s, int station, uint64_t generation);
 void OnRespond(State& s, int station);
+// Shared with ampdu_exchange.cc.
+// The Duration field's microseconds for `ns`, rounded up.
+uint16_t DurationFieldUs(TimeNs ns);
+// The MPDU length of a queued frame (a QoS Data frame or an action frame), FCS included.
+int DataMpduBytes(const State& s, const QueuedFrame& frame);
+// What is left of the TXOP access function `f` (category `ac`) holds, >= 0.
+TimeNs RemainingTxopNs(const State& s, const AccessFunction& f, int ac);
+// Gives `f` its sequence number if it has none yet (per receiver and TID with aggregation).
+void AssignSequence(State& s, int station, QueuedFrame& f);
+// The number the next QoS Data frame to `receiver` for `tid` will get (not taken).
+uint16_t PeekSequence(State& s, int station, const MacAddress& receiver, int tid);
+// Takes the next queued frame of `ac` into service, if any.
+void NextFrame(State& s, int station, int ac);
+// The frame exchange of the frame in service succeeded (`current_done` false: it stays in
+// service): the TXOP goes on a SIFS later if time is left, else the channel is released.
+void ExchangeSucceeded(State& s, int station, bool current_done = true);
+// A response (`kind`) to send a SIFS from now to `ra`, answering a frame at rate `answered`.
+void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& ra,
+                      uint16_t duration_us, const RateEntry* answered = nullptr, double snr = 0);
+void TraceDrop(State& s, int station, DropReason reason, const MacAddress& destination,
+               uint16_t sequence_number, size_t bytes);
+// Removes the frames of `ac` that waited longer than queue_max_delay_ns (ns-3's
+// WifiMacQueue::WipeAllExpiredMpdus), the one in service too if `include_current`.
+void DropExpired(State& s, int station, int ac, bool include_current);
+
+// ---- ampdu_exchange.cc
+// Before the frame in service of `ac`: a BlockAckReq owed by one of its agreements (true:
+// sent), or an ADDBA Request put in service ahead of the frame (false: send the frame in
+// service, now the Request).
+bool PrepareBlockAckExchange(State& s, int station, int ac);
+// A BlockAckReq is owed by an agreement of `ac`: the category contends even with no frame.
+bool HasBlockAckReqToSend(State& s, int station, int ac);
+// The frame in service goes with others for the same receiver and TID as an A-MPDU, if it is
+// under an agreement and any other fits (true: sent).
+bool TrySendAmpdu(State& s, int station);
+// No BlockAck came after an A-MPDU or a BlockAckReq (ns-3's BlockAckTimeout, MissedBlockAck).
+void BlockAckMissed(State& s, int station);
+// An MPDU given up (retry limit, expiry, internal collision): ns-3's NotifyPacketDiscarded.
+// An ADDBA Request: the agreement gets no reply. A Data frame sent under an agreement: a
+// BlockAckReq moves the recipient's window past it.
+void OnMpduDiscarded(State& s, int station, const QueuedFrame& f);
+// A frame arrives at a full queue of `ac`: ns-3 3.37's WifiMacQueue::Insert wipes every expired
+// MPDU, in-flight ones (an exchange under way) included; each of those owes a BlockAckReq
+// (NotifyDiscardedMpdu), which goes after the exchange.
+void ExpireInFlight(State& s, int station, int ac);
+// The ACK of an action frame came (ns-3's NotifyReceivedNormalAck): an ADDBA Request's starts
+// the 1 ms wait for the Response.
+void OnActionAcked(State& s, int station, const QueuedFrame& f);
+// Receiver side: an A-MPDU, an ADDBA Request or Response, a BlockAckReq addressed here.
+void ReceiveAmpdu(State& s, int station, const Transmission& tx, const RxEntry& entry);
+void ReceiveAction(State& s, int station, const Transmission& tx, const RxEntry& entry);
+void ReceiveBlockAckReqFrame(State& s, int station, const Transmission& tx, const RxEntry& entry);
+// Originator side: the BlockAck awaited.
+void ReceiveBlockAck(State& s, int station, const Transmission& tx);
+// The BlockAck scheduled by ReceiveAmpdu or ReceiveBlockAckReqFrame goes on the air now.
+void SendBlockAck(State& s, int station);
+// A SIFS after a BlockAck with a BlockAckReq owed (TXOP limit 0): the BlockAckReq, or a backoff.
+void OnBlockAckReqDue(State& s, int station, int ac);
 
 // ---- block_ack.cc
 // ns-3 3.37's NeedSetupBlockAck: frame `f` of access category `ac` needs an ADDBA Request first.
@@ -345,7 +420,7 @@ void ReceiveUnderAgreement(State& s, int station, BaRecipient& agreement, uint16
                            const Bytes& ethernet, double power_dbm, double sinr);
 BaRecipient* RecipientAgreement(State& s, int station, int source, int tid);
 // The recipient's side of an ADDBA Request from `source`: a fresh buffer at the Request's
-// starting sequence number.
+// starting sequence number (what an earlier agreement's buffer held is delivered first).
 BaRecipient& CreateRecipientAgreement(State& s, int station, int source, int tid,
                                       uint16_t starting_sequence);
 // Originator phases: Request sent (pending), its ACK (response timer), discarded at the retry

@@ -26,6 +26,7 @@ enum class EventType : uint8_t {
   kSignalStart,  // A delayed signal reaches its receiver (aux: tx id << 32 | entry index).
   kSignalEnd,    // A delayed signal leaves its receiver (aux: as kSignalStart).
   kContinueTxop,  // `station` goes on with its TXOP (aux: the access category).
+  kBlockAckReqDue,  // `station` sends a BlockAckReq a SIFS after a BlockAck (aux: the category).
 };
 
 struct Event {

@@ -6,6 +6,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <string>
 
@@ -28,6 +30,24 @@ double g_measure_from_s = 0, g_measure_to_s = 0;
 void OnRx(ns3::Ptr<const ns3::Packet> packet, const ns3::Address&) {
   const double now = ns3::Simulator::Now().GetSeconds();
   if (now > g_measure_from_s && now <= g_measure_to_s) g_rx_bytes += packet->GetSize();
+}
+
+// A PHY trace for comparing first frames with mac_phy_sim's (SITLNET_NS3_PHY_TRACE="from_s,to_s"
+// prints every PSDU that starts in that window to stderr: time, node, PPDU duration, MPDU count,
+// the first MPDU's type, sequence number and Retry bit).
+double g_trace_from_s = -1, g_trace_to_s = -1;
+void OnPsduBegin(std::string context, ns3::WifiConstPsduMap psdus, ns3::WifiTxVector tx, double) {
+  const double now = ns3::Simulator::Now().GetSeconds();
+  if (now < g_trace_from_s || now > g_trace_to_s) return;
+  for (const auto& [id, psdu] : psdus) {
+    const ns3::WifiMacHeader& h = psdu->GetHeader(0);
+    const ns3::Time d = ns3::WifiPhy::CalculateTxDuration(psdu->GetSize(), tx, ns3::WIFI_PHY_BAND_5GHZ);
+    std::fprintf(stderr, "ns3 %.3f us node %s dur %lld us mpdus %zu %s seq %u retry %d\n",
+                 now * 1e6, context.substr(10, context.find('/', 10) - 10).c_str(),
+                 static_cast<long long>(d.GetMicroSeconds()), psdu->GetNMpdus(),
+                 h.GetTypeString(), h.IsQosData() || h.IsMgt() ? h.GetSequenceNumber() : 0,
+                 h.IsRetry() ? 1 : 0);
+  }
 }
 
 bool IsDsss(double rate_mbps) {
@@ -194,6 +214,11 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
     mac.SetType("ns3::AdhocWifiMac");
   }
   NetDeviceContainer devices = wifi.Install(phy, mac, nodes);
+  if (const char* trace = std::getenv("SITLNET_NS3_PHY_TRACE")) {
+    std::sscanf(trace, "%lf,%lf", &g_trace_from_s, &g_trace_to_s);
+    Config::Connect("/NodeList/*/DeviceList/*/$ns3::WifiNetDevice/Phy/PhyTxPsduBegin",
+                    MakeCallback(&OnPsduBegin));
+  }
   if (c.short_slot) {
     for (uint32_t i = 0; i < devices.GetN(); ++i) {
       DynamicCast<WifiNetDevice>(devices.Get(i))->GetPhy()->SetSlot(MicroSeconds(9));

@@ -598,7 +598,8 @@ int PrintTable(const std::string& in_path) {
     }
     if (sitlnet::side_by_side::IsHtOrVht(c.standard)) {
       channel = "MCS " + std::to_string(c.mcs) + ", " + std::to_string(c.channel_width_mhz) +
-                " MHz, " + (c.short_gi ? "short" : "long") + " GI, no A-MPDU" +
+                " MHz, " + (c.short_gi ? "short" : "long") + " GI, " +
+                (c.ampdu ? "A-MPDU" : "no A-MPDU") +
                 (channel == "-" ? "" : ", " + channel);
     }
     const bool pass = sitlnet::side_by_side::Passes(r);

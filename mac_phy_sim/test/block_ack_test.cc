@@ -9,6 +9,7 @@
 
 #include "mac_phy_sim/block_ack.h"
 #include "mac_phy_sim/mac_phy_sim.h"
+#include "mac_phy_sim/medium_state.h"
 #include "mac_phy_sim/test/saturation_harness.h"
 
 namespace sitlnet::mac {
@@ -17,7 +18,9 @@ namespace {
 using testing::DrainTransmissions;
 using testing::MakeEthernetFrame;
 
-const MacAddress kA{{2, 0, 0, 0, 0, 1}}, kB{{2, 0, 0, 0, 0, 2}};
+const MacAddress kA{{2, 0, 0, 0, 0, 1}}, kB{{2, 0, 0, 0, 0, 2}}, kC{{2, 0, 0, 0, 0, 3}};
+// No station has this address: frames to it are never acknowledged.
+const MacAddress kAbsent{{2, 0, 0, 0, 0, 9}};
 
 // A station sends `frames` frames of 1500 B to a second one `distance_m` away; the trace.
 std::vector<TxRecord> RunPair(MediumConfig config, int frames, double distance_m, TimeNs until_ns,
@@ -174,6 +177,225 @@ TEST(BlockAckTest, OnlyLostMpdusAreRetransmittedAndAMissedBlockAckBringsABlockAc
   // In order and once each: the payloads carry nothing to tell apart, the count and the trace
   // do (each sequence number received once).
   for (int seq = 0; seq < 300; ++seq) EXPECT_EQ(received_at[seq], 1) << seq;
+}
+
+
+// ns-3's MacTxMiddle numbers QoS Data frames per receiver and TID: a station sending to two
+// receivers in turn gives each of them 0, 1, 2, ... with no gaps (a gap would hold a
+// recipient's reordering buffer until 64 numbers later).
+TEST(BlockAckTest, SequenceNumbersCountPerReceiver) {
+  Medium medium(Ht(7));
+  medium.EnableTrace(true);
+  medium.AddStation(kA, {0, 0, 0});
+  medium.AddStation(kB, {1, 0, 0});
+  medium.AddStation(kC, {0, 1, 0});
+  constexpr int kEach = 40;
+  for (int i = 0; i < kEach; ++i) {
+    medium.SubmitFrame(0, MakeEthernetFrame(kB, kA, 1500), 0);
+    medium.SubmitFrame(0, MakeEthernetFrame(kC, kA, 1500), 0);
+  }
+  std::vector<Delivery> deliveries;
+  medium.AdvanceTo(100 * kNsPerMs, &deliveries);
+  std::vector<std::vector<int>> seen(2, std::vector<int>(4096, 0));
+  for (const TxRecord& t : DrainTransmissions(medium)) {
+    if (t.kind != FrameKind::kData || t.source != 0 || t.retry) continue;
+    ++seen[t.receiver == kB ? 0 : 1][t.sequence_number];
+  }
+  for (int r = 0; r < 2; ++r) {
+    for (int seq = 0; seq < kEach; ++seq) EXPECT_EQ(seen[r][seq], 1) << r << " " << seq;
+  }
+  EXPECT_EQ(deliveries.size(), 2u * kEach);
+}
+
+// Two payload bytes past the IPv4 header carry the frame's index, to check the order of
+// delivery (the DS byte, which sets the access category, stays).
+constexpr size_t kIndexByte = 40;
+std::vector<uint8_t> NumberedFrame(int index) {
+  std::vector<uint8_t> frame = MakeEthernetFrame(kB, kA, 1500);
+  frame[kIndexByte] = static_cast<uint8_t>(index >> 8);
+  frame[kIndexByte + 1] = static_cast<uint8_t>(index);
+  return frame;
+}
+
+// Under an agreement ns-3 3.37 retransmits MPDUs until their lifetime ends, with BlockAckReqs
+// after each missed BlockAck, never at a retry limit; an MPDU given up (here: expired) makes a
+// BlockAckReq move the recipient's window past it (BlockAckManager::NotifyDiscardedMpdu). So
+// every frame is delivered, in order, or expired: none is left waiting behind a hole.
+TEST(BlockAckTest, AnExpiredMpduMovesTheRecipientsWindowAndNoneIsLeftBehind) {
+  MediumConfig config = Ht(7);
+  config.queue_max_delay_ns = 20 * kNsPerMs;
+  Medium medium(config);
+  medium.EnableTrace(true);
+  medium.AddStation(kA, {0, 0, 0});
+  medium.AddStation(kB, {kLossyDistanceM, 0, 0});
+  constexpr int kFrames = 200;
+  for (int i = 0; i < kFrames; ++i) medium.SubmitFrame(0, NumberedFrame(i), 0);
+  std::vector<Delivery> deliveries;
+  medium.AdvanceTo(300 * kNsPerMs, &deliveries);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  size_t expired = 0, data_dropped = 0, bars = 0;
+  for (const TraceEvent& e : trace) {
+    if (e.tx) bars += e.tx->kind == FrameKind::kBlockAckReq;
+    if (!e.drop || e.drop->ethernet_bytes == 0) continue;  // Action frames carry none.
+    ++data_dropped;
+    expired += e.drop->reason == DropReason::kQueueExpired;
+  }
+  EXPECT_GT(expired, 10u);
+  EXPECT_GT(bars, 0u);
+  EXPECT_GT(deliveries.size(), 20u);
+  EXPECT_EQ(deliveries.size() + data_dropped, static_cast<size_t>(kFrames));
+  int last = -1;
+  for (const Delivery& d : deliveries) {
+    const int index = d.ethernet_frame[kIndexByte] << 8 | d.ethernet_frame[kIndexByte + 1];
+    EXPECT_GT(index, last);
+    last = index;
+  }
+}
+
+// Two stations 1 m apart, A and B, with the trace on.
+Medium TracedPair(const MediumConfig& config) {
+  Medium medium(config);
+  medium.EnableTrace(true);
+  medium.AddStation(kA, {0, 0, 0});
+  medium.AddStation(kB, {1, 0, 0});
+  return medium;
+}
+
+// The ADDBA Requests a station sends first (not retries), with their start times.
+std::vector<TimeNs> AddbaRequestStarts(Medium& medium, int station) {
+  std::vector<TimeNs> starts;
+  for (const TxRecord& t : DrainTransmissions(medium)) {
+    if (t.kind == FrameKind::kAction && !t.addba_response && t.source == station && !t.retry) {
+      starts.push_back(t.start_ns);
+    }
+  }
+  return starts;
+}
+
+// Two frames for `to` from A every 10 ms until `until_ns` (ns-3's "packets > 1" holds each time).
+void OfferPairs(Medium& medium, const MacAddress& to, TimeNs until_ns) {
+  for (TimeNs t = 0; t < until_ns; t += 10 * kNsPerMs) {
+    medium.SubmitFrame(0, MakeEthernetFrame(to, kA, 1500), t);
+    medium.SubmitFrame(0, MakeEthernetFrame(to, kA, 1500), t);
+  }
+}
+
+// ns-3 3.37: once the ADDBA Request is ACKed, the Response must come within 1 ms
+// (AddBaResponseTimeout); else the agreement gets no reply, and 200 ms later
+// (FailedAddBaTimeout) a new Request may go. Here B's access category is held by a frame for a
+// station that never answers, so its Response waits behind it for longer than that.
+TEST(BlockAckTest, AnAddbaResponseThatDoesNotComeWithin1MsLetsANewRequestGo200MsLater) {
+  MediumConfig config = Ht(7);
+  config.short_retry_limit = 100000;
+  Medium medium = TracedPair(config);
+  medium.SubmitFrame(1, MakeEthernetFrame(kAbsent, kB, 1500), 0);
+  OfferPairs(medium, kB, 400 * kNsPerMs);
+  medium.AdvanceTo(400 * kNsPerMs, nullptr);
+  const std::vector<TimeNs> starts = AddbaRequestStarts(medium, 0);
+  ASSERT_GE(starts.size(), 2u);
+  EXPECT_GE(starts[1] - starts[0], 201 * kNsPerMs);
+  EXPECT_LT(starts[1] - starts[0], 220 * kNsPerMs);
+}
+
+// An ADDBA Request given up (here: its lifetime ended while no one answered) leaves the
+// agreement without reply (ns-3's NotifyPacketDiscarded -> NotifyAgreementNoReply): a new
+// Request may go 200 ms later, not never.
+TEST(BlockAckTest, AnExpiredAddbaRequestLetsANewRequestGo200MsLater) {
+  MediumConfig config = Ht(7);
+  config.short_retry_limit = 100000;
+  config.queue_max_delay_ns = 30 * kNsPerMs;
+  Medium medium = TracedPair(config);
+  OfferPairs(medium, kAbsent, 400 * kNsPerMs);
+  medium.AdvanceTo(400 * kNsPerMs, nullptr);
+  const std::vector<TimeNs> starts = AddbaRequestStarts(medium, 0);
+  ASSERT_GE(starts.size(), 2u);
+  EXPECT_GE(starts[1] - starts[0], 230 * kNsPerMs);
+}
+
+// ns-3's WifiMacQueue keeps in-flight MPDUs, so they count against MaxSize: what a station
+// holds (queued, in service, in an A-MPDU under way) never exceeds queue_limit_frames.
+TEST(BlockAckTest, MpdusInAnAmpduCountAgainstTheQueueLimit) {
+  MediumConfig config = Ht(7);
+  config.queue_limit_frames = 50;
+  Medium medium = TracedPair(config);
+  for (TimeNs t = 0; t < 30 * kNsPerMs; t += 20 * kNsPerUs) {
+    medium.SubmitFrame(0, MakeEthernetFrame(kB, kA, 1500), t);
+    medium.AdvanceTo(t, nullptr);
+    const StationCounters& a = medium.counters(0);
+    ASSERT_LE(a.frames_submitted - a.queue_drops - a.sent_ok - a.lost_retry_limit, 50u) << t;
+  }
+  EXPECT_GT(medium.counters(0).ampdu_tx, 3u);
+}
+
+// ns-3 3.37's WifiMacQueue::Insert: a frame arriving at a full queue wipes every expired MPDU,
+// in-flight ones too, and each of those owes a BlockAckReq (NotifyDiscardedMpdu); with a TXOP
+// limit of 0 it goes a SIFS after the BlockAck (HtFrameExchangeManager::TransmissionSucceeded).
+// A saturated sender whose queue's head frames are about to expire shows it after each A-MPDU.
+TEST(BlockAckTest, MpdusExpiringInFlightBringABlockAckReqASifsAfterTheBlockAck) {
+  MediumConfig config = Ht(7);
+  config.queue_limit_frames = 60;
+  config.queue_max_delay_ns = 3 * kNsPerMs;
+  Medium medium = TracedPair(config);
+  for (TimeNs t = 0; t < 100 * kNsPerMs; t += 20 * kNsPerUs) {
+    medium.SubmitFrame(0, MakeEthernetFrame(kB, kA, 1500), t);
+  }
+  medium.AdvanceTo(100 * kNsPerMs, nullptr);
+  const std::vector<TxRecord> txs = DrainTransmissions(medium);
+  int bars_after_block_ack = 0;
+  for (size_t i = 1; i < txs.size(); ++i) {
+    if (txs[i].kind == FrameKind::kBlockAckReq && txs[i - 1].kind == FrameKind::kBlockAck &&
+        txs[i].start_ns == txs[i - 1].end_ns + 16 * kNsPerUs) {
+      ++bars_after_block_ack;
+    }
+  }
+  EXPECT_GT(bars_after_block_ack, 5);
+}
+
+// Recipient side, on the medium's state directly.
+class RecipientTest : public ::testing::Test {
+ protected:
+  RecipientTest() : state_(config_, DerivePhyInfo(config_)) {
+    state_.stations.resize(2);
+    state_.stations[0].mac = kA;
+    state_.stations[1].mac = kB;
+    state_.deliveries = &deliveries_;
+  }
+  MediumConfig config_ = Ht(7);
+  Medium::State state_;
+  std::vector<Delivery> deliveries_;
+};
+
+// A new ADDBA Request from the same originator replaces the agreement; what the old buffer
+// held goes up first, in order (as at a teardown, 10.24.5), instead of being lost.
+TEST_F(RecipientTest, ARepeatedAddbaRequestDeliversWhatTheOldBufferHeld) {
+  const Bytes frame = std::make_shared<const std::vector<uint8_t>>(MakeEthernetFrame(kB, kA, 100));
+  BaRecipient& agreement = CreateRecipientAgreement(state_, 1, 0, 0, 0);
+  ReceiveUnderAgreement(state_, 1, agreement, 1, frame, -50, 100);
+  ReceiveUnderAgreement(state_, 1, agreement, 2, frame, -50, 100);
+  EXPECT_TRUE(deliveries_.empty());  // Waiting for 0.
+  CreateRecipientAgreement(state_, 1, 0, 0, 10);
+  EXPECT_EQ(deliveries_.size(), 2u);
+}
+
+// ns-3 3.37 ignores a BlockAckReq without an agreement ("There's not a valid agreement for this
+// BlockAckReq"): no BlockAck answers it.
+TEST_F(RecipientTest, ABlockAckReqWithoutAgreementGetsNoBlockAck) {
+  Transmission bar;
+  bar.kind = FrameKind::kBlockAckReq;
+  bar.source = 0;
+  bar.ta = kA;
+  bar.ra = kB;
+  bar.mode = &state_.rates.front().data;
+  bar.duration_us = 100;
+  RxEntry entry;
+  entry.station = 1;
+  entry.sinr = 100;
+  OnFrameReceived(state_, 1, bar, entry);
+  EXPECT_FALSE(state_.stations[1].response_pending);
+  CreateRecipientAgreement(state_, 1, 0, 0, 0);
+  OnFrameReceived(state_, 1, bar, entry);
+  EXPECT_TRUE(state_.stations[1].response_pending);
 }
 
 }  // namespace
