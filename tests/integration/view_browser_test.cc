@@ -858,6 +858,7 @@ TEST(ViewBrowserTest, ASweepsPagePlotsEachMetricsMeanAndIntervalAsSummaryCsvHold
     expected[cells[2] + " " + fields[1] + " " + fields[0] + "=" + cells[0] + " " + cells[1]] = mark;
   }
   EXPECT_GT(single_point_rows, 0) << "the failed point's combination has one point";
+  ASSERT_FALSE(expected.empty()) << "no metric with a mean in summary.csv";
   std::map<std::string, std::pair<double, double>> drawn;
   std::set<std::string> plots;
   std::istringstream facts(page.out);
