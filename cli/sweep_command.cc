@@ -55,7 +55,8 @@ Command AddSweepCommand(CLI::App& sitlnet) {
   command
       ->add_option("--set", arguments->sets,
                    "a scalar scenario field by its path and its values, e.g. radio.rate_mbps=6,54 "
-                   "or robot[2].position_m.x=0,5 (repeatable: every combination runs)")
+                   "or robot[2].position_m.x=0,5; robot_count=1,4 keeps the first N robots "
+                   "(repeatable: every combination runs)")
       ->type_name("FIELD=V1,V2,...")
       ->allow_extra_args(false);
   command

@@ -27,15 +27,20 @@ void RefuseOwnFields(const SweepAxis& axis) {
   }
 }
 
-// The scenario of a point's combination: the file's, with the axes' values set.
+// The scenario of a point's combination: the file's, with the axes' values set. robot_count
+// goes first, whatever the order of the flags: a --set robot[5]... then names a robot the point
+// has, or is refused, instead of being set and silently dropped.
 proto::Scenario CombinationSpec(const proto::Scenario& base, const std::vector<SweepAxis>& axes,
                                 const std::vector<std::string>& values) {
   proto::Scenario spec = base;
-  for (size_t a = 0; a < axes.size(); ++a) {
-    try {
-      SetFieldByPath(axes[a].field_path, values[a], &spec);
-    } catch (const Error& error) {
-      throw Error("--set " + axes[a].field_path + "=" + values[a] + ": " + error.what());
+  for (const bool fleet_size : {true, false}) {
+    for (size_t a = 0; a < axes.size(); ++a) {
+      if ((axes[a].field_path == kRobotCountField) != fleet_size) continue;
+      try {
+        SetAxisValue(axes[a].field_path, values[a], &spec);
+      } catch (const Error& error) {
+        throw Error("--set " + axes[a].field_path + "=" + values[a] + ": " + error.what());
+      }
     }
   }
   return spec;

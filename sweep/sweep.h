@@ -57,6 +57,18 @@ std::string PointFolderName(const std::vector<SweepAxis>& axes,
 // an index out of range or a value of the wrong type.
 void SetFieldByPath(const std::string& path, const std::string& value, proto::Scenario* spec);
 
+// The pseudo-field of `--set robot_count=N1,N2,...`: a point keeps the scenario's first N robots
+// (docs/sweep-reference.md, "Fleet size"). The schema has no field of this name.
+inline constexpr char kRobotCountField[] = "robot_count";
+
+// Keeps the first `value` robots of `spec`. Throws Error (why, without the flag) unless `value`
+// is a whole number from 1 to the robots listed.
+void KeepFirstRobots(const std::string& value, proto::Scenario* spec);
+
+// One axis's value: robot_count by KeepFirstRobots, any other path by SetFieldByPath.
+void SetAxisValue(const std::string& field_path, const std::string& value,
+                  proto::Scenario* spec);
+
 //------------------------- Runs side by side ---------------------------------
 
 // What keeps runs at once from clashing: job slot `slot` of sweep `sweep_id` (this process's id)

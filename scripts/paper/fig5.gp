@@ -1,4 +1,4 @@
-# The DANCERS paper's Fig. 5 and overhead claims, drawn from bench/scale's medians
+# The DANCERS paper's Fig. 5 and overhead claims, drawn from the fleet-size sweeps' medians
 # (scripts/reproduce-paper):
 #   gnuplot -e "csv='scale.csv'; delta='delta.csv'; delta_robots='4'; outdir='img'" fig5.gp
 # STF of a module = its computation time per iteration / the iteration (the paper's Eq. 3;
@@ -9,7 +9,7 @@ set terminal pngcairo size 1100,450 font ',10'
 set grid
 set logscale x 2
 set xrange [0.8:160]
-set xlabel 'robots (flocker image, bench/scale scenario)'
+set xlabel 'robots (flocker image, robot\_count of the bench/scale layout)'
 mode(p, col) = (strcol('pacing') eq p ? column(col) : NaN)
 delta_ms = 10.0
 

@@ -2,8 +2,9 @@
 """Writes docs/paper.md from what scripts/reproduce-paper measured.
 
 Usage: write_md.py WORK_DIR MARKDOWN_PATH IMG_PREFIX
-WORK_DIR holds: fig6/seed<N>/<variant>.json (fig6.py), scale.csv (bench/scale
-medians), delta.csv (delta_ms,overhead_share), correctness.csv
+WORK_DIR holds: fig6/seed<N>/<variant>.json (fig6.py), scale.csv (the fleet-size
+sweeps' medians, bench/scale/medians.py), scale/scale_runs.csv (their runs,
+fleet_runs.py), delta.csv (delta_ms,overhead_share), correctness.csv
 (check,what,verdict), run.txt (key=value lines: mode, command, started,
 seconds, machine, ...). IMG_PREFIX: the images' path as written in the
 markdown (relative to MARKDOWN_PATH). Exits 1 if a verdict failed.
@@ -179,11 +180,13 @@ component throughout, one side, all past (without).
 ## Fig. 5: STF of each module against fleet size
 
 Paper: the co-simulation (ns-3 with Robotsim, Mini-Dancers or Gazebo) runs faster than real time
-below about 20 robots. sitlnet ({run['scale_plan']}; Δ = 10 ms, the bench/scale flocking
-scenario): {faster_text}. In realtime pacing the run is paced to the wall clock (STF 1); what
-matters there is the lag behind it (p99 below): {realtime_text}. "load" is the median 1-minute
-load average when the runs started (2 cores; the fleet's own processes count in it);
-docs/performance.md has the same benchmark's resources (CPU, memory, frames) and an ablation.
+below about 20 robots. sitlnet ({run['scale_plan']}; Δ = 10 ms; `sitlnet sweep --set
+robot_count=...` of bench/scale's flocking layout for the largest fleet, whose first N robots fly
+among all its arrows; docs/sweep-reference.md, "Fleet size"): {faster_text}. In realtime pacing
+the run is paced to the wall clock (STF 1); what matters there is the lag behind it (p99 below):
+{realtime_text}. "load" is the median 1-minute load average when the sweeps of the runs started
+(2 cores; the fleet's own processes count in it); docs/performance.md has bench/scale's
+resources (CPU, memory, frames) and an ablation.
 
 ![]({img}paper_fig5_stf.png)
 

@@ -261,5 +261,40 @@ TEST_F(SweepResumeTest, RefusesABadValueBeforeAnyRun) {
   EXPECT_FALSE(std::ifstream(dir_ + "/calls.log"));
 }
 
+// --set robot_count (issue 48, item 5): each point's scenario holds the first N robots of the
+// file's two; it applies before the other fields whatever the flags' order, so a field of a
+// robot the point lacks is refused by name; a count past the file's robots names the flag.
+TEST_F(SweepResumeTest, RobotCountKeepsTheFirstRobotsOfEachPoint) {
+  SweepOptions options = Options();
+  options.axes = {{"robot[0].position_m.x", {"3"}}, {"robot_count", {"1", "2"}}};
+  options.seeds = {1};
+  ASSERT_EQ(RunSweep(options).exit_code, 0);
+  const std::string prefix = options.out_dir + "/robot[0].position_m.x=3,robot_count=";
+  const std::string one = ReadAll(prefix + "1,seed=1/point.textproto");
+  const std::string two = ReadAll(prefix + "2,seed=1/point.textproto");
+  EXPECT_NE(one.find("name: \"a\""), std::string::npos) << one;
+  EXPECT_EQ(one.find("name: \"b\""), std::string::npos) << one;
+  EXPECT_NE(two.find("name: \"b\""), std::string::npos) << two;
+  EXPECT_NE(one.find("x: 3"), std::string::npos) << one;
+
+  options.axes = {{"robot[1].position_m.x", {"3"}}, {"robot_count", {"2", "1"}}};
+  try {
+    RunSweep(options);
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "--set robot[1].position_m.x=3: index 1 past the scenario's 1 robot");
+  }
+  options.axes = {{"robot_count", {"1", "3"}}};
+  try {
+    RunSweep(options);
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "--set robot_count=3: \"3\" is not a robot count from 1 to the 2 robots the "
+              "scenario lists (robot_count keeps the first N)");
+  }
+}
+
 }  // namespace
 }  // namespace sitlnet::sweep

@@ -6,6 +6,7 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
 
@@ -797,6 +798,10 @@ TEST(ViewBrowserTest, APortInUseANonLocalAddressAndAnIncompleteFolderAreOneLine)
 // 1 s each). Oracle: the sweep's own summary.csv and points.csv. Each metric with a mean gets a
 // plot against the rate with one mark per rate, drawn from that row's mean and half-width; a
 // metric with no mean (no obstacle: delivery.obstructed.ratio) gets none.
+// A 2 x 2 sweep over two fields, 2 seeds, one point made to fail. Oracle: the sweep's own
+// summary.csv: each metric is plotted against each field, one line per value of the other field,
+// a mark per row with its mean and half-width (none for the failed point's combination, n = 1);
+// points.csv's failed row is marked.
 TEST(ViewBrowserTest, ASweepsPagePlotsEachMetricsMeanAndIntervalAsSummaryCsvHoldsThem) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   SITLNET_REQUIRE_SETUP_GROUP("browser", ChromiumMissing());
@@ -809,12 +814,17 @@ TEST(ViewBrowserTest, ASweepsPagePlotsEachMetricsMeanAndIntervalAsSummaryCsvHold
       "args: [\"--target\", \"40,0\"] lidar { rays: 8 } }\n",
       "timing { duration_ms: 1000 pacing: PACING_LOCKSTEP }\n");
   const std::string out = TempDir() + "/" + scenario.name + "-sweep";
+  const std::vector<std::string> fields = {"radio.rate_mbps", "robot[1].position_m.y"};
   RunCommand({"rm", "-rf", out});
-  const CommandResult sweep =
-      RunCommand({integration_test::SitlnetBinary(), "sweep", scenario.path, "--seeds", "1-2",
-                  "--set", "radio.rate_mbps=6,54", "--jobs", "2", "--out", out},
-                 120 * kNsPerS);
-  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
+  // The point made to fail: a run folder that others can write is refused by `sitlnet run`.
+  const std::string failing = out + "/radio.rate_mbps=54,robot[1].position_m.y=20,seed=2";
+  ASSERT_EQ(RunCommand({"mkdir", "-p", failing}).exit_code, 0);
+  ASSERT_EQ(chmod(failing.c_str(), 0777), 0);
+  const CommandResult sweep = RunCommand(
+      {integration_test::SitlnetBinary(), "sweep", scenario.path, "--seeds", "1-2", "--set",
+       fields[0] + "=6,54", "--set", fields[1] + "=6,20", "--jobs", "2", "--out", out},
+      120 * kNsPerS);
+  ASSERT_EQ(sweep.exit_code, 1) << sweep.err;  // The failed point.
   ViewServer server(out, "/sweep.html");
   ASSERT_FALSE(server.url.empty()) << server.child.out() << server.child.err();
   const CommandResult page = RunCommand(
@@ -825,54 +835,63 @@ TEST(ViewBrowserTest, ASweepsPagePlotsEachMetricsMeanAndIntervalAsSummaryCsvHold
   ASSERT_EQ(page.exit_code, 0) << page.out << page.err;
   EXPECT_EQ(page.out.find("console_error"), std::string::npos) << page.out;
 
-  // summary.csv: radio.rate_mbps,metric,n,mean,sd,ci95_half_width.
-  std::map<std::string, std::vector<std::vector<std::string>>> rows_by_metric;
+  // summary.csv: radio.rate_mbps,robot[1].position_m.y,metric,n,mean,sd,ci95_half_width. The
+  // marks expected: "METRIC FIELD LABEL X" -> "MEAN HALF", LABEL the other field's value.
+  std::map<std::string, std::pair<double, double>> expected;
+  std::set<std::string> metrics_with_mean;
   std::istringstream summary(ReadAll(out + "/summary.csv"));
   std::string line;
-  int summary_rows = 0;
+  int summary_rows = 0, single_point_rows = 0;
   std::getline(summary, line);
   while (std::getline(summary, line)) {
     ++summary_rows;
     std::vector<std::string> cells;
     std::istringstream row(line);
     for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    cells.resize(6);
-    if (!cells[3].empty()) rows_by_metric[cells[1]].push_back(cells);
+    cells.resize(7);
+    if (cells[0] == "54" && cells[1] == "20") single_point_rows += cells[3] == "1";
+    if (cells[4].empty()) continue;
+    metrics_with_mean.insert(cells[2]);
+    const std::pair<double, double> mark = {std::stod(cells[4]),
+                                            cells[6].empty() ? 0 : std::stod(cells[6])};
+    expected[cells[2] + " " + fields[0] + " " + fields[1] + "=" + cells[1] + " " + cells[0]] = mark;
+    expected[cells[2] + " " + fields[1] + " " + fields[0] + "=" + cells[0] + " " + cells[1]] = mark;
   }
-  std::map<std::string, std::vector<std::vector<std::string>>> marks_by_metric;
-  std::set<std::string> plotted;
+  EXPECT_GT(single_point_rows, 0) << "the failed point's combination has one point";
+  ASSERT_FALSE(expected.empty()) << "no metric with a mean in summary.csv";
+  std::map<std::string, std::pair<double, double>> drawn;
+  std::set<std::string> plots;
   std::istringstream facts(page.out);
   while (std::getline(facts, line)) {
-    std::istringstream fields(line);
+    std::istringstream words(line);
     std::string kind, metric, field;
-    fields >> kind >> metric >> field;
+    words >> kind >> metric >> field;
     if (kind == "plot") {
-      EXPECT_EQ(field, "radio.rate_mbps");
-      plotted.insert(metric);
+      int lines = 0;
+      words >> lines;
+      plots.insert(metric + " " + field);
+      EXPECT_EQ(lines, 2) << line;  // One per value of the other field.
     }
     if (kind == "mark") {
-      std::string x, mean, half;
-      fields >> x >> mean >> half;
-      marks_by_metric[metric].push_back({x, mean, half});
+      std::string x, mean, half, label;
+      words >> x >> mean >> half >> label;
+      drawn[metric + " " + field + " " + label + " " + x] = {std::stod(mean), std::stod(half)};
     }
   }
-  EXPECT_EQ(plotted.size(), rows_by_metric.size()) << page.out;
-  EXPECT_EQ(plotted.count("delivery.obstructed.ratio"), 0u) << page.out;
-  for (const auto& [metric, rows] : rows_by_metric) {
-    SCOPED_TRACE(metric);
-    const auto& marks = marks_by_metric[metric];
-    ASSERT_EQ(marks.size(), rows.size()) << page.out;
-    for (size_t i = 0; i < rows.size(); ++i) {
-      EXPECT_EQ(marks[i][0], rows[i][0]);
-      EXPECT_DOUBLE_EQ(std::stod(marks[i][1]), std::stod(rows[i][3]));
-      EXPECT_DOUBLE_EQ(std::stod(marks[i][2]), rows[i][5].empty() ? 0 : std::stod(rows[i][5]));
-    }
+  EXPECT_EQ(plots.size(), 2 * metrics_with_mean.size()) << page.out;
+  EXPECT_EQ(plots.count("delivery.obstructed.ratio radio.rate_mbps"), 0u) << page.out;
+  ASSERT_EQ(drawn.size(), expected.size()) << page.out;
+  for (const auto& [key, mark] : expected) {
+    SCOPED_TRACE(key);
+    ASSERT_EQ(drawn.count(key), 1u) << page.out;
+    EXPECT_DOUBLE_EQ(drawn[key].first, mark.first);
+    EXPECT_DOUBLE_EQ(drawn[key].second, mark.second);
   }
-  EXPECT_NE(page.out.find("table summary " + std::to_string(summary_rows) + " 6\n"),
+  EXPECT_NE(page.out.find("table summary " + std::to_string(summary_rows) + " 7\n"),
             std::string::npos)
       << page.out;
-  EXPECT_NE(page.out.find("table points 4 "), std::string::npos) << page.out;
-  EXPECT_NE(page.out.find("failed_rows 0\n"), std::string::npos) << page.out;
+  EXPECT_NE(page.out.find("table points 8 "), std::string::npos) << page.out;
+  EXPECT_NE(page.out.find("failed_rows 1\n"), std::string::npos) << page.out;
   if (!::testing::Test::HasFailure()) RunCommand({"rm", "-rf", out});
 }
 

@@ -5,7 +5,8 @@
 // Prints one fact a line:
 //   console_error TEXT                     every console error, page error and failed request
 //   plot METRIC FIELD LINES                a plot drawn, and how many lines it has
-//   mark METRIC FIELD X MEAN HALF          a mark of it: the numbers it was drawn from
+//   mark METRIC FIELD X MEAN HALF LABEL    a mark of it: the numbers it was drawn from, and its
+//                                          line's label (the other fields' values)
 //   table ID ROWS COLUMNS                  a table's body rows and header cells
 //   failed_rows N                          points rows marked failed
 //   screenshot PATH
@@ -27,7 +28,8 @@ async function main() {
         metric: f.dataset.metric,
         field: f.dataset.field,
         lines: f.querySelectorAll('g.line').length,
-        marks: [...f.querySelectorAll('g.mark')].map((m) => [m.dataset.x, m.dataset.mean, m.dataset.half]),
+        marks: [...f.querySelectorAll('g.mark')].map((m) => [m.dataset.x, m.dataset.mean, m.dataset.half,
+          m.closest('g.line').dataset.label]),
       })),
       tables: ['summary', 'points'].map((id) => [id,
         document.querySelectorAll(`#${id} tbody tr`).length,
