@@ -195,10 +195,23 @@ void ValidateMinstrelParameters(const SourceLocator& at, const proto::Radio& rad
   }
 }
 
+// Under a Block Ack agreement a frame has no retry limit: only its expiry ends the BlockAckReqs
+// for it (ns-3 3.37's MissedBlockAck; its MaxDelay cannot be "never"). With frames that never
+// expire, one unreachable receiver would hold its access category for ever.
+void ValidateAggregationExpiry(const SourceLocator& at, const proto::Radio& radio) {
+  if (radio.aggregation() && radio.queue_max_delay_ms() == 0) {
+    at.Fail({{"radio"}, {"queue_max_delay_ms"}},
+            "radio: queue_max_delay_ms 0 (frames never expire) with aggregation: under a Block "
+            "Ack agreement a frame is requested again until it expires; give queue_max_delay_ms "
+            "a bound");
+  }
+}
+
 // Ranges and rates come from the fields' options (field_rules.h); what follows relates fields.
 void ValidateRadio(const SourceLocator& at, const proto::Radio& radio) {
   CheckFieldRules(at, {{"radio"}}, "radio: ", radio, radio.standard());
   ValidateMinstrelParameters(at, radio);
+  ValidateAggregationExpiry(at, radio);
   if (radio.short_slot() && radio.standard() != proto::Radio::STANDARD_80211G) {
     at.Fail({{"radio"}, {"short_slot"}}, "radio: short_slot applies to STANDARD_80211G only");
   }

@@ -163,6 +163,11 @@ TEST(ScenarioTest, RejectsMinstrelOnHtAndItsParametersWithoutIt) {
                      "radio { rate_control: RATE_CONTROL_MINSTREL rts_threshold_bytes: 100 "
                      "queue_max_delay_ms: 0 }\n",
                  "t.textproto:4:70", "radio: queue_max_delay_ms 0 (frames never expire)");
+  ExpectRejected(std::string(kTwo) +
+                     "radio { standard: STANDARD_80211N_5GHZ aggregation: true "
+                     "queue_max_delay_ms: 0 }\n",
+                 "t.textproto:4:58",
+                 "radio: queue_max_delay_ms 0 (frames never expire) with aggregation");
   EXPECT_NO_THROW(LoadScenarioText(
       std::string(kTwo) + "radio { standard: STANDARD_80211G rate_control: RATE_CONTROL_MINSTREL "
                           "minstrel_update_stats_ms: 50 minstrel_sample_columns: 4 }\n",

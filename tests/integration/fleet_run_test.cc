@@ -333,6 +333,7 @@ void RunRealtimeAcrossTwoNodesAndJudgeEachNodesLag(const RunScenario& scenario,
       const std::string part = summary.substr(summary.find(measure, from));
       // Two robots beaconing at 10 Hz for 3 s, less their boot, each way.
       EXPECT_GT(SummaryNumber(part, "", "\"count\":"), 20);
+      SCOPED_TRACE(integration_test::kRealtimeBoundMark);
       EXPECT_LE(SummaryNumber(part, "", "\"p50_ms\":"), 1.5 * kIterationMs);
       EXPECT_LE(SummaryNumber(part, "", "\"p99_ms\":"),
                 2 * kIterationMs + central_lag_ms + noise_ms);

@@ -6,6 +6,7 @@ sitlnet_add_gtest(tapbridge_integration_test
           ${CMAKE_CURRENT_LIST_DIR}/tapbridge_robustness_test.cc
           ${CMAKE_CURRENT_LIST_DIR}/tapbridge_lockstep_test.cc
           ${CMAKE_CURRENT_LIST_DIR}/tapbridge_qos_test.cc
+          ${CMAKE_CURRENT_LIST_DIR}/realtime_judge.cc
   LIBS sitlnet_tapbridge
   LABELS integration)
 target_include_directories(tapbridge_integration_test PRIVATE ${CMAKE_SOURCE_DIR})
