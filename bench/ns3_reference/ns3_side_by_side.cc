@@ -615,9 +615,12 @@ int PrintTable(const std::string& in_path) {
                 (channel == "-" ? "" : ", " + channel);
     }
     if (sitlnet::side_by_side::IsHtOrVht(c.standard)) {
-      channel = "MCS " + std::to_string(c.mcs) + ", " + std::to_string(c.channel_width_mhz) +
-                " MHz, " + (c.short_gi ? "short" : "long") + " GI, no A-MPDU" +
-                (channel == "-" ? "" : ", " + channel);
+      // Under rate control the MCS only sizes the offered load: not shown.
+      const bool rate_controlled =
+          c.rate_control != sitlnet::side_by_side::RateControl::kConstant;
+      channel = (rate_controlled ? "" : "MCS " + std::to_string(c.mcs) + ", ") +
+                std::to_string(c.channel_width_mhz) + " MHz, " + (c.short_gi ? "short" : "long") +
+                " GI, no A-MPDU" + (channel == "-" ? "" : ", " + channel);
     }
     const bool pass = sitlnet::side_by_side::Passes(r);
     passed += pass;
