@@ -238,6 +238,22 @@ std::vector<Case> Cells() {
     cells.back().warmup_s = 1;
     cells.back().measure_s = 5;
   }
+  // The same on a 40 MHz channel with the short GI supported: four groups (20 and 40 MHz, each
+  // GI), so the sample walk across groups and the choice between them are compared too.
+  for (double distance_m : {5.0, 15.0, 25.0, 35.0, 45.0}) {
+    Case c = geo(Standard::kN5, 150, Topology::kLink, distance_m, 0, 0, false);
+    c.mcs = 7;
+    c.channel_width_mhz = 40;
+    c.short_gi = true;
+    c.senders = 1;
+    c.rate_control = RateControl::kMinstrel;
+    c.seeds = 5;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "n5-minstrelht-40MHz-sgi-link-%g", distance_m);
+    add(c, buf);
+    cells.back().warmup_s = 1;
+    cells.back().measure_s = 5;
+  }
   Case shadowed = geo(Standard::kA, 6, Topology::kHidden, 40, 40, 0, false);
   shadowed.lognormal_sigma_db = 6;
   add(shadowed, geo_name(shadowed) + "-lognormal");
