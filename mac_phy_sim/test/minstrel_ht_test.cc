@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <set>
+#include <tuple>
 #include <vector>
 
 #include "mac_phy_sim/phy_mode.h"
@@ -225,6 +227,39 @@ TEST(MinstrelHtTest, OnAMediumLearnsTheLinkAndRepeatsItsChoicesForASeed) {
   ASSERT_GT(far.size(), 100u);
   const auto far_late = far.end() - 100;
   EXPECT_LT(std::count(far_late, far.end(), 7), 20);
+}
+
+// The (streams, GI, width) groups DATA frames went in over a saturated 5 m link.
+std::set<std::tuple<bool, int, bool, int>> GroupsSent(Standard standard, int width_mhz,
+                                                        bool short_gi, int streams) {
+  MediumConfig config;
+  config.standard = standard;
+  config.rate_control = MediumConfig::RateControl::kMinstrel;
+  config.channel_width_mhz = width_mhz;
+  config.short_guard_interval = short_gi;
+  config.spatial_streams = streams;
+  if (standard != Standard::k80211ac) config.mcs = 8 * streams - 1;  // HT: streams from it.
+  std::set<std::tuple<bool, int, bool, int>> groups;
+  for (const TxRecord& tx : LinkDataFrames(config, 5, 100 * kNsPerUs, 300 * kNsPerMs)) {
+    groups.insert({tx.vht, tx.spatial_streams, tx.short_guard_interval, tx.channel_width_mhz});
+    // VHT MCS 9 has no 20 MHz mode for 1 or 2 streams (ns-3's IsValidMcs): never chosen.
+    EXPECT_FALSE(tx.vht && tx.mcs == 9 && tx.channel_width_mhz == 20);
+  }
+  return groups;
+}
+
+TEST(MinstrelHtTest, SamplesEveryGroupTheStationSupports) {
+  using G = std::tuple<bool, int, bool, int>;  // VHT, streams, short GI, width.
+  // 802.11n at 40 MHz, short GI supported, one stream: four HT groups.
+  EXPECT_EQ(GroupsSent(Standard::k80211n5GHz, 40, true, 1),
+            (std::set<G>{{false, 1, false, 20}, {false, 1, true, 20}, {false, 1, false, 40},
+                         {false, 1, true, 40}}));
+  // Two streams, long GI only, 20 MHz: the 1- and 2-stream groups.
+  EXPECT_EQ(GroupsSent(Standard::k80211n2_4GHz, 20, false, 2),
+            (std::set<G>{{false, 1, false, 20}, {false, 2, false, 20}}));
+  // 802.11ac at 80 MHz, long GI: VHT groups only (UseLatestAmendmentOnly), 20 to 80 MHz.
+  EXPECT_EQ(GroupsSent(Standard::k80211ac, 80, false, 1),
+            (std::set<G>{{true, 1, false, 20}, {true, 1, false, 40}, {true, 1, false, 80}}));
 }
 
 TEST(MinstrelHtTest, AFrameNobodyAnswersGoesThreeTimes) {
