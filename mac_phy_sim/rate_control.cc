@@ -67,8 +67,9 @@ void AddMcsRates(State& s, int channel_width_mhz, bool short_guard_interval) {
     for (int streams = 1; streams <= 2; ++streams) {
       if (!vht && streams != mcs / 8 + 1) continue;
       try {
-        s.rates.push_back(MakeRate(
-            s, McsModeFor(s.config.standard, mcs, streams, channel_width_mhz, short_guard_interval)));
+        const PhyMode mode =
+            McsModeFor(s.config.standard, mcs, streams, channel_width_mhz, short_guard_interval);
+        s.rates.push_back(MakeRate(s, mode));
       } catch (const Error&) {
         // VHT MCS 9 at 20 MHz: no such mode.
       }
@@ -105,8 +106,9 @@ void BuildRates(State& s) {
       for (int width_mhz = 20; width_mhz <= data.channel_width_mhz; width_mhz *= 2) {
         for (const bool short_gi : {false, true}) {
           if (short_gi && !data.short_guard_interval) continue;
-          if (width_mhz == data.channel_width_mhz && short_gi == data.short_guard_interval) continue;
-          AddMcsRates(s, width_mhz, short_gi);
+          const bool own = width_mhz == data.channel_width_mhz &&
+                           short_gi == data.short_guard_interval;
+          if (!own) AddMcsRates(s, width_mhz, short_gi);
         }
       }
     }
