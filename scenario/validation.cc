@@ -378,6 +378,11 @@ void ValidateRobotRadio(const SourceLocator& at, int i, const proto::Robot& robo
   }
   const std::string problem = McsProblem(radio, robot.mcs());
   if (!problem.empty()) at.Fail({{"robot", i}, {"mcs"}}, who + problem);
+  if (radio.rate_control() == proto::Radio::RATE_CONTROL_MINSTREL) {
+    at.Fail({{"robot", i}, {"mcs"}},
+            who + "mcs would be ignored: Minstrel-HT (rate_control RATE_CONTROL_MINSTREL) "
+                  "chooses every robot's MCS");
+  }
 }
 
 void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {

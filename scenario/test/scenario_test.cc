@@ -174,6 +174,12 @@ TEST(ScenarioTest, RejectsMinstrelParametersWhereTheyDoNothing) {
       std::string(kTwo) + "radio { standard: STANDARD_80211AC rate_control: RATE_CONTROL_MINSTREL "
                           "minstrel_ht_update_stats_ms: 100 minstrel_ewma_percent: 50 }\n",
       "t.textproto"));
+  // A robot's own MCS means nothing under Minstrel-HT.
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" mcs: 3 }\nrobot { name: \"b\" }\n"
+                 "radio { standard: STANDARD_80211N_5GHZ rate_control: RATE_CONTROL_MINSTREL }\n",
+                 "t.textproto:2:19",
+                 "robot \"a\": mcs would be ignored: Minstrel-HT (rate_control "
+                 "RATE_CONTROL_MINSTREL) chooses every robot's MCS");
   ExpectRejected(std::string(kTwo) + "radio { minstrel_ewma_percent: 50 }\n", "t.textproto:4:9",
                  "radio: minstrel_ewma_percent applies to rate_control RATE_CONTROL_MINSTREL only");
   ExpectRejected(std::string(kTwo) +
