@@ -176,6 +176,30 @@ TEST(MinstrelHtTest, RetryChainGoesBestSecondThenProbability) {
   EXPECT_EQ(r.tx_rate, 2);
 }
 
+TEST(MinstrelHtTest, AmpduReportsCountMpdusAndFeedTheAverageLength) {
+  MinstrelHt minstrel(PhyHt20(), MediumConfig::Minstrel{}, 1);
+  MinstrelHtRemote r = minstrel.NewRemote(0);
+  r.tx_rate = 4;
+  // DoReportAmpduTxStatus: 18 of 20 MPDUs acknowledged count at the current rate.
+  minstrel.ReportAmpduTxStatus(r, 18, 2, 10 * kNsPerMs);
+  EXPECT_EQ(r.rates[4].successes, 18u);
+  EXPECT_EQ(r.rates[4].attempts, 20u);
+  EXPECT_EQ(r.total_packets, 20);
+  // A BlockAck with none acknowledged (or none at all) moves the retry chain instead.
+  r.tx_rate = 4;
+  minstrel.ReportAmpduTxStatus(r, 0, 20, 20 * kNsPerMs);
+  EXPECT_EQ(r.long_retry, 1u);
+  // UpdateStats: the average A-MPDU length, 40 MPDUs / 2 A-MPDUs = 20, weighted as the EWMA in
+  // integers: (20 x 25 + 1 x 75) / 100 = 5. The next sample waits 16 + 2 x 5 frames.
+  minstrel.UpdateStats(r, 50 * kNsPerMs);
+  EXPECT_EQ(r.avg_ampdu_len, 5u);
+  EXPECT_EQ(r.ampdu_len, 0u);
+  r.sample_wait = r.sample_tries = 0;
+  r.sample_count = 1;
+  minstrel.ReportAmpduTxStatus(r, 5, 0, 60 * kNsPerMs);
+  EXPECT_EQ(r.sample_wait, 16u + 2u * 5u - 1u);  // Set, then one frame of it waited (FindRate).
+}
+
 TEST(MinstrelHtTest, SampleTableDrawsFromTheSeedAndGroupsTakeTurns) {
   MediumConfig::Minstrel config;
   MinstrelHt a(PhyHt20(true), config, 7), b(PhyHt20(true), config, 7), c(PhyHt20(true), config, 8);
