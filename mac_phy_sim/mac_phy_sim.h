@@ -161,15 +161,19 @@ struct MediumConfig {
   // rate whose SNR for a bit error rate of ideal_ber is below the SNR the
   // destination last measured on an acknowledged frame (ns-3's
   // IdealWifiManager; starts at the lowest rate). kMinstrel: ns-3 3.37's
-  // MinstrelWifiManager (a/b/g only): per destination, success statistics per
-  // rate, a sample table and a multi-rate retry chain (docs/mac_phy_sim.md).
+  // MinstrelWifiManager on a/b/g, MinstrelHtWifiManager on n/ac: per destination,
+  // success statistics per rate, a sample table and a multi-rate retry chain
+  // (docs/mac_phy_sim.md). kIdeal is a/b/g only.
   enum class RateControl : uint8_t { kConstant, kIdeal, kMinstrel };
   RateControl rate_control = RateControl::kConstant;
   double ideal_ber = 1e-6;  // ns-3 IdealWifiManager's BerThreshold.
   // ns-3 3.37 MinstrelWifiManager's attributes and defaults (UpdateStatistics, LookAroundRate,
-  // EWMA, SampleColumn, PacketLength).
+  // EWMA, SampleColumn, PacketLength); MinstrelHtWifiManager's have the same names and
+  // defaults, but UpdateStatistics is 50 ms there (ht_update_stats_ns; its legacy manager's
+  // LegacyUpdateStatistics is update_stats_ns) and LookAroundRate is its legacy manager's.
   struct Minstrel {
-    TimeNs update_stats_ns = 100 * kNsPerMs;  // Statistics refresh interval.
+    TimeNs update_stats_ns = 100 * kNsPerMs;  // Statistics refresh interval (a/b/g).
+    TimeNs ht_update_stats_ns = 50 * kNsPerMs;  // The same for Minstrel-HT (n/ac).
     int look_around_percent = 10;             // Share of frames sent at a sampled rate.
     int ewma_percent = 75;                    // Weight of the old success probability.
     int sample_columns = 10;                  // Columns of the random sample table.

@@ -447,10 +447,11 @@ std::unique_ptr<RateManager> MakeRateManager(const State& s, int station);
 // Picks the DATA (and RTS) rate of the next attempt of the current frame of exchange_ac.
 void ChooseRates(State& s, int station);
 
-// ---- ideal_rate_manager.cc, minstrel_rate_manager.cc
+// ---- ideal_rate_manager.cc, minstrel_rate_manager.cc, minstrel_ht_rate_manager.cc
 std::unique_ptr<RateManager> MakeIdealRateManager(const State& s);
-// `seed` seeds its sample tables' stream.
+// `seed` seeds its sample tables' stream. Minstrel for a/b/g, Minstrel-HT for n/ac.
 std::unique_ptr<RateManager> MakeMinstrelRateManager(const State& s, uint64_t seed);
+std::unique_ptr<RateManager> MakeMinstrelHtRateManager(const State& s, uint64_t seed);
 
 // ---- transmission.cc
 // `subframes`: an A-MPDU's MPDUs, moved into the transmission before any receiver sees it.

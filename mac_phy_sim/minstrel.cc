@@ -12,15 +12,26 @@ constexpr uint32_t kProbabilityScale = 18000;
 // RateInit: the longest retry chain per rate whose expected time stays within 6 ms.
 constexpr TimeNs kRetryChainBudgetNs = 6 * kNsPerMs;
 
-// Uniform integer in [0, max_inclusive] (ns-3's UniformRandomVariable::GetInteger(0, max)),
-// by multiply-shift: no division, the same value on every library version.
+}  // namespace
+
+// By multiply-shift: no division, the same value on every library version.
 int UniformInclusive(std::mt19937_64& rng, int max_inclusive) {
   return static_cast<int>((static_cast<unsigned __int128>(rng()) *
                            static_cast<uint64_t>(max_inclusive + 1)) >>
                           64);
 }
 
-}  // namespace
+void FillSampleTable(std::mt19937_64& rng, std::vector<std::vector<int>>& table) {
+  const int n = static_cast<int>(table.size());
+  const int columns = n == 0 ? 0 : static_cast<int>(table.front().size());
+  for (int col = 0; col < columns; ++col) {
+    for (int i = 0; i < n; ++i) {
+      int new_index = (i + UniformInclusive(rng, n)) % n;
+      while (table[new_index][col] != 0) new_index = (new_index + 1) % n;
+      table[new_index][col] = i;
+    }
+  }
+}
 
 Minstrel::Minstrel(MinstrelPhy phy, const MediumConfig::Minstrel& config, uint64_t seed)
     : phy_(std::move(phy)), config_(config), rng_(seed) {
@@ -61,18 +72,8 @@ MinstrelRemote Minstrel::NewRemote(TimeNs now_ns) {
 }
 
 void Minstrel::InitSampleTable(MinstrelRemote& r) {
-  // Each column is a random permutation of the rates. ns-3 marks free cells by 0, which is
-  // also rate 0's value, so later rates may land on rate 0's cell; the one cell left over
-  // holds 0 either way. Kept as ns-3 draws it: the draws decide which cells rates take.
-  const int n = rate_count();
   r.column = r.index = 0;
-  for (int col = 0; col < config_.sample_columns; ++col) {
-    for (int i = 0; i < n; ++i) {
-      int new_index = (i + UniformInclusive(rng_, n)) % n;
-      while (r.sample_table[new_index][col] != 0) new_index = (new_index + 1) % n;
-      r.sample_table[new_index][col] = i;
-    }
-  }
+  FillSampleTable(rng_, r.sample_table);
 }
 
 // The retry chain (ns-3's table in UpdateRate): three stages of adjusted_retry_count attempts

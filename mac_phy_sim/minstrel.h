@@ -17,6 +17,15 @@
 
 namespace sitlnet::mac {
 
+// Uniform integer in [0, max_inclusive] (ns-3's UniformRandomVariable::GetInteger(0, max)).
+int UniformInclusive(std::mt19937_64& rng, int max_inclusive);
+
+// ns-3's InitSampleTable, which MinstrelWifiManager and MinstrelHtWifiManager write alike: each
+// of `table`'s columns ([row][column], rows x columns, all 0) becomes a random permutation of
+// 0 .. rows - 1. ns-3 marks free cells by 0, which is also row 0's value, so later values may
+// land on 0's cell; the one cell left over holds 0 either way. Kept as ns-3 draws it.
+void FillSampleTable(std::mt19937_64& rng, std::vector<std::vector<int>>& table);
+
 // What the algorithm knows of the sender's PHY.
 struct MinstrelPhy {
   // Per supported mode: the PPDU duration of a config.packet_bytes PSDU (long preamble).
@@ -70,6 +79,9 @@ class Minstrel {
   void ReportFinalDataFailed(MinstrelRemote& r, TimeNs now_ns) const;
   // False once the frame used up the retry chain (ns-3's DoNeedRetransmission).
   static bool NeedRetransmission(const MinstrelRemote& r) { return r.long_retry < CountRetries(r); }
+  // ns-3's MinstrelWifiManager keeps the base class's DoReportAmpduTxStatus, which ignores it.
+  static void ReportAmpduTxStatus(MinstrelRemote& /*r*/, int /*mpdus_ok*/, int /*mpdus_failed*/,
+                                  TimeNs /*now_ns*/) {}
 
   // Exposed for tests: ns-3's UpdateStats (no-op before next_stats_update_ns), the retry chain
   // length, and the expected time of a frame sent with `long_retries` retries.

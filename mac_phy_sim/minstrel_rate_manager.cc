@@ -6,6 +6,7 @@
 
 #include "mac_phy_sim/medium_state.h"
 #include "mac_phy_sim/minstrel.h"
+#include "mac_phy_sim/minstrel_family_rate_manager.h"
 
 namespace sitlnet::mac {
 namespace {
@@ -30,50 +31,20 @@ TimeNs AckTxTimeNs(Standard standard) {
   return (standard == Standard::k80211a ? 44 : 304) * kNsPerUs;
 }
 
-class MinstrelRateManager final : public RateManager {
+class MinstrelRateManager final
+    : public MinstrelFamilyRateManager<Minstrel, MinstrelRemote> {
  public:
-  MinstrelRateManager(std::vector<const RateEntry*> supported, MinstrelPhy phy,
-                      const MediumConfig::Minstrel& config, uint64_t seed)
-      : supported_(std::move(supported)), minstrel_(std::move(phy), config, seed) {}
+  MinstrelRateManager(std::vector<const RateEntry*> supported, Minstrel minstrel)
+      : MinstrelFamilyRateManager(std::move(minstrel)), supported_(std::move(supported)) {}
 
   TxRates Choose(const MacAddress& destination, TimeNs now_ns) override {
     const RateEntry* data = supported_[Remote(destination, now_ns).tx_rate];
     // ns-3's GetRtsTxVector: the first supported mode.
     return TxRates{data, supported_.front(), &supported_.front()->data};
   }
-  void ReportRtsFailed(const MacAddress& destination, TimeNs now_ns) override {
-    Minstrel::ReportRtsFailed(Remote(destination, now_ns));
-  }
-  void ReportFinalRtsFailed(const MacAddress& destination, TimeNs now_ns) override {
-    Minstrel::ReportFinalRtsFailed(Remote(destination, now_ns));
-  }
-  void ReportDataOk(const MacAddress& destination, double /*data_snr*/, TimeNs now_ns) override {
-    minstrel_.ReportDataOk(Remote(destination, now_ns), now_ns);
-  }
-  void ReportDataFailed(const MacAddress& destination, TimeNs now_ns) override {
-    minstrel_.ReportDataFailed(Remote(destination, now_ns));
-  }
-  void ReportFinalDataFailed(const MacAddress& destination, TimeNs now_ns) override {
-    minstrel_.ReportFinalDataFailed(Remote(destination, now_ns), now_ns);
-  }
-  bool NeedRetransmission(const MacAddress& destination, bool /*normally*/,
-                          TimeNs now_ns) override {
-    return Minstrel::NeedRetransmission(Remote(destination, now_ns));
-  }
 
  private:
-  // A destination's state, made at `now_ns` when first met: by Choose, or by a report that
-  // comes first (an internal collision of a frame not yet sent), as ns-3 makes its station.
-  MinstrelRemote& Remote(const MacAddress& destination, TimeNs now_ns) {
-    for (auto& [mac, remote] : remotes_) {
-      if (mac == destination) return remote;
-    }
-    return remotes_.emplace_back(destination, minstrel_.NewRemote(now_ns)).second;
-  }
-
   std::vector<const RateEntry*> supported_;  // Into State::rates (never resized).
-  Minstrel minstrel_;
-  std::vector<std::pair<MacAddress, MinstrelRemote>> remotes_;
 };
 
 }  // namespace
@@ -93,8 +64,8 @@ std::unique_ptr<RateManager> MakeMinstrelRateManager(const State& s, uint64_t se
   phy.sifs_ns = s.phy.sifs_ns;
   phy.slot_ns = s.phy.slot_ns;
   phy.ack_tx_ns = AckTxTimeNs(config.standard);
-  return std::make_unique<MinstrelRateManager>(std::move(supported), std::move(phy),
-                                               config.minstrel, seed);
+  return std::make_unique<MinstrelRateManager>(std::move(supported),
+                                               Minstrel(std::move(phy), config.minstrel, seed));
 }
 
 }  // namespace sitlnet::mac

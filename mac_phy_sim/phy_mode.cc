@@ -266,6 +266,16 @@ TimeNs PpduDurationNs(const PhyMode& mode, const PhyHeader& header, int psdu_byt
   return header.preamble_and_header_ns + symbols * 4 * kNsPerUs + header.signal_extension_ns;
 }
 
+TimeNs AmpduMpduDurationNs(const PhyMode& mode, const PhyHeader& header, int psdu_bytes,
+                           bool first_in_ampdu) {
+  SITLNET_DEMAND(mode.format != PhyFormat::kLegacy);
+  const int64_t bits =
+      8LL * psdu_bytes + (first_in_ampdu ? 16 + 6 * BccEncoders(mode) : 0);
+  // bits / N_DBPS symbols of symbol_ns each, exactly, then truncated (ns-3 keeps femtoseconds
+  // and its Time truncates them to its nanosecond resolution).
+  return header.preamble_and_header_ns + bits * McsSymbolNs(mode) / McsDataBitsPerSymbol(mode);
+}
+
 TimeNs PpduDurationNs(Standard standard, double rate_mbps, int psdu_bytes) {
   const PhyMode mode = ModeFor(standard, rate_mbps);
   return PpduDurationNs(mode, HeaderFor(standard, mode, /*short_preamble=*/false), psdu_bytes);
@@ -294,10 +304,11 @@ PhyInfo DerivePhyInfo(const MediumConfig& config) {
          "retry limits must be >= 1");
 
   const bool ht = IsHtOrVht(config.standard);
-  demand(!ht || config.rate_control == MediumConfig::RateControl::kConstant,
-         "rate_control ideal and minstrel are modelled for 802.11a/b/g only");
+  demand(!ht || config.rate_control != MediumConfig::RateControl::kIdeal,
+         "rate_control ideal is modelled for 802.11a/b/g only");
   const MediumConfig::Minstrel& minstrel = config.minstrel;
-  demand(minstrel.update_stats_ns > 0 && minstrel.look_around_percent >= 0 &&
+  demand(minstrel.update_stats_ns > 0 && minstrel.ht_update_stats_ns > 0 &&
+             minstrel.look_around_percent >= 0 &&
              minstrel.look_around_percent <= 100 && minstrel.ewma_percent >= 0 &&
              minstrel.ewma_percent <= 100 && minstrel.sample_columns >= 1 &&
              minstrel.packet_bytes >= 1,

@@ -77,6 +77,14 @@ PhyHeader HeaderFor(Standard standard, const PhyMode& mode, bool short_preamble)
 // Exact PPDU duration of `psdu_bytes` in `mode` with `header`.
 TimeNs PpduDurationNs(const PhyMode& mode, const PhyHeader& header, int psdu_bytes);
 
+// HT/VHT: ns-3 3.37's duration of one MPDU of `psdu_bytes` inside an A-MPDU as
+// MinstrelHtWifiManager::CalculateMpduTxDuration computes it: the preamble and header, then
+// fractional symbols (HtPhy::GetPayloadDuration, truncated to the ns): the first MPDU carries
+// the SERVICE and tail bits (16 + 8 L + 6 N_ES bits), a middle one 8 L bits only. No signal
+// extension. Minstrel-HT's per-rate "perfect" times.
+TimeNs AmpduMpduDurationNs(const PhyMode& mode, const PhyHeader& header, int psdu_bytes,
+                           bool first_in_ampdu);
+
 // Control responses (ACK, CTS) and, here, RTS use the highest basic rate not
 // above the rate of the frame they answer (10.6.6.5.2), of an allowed
 // modulation class. The basic rate set is ns-3 3.37's for an ad hoc network:

@@ -40,7 +40,8 @@ ModeEntry MakeMode(const State& s, const PhyMode& mode) {
 
 bool SameMode(const PhyMode& a, const PhyMode& b) {
   return std::fabs(a.rate_mbps - b.rate_mbps) < 1e-9 && a.format == b.format && a.mcs == b.mcs &&
-         a.spatial_streams == b.spatial_streams;
+         a.spatial_streams == b.spatial_streams && a.channel_width_mhz == b.channel_width_mhz &&
+         a.short_guard_interval == b.short_guard_interval;
 }
 
 // The entry of a data mode: its control responses, their airtimes, Ideal's threshold.
@@ -56,6 +57,24 @@ RateEntry MakeRate(const State& s, const PhyMode& mode) {
   entry.basic = mode.format == PhyFormat::kLegacy &&
                 ControlRateFor(s.config.standard, mode.rate_mbps) == mode.rate_mbps;
   return entry;
+}
+
+// Every MCS a station may use with `channel_width_mhz` and the guard interval (stations may
+// override the MCS; HT's index carries the streams, VHT's does not).
+void AddMcsRates(State& s, int channel_width_mhz, bool short_guard_interval) {
+  const bool vht = s.config.standard == Standard::k80211ac;
+  for (int mcs = 0; mcs < (vht ? 10 : 16); ++mcs) {
+    for (int streams = 1; streams <= 2; ++streams) {
+      if (!vht && streams != mcs / 8 + 1) continue;
+      try {
+        const PhyMode mode =
+            McsModeFor(s.config.standard, mcs, streams, channel_width_mhz, short_guard_interval);
+        s.rates.push_back(MakeRate(s, mode));
+      } catch (const Error&) {
+        // VHT MCS 9 at 20 MHz: no such mode.
+      }
+    }
+  }
 }
 
 // ns-3's ConstantRateWifiManager: the station's rate; RTS at that rate's control rate.
@@ -79,19 +98,17 @@ void BuildRates(State& s) {
     s.rates.push_back(MakeRate(s, ModeFor(s.config.standard, rate)));
   }
   if (IsHtOrVht(s.config.standard)) {
-    // Every MCS a station may use with the config's width and guard interval (stations may
-    // override the MCS; HT's index carries the streams, VHT's does not).
     const PhyMode data = DataModeFor(s.config, StationRadio{});
-    const bool vht = data.format == PhyFormat::kVht;
-    for (int mcs = 0; mcs < (vht ? 10 : 16); ++mcs) {
-      for (int streams = 1; streams <= 2; ++streams) {
-        if (!vht && streams != mcs / 8 + 1) continue;
-        try {
-          s.rates.push_back(MakeRate(s, McsModeFor(s.config.standard, mcs, streams,
-                                                   data.channel_width_mhz,
-                                                   data.short_guard_interval)));
-        } catch (const Error&) {
-          // VHT MCS 9 at 20 MHz: no such mode.
+    AddMcsRates(s, data.channel_width_mhz, data.short_guard_interval);
+    if (s.config.rate_control == MediumConfig::RateControl::kMinstrel) {
+      // Minstrel-HT's other groups: narrower widths, and the long GI beside the short one
+      // (minstrel_ht_rate_manager.cc). Added after the config's own, so those keep their places.
+      for (int width_mhz = 20; width_mhz <= data.channel_width_mhz; width_mhz *= 2) {
+        for (const bool short_gi : {false, true}) {
+          if (short_gi && !data.short_guard_interval) continue;
+          const bool own = width_mhz == data.channel_width_mhz &&
+                           short_gi == data.short_guard_interval;
+          if (!own) AddMcsRates(s, width_mhz, short_gi);
         }
       }
     }
@@ -113,12 +130,15 @@ std::unique_ptr<RateManager> MakeRateManager(const State& s, int station) {
       return std::make_unique<ConstantRateManager>(s.stations[station].rate);
     case MediumConfig::RateControl::kIdeal:
       return MakeIdealRateManager(s);
-    case MediumConfig::RateControl::kMinstrel:
+    case MediumConfig::RateControl::kMinstrel: {
       // Its own stream ("minstrel"), apart from the MAC's and the channel's: turning it on
-      // leaves every other draw as it was.
-      return MakeMinstrelRateManager(
-          s, SplitMix64(s.config.seed ^ 0x6d696e737472656cull ^
-                        SplitMix64(static_cast<uint64_t>(station) + 1)));
+      // leaves every other draw as it was. 802.11n/ac: Minstrel-HT (ns-3's
+      // MinstrelHtWifiManager, which runs legacy Minstrel for non-HT peers: the a/b/g one here).
+      const uint64_t seed = SplitMix64(s.config.seed ^ 0x6d696e737472656cull ^
+                                       SplitMix64(static_cast<uint64_t>(station) + 1));
+      return IsHtOrVht(s.config.standard) ? MakeMinstrelHtRateManager(s, seed)
+                                          : MakeMinstrelRateManager(s, seed);
+    }
   }
   SITLNET_DEMAND(false && "unknown rate control");
   return nullptr;

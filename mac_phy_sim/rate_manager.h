@@ -6,6 +6,7 @@
 //   rate_control.cc          the constant rate (ConstantRateWifiManager)
 //   ideal_rate_manager.cc    ns-3 3.37's IdealWifiManager
 //   minstrel_rate_manager.cc ns-3 3.37's MinstrelWifiManager (minstrel.h)
+//   minstrel_ht_rate_manager.cc ns-3 3.37's MinstrelHtWifiManager (minstrel_ht.h), n/ac
 #ifndef SITLNET_MAC_PHY_SIM_RATE_MANAGER_H_
 #define SITLNET_MAC_PHY_SIM_RATE_MANAGER_H_
 

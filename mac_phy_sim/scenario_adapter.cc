@@ -64,6 +64,8 @@ MediumConfig MediumConfigFromScenario(const sitlnet::Scenario& scenario) {
     config.rate_control = MediumConfig::RateControl::kMinstrel;
   }
   config.minstrel.update_stats_ns = static_cast<TimeNs>(radio.minstrel_update_stats_ms()) * kNsPerMs;
+  config.minstrel.ht_update_stats_ns =
+      static_cast<TimeNs>(radio.minstrel_ht_update_stats_ms()) * kNsPerMs;
   config.minstrel.look_around_percent = static_cast<int>(radio.minstrel_look_around_percent());
   config.minstrel.ewma_percent = static_cast<int>(radio.minstrel_ewma_percent());
   config.minstrel.sample_columns = static_cast<int>(radio.minstrel_sample_columns());

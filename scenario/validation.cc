@@ -99,7 +99,8 @@ void ValidateRadioMode(const SourceLocator& at, const proto::Radio& radio) {
   if (!IsHtOrVht(radio.standard())) {
     for (const char* field : {"mcs", "spatial_streams", "channel_width_mhz", "short_guard_interval",
                               "aggregation", "ampdu_max_bytes_be", "ampdu_max_bytes_vi",
-                              "ampdu_max_bytes_bk", "ampdu_max_bytes_vo"}) {
+                              "ampdu_max_bytes_bk", "ampdu_max_bytes_vo",
+                              "minstrel_ht_update_stats_ms"}) {
       const auto* descriptor = radio.GetDescriptor()->FindFieldByName(field);
       if (radio.GetReflection()->HasField(radio, descriptor)) {
         at.Fail({{"radio"}, {field}}, std::string("radio: ") + field +
@@ -112,11 +113,20 @@ void ValidateRadioMode(const SourceLocator& at, const proto::Radio& radio) {
     at.Fail({{"radio"}, {"rate_mbps"}},
             "radio: rate_mbps applies to 802.11a/b/g; 802.11n/ac send data at mcs");
   }
-  if (radio.rate_control() != proto::Radio::RATE_CONTROL_CONSTANT) {
+  if (radio.rate_control() == proto::Radio::RATE_CONTROL_IDEAL) {
     at.Fail({{"radio"}, {"rate_control"}},
-            "radio: rate_control " +
-                proto::Radio::RateControl_Name(radio.rate_control()) +
-                " is modelled for 802.11a/b/g only (Minstrel-HT is not modelled yet)");
+            "radio: rate_control RATE_CONTROL_IDEAL is modelled for 802.11a/b/g only");
+  }
+  // RATE_CONTROL_MINSTREL is Minstrel-HT here, which has neither legacy Minstrel's sampling
+  // share nor its interval (ns-3 keeps them for non-HT peers, which an n/ac scenario lacks).
+  for (const char* field : {"minstrel_update_stats_ms", "minstrel_look_around_percent"}) {
+    const auto* descriptor = radio.GetDescriptor()->FindFieldByName(field);
+    if (radio.GetReflection()->HasField(radio, descriptor)) {
+      at.Fail({{"radio"}, {field}},
+              std::string("radio: ") + field +
+                  " applies to 802.11a/b/g Minstrel; 802.11n/ac run Minstrel-HT "
+                  "(its interval: minstrel_ht_update_stats_ms)");
+    }
   }
   const std::string problem = McsProblem(radio, radio.mcs());
   if (!problem.empty()) {
@@ -185,7 +195,7 @@ void ValidateMinstrelParameters(const SourceLocator& at, const proto::Radio& rad
   }
   for (const char* field : {"minstrel_update_stats_ms", "minstrel_look_around_percent",
                             "minstrel_ewma_percent", "minstrel_sample_columns",
-                            "minstrel_packet_bytes"}) {
+                            "minstrel_packet_bytes", "minstrel_ht_update_stats_ms"}) {
     const google::protobuf::FieldDescriptor* descriptor =
         radio.GetDescriptor()->FindFieldByName(field);
     SITLNET_DEMAND(descriptor != nullptr);  // A renamed field in scenario.proto: a bug.
@@ -381,6 +391,11 @@ void ValidateRobotRadio(const SourceLocator& at, int i, const proto::Robot& robo
   }
   const std::string problem = McsProblem(radio, robot.mcs());
   if (!problem.empty()) at.Fail({{"robot", i}, {"mcs"}}, who + problem);
+  if (radio.rate_control() == proto::Radio::RATE_CONTROL_MINSTREL) {
+    at.Fail({{"robot", i}, {"mcs"}},
+            who + "mcs would be ignored: Minstrel-HT (rate_control RATE_CONTROL_MINSTREL) "
+                  "chooses every robot's MCS");
+  }
 }
 
 void ValidateAndDeriveRobots(const SourceLocator& at, Scenario* scenario) {

@@ -113,8 +113,10 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
     wifi.SetRemoteStationManager("ns3::IdealWifiManager", "RtsCtsThreshold", rts_threshold);
   } else if (c.rate_control == sitlnet::side_by_side::RateControl::kMinstrel) {
     // Its attributes at their defaults (UpdateStatistics 100 ms, LookAroundRate 10, EWMA 75,
-    // SampleColumn 10, PacketLength 1200), as mac_phy_sim's.
-    wifi.SetRemoteStationManager("ns3::MinstrelWifiManager", "RtsCtsThreshold", rts_threshold);
+    // SampleColumn 10, PacketLength 1200), as mac_phy_sim's. n/ac: Minstrel-HT, also at its
+    // defaults (UpdateStatistics 50 ms, EWMA 75, SampleColumn 10, PacketLength 1200).
+    wifi.SetRemoteStationManager(ht ? "ns3::MinstrelHtWifiManager" : "ns3::MinstrelWifiManager",
+                                 "RtsCtsThreshold", rts_threshold);
   } else {
     wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode",
                                  StringValue(DataModeName(c)), "ControlMode",

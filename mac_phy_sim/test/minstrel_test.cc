@@ -17,6 +17,7 @@ namespace sitlnet::mac {
 namespace {
 
 using testing::DrainTransmissions;
+using testing::LinkDataFrames;
 using testing::MakeEthernetFrame;
 
 // 802.11a's eight rates with a 1200-byte PSDU: 20 us of preamble and header plus 4 us per
@@ -139,17 +140,9 @@ std::vector<double> MinstrelRates(double distance_m, uint64_t seed, TimeNs durat
   MediumConfig config;
   config.rate_control = MediumConfig::RateControl::kMinstrel;
   config.seed = seed;
-  Medium medium(config);
-  medium.AddStation(RobotMac(0), {0, 0, 0});
-  medium.AddStation(RobotMac(1), {distance_m, 0, 0});
-  medium.EnableTrace(true);
-  for (TimeNs t = 0; t < duration_ns; t += 250 * kNsPerUs) {
-    medium.SubmitFrame(0, MakeEthernetFrame(RobotMac(1), RobotMac(0), 1500), t);
-  }
-  medium.AdvanceTo(duration_ns, nullptr);
   std::vector<double> rates;
-  for (const TxRecord& tx : DrainTransmissions(medium)) {
-    if (tx.kind == FrameKind::kData) rates.push_back(tx.rate_mbps);
+  for (const TxRecord& tx : LinkDataFrames(config, distance_m, 250 * kNsPerUs, duration_ns)) {
+    rates.push_back(tx.rate_mbps);
   }
   return rates;
 }

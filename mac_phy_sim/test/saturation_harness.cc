@@ -121,6 +121,23 @@ std::vector<TxRecord> DrainTransmissions(Medium& medium) {
   return out;
 }
 
+std::vector<TxRecord> LinkDataFrames(const MediumConfig& config, double distance_m,
+                                     TimeNs interval_ns, TimeNs duration_ns) {
+  Medium medium(config);
+  medium.AddStation(RobotMac(0), {0, 0, 0});
+  medium.AddStation(RobotMac(1), {distance_m, 0, 0});
+  medium.EnableTrace(true);
+  for (TimeNs t = 0; t < duration_ns; t += interval_ns) {
+    medium.SubmitFrame(0, MakeEthernetFrame(RobotMac(1), RobotMac(0), 1500), t);
+  }
+  medium.AdvanceTo(duration_ns, nullptr);
+  std::vector<TxRecord> data;
+  for (TxRecord& tx : DrainTransmissions(medium)) {
+    if (tx.kind == FrameKind::kData) data.push_back(std::move(tx));
+  }
+  return data;
+}
+
 uint64_t RunTopUpSaturation(int n, double seconds, uint64_t seed) {
   MediumConfig config;
   config.seed = seed;

@@ -43,6 +43,11 @@ SaturationResult RunSaturation(const SaturationSetup& setup);
 // Moves the transmissions of the medium's trace out (drops are left out).
 std::vector<TxRecord> DrainTransmissions(Medium& medium);
 
+// The DATA frames of one link `distance_m` long under `config`: station 0 sends station 1 a
+// 1500-byte payload every `interval_ns` for `duration_ns` (rate-control tests).
+std::vector<TxRecord> LinkDataFrames(const MediumConfig& config, double distance_m,
+                                     TimeNs interval_ns, TimeNs duration_ns);
+
 // The medium's own cost: n saturated 802.11a 54 Mb/s stations 1 mm apart in
 // a ring (n = 1: to a receive-only station), 1500-byte payloads, retries
 // unlimited, with a light driver that keeps 16 frames queued per sender

@@ -48,6 +48,10 @@ TEST(ScenarioAdapterTest, EveryRadioValueTheScenarioAcceptsBuildsAMedium) {
         if (field->name().rfind("minstrel_", 0) == 0) {
           spec->set_rate_control(proto::Radio::RATE_CONTROL_MINSTREL);
         }
+        // Minstrel-HT's interval belongs to 802.11n/ac.
+        if (field->name() == "minstrel_ht_update_stats_ms") {
+          spec->set_standard(proto::Radio::STANDARD_80211N_5GHZ);
+        }
         // The A-MPDU sizes too; VHT takes the largest (1048575 B).
         if (field->name().rfind("ampdu_max_bytes_", 0) == 0) {
           spec->set_standard(proto::Radio::STANDARD_80211AC);
@@ -164,6 +168,21 @@ TEST(ScenarioAdapterTest, MapsMinstrelAndItsParametersWithNs3sDefaults) {
   EXPECT_EQ(set.minstrel.ewma_percent, 50);
   EXPECT_EQ(set.minstrel.sample_columns, 4);
   EXPECT_EQ(set.minstrel.packet_bytes, 1500);
+  // 802.11n/ac: Minstrel-HT, with MinstrelHtWifiManager's UpdateStatistics default (50 ms).
+  const MediumConfig ht = MediumConfigFromScenario(LoadScenarioText(R"(
+    name: "m" robot { name: "a" }
+    radio { standard: STANDARD_80211AC rate_control: RATE_CONTROL_MINSTREL }
+  )", "m.textproto"));
+  EXPECT_EQ(ht.rate_control, MediumConfig::RateControl::kMinstrel);
+  EXPECT_EQ(ht.minstrel.ht_update_stats_ns, 50 * kNsPerMs);
+  const MediumConfig ht_set = MediumConfigFromScenario(LoadScenarioText(R"(
+    name: "m" robot { name: "a" }
+    radio {
+      standard: STANDARD_80211N_2_4GHZ rate_control: RATE_CONTROL_MINSTREL
+      minstrel_ht_update_stats_ms: 80
+    }
+  )", "m.textproto"));
+  EXPECT_EQ(ht_set.minstrel.ht_update_stats_ns, 80 * kNsPerMs);
 }
 
 TEST(ScenarioAdapterTest, MapsJakesFading) {

@@ -147,13 +147,39 @@ TEST(ScenarioTest, RejectsBadHtVhtModes) {
       "t.textproto"));
 }
 
-// Minstrel is ns-3's a/b/g manager (ns-3 refuses it on HT stations); its parameters would be
-// ignored under another rate control. Both refused, located.
-TEST(ScenarioTest, RejectsMinstrelOnHtAndItsParametersWithoutIt) {
+// Minstrel is Minstrel-HT on n/ac, which has no look-around share or legacy interval; Ideal is
+// a/b/g only; Minstrel's parameters would be ignored under another rate control. All refused,
+// located.
+TEST(ScenarioTest, RejectsMinstrelParametersWhereTheyDoNothing) {
   ExpectRejected(std::string(kTwo) +
-                     "radio { standard: STANDARD_80211N_5GHZ rate_control: RATE_CONTROL_MINSTREL }\n",
+                     "radio { standard: STANDARD_80211N_5GHZ rate_control: RATE_CONTROL_IDEAL }\n",
                  "t.textproto:4:40",
-                 "radio: rate_control RATE_CONTROL_MINSTREL is modelled for 802.11a/b/g only");
+                 "radio: rate_control RATE_CONTROL_IDEAL is modelled for 802.11a/b/g only");
+  ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211N_5GHZ rate_control: "
+                                     "RATE_CONTROL_MINSTREL minstrel_look_around_percent: 20 }\n",
+                 "t.textproto:4:76",
+                 "radio: minstrel_look_around_percent applies to 802.11a/b/g Minstrel; 802.11n/ac "
+                 "run Minstrel-HT (its interval: minstrel_ht_update_stats_ms)");
+  ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211G rate_control: "
+                                     "RATE_CONTROL_MINSTREL minstrel_ht_update_stats_ms: 20 }\n",
+                 "t.textproto:4:71",
+                 "radio: minstrel_ht_update_stats_ms applies to STANDARD_80211N_* and "
+                 "STANDARD_80211AC only");
+  ExpectRejected(std::string(kTwo) + "radio { standard: STANDARD_80211AC "
+                                     "minstrel_ht_update_stats_ms: 20 }\n",
+                 "t.textproto:4:36",
+                 "radio: minstrel_ht_update_stats_ms applies to rate_control "
+                 "RATE_CONTROL_MINSTREL only");
+  EXPECT_NO_THROW(LoadScenarioText(
+      std::string(kTwo) + "radio { standard: STANDARD_80211AC rate_control: RATE_CONTROL_MINSTREL "
+                          "minstrel_ht_update_stats_ms: 100 minstrel_ewma_percent: 50 }\n",
+      "t.textproto"));
+  // A robot's own MCS means nothing under Minstrel-HT.
+  ExpectRejected("name: \"t\"\nrobot { name: \"a\" mcs: 3 }\nrobot { name: \"b\" }\n"
+                 "radio { standard: STANDARD_80211N_5GHZ rate_control: RATE_CONTROL_MINSTREL }\n",
+                 "t.textproto:2:19",
+                 "robot \"a\": mcs would be ignored: Minstrel-HT (rate_control "
+                 "RATE_CONTROL_MINSTREL) chooses every robot's MCS");
   ExpectRejected(std::string(kTwo) + "radio { minstrel_ewma_percent: 50 }\n", "t.textproto:4:9",
                  "radio: minstrel_ewma_percent applies to rate_control RATE_CONTROL_MINSTREL only");
   ExpectRejected(std::string(kTwo) +
