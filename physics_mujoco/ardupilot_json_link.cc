@@ -52,7 +52,7 @@ class ArduPilotJsonLink final : public RobotLink {
     const TimeNs reply_time_ns =
         world_.time_ns(robot) - (world_.steps(robot) - due_steps_) * world_.step_ns();
     start_steps_ = due_steps_;
-    last_reply_ = FormatJsonState(reply_time_ns, world_.Pose(robot), world_.Imu(robot));
+    FormatJsonStateInto(reply_time_ns, world_.Pose(robot), world_.Imu(robot), &last_reply_);
     robot_.Send(socket_, last_reply_, reply_to_);
   }
 
