@@ -12,7 +12,7 @@ controls, ArduPilot JSON frames). KIND:
   test-px4, test-json  the test_autopilot stand-in (PX4 simulator MAVLink, ArduPilot JSON):
                        the floor, an autopilot that costs almost nothing;
   px4, arducopter      the real autopilots (SITLNET_PX4_DIR, SITLNET_ARDUPILOT_DIR).
-perf is attached once both threads exist (before the robots start) and stopped when the run
+perf is attached once the physics thread exists (before the robots start) and stopped when the run
 ends: the count covers the whole loop. Prints one CSV row:
   kind,robots,stf,answers,syscalls_per_step,switches_per_step,cpu_us_per_step,
   physics_syscalls_per_step,step_switches_per_step,loop_s
@@ -72,11 +72,13 @@ def main():
     log = open(os.path.join(out, "log"), "w")
     run = subprocess.Popen([sitlnet, "run", path, "--out", os.path.join(out, "run"), "--no-progress"],
                            stdout=log, stderr=subprocess.STDOUT)
+    # The step pool's worker is made with the world, before the physics thread; with
+    # SITLNET_PHYSICS_THREADS=1 there is none.
     threads = {}
-    while run.poll() is None and len(threads) < len(THREADS):
+    while run.poll() is None and "sitlnet-physics" not in threads:
         threads = named_threads(run.pid)
         time.sleep(0.005)
-    if len(threads) < len(THREADS):
+    if "sitlnet-physics" not in threads:
         run.wait()
         print(f"{kind},{n},failed: threads {sorted(threads)} not found", file=sys.stderr)
         return 1
@@ -90,6 +92,8 @@ def main():
     perf.wait()
     if code != 0:
         print(f"{kind},{n},failed (exit {code})", file=sys.stderr)
+        with open(os.path.join(out, "log")) as f:
+            sys.stderr.write("".join(line for line in f if line.startswith("sitlnet run:"))[-600:])
         return 1
     by_tid = {tid: name for name, tid in threads.items()}
     counts = {name: {} for name in THREADS}
