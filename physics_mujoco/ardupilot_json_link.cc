@@ -110,6 +110,7 @@ class ArduPilotJsonLink final : public RobotLink {
       frames_ = 0;
     }
     ++frames_;
+    robot_.answers.Answered(1, rate_hz_, MonotonicNowNs());
     // Frame n ends at n / frame_rate: whole physics steps, the remainder carried (exact over
     // many frames when 1/frame_rate is not a multiple of the step).
     int64_t due_steps = base_steps_ + clock::TickTimeNs(frames_, rate_hz_) / world_.step_ns();

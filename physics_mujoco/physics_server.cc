@@ -277,6 +277,10 @@ std::vector<SilentAutopilot> PhysicsServer::TakeSilentAutopilots() {
   impl_->silent.clear();
   return silent;
 }
+AutopilotRate PhysicsServer::autopilot_rate(int robot) const {
+  SITLNET_DEMAND(robot >= 0 && robot < static_cast<int>(impl_->robots.size()));
+  return impl_->robots[robot].answers.Read();
+}
 int PhysicsServer::wait_fd() const { return impl_->epoll_fd; }
 World& PhysicsServer::world() { return impl_->world; }
 const World& PhysicsServer::world() const { return impl_->world; }

@@ -92,6 +92,13 @@ class Px4Link final : public RobotLink {
       watch_(this, link.connection_fd());
     }
     if (link.answered_last_sensor()) Unmute();  // Answering again.
+    const uint64_t controls = link.counters().actuator_controls;
+    if (controls > metered_controls_) {
+      robot_.answers.Answered(controls - metered_controls_,
+                              static_cast<double>(kNsPerS) / px4_.sensor_period_ns(),
+                              MonotonicNowNs());
+      metered_controls_ = controls;
+    }
     if (!robot_.dropped) world_.SetRotorTarget(robot_.robot, link.command().rotor_speeds_rad_s);
   }
 
@@ -103,6 +110,7 @@ class Px4Link final : public RobotLink {
   // The connection in the epoll set, by its number among the link's connections: a new
   // connection can reuse the closed one's fd number (and a closed fd leaves the set by itself).
   uint64_t watched_connection_ = 0;
+  uint64_t metered_controls_ = 0;  // Actuator controls counted in robot_.answers so far.
 };
 
 }  // namespace

@@ -41,6 +41,7 @@ class Px4Robot {
   void ReadLink() { link_.Read(); }
   // Virtual time of the next sensor message (the grid 0, period, 2 period, ...).
   TimeNs next_sensor_ns() const { return next_sensor_ns_; }
+  TimeNs sensor_period_ns() const { return options_.sensor_period_ns; }
 
   Px4SimulatorLink& link() { return link_; }
   const Px4SimulatorLink& link() const { return link_; }

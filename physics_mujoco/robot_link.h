@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "physics_mujoco/answer_meter.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "physics_mujoco/udp_socket.h"
 
@@ -29,6 +30,7 @@ struct RobotLinkContext {
   bool dropped = false;
   bool motors_cut = false;  // The motors were cut (failsafe, drop) and no command came since.
   RobotCounters counters;
+  AnswerMeter answers;  // Its autopilot's answers in wall time (an autopilot link counts them).
 
   // The robot's software started over (a restarted autopilot): it is in the lock-step again.
   void Rejoin() {
