@@ -205,7 +205,7 @@ struct AutopilotRate {
   TimeNs first_answer_wall_ns = -1;  // CLOCK_MONOTONIC of the first answer; -1: none yet.
   TimeNs last_answer_wall_ns = -1;   // Of the latest.
   // The rate it asks for: PX4 one HIL_SENSOR per 4 ms (250 Hz), ArduPilot its frames'
-  // frame_rate. 0: not an autopilot, or none heard.
+  // frame_rate, at most one frame per physics step. 0: not an autopilot, or none heard.
   double nominal_hz = 0;
 
   // Answers per wall second from the first answer to the last; 0 with fewer than two.
