@@ -1,5 +1,7 @@
 // In-process connectors: the simulator is called directly, on a worker
 // thread (so physics and network overlap) or on the coordinator's thread.
+#include <pthread.h>
+
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -156,6 +158,8 @@ class OwnThreadConnector final : public Connector, private IterationContext {
   }
 
   void Work() {
+    // Named after the connector ("sitlnet-physics"): benchmarks and top find it by name.
+    pthread_setname_np(pthread_self(), ("sitlnet-" + name()).substr(0, 15).c_str());
     std::unique_lock lock(mutex_);
     for (;;) {
       if (!quit_ && !has_job_) {

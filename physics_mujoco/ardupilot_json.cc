@@ -67,7 +67,15 @@ RotorSpeeds PwmToRotorSpeeds(const ServoPacket& packet, double max_speed_rad_s) 
 }
 
 std::string FormatJsonState(TimeNs sim_time_ns, const RobotPose& pose, const ImuSample& imu) {
-  std::string out = "\n{";
+  std::string out;
+  FormatJsonStateInto(sim_time_ns, pose, imu, &out);
+  return out;
+}
+
+void FormatJsonStateInto(TimeNs sim_time_ns, const RobotPose& pose, const ImuSample& imu,
+                         std::string* out_string) {
+  std::string& out = *out_string;
+  out = "\n{";
   char text[64];
   std::snprintf(text, sizeof text, "\"timestamp\":%.9f,",
                 static_cast<double>(sim_time_ns) / kNsPerS);
@@ -88,7 +96,6 @@ std::string FormatJsonState(TimeNs sim_time_ns, const RobotPose& pose, const Imu
   // sleeps to hold each frame to 1/frame_rate of wall time (SIM_Aircraft's sync_frame_time), so
   // a lockstep run could never go faster than real time.
   out += ",\"no_time_sync\":1}\n";
-  return out;
 }
 
 }  // namespace sitlnet::physics

@@ -60,6 +60,10 @@ RotorSpeeds PwmToRotorSpeeds(const ServoPacket& packet, double max_speed_rad_s);
 // (NED) and quaternion (w, x, y, z, NED/FRD), and no_time_sync (SITL takes its pace from the
 // replies alone), keys without spaces.
 std::string FormatJsonState(TimeNs sim_time_ns, const RobotPose& pose, const ImuSample& imu);
+// The same into `out`, replacing its contents: a reused string keeps its buffer, so a reply
+// per frame allocates nothing.
+void FormatJsonStateInto(TimeNs sim_time_ns, const RobotPose& pose, const ImuSample& imu,
+                         std::string* out);
 
 }  // namespace sitlnet::physics
 

@@ -52,7 +52,7 @@ class ArduPilotJsonLink final : public RobotLink {
     const TimeNs reply_time_ns =
         world_.time_ns(robot) - (world_.steps(robot) - due_steps_) * world_.step_ns();
     start_steps_ = due_steps_;
-    last_reply_ = FormatJsonState(reply_time_ns, world_.Pose(robot), world_.Imu(robot));
+    FormatJsonStateInto(reply_time_ns, world_.Pose(robot), world_.Imu(robot), &last_reply_);
     robot_.Send(socket_, last_reply_, reply_to_);
   }
 
@@ -110,6 +110,11 @@ class ArduPilotJsonLink final : public RobotLink {
       frames_ = 0;
     }
     ++frames_;
+    // The rate SITL asks for, at most a frame per physics step (a shorter frame ends a step
+    // after it starts, below): ArduCopter's 1200 Hz is served at 1000 with the 1 ms step.
+    robot_.answers.Answered(
+        1, std::min(static_cast<double>(rate_hz_), static_cast<double>(kNsPerS) / world_.step_ns()),
+        MonotonicNowNs());
     // Frame n ends at n / frame_rate: whole physics steps, the remainder carried (exact over
     // many frames when 1/frame_rate is not a multiple of the step).
     int64_t due_steps = base_steps_ + clock::TickTimeNs(frames_, rate_hz_) / world_.step_ns();

@@ -196,6 +196,27 @@ struct RobotCounters {
   uint64_t json_clock_jumps = 0;
 };
 
+// An autopilot's simulator rate in wall time (docs/run.md, summary.json's autopilot_rate):
+// what it answered, when, and the rate it asks for. PhysicsServer::autopilot_rate reads it.
+struct AutopilotRate {
+  // Simulator messages answered: PX4's actuator controls (one per HIL_SENSOR), ArduPilot's
+  // servo frames. A restarted autopilot's count goes on.
+  uint64_t answers = 0;
+  TimeNs first_answer_wall_ns = -1;  // CLOCK_MONOTONIC of the first answer; -1: none yet.
+  TimeNs last_answer_wall_ns = -1;   // Of the latest.
+  // The rate it asks for: PX4 one HIL_SENSOR per 4 ms (250 Hz), ArduPilot its frames'
+  // frame_rate, at most one frame per physics step. 0: not an autopilot, or none heard.
+  double nominal_hz = 0;
+
+  // Answers per wall second from the first answer to the last; 0 with fewer than two.
+  double AchievedHz() const;
+  // AchievedHz / nominal_hz: 1 at the autopilot's own rate; 0 without a nominal rate.
+  double Ratio() const;
+};
+
+// `answers` over `wall_ns` of wall time, per second; 0 when wall_ns <= 0.
+double AnswersPerSecond(uint64_t answers, TimeNs wall_ns);
+
 struct ServerOptions {
   // world.robots also chooses the robots the server makes links for (empty: every robot).
   WorldOptions world;
@@ -282,6 +303,9 @@ class PhysicsServer {
   World& world();
   const World& world() const;
   const RobotCounters& counters(int robot) const;
+  // The robot's autopilot rate (nominal_hz 0 without an autopilot). Safe from any thread while
+  // the server steps: the progress line reads it from the coordinator's.
+  AutopilotRate autopilot_rate(int robot) const;
 
  private:
   struct Impl;

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -29,6 +31,14 @@ struct PhysicsServer::Impl {
   const clock::Timebase* realtime = nullptr;  // Set: autopilots are served on the wall clock.
   bool has_autopilots = false;  // Some link is paced (ArduPilot, PX4): the frame gate applies.
   std::vector<std::pair<int, SilentAutopilot>> silent;  // (link kind, autopilot), as reported
+  struct WatchedFd {
+    RobotLink* link = nullptr;
+    int fd = -1;
+  };
+  // What each epoll event points to (std::map: its nodes do not move).
+  std::map<std::pair<RobotLink*, int>, WatchedFd> watched_fds;
+  static constexpr int kEventBatch = 64;
+  epoll_event events[kEventBatch];  // epoll's answers, reused (Poll and WaitAndPoll).
 
   Impl(const Scenario& s, const ServerOptions& options)
       : world(s, options.world),
@@ -39,9 +49,13 @@ struct PhysicsServer::Impl {
   }
 
   void Watch(RobotLink* link, int fd) {
+    // The epoll event names the link and the fd (a PX4 link watches its listener and its
+    // connection): one entry per pair, kept for the server's life (a reconnection adds one).
+    WatchedFd& watched = watched_fds[{link, fd}];
+    watched = {link, fd};
     epoll_event event{};
     event.events = EPOLLIN;
-    event.data.ptr = link;
+    event.data.ptr = &watched;
     if (epoll_ctl(epoll_fd, EPOLL_CTL_ADD, fd, &event) != 0) {
       throw Error(SystemErrorMessage("physics server: epoll_ctl", errno));
     }
@@ -55,16 +69,32 @@ struct PhysicsServer::Impl {
       if (std::none_of(links.begin(), links.end(), waiting_for)) return true;
       const TimeNs left_ns = deadline_ns - MonotonicNowNs();
       if (left_ns <= 0) return false;
-      WaitReadable(left_ns);
-      Poll();
+      WaitAndPoll(left_ns);
     }
   }
 
-  void WaitReadable(TimeNs timeout_ns) const {
-    pollfd fd{epoll_fd, POLLIN, 0};
+  // Sleeps until some watched fd is readable or `timeout_ns` passed, and handles what is
+  // readable: one system call per wake-up (epoll_pwait2), not a poll and then a read of the set.
+  void WaitAndPoll(TimeNs timeout_ns) {
     const timespec wait{static_cast<time_t>(timeout_ns / kNsPerS),
                         static_cast<long>(timeout_ns % kNsPerS)};
-    ppoll(&fd, 1, &wait, nullptr);
+    int n = epoll_pwait2(epoll_fd, events, kEventBatch, &wait, nullptr);
+    if (n < 0 && errno == ENOSYS) {
+      // Before Linux 5.11: milliseconds, rounded up (the deadline is looked at again after).
+      n = epoll_wait(epoll_fd, events, kEventBatch,
+                     static_cast<int>(std::min<TimeNs>((timeout_ns + kNsPerMs - 1) / kNsPerMs,
+                                                       INT32_MAX)));
+    }
+    if (n <= 0) return;
+    Dispatch(n);
+    if (n == kEventBatch) Poll();  // More may be ready.
+  }
+
+  void Dispatch(int n) {
+    for (int i = 0; i < n; ++i) {
+      const WatchedFd& watched = *static_cast<const WatchedFd*>(events[i].data.ptr);
+      watched.link->PollReadable(watched.fd);
+    }
   }
 
   // The frame gate (lockstep pacing): before the clock moves on, every autopilot that has
@@ -95,30 +125,29 @@ struct PhysicsServer::Impl {
   }
 
   void Poll() {
-    epoll_event events[64];
     // Enough rounds to see every socket once (epoll rotates its ready list; two sockets a
     // robot), no more: a sustained flood cannot keep Poll from returning.
-    const size_t rounds = 1 + 2 * static_cast<size_t>(world.robot_count()) / 64;
+    const size_t rounds = 1 + 2 * static_cast<size_t>(world.robot_count()) / kEventBatch;
     for (size_t round = 0; round < rounds; ++round) {
-      const int n = epoll_wait(epoll_fd, events, 64, 0);
+      const int n = epoll_wait(epoll_fd, events, kEventBatch, 0);
       if (n <= 0) return;
-      for (int i = 0; i < n; ++i) static_cast<RobotLink*>(events[i].data.ptr)->Poll();
-      if (n < 64) return;
+      Dispatch(n);
+      if (n < kEventBatch) return;
     }
   }
 
   std::vector<int> CollectCommands(TimeNs timeout_ns) {
     const TimeNs deadline_ns = MonotonicNowNs() + timeout_ns;
     std::vector<int> missing;
+    Poll();
     for (;;) {
-      Poll();
       missing.clear();
       for (const std::unique_ptr<RobotLink>& link : links) {
         if (link->LockstepCommandMissing()) missing.push_back(link->robot);
       }
       const TimeNs left_ns = deadline_ns - MonotonicNowNs();
       if (missing.empty() || left_ns <= 0) return missing;
-      WaitReadable(left_ns);
+      WaitAndPoll(left_ns);
     }
   }
 
@@ -247,6 +276,10 @@ std::vector<SilentAutopilot> PhysicsServer::TakeSilentAutopilots() {
   for (auto& [kind, autopilot] : impl_->silent) silent.push_back(std::move(autopilot));
   impl_->silent.clear();
   return silent;
+}
+AutopilotRate PhysicsServer::autopilot_rate(int robot) const {
+  SITLNET_DEMAND(robot >= 0 && robot < static_cast<int>(impl_->robots.size()));
+  return impl_->robots[robot].answers.Read();
 }
 int PhysicsServer::wait_fd() const { return impl_->epoll_fd; }
 World& PhysicsServer::world() { return impl_->world; }

@@ -25,18 +25,16 @@ class Px4Link final : public RobotLink {
 
   // Takes what PX4 sent: a new connection (PX4 restarted: the robot is back at its start and
   // rejoins the lock-step), its latest motor outputs (ignored while the robot is dropped).
-  void Poll() override {
-    if (px4_.PollLink(&world_)) {
-      robot_.Rejoin();
-      Unmute();
+  void Poll() override { Take(px4_.PollLink(&world_)); }
+
+  // Only the readable fd: accept4 when the listener is (a new PX4), recv when the connection is.
+  void PollReadable(int fd) override {
+    if (fd == px4_.link().listen_fd()) {
+      Take(px4_.AcceptLink(&world_));
+    } else {
+      px4_.ReadLink();
+      Take(false);
     }
-    const Px4SimulatorLink& link = px4_.link();
-    if (link.connection_fd() >= 0 && link.counters().connections != watched_connection_) {
-      watched_connection_ = link.counters().connections;
-      watch_(this, link.connection_fd());
-    }
-    if (link.answered_last_sensor()) Unmute();  // Answering again.
-    if (!robot_.dropped) world_.SetRotorTarget(robot_.robot, link.command().rotor_speeds_rad_s);
   }
 
   int StepsUntilDue() const override {
@@ -44,8 +42,9 @@ class Px4Link final : public RobotLink {
     return StepsUntil(px4_.next_sensor_ns(), world_.time_ns(robot_.robot), world_.step_ns());
   }
 
-  // Sends the sensor messages when due (at the world's current time).
-  void Serve() override { px4_.Step(&world_, world_.time_ns(robot_.robot)); }
+  // Sends the sensor messages when due (at the world's current time). What PX4 sent is taken
+  // when its fd is readable (PollReadable), not here: a step costs one send.
+  void Serve() override { px4_.SendDue(&world_, world_.time_ns(robot_.robot)); }
 
   bool spoke() const override { return px4_.link().counters().connections > 0; }
 
@@ -79,6 +78,30 @@ class Px4Link final : public RobotLink {
   }
 
  private:
+  // After PX4's messages were taken: a reconnected PX4 rejoins the lock-step (the robot is back
+  // at its start); a new connection joins the epoll set; the latest motor outputs apply (not
+  // while the robot is dropped).
+  void Take(bool reconnected) {
+    if (reconnected) {
+      robot_.Rejoin();
+      Unmute();
+    }
+    const Px4SimulatorLink& link = px4_.link();
+    if (link.connection_fd() >= 0 && link.counters().connections != watched_connection_) {
+      watched_connection_ = link.counters().connections;
+      watch_(this, link.connection_fd());
+    }
+    if (link.answered_last_sensor()) Unmute();  // Answering again.
+    const uint64_t controls = link.counters().actuator_controls;
+    if (controls > metered_controls_) {
+      robot_.answers.Answered(controls - metered_controls_,
+                              static_cast<double>(kNsPerS) / px4_.sensor_period_ns(),
+                              MonotonicNowNs());
+      metered_controls_ = controls;
+    }
+    if (!robot_.dropped) world_.SetRotorTarget(robot_.robot, link.command().rotor_speeds_rad_s);
+  }
+
   RobotLinkContext& robot_;
   World& world_;
   GeodeticFrame frame_;  // For the GPS.
@@ -87,6 +110,7 @@ class Px4Link final : public RobotLink {
   // The connection in the epoll set, by its number among the link's connections: a new
   // connection can reuse the closed one's fd number (and a closed fd leaves the set by itself).
   uint64_t watched_connection_ = 0;
+  uint64_t metered_controls_ = 0;  // Actuator controls counted in robot_.answers so far.
 };
 
 }  // namespace

@@ -19,7 +19,13 @@ Px4Robot::Px4Robot(const Scenario& scenario, int robot, uint16_t port, const Geo
 }
 
 bool Px4Robot::PollLink(World* world) {
-  if (link_.Poll() != Px4SimulatorLink::Event::kReconnected) return false;
+  const bool reconnected = AcceptLink(world);
+  link_.Read();
+  return reconnected;
+}
+
+bool Px4Robot::AcceptLink(World* world) {
+  if (link_.Accept() != Px4SimulatorLink::Event::kReconnected) return false;
   // A restarted PX4 expects a vehicle at rest at its start: the robot starts over (the clock
   // goes on), with the same sensor noise as the first time.
   world->ResetRobot(robot_);
@@ -29,6 +35,10 @@ bool Px4Robot::PollLink(World* world) {
 
 bool Px4Robot::Step(World* world, TimeNs time_ns) {
   PollLink(world);
+  return SendDue(world, time_ns);
+}
+
+bool Px4Robot::SendDue(World* world, TimeNs time_ns) {
   if (time_ns < next_sensor_ns_) return false;
   next_sensor_ns_ +=
       options_.sensor_period_ns * ((time_ns - next_sensor_ns_) / options_.sensor_period_ns + 1);

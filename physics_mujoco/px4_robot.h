@@ -5,7 +5,6 @@
 #define SITLNET_PHYSICS_MUJOCO_PX4_ROBOT_H_
 
 #include "physics_mujoco/physics_mujoco.h"
-#include "physics_mujoco/physics_mujoco.h"
 #include "physics_mujoco/px4_simulator_link.h"
 #include "physics_mujoco/sensor_models.h"
 
@@ -28,13 +27,21 @@ class Px4Robot {
   // sent, resets the robot if PX4 reconnected, and when a sensor message is due (on the grid
   // 0, period, 2 period, ...) sends it from the world's pose and IMU. Returns true if it sent.
   bool Step(World* world, TimeNs time_ns);
+  // Step without taking what PX4 sent: for a caller that reads the link when epoll says it is
+  // readable (PhysicsServer), so a step costs no system call beyond the send.
+  bool SendDue(World* world, TimeNs time_ns);
   // Takes what PX4 sent and sets the robot's rotor targets from PX4's latest command.
   void ApplyCommand(World* world);
   // Takes what PX4 sent (accepting a new connection; resetting the robot if PX4 reconnected).
   // Returns true if it reconnected.
   bool PollLink(World* world);
+  // PollLink's halves: a new connection (the listener is readable), or what arrived on the
+  // connection. AcceptLink returns true if PX4 reconnected (the robot was reset).
+  bool AcceptLink(World* world);
+  void ReadLink() { link_.Read(); }
   // Virtual time of the next sensor message (the grid 0, period, 2 period, ...).
   TimeNs next_sensor_ns() const { return next_sensor_ns_; }
+  TimeNs sensor_period_ns() const { return options_.sensor_period_ns; }
 
   Px4SimulatorLink& link() { return link_; }
   const Px4SimulatorLink& link() const { return link_; }

@@ -89,6 +89,12 @@ void Px4SimulatorLink::Disconnect() {
 }
 
 Px4SimulatorLink::Event Px4SimulatorLink::Poll() {
+  const Event event = Accept();
+  Read();
+  return event;
+}
+
+Px4SimulatorLink::Event Px4SimulatorLink::Accept() {
   Event event = Event::kNone;
   // The newest waiting connection wins: PX4 restarted, and its old connection is dead.
   for (;;) {
@@ -105,12 +111,19 @@ Px4SimulatorLink::Event Px4SimulatorLink::Poll() {
     if (replacing) ++counters_.reconnections;
     event = replacing ? Event::kReconnected : Event::kConnected;
   }
-  if (connection_fd_ < 0) return event;
+  return event;
+}
+
+void Px4SimulatorLink::Read() {
+  if (connection_fd_ < 0) return;
   uint8_t buffer[4096];
   for (;;) {
     const ssize_t n = recv(connection_fd_, buffer, sizeof buffer, 0);
     if (n > 0) {
       parser_.Push(buffer, static_cast<size_t>(n));
+      // A short read took all that was queued: no second recv to hear EAGAIN (one system call
+      // per answer). What arrives later makes the fd readable again (level-triggered epoll).
+      if (static_cast<size_t>(n) < sizeof buffer) break;
       continue;
     }
     if (n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) Disconnect();
@@ -120,7 +133,6 @@ Px4SimulatorLink::Event Px4SimulatorLink::Poll() {
   mavlink::ReceivedFrame frame;
   while (parser_.Next(&frame)) Take(frame);
   Flush();
-  return event;
 }
 
 void Px4SimulatorLink::Take(const mavlink::ReceivedFrame& frame) {

@@ -58,6 +58,10 @@ class Px4SimulatorLink {
   // Accepts a waiting connection (the newest wins), reads everything that has arrived and
   // takes its messages. Returns what happened to the connection.
   Event Poll();
+  // Poll's two halves, for a caller that knows which fd is readable (one system call each):
+  // Accept takes waiting connections, Read what arrived on the connection.
+  Event Accept();
+  void Read();
 
   bool connected() const { return connection_fd_ >= 0; }
   // The latest command; all motors 0, disarmed before the first and after a disconnection.

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "physics_mujoco/answer_meter.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "physics_mujoco/udp_socket.h"
 
@@ -29,6 +30,7 @@ struct RobotLinkContext {
   bool dropped = false;
   bool motors_cut = false;  // The motors were cut (failsafe, drop) and no command came since.
   RobotCounters counters;
+  AnswerMeter answers;  // Its autopilot's answers in wall time (an autopilot link counts them).
 
   // The robot's software started over (a restarted autopilot): it is in the lock-step again.
   void Rejoin() {
@@ -68,6 +70,9 @@ class RobotLink {
 
   // Handles what has arrived on the link's sockets (non-blocking, bounded per call).
   virtual void Poll() = 0;
+  // Handles what has arrived on `fd`, one of the fds the link watches (the server's epoll said
+  // it is readable). A link with several fds reads only that one: no system call on the others.
+  virtual void PollReadable(int /*fd*/) { Poll(); }
   // Physics steps from the world's current time until the link next has something to send or
   // to do (>= 1; INT_MAX: nothing scheduled). The server never steps past it.
   virtual int StepsUntilDue() const = 0;
@@ -131,17 +136,23 @@ std::unique_ptr<RobotLink> MakePx4Link(const RobotLinkSetup& setup);
 inline constexpr size_t kReceiveBufferBytes = 2048;
 
 // Receives up to a budget of datagrams on `socket`, calling handle(data, size, from) for each
-// (size > kReceiveBufferBytes: the datagram was truncated).
-// Bounded: a robot flooding its socket cannot stall the others or the stepping; what is left
-// stays readable (level-triggered epoll) for the next Poll.
+// (size > kReceiveBufferBytes: the datagram was truncated), in arrival order.
+// Batched: one recvmmsg takes what is waiting, so a datagram costs one system call, not a
+// receive and a last one that finds nothing (docs/performance.md, "The harness's share per
+// autopilot step"). A batch that is not full means the socket was empty; what comes after stays
+// readable (level-triggered epoll) for the next Poll.
+// Bounded: a robot flooding its socket cannot stall the others or the stepping.
 template <typename Handler>
 void DrainDatagrams(const UdpSocket& socket, Handler handle) {
   constexpr int kDrainBudget = 256;  // Datagrams per socket per Poll.
-  uint8_t buffer[kReceiveBufferBytes];
-  sockaddr_in from{};
-  int budget = kDrainBudget;
-  for (ssize_t n; budget-- > 0 && (n = socket.Receive(buffer, sizeof buffer, &from)) >= 0;) {
-    handle(buffer, n, from);
+  constexpr int kBatch = 8;          // An autopilot sends one frame a step; a robot a few.
+  uint8_t buffers[kBatch][kReceiveBufferBytes];
+  DatagramSlot slots[kBatch];
+  for (int i = 0; i < kBatch; ++i) slots[i] = {buffers[i], sizeof buffers[i], 0, {}};
+  for (int budget = kDrainBudget; budget > 0; budget -= kBatch) {
+    const int n = socket.ReceiveBatch(slots, kBatch);
+    for (int i = 0; i < n; ++i) handle(slots[i].data, slots[i].length, slots[i].from);
+    if (n < kBatch) return;
   }
 }
 

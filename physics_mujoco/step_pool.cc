@@ -1,5 +1,7 @@
 #include "physics_mujoco/step_pool.h"
 
+#include <pthread.h>
+
 namespace sitlnet::physics {
 
 StepPool::StepPool(int threads) {
@@ -40,6 +42,7 @@ void StepPool::Run(int count, const std::function<void(int)>& task) {
 }
 
 void StepPool::WorkerLoop() {
+  pthread_setname_np(pthread_self(), "sitlnet-step");  // Found by name in benchmarks and top.
   unsigned seen = 0;
   for (;;) {
     {

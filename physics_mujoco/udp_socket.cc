@@ -2,8 +2,10 @@
 
 #include <arpa/inet.h>
 #include <sys/socket.h>
+#include <sys/uio.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <utility>
 
@@ -62,6 +64,34 @@ ssize_t UdpSocket::Receive(void* buffer, size_t capacity, sockaddr_in* from) con
   const ssize_t n =
       recvfrom(fd_, buffer, capacity, MSG_TRUNC, reinterpret_cast<sockaddr*>(from), &length);
   return n < 0 ? -1 : n;
+}
+
+int UdpSocket::ReceiveBatch(DatagramSlot* slots, int count) const {
+  constexpr int kMaxBatch = 64;
+  count = std::min(count, kMaxBatch);
+  mmsghdr messages[kMaxBatch];
+  iovec vectors[kMaxBatch];
+  for (int i = 0; i < count; ++i) {
+    vectors[i] = {slots[i].data, slots[i].capacity};
+    messages[i] = {};
+    messages[i].msg_hdr.msg_name = &slots[i].from;
+    messages[i].msg_hdr.msg_namelen = sizeof slots[i].from;
+    messages[i].msg_hdr.msg_iov = &vectors[i];
+    messages[i].msg_hdr.msg_iovlen = 1;
+  }
+  // MSG_TRUNC: each msg_len is the datagram's real length, so oversize is detectable. Non-blocking
+  // socket: returns what is waiting, up to count, without waiting for more.
+  const int n = recvmmsg(fd_, messages, static_cast<unsigned>(count), MSG_TRUNC, nullptr);
+  if (n <= 0) return 0;
+  for (int i = 0; i < n; ++i) {
+    slots[i].length = static_cast<ssize_t>(messages[i].msg_len);
+    // A kernel that reports the truncated length instead: still more than the buffer.
+    if ((messages[i].msg_hdr.msg_flags & MSG_TRUNC) != 0 &&
+        slots[i].length <= static_cast<ssize_t>(slots[i].capacity)) {
+      slots[i].length = static_cast<ssize_t>(slots[i].capacity) + 1;
+    }
+  }
+  return n;
 }
 
 bool UdpSocket::SendTo(const void* data, size_t size, const sockaddr_in& to) const {

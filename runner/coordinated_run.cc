@@ -27,7 +27,8 @@ CoordinatedRun::CoordinatedRun(RunParts* setup, RunPhysics* physics, const RunOp
       bridge_sim_(setup->scenario(), &setup->bridge(), setup->scenario().pacing(),
                   setup->scenario().spec.timing().realtime_factor()),
       progress_(options.progress, &setup->bridge(), &setup->robots(), setup->scenario().duration_ns,
-                setup->gcs_relay()),
+                setup->gcs_relay(), setup->local_physics(),
+                setup->scenario().pacing() == clock::Pacing::kRealtime),
       supervisor_(&setup->robots(),
                   setup->scenario().spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP,
                   &progress_, options.program),
@@ -51,11 +52,12 @@ CoordinatedRun::CoordinatedRun(RunParts* setup, RunPhysics* physics, const RunOp
   run_options_.timebase_out = &setup->run_timebase();
   run_options_.metrics_csv = &metrics_csv_;
   run_options_.metrics = &metrics_;
-  if (live_ != nullptr) {  // Once per simulated second, not per iteration.
-    run_options_.on_iteration = [this](const coordinator::IterationMetrics& m) {
-      if (auto second = live_timing_.Add(m.start_ns, m.stf, m.lag_ns)) live_->Timing(*second);
-    };
-  }
+  run_options_.on_iteration = [this](const coordinator::IterationMetrics& m) {
+    progress_.IterationLag(m.lag_ns);
+    if (live_ == nullptr) return;
+    // Once per simulated second, not per iteration.
+    if (auto second = live_timing_.Add(m.start_ns, m.stf, m.lag_ns)) live_->Timing(*second);
+  };
   run_options_.interrupt_fd = interrupt_fd;
   run_options_.lockstep_robots = setup->lockstep();
 }

@@ -8,15 +8,45 @@ namespace sitlnet::runner {
 
 ProgressLine::ProgressLine(bool enabled, tapbridge::BridgeCore* bridge,
                            const std::vector<RobotSlot>* robots, TimeNs duration_ns,
-                           const gcs::GcsRelay* gcs_relay)
+                           const gcs::GcsRelay* gcs_relay, const physics::PhysicsServer* physics,
+                           bool realtime)
     : enabled_(enabled),
       bridge_(*bridge),
       robots_(*robots),
       duration_ns_(duration_ns),
-      gcs_relay_(gcs_relay) {}
+      gcs_relay_(gcs_relay),
+      physics_(physics),
+      realtime_(realtime),
+      answers_before_(robots->size(), 0) {}
 
 void ProgressLine::IterationBegins(const proto::coord::Start&) {
-  if (wall_start_ns_ == 0) wall_start_ns_ = MonotonicNowNs();
+  if (wall_start_ns_ == 0) wall_start_ns_ = last_print_wall_ns_ = MonotonicNowNs();
+}
+
+std::string ProgressLine::AutopilotRates(TimeNs wall_now_ns) {
+  // Under a second since the last line (the first line, at the first iteration): too few
+  // answers for a rate.
+  if (physics_ == nullptr || wall_now_ns - last_print_wall_ns_ < kNsPerS) return "";
+  int autopilots = 0;
+  double lowest = 0, highest = 0;
+  for (size_t i = 0; i < robots_.size(); ++i) {
+    if (!physics_->world().simulates(static_cast<int>(i))) continue;
+    const physics::AutopilotRate rate = physics_->autopilot_rate(static_cast<int>(i));
+    if (rate.nominal_hz <= 0) continue;
+    const double ratio = physics::AnswersPerSecond(rate.answers - answers_before_[i],
+                                                   wall_now_ns - last_print_wall_ns_) /
+                         rate.nominal_hz;
+    answers_before_[i] = rate.answers;
+    lowest = autopilots == 0 ? ratio : std::min(lowest, ratio);
+    highest = autopilots == 0 ? ratio : std::max(highest, ratio);
+    ++autopilots;
+  }
+  last_print_wall_ns_ = wall_now_ns;
+  if (autopilots == 0) return "";
+  char text[96];
+  std::snprintf(text, sizeof text, "autopilots %d at %.0f-%.0f %% of their rate   ", autopilots,
+                100 * lowest, 100 * highest);
+  return text;
 }
 
 void ProgressLine::IterationEnded(const proto::coord::Start& start) {
@@ -51,6 +81,11 @@ void ProgressLine::Print(TimeNs now_ns) {
                wall_s > 0 ? sim_s / wall_s : 0.0, alive, with_image,
                static_cast<unsigned long long>(sent), static_cast<unsigned long long>(delivered),
                static_cast<unsigned long long>(lost));
+  if (realtime_) {
+    std::fprintf(stderr, "lag max %.1f ms   ", static_cast<double>(lag_max_ns_) / kNsPerMs);
+    lag_max_ns_ = 0;
+  }
+  std::fputs(AutopilotRates(MonotonicNowNs()).c_str(), stderr);
   if (gcs_relay_ != nullptr) {
     const gcs::GcsRelayCounters relayed = gcs_relay_->counters();
     int armed = 0;

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include "runner/connectivity.h"
 #include "runner/gcs_relay_stage.h"
@@ -153,6 +156,46 @@ std::string PhysicsJson(const physics::PhysicsServer* physics, int index) {
   return json + "}";
 }
 
+// The robot's autopilot rate in wall time; null without an autopilot that answered, or when its
+// physics ran on a node host.
+std::optional<physics::AutopilotRate> AutopilotRateOf(const physics::PhysicsServer* physics,
+                                                      int index) {
+  if (physics == nullptr || !physics->world().simulates(index)) return std::nullopt;
+  const physics::AutopilotRate rate = physics->autopilot_rate(index);
+  if (rate.nominal_hz <= 0) return std::nullopt;
+  return rate;
+}
+
+std::string AutopilotRateJson(const std::optional<physics::AutopilotRate>& rate) {
+  if (!rate) return "null";
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "{\"answers\":%llu,\"nominal_hz\":%.6g,\"achieved_hz\":%.6g,\"ratio\":%.6g}",
+                static_cast<unsigned long long>(rate->answers), rate->nominal_hz,
+                rate->AchievedHz(), rate->Ratio());
+  return text;
+}
+
+// Over every autopilot: how many, the slowest (its ratio, its robot) and the median ratio; null
+// without one.
+std::string AutopilotRatesJson(const Scenario& scenario,
+                               const physics::PhysicsServer* physics) {
+  std::vector<std::pair<double, int>> ratios;  // (ratio, robot)
+  for (int i = 0; i < static_cast<int>(scenario.robots.size()); ++i) {
+    if (const auto rate = AutopilotRateOf(physics, i)) ratios.push_back({rate->Ratio(), i});
+  }
+  if (ratios.empty()) return "null";
+  std::sort(ratios.begin(), ratios.end());
+  const size_t n = ratios.size();
+  const double median = n % 2 ? ratios[n / 2].first
+                              : (ratios[n / 2 - 1].first + ratios[n / 2].first) / 2;
+  char text[96];
+  std::snprintf(text, sizeof text, "{\"autopilots\":%zu,\"min_ratio\":%.6g,\"median_ratio\":%.6g", n,
+                ratios.front().first, median);
+  return text + std::string(",\"slowest\":") + Quote(scenario.robots[ratios.front().second].name) +
+         "}";
+}
+
 std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& bridge,
                       const physics::PhysicsServer* physics) {
   const tapbridge::MediumCounters medium = bridge.medium_counters(index);
@@ -190,7 +233,8 @@ std::string RobotJson(const RobotSlot& robot, int index, tapbridge::BridgeCore& 
           ",\"queue_expired\":" + std::to_string(medium.queue_expired) + ",\"lost\":" + lost +
           ",\"other\":" + other + ",\"oversize_dropped\":" + std::to_string(port.oversize_dropped) +
           ",\"unknown_source_dropped\":" + std::to_string(port.unknown_source_dropped) + "}";
-  json += ",\"physics\":" + PhysicsJson(physics, index) + "}";
+  json += ",\"physics\":" + PhysicsJson(physics, index);
+  json += ",\"autopilot_rate\":" + AutopilotRateJson(AutopilotRateOf(physics, index)) + "}";
   return json;
 }
 
@@ -290,6 +334,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
   json += ",\"interrupted\":" + std::string(report.interrupted ? "true" : "false");
   json += ",\"failure\":" + (failure.empty() ? std::string("null") : Quote(failure));
   json += ",\"metrics\":" + metrics.ToJson();
+  json += ",\"autopilot_rates\":" + AutopilotRatesJson(scenario, physics);
   json += ",\"connectivity\":" + ConnectivityJson(samples);
   json += ",\"separation\":" + SeparationJson(scenario, closest);
   json += ",\"delivery\":" + DeliveryJson(records.losses());

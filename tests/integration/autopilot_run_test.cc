@@ -308,7 +308,8 @@ TEST(RunTest, InRealtimePacingAutopilotsAreServedAtTheWallInstantOfTheirTime) {
   const RunScenario scenario = WriteScenario(
       14,
       "robot { name: \"ap\" position_m { x: 0 y: 0 z: 0.2 } image: \"test_autopilot\" "
-      "ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", \"--log-replies\"] }\n"
+      "ardupilot_json_port: 9002 args: [\"--json-port\", \"9002\", \"--rate-hz\", \"400\", "
+      "\"--log-replies\"] }\n"
       "robot { name: \"px\" position_m { x: 0 y: 4 z: 0.2 } image: \"test_autopilot\" "
       "px4_sim_port: 4560 args: [\"--px4-port\", \"4560\", \"--log-replies\"] }\n",
       "timing { duration_ms: 3000 pacing: PACING_REALTIME }\n");
@@ -324,6 +325,26 @@ TEST(RunTest, InRealtimePacingAutopilotsAreServedAtTheWallInstantOfTheirTime) {
     ASSERT_GT(served.late_phase, 50u) << robot;
     EXPECT_LT(std::abs(served.phase_gap_ms), 2.5) << robot;
   }
+  // summary.json's autopilot rates (docs/run.md, "Autopilot rates"). Oracles: each autopilot's
+  // own log, one line per reply it took, so one per frame or actuator controls it answered with
+  // (give or take the one in flight at the end); the rate its protocol asks for, ArduPilot's
+  // --rate-hz and PX4's HIL_SENSOR every 4 ms. Served on time (above), each keeps that rate in
+  // wall time, within what a busy host takes (the bound is loose: 80 %).
+  const std::string summary = ReadAll(out + "/summary.json");
+  for (const auto& [robot, nominal_hz] : {std::pair<std::string, double>{"ap", 400},
+                                          std::pair<std::string, double>{"px", 250}}) {
+    const std::string after = "\"name\":\"" + robot + "\"";
+    const double replies = AutopilotReplies(ReadAll(out + "/robots/" + robot + ".log")).size();
+    EXPECT_NEAR(SummaryNumber(summary, after, "\"autopilot_rate\":{\"answers\":"), replies, 2)
+        << robot;
+    EXPECT_EQ(SummaryNumber(summary, after, "\"nominal_hz\":"), nominal_hz) << robot;
+    const double achieved_hz = SummaryNumber(summary, after, "\"achieved_hz\":");
+    EXPECT_GT(achieved_hz, 0.8 * nominal_hz) << robot;
+    EXPECT_LT(achieved_hz, 1.02 * nominal_hz) << robot;
+    EXPECT_NEAR(SummaryNumber(summary, after, "\"ratio\":"), achieved_hz / nominal_hz, 1e-4)
+        << robot;
+  }
+  EXPECT_EQ(SummaryNumber(summary, "\"autopilot_rates\":", "\"autopilots\":"), 2);
   ExpectNothingLeft(scenario.name);
   RunCommand({"rm", "-rf", out});
 }
