@@ -1,6 +1,7 @@
 #include "scenario/field_rules.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 #include <sstream>
 
@@ -22,10 +23,15 @@ struct Value {
   std::string text;
 };
 
+// Six significant digits (the stream's default), or more where six would not give the value
+// back: a default of 47.397742 must not read 47.3977.
 std::string FloatText(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
+  for (int digits = 6;; ++digits) {
+    std::ostringstream text;
+    text.precision(digits);
+    text << value;
+    if (digits >= 17 || std::strtod(text.str().c_str(), nullptr) == value) return text.str();
+  }
 }
 
 template <typename Integer>
