@@ -182,9 +182,10 @@ void MinstrelHt::AfterFrame(MinstrelHtRemote& r, TimeNs now_ns) const {
 }
 
 void MinstrelHt::UpdatePacketCounters(MinstrelHtRemote& r, int mpdus_ok, int mpdus_failed) {
-  r.total_packets += mpdus_ok + mpdus_failed;
-  if (r.is_sampling) r.sample_packets += mpdus_ok + mpdus_failed;
-  if (r.total_packets == ~0) r.total_packets = r.sample_packets = 0;
+  const auto mpdus = static_cast<uint32_t>(mpdus_ok + mpdus_failed);
+  r.total_packets += mpdus;
+  if (r.is_sampling) r.sample_packets += mpdus;
+  if (r.total_packets == ~uint32_t{0}) r.total_packets = r.sample_packets = 0;
   // A new sample is due after 16 + 2 x (average A-MPDU length) frames, while the interval's
   // sample budget lasts.
   if (r.sample_wait == 0 && r.sample_tries == 0 && r.sample_count > 0) {

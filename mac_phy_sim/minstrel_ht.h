@@ -75,7 +75,8 @@ struct MinstrelHtRemote {
   int tx_rate = 0;  // The rate of the next attempt.
   int sample_rate = 0, sample_group = 0;
   bool is_sampling = false;
-  int total_packets = 0, sample_packets = 0;  // MPDUs.
+  // MPDUs; unsigned, as ns-3's, so that the reset at ~0 is defined.
+  uint32_t total_packets = 0, sample_packets = 0;
   uint32_t sample_wait = 0, sample_tries = 4, sample_count = 16, samples_slow = 0;
   uint32_t avg_ampdu_len = 1, ampdu_len = 0, ampdu_packet_count = 0;
   uint32_t short_retry = 0, long_retry = 0;

@@ -27,6 +27,7 @@ struct PhysicsServer::Impl {
   std::vector<std::unique_ptr<RobotLink>> links;
   std::vector<size_t> link_begin;  // Robot r's links: [link_begin[r], link_begin[r + 1]).
   int epoll_fd = -1;
+  bool use_epoll_pwait2 = true;  // Until the kernel or a seccomp profile refuses it.
   const TimeNs frame_gate_timeout_ns;         // 0: the clock never waits for autopilots
   const clock::Timebase* realtime = nullptr;  // Set: autopilots are served on the wall clock.
   bool has_autopilots = false;  // Some link is paced (ArduPilot, PX4): the frame gate applies.
@@ -78,9 +79,15 @@ struct PhysicsServer::Impl {
   void WaitAndPoll(TimeNs timeout_ns) {
     const timespec wait{static_cast<time_t>(timeout_ns / kNsPerS),
                         static_cast<long>(timeout_ns % kNsPerS)};
-    int n = epoll_pwait2(epoll_fd, events, kEventBatch, &wait, nullptr);
-    if (n < 0 && errno == ENOSYS) {
-      // Before Linux 5.11: milliseconds, rounded up (the deadline is looked at again after).
+    int n = -1;
+    if (use_epoll_pwait2) {
+      n = epoll_pwait2(epoll_fd, events, kEventBatch, &wait, nullptr);
+      // ENOSYS before Linux 5.11; EPERM (or another errno) where a container's seccomp profile
+      // does not know the call: from then on epoll_wait, which every profile allows.
+      if (n < 0 && errno != EINTR) use_epoll_pwait2 = false;
+    }
+    if (!use_epoll_pwait2) {
+      // Milliseconds, rounded up (the deadline is looked at again after).
       n = epoll_wait(epoll_fd, events, kEventBatch,
                      static_cast<int>(std::min<TimeNs>((timeout_ns + kNsPerMs - 1) / kNsPerMs,
                                                        INT32_MAX)));

@@ -24,9 +24,9 @@ void ProgressLine::IterationBegins(const proto::coord::Start&) {
 }
 
 std::string ProgressLine::AutopilotRates(TimeNs wall_now_ns) {
-  // Under a second since the last line (the first line, at the first iteration): too few
-  // answers for a rate.
-  if (physics_ == nullptr || wall_now_ns - last_print_wall_ns_ < kNsPerS) return "";
+  // Under a second since the last rates (the first line, at the first iteration): too few
+  // answers for new ones; the last ones are shown again.
+  if (physics_ == nullptr || wall_now_ns - last_print_wall_ns_ < kNsPerS) return rates_text_;
   int autopilots = 0;
   double lowest = 0, highest = 0;
   for (size_t i = 0; i < robots_.size(); ++i) {
@@ -42,11 +42,11 @@ std::string ProgressLine::AutopilotRates(TimeNs wall_now_ns) {
     ++autopilots;
   }
   last_print_wall_ns_ = wall_now_ns;
-  if (autopilots == 0) return "";
+  if (autopilots == 0) return rates_text_ = "";
   char text[96];
   std::snprintf(text, sizeof text, "autopilots %d at %.0f-%.0f %% of their rate   ", autopilots,
                 100 * lowest, 100 * highest);
-  return text;
+  return rates_text_ = text;
 }
 
 void ProgressLine::IterationEnded(const proto::coord::Start& start) {
@@ -73,7 +73,8 @@ void ProgressLine::Print(TimeNs now_ns) {
   }
   const double wall_s = static_cast<double>(MonotonicNowNs() - wall_start_ns_) / kNsPerS;
   const double sim_s = static_cast<double>(now_ns) / kNsPerS;
-  std::fprintf(stderr, isatty(STDERR_FILENO) ? "\r" : "");
+  // On a terminal the line is redrawn in place, cleared first: a shorter line leaves no tail.
+  std::fprintf(stderr, isatty(STDERR_FILENO) ? "\r\033[K" : "");
   std::fprintf(stderr,
                "t=%7.2f/%.0f s  x%.2f real time  robots %d/%d  frames sent %llu delivered "
                "%llu lost %llu   ",

@@ -51,6 +51,7 @@ class ProgressLine final : public IterationObserver {
   TimeNs lag_max_ns_ = 0;
   std::vector<uint64_t> answers_before_;  // Per robot, at the last line.
   TimeNs last_print_wall_ns_ = 0;
+  std::string rates_text_;  // The last autopilot rates shown, until new ones are due.
   TimeNs wall_start_ns_ = 0;
   TimeNs next_print_wall_ns_ = 0;
   bool printed_ = false;

@@ -388,6 +388,7 @@ void ValidateRobotRadio(const SourceLocator& at, int i, const proto::Robot& robo
   if (!robot.has_mcs()) return;
   if (!ht) {
     at.Fail({{"robot", i}, {"mcs"}}, who + "mcs applies to STANDARD_80211N_* and STANDARD_80211AC only");
+    return;  // One line for one field: the rules below are about n/ac.
   }
   const std::string problem = McsProblem(radio, robot.mcs());
   if (!problem.empty()) at.Fail({{"robot", i}, {"mcs"}}, who + problem);

@@ -12,11 +12,14 @@ set -euo pipefail
 scenario=$1 n=$2 budget=${3:-900000}
 v2=$(awk '$3 == "cgroup2" { print $2; exit }' /proc/mounts)
 cpu=$(awk '$3 == "cgroup" && $4 ~ /(^|,)cpu(,|$)/ { print $2; exit }' /proc/mounts)
+# Only a host with cgroup v1's cpu hierarchy (cpu.shares, cpu.rt_runtime_us) can run it.
+[ -n "$cpu" ] && [ -d "$cpu" ] || { echo "$0: no cgroup v1 cpu hierarchy on this host" >&2; exit 2; }
 top="$cpu/sitlnet-weights-$scenario"
 mkdir -p "$top"
 echo $((1024 * n)) > "$top/cpu.shares"
 [ -f "$top/cpu.rt_runtime_us" ] && echo "$budget" > "$top/cpu.rt_runtime_us"
-trap 'for d in "$top"/*/; do [ -d "$d" ] && { cat "$d/cgroup.procs" > /dev/null; rmdir "$d" 2>/dev/null || true; }; done; rmdir "$top" 2>/dev/null || true' EXIT
+# On exit each group's tasks go back to the hierarchy's root, so that the groups can be removed.
+trap 'for d in "$top"/*/; do [ -d "$d" ] && { for p in $(cat "$d/cgroup.procs" 2>/dev/null); do echo "$p" > "$cpu/cgroup.procs" 2>/dev/null || true; done; rmdir "$d" 2>/dev/null || true; }; done; rmdir "$top" 2>/dev/null || true' EXIT
 seen=0
 for _ in $(seq 1 600); do
   robots=$(ls -d "$v2/sitlnet/$scenario"/*/ 2>/dev/null || true)

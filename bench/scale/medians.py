@@ -5,6 +5,7 @@ Usage: medians.py RUNS.csv OUT.csv [--group COLUMN]
 Groups by (robots, pacing), or by COLUMN (ablation.sh: variant) first.
 """
 import csv
+import math
 import statistics
 import sys
 
@@ -24,6 +25,11 @@ with open(sys.argv[2], "w") as out:
     # their lines (a NaN row between points breaks a line).
     order = (lambda item: 0) if group_by else (lambda item: (item[0][1], item[0][0]))
     for key, group in sorted(groups.items(), key=order):
-        values = [statistics.median(float(g[c]) for g in group) for c in cols]
+        # statistics.median over a NaN depends on the rows' order: a NaN (a run that never
+        # iterated) counts as +inf, later than any run, so the median is defined; a median
+        # that is such a run is written as NaN again.
+        values = [statistics.median(float(g[c]) if float(g[c]) == float(g[c]) else math.inf
+                                    for g in group) for c in cols]
+        values = [math.nan if v == math.inf else v for v in values]
         out.write(",".join(str(k) for k in key) + f",{len(group)}," +
                   ",".join(f"{v:.6g}" for v in values) + "\n")

@@ -184,7 +184,7 @@ TEST(MinstrelHtTest, AmpduReportsCountMpdusAndFeedTheAverageLength) {
   minstrel.ReportAmpduTxStatus(r, 18, 2, 10 * kNsPerMs);
   EXPECT_EQ(r.rates[4].successes, 18u);
   EXPECT_EQ(r.rates[4].attempts, 20u);
-  EXPECT_EQ(r.total_packets, 20);
+  EXPECT_EQ(r.total_packets, 20u);
   // A BlockAck with none acknowledged (or none at all) moves the retry chain instead.
   r.tx_rate = 4;
   minstrel.ReportAmpduTxStatus(r, 0, 20, 20 * kNsPerMs);

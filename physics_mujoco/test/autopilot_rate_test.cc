@@ -73,7 +73,9 @@ TEST(AutopilotRateTest, AReaderOnAnotherThreadSeesTimesAsNewAsTheCount) {
   while (seen < kAnswers) {
     const AutopilotRate rate = meter.Read();
     ASSERT_GE(rate.answers, seen);
-    if (rate.answers > 0) ASSERT_GE(rate.last_answer_wall_ns, static_cast<TimeNs>(rate.answers));
+    if (rate.answers > 0) {
+      ASSERT_GE(rate.last_answer_wall_ns, static_cast<TimeNs>(rate.answers));
+    }
     seen = rate.answers;
   }
   writer.join();

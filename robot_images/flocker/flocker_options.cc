@@ -94,7 +94,9 @@ Options ParseOptions(int argc, char** argv) {
       options.beacon_port = static_cast<uint16_t>(port);
     } else if (flag == "--tos") {
       char* end = nullptr;
-      const long tos = std::strtol(value, &end, 0);
+      // Base 16 after "0x", else 10: "010" is ten, not octal eight.
+      const bool hex = value[0] == '0' && (value[1] == 'x' || value[1] == 'X');
+      const long tos = std::strtol(value, &end, hex ? 16 : 10);
       if (end == value || *end != '\0' || tos < 0 || tos > 255) {
         Die(std::string("--tos: \"") + value + "\" is not a TOS byte (0-255, decimal or 0x hex)");
       }

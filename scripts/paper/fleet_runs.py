@@ -26,7 +26,7 @@ for path in sys.argv[2:]:
     for point in csv.DictReader(open(path)):
         failure = "" if point["status"] == "ok" else f"{point['status']} {point['reason']}"
         # A metric summary.json holds as null (a lag in a run that never iterated) is empty here:
-        # NaN, so that it counts as late, not as zero.
+        # NaN, which bench/scale/medians.py counts as later than any run, not as zero.
         values = [point[metric] if point[metric] != "" else "nan" for _, metric in METRICS]
         out.writerow([point["robot_count"], PACINGS[point["timing.pacing"]], point["seed"],
                       loads.get((sweep, point["seed"]), "nan")] + values +

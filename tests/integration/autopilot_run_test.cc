@@ -329,7 +329,9 @@ TEST(RunTest, InRealtimePacingAutopilotsAreServedAtTheWallInstantOfTheirTime) {
   // own log, one line per reply it took, so one per frame or actuator controls it answered with
   // (give or take the one in flight at the end); the rate its protocol asks for, ArduPilot's
   // --rate-hz and PX4's HIL_SENSOR every 4 ms. Served on time (above), each keeps that rate in
-  // wall time, within what a busy host takes (the bound is loose: 80 %).
+  // wall time, within what a busy host takes (the bound is loose: 80 %). Above the rate by at
+  // most 5 %: a world late at the first answer serves the catch-up at once (60 ms late over the
+  // run's 2.9 s is 2 %).
   const std::string summary = ReadAll(out + "/summary.json");
   for (const auto& [robot, nominal_hz] : {std::pair<std::string, double>{"ap", 400},
                                           std::pair<std::string, double>{"px", 250}}) {
@@ -340,7 +342,7 @@ TEST(RunTest, InRealtimePacingAutopilotsAreServedAtTheWallInstantOfTheirTime) {
     EXPECT_EQ(SummaryNumber(summary, after, "\"nominal_hz\":"), nominal_hz) << robot;
     const double achieved_hz = SummaryNumber(summary, after, "\"achieved_hz\":");
     EXPECT_GT(achieved_hz, 0.8 * nominal_hz) << robot;
-    EXPECT_LT(achieved_hz, 1.02 * nominal_hz) << robot;
+    EXPECT_LT(achieved_hz, 1.05 * nominal_hz) << robot;
     EXPECT_NEAR(SummaryNumber(summary, after, "\"ratio\":"), achieved_hz / nominal_hz, 1e-4)
         << robot;
   }

@@ -794,10 +794,7 @@ TEST(ViewBrowserTest, APortInUseANonLocalAddressAndAnIncompleteFolderAreOneLine)
   EXPECT_EQ(busy.out + remote.out + incomplete.out, "");
 }
 
-// Issue 48, item 2: `sitlnet view SWEEP_DIR` shows a real sweep (2 flockers, 2 rates x 2 seeds,
-// 1 s each). Oracle: the sweep's own summary.csv and points.csv. Each metric with a mean gets a
-// plot against the rate with one mark per rate, drawn from that row's mean and half-width; a
-// metric with no mean (no obstacle: delivery.obstructed.ratio) gets none.
+// Issue 48, item 2: `sitlnet view SWEEP_DIR` shows a real sweep (2 flockers, 1 s each).
 // A 2 x 2 sweep over two fields, 2 seeds, one point made to fail. Oracle: the sweep's own
 // summary.csv: each metric is plotted against each field, one line per value of the other field,
 // a mark per row with its mean and half-width (none for the failed point's combination, n = 1);

@@ -67,6 +67,7 @@ TEST(FlockerOptionsTest, TosIsATosByteInDecimalOrHex) {
   EXPECT_EQ(Parse({"--tos", "0xc0"}).tos, 0xc0);
   EXPECT_EQ(Parse({"--tos", "184"}).tos, 184);
   EXPECT_EQ(Parse({"--tos", "0"}).tos, 0);
+  EXPECT_EQ(Parse({"--tos", "010"}).tos, 10) << "decimal, not octal";
 }
 
 TEST(FlockerOptionsTest, BadInputExitsTwoNamingTheFlag) {
