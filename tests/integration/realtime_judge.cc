@@ -46,17 +46,31 @@ void PrintHeldFailures(const ::testing::TestPartResultArray& results) {
   std::fflush(stdout);
 }
 
+// Runs `attempt` with its results held in `results`, not reported.
+void RunHeld(const std::function<void()>& attempt, ::testing::TestPartResultArray* results) {
+  const ::testing::ScopedFakeTestPartResultReporter intercept(
+      ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ALL_THREADS, results);
+  attempt();
+}
+
+// True if every failure held is a realtime bound's (kRealtimeBoundMark in its trace).
+bool OnlyRealtimeBoundsFailed(const ::testing::TestPartResultArray& results) {
+  for (int i = 0; i < results.size(); ++i) {
+    const ::testing::TestPartResult& result = results.GetTestPartResult(i);
+    if (result.failed() && std::string(result.message()).find(kRealtimeBoundMark) == std::string::npos) {
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 void FlyJudgedOnAHostThatKeptUp(const std::function<bool(bool may_fly_again)>& flight) {
   const HostCpuWatch watch;
   ::testing::TestPartResultArray first;
   bool starved = false;
-  {
-    const ::testing::ScopedFakeTestPartResultReporter intercept(
-        ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ALL_THREADS, &first);
-    starved = flight(true);
-  }
+  RunHeld([&] { starved = flight(true); }, &first);
   const HostCpuWatch::Shares shares = watch.SharesUpToNow();
   const bool disturbed = shares.busy > kBusyShare || shares.stolen > kStolenShare;
   if (!starved && !(Failed(first) && disturbed)) {
@@ -72,19 +86,8 @@ void FlyJudgedOnAHostThatKeptUp(const std::function<bool(bool may_fly_again)>& f
 void RunOnceMoreIfItFails(const std::function<void()>& attempt) {
   const HostCpuWatch watch;
   ::testing::TestPartResultArray first;
-  {
-    const ::testing::ScopedFakeTestPartResultReporter intercept(
-        ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ALL_THREADS, &first);
-    attempt();
-  }
-  bool only_realtime_bounds = true;
-  for (int i = 0; i < first.size(); ++i) {
-    const ::testing::TestPartResult& result = first.GetTestPartResult(i);
-    if (result.failed() && std::string(result.message()).find(kRealtimeBoundMark) == std::string::npos) {
-      only_realtime_bounds = false;
-    }
-  }
-  if (!Failed(first) || !only_realtime_bounds) {
+  RunHeld(attempt, &first);
+  if (!Failed(first) || !OnlyRealtimeBoundsFailed(first)) {
     Report(first);
     return;
   }
