@@ -73,6 +73,12 @@ bool HasEffectiveCapability(int cap);
 // RLIMIT_RTPRIO) for the caller to print as a warning: running at normal priority still works.
 std::string RequestRealtimePriority(int priority);
 
+// The SCHED_FIFO priority sitlnet's realtime loops ask for unless told (`--rt-priority`). Above
+// PX4's MAVLink threads (50) and navigator (55), which kept 8 realtime PX4's iteration lag p99 at
+// 2.4-2.8 ms under priority 10; below its logger (74), commander (90) and work queues (99), so
+// sitlnet never delays PX4's control loop (docs/performance.md, "Realtime: the iteration lag").
+inline constexpr int kDefaultRealtimePriority = 60;
+
 // Does nothing if the thread already has a realtime policy (a run started under `chrt -f`: the
 // caller's choice stands).
 //

@@ -53,7 +53,7 @@ struct RunOptions {
   bool record_losses = true;  // losses.csv.gz and links.csv (docs/run.md); mac_phy_sim here only.
   // SCHED_FIFO priority of sitlnet's own threads in realtime pacing (0: normal scheduling;
   // refused without CAP_SYS_NICE: a warning, then normal). Images run at normal priority.
-  int realtime_priority = 10;
+  int realtime_priority = kDefaultRealtimePriority;
   // `--gcs`, as written: where the ground station's MAVLink meets a GCS on the host
   // (runner/gcs_relay_stage.h). Empty: udp:127.0.0.1:14550; {"none"}: no relay.
   std::vector<std::string> gcs;

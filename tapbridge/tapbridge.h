@@ -277,7 +277,7 @@ struct DaemonOptions {
   // SCHED_FIFO priority of the daemon (0: normal scheduling). Deliveries are
   // due to the microsecond; on a loaded host a normal thread waits for a core
   // for milliseconds (docs/performance.md). Refused (no CAP_SYS_NICE): logged.
-  int realtime_priority = 10;
+  int realtime_priority = kDefaultRealtimePriority;
   TimeNs spin_ns = 0;  // BridgeOptions::spin_ns.
   std::function<void(const std::string&)> log;
 };

@@ -734,7 +734,9 @@ TEST(RunTest, RealtimeRunIsFifoButItsImagesAreNot) {
   EXPECT_NE(self_part.find("policy: SCHED_OTHER"), std::string::npos) << log;
   if (HasCapability(CAP_SYS_NICE)) {
     EXPECT_NE(parent_part.find("policy: SCHED_FIFO"), std::string::npos) << log;
-    EXPECT_NE(parent_part.find("priority: 10"), std::string::npos) << log;
+    EXPECT_NE(parent_part.find("priority: " + std::to_string(kDefaultRealtimePriority)),
+              std::string::npos)
+        << log;
     // Started under `chrt -f 5`: that choice stands and the image inherits it, as from any program.
     const std::string chrt_out = out + "-chrt";
     const CommandResult chrt = RunCommand({"chrt", "-f", "5", SitlnetBinary(), "run", scenario.path,
@@ -744,11 +746,14 @@ TEST(RunTest, RealtimeRunIsFifoButItsImagesAreNot) {
     const std::string chrt_log = ReadAll(chrt_out + "/robots/a.log");
     EXPECT_EQ(chrt_log.find("SCHED_OTHER"), std::string::npos) << chrt_log;
     EXPECT_NE(chrt_log.find("priority: 5"), std::string::npos) << chrt_log;
-    EXPECT_EQ(chrt_log.find("priority: 10"), std::string::npos) << chrt_log;
+    EXPECT_EQ(chrt_log.find("priority: " + std::to_string(kDefaultRealtimePriority)),
+              std::string::npos)
+        << chrt_log;
   } else {
     // Without CAP_SYS_NICE (e.g. the min-caps pass): one warning, then normal scheduling.
     EXPECT_NE(
-        result.err.find("SCHED_FIFO priority 10 refused (needs CAP_SYS_NICE or RLIMIT_RTPRIO)"),
+        result.err.find("SCHED_FIFO priority " + std::to_string(kDefaultRealtimePriority) +
+                        " refused (needs CAP_SYS_NICE or RLIMIT_RTPRIO)"),
         std::string::npos)
         << result.err;
     EXPECT_NE(parent_part.find("policy: SCHED_OTHER"), std::string::npos) << log;

@@ -235,7 +235,7 @@ TEST(TapbridgeBadInput, DaemonRestartReattaches) {
   EXPECT_TRUE(Pings(scenario, "a", 1));
 }
 
-// The daemon asks for SCHED_FIFO 10 (docs/tapbridge.md). With CAP_SYS_NICE it gets it; without
+// The daemon asks for SCHED_FIFO kDefaultRealtimePriority (docs/tapbridge.md). With CAP_SYS_NICE it gets it; without
 // (the min-caps pass) it says so in one line, stays SCHED_OTHER and serves the medium all the
 // same. chrt (util-linux) observes the policy of the daemon's main thread, which asked.
 TEST(TapbridgeDaemon, SchedFifoWithCapSysNiceElseOneWarningAndNormalPriority) {
@@ -246,11 +246,13 @@ TEST(TapbridgeDaemon, SchedFifoWithCapSysNiceElseOneWarningAndNormalPriority) {
   const CommandResult chrt = RunCommand({"chrt", "-p", std::to_string(scenario.daemon()->pid())});
   ASSERT_EQ(chrt.exit_code, 0) << chrt.err;
   const std::string log = scenario.StopDaemon();
-  const std::string warning =
-      "SCHED_FIFO priority 10 refused (needs CAP_SYS_NICE or RLIMIT_RTPRIO)";
+  const std::string warning = "SCHED_FIFO priority " + std::to_string(kDefaultRealtimePriority) +
+                              " refused (needs CAP_SYS_NICE or RLIMIT_RTPRIO)";
   if (integration_test::HasCapability(CAP_SYS_NICE)) {
     EXPECT_NE(chrt.out.find("policy: SCHED_FIFO"), std::string::npos) << chrt.out;
-    EXPECT_NE(chrt.out.find("priority: 10"), std::string::npos) << chrt.out;
+    EXPECT_NE(chrt.out.find("priority: " + std::to_string(kDefaultRealtimePriority)),
+              std::string::npos)
+        << chrt.out;
     EXPECT_EQ(log.find(warning), std::string::npos) << log;
   } else {
     EXPECT_NE(chrt.out.find("policy: SCHED_OTHER"), std::string::npos) << chrt.out;
