@@ -23,12 +23,13 @@ int DataMpduBytes(const State& s, const QueuedFrame& frame) {
 namespace {
 
 // The counter a frame's sequence number comes from. Action frames count apart, as ns-3's
-// non-QoS frames do; with aggregation QoS Data frames count per receiver and TID.
+// non-QoS frames do; where Block Ack agreements may form (UsesBlockAck) QoS Data frames count
+// per receiver and TID.
 uint16_t& SequenceCounter(State& s, int station, const MacAddress& receiver, int tid,
                           MpduType type, bool group) {
   StationState& st = s.stations[station];
   if (type != MpduType::kData) return st.next_management_sequence;
-  if (!s.config.aggregation || group) return st.next_sequence_number[tid];
+  if (!UsesBlockAck(s) || group) return st.next_sequence_number[tid];
   for (ReceiverSequences& r : st.receiver_sequences) {
     if (r.receiver == receiver) return r.next[tid];
   }
@@ -38,9 +39,9 @@ uint16_t& SequenceCounter(State& s, int station, const MacAddress& receiver, int
 
 }  // namespace
 
-// Without aggregation a frame gets its number when it is taken into service (as before: the
-// golden test pins it); with aggregation when it is first sent. A frame that goes back to the
-// queue (Block Ack retransmissions) keeps its own.
+// Without Block Ack (UsesBlockAck false) a frame gets its number when it is taken into service
+// (as before: the golden test pins it); with it when it is first sent. A frame that goes back
+// to the queue (Block Ack retransmissions) keeps its own.
 void AssignSequence(State& s, int station, QueuedFrame& f) {
   if (f.sequence_assigned) return;
   f.sequence_assigned = true;
@@ -110,7 +111,7 @@ void NextFrame(State& s, int station, int ac) {
   f.current = std::move(f.queue.front());
   f.queue.pop_front();
   f.has_current = true;
-  if (!s.config.aggregation) AssignSequence(s, station, f.current);
+  if (!UsesBlockAck(s)) AssignSequence(s, station, f.current);
 }
 
 namespace {
@@ -574,6 +575,8 @@ void OnFrameReceived(State& s, int station, const Transmission& tx, const RxEntr
         (af.current.use_rts ? af.long_retry_count : af.short_retry_count) = 0;
         st.rate_manager->ReportDataOk(tx.ta, tx.reported_snr, s.now_ns);
         OnActionAcked(s, station, af.current);
+        // Under an agreement the MPDU may have expired in flight and owe a BlockAckReq.
+        if (BlockAckReqFollows(s, station, true)) return;
         ExchangeSucceeded(s, station);
       }
       return;
