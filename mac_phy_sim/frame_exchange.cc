@@ -340,6 +340,27 @@ size_t FramesHeld(const AccessFunction& f) {
   return f.queue.size() + (f.has_current ? 1 : 0) + f.ampdu_rest.size();
 }
 
+// Whether expired frames go at every arrival, as on an ns-3 3.37 QoS station, the frame in
+// service included while it waits for access (WaitsForAccess). Only on 802.11ac stations
+// without aggregation: their single MPDUs sent at the edge of their lifetime expire in flight
+// and owe a BlockAckReq a SIFS after the ACK, and the room a wipe makes decides how many are
+// sent so (docs/mac_phy_sim.md, "802.11ac without A-MPDU"). a/b/g and 802.11n stations without
+// aggregation drop such frames at the next access, as before (the same throughput; the golden
+// test keeps their bytes). A-MPDU stations too, for now: the change moved their several-sender
+// cells by up to 4 % either way at 3 seeds (docs/validation.md).
+bool WipesAtEveryArrival(const State& s) { return UsesBlockAck(s) && !s.config.aggregation; }
+
+// Whether the frame in service of `ac` waits for channel access: not sent yet, or waiting to be
+// retried, no exchange of `ac` under way. ns-3 3.37 keeps that frame in its WifiMacQueue, whose
+// wipes take it when it expired (WifiMacQueueContainer::DoExtractExpiredMpdus takes every
+// expired MPDU at the queue's head), making room for the frame arriving.
+bool WaitsForAccess(const State& s, int station, int ac) {
+  const StationState& st = s.stations[station];
+  if (!WipesAtEveryArrival(s) || !st.acs[ac].has_current || st.response_pending) return false;
+  if (st.exchange_ac != ac) return true;
+  return st.exchange == Exchange::kIdle && st.transmitting_tx < 0;
+}
+
 // Releases the TXOP of `ac` and draws a new backoff (ns-3's NotifyChannelReleased).
 void ReleaseTxop(State& s, int station, int ac) {
   s.stations[station].acs[ac].txop_start_ns = -1;
@@ -353,8 +374,12 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
   const int tid = s.phy.qos ? UserPriorityOf(*ethernet) : 0;
   const int ac = AccessFunctionFor(s, tid);
   AccessFunction& af = st.acs[ac];
-  if (FramesHeld(af) >= s.config.queue_limit_frames) {
-    DropExpired(s, station, ac, false);
+  // ns-3 3.37 wipes expired frames when one arrives at a full queue (WifiMacQueue::Insert). A
+  // QoS station wipes at every arrival too (Txop::Queue asks QosTxop::HasFramesToTransmit,
+  // qos-txop.cc:315-326, which wipes); here only where that decides how many single MPDUs
+  // expire in flight and owe a BlockAckReq (WipesAtEveryArrival).
+  if (WipesAtEveryArrival(s) || FramesHeld(af) >= s.config.queue_limit_frames) {
+    DropExpired(s, station, ac, WaitsForAccess(s, station, ac));
     ExpireInFlight(s, station, ac);
   }
   if (FramesHeld(af) >= s.config.queue_limit_frames) {

@@ -185,5 +185,48 @@ TEST(VhtAgreementTest, AnMpduGivenUpBringsABlockAckReqThatMovesTheRecipientsWind
   }
 }
 
+// A frame arriving makes an ns-3 3.37 QoS station wipe its expired frames (Txop::Queue asks
+// QosTxop::HasFramesToTransmit, which wipes), the MPDU in flight included; that MPDU owes a
+// BlockAckReq (NotifyDiscardedMpdu), which goes a SIFS after its ACK with a TXOP limit of 0
+// (HtFrameExchangeManager::TransmissionSucceeded). Here a frame arrives every 100 us and lives
+// 3 ms, so many are sent at the edge of their lifetime and expire in flight.
+TEST(VhtAgreementTest, AnMpduExpiringInFlightBringsABlockAckReqASifsAfterItsAck) {
+  MediumConfig config = Vht();
+  config.queue_max_delay_ns = 3 * kNsPerMs;
+  Medium medium(config);
+  medium.EnableTrace(true);
+  medium.AddStation(kA, {0, 0, 0});
+  medium.AddStation(kB, {1, 0, 0});
+  std::vector<Delivery> deliveries;
+  int submitted = 0;
+  for (TimeNs t = 0; t < 100 * kNsPerMs; t += 100 * kNsPerUs) {
+    medium.SubmitFrame(0, NumberedFrame(submitted++), t);
+    medium.AdvanceTo(t + 100 * kNsPerUs - 1, &deliveries);
+  }
+  medium.AdvanceTo(120 * kNsPerMs, &deliveries);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  const std::vector<TxRecord> txs = Transmissions(trace);
+  size_t after_ack = 0, answered = 0, data_dropped = 0;
+  for (size_t i = 1; i + 1 < txs.size(); ++i) {
+    const TxRecord& ack = txs[i - 1];
+    if (txs[i].kind != FrameKind::kBlockAckReq || ack.kind != FrameKind::kAck ||
+        !(ack.receiver == kA) || txs[i].start_ns != ack.end_ns + 16 * kNsPerUs) {
+      continue;
+    }
+    ++after_ack;
+    answered += txs[i + 1].kind == FrameKind::kBlockAck;
+  }
+  for (const TraceEvent& e : trace) data_dropped += e.drop && e.drop->ethernet_bytes > 0;
+  EXPECT_GT(after_ack, 10u);
+  EXPECT_EQ(answered, after_ack);
+  EXPECT_EQ(deliveries.size() + data_dropped, static_cast<size_t>(submitted));
+  int last = -1;
+  for (const Delivery& d : deliveries) {
+    EXPECT_GT(IndexOf(d), last);
+    last = IndexOf(d);
+  }
+}
+
 }  // namespace
 }  // namespace sitlnet::mac
