@@ -4,8 +4,9 @@
 // lines 127-131 at ns-3.37: GetVhtSupported()); 802.11n needs a non-zero A-MPDU limit. Under
 // the agreement a single MPDU whose sequence number starts the window goes with a normal ACK
 // (WifiDefaultAckManager::TryAddMpdu); an MPDU given up owes a BlockAckReq that moves the
-// recipient's window (BlockAckManager::NotifyDiscardedMpdu). docs/mac_phy_sim.md, "A-MPDU and
-// Block Ack", has the whole account.
+// recipient's window (BlockAckManager::NotifyDiscardedMpdu), a SIFS after the ACK if it expired
+// in flight (frame_exchange.cc's WipesAtEveryArrival). docs/mac_phy_sim.md, "A-MPDU and Block
+// Ack", has the whole account.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -16,7 +17,6 @@
 namespace sitlnet::mac {
 namespace {
 
-using testing::DrainTransmissions;
 using testing::MakeEthernetFrame;
 
 const MacAddress kA{{2, 0, 0, 0, 0, 1}}, kB{{2, 0, 0, 0, 0, 2}};
@@ -50,8 +50,7 @@ MediumConfig Vht() {
 
 // A sends B `frames` frames of user priority `up` at time 0, B `distance_m` away; the trace.
 std::vector<TraceEvent> RunPair(const MediumConfig& config, int frames, double distance_m,
-                                TimeNs until_ns, std::vector<Delivery>* deliveries,
-                                int up = 0) {
+                                TimeNs until_ns, std::vector<Delivery>* deliveries, int up = 0) {
   Medium medium(config);
   medium.EnableTrace(true);
   medium.AddStation(kA, {0, 0, 0});
