@@ -429,17 +429,25 @@ void ReceiveBlockAck(State& s, int station, const Transmission& tx) {
   // ns-3's HandleInFlightMpdu: an MPDU to retransmit whose lifetime ended is given up now (and
   // owes a BlockAckReq).
   DropExpired(s, station, ac, !current_done);
-  // ns-3 3.37's HtFrameExchangeManager::TransmissionSucceeded: with a TXOP limit of 0 a
-  // BlockAckReq owed goes a SIFS later, within the same TXOP (10.22.2.8 f).
-  if (s.phy.edca[ac].txop_limit_ns == 0 && BarToSend(s, station, ac) != nullptr) {
-    st.exchange = Exchange::kIdle;
-    af.cw = s.phy.edca[ac].cw_min;
-    if (current_done) NextFrame(s, station, ac);
-    s.scheduler.Push(s.now_ns + s.phy.sifs_ns, EventType::kBlockAckReqDue, station,
-                     static_cast<uint64_t>(ac));
-    return;
-  }
+  if (BlockAckReqFollows(s, station, current_done)) return;
   ExchangeSucceeded(s, station, current_done);
+}
+
+bool BlockAckReqFollows(State& s, int station, bool current_done) {
+  StationState& st = s.stations[station];
+  const int ac = st.exchange_ac;
+  // ns-3 3.37's HtFrameExchangeManager::TransmissionSucceeded, after a BlockAck or an ACK: with
+  // a TXOP limit of 0 a BlockAckReq owed goes a SIFS later, within the same TXOP (10.22.2.8 f).
+  if (st.ba_originator.empty() || s.phy.edca[ac].txop_limit_ns != 0 ||
+      BarToSend(s, station, ac) == nullptr) {
+    return false;
+  }
+  st.exchange = Exchange::kIdle;
+  st.acs[ac].cw = s.phy.edca[ac].cw_min;
+  if (current_done) NextFrame(s, station, ac);
+  s.scheduler.Push(s.now_ns + s.phy.sifs_ns, EventType::kBlockAckReqDue, station,
+                   static_cast<uint64_t>(ac));
+  return true;
 }
 
 void OnBlockAckReqDue(State& s, int station, int ac) {

@@ -84,14 +84,20 @@ uint32_t MaxAmpduBytes(const State& s, int ac, const PhyMode& mode) {
   return std::min(s.config.max_ampdu_bytes[ac], cap);
 }
 
+bool UsesBlockAck(const State& s) {
+  return s.config.aggregation || s.config.standard == Standard::k80211ac;
+}
+
 bool NeedSetupBlockAck(State& s, int station, int ac, const QueuedFrame& f) {
   if (!IsHtOrVht(s.config.standard) || f.type != MpduType::kData || f.group) return false;
-  // ns-3 also sets up an agreement for every VHT recipient whose access category does not
-  // aggregate (VO by default); here such an access category keeps normal ACKs
-  // (docs/mac_phy_sim.md, "A-MPDU and Block Ack").
-  if (!s.config.aggregation || s.config.max_ampdu_bytes[ac] == 0) return false;
+  // ns-3 3.37 sets up an agreement for every recipient of a VHT station, whatever its
+  // *_MaxAmpduSize says (GetVhtSupported(), ht-frame-exchange-manager.cc:131): 802.11ac
+  // stations do so with aggregation off or an access category's limit 0, then send single
+  // MPDUs under it. An HT station needs the category to aggregate.
+  const bool vht = s.config.standard == Standard::k80211ac;
+  if (!vht && (!s.config.aggregation || s.config.max_ampdu_bytes[ac] == 0)) return false;
   if (FindOriginator(s, station, f.destination, f.tid) != nullptr) return false;
-  if (s.config.standard == Standard::k80211ac) return true;  // GetVhtSupported().
+  if (vht) return true;
   // "packets > 1": the frame and at least one more queued for the same recipient and TID.
   for (const QueuedFrame& q : s.stations[station].acs[ac].queue) {
     if (q.type == MpduType::kData && q.tid == f.tid && q.destination == f.destination) return true;

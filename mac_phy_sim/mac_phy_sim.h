@@ -126,7 +126,8 @@ struct MediumConfig {
   // 3.37's {BK,BE,VI,VO}_MaxAmpduSize (WifiMac): 0 / 65535 / 65535 / 0; 0 turns an access
   // category's aggregation off. aggregation = false turns it off in all four (ns-3: every
   // *_MaxAmpduSize 0). a/b/g stations never aggregate. Off by default, unlike ns-3, until the
-  // A-MPDU cells with several senders match it (docs/validation.md).
+  // A-MPDU cells with several senders match it (docs/validation.md). 802.11ac stations set up
+  // Block Ack agreements whatever these say, as ns-3 3.37 does (single MPDUs then).
   bool aggregation = false;
   std::array<uint32_t, kAccessCategoryCount> max_ampdu_bytes = {0, 65535, 65535, 0};
   bool short_slot = false;    // 802.11g only: 9 us slot instead of 20 us.

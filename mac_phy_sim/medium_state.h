@@ -209,11 +209,12 @@ struct StationState {
   // Bit ac set while acs[ac].backoff_pending: the loops over access functions visit only these
   // (a DCF station has at most one), so the DCF costs what it did before EDCA.
   uint8_t pending_mask = 0;
-  // Next sequence number per TID, across receivers: the numbering without aggregation, kept so
-  // that those runs keep their bytes (aggregation_off_golden_test.cc); a receiver without a
-  // Block Ack agreement only compares a frame's number with the last one's.
+  // Next sequence number per TID, across receivers: the numbering without Block Ack
+  // (UsesBlockAck false: a/b/g, 802.11n without aggregation), kept so that those runs keep
+  // their bytes (aggregation_off_golden_test.cc); a receiver without a Block Ack agreement only
+  // compares a frame's number with the last one's.
   std::array<uint16_t, 8> next_sequence_number{};
-  // With aggregation: per receiver and TID, as ns-3's MacTxMiddle, so that a recipient's
+  // With Block Ack: per receiver and TID, as ns-3's MacTxMiddle, so that a recipient's
   // reordering buffer sees no gaps; given when an MPDU is first sent, as ns-3 does, so that
   // a frame that expires unsent leaves none either.
   std::vector<ReceiverSequences> receiver_sequences;
@@ -356,7 +357,7 @@ uint16_t DurationFieldUs(TimeNs ns);
 int DataMpduBytes(const State& s, const QueuedFrame& frame);
 // What is left of the TXOP access function `f` (category `ac`) holds, >= 0.
 TimeNs RemainingTxopNs(const State& s, const AccessFunction& f, int ac);
-// Gives `f` its sequence number if it has none yet (per receiver and TID with aggregation).
+// Gives `f` its sequence number if it has none yet (per receiver and TID with UsesBlockAck).
 void AssignSequence(State& s, int station, QueuedFrame& f);
 // The number the next QoS Data frame to `receiver` for `tid` will get (not taken).
 uint16_t PeekSequence(State& s, int station, const MacAddress& receiver, int tid);
@@ -405,10 +406,18 @@ void ReceiveBlockAckReqFrame(State& s, int station, const Transmission& tx, cons
 void ReceiveBlockAck(State& s, int station, const Transmission& tx);
 // The BlockAck scheduled by ReceiveAmpdu or ReceiveBlockAckReqFrame goes on the air now.
 void SendBlockAck(State& s, int station);
+// After a successful exchange (its BlockAck or ACK came): with a TXOP limit of 0 and a
+// BlockAckReq owed, the BlockAckReq is scheduled a SIFS later (true) and the frame in service
+// moves on if `current_done`; false: nothing owed, the caller ends the exchange.
+bool BlockAckReqFollows(State& s, int station, bool current_done);
 // A SIFS after a BlockAck with a BlockAckReq owed (TXOP limit 0): the BlockAckReq, or a backoff.
 void OnBlockAckReqDue(State& s, int station, int ac);
 
 // ---- block_ack.cc
+// Whether stations may set up Block Ack agreements: with aggregation, and on 802.11ac always
+// (ns-3 3.37's NeedSetupBlockAck). QoS Data frames then count per receiver and TID and get
+// their number when first sent.
+bool UsesBlockAck(const State& s);
 // ns-3 3.37's NeedSetupBlockAck: frame `f` of access category `ac` needs an ADDBA Request first.
 bool NeedSetupBlockAck(State& s, int station, int ac, const QueuedFrame& f);
 // The agreement of `station` as originator with `recipient` for `tid`, established, or null.
