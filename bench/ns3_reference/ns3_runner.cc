@@ -4,6 +4,7 @@
 // headers do not compile as C++20 (template-id constructors).
 #include "ns3_runner.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -108,7 +109,13 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
   Config::SetDefault("ns3::HtConfiguration::ShortGuardIntervalSupported", BooleanValue(c.short_gi));
   WifiHelper wifi;
   wifi.SetStandard(Ns3Standard(c.standard));
-  const UintegerValue rts_threshold(c.rts_threshold_bytes == 0 ? 65535 : c.rts_threshold_bytes);
+  // No RTS: ns-3's default threshold, 65535 B, which no MPDU and no A-MPDU within HT's limit
+  // exceeds. ns-3 compares the whole PSDU (WifiDefaultProtectionManager), so an A-MPDU above the
+  // default would go with RTS/CTS, which mac_phy_sim never sends for it (it compares MPDUs):
+  // with a larger limit the threshold is raised above it.
+  const uint32_t no_rts_bytes = std::max<uint32_t>(65535, radio.be_max_ampdu_bytes);
+  const UintegerValue rts_threshold(c.rts_threshold_bytes == 0 ? no_rts_bytes
+                                                                : c.rts_threshold_bytes);
   if (c.rate_control == sitlnet::side_by_side::RateControl::kIdeal) {
     wifi.SetRemoteStationManager("ns3::IdealWifiManager", "RtsCtsThreshold", rts_threshold);
   } else if (c.rate_control == sitlnet::side_by_side::RateControl::kMinstrel) {
@@ -208,6 +215,9 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
     mac.SetType("ns3::AdhocWifiMac", "QosSupported", BooleanValue(true), "BE_MaxAmpduSize",
                 UintegerValue(0), "BK_MaxAmpduSize", UintegerValue(0), "VI_MaxAmpduSize",
                 UintegerValue(0), "VO_MaxAmpduSize", UintegerValue(0));
+  } else if (ht && c.ampdu && radio.be_max_ampdu_bytes > 0) {
+    // VHT allows up to 1048575 B (WifiMac::GetVhtCapabilities); HT caps it at 65535.
+    mac.SetType("ns3::AdhocWifiMac", "BE_MaxAmpduSize", UintegerValue(radio.be_max_ampdu_bytes));
   } else if (ht && c.ampdu) {
     mac.SetType("ns3::AdhocWifiMac");  // ns-3 3.37's A-MPDU defaults (BE and VI 65535 B).
   } else if (ht) {
