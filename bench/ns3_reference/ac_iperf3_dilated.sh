@@ -67,11 +67,12 @@ import json, sys
 out, round_, load1 = sys.argv[1:]
 log = open(out + "/robots/a.log").read()
 end = json.loads(log[log.index("{"):log.rindex("}") + 1])["end"]
-s = end["sum"]  # UDP: the server's counts, reported back to the client.
-goodput = (s["packets"] - s["lost_packets"]) * 1472 * 8 / s["seconds"] / 1e6
+# The server's own figure, reported back to the client (its "receiver" line); end.sum mixes the
+# sender's packet count, which leaves out the omitted second, with the server's losses.
+received = end["sum_received"]
 summary = json.load(open(out + "/summary.json"))
-print("%s,%.3f,%.2f,%s,%s" % (round_, goodput, s["lost_percent"],
-                              summary["metrics"]["lag_ms"]["p99"], load1))
+print("%s,%.3f,%.2f,%s,%s" % (round_, received["bits_per_second"] / 1e6,
+                              received["lost_percent"], summary["metrics"]["lag_ms"]["p99"], load1))
 PY
   rm -rf "$out"
 done | tee "$work/rows.csv"
