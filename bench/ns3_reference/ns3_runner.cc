@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <limits>
 #include <string>
 
@@ -49,6 +50,12 @@ void OnPsduBegin(std::string context, ns3::WifiConstPsduMap psdus, ns3::WifiTxVe
                  h.GetTypeString(), h.IsQosData() || h.IsMgt() ? h.GetSequenceNumber() : 0,
                  h.IsRetry() ? 1 : 0);
   }
+}
+
+double ProcessCpuS() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + t.tv_nsec * 1e-9;
 }
 
 bool IsDsss(double rate_mbps) {
@@ -275,11 +282,13 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
   g_measure_to_s = c.warmup_s + c.measure_s;
   Simulator::Stop(Seconds(c.warmup_s + c.measure_s));
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = ProcessCpuS();
   Simulator::Run();
+  const double cpu = ProcessCpuS() - cpu_start;
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   Simulator::Destroy();
-  return {g_rx_bytes * 8.0 / c.measure_s / 1e6, wall};
+  return {g_rx_bytes * 8.0 / c.measure_s / 1e6, wall, cpu};
 }
 
 namespace {

@@ -11,6 +11,7 @@
 struct Ns3Outcome {
   double throughput_mbps = 0;
   double wall_s = 0;
+  double cpu_s = 0;  // This process's CPU time over Simulator::Run(), like wall_s.
 };
 
 // What ns-3 needs from mac_phy_sim's configuration of the same cell, so both

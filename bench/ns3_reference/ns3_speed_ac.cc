@@ -7,9 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "bench/mac_phy_sim/top_up_driver.h"
+#include "bench/mac_phy_sim/ac_saturation_cell.h"
 #include "mac_phy_sim/mac_phy_sim.h"
-#include "mac_phy_sim/phy_mode.h"
 #include "mac_phy_sim/test/saturation_harness.h"
 #include "mac_phy_sim/test/side_by_side_case.h"
 #include "ns3_runner.h"
@@ -17,32 +16,8 @@
 namespace {
 
 using sitlnet::side_by_side::Case;
-using sitlnet::side_by_side::Standard;
-using sitlnet::side_by_side::Topology;
-
-// 802.11ac saturation for the speed comparison (issue 44, Performance): VHT MCS 9, 80 MHz,
-// long GI, one spatial stream (390 Mb/s), A-MPDU with best effort's limit at ns-3's VHT maximum
-// (1048575 B, WifiMac::GetVhtCapabilities), so the 64-MPDU Block Ack window, not the byte
-// limit, bounds an A-MPDU of 1500-byte payloads (64 x 1540 B = 98560 B); `senders` stations
-// 1 mm apart send to one receive-only station.
-constexpr uint32_t kVhtMaxAmpduBytes = 1048575;
-Case AcSaturationCell(int senders, double measure_s, bool ampdu) {
-  Case c;
-  c.standard = Standard::kAc;
-  c.mcs = 9;
-  c.channel_width_mhz = 80;
-  c.rate_mbps = sitlnet::mac::McsModeFor(sitlnet::mac::Standard::k80211ac, 9, 1, 80, false)
-                    .rate_mbps;  // 390: sizes the offered load only.
-  c.ampdu = ampdu;
-  c.senders = senders;
-  c.topology = Topology::kSink;
-  c.warmup_s = 0.5;
-  c.measure_s = measure_s;
-  // One sender alone: OfferIntervalNs's load (one frame per 52 us, 230 Mb/s) is under what
-  // 64-MPDU A-MPDUs carry (about 350 Mb/s), so offer 460 Mb/s (1.3 times).
-  if (senders == 1) c.offer_interval_ns = 26000;
-  return c;
-}
+using sitlnet::mac::bench::AcSaturationCell;
+using sitlnet::mac::bench::kVhtMaxAmpduBytes;
 
 double MeanOf(const std::vector<double>& values) {
   double sum = 0;
@@ -61,19 +36,6 @@ std::string RangeOf(const std::vector<double>& values, const char* format) {
   const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
   std::snprintf(buf, sizeof buf, (std::string(format) + "-" + format).c_str(), *lo, *hi);
   return buf;
-}
-
-// mac_phy_sim's side of an 802.11ac cell with the light driver (bench/mac_phy_sim/top_up_driver.h).
-sitlnet::mac::bench::TopUpOutcome RunOursTopUp(const Case& c, uint64_t seed) {
-  sitlnet::mac::MediumConfig config = sitlnet::mac::testing::ConfigForCase(c, seed);
-  config.max_ampdu_bytes[static_cast<int>(sitlnet::mac::AccessCategory::kBestEffort)] =
-      kVhtMaxAmpduBytes;
-  sitlnet::mac::bench::TopUpSetup setup;
-  setup.layout = sitlnet::side_by_side::MakeLayout(c);
-  setup.payload_bytes = c.payload_bytes;
-  setup.warmup_ns = static_cast<sitlnet::TimeNs>(c.warmup_s * 1e9);
-  setup.measure_ns = static_cast<sitlnet::TimeNs>(c.measure_s * 1e9);
-  return sitlnet::mac::bench::RunTopUp(config, setup);
 }
 
 // ns-3's radio for the cell: mac_phy_sim's 1 m loss, control rate and frequency, and the A-MPDU
@@ -96,34 +58,42 @@ Ns3Radio RadioFor(const Case& c) {
 int PrintSpeedAc(int rounds, double measure_s) {
   std::printf(
       "802.11ac VHT MCS 9, 80 MHz, long GI, 1500 B, A-MPDU (BE_MaxAmpduSize %u), %d rounds ABBA, "
-      "%.1f + %.1f s\n\n"
-      "| senders | ns-3 simulated s per wall s | mac_phy_sim simulated s per wall s | speed-up "
-      "(median of rounds' ratios) | ns-3 Mb/s | mac_phy_sim Mb/s | mac_phy_sim MPDUs per A-MPDU |\n"
-      "| --- | --- | --- | --- | --- | --- | --- |\n",
+      "%.1f + %.1f s; medians (range)\n\n"
+      "| senders | ns-3 simulated s per wall s | mac_phy_sim simulated s per wall s | speed-up, wall "
+      "| ns-3 simulated s per CPU s | mac_phy_sim simulated s per CPU s | speed-up, CPU "
+      "| ns-3 Mb/s | mac_phy_sim Mb/s | mac_phy_sim MPDUs per A-MPDU |\n"
+      "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
       kVhtMaxAmpduBytes, rounds, 0.5, measure_s);
   const std::vector<int> sender_counts = {1, 5, 20};
   for (int n : sender_counts) {
     const Case c = AcSaturationCell(n, measure_s, true);
     const Ns3Radio radio = RadioFor(c);
     const double simulated_s = c.warmup_s + c.measure_s;
-    std::vector<double> ns3_speed, ours_speed, ratio, ns3_mbps, ours_mbps, per_ampdu;
+    std::vector<double> ns3_wall, ours_wall, wall_ratio, ns3_cpu, ours_cpu, cpu_ratio;
+    std::vector<double> ns3_mbps, ours_mbps, per_ampdu;
     for (int r = 1; r <= rounds; ++r) {
       Ns3Outcome theirs;
-      sitlnet::mac::bench::TopUpOutcome ours;
       if (r % 2 == 1) theirs = RunNs3Case(c, radio, r);
-      ours = RunOursTopUp(c, r);
+      const sitlnet::mac::bench::TopUpOutcome ours = sitlnet::mac::bench::RunAcSaturationCell(c, r);
       if (r % 2 == 0) theirs = RunNs3Case(c, radio, r);
-      ns3_speed.push_back(simulated_s / theirs.wall_s);
-      ours_speed.push_back(simulated_s / ours.wall_s);
-      ratio.push_back(theirs.wall_s / ours.wall_s);
+      ns3_wall.push_back(simulated_s / theirs.wall_s);
+      ours_wall.push_back(simulated_s / ours.wall_s);
+      wall_ratio.push_back(theirs.wall_s / ours.wall_s);
+      ns3_cpu.push_back(simulated_s / theirs.cpu_s);
+      ours_cpu.push_back(simulated_s / ours.cpu_s);
+      cpu_ratio.push_back(theirs.cpu_s / ours.cpu_s);
       ns3_mbps.push_back(theirs.throughput_mbps);
       ours_mbps.push_back(ours.payload_mbps);
       per_ampdu.push_back(ours.mpdus_per_ampdu);
     }
-    std::printf("| %d | %.3f (%s) | %.1f (%s) | %.0fx (%s) | %.2f | %.2f | %.1f |\n", n,
-                MedianOf(ns3_speed), RangeOf(ns3_speed, "%.3f").c_str(), MedianOf(ours_speed),
-                RangeOf(ours_speed, "%.1f").c_str(), MedianOf(ratio),
-                RangeOf(ratio, "%.0f").c_str(), MedianOf(ns3_mbps), MedianOf(ours_mbps),
+    std::printf("| %d | %.3f (%s) | %.1f (%s) | %.0fx (%s) | %.3f (%s) | %.1f (%s) | %.0fx (%s) "
+                "| %.2f | %.2f | %.1f |\n",
+                n, MedianOf(ns3_wall), RangeOf(ns3_wall, "%.3f").c_str(), MedianOf(ours_wall),
+                RangeOf(ours_wall, "%.1f").c_str(), MedianOf(wall_ratio),
+                RangeOf(wall_ratio, "%.0f").c_str(), MedianOf(ns3_cpu),
+                RangeOf(ns3_cpu, "%.3f").c_str(), MedianOf(ours_cpu),
+                RangeOf(ours_cpu, "%.1f").c_str(), MedianOf(cpu_ratio),
+                RangeOf(cpu_ratio, "%.0f").c_str(), MedianOf(ns3_mbps), MedianOf(ours_mbps),
                 MedianOf(per_ampdu));
     std::fflush(stdout);
   }
@@ -137,7 +107,8 @@ int PrintSpeedAc(int rounds, double measure_s) {
     std::vector<double> on_us, off_us, on_mbps, off_mbps;
     for (int r = 1; r <= rounds; ++r) {
       auto run = [&](const Case& c, std::vector<double>* us, std::vector<double>* mbps) {
-        const sitlnet::mac::bench::TopUpOutcome o = RunOursTopUp(c, r);
+        const sitlnet::mac::bench::TopUpOutcome o =
+            sitlnet::mac::bench::RunAcSaturationCell(c, r);
         const uint64_t mpdus = std::max<uint64_t>(1, o.mpdus_delivered_all);
         us->push_back(o.cpu_s * 1e6 / static_cast<double>(mpdus));
         mbps->push_back(o.payload_mbps);
@@ -164,7 +135,8 @@ int PrintSaturationAc(int seeds, double measure_s) {
   std::vector<double> ns3, ours;
   for (int seed = 1; seed <= seeds; ++seed) {
     ns3.push_back(RunNs3Case(c, radio, static_cast<uint32_t>(seed)).throughput_mbps);
-    ours.push_back(RunOursTopUp(c, static_cast<uint64_t>(seed)).payload_mbps);
+    ours.push_back(
+        sitlnet::mac::bench::RunAcSaturationCell(c, static_cast<uint64_t>(seed)).payload_mbps);
   }
   std::printf("ns-3 %.3f Mb/s (seeds %s, %.1f s each)\n", MeanOf(ns3),
               RangeOf(ns3, "%.3f").c_str(), measure_s);
