@@ -2,7 +2,6 @@
 #include "ns3_speed_ac.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
