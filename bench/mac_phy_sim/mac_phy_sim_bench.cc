@@ -10,8 +10,11 @@
 // --validation prints the whole ns-3 Bianchi table instead (docs/validation.md).
 // --rows LIST runs only the rows named in the comma-separated LIST: sat1, sat5,
 // sat10, sat20, sat50, bcast, bcast-fading, bcast-jakes, bcast-jakes-speed, bcast-delay,
-// bcast1000, hidden (e.g.
-// --rows bcast,bcast-fading for the fading cost alone).
+// bcast1000, hidden, ac1, ac5, ac20, ac1-off, ac5-off, ac20-off (e.g.
+// --rows bcast,bcast-fading for the fading cost alone). The ac rows are the 802.11ac cell of
+// bench/ns3_reference/ac_speed.sh (ac_saturation_cell.h: VHT MCS 9, 80 MHz, 64-MPDU A-MPDUs, or
+// "-off" without aggregation), n senders, so they can be profiled without ns-3; their "CPU us per
+// transmission" column counts delivered MPDUs instead of transmissions.
 // --error-model nist|table: the error model of the broadcast and hidden rows (default
 // nist); bench/mac_phy_sim/error_model_ab.sh alternates the two (ABBA).
 #include <algorithm>
@@ -24,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/mac_phy_sim/ac_saturation_cell.h"
 #include "mac_phy_sim/mac_phy_sim.h"
 #include "mac_phy_sim/test/saturation_harness.h"
 
@@ -73,6 +77,16 @@ Sample Saturation(int n, double seconds, uint64_t seed) {
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = CpuSeconds();
   return Measured(seconds, start, cpu_start, testing::RunTopUpSaturation(n, seconds, seed));
+}
+
+// The 802.11ac cell (ac_saturation_cell.h), 0.5 s of warm-up and `seconds`; per delivered MPDU.
+Sample AcSaturation(int n, bool ampdu, double seconds, uint64_t seed) {
+  const bench::TopUpOutcome o =
+      bench::RunAcSaturationCell(bench::AcSaturationCell(n, seconds, ampdu), seed);
+  const double simulated_s = 0.5 + seconds;
+  return {simulated_s / o.wall_s, simulated_s / o.cpu_s,
+          o.cpu_s * 1e6 / static_cast<double>(std::max<uint64_t>(1, o.mpdus_delivered_all)),
+          o.mpdus_delivered_all};
 }
 
 // The channel effect a broadcast row adds (docs/mac_phy_sim.md), with ns-3's defaults:
@@ -275,6 +289,16 @@ int main(int argc, char** argv) {
     std::vector<Sample> samples;
     for (int k = 0; k < runs; ++k) samples.push_back(Saturation(n, seconds, 1 + k));
     report("saturation 11a 54 Mb/s 1500 B", n, samples);
+  }
+  for (int n : {1, 5, 20}) {
+    for (bool ampdu : {true, false}) {
+      if (!wanted("ac" + std::to_string(n) + (ampdu ? "" : "-off"))) continue;
+      std::vector<Sample> ac;
+      for (int k = 0; k < runs; ++k) ac.push_back(AcSaturation(n, ampdu, seconds, 1 + k));
+      report(ampdu ? "saturation 11ac MCS 9 80 MHz 1500 B, 64-MPDU A-MPDUs (per MPDU)"
+                   : "saturation 11ac MCS 9 80 MHz 1500 B, no aggregation (per MPDU)",
+             n, ac);
+    }
   }
   std::vector<Sample> samples;
   if (wanted("bcast")) {

@@ -11,6 +11,7 @@
 struct Ns3Outcome {
   double throughput_mbps = 0;
   double wall_s = 0;
+  double cpu_s = 0;  // This process's CPU time over Simulator::Run(), like wall_s.
 };
 
 // What ns-3 needs from mac_phy_sim's configuration of the same cell, so both
@@ -25,6 +26,9 @@ struct Ns3Radio {
   std::vector<double> link_losses_db;
   // Carrier frequency of the two-ray and 3GPP models: mac_phy_sim's for the cell's standard.
   double path_loss_frequency_hz = 5.15e9;
+  // n/ac cells with A-MPDU: ns-3's BE_MaxAmpduSize (mac_phy_sim's max_ampdu_bytes of best
+  // effort); 0 keeps ns-3 3.37's default, 65535.
+  uint32_t be_max_ampdu_bytes = 0;
 };
 
 // Runs cell `c` in ns-3 3.37 with RngRun `run`: ad hoc (non-QoS) 802.11a/b/g,

@@ -11,6 +11,9 @@
 //        ns3_side_by_side table <in.csv>
 //        ns3_side_by_side refresh <csv>   (recompute the mac_phy_sim columns)
 //        ns3_side_by_side speed           (n = 5, 20, 50 saturation, both, timed)
+//        ns3_side_by_side speed-ac [rounds] [s]  (802.11ac MCS 9 80 MHz, 64-MPDU A-MPDUs: both
+//                                          timed, ABBA; mac_phy_sim's CPU per MPDU, A-MPDU on/off)
+//        ns3_side_by_side saturation-ac [seeds] [s]  (that cell's one-sender throughput, both)
 //        ns3_side_by_side tcp-replica [seeds]  (ns3_runner.h: one TCP flow's frame
 //                                          pattern at turnarounds of 0-250 us)
 //        ns3_side_by_side error-rates     (mac_phy_sim's OFDM error models against
@@ -31,6 +34,7 @@
 #include "mac_phy_sim/test/side_by_side_csv.h"
 #include "ns3_error_rate.h"
 #include "ns3_runner.h"
+#include "ns3_speed_ac.h"
 #include "tcp_replica.h"
 
 namespace {
@@ -784,6 +788,16 @@ int main(int argc, char** argv) {
   if (mode == "table" && argc > 2) return PrintTable(argv[2]);
   if (mode == "refresh" && argc > 2) return Refresh(argv[2]);
   if (mode == "speed") return PrintSpeed();
+  if (mode == "saturation-ac") {
+    const int seeds = argc > 2 ? std::atoi(argv[2]) : 3;
+    const double measure_s = argc > 3 ? std::atof(argv[3]) : 5;
+    if (seeds >= 1 && measure_s > 0) return PrintSaturationAc(seeds, measure_s);
+  }
+  if (mode == "speed-ac") {
+    const int rounds = argc > 2 ? std::atoi(argv[2]) : 3;
+    const double measure_s = argc > 3 ? std::atof(argv[3]) : 2;
+    if (rounds >= 1 && measure_s > 0) return PrintSpeedAc(rounds, measure_s);
+  }
   if (mode == "error-rates") return PrintErrorRates();
   if (mode == "hidden-load") return PrintHiddenLoad(argc > 2 ? std::atoi(argv[2]) : 3);
   if (mode == "tcp-replica") {
@@ -795,6 +809,8 @@ int main(int argc, char** argv) {
                "       ns3_side_by_side table <in.csv>\n"
                "       ns3_side_by_side refresh <csv>\n"
                "       ns3_side_by_side speed\n"
+               "       ns3_side_by_side speed-ac [rounds] [measured-seconds]\n"
+               "       ns3_side_by_side saturation-ac [seeds] [measured-seconds]\n"
                "       ns3_side_by_side tcp-replica [seeds]\n"
                "       ns3_side_by_side error-rates\n");
   return 2;

@@ -9,7 +9,9 @@
 //
 // Usage: ns3_tap_bridge NETNS_A NETNS_B DISTANCE_M RADIO
 //   RADIO: an 802.11a rate in Mb/s (54), or 802.11n at 5 GHz, 20 MHz: ht-mcsM (no A-MPDU) or
-//   ht-mcsM-ampdu (ns-3's A-MPDU defaults), M in 0..7.
+//   ht-mcsM-ampdu (ns-3's A-MPDU defaults), M in 0..7; or 802.11ac at WIDTH MHz (20, 40, 80):
+//   vht-mcsM-WIDTH (no A-MPDU) or vht-mcsM-WIDTH-ampdu (best effort's A-MPDU limit at VHT's
+//   maximum, 1048575 B: 64 MPDUs of 1500 B), M in 0..9.
 //   Prints "ready" once both TAPs are attached; runs until SIGTERM or SIGINT;
 //   then prints the MAC-level counters of both devices and exits 0.
 //
@@ -114,6 +116,28 @@ void OnMpduResponseTimeout(uint8_t, ns3::Ptr<const ns3::WifiMpdu>, const ns3::Wi
   ++g_retransmissions;
 }
 
+// RADIO's n/ac forms (the usage above); false for anything else, malformed n/ac names included.
+bool ParseQosRadio(const std::string& radio, Ns3QosRadio* qos) {
+  int mcs = -1, width_mhz = 20, consumed = 0;
+  if (std::sscanf(radio.c_str(), "ht-mcs%d%n", &mcs, &consumed) == 1) {
+    qos->vht = false;
+    if (mcs < 0 || mcs > 7) return false;
+  } else if (std::sscanf(radio.c_str(), "vht-mcs%d-%d%n", &mcs, &width_mhz, &consumed) == 2) {
+    qos->vht = true;
+    if (mcs < 0 || mcs > 9 || (width_mhz != 20 && width_mhz != 40 && width_mhz != 80)) {
+      return false;
+    }
+  } else {
+    return false;
+  }
+  const std::string rest = radio.substr(static_cast<size_t>(consumed));
+  if (!rest.empty() && rest != "-ampdu") return false;
+  qos->mcs = mcs;
+  qos->width_mhz = width_mhz;
+  qos->be_max_ampdu_bytes = rest.empty() ? 0 : qos->vht ? 1048575 : 65535;
+  return true;
+}
+
 }  // namespace
 
 // Called by libns3-tap-bridge.so in its forked child (see the top of the
@@ -151,7 +175,7 @@ int main(int argc, char** argv) {
   if (argc != 5) {
     std::fprintf(stderr,
                  "usage: ns3_tap_bridge NETNS_A NETNS_B DISTANCE_M RADIO (54, ht-mcs7, "
-                 "ht-mcs7-ampdu)\n");
+                 "ht-mcs7-ampdu, vht-mcs9-80-ampdu)\n");
     return 2;
   }
   if (access(kPackagedTapCreator, X_OK) != 0) {
@@ -161,12 +185,12 @@ int main(int argc, char** argv) {
   const std::vector<std::string> netns = {argv[1], argv[2]};
   const double distance_m = std::stod(argv[3]);
   const std::string radio = argv[4];
-  int ht_mcs = -1;
-  char ampdu_suffix[8] = "";
-  const bool ht = std::sscanf(radio.c_str(), "ht-mcs%d%7s", &ht_mcs, ampdu_suffix) >= 1;
-  const bool ampdu = std::strcmp(ampdu_suffix, "-ampdu") == 0;
-  if (ht && (ht_mcs < 0 || ht_mcs > 7 || (ampdu_suffix[0] != '\0' && !ampdu))) {
-    std::fprintf(stderr, "ns3_tap_bridge: RADIO %s: want ht-mcsM or ht-mcsM-ampdu, M 0..7\n",
+  Ns3QosRadio qos;
+  const bool is_qos = ParseQosRadio(radio, &qos);
+  if (!is_qos && (radio.rfind("ht-", 0) == 0 || radio.rfind("vht-", 0) == 0)) {
+    std::fprintf(stderr,
+                 "ns3_tap_bridge: RADIO %s: want ht-mcsM[-ampdu] (M 0..7) or "
+                 "vht-mcsM-WIDTH[-ampdu] (M 0..9, WIDTH 20, 40, 80)\n",
                  radio.c_str());
     return 2;
   }
@@ -182,8 +206,8 @@ int main(int argc, char** argv) {
   GlobalValue::Bind("SimulatorImplementationType", StringValue("ns3::RealtimeSimulatorImpl"));
   GlobalValue::Bind("ChecksumEnabled", BooleanValue(true));
 
-  const Ns3TwoStations stations = ht ? MakeTwoHtStations(distance_m, ht_mcs, ampdu)
-                                     : MakeTwo80211aStations(distance_m, std::stod(radio));
+  const Ns3TwoStations stations = is_qos ? MakeTwoQosStations(distance_m, qos)
+                                         : MakeTwo80211aStations(distance_m, std::stod(radio));
   const NodeContainer& nodes = stations.nodes;
   const NetDeviceContainer& devices = stations.devices;
 

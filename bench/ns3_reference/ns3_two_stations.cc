@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-only (links ns-3; see LICENSE in this folder)
 #include "ns3_two_stations.h"
 
+#include <algorithm>
 #include <string>
 
 #include "ns3/core-module.h"
@@ -60,23 +61,24 @@ Ns3TwoStations MakeTwo80211aStations(double distance_m, double rate_mbps) {
   return stations;
 }
 
-Ns3TwoStations MakeTwoHtStations(double distance_m, int mcs, bool ampdu) {
+Ns3TwoStations MakeTwoQosStations(double distance_m, const Ns3QosRadio& radio) {
   using namespace ns3;
   Config::SetDefault("ns3::HtConfiguration::ShortGuardIntervalSupported", BooleanValue(false));
   YansWifiPhyHelper phy;
   Ns3TwoStations stations = PlaceTwoNodes(distance_m, &phy);
-  phy.Set("ChannelSettings", StringValue("{0, 20, BAND_5GHZ, 0}"));
+  phy.Set("ChannelSettings",
+          StringValue("{0, " + std::to_string(radio.width_mhz) + ", BAND_5GHZ, 0}"));
   WifiHelper wifi;
-  wifi.SetStandard(WIFI_STANDARD_80211n);
-  wifi.SetRemoteStationManager("ns3::ConstantRateWifiManager", "DataMode",
-                               StringValue("HtMcs" + std::to_string(mcs)), "ControlMode",
-                               StringValue(OfdmMode(6)));
+  wifi.SetStandard(radio.vht ? WIFI_STANDARD_80211ac : WIFI_STANDARD_80211n);
+  // No RTS/CTS, as on sitlnet's side: ns-3 compares the whole PSDU with RtsCtsThreshold
+  // (default 65535 B), so a larger A-MPDU limit needs a threshold above it (ns3_runner.cc).
+  wifi.SetRemoteStationManager(
+      "ns3::ConstantRateWifiManager", "DataMode",
+      StringValue((radio.vht ? "VhtMcs" : "HtMcs") + std::to_string(radio.mcs)), "ControlMode",
+      StringValue(OfdmMode(6)), "RtsCtsThreshold",
+      UintegerValue(std::max<uint32_t>(65535, radio.be_max_ampdu_bytes)));
   WifiMacHelper mac;
-  if (ampdu) {
-    mac.SetType("ns3::AdhocWifiMac");
-  } else {
-    mac.SetType("ns3::AdhocWifiMac", "BE_MaxAmpduSize", UintegerValue(0));
-  }
+  mac.SetType("ns3::AdhocWifiMac", "BE_MaxAmpduSize", UintegerValue(radio.be_max_ampdu_bytes));
   stations.devices = wifi.Install(phy, mac, stations.nodes);
   return stations;
 }

@@ -5,6 +5,8 @@
 #ifndef SITLNET_BENCH_NS3_REFERENCE_NS3_TWO_STATIONS_H_
 #define SITLNET_BENCH_NS3_REFERENCE_NS3_TWO_STATIONS_H_
 
+#include <cstdint>
+
 #include "ns3/network-module.h"
 
 struct Ns3TwoStations {
@@ -18,10 +20,18 @@ struct Ns3TwoStations {
 // ad hoc non-QoS MAC.
 Ns3TwoStations MakeTwo80211aStations(double distance_m, double rate_mbps);
 
-// The same two nodes and channel as 802.11n stations at 5 GHz, 20 MHz, 800 ns guard interval,
-// ConstantRateWifiManager at HtMcs`mcs` (RTS at 6 Mb/s): ns-3 3.37's QoS ad hoc MAC, with
-// its A-MPDU defaults when `ampdu` (BE and VI 65535 B), else BE_MaxAmpduSize 0 (no A-MPDU),
-// as bench/ns3_reference's saturation matrix sets its HT cells.
-Ns3TwoStations MakeTwoHtStations(double distance_m, int mcs, bool ampdu);
+// The same two nodes and channel as QoS ad hoc stations (ns-3 3.37's AdhocWifiMac), 800 ns guard
+// interval, ConstantRateWifiManager at the data mode (RTS at 6 Mb/s): 802.11n at 5 GHz, 20 MHz,
+// HtMcs`mcs`; or 802.11ac (`vht`), `width_mhz` (20, 40, 80), VhtMcs`mcs`. Best effort's A-MPDU
+// limit is `be_max_ampdu_bytes`: 0 turns A-MPDU off (BE_MaxAmpduSize 0), 65535 is ns-3's
+// default (VI keeps its default, 65535), VHT allows up to 1048575. As bench/ns3_reference's
+// saturation matrix sets its HT/VHT cells.
+struct Ns3QosRadio {
+  bool vht = false;
+  int mcs = 7;
+  int width_mhz = 20;
+  uint32_t be_max_ampdu_bytes = 0;
+};
+Ns3TwoStations MakeTwoQosStations(double distance_m, const Ns3QosRadio& radio);
 
 #endif  // SITLNET_BENCH_NS3_REFERENCE_NS3_TWO_STATIONS_H_

@@ -12,7 +12,8 @@
 #   <build-dir>/bin/ns3_side_by_side refresh docs/ns3_matrix.csv  (recompute
 #   the mac_phy_sim columns after a model change, keeping ns-3's), then
 #   bench/ns3_reference/update_validation_table.sh <binary> <csv> docs/validation.md;
-#   <build-dir>/bin/ns3_side_by_side speed  (ns-3 vs mac_phy_sim timing, n = 5/20/50).
+#   <build-dir>/bin/ns3_side_by_side speed  (ns-3 vs mac_phy_sim timing, n = 5/20/50);
+#   bench/ns3_reference/ac_speed.sh  (the same at 802.11ac with 64-MPDU A-MPDUs).
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$repo/build-bench}

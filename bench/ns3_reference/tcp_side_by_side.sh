@@ -6,8 +6,11 @@
 # falls on both). Ad hoc, two robots DISTANCE m apart (10: a clean channel).
 # RADIO: an 802.11a rate in Mb/s (default 54), or 802.11n at 5 GHz, 20 MHz, long
 # guard interval: ht-mcsM (no A-MPDU) or ht-mcsM-ampdu (radio.aggregation: true;
-# ns-3's A-MPDU defaults). PROTOCOL: tcp (default) or udp (iperf3 -u -b 100M -l
-# 1470: more than either medium carries; the receiver's goodput). Prints one row
+# ns-3's A-MPDU defaults); or 802.11ac, long guard interval: vht-mcsM-WIDTH or
+# vht-mcsM-WIDTH-ampdu (best effort's A-MPDU limit at VHT's maximum, 1048575 B, on
+# both sides: 64 MPDUs; the robots 1 m apart, where VHT MCS 9 loses nothing).
+# PROTOCOL: tcp (default) or udp (iperf3 -u -l 1470 -b 100M, 600M for 802.11ac:
+# more than either medium carries; the receiver's goodput). Prints one row
 # per run, then the medians and their ratio; writes the rows to
 # <build-dir>/ns3_<protocol>[_<radio>].csv. Needs root; installs Debian's
 # libns3-dev and ns3 (TapBridge's TAP opener) if missing.
@@ -56,16 +59,24 @@ cleanup() {
   rm -rf "$work"
 }
 trap cleanup EXIT
+udp_rate=100M
 case $radio in
   ht-mcs[0-7]) radio_line="radio { standard: STANDARD_80211N_5GHZ mcs: ${radio#ht-mcs} channel_width_mhz: 20 }" ;;
   ht-mcs[0-7]-ampdu)
     mcs=${radio#ht-mcs}
     radio_line="radio { standard: STANDARD_80211N_5GHZ mcs: ${mcs%-ampdu} channel_width_mhz: 20 aggregation: true }" ;;
+  vht-mcs[0-9]-20 | vht-mcs[0-9]-40 | vht-mcs[0-9]-80 | vht-mcs[0-9]-20-ampdu | vht-mcs[0-9]-40-ampdu | vht-mcs[0-9]-80-ampdu)
+    IFS=- read -r _ mcs width ampdu <<< "$radio"
+    radio_line="radio { standard: STANDARD_80211AC mcs: ${mcs#mcs} channel_width_mhz: $width"
+    [ -n "$ampdu" ] && radio_line="$radio_line aggregation: true ampdu_max_bytes_be: 1048575"
+    radio_line="$radio_line }"
+    distance_m=1
+    udp_rate=600M ;;
   *) radio_line="radio { standard: STANDARD_80211A rate_mbps: $radio }" ;;
 esac
 case $protocol in
   tcp) flow=() ;;
-  udp) flow=(-u -b 100M -l 1470) ;;
+  udp) flow=(-u -b "$udp_rate" -l 1470) ;;
   *) echo "tcp_side_by_side.sh: protocol $protocol: want tcp or udp" >&2; exit 2 ;;
 esac
 cat > "$work/$scenario.textproto" << EOF
