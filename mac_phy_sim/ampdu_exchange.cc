@@ -141,21 +141,23 @@ void SendAmpdu(State& s, int station, int psdu_bytes) {
   st.block_ack_after_bar = false;
 }
 
-// A compressed BlockAckReq for `agreement`, at the BlockAck's rate (ns-3 3.37's
-// SendMpduFromBaManager: "the same TXVECTOR as the BlockAck"); the frame in service's rate
-// stands for the recipient's data rate.
-void SendBlockAckReq(State& s, int station, BaOriginator& agreement) {
+// The rate of a BlockAckReq to `recipient` (ns-3 3.37's SendMpduFromBaManager): the rate
+// manager's data rate for the recipient (GetDataTxVector for the BlockAckReq's header), and
+// "the same TXVECTOR as the BlockAck" that data would get: its control answer rate
+// (GetBlockAckTxVector). The entry returned is that control rate's, so its control entry times
+// the BlockAck answering the BlockAckReq.
+const RateEntry& BlockAckReqRate(State& s, int station, const MacAddress& recipient) {
+  const TxRates rates = s.stations[station].rate_manager->Choose(recipient, s.now_ns);
+  return RateFor(s, rates.data->control.mode);
+}
+
+// A compressed BlockAckReq for `agreement` at `bar_rate` (BlockAckReqRate).
+void SendBlockAckReq(State& s, int station, BaOriginator& agreement, const RateEntry& bar_rate) {
   StationState& st = s.stations[station];
-  AccessFunction& af = st.acs[st.exchange_ac];
-  // With nothing in service (ns-3 sends a BlockAckReq owed even then: HasFramesToTransmit asks
-  // the BlockAckManager), the station's own data rate stands for it.
-  if (af.has_current) ChooseRates(s, station);
-  const RateEntry& data_rate = af.has_current ? *af.current.rate : *st.rate;
-  const RateEntry& bar_rate = RateFor(s, data_rate.control.mode);
   const TimeNs duration_ns = s.phy.sifs_ns + BlockAckNs(bar_rate);
   Transmission& tx =
-      StartTransmission(s, station, FrameKind::kBlockAckReq, data_rate.control,
-                        kBlockAckReqBytes, agreement.recipient, DurationFieldUs(duration_ns));
+      StartTransmission(s, station, FrameKind::kBlockAckReq, bar_rate.data, kBlockAckReqBytes,
+                        agreement.recipient, DurationFieldUs(duration_ns));
   tx.ba_ssn = OriginatorWindowStart(s, station, agreement.recipient, agreement.tid);
   tx.tid = agreement.tid;
   // Owed no more once sent (ns-3's GetBar removes it); a missed BlockAck owes it again.
@@ -206,7 +208,7 @@ bool PrepareBlockAckExchange(State& s, int station, int ac) {
   // ns-3 3.37's StartFrameExchange: a BlockAckReq of this access category's BlockAckManager
   // first (GetBar), then an ADDBA Request if the frame needs an agreement.
   if (BaOriginator* a = BarToSend(s, station, ac)) {
-    SendBlockAckReq(s, station, *a);
+    SendBlockAckReq(s, station, *a, BlockAckReqRate(s, station, a->recipient));
     return true;
   }
   if (!af.has_current) return false;
@@ -450,7 +452,7 @@ void OnBlockAckReqDue(State& s, int station, int ac) {
     StartBackoff(s, station, ac);
     return;
   }
-  SendBlockAckReq(s, station, *a);
+  SendBlockAckReq(s, station, *a, BlockAckReqRate(s, station, a->recipient));
 }
 
 void SendBlockAck(State& s, int station) {

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 #include <vector>
 
 #include "mac_phy_sim/block_ack.h"
@@ -486,6 +488,98 @@ TEST_F(RecipientTest, ABlockAckReqWithoutAgreementGetsNoBlockAck) {
   CreateRecipientAgreement(state_, 1, 0, 0, 0);
   OnFrameReceived(state_, 1, bar, entry);
   EXPECT_TRUE(state_.stations[1].response_pending);
+}
+
+
+// A station of three with a rate manager that gives each receiver its own MCS, sending the
+// frame in service to B while a BlockAckReq for C is owed; on the medium's state directly.
+class BlockAckReqTest : public ::testing::Test {
+ protected:
+  // ns-3's GetDataTxVector per receiver: HT MCS 7 for B, MCS 0 for C.
+  class PerReceiverRates final : public RateManager {
+   public:
+    PerReceiverRates(const RateEntry* to_b, const RateEntry* to_c) : to_b_(to_b), to_c_(to_c) {}
+    TxRates Choose(const MacAddress& destination, TimeNs /*now_ns*/) override {
+      const RateEntry* r = destination == kC ? to_c_ : to_b_;
+      return TxRates{r, r, &r->control};
+    }
+
+   private:
+    const RateEntry* to_b_;
+    const RateEntry* to_c_;
+  };
+
+  BlockAckReqTest() : state_(config_, DerivePhyInfo(config_)) {
+    const RateEntry& mcs7 = RateFor(state_, McsModeFor(config_.standard, 7, 1, 20, false));
+    const RateEntry& mcs0 = RateFor(state_, McsModeFor(config_.standard, 0, 1, 20, false));
+    const MacAddress macs[] = {kA, kB, kC};
+    for (int i = 0; i < 3; ++i) {
+      StationState& st = state_.stations.emplace_back();
+      st.mac = macs[i];
+      st.tx_power_dbm = config_.tx_power_dbm;
+      st.tx_power_mw = std::pow(10.0, config_.tx_power_dbm / 10);
+      st.rate = &mcs7;
+      st.rate_manager = std::make_unique<PerReceiverRates>(&mcs7, &mcs0);
+      for (int ac = 0; ac < kAccessCategoryCount; ++ac) st.acs[ac].cw = state_.phy.edca[ac].cw_min;
+      state_.channel.AddStation({static_cast<double>(i), 0, 0});
+    }
+  }
+
+  // An established agreement of A with `recipient` for TID `tid`, owing a BlockAckReq.
+  void OweBlockAckReq(const MacAddress& recipient, int tid) {
+    if (EstablishedAgreement(state_, 0, recipient, tid) == nullptr) {
+      OnAddbaRequestSent(state_, 0, recipient, tid);
+      OnAddbaResponse(state_, 0, recipient, tid);
+    }
+    EstablishedAgreement(state_, 0, recipient, tid)->bar_pending = true;
+  }
+
+  // A frame for `to` of user priority `tid` in service at A.
+  void FrameInService(const MacAddress& to, int tid) {
+    AccessFunction& af = state_.stations[0].acs[AccessFunctionFor(state_, tid)];
+    af.current = QueuedFrame{};
+    af.current.destination = to;
+    af.current.tid = static_cast<uint8_t>(tid);
+    af.current.enqueued_ns = state_.now_ns;
+    af.current.ethernet =
+        std::make_shared<const std::vector<uint8_t>>(MakeEthernetFrame(to, kA, 1500));
+    af.has_current = true;
+  }
+
+  // What A has on the air, or null.
+  const Transmission* OnAir() const {
+    const int id = state_.stations[0].transmitting_tx;
+    return id < 0 ? nullptr : &state_.transmissions[static_cast<size_t>(id)];
+  }
+
+  MediumConfig config_ = Ht(7);
+  Medium::State state_;
+};
+
+// ns-3 3.37's SendMpduFromBaManager: the BlockAckReq goes at the BlockAck's TXVECTOR for the
+// rate manager's data rate to its own recipient (GetDataTxVector, GetBlockAckTxVector): MCS 0's
+// control answer rate, 6 Mb/s, for C, whatever the frame in service (for B, MCS 7: 24 Mb/s) and
+// also with none in service.
+TEST_F(BlockAckReqTest, ABlockAckReqGoesAtTheControlRateOfItsRecipientsDataRate) {
+  const int be = static_cast<int>(AccessCategory::kBestEffort);
+  OweBlockAckReq(kC, 0);
+  FrameInService(kB, 0);
+  OnBlockAckReqDue(state_, 0, be);
+  const Transmission* bar = OnAir();
+  ASSERT_NE(bar, nullptr);
+  EXPECT_EQ(bar->kind, FrameKind::kBlockAckReq);
+  EXPECT_EQ(bar->ra, kC);
+  EXPECT_EQ(bar->mode->mode.rate_mbps, 6);
+}
+
+TEST_F(BlockAckReqTest, ABlockAckReqWithNothingInServiceGoesAtItsRecipientsRateToo) {
+  const int be = static_cast<int>(AccessCategory::kBestEffort);
+  OweBlockAckReq(kC, 0);
+  OnBlockAckReqDue(state_, 0, be);
+  const Transmission* bar = OnAir();
+  ASSERT_NE(bar, nullptr);
+  EXPECT_EQ(bar->kind, FrameKind::kBlockAckReq);
+  EXPECT_EQ(bar->mode->mode.rate_mbps, 6);
 }
 
 }  // namespace
