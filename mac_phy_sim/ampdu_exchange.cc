@@ -151,6 +151,12 @@ const RateEntry& BlockAckReqRate(State& s, int station, const MacAddress& recipi
   return RateFor(s, rates.data->control.mode);
 }
 
+// A BlockAckReq's exchange: the BlockAckReq, SIFS, the BlockAck answering it.
+TimeNs BlockAckReqExchangeNs(const State& s, const RateEntry& bar_rate) {
+  return PpduDurationNs(bar_rate.data.mode, bar_rate.data.header, kBlockAckReqBytes) +
+         s.phy.sifs_ns + BlockAckNs(bar_rate);
+}
+
 // A compressed BlockAckReq for `agreement` at `bar_rate` (BlockAckReqRate).
 void SendBlockAckReq(State& s, int station, BaOriginator& agreement, const RateEntry& bar_rate) {
   StationState& st = s.stations[station];
@@ -202,14 +208,19 @@ bool HasBlockAckReqToSend(State& s, int station, int ac) {
   return !s.stations[station].ba_originator.empty() && BarToSend(s, station, ac) != nullptr;
 }
 
-bool PrepareBlockAckExchange(State& s, int station, int ac) {
+bool PrepareBlockAckExchange(State& s, int station, int ac, TimeNs available_ns) {
   StationState& st = s.stations[station];
   AccessFunction& af = st.acs[ac];
   // ns-3 3.37's StartFrameExchange: a BlockAckReq of this access category's BlockAckManager
   // first (GetBar), then an ADDBA Request if the frame needs an agreement.
   if (BaOriginator* a = BarToSend(s, station, ac)) {
-    SendBlockAckReq(s, station, *a, BlockAckReqRate(s, station, a->recipient));
-    return true;
+    const RateEntry& bar_rate = BlockAckReqRate(s, station, a->recipient);
+    // Past a TXOP's initial frame the exchange must fit in what is left of it; if not, the
+    // frame in service is tried instead (ns-3's "Not enough time to send the BAR frame").
+    if (available_ns < 0 || BlockAckReqExchangeNs(s, bar_rate) <= available_ns) {
+      SendBlockAckReq(s, station, *a, bar_rate);
+      return true;
+    }
   }
   if (!af.has_current) return false;
   if (NeedSetupBlockAck(s, station, ac, af.current)) {

@@ -439,10 +439,11 @@ void OnContinueTxop(State& s, int station, int ac) {
   st.exchange_ac = ac;
   DropExpired(s, station, ac, true);
   const TimeNs remaining_ns = RemainingTxopNs(s, af, ac);
+  // A BlockAckReq owed goes first if it fits (ns-3's StartFrameExchange, SendMpduFromBaManager).
+  if (PrepareBlockAckExchange(s, station, ac, remaining_ns)) return;
   if (af.has_current) {
     // The next frame goes if its exchange fits in what is left (ns-3's TryAddMpdu: PPDU
     // duration <= remaining - protection - SIFS - ACK).
-    if (PrepareBlockAckExchange(s, station, ac)) return;
     QueuedFrame& f = af.current;
     ChooseFrameRates(s, station);
     TimeNs needed_ns = DataDurationNs(s, f);

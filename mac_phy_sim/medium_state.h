@@ -377,8 +377,9 @@ void DropExpired(State& s, int station, int ac, bool include_current);
 // ---- ampdu_exchange.cc
 // Before the frame in service of `ac`: a BlockAckReq owed by one of its agreements (true:
 // sent), or an ADDBA Request put in service ahead of the frame (false: send the frame in
-// service, now the Request).
-bool PrepareBlockAckExchange(State& s, int station, int ac);
+// service, now the Request). `available_ns`: what is left of the TXOP when the exchange does
+// not start it, which the BlockAckReq's exchange must fit in; -1: no limit.
+bool PrepareBlockAckExchange(State& s, int station, int ac, TimeNs available_ns = -1);
 // A BlockAckReq is owed by an agreement of `ac`: the category contends even with no frame.
 bool HasBlockAckReqToSend(State& s, int station, int ac);
 // The frame in service goes with others for the same receiver and TID as an A-MPDU, if it is

@@ -582,5 +582,29 @@ TEST_F(BlockAckReqTest, ABlockAckReqWithNothingInServiceGoesAtItsRecipientsRateT
   EXPECT_EQ(bar->mode->mode.rate_mbps, 6);
 }
 
+// ns-3 3.37's SendMpduFromBaManager: past a TXOP's initial frame a BlockAckReq goes only if it,
+// a SIFS and its BlockAck fit in what is left of the TXOP. For B at MCS 7 both go at 24 Mb/s:
+// the BlockAckReq (24 B) 20 + 4 x ceil((16 + 192 + 6) / 96) = 32 us, the BlockAck (32 B)
+// 20 + 4 x ceil((16 + 256 + 6) / 96) = 32 us: 80 us with the SIFS. VI holds a TXOP.
+TEST_F(BlockAckReqTest, ABlockAckReqContinuingATxopMustFitInWhatIsLeft) {
+  const int tid = 5;  // VI.
+  const int vi = AccessFunctionFor(state_, tid);
+  ASSERT_GT(state_.phy.edca[vi].txop_limit_ns, 0);
+  auto run = [&](TimeNs left_ns) {
+    Medium::State& s = state_;
+    s.stations[0].transmitting_tx = -1;
+    s.stations[0].exchange = Exchange::kIdle;
+    s.now_ns += kNsPerS;
+    OweBlockAckReq(kB, tid);
+    FrameInService(kB, tid);
+    s.stations[0].acs[vi].txop_start_ns = s.now_ns + left_ns - s.phy.edca[vi].txop_limit_ns;
+    OnContinueTxop(s, 0, vi);
+    const Transmission* tx = OnAir();
+    return tx != nullptr && tx->kind == FrameKind::kBlockAckReq;
+  };
+  EXPECT_TRUE(run(80 * kNsPerUs));
+  EXPECT_FALSE(run(79 * kNsPerUs));
+}
+
 }  // namespace
 }  // namespace sitlnet::mac
