@@ -468,8 +468,8 @@ void OnBlockAckReqDue(State& s, int station, int ac) {
 
 void SendBlockAck(State& s, int station) {
   StationState& st = s.stations[station];
-  // The recipient's scoreboard as it is now: the window's start and what is buffered beyond
-  // it (everything before the start was received or given up).
+  // The recipient's scoreboard as it is now (ns-3's FillBlockAckBitmap: the SSN is WinStartR,
+  // the bitmap every MPDU received from there).
   const BaRecipient* agreement =
       RecipientAgreement(s, station, st.response_source, st.response_tid);
   Transmission& tx =
@@ -478,8 +478,8 @@ void SendBlockAck(State& s, int station) {
   tx.reported_snr = st.response_snr;
   tx.tid = st.response_tid;
   if (agreement != nullptr) {
-    tx.ba_ssn = agreement->window_start;
-    tx.ba_bitmap = agreement->received;
+    tx.ba_ssn = agreement->scoreboard_start;
+    tx.ba_bitmap = agreement->scoreboard;
   }
   ++st.counters.block_ack_tx;
 }

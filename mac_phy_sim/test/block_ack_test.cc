@@ -491,6 +491,60 @@ TEST_F(RecipientTest, ABlockAckReqWithoutAgreementGetsNoBlockAck) {
 }
 
 
+// ns-3 3.37's FillBlockAckBitmap (10.24.7.5): a BlockAck's starting sequence number is the
+// scoreboard's WinStartR and its bitmap every MPDU received from there, delivered or not. An
+// A-MPDU received whole is thus acknowledged from its first MPDU with one bit per MPDU, not
+// from the next sequence number with an empty bitmap (which Wireshark reads as 64 missing).
+TEST(BlockAckTest, ABlockAckStartsAtTheScoreboardAndListsWhatArrived) {
+  const std::vector<TxRecord> txs = RunPair(Ht(7), 300, 1, 60 * kNsPerMs);
+  int checked = 0;
+  for (size_t i = 0; i < txs.size(); ++i) {
+    if (txs[i].kind != FrameKind::kBlockAck) continue;
+    // The A-MPDU it answers: the MPDUs just before it.
+    size_t first = i;
+    while (first > 0 && txs[first - 1].kind == FrameKind::kData &&
+           txs[first - 1].ampdu_reference == txs[i - 1].ampdu_reference) {
+      --first;
+    }
+    ASSERT_LT(first, i);
+    const int n = static_cast<int>(i - first);
+    for (size_t k = first; k < i; ++k) {
+      ASSERT_EQ(txs[k].receptions[0].outcome, RxOutcome::kReceived);  // 1 m: no loss.
+    }
+    if (checked == 0) {
+      // The first A-MPDU: the window and the scoreboard start at its first MPDU.
+      EXPECT_EQ(txs[i].ba_starting_sequence, txs[first].sequence_number);
+      EXPECT_EQ(txs[i].ba_bitmap, n == 64 ? ~uint64_t{0} : (uint64_t{1} << n) - 1);
+    }
+    // Every MPDU of the A-MPDU is inside the bitmap, its bit set.
+    for (size_t k = first; k < i; ++k) {
+      const int d = (txs[k].sequence_number - txs[i].ba_starting_sequence) & 0x0fff;
+      ASSERT_LT(d, kBlockAckWindow);
+      EXPECT_TRUE((txs[i].ba_bitmap >> d) & 1) << txs[k].sequence_number;
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 5);
+}
+
+// The scoreboard's rules (10.24.7.3; ns-3's NotifyReceivedMpdu, NotifyReceivedBar): an MPDU
+// within it sets its bit; one past its end moves it so that it ends there; a BlockAckReq moves
+// its start to the SSN, keeping the bits beyond.
+TEST_F(RecipientTest, TheScoreboardMovesOnlyPastItsEndOrOnABlockAckReq) {
+  const Bytes frame = std::make_shared<const std::vector<uint8_t>>(MakeEthernetFrame(kB, kA, 100));
+  BaRecipient& agreement = CreateRecipientAgreement(state_, 1, 0, 0, 10);
+  for (uint16_t sn : {10, 11, 13}) ReceiveUnderAgreement(state_, 1, agreement, sn, frame, -50, 100);
+  EXPECT_EQ(agreement.scoreboard_start, 10);
+  EXPECT_EQ(agreement.scoreboard, 0b1011u);
+  EXPECT_EQ(deliveries_.size(), 2u);  // 10 and 11; 13 waits for 12.
+  ReceiveBlockAckReq(state_, 1, agreement, 12);
+  EXPECT_EQ(agreement.scoreboard_start, 12);
+  EXPECT_EQ(agreement.scoreboard, 0b10u);
+  ReceiveUnderAgreement(state_, 1, agreement, 12 + 64, frame, -50, 100);
+  EXPECT_EQ(agreement.scoreboard_start, 13);
+  EXPECT_EQ(agreement.scoreboard, (uint64_t{1} << 63) | 1);
+}
+
 // A station of three with a rate manager that gives each receiver its own MCS, sending the
 // frame in service to B while a BlockAckReq for C is owed; on the medium's state directly.
 class BlockAckReqTest : public ::testing::Test {
