@@ -80,11 +80,17 @@ TimeNs DataDurationNs(const State& s, const QueuedFrame& frame) {
 }  // namespace
 
 void TraceDrop(State& s, int station, DropReason reason, const MacAddress& destination,
-               uint16_t sequence_number, size_t bytes) {
+               std::optional<uint16_t> sequence_number, size_t bytes) {
   if (!s.trace_enabled) return;
   TraceEvent event;
-  event.drop = DropRecord{s.now_ns, station, reason, destination, sequence_number, bytes};
+  event.drop = DropRecord{s.now_ns, station, reason, destination, sequence_number.value_or(0),
+                          bytes,    sequence_number.has_value()};
   s.trace.push_back(std::move(event));
+}
+
+std::optional<uint16_t> SequenceNumberOf(const QueuedFrame& f) {
+  if (!f.sequence_assigned) return std::nullopt;
+  return f.sequence_number;
 }
 
 namespace {
@@ -188,7 +194,7 @@ void ExchangeFailed(State& s, int station) {
       rates.ReportFinalDataFailed(f.destination, s.now_ns);
     }
     ++st.counters.lost_retry_limit;
-    TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
+    TraceDrop(s, station, DropReason::kRetryLimit, f.destination, SequenceNumberOf(f),
               EthernetBytes(f));
     OnMpduDiscarded(s, station, f);
     FinishCurrent(s, station, ac);
@@ -307,7 +313,7 @@ void DropExpired(State& s, int station, int ac, bool include_current) {
   auto drop = [&](const QueuedFrame& f) {
     ++st.counters.queue_drops;
     ++st.counters.queue_expired;
-    TraceDrop(s, station, DropReason::kQueueExpired, f.destination, f.sequence_number,
+    TraceDrop(s, station, DropReason::kQueueExpired, f.destination, SequenceNumberOf(f),
               EthernetBytes(f));
   };
   // Data frames are queued in arrival order (retransmissions go back to the head in order), so
@@ -360,7 +366,7 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
     ++st.counters.queue_drops;
     MacAddress destination;
     std::copy_n(ethernet->begin(), 6, destination.bytes.begin());
-    TraceDrop(s, station, DropReason::kQueueFull, destination, 0, ethernet->size());
+    TraceDrop(s, station, DropReason::kQueueFull, destination, std::nullopt, ethernet->size());
     return;
   }
   QueuedFrame frame;
@@ -415,7 +421,7 @@ void OnInternalCollision(State& s, int station, int ac) {
       count = 0;
       rates.ReportFinalDataFailed(f.destination, s.now_ns);
       ++st.counters.lost_retry_limit;
-      TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
+      TraceDrop(s, station, DropReason::kRetryLimit, f.destination, SequenceNumberOf(f),
                 EthernetBytes(f));
       OnMpduDiscarded(s, station, f);
       af.cw = s.phy.edca[ac].cw_min;

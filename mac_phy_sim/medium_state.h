@@ -368,8 +368,11 @@ void ExchangeSucceeded(State& s, int station, bool current_done = true);
 // A response (`kind`) to send a SIFS from now to `ra`, answering a frame at rate `answered`.
 void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& ra,
                       uint16_t duration_us, const RateEntry* answered = nullptr, double snr = 0);
+// A drop in the trace; `sequence_number` empty for a frame never given one.
 void TraceDrop(State& s, int station, DropReason reason, const MacAddress& destination,
-               uint16_t sequence_number, size_t bytes);
+               std::optional<uint16_t> sequence_number, size_t bytes);
+// The sequence number of `f`, if it was given one.
+std::optional<uint16_t> SequenceNumberOf(const QueuedFrame& f);
 // Removes the frames of `ac` that waited longer than queue_max_delay_ns (ns-3's
 // WifiMacQueue::WipeAllExpiredMpdus), the one in service too if `include_current`.
 void DropExpired(State& s, int station, int ac, bool include_current);

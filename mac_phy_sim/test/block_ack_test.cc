@@ -255,6 +255,88 @@ TEST(BlockAckTest, AnExpiredMpduMovesTheRecipientsWindowAndNoneIsLeftBehind) {
   }
 }
 
+// The queue's limits with aggregation on, against ns-3 3.37's WifiMacQueue (MaxSize with
+// DropPolicy DROP_NEWEST, MaxDelay) and QosTxop (an MPDU gets its sequence number when first
+// sent). A sender offers a lossy link four times what it carries, into a 30-frame queue whose
+// frames live 10 ms; then the queue drains. Every frame is delivered once, in order, or dropped
+// once: a frame arriving at the full queue is the one dropped, before it was ever numbered; no
+// MPDU goes on the air after its lifetime ended; a frame given up after it was sent is dropped
+// under the number it was sent with, one never sent under none.
+TEST(BlockAckTest, AFullQueueDropsTheNewestAndExpiredMpdusGoUnsentUnderTheirNumbers) {
+  MediumConfig config = Ht(7);
+  config.queue_limit_frames = 30;
+  config.queue_max_delay_ns = 10 * kNsPerMs;
+  Medium medium(config);
+  medium.EnableTrace(true);
+  medium.AddStation(kA, {0, 0, 0});
+  medium.AddStation(kB, {kLossyDistanceM, 0, 0});
+  constexpr TimeNs kEveryNs = 100 * kNsPerUs;  // 120 Mb/s offered.
+  constexpr int kFrames = 1000;
+  std::vector<TimeNs> submitted_ns;
+  for (int i = 0; i < kFrames; ++i) {
+    submitted_ns.push_back(i * kEveryNs);
+    medium.SubmitFrame(0, NumberedFrame(i), submitted_ns.back());
+  }
+  std::vector<Delivery> deliveries;
+  medium.AdvanceTo(kFrames * kEveryNs + 100 * kNsPerMs, &deliveries);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  auto index_of = [](const std::vector<uint8_t>& frame) {
+    return frame[kIndexByte] << 8 | frame[kIndexByte + 1];
+  };
+  std::vector<int> sequence_of(kFrames, -1);  // Given at the first transmission, kept.
+  std::vector<int> sent(kFrames, 0);
+  std::vector<bool> sequence_sent(4096, false);
+  int full = 0, expired = 0, expired_after_sending = 0, data_drops = 0;
+  for (const TraceEvent& e : trace) {
+    if (e.tx && e.tx->kind == FrameKind::kData && e.tx->source == 0) {
+      const int i = index_of(*e.tx->ethernet_frame);
+      EXPECT_LT(e.tx->start_ns, submitted_ns[i] + config.queue_max_delay_ns) << i;
+      if (sequence_of[i] < 0) sequence_of[i] = e.tx->sequence_number;
+      EXPECT_EQ(e.tx->sequence_number, sequence_of[i]) << i;
+      ++sent[i];
+      sequence_sent[e.tx->sequence_number] = true;
+    }
+    if (!e.drop || e.drop->ethernet_bytes == 0) continue;  // Action frames carry none.
+    ++data_drops;
+    const DropRecord& d = *e.drop;
+    if (d.reason == DropReason::kQueueFull) {
+      ++full;
+      // DROP_NEWEST: the frame arriving now, never sent.
+      EXPECT_EQ(d.time_ns % kEveryNs, 0) << d.time_ns;
+      EXPECT_FALSE(d.has_sequence_number) << d.time_ns;
+    } else {
+      EXPECT_EQ(d.reason, DropReason::kQueueExpired);
+      ++expired;
+      // Dropped under the number it went on the air with, if it did.
+      if (d.has_sequence_number) {
+        ++expired_after_sending;
+        EXPECT_TRUE(sequence_sent[d.sequence_number]) << d.sequence_number;
+      }
+    }
+  }
+  EXPECT_GT(full, 50);
+  EXPECT_GT(expired, 10);
+  EXPECT_GT(expired_after_sending, 5);
+  // Frames with a number are those sent: delivered, or dropped after sending.
+  int numbered = 0;
+  for (int i = 0; i < kFrames; ++i) numbered += sent[i] > 0;
+  const int drops_with_number = [&] {
+    int n = 0;
+    for (const TraceEvent& e : trace) {
+      n += e.drop && e.drop->ethernet_bytes > 0 && e.drop->has_sequence_number;
+    }
+    return n;
+  }();
+  EXPECT_EQ(static_cast<size_t>(numbered), deliveries.size() + drops_with_number);
+  EXPECT_EQ(deliveries.size() + data_drops, static_cast<size_t>(kFrames));
+  int last = -1;
+  for (const Delivery& d : deliveries) {
+    EXPECT_GT(index_of(d.ethernet_frame), last);
+    last = index_of(d.ethernet_frame);
+  }
+}
+
 // Two stations 1 m apart, A and B, with the trace on.
 Medium TracedPair(const MediumConfig& config) {
   Medium medium(config);
