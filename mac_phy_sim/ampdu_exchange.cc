@@ -44,14 +44,16 @@ uint16_t OriginatorWindowStart(State& s, int station, const MacAddress& recipien
   return start;
 }
 
-// MPDUs for the agreement that were sent and await an acknowledgment (ns-3's
-// NeedBarRetransmission: "at least a non-expired in flight MPDU").
+// MPDUs for the agreement in flight (ns-3's NeedBarRetransmission: "at least a non-expired in
+// flight MPDU"). An MPDU a BlockAck reported lost waits for retransmission but is not in flight:
+// a BlockAckReq owed for a given-up MPDU then finds none.
 bool HasOutstanding(const State& s, int station, const MacAddress& recipient, int tid) {
   const AccessFunction& af = s.stations[station].acs[AccessFunctionFor(s, tid)];
   auto outstanding = [&](const QueuedFrame& f) {
-    return f.data_sent_before && ForAgreement(f, recipient, tid);
+    return f.in_flight && ForAgreement(f, recipient, tid);
   };
-  return (af.has_current && outstanding(af.current)) || !af.ampdu_rest.empty() ||
+  return (af.has_current && outstanding(af.current)) ||
+         std::any_of(af.ampdu_rest.begin(), af.ampdu_rest.end(), outstanding) ||
          std::any_of(af.queue.begin(), af.queue.end(), outstanding);
 }
 
@@ -123,6 +125,7 @@ void SendAmpdu(State& s, int station, int psdu_bytes) {
     ++st.counters.data_tx;
     if (m.data_sent_before) ++st.counters.retries;
     m.data_sent_before = true;
+    m.in_flight = true;
   };
   add(f);
   for (QueuedFrame& m : af.ampdu_rest) add(m);
@@ -166,6 +169,7 @@ void SendBlockAckReq(State& s, int station, BaOriginator& agreement, const RateE
                         agreement.recipient, DurationFieldUs(duration_ns));
   tx.ba_ssn = OriginatorWindowStart(s, station, agreement.recipient, agreement.tid);
   tx.tid = agreement.tid;
+  tx.retry = agreement.bar_retry;
   // Owed no more once sent (ns-3's GetBar removes it); a missed BlockAck owes it again.
   agreement.bar_pending = false;
   ++st.counters.block_ack_req_tx;
@@ -284,6 +288,7 @@ void BlockAckMissed(State& s, int station) {
   if (agreement != nullptr) {
     agreement->bar_pending = true;
     agreement->bar_only_with_data = !outstanding;
+    agreement->bar_retry = st.block_ack_after_bar && outstanding;
   }
   if (outstanding) {
     af.cw = std::min(2 * af.cw + 1, s.phy.edca[ac].cw_max);
@@ -305,6 +310,7 @@ void OnMpduDiscarded(State& s, int station, const QueuedFrame& f) {
     // tells the recipient, whose buffer would otherwise wait on the hole.
     a->bar_pending = true;
     a->bar_only_with_data = false;
+    a->bar_retry = false;  // A new BlockAckReq replaces any owed (ns-3's ScheduleBar).
   }
 }
 
@@ -410,16 +416,27 @@ void ReceiveBlockAck(State& s, int station, const Transmission& tx) {
     return m.data_sent_before && ForAgreement(m, recipient, tid);
   };
   // After a BlockAckReq the frame in service may belong to another agreement: it stays.
+  // ns-3 3.37's NotifyGotBlockAck: the in-flight MPDUs not acknowledged failed and leave the
+  // flight, to be retransmitted (HandleInFlightMpdu, TO_RETRANSMIT).
+  auto lost = [&](QueuedFrame& m) {
+    if (!m.in_flight) return;
+    ++failed;
+    m.in_flight = false;
+  };
   bool current_done = false;
   if (af.has_current && sent_for_us(f)) {
     current_done = covered(f);
-    (current_done ? acked : failed) += 1;
+    if (current_done) {
+      ++acked;
+    } else {
+      lost(f);
+    }
   }
   for (auto it = af.ampdu_rest.rbegin(); it != af.ampdu_rest.rend(); ++it) {
     if (covered(*it)) {
       ++acked;
     } else {
-      ++failed;
+      lost(*it);
       af.queue.push_front(std::move(*it));
     }
   }
@@ -431,6 +448,7 @@ void ReceiveBlockAck(State& s, int station, const Transmission& tx) {
         ++acked;
         it = af.queue.erase(it);
       } else {
+        if (ForAgreement(*it, recipient, tid)) lost(*it);
         ++it;
       }
     }

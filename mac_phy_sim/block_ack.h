@@ -75,6 +75,9 @@ struct BaOriginator {
   // when a frame for the recipient and TID is queued (ns-3's skipIfNoDataQueued).
   bool bar_pending = false;
   bool bar_only_with_data = false;
+  // The BlockAckReq owed is the last one again, its BlockAck missed with MPDUs in flight:
+  // sent with the Retry bit (ns-3's MissedBlockAck sets it).
+  bool bar_retry = false;
 };
 
 // The recipient's agreement with one originator for one TID (ns-3's

@@ -172,6 +172,9 @@ void ExchangeFailed(State& s, int station) {
     return;
   }
   QueuedFrame& f = af.current;
+  // A missed ACK takes it out of flight under an agreement (ns-3's NotifyMissedAck): a
+  // BlockAckReq owed does not wait for it.
+  if (!was_cts) f.in_flight = false;
   // Station retry counts (10.3.4.4): SRC for RTS and short DATA, LRC for DATA
   // after a CTS; at the limit the frame in service is discarded.
   const bool data_after_cts = !was_cts && f.use_rts;
@@ -256,6 +259,7 @@ void SendData(State& s, int station) {
   ++st.counters.data_tx;
   if (f.data_sent_before) ++st.counters.retries;
   f.data_sent_before = true;
+  f.in_flight = true;
   st.exchange = f.group ? Exchange::kIdle : Exchange::kWaitAck;
 }
 

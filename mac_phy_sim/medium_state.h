@@ -88,6 +88,9 @@ struct QueuedFrame {
   uint16_t sequence_number = 0;
   TimeNs enqueued_ns = 0;         // For queue_max_delay_ns.
   bool data_sent_before = false;  // Sets the Retry bit.
+  // Sent and not yet reported lost: in ns-3's BlockAckManager in-flight list, which a missed
+  // BlockAck keeps and a BlockAck or missed ACK that reports it lost leaves (TO_RETRANSMIT).
+  bool in_flight = false;
   bool use_rts = false;
   const RateEntry* rate = nullptr;      // DATA rate of the current attempt (rate_control.cc).
   const RateEntry* rts_rate = nullptr;  // Times the CTS answering the current attempt's RTS.

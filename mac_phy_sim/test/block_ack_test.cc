@@ -742,5 +742,45 @@ TEST_F(BlockAckReqTest, ABlockAckReqContinuingATxopMustFitInWhatIsLeft) {
   EXPECT_FALSE(run(79 * kNsPerUs));
 }
 
+
+// ns-3 3.37's MissedBlockAck after a BlockAckReq: with an MPDU still in flight
+// (NeedBarRetransmission) the same BlockAckReq goes again, Retry bit set, and CW doubles; with
+// none in flight (a BlockAck already reported the MPDUs lost, they wait for retransmission)
+// the failure is final: CW resets and a new BlockAckReq goes only with data queued. Here A's
+// frame for B was sent before; a BlockAckReq for B goes and its BlockAck is missed.
+TEST_F(BlockAckReqTest, AMissedBlockAckAfterABlockAckReqResetsCwUnlessAnMpduIsInFlight) {
+  const int be = static_cast<int>(AccessCategory::kBestEffort);
+  const int cw_min = state_.phy.edca[be].cw_min;
+  auto run = [&](bool in_flight) {
+    Medium::State& s = state_;
+    s.stations[0].transmitting_tx = -1;
+    s.stations[0].exchange = Exchange::kIdle;
+    s.now_ns += kNsPerS;
+    OweBlockAckReq(kB, 0);
+    EstablishedAgreement(s, 0, kB, 0)->bar_retry = false;  // A fresh one.
+    FrameInService(kB, 0);
+    AccessFunction& af = s.stations[0].acs[be];
+    AssignSequence(s, 0, af.current);
+    af.current.data_sent_before = true;
+    af.current.in_flight = in_flight;
+    af.cw = 4 * cw_min + 3;
+    OnBlockAckReqDue(s, 0, be);
+    EXPECT_FALSE(OnAir()->retry);  // The first BlockAckReq.
+    BlockAckMissed(s, 0);
+    const BaOriginator& a = *EstablishedAgreement(s, 0, kB, 0);
+    EXPECT_TRUE(a.bar_pending);
+    // The next BlockAckReq: Retry set if it repeats the last.
+    s.stations[0].transmitting_tx = -1;
+    s.stations[0].exchange = Exchange::kIdle;
+    const int cw = af.cw;
+    OnBlockAckReqDue(s, 0, be);
+    EXPECT_EQ(OnAir()->kind, FrameKind::kBlockAckReq);
+    EXPECT_EQ(OnAir()->retry, in_flight);
+    return cw;
+  };
+  EXPECT_EQ(run(true), 2 * (4 * cw_min + 3) + 1);
+  EXPECT_EQ(run(false), cw_min);
+}
+
 }  // namespace
 }  // namespace sitlnet::mac
