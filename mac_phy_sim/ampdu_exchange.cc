@@ -314,21 +314,29 @@ void OnMpduDiscarded(State& s, int station, const QueuedFrame& f) {
   }
 }
 
-void ExpireInFlight(State& s, int station, int ac) {
+size_t ExpireInFlight(State& s, int station, int ac) {
   StationState& st = s.stations[station];
   const TimeNs max_delay = s.config.queue_max_delay_ns;
   if (st.ba_originator.empty() || max_delay <= 0 || st.exchange == Exchange::kIdle ||
       st.exchange_ac != ac) {
-    return;
+    return 0;
   }
   AccessFunction& af = st.acs[ac];
   auto expired = [&](const QueuedFrame& f) { return f.enqueued_ns + max_delay <= s.now_ns; };
   // They stay until the exchange ends (the recipient may have them already); what matters is
-  // the BlockAckReq they owe, which then follows the BlockAck.
-  if (af.has_current && expired(af.current)) OnMpduDiscarded(s, station, af.current);
-  for (const QueuedFrame& f : af.ampdu_rest) {
-    if (expired(f)) OnMpduDiscarded(s, station, f);
+  // the BlockAckReq they owe, which then follows the BlockAck, and the room they leave: ns-3
+  // takes them out of the queue at once, so they no longer count against its size.
+  size_t count = 0;
+  if (af.has_current && expired(af.current)) {
+    OnMpduDiscarded(s, station, af.current);
+    ++count;
   }
+  for (const QueuedFrame& f : af.ampdu_rest) {
+    if (!expired(f)) continue;
+    OnMpduDiscarded(s, station, f);
+    ++count;
+  }
+  return count;
 }
 
 void OnActionAcked(State& s, int station, const QueuedFrame& f) {

@@ -362,11 +362,12 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
   const int tid = s.phy.qos ? UserPriorityOf(*ethernet) : 0;
   const int ac = AccessFunctionFor(s, tid);
   AccessFunction& af = st.acs[ac];
+  size_t expired_in_flight = 0;
   if (FramesHeld(af) >= s.config.queue_limit_frames) {
     DropExpired(s, station, ac, false);
-    ExpireInFlight(s, station, ac);
+    expired_in_flight = ExpireInFlight(s, station, ac);
   }
-  if (FramesHeld(af) >= s.config.queue_limit_frames) {
+  if (FramesHeld(af) - expired_in_flight >= s.config.queue_limit_frames) {
     ++st.counters.queue_drops;
     MacAddress destination;
     std::copy_n(ethernet->begin(), 6, destination.bytes.begin());

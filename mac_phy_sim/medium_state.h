@@ -400,7 +400,8 @@ void OnMpduDiscarded(State& s, int station, const QueuedFrame& f);
 // A frame arrives at a full queue of `ac`: ns-3 3.37's WifiMacQueue::Insert wipes every expired
 // MPDU, in-flight ones (an exchange under way) included; each of those owes a BlockAckReq
 // (NotifyDiscardedMpdu), which goes after the exchange.
-void ExpireInFlight(State& s, int station, int ac);
+// Returns how many expired: the room they make in the queue.
+size_t ExpireInFlight(State& s, int station, int ac);
 // The ACK of an action frame came (ns-3's NotifyReceivedNormalAck): an ADDBA Request's starts
 // the 1 ms wait for the Response.
 void OnActionAcked(State& s, int station, const QueuedFrame& f);
