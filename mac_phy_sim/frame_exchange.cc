@@ -364,7 +364,10 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
   AccessFunction& af = st.acs[ac];
   size_t expired_in_flight = 0;
   if (FramesHeld(af) >= s.config.queue_limit_frames) {
-    DropExpired(s, station, ac, false);
+    // With aggregation the frame in service is in ns-3's queue too and goes if it expired,
+    // unless an exchange holds it (ExpireInFlight).
+    const bool in_exchange = st.exchange != Exchange::kIdle && st.exchange_ac == ac;
+    DropExpired(s, station, ac, s.config.aggregation && !in_exchange);
     expired_in_flight = ExpireInFlight(s, station, ac);
   }
   if (FramesHeld(af) - expired_in_flight >= s.config.queue_limit_frames) {

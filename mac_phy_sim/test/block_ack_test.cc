@@ -466,6 +466,36 @@ TEST(BlockAckTest, MpdusExpiredInFlightMakeRoomForAnArrivingFrame) {
   EXPECT_EQ(medium.counters(0).queue_drops, medium.counters(0).queue_expired);
 }
 
+// The frame in service is in ns-3's queue too (it leaves only when acknowledged or dropped),
+// so WifiMacQueue::Insert at a full queue removes it when its lifetime ended, exchange or not.
+// A waits while B's 2 ms broadcast is on the air; a 2-frame queue whose frames live 1 ms holds
+// A's frame in service (queued at 0.1 ms, expired at 1.1) and one queued at 0.5 ms. A frame
+// arriving at 1.2 ms takes the expired one's place.
+TEST(BlockAckTest, AnExpiredFrameInServiceMakesRoomForAnArrivingFrame) {
+  MediumConfig config = Ht(7);
+  config.queue_limit_frames = 2;
+  config.queue_max_delay_ns = kNsPerMs;
+  Medium medium = TracedPair(config);
+  medium.SubmitFrame(1, MakeEthernetFrame(MacAddress{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}}, kB, 1500),
+                     0);
+  constexpr TimeNs kArrivalNs = 1200 * kNsPerUs;
+  for (TimeNs t : {100 * kNsPerUs, 500 * kNsPerUs, kArrivalNs}) {
+    medium.SubmitFrame(0, MakeEthernetFrame(kB, kA, 1500), t);
+  }
+  medium.AdvanceTo(kArrivalNs, nullptr);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  int expired = 0;
+  for (const TraceEvent& e : trace) {
+    ASSERT_FALSE(e.tx && e.tx->source == 0) << "A may not have sent yet";
+    if (!e.drop) continue;
+    EXPECT_EQ(e.drop->reason, DropReason::kQueueExpired);
+    EXPECT_EQ(e.drop->time_ns, kArrivalNs);
+    expired += 1;
+  }
+  EXPECT_EQ(expired, 1);
+}
+
 // A sender under an agreement never sits idle while it holds frames. Issue #44 saw a realtime
 // run where a saturated sender went silent for 2.85 s after a BlockAck; its pcap shows the
 // queue running dry before the silence (its source had paused), and this test finds no stall on
