@@ -44,14 +44,16 @@ uint16_t OriginatorWindowStart(State& s, int station, const MacAddress& recipien
   return start;
 }
 
-// MPDUs for the agreement that were sent and await an acknowledgment (ns-3's
-// NeedBarRetransmission: "at least a non-expired in flight MPDU").
+// MPDUs for the agreement in flight (ns-3's NeedBarRetransmission: "at least a non-expired in
+// flight MPDU"). An MPDU a BlockAck reported lost waits for retransmission but is not in flight:
+// a BlockAckReq owed for a given-up MPDU then finds none.
 bool HasOutstanding(const State& s, int station, const MacAddress& recipient, int tid) {
   const AccessFunction& af = s.stations[station].acs[AccessFunctionFor(s, tid)];
   auto outstanding = [&](const QueuedFrame& f) {
-    return f.data_sent_before && ForAgreement(f, recipient, tid);
+    return f.in_flight && ForAgreement(f, recipient, tid);
   };
-  return (af.has_current && outstanding(af.current)) || !af.ampdu_rest.empty() ||
+  return (af.has_current && outstanding(af.current)) ||
+         std::any_of(af.ampdu_rest.begin(), af.ampdu_rest.end(), outstanding) ||
          std::any_of(af.queue.begin(), af.queue.end(), outstanding);
 }
 
@@ -123,6 +125,7 @@ void SendAmpdu(State& s, int station, int psdu_bytes) {
     ++st.counters.data_tx;
     if (m.data_sent_before) ++st.counters.retries;
     m.data_sent_before = true;
+    m.in_flight = true;
   };
   add(f);
   for (QueuedFrame& m : af.ampdu_rest) add(m);
@@ -141,23 +144,32 @@ void SendAmpdu(State& s, int station, int psdu_bytes) {
   st.block_ack_after_bar = false;
 }
 
-// A compressed BlockAckReq for `agreement`, at the BlockAck's rate (ns-3 3.37's
-// SendMpduFromBaManager: "the same TXVECTOR as the BlockAck"); the frame in service's rate
-// stands for the recipient's data rate.
-void SendBlockAckReq(State& s, int station, BaOriginator& agreement) {
+// The rate of a BlockAckReq to `recipient` (ns-3 3.37's SendMpduFromBaManager): the rate
+// manager's data rate for the recipient (GetDataTxVector for the BlockAckReq's header), and
+// "the same TXVECTOR as the BlockAck" that data would get: its control answer rate
+// (GetBlockAckTxVector). The entry returned is that control rate's, so its control entry times
+// the BlockAck answering the BlockAckReq.
+const RateEntry& BlockAckReqRate(State& s, int station, const MacAddress& recipient) {
+  const TxRates rates = s.stations[station].rate_manager->Choose(recipient, s.now_ns);
+  return RateFor(s, rates.data->control.mode);
+}
+
+// A BlockAckReq's exchange: the BlockAckReq, SIFS, the BlockAck answering it.
+TimeNs BlockAckReqExchangeNs(const State& s, const RateEntry& bar_rate) {
+  return PpduDurationNs(bar_rate.data.mode, bar_rate.data.header, kBlockAckReqBytes) +
+         s.phy.sifs_ns + BlockAckNs(bar_rate);
+}
+
+// A compressed BlockAckReq for `agreement` at `bar_rate` (BlockAckReqRate).
+void SendBlockAckReq(State& s, int station, BaOriginator& agreement, const RateEntry& bar_rate) {
   StationState& st = s.stations[station];
-  AccessFunction& af = st.acs[st.exchange_ac];
-  // With nothing in service (ns-3 sends a BlockAckReq owed even then: HasFramesToTransmit asks
-  // the BlockAckManager), the station's own data rate stands for it.
-  if (af.has_current) ChooseRates(s, station);
-  const RateEntry& data_rate = af.has_current ? *af.current.rate : *st.rate;
-  const RateEntry& bar_rate = RateFor(s, data_rate.control.mode);
   const TimeNs duration_ns = s.phy.sifs_ns + BlockAckNs(bar_rate);
   Transmission& tx =
-      StartTransmission(s, station, FrameKind::kBlockAckReq, data_rate.control,
-                        kBlockAckReqBytes, agreement.recipient, DurationFieldUs(duration_ns));
+      StartTransmission(s, station, FrameKind::kBlockAckReq, bar_rate.data, kBlockAckReqBytes,
+                        agreement.recipient, DurationFieldUs(duration_ns));
   tx.ba_ssn = OriginatorWindowStart(s, station, agreement.recipient, agreement.tid);
   tx.tid = agreement.tid;
+  tx.retry = agreement.bar_retry;
   // Owed no more once sent (ns-3's GetBar removes it); a missed BlockAck owes it again.
   agreement.bar_pending = false;
   ++st.counters.block_ack_req_tx;
@@ -200,14 +212,19 @@ bool HasBlockAckReqToSend(State& s, int station, int ac) {
   return !s.stations[station].ba_originator.empty() && BarToSend(s, station, ac) != nullptr;
 }
 
-bool PrepareBlockAckExchange(State& s, int station, int ac) {
+bool PrepareBlockAckExchange(State& s, int station, int ac, TimeNs available_ns) {
   StationState& st = s.stations[station];
   AccessFunction& af = st.acs[ac];
   // ns-3 3.37's StartFrameExchange: a BlockAckReq of this access category's BlockAckManager
   // first (GetBar), then an ADDBA Request if the frame needs an agreement.
   if (BaOriginator* a = BarToSend(s, station, ac)) {
-    SendBlockAckReq(s, station, *a);
-    return true;
+    const RateEntry& bar_rate = BlockAckReqRate(s, station, a->recipient);
+    // Past a TXOP's initial frame the exchange must fit in what is left of it; if not, the
+    // frame in service is tried instead (ns-3's "Not enough time to send the BAR frame").
+    if (available_ns < 0 || BlockAckReqExchangeNs(s, bar_rate) <= available_ns) {
+      SendBlockAckReq(s, station, *a, bar_rate);
+      return true;
+    }
   }
   if (!af.has_current) return false;
   if (NeedSetupBlockAck(s, station, ac, af.current)) {
@@ -271,6 +288,7 @@ void BlockAckMissed(State& s, int station) {
   if (agreement != nullptr) {
     agreement->bar_pending = true;
     agreement->bar_only_with_data = !outstanding;
+    agreement->bar_retry = st.block_ack_after_bar && outstanding;
   }
   if (outstanding) {
     af.cw = std::min(2 * af.cw + 1, s.phy.edca[ac].cw_max);
@@ -292,24 +310,33 @@ void OnMpduDiscarded(State& s, int station, const QueuedFrame& f) {
     // tells the recipient, whose buffer would otherwise wait on the hole.
     a->bar_pending = true;
     a->bar_only_with_data = false;
+    a->bar_retry = false;  // A new BlockAckReq replaces any owed (ns-3's ScheduleBar).
   }
 }
 
-void ExpireInFlight(State& s, int station, int ac) {
+size_t ExpireInFlight(State& s, int station, int ac) {
   StationState& st = s.stations[station];
   const TimeNs max_delay = s.config.queue_max_delay_ns;
   if (st.ba_originator.empty() || max_delay <= 0 || st.exchange == Exchange::kIdle ||
       st.exchange_ac != ac) {
-    return;
+    return 0;
   }
   AccessFunction& af = st.acs[ac];
   auto expired = [&](const QueuedFrame& f) { return f.enqueued_ns + max_delay <= s.now_ns; };
   // They stay until the exchange ends (the recipient may have them already); what matters is
-  // the BlockAckReq they owe, which then follows the BlockAck.
-  if (af.has_current && expired(af.current)) OnMpduDiscarded(s, station, af.current);
-  for (const QueuedFrame& f : af.ampdu_rest) {
-    if (expired(f)) OnMpduDiscarded(s, station, f);
+  // the BlockAckReq they owe, which then follows the BlockAck, and the room they leave: ns-3
+  // takes them out of the queue at once, so they no longer count against its size.
+  size_t count = 0;
+  if (af.has_current && expired(af.current)) {
+    OnMpduDiscarded(s, station, af.current);
+    ++count;
   }
+  for (const QueuedFrame& f : af.ampdu_rest) {
+    if (!expired(f)) continue;
+    OnMpduDiscarded(s, station, f);
+    ++count;
+  }
+  return count;
 }
 
 void OnActionAcked(State& s, int station, const QueuedFrame& f) {
@@ -397,16 +424,27 @@ void ReceiveBlockAck(State& s, int station, const Transmission& tx) {
     return m.data_sent_before && ForAgreement(m, recipient, tid);
   };
   // After a BlockAckReq the frame in service may belong to another agreement: it stays.
+  // ns-3 3.37's NotifyGotBlockAck: the in-flight MPDUs not acknowledged failed and leave the
+  // flight, to be retransmitted (HandleInFlightMpdu, TO_RETRANSMIT).
+  auto lost = [&](QueuedFrame& m) {
+    if (!m.in_flight) return;
+    ++failed;
+    m.in_flight = false;
+  };
   bool current_done = false;
   if (af.has_current && sent_for_us(f)) {
     current_done = covered(f);
-    (current_done ? acked : failed) += 1;
+    if (current_done) {
+      ++acked;
+    } else {
+      lost(f);
+    }
   }
   for (auto it = af.ampdu_rest.rbegin(); it != af.ampdu_rest.rend(); ++it) {
     if (covered(*it)) {
       ++acked;
     } else {
-      ++failed;
+      lost(*it);
       af.queue.push_front(std::move(*it));
     }
   }
@@ -418,6 +456,7 @@ void ReceiveBlockAck(State& s, int station, const Transmission& tx) {
         ++acked;
         it = af.queue.erase(it);
       } else {
+        if (ForAgreement(*it, recipient, tid)) lost(*it);
         ++it;
       }
     }
@@ -458,13 +497,13 @@ void OnBlockAckReqDue(State& s, int station, int ac) {
     StartBackoff(s, station, ac);
     return;
   }
-  SendBlockAckReq(s, station, *a);
+  SendBlockAckReq(s, station, *a, BlockAckReqRate(s, station, a->recipient));
 }
 
 void SendBlockAck(State& s, int station) {
   StationState& st = s.stations[station];
-  // The recipient's scoreboard as it is now: the window's start and what is buffered beyond
-  // it (everything before the start was received or given up).
+  // The recipient's scoreboard as it is now (ns-3's FillBlockAckBitmap: the SSN is WinStartR,
+  // the bitmap every MPDU received from there).
   const BaRecipient* agreement =
       RecipientAgreement(s, station, st.response_source, st.response_tid);
   Transmission& tx =
@@ -473,8 +512,8 @@ void SendBlockAck(State& s, int station) {
   tx.reported_snr = st.response_snr;
   tx.tid = st.response_tid;
   if (agreement != nullptr) {
-    tx.ba_ssn = agreement->window_start;
-    tx.ba_bitmap = agreement->received;
+    tx.ba_ssn = agreement->scoreboard_start;
+    tx.ba_bitmap = agreement->scoreboard;
   }
   ++st.counters.block_ack_tx;
 }

@@ -54,6 +54,12 @@ void MoveWindow(State& s, int station, BaRecipient& a, uint16_t new_start) {
   a.window_start = new_start;
 }
 
+// Moves the scoreboard's start on by `count` (ns-3's BlockAckWindow::Advance).
+void AdvanceScoreboard(BaRecipient& a, int count) {
+  a.scoreboard = count >= kBlockAckWindow ? 0 : a.scoreboard >> count;
+  a.scoreboard_start = static_cast<uint16_t>((a.scoreboard_start + count) & 0x0fff);
+}
+
 // Delivers the MPDUs buffered in sequence from the window's start.
 void DeliverInOrder(State& s, int station, BaRecipient& a) {
   while (a.received & 1) {
@@ -151,6 +157,8 @@ BaRecipient& CreateRecipientAgreement(State& s, int station, int source, int tid
   MoveWindow(s, station, *a, static_cast<uint16_t>((a->window_start + kBlockAckWindow) & 0x0fff));
   a->window_start = starting_sequence;
   a->received = 0;
+  a->scoreboard_start = starting_sequence;
+  a->scoreboard = 0;
   return *a;
 }
 
@@ -163,6 +171,14 @@ BaRecipient* RecipientAgreement(State& s, int station, int source, int tid) {
 
 void ReceiveUnderAgreement(State& s, int station, BaRecipient& a, uint16_t sequence_number,
                            const Bytes& ethernet, double power_dbm, double sinr) {
+  // The scoreboard first, duplicates included (ns-3's NotifyReceivedMpdu; 10.24.7.3).
+  const int r = SequenceDistance(a.scoreboard_start, sequence_number);
+  if (r < kBlockAckWindow) {
+    a.scoreboard |= uint64_t{1} << r;
+  } else if (r < 2048) {
+    AdvanceScoreboard(a, r - (kBlockAckWindow - 1));
+    a.scoreboard |= uint64_t{1} << (kBlockAckWindow - 1);
+  }
   int d = SequenceDistance(a.window_start, sequence_number);
   if (d >= 2048) {  // Before the window: already delivered or passed over (10.24.4.2).
     ++s.stations[station].counters.rx_duplicates;
@@ -182,6 +198,14 @@ void ReceiveUnderAgreement(State& s, int station, BaRecipient& a, uint16_t seque
 }
 
 void ReceiveBlockAckReq(State& s, int station, BaRecipient& a, uint16_t ssn) {
+  // ns-3's NotifyReceivedBar: the scoreboard starts at the SSN; past its end, afresh.
+  const int r = SequenceDistance(a.scoreboard_start, ssn);
+  if (r > 0 && r < kBlockAckWindow) {
+    AdvanceScoreboard(a, r);
+  } else if (r > 0 && r < 2048) {
+    a.scoreboard_start = ssn;
+    a.scoreboard = 0;
+  }
   const int d = SequenceDistance(a.window_start, ssn);
   if (d > 0 && d < 2048) MoveWindow(s, station, a, ssn);
   DeliverInOrder(s, station, a);

@@ -75,12 +75,17 @@ struct BaOriginator {
   // when a frame for the recipient and TID is queued (ns-3's skipIfNoDataQueued).
   bool bar_pending = false;
   bool bar_only_with_data = false;
+  // The BlockAckReq owed is the last one again, its BlockAck missed with MPDUs in flight:
+  // sent with the Retry bit (ns-3's MissedBlockAck sets it).
+  bool bar_retry = false;
 };
 
-// The recipient's agreement with one originator for one TID: the reordering buffer of the
-// window [window_start, window_start + 64) (10.24.4; ns-3's RecipientBlockAckAgreement).
-// MPDUs are delivered in sequence-number order; a received MPDU beyond the window, or a
-// BlockAckReq, moves it on and delivers what it passes over.
+// The recipient's agreement with one originator for one TID (ns-3's
+// RecipientBlockAckAgreement): the reordering buffer of the window [window_start,
+// window_start + 64) (WinStartB, 10.24.7.6): MPDUs are delivered in sequence-number order; a
+// received MPDU beyond the window, or a BlockAckReq, moves it on and delivers what it passes
+// over. Beside it the scoreboard a BlockAck reports (WinStartR, 10.24.7.3): it moves only when
+// an MPDU beyond its end or a BlockAckReq comes, so it still shows the MPDUs delivered.
 struct BaRecipient {
   struct Buffered {
     std::shared_ptr<const std::vector<uint8_t>> ethernet;
@@ -91,6 +96,8 @@ struct BaRecipient {
   uint16_t window_start = 0;
   uint64_t received = 0;  // Bit k: window_start + k is buffered.
   std::array<Buffered, kBlockAckWindow> buffer;  // By sequence number mod 64.
+  uint16_t scoreboard_start = 0;  // WinStartR.
+  uint64_t scoreboard = 0;        // Bit k: scoreboard_start + k was received.
 };
 
 }  // namespace sitlnet::mac

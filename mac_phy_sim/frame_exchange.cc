@@ -81,11 +81,17 @@ TimeNs DataDurationNs(const State& s, const QueuedFrame& frame) {
 }  // namespace
 
 void TraceDrop(State& s, int station, DropReason reason, const MacAddress& destination,
-               uint16_t sequence_number, size_t bytes) {
+               std::optional<uint16_t> sequence_number, size_t bytes) {
   if (!s.trace_enabled) return;
   TraceEvent event;
-  event.drop = DropRecord{s.now_ns, station, reason, destination, sequence_number, bytes};
+  event.drop = DropRecord{s.now_ns, station, reason, destination, sequence_number.value_or(0),
+                          bytes,    sequence_number.has_value()};
   s.trace.push_back(std::move(event));
+}
+
+std::optional<uint16_t> SequenceNumberOf(const QueuedFrame& f) {
+  if (!f.sequence_assigned) return std::nullopt;
+  return f.sequence_number;
 }
 
 namespace {
@@ -167,6 +173,9 @@ void ExchangeFailed(State& s, int station) {
     return;
   }
   QueuedFrame& f = af.current;
+  // A missed ACK takes it out of flight under an agreement (ns-3's NotifyMissedAck): a
+  // BlockAckReq owed does not wait for it.
+  if (!was_cts) f.in_flight = false;
   // Station retry counts (10.3.4.4): SRC for RTS and short DATA, LRC for DATA
   // after a CTS; at the limit the frame in service is discarded.
   const bool data_after_cts = !was_cts && f.use_rts;
@@ -189,7 +198,7 @@ void ExchangeFailed(State& s, int station) {
       rates.ReportFinalDataFailed(f.destination, s.now_ns);
     }
     ++st.counters.lost_retry_limit;
-    TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
+    TraceDrop(s, station, DropReason::kRetryLimit, f.destination, SequenceNumberOf(f),
               EthernetBytes(f));
     OnMpduDiscarded(s, station, f);
     FinishCurrent(s, station, ac);
@@ -251,6 +260,7 @@ void SendData(State& s, int station) {
   ++st.counters.data_tx;
   if (f.data_sent_before) ++st.counters.retries;
   f.data_sent_before = true;
+  f.in_flight = true;
   st.exchange = f.group ? Exchange::kIdle : Exchange::kWaitAck;
 }
 
@@ -308,7 +318,7 @@ void DropExpired(State& s, int station, int ac, bool include_current) {
   auto drop = [&](const QueuedFrame& f) {
     ++st.counters.queue_drops;
     ++st.counters.queue_expired;
-    TraceDrop(s, station, DropReason::kQueueExpired, f.destination, f.sequence_number,
+    TraceDrop(s, station, DropReason::kQueueExpired, f.destination, SequenceNumberOf(f),
               EthernetBytes(f));
   };
   // Data frames are queued in arrival order (retransmissions go back to the head in order), so
@@ -378,15 +388,22 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
   // QoS station wipes at every arrival too (Txop::Queue asks QosTxop::HasFramesToTransmit,
   // qos-txop.cc:315-326, which wipes); here only where that decides how many single MPDUs
   // expire in flight and owe a BlockAckReq (WipesAtEveryArrival).
-  if (WipesAtEveryArrival(s) || FramesHeld(af) >= s.config.queue_limit_frames) {
-    DropExpired(s, station, ac, WaitsForAccess(s, station, ac));
-    ExpireInFlight(s, station, ac);
+  size_t expired_in_flight = 0;
+  const bool queue_full = FramesHeld(af) >= s.config.queue_limit_frames;
+  if (WipesAtEveryArrival(s) || queue_full) {
+    // With aggregation the frame in service is in ns-3's queue too and goes if it expired,
+    // unless an exchange holds it (ExpireInFlight).
+    const bool in_exchange = st.exchange != Exchange::kIdle && st.exchange_ac == ac;
+    DropExpired(s, station, ac,
+                WaitsForAccess(s, station, ac) ||
+                    (queue_full && s.config.aggregation && !in_exchange));
+    expired_in_flight = ExpireInFlight(s, station, ac);
   }
-  if (FramesHeld(af) >= s.config.queue_limit_frames) {
+  if (FramesHeld(af) - expired_in_flight >= s.config.queue_limit_frames) {
     ++st.counters.queue_drops;
     MacAddress destination;
     std::copy_n(ethernet->begin(), 6, destination.bytes.begin());
-    TraceDrop(s, station, DropReason::kQueueFull, destination, 0, ethernet->size());
+    TraceDrop(s, station, DropReason::kQueueFull, destination, std::nullopt, ethernet->size());
     return;
   }
   QueuedFrame frame;
@@ -441,7 +458,7 @@ void OnInternalCollision(State& s, int station, int ac) {
       count = 0;
       rates.ReportFinalDataFailed(f.destination, s.now_ns);
       ++st.counters.lost_retry_limit;
-      TraceDrop(s, station, DropReason::kRetryLimit, f.destination, f.sequence_number,
+      TraceDrop(s, station, DropReason::kRetryLimit, f.destination, SequenceNumberOf(f),
                 EthernetBytes(f));
       OnMpduDiscarded(s, station, f);
       af.cw = s.phy.edca[ac].cw_min;
@@ -465,10 +482,11 @@ void OnContinueTxop(State& s, int station, int ac) {
   st.exchange_ac = ac;
   DropExpired(s, station, ac, true);
   const TimeNs remaining_ns = RemainingTxopNs(s, af, ac);
+  // A BlockAckReq owed goes first if it fits (ns-3's StartFrameExchange, SendMpduFromBaManager).
+  if (PrepareBlockAckExchange(s, station, ac, remaining_ns)) return;
   if (af.has_current) {
     // The next frame goes if its exchange fits in what is left (ns-3's TryAddMpdu: PPDU
     // duration <= remaining - protection - SIFS - ACK).
-    if (PrepareBlockAckExchange(s, station, ac)) return;
     QueuedFrame& f = af.current;
     ChooseFrameRates(s, station);
     TimeNs needed_ns = DataDurationNs(s, f);

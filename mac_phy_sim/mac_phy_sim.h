@@ -367,8 +367,13 @@ struct DropRecord {
   StationId station = 0;
   DropReason reason = DropReason::kQueueFull;
   MacAddress destination;
+  // The frame's 802.11 sequence number if it was given one: a unicast frame gets it when it
+  // goes into service, or with radio.aggregation when it is first sent (ns-3's QosTxop numbers
+  // an MPDU at its first transmission). A frame dropped before has none: has_sequence_number
+  // false, sequence_number 0.
   uint16_t sequence_number = 0;
   size_t ethernet_bytes = 0;
+  bool has_sequence_number = false;
 };
 
 // Either a transmission or a drop; exactly one of the two is set.

@@ -88,6 +88,9 @@ struct QueuedFrame {
   uint16_t sequence_number = 0;
   TimeNs enqueued_ns = 0;         // For queue_max_delay_ns.
   bool data_sent_before = false;  // Sets the Retry bit.
+  // Sent and not yet reported lost: in ns-3's BlockAckManager in-flight list, which a missed
+  // BlockAck keeps and a BlockAck or missed ACK that reports it lost leaves (TO_RETRANSMIT).
+  bool in_flight = false;
   bool use_rts = false;
   const RateEntry* rate = nullptr;      // DATA rate of the current attempt (rate_control.cc).
   const RateEntry* rts_rate = nullptr;  // Times the CTS answering the current attempt's RTS.
@@ -369,8 +372,11 @@ void ExchangeSucceeded(State& s, int station, bool current_done = true);
 // A response (`kind`) to send a SIFS from now to `ra`, answering a frame at rate `answered`.
 void ScheduleResponse(State& s, int station, FrameKind kind, const MacAddress& ra,
                       uint16_t duration_us, const RateEntry* answered = nullptr, double snr = 0);
+// A drop in the trace; `sequence_number` empty for a frame never given one.
 void TraceDrop(State& s, int station, DropReason reason, const MacAddress& destination,
-               uint16_t sequence_number, size_t bytes);
+               std::optional<uint16_t> sequence_number, size_t bytes);
+// The sequence number of `f`, if it was given one.
+std::optional<uint16_t> SequenceNumberOf(const QueuedFrame& f);
 // Removes the frames of `ac` that waited longer than queue_max_delay_ns (ns-3's
 // WifiMacQueue::WipeAllExpiredMpdus), the one in service too if `include_current`.
 void DropExpired(State& s, int station, int ac, bool include_current);
@@ -378,8 +384,9 @@ void DropExpired(State& s, int station, int ac, bool include_current);
 // ---- ampdu_exchange.cc
 // Before the frame in service of `ac`: a BlockAckReq owed by one of its agreements (true:
 // sent), or an ADDBA Request put in service ahead of the frame (false: send the frame in
-// service, now the Request).
-bool PrepareBlockAckExchange(State& s, int station, int ac);
+// service, now the Request). `available_ns`: what is left of the TXOP when the exchange does
+// not start it, which the BlockAckReq's exchange must fit in; -1: no limit.
+bool PrepareBlockAckExchange(State& s, int station, int ac, TimeNs available_ns = -1);
 // A BlockAckReq is owed by an agreement of `ac`: the category contends even with no frame.
 bool HasBlockAckReqToSend(State& s, int station, int ac);
 // The frame in service goes with others for the same receiver and TID as an A-MPDU, if it is
@@ -394,7 +401,8 @@ void OnMpduDiscarded(State& s, int station, const QueuedFrame& f);
 // A frame arrives at a full queue of `ac`: ns-3 3.37's WifiMacQueue::Insert wipes every expired
 // MPDU, in-flight ones (an exchange under way) included; each of those owes a BlockAckReq
 // (NotifyDiscardedMpdu), which goes after the exchange.
-void ExpireInFlight(State& s, int station, int ac);
+// Returns how many expired: the room they make in the queue.
+size_t ExpireInFlight(State& s, int station, int ac);
 // The ACK of an action frame came (ns-3's NotifyReceivedNormalAck): an ADDBA Request's starts
 // the 1 ms wait for the Response.
 void OnActionAcked(State& s, int station, const QueuedFrame& f);

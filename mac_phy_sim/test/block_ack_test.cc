@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 #include <vector>
 
 #include "mac_phy_sim/block_ack.h"
@@ -253,6 +255,88 @@ TEST(BlockAckTest, AnExpiredMpduMovesTheRecipientsWindowAndNoneIsLeftBehind) {
   }
 }
 
+// The queue's limits with aggregation on, against ns-3 3.37's WifiMacQueue (MaxSize with
+// DropPolicy DROP_NEWEST, MaxDelay) and QosTxop (an MPDU gets its sequence number when first
+// sent). A sender offers a lossy link four times what it carries, into a 30-frame queue whose
+// frames live 10 ms; then the queue drains. Every frame is delivered once, in order, or dropped
+// once: a frame arriving at the full queue is the one dropped, before it was ever numbered; no
+// MPDU goes on the air after its lifetime ended; a frame given up after it was sent is dropped
+// under the number it was sent with, one never sent under none.
+TEST(BlockAckTest, AFullQueueDropsTheNewestAndExpiredMpdusGoUnsentUnderTheirNumbers) {
+  MediumConfig config = Ht(7);
+  config.queue_limit_frames = 30;
+  config.queue_max_delay_ns = 10 * kNsPerMs;
+  Medium medium(config);
+  medium.EnableTrace(true);
+  medium.AddStation(kA, {0, 0, 0});
+  medium.AddStation(kB, {kLossyDistanceM, 0, 0});
+  constexpr TimeNs kEveryNs = 100 * kNsPerUs;  // 120 Mb/s offered.
+  constexpr int kFrames = 1000;
+  std::vector<TimeNs> submitted_ns;
+  for (int i = 0; i < kFrames; ++i) {
+    submitted_ns.push_back(i * kEveryNs);
+    medium.SubmitFrame(0, NumberedFrame(i), submitted_ns.back());
+  }
+  std::vector<Delivery> deliveries;
+  medium.AdvanceTo(kFrames * kEveryNs + 100 * kNsPerMs, &deliveries);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  auto index_of = [](const std::vector<uint8_t>& frame) {
+    return frame[kIndexByte] << 8 | frame[kIndexByte + 1];
+  };
+  std::vector<int> sequence_of(kFrames, -1);  // Given at the first transmission, kept.
+  std::vector<int> sent(kFrames, 0);
+  std::vector<bool> sequence_sent(4096, false);
+  int full = 0, expired = 0, expired_after_sending = 0, data_drops = 0;
+  for (const TraceEvent& e : trace) {
+    if (e.tx && e.tx->kind == FrameKind::kData && e.tx->source == 0) {
+      const int i = index_of(*e.tx->ethernet_frame);
+      EXPECT_LT(e.tx->start_ns, submitted_ns[i] + config.queue_max_delay_ns) << i;
+      if (sequence_of[i] < 0) sequence_of[i] = e.tx->sequence_number;
+      EXPECT_EQ(e.tx->sequence_number, sequence_of[i]) << i;
+      ++sent[i];
+      sequence_sent[e.tx->sequence_number] = true;
+    }
+    if (!e.drop || e.drop->ethernet_bytes == 0) continue;  // Action frames carry none.
+    ++data_drops;
+    const DropRecord& d = *e.drop;
+    if (d.reason == DropReason::kQueueFull) {
+      ++full;
+      // DROP_NEWEST: the frame arriving now, never sent.
+      EXPECT_EQ(d.time_ns % kEveryNs, 0) << d.time_ns;
+      EXPECT_FALSE(d.has_sequence_number) << d.time_ns;
+    } else {
+      EXPECT_EQ(d.reason, DropReason::kQueueExpired);
+      ++expired;
+      // Dropped under the number it went on the air with, if it did.
+      if (d.has_sequence_number) {
+        ++expired_after_sending;
+        EXPECT_TRUE(sequence_sent[d.sequence_number]) << d.sequence_number;
+      }
+    }
+  }
+  EXPECT_GT(full, 50);
+  EXPECT_GT(expired, 10);
+  EXPECT_GT(expired_after_sending, 5);
+  // Frames with a number are those sent: delivered, or dropped after sending.
+  int numbered = 0;
+  for (int i = 0; i < kFrames; ++i) numbered += sent[i] > 0;
+  const int drops_with_number = [&] {
+    int n = 0;
+    for (const TraceEvent& e : trace) {
+      n += e.drop && e.drop->ethernet_bytes > 0 && e.drop->has_sequence_number;
+    }
+    return n;
+  }();
+  EXPECT_EQ(static_cast<size_t>(numbered), deliveries.size() + drops_with_number);
+  EXPECT_EQ(deliveries.size() + data_drops, static_cast<size_t>(kFrames));
+  int last = -1;
+  for (const Delivery& d : deliveries) {
+    EXPECT_GT(index_of(d.ethernet_frame), last);
+    last = index_of(d.ethernet_frame);
+  }
+}
+
 // Two stations 1 m apart, A and B, with the trace on.
 Medium TracedPair(const MediumConfig& config) {
   Medium medium(config);
@@ -350,6 +434,66 @@ TEST(BlockAckTest, MpdusExpiringInFlightBringABlockAckReqASifsAfterTheBlockAck) 
     }
   }
   EXPECT_GT(bars_after_block_ack, 5);
+}
+
+// ns-3 3.37's WifiMacQueue::Insert at a full queue extracts every expired MPDU, in-flight ones
+// too, before it decides: they leave the queue at once, so the arriving frame finds room. HT
+// MCS 0, a 4-frame queue whose frames live 3 ms: two frames at 0 go as one A-MPDU (about 3.8
+// ms, after the agreement); two more at 1 ms fill the queue; at 3.5 ms the A-MPDU is still on
+// the air, its MPDUs expired at 3 ms, and a fifth frame arrives. It is queued, not dropped.
+TEST(BlockAckTest, MpdusExpiredInFlightMakeRoomForAnArrivingFrame) {
+  MediumConfig config = Ht(0);
+  config.queue_limit_frames = 4;
+  config.queue_max_delay_ns = 3 * kNsPerMs;
+  Medium medium = TracedPair(config);
+  for (TimeNs t : {TimeNs{0}, TimeNs{0}, kNsPerMs, kNsPerMs}) {
+    medium.SubmitFrame(0, MakeEthernetFrame(kB, kA, 1500), t);
+  }
+  constexpr TimeNs kArrivalNs = 3500 * kNsPerUs;
+  medium.SubmitFrame(0, MakeEthernetFrame(kB, kA, 1500), kArrivalNs);
+  medium.AdvanceTo(20 * kNsPerMs, nullptr);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  bool ampdu_on_air = false;
+  for (const TraceEvent& e : trace) {
+    if (e.tx && e.tx->ampdu_reference && e.tx->start_ns < kArrivalNs &&
+        e.tx->end_ns > kArrivalNs) {
+      ampdu_on_air = true;
+    }
+    if (e.drop) EXPECT_NE(e.drop->reason, DropReason::kQueueFull) << e.drop->time_ns;
+  }
+  EXPECT_TRUE(ampdu_on_air);
+  EXPECT_EQ(medium.counters(0).queue_drops, medium.counters(0).queue_expired);
+}
+
+// The frame in service is in ns-3's queue too (it leaves only when acknowledged or dropped),
+// so WifiMacQueue::Insert at a full queue removes it when its lifetime ended, exchange or not.
+// A waits while B's 2 ms broadcast is on the air; a 2-frame queue whose frames live 1 ms holds
+// A's frame in service (queued at 0.1 ms, expired at 1.1) and one queued at 0.5 ms. A frame
+// arriving at 1.2 ms takes the expired one's place.
+TEST(BlockAckTest, AnExpiredFrameInServiceMakesRoomForAnArrivingFrame) {
+  MediumConfig config = Ht(7);
+  config.queue_limit_frames = 2;
+  config.queue_max_delay_ns = kNsPerMs;
+  Medium medium = TracedPair(config);
+  medium.SubmitFrame(1, MakeEthernetFrame(MacAddress{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}}, kB, 1500),
+                     0);
+  constexpr TimeNs kArrivalNs = 1200 * kNsPerUs;
+  for (TimeNs t : {100 * kNsPerUs, 500 * kNsPerUs, kArrivalNs}) {
+    medium.SubmitFrame(0, MakeEthernetFrame(kB, kA, 1500), t);
+  }
+  medium.AdvanceTo(kArrivalNs, nullptr);
+  std::vector<TraceEvent> trace;
+  medium.DrainTrace(&trace);
+  int expired = 0;
+  for (const TraceEvent& e : trace) {
+    ASSERT_FALSE(e.tx && e.tx->source == 0) << "A may not have sent yet";
+    if (!e.drop) continue;
+    EXPECT_EQ(e.drop->reason, DropReason::kQueueExpired);
+    EXPECT_EQ(e.drop->time_ns, kArrivalNs);
+    expired += 1;
+  }
+  EXPECT_EQ(expired, 1);
 }
 
 // A sender under an agreement never sits idle while it holds frames. Issue #44 saw a realtime
@@ -486,6 +630,216 @@ TEST_F(RecipientTest, ABlockAckReqWithoutAgreementGetsNoBlockAck) {
   CreateRecipientAgreement(state_, 1, 0, 0, 0);
   OnFrameReceived(state_, 1, bar, entry);
   EXPECT_TRUE(state_.stations[1].response_pending);
+}
+
+
+// ns-3 3.37's FillBlockAckBitmap (10.24.7.5): a BlockAck's starting sequence number is the
+// scoreboard's WinStartR and its bitmap every MPDU received from there, delivered or not. An
+// A-MPDU received whole is thus acknowledged from its first MPDU with one bit per MPDU, not
+// from the next sequence number with an empty bitmap (which Wireshark reads as 64 missing).
+TEST(BlockAckTest, ABlockAckStartsAtTheScoreboardAndListsWhatArrived) {
+  const std::vector<TxRecord> txs = RunPair(Ht(7), 300, 1, 60 * kNsPerMs);
+  int checked = 0;
+  for (size_t i = 0; i < txs.size(); ++i) {
+    if (txs[i].kind != FrameKind::kBlockAck) continue;
+    // The A-MPDU it answers: the MPDUs just before it.
+    size_t first = i;
+    while (first > 0 && txs[first - 1].kind == FrameKind::kData &&
+           txs[first - 1].ampdu_reference == txs[i - 1].ampdu_reference) {
+      --first;
+    }
+    ASSERT_LT(first, i);
+    const int n = static_cast<int>(i - first);
+    for (size_t k = first; k < i; ++k) {
+      ASSERT_EQ(txs[k].receptions[0].outcome, RxOutcome::kReceived);  // 1 m: no loss.
+    }
+    if (checked == 0) {
+      // The first A-MPDU: the window and the scoreboard start at its first MPDU.
+      EXPECT_EQ(txs[i].ba_starting_sequence, txs[first].sequence_number);
+      EXPECT_EQ(txs[i].ba_bitmap, n == 64 ? ~uint64_t{0} : (uint64_t{1} << n) - 1);
+    }
+    // Every MPDU of the A-MPDU is inside the bitmap, its bit set.
+    for (size_t k = first; k < i; ++k) {
+      const int d = (txs[k].sequence_number - txs[i].ba_starting_sequence) & 0x0fff;
+      ASSERT_LT(d, kBlockAckWindow);
+      EXPECT_TRUE((txs[i].ba_bitmap >> d) & 1) << txs[k].sequence_number;
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 5);
+}
+
+// The scoreboard's rules (10.24.7.3; ns-3's NotifyReceivedMpdu, NotifyReceivedBar): an MPDU
+// within it sets its bit; one past its end moves it so that it ends there; a BlockAckReq moves
+// its start to the SSN, keeping the bits beyond.
+TEST_F(RecipientTest, TheScoreboardMovesOnlyPastItsEndOrOnABlockAckReq) {
+  const Bytes frame = std::make_shared<const std::vector<uint8_t>>(MakeEthernetFrame(kB, kA, 100));
+  BaRecipient& agreement = CreateRecipientAgreement(state_, 1, 0, 0, 10);
+  for (uint16_t sn : {10, 11, 13}) ReceiveUnderAgreement(state_, 1, agreement, sn, frame, -50, 100);
+  EXPECT_EQ(agreement.scoreboard_start, 10);
+  EXPECT_EQ(agreement.scoreboard, 0b1011u);
+  EXPECT_EQ(deliveries_.size(), 2u);  // 10 and 11; 13 waits for 12.
+  ReceiveBlockAckReq(state_, 1, agreement, 12);
+  EXPECT_EQ(agreement.scoreboard_start, 12);
+  EXPECT_EQ(agreement.scoreboard, 0b10u);
+  ReceiveUnderAgreement(state_, 1, agreement, 12 + 64, frame, -50, 100);
+  EXPECT_EQ(agreement.scoreboard_start, 13);
+  EXPECT_EQ(agreement.scoreboard, (uint64_t{1} << 63) | 1);
+}
+
+// A station of three with a rate manager that gives each receiver its own MCS, sending the
+// frame in service to B while a BlockAckReq for C is owed; on the medium's state directly.
+class BlockAckReqTest : public ::testing::Test {
+ protected:
+  // ns-3's GetDataTxVector per receiver: HT MCS 7 for B, MCS 0 for C.
+  class PerReceiverRates final : public RateManager {
+   public:
+    PerReceiverRates(const RateEntry* to_b, const RateEntry* to_c) : to_b_(to_b), to_c_(to_c) {}
+    TxRates Choose(const MacAddress& destination, TimeNs /*now_ns*/) override {
+      const RateEntry* r = destination == kC ? to_c_ : to_b_;
+      return TxRates{r, r, &r->control};
+    }
+
+   private:
+    const RateEntry* to_b_;
+    const RateEntry* to_c_;
+  };
+
+  BlockAckReqTest() : state_(config_, DerivePhyInfo(config_)) {
+    const RateEntry& mcs7 = RateFor(state_, McsModeFor(config_.standard, 7, 1, 20, false));
+    const RateEntry& mcs0 = RateFor(state_, McsModeFor(config_.standard, 0, 1, 20, false));
+    const MacAddress macs[] = {kA, kB, kC};
+    for (int i = 0; i < 3; ++i) {
+      StationState& st = state_.stations.emplace_back();
+      st.mac = macs[i];
+      st.tx_power_dbm = config_.tx_power_dbm;
+      st.tx_power_mw = std::pow(10.0, config_.tx_power_dbm / 10);
+      st.rate = &mcs7;
+      st.rate_manager = std::make_unique<PerReceiverRates>(&mcs7, &mcs0);
+      for (int ac = 0; ac < kAccessCategoryCount; ++ac) st.acs[ac].cw = state_.phy.edca[ac].cw_min;
+      state_.channel.AddStation({static_cast<double>(i), 0, 0});
+    }
+  }
+
+  // An established agreement of A with `recipient` for TID `tid`, owing a BlockAckReq.
+  void OweBlockAckReq(const MacAddress& recipient, int tid) {
+    if (EstablishedAgreement(state_, 0, recipient, tid) == nullptr) {
+      OnAddbaRequestSent(state_, 0, recipient, tid);
+      OnAddbaResponse(state_, 0, recipient, tid);
+    }
+    EstablishedAgreement(state_, 0, recipient, tid)->bar_pending = true;
+  }
+
+  // A frame for `to` of user priority `tid` in service at A.
+  void FrameInService(const MacAddress& to, int tid) {
+    AccessFunction& af = state_.stations[0].acs[AccessFunctionFor(state_, tid)];
+    af.current = QueuedFrame{};
+    af.current.destination = to;
+    af.current.tid = static_cast<uint8_t>(tid);
+    af.current.enqueued_ns = state_.now_ns;
+    af.current.ethernet =
+        std::make_shared<const std::vector<uint8_t>>(MakeEthernetFrame(to, kA, 1500));
+    af.has_current = true;
+  }
+
+  // What A has on the air, or null.
+  const Transmission* OnAir() const {
+    const int id = state_.stations[0].transmitting_tx;
+    return id < 0 ? nullptr : &state_.transmissions[static_cast<size_t>(id)];
+  }
+
+  MediumConfig config_ = Ht(7);
+  Medium::State state_;
+};
+
+// ns-3 3.37's SendMpduFromBaManager: the BlockAckReq goes at the BlockAck's TXVECTOR for the
+// rate manager's data rate to its own recipient (GetDataTxVector, GetBlockAckTxVector): MCS 0's
+// control answer rate, 6 Mb/s, for C, whatever the frame in service (for B, MCS 7: 24 Mb/s) and
+// also with none in service.
+TEST_F(BlockAckReqTest, ABlockAckReqGoesAtTheControlRateOfItsRecipientsDataRate) {
+  const int be = static_cast<int>(AccessCategory::kBestEffort);
+  OweBlockAckReq(kC, 0);
+  FrameInService(kB, 0);
+  OnBlockAckReqDue(state_, 0, be);
+  const Transmission* bar = OnAir();
+  ASSERT_NE(bar, nullptr);
+  EXPECT_EQ(bar->kind, FrameKind::kBlockAckReq);
+  EXPECT_EQ(bar->ra, kC);
+  EXPECT_EQ(bar->mode->mode.rate_mbps, 6);
+}
+
+TEST_F(BlockAckReqTest, ABlockAckReqWithNothingInServiceGoesAtItsRecipientsRateToo) {
+  const int be = static_cast<int>(AccessCategory::kBestEffort);
+  OweBlockAckReq(kC, 0);
+  OnBlockAckReqDue(state_, 0, be);
+  const Transmission* bar = OnAir();
+  ASSERT_NE(bar, nullptr);
+  EXPECT_EQ(bar->kind, FrameKind::kBlockAckReq);
+  EXPECT_EQ(bar->mode->mode.rate_mbps, 6);
+}
+
+// ns-3 3.37's SendMpduFromBaManager: past a TXOP's initial frame a BlockAckReq goes only if it,
+// a SIFS and its BlockAck fit in what is left of the TXOP. For B at MCS 7 both go at 24 Mb/s:
+// the BlockAckReq (24 B) 20 + 4 x ceil((16 + 192 + 6) / 96) = 32 us, the BlockAck (32 B)
+// 20 + 4 x ceil((16 + 256 + 6) / 96) = 32 us: 80 us with the SIFS. VI holds a TXOP.
+TEST_F(BlockAckReqTest, ABlockAckReqContinuingATxopMustFitInWhatIsLeft) {
+  const int tid = 5;  // VI.
+  const int vi = AccessFunctionFor(state_, tid);
+  ASSERT_GT(state_.phy.edca[vi].txop_limit_ns, 0);
+  auto run = [&](TimeNs left_ns) {
+    Medium::State& s = state_;
+    s.stations[0].transmitting_tx = -1;
+    s.stations[0].exchange = Exchange::kIdle;
+    s.now_ns += kNsPerS;
+    OweBlockAckReq(kB, tid);
+    FrameInService(kB, tid);
+    s.stations[0].acs[vi].txop_start_ns = s.now_ns + left_ns - s.phy.edca[vi].txop_limit_ns;
+    OnContinueTxop(s, 0, vi);
+    const Transmission* tx = OnAir();
+    return tx != nullptr && tx->kind == FrameKind::kBlockAckReq;
+  };
+  EXPECT_TRUE(run(80 * kNsPerUs));
+  EXPECT_FALSE(run(79 * kNsPerUs));
+}
+
+
+// ns-3 3.37's MissedBlockAck after a BlockAckReq: with an MPDU still in flight
+// (NeedBarRetransmission) the same BlockAckReq goes again, Retry bit set, and CW doubles; with
+// none in flight (a BlockAck already reported the MPDUs lost, they wait for retransmission)
+// the failure is final: CW resets and a new BlockAckReq goes only with data queued. Here A's
+// frame for B was sent before; a BlockAckReq for B goes and its BlockAck is missed.
+TEST_F(BlockAckReqTest, AMissedBlockAckAfterABlockAckReqResetsCwUnlessAnMpduIsInFlight) {
+  const int be = static_cast<int>(AccessCategory::kBestEffort);
+  const int cw_min = state_.phy.edca[be].cw_min;
+  auto run = [&](bool in_flight) {
+    Medium::State& s = state_;
+    s.stations[0].transmitting_tx = -1;
+    s.stations[0].exchange = Exchange::kIdle;
+    s.now_ns += kNsPerS;
+    OweBlockAckReq(kB, 0);
+    EstablishedAgreement(s, 0, kB, 0)->bar_retry = false;  // A fresh one.
+    FrameInService(kB, 0);
+    AccessFunction& af = s.stations[0].acs[be];
+    AssignSequence(s, 0, af.current);
+    af.current.data_sent_before = true;
+    af.current.in_flight = in_flight;
+    af.cw = 4 * cw_min + 3;
+    OnBlockAckReqDue(s, 0, be);
+    EXPECT_FALSE(OnAir()->retry);  // The first BlockAckReq.
+    BlockAckMissed(s, 0);
+    const BaOriginator& a = *EstablishedAgreement(s, 0, kB, 0);
+    EXPECT_TRUE(a.bar_pending);
+    // The next BlockAckReq: Retry set if it repeats the last.
+    s.stations[0].transmitting_tx = -1;
+    s.stations[0].exchange = Exchange::kIdle;
+    const int cw = af.cw;
+    OnBlockAckReqDue(s, 0, be);
+    EXPECT_EQ(OnAir()->kind, FrameKind::kBlockAckReq);
+    EXPECT_EQ(OnAir()->retry, in_flight);
+    return cw;
+  };
+  EXPECT_EQ(run(true), 2 * (4 * cw_min + 3) + 1);
+  EXPECT_EQ(run(false), cw_min);
 }
 
 }  // namespace
