@@ -26,10 +26,6 @@ namespace {
 // RK4's stages stay within about dt * |v| + dt^2 * |a| of the step's start.
 constexpr double kStepTravel_m = 1.0;
 
-// Robot-steps (one robot, one physics step: about 4 µs with RK4, 1.1 µs with Euler) below which
-// World::Advance steps on the calling thread alone (docs/performance.md).
-constexpr int64_t kMinRobotStepsToSplit = 8;
-
 // A compiled model: the ground, some obstacles, and one quad of an airframe.
 struct CompiledModel {
   ModelPtr model;
@@ -229,16 +225,10 @@ struct World::Impl {
   // to back on one core (its mjData stays in that core's cache); no synchronization between
   // steps.
   void StepInChunks(size_t n, const RobotSteps* listed, int steps) {
-    int64_t robot_steps = static_cast<int64_t>(n) * steps;
-    if (listed) {
-      robot_steps = 0;
-      for (size_t i = 0; i < n; ++i) robot_steps += listed[i].steps;
-    }
-    // Less work than a hand-off to the worker costs (a futex wake and a context switch, several
-    // µs) runs on the caller: an autopilot's answer often readies one robot, or two, for a step.
-    const int chunks = robot_steps < kMinRobotStepsToSplit
-                           ? std::min<int>(static_cast<int>(n), 1)
-                           : std::min(static_cast<int>(n), pool.threads());
+    // Two robots of a step each are split too: on the critical path of cheap autopilots the
+    // second core pays (measured against stepping fewer than 8 robot-steps on the caller alone:
+    // docs/performance.md, "The critical path of one iteration").
+    const int chunks = std::min(static_cast<int>(n), pool.threads());
     // The task captures one pointer, so the std::function holds it without allocating (an
     // autopilot fleet advances 250-1000 times a virtual second, robot by robot).
     struct Job {
