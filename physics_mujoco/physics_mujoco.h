@@ -102,6 +102,12 @@ struct WorldOptions {
   std::vector<int> robots = {};
 };
 
+// Physics steps for one robot (World::Advance of some robots).
+struct RobotSteps {
+  int robot = 0;  // Global index.
+  int steps = 0;  // >= 0.
+};
+
 // The MuJoCo world of a scenario. Not thread-safe: one caller at a time.
 class World {
  public:
@@ -119,7 +125,8 @@ class World {
   const std::vector<int>& robots() const;
   bool simulates(int robot) const;
   TimeNs step_ns() const;
-  // The world's virtual time: every robot's (one clock, kept by resets).
+  // The world's virtual time: every robot's (one clock, kept by resets). Robots advanced
+  // apart (Advance of some robots) each have their own until brought level: then the first's.
   TimeNs now_ns() const;
   // Virtual time of a robot (steps taken x step_ns).
   TimeNs time_ns(int robot) const;
@@ -127,6 +134,10 @@ class World {
 
   // Advances every robot by `steps` physics steps: one clock for the whole world.
   void Advance(int steps);
+  // Advances each listed robot by its own steps; the others stand. A robot's flight does not
+  // depend on how its steps are split into calls, nor on the other robots (tested bit for
+  // bit). Listed robots are split over the threads; each robot at most once.
+  void Advance(const std::vector<RobotSteps>& robots);
 
   // Target rotor speeds, reached through the first-order motor lag. Clamped to
   // [0, max_rotor_speed_rad_s].
@@ -226,9 +237,10 @@ struct ServerOptions {
   std::function<void(const std::function<void()>&)> make_sockets;
 
   // How the clock waits for autopilots (ArduPilot, PX4), fixed for the server's life; at most
-  // one of the two. The frame gate (lockstep pacing; docs/protocols.md): Advance() waits up to
-  // this much wall time for every autopilot that has joined (and is not dropped) to answer its
-  // last message. 0: the clock never waits for them.
+  // one of the two. The frame gate (lockstep pacing; docs/protocols.md): in Advance() a robot
+  // whose autopilot has joined (and is not dropped) steps on only once it answered its last
+  // message, waiting up to this much wall time; the other robots do not wait for it (each robot
+  // steps as its own autopilot answers). 0: the clock never waits for them.
   TimeNs frame_gate_timeout_ns = 0;
   // Realtime pacing (docs/autopilots.md, "ArduPilot in sitlnet's clock"): with a timebase (not
   // owned, on CLOCK_MONOTONIC, begun before the first Advance), Advance() sends what an
@@ -270,8 +282,9 @@ class PhysicsServer {
   // Poll(), then advances the world by `steps`, sending each subscribed robot its RobotState at
   // its state rate, each ArduPilot robot the reply to its frame when the clock reaches the
   // frame's end, each connected PX4 robot its sensor messages every sensor period, and cutting
-  // motors of robots silent past their timeout. With the frame gate on, the clock does not pass
-  // an autopilot's last reply or HIL_SENSOR before its answer arrived.
+  // motors of robots silent past their timeout. With the frame gate on, a robot's clock does not
+  // pass its autopilot's last reply or HIL_SENSOR before the answer arrived; robots step apart
+  // within the call, as their own autopilots answer, and are level again when it returns.
   void Advance(int steps);
 
   // True if some robot has an ArduPilot JSON endpoint or a PX4 simulator link.

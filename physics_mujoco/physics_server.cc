@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -40,6 +41,11 @@ struct PhysicsServer::Impl {
   std::map<std::pair<RobotLink*, int>, WatchedFd> watched_fds;
   static constexpr int kEventBatch = 64;
   epoll_event events[kEventBatch];  // epoll's answers, reused (Poll and WaitAndPoll).
+  // AdvanceRobotByRobot's buffers, reused: the robots to step now and their places in
+  // world.robots(), and since when each robot may have been held.
+  std::vector<RobotSteps> ready;
+  std::vector<size_t> ready_slots;
+  std::vector<TimeNs> held_since_ns;
 
   Impl(const Scenario& s, const ServerOptions& options)
       : world(s, options.world),
@@ -104,21 +110,91 @@ struct PhysicsServer::Impl {
     }
   }
 
-  // The frame gate (lockstep pacing): before the clock moves on, every autopilot that has
-  // joined (and is not dropped) must have answered its last message (RobotLink::Awaited). Waits
-  // up to frame_gate_timeout_ns of wall time; autopilots still silent then are recorded for the
-  // caller's policy and not waited for again until they answer.
-  void WaitForAutopilots() {
-    const auto awaited = [](const std::unique_ptr<RobotLink>& link) { return link->Awaited(); };
-    if (AwaitAnswers(MonotonicNowNs() + frame_gate_timeout_ns, awaited)) return;
-    // An answer that arrived while this thread waited for a CPU (a busy host) is in its socket,
-    // unread: AwaitAnswers looks at the clock before it reads. Taken before anyone is named.
-    Poll();
-    for (const std::unique_ptr<RobotLink>& link : links) {
-      if (!link->Awaited()) continue;  // Answered, or reported silent before.
-      link->Mute();
-      const UnansweredMessage words = link->unanswered();
-      silent.push_back({link->kind, {link->robot, words.unanswered, words.expected}});
+  // The frame gate's silent-autopilot policy: an autopilot whose answer has not come within
+  // frame_gate_timeout_ns of wall time is recorded for the caller's policy and not waited for
+  // again until it answers (RobotLink::Mute).
+  void MuteSilent(int robot) {
+    for (size_t i = link_begin[robot]; i < link_begin[robot + 1]; ++i) {
+      RobotLink& link = *links[i];
+      if (!link.Awaited()) continue;  // Answered, or reported silent before.
+      link.Mute();
+      const UnansweredMessage words = link.unanswered();
+      silent.push_back({link.kind, {link.robot, words.unanswered, words.expected}});
+    }
+  }
+
+  // The frame gate holds the robot: one of its autopilots owes an answer (RobotLink::Awaited).
+  bool Held(int robot) const {
+    for (size_t i = link_begin[robot]; i < link_begin[robot + 1]; ++i) {
+      if (links[i]->Awaited()) return true;
+    }
+    return false;
+  }
+
+  // Lockstep with autopilots (the frame gate): each robot steps as soon as its own autopilots
+  // have answered, to the next step one of its links is due (or the iteration's end), and is
+  // served there; no robot waits for another's autopilot (docs/physics.md, "Stepping an
+  // iteration"). A robot's flight and messages depend only on its own links: the same bytes
+  // as a barrier at every step would give. Robots ready together are stepped together, over
+  // the step pool. The iteration ends when every robot has reached `steps`; what a paced link
+  // is due there leaves at the next Advance's start.
+  void AdvanceRobotByRobot(int steps) {
+    const std::vector<int>& robots = world.robots();
+    if (robots.empty()) return;
+    const int64_t end = world.steps(robots.front()) + steps;
+    // Per robot (in world order): since when the frame gate may have held it (its last serve or
+    // step); an autopilot still silent frame_gate_timeout_ns later is muted and reported.
+    held_since_ns.assign(robots.size(), MonotonicNowNs());
+    for (;;) {
+      ready.clear();
+      TimeNs first_timeout_ns = std::numeric_limits<TimeNs>::max();
+      bool stepping = false;
+      for (size_t k = 0; k < robots.size(); ++k) {
+        const int robot = robots[k];
+        const int64_t left = end - world.steps(robot);
+        if (left == 0) continue;
+        stepping = true;
+        if (Held(robot)) {
+          first_timeout_ns = std::min(first_timeout_ns, held_since_ns[k] + frame_gate_timeout_ns);
+          continue;
+        }
+        int chunk = static_cast<int>(left);
+        for (size_t i = link_begin[robot]; i < link_begin[robot + 1]; ++i) {
+          chunk = std::min(chunk, links[i]->StepsUntilDue());
+        }
+        ready.push_back({robot, chunk});
+        ready_slots.push_back(k);
+      }
+      if (!stepping) break;
+      if (!ready.empty()) {
+        world.Advance(ready);
+        const TimeNs now_ns = MonotonicNowNs();
+        for (size_t j = 0; j < ready.size(); ++j) {
+          const int robot = ready[j].robot;
+          const bool at_end = world.steps(robot) == end;
+          for (size_t i = link_begin[robot]; i < link_begin[robot + 1]; ++i) {
+            if (!at_end || !links[i]->paced()) links[i]->Serve();
+          }
+          held_since_ns[ready_slots[j]] = now_ns;
+        }
+        ready_slots.clear();
+        continue;
+      }
+      // Every robot still stepping waits for an answer.
+      const TimeNs left_ns = first_timeout_ns - MonotonicNowNs();
+      if (left_ns > 0) {
+        WaitAndPoll(left_ns);
+        continue;
+      }
+      // An answer that arrived while this thread waited for a CPU (a busy host) is in its
+      // socket, unread: the clock was read before. Taken before anyone is named.
+      Poll();
+      const TimeNs now_ns = MonotonicNowNs();
+      for (size_t k = 0; k < robots.size(); ++k) {
+        if (world.steps(robots[k]) != end && held_since_ns[k] + frame_gate_timeout_ns <= now_ns) {
+          MuteSilent(robots[k]);
+        }
+      }
     }
   }
 
@@ -182,11 +258,15 @@ struct PhysicsServer::Impl {
     for (const std::unique_ptr<RobotLink>& link : links) {
       if (link->paced()) link->Serve();
     }
+    if (frame_gate_timeout_ns > 0 && has_autopilots) {
+      AdvanceRobotByRobot(steps);
+      return;
+    }
+    // One clock for every robot: chunks end where some link is due (realtime, no frame gate,
+    // or no autopilot).
     for (int remaining = steps; remaining > 0;) {
       int chunk = remaining;
-      if (frame_gate_timeout_ns > 0) {
-        WaitForAutopilots();
-      } else if (realtime != nullptr && world.robot_count() > 0 && !AwaitAnswersOnWallClock()) {
+      if (realtime != nullptr && world.robot_count() > 0 && !AwaitAnswersOnWallClock()) {
         chunk = 1;  // Not answered yet: the world follows the wall clock a step at a time.
       }
       for (const std::unique_ptr<RobotLink>& link : links) {
@@ -194,11 +274,8 @@ struct PhysicsServer::Impl {
       }
       world.Advance(chunk);
       remaining -= chunk;
-      const bool defer_autopilots = remaining == 0 && frame_gate_timeout_ns > 0;
-      if (!defer_autopilots) HoldForWallClock();
-      for (const std::unique_ptr<RobotLink>& link : links) {
-        if (!defer_autopilots || !link->paced()) link->Serve();
-      }
+      HoldForWallClock();
+      for (const std::unique_ptr<RobotLink>& link : links) link->Serve();
     }
   }
 };
@@ -276,9 +353,11 @@ std::optional<Px4Counters> PhysicsServer::px4_counters(int robot) const {
   return counters;
 }
 std::vector<SilentAutopilot> PhysicsServer::TakeSilentAutopilots() {
-  // Grouped by protocol (the caller names the robots of one protocol in one message).
-  std::stable_sort(impl_->silent.begin(), impl_->silent.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  // Grouped by protocol (the caller names the robots of one protocol in one message), robots
+  // in order (each robot's timeout runs on its own: several may fall silent in one call).
+  std::stable_sort(impl_->silent.begin(), impl_->silent.end(), [](const auto& a, const auto& b) {
+    return std::pair(a.first, a.second.robot) < std::pair(b.first, b.second.robot);
+  });
   std::vector<SilentAutopilot> silent;
   for (auto& [kind, autopilot] : impl_->silent) silent.push_back(std::move(autopilot));
   impl_->silent.clear();

@@ -19,79 +19,20 @@
 #include <vector>
 
 #include "physics_mujoco/physics_mujoco.h"
+#include "physics_mujoco/test/json_client.h"
 #include "physics_mujoco/test/test_scenarios.h"
 
 namespace sitlnet::physics {
 namespace {
 
+using testing::Field;
 using testing::FrameGate;
+using testing::JsonClient;
 using testing::MakeScenario;
+using testing::ServoPacket16;
 using testing::TakeSilentRobots;
 using testing::TestJsonPort;
 using testing::WaitReadable;
-
-// What arducopter --model JSON:<address> would send: 40 bytes little-endian.
-std::string ServoPacket16(uint16_t frame_rate, uint32_t frame_count, uint16_t pwm_all) {
-  std::string bytes(40, '\0');
-  auto put16 = [&](int at, uint16_t v) {
-    bytes[at] = static_cast<char>(v & 0xff);
-    bytes[at + 1] = static_cast<char>(v >> 8);
-  };
-  put16(0, 18458);
-  put16(2, frame_rate);
-  for (int i = 0; i < 4; ++i) bytes[4 + i] = static_cast<char>((frame_count >> (8 * i)) & 0xff);
-  for (int ch = 0; ch < 16; ++ch) put16(8 + 2 * ch, ch < 4 ? pwm_all : 1500);
-  return bytes;
-}
-
-// Numbers after "key": in the JSON text (ArduPilot matches keys as substrings too).
-std::vector<double> Field(const std::string& json, const std::string& key) {
-  const size_t at = json.find("\"" + key + "\":");
-  if (at == std::string::npos) return {};
-  const char* p = json.c_str() + at + key.size() + 3;
-  std::vector<double> values;
-  if (*p == '[') ++p;
-  for (;;) {
-    char* end = nullptr;
-    values.push_back(std::strtod(p, &end));
-    if (*end != ',' || values.size() == 4 || end[1] == '"') break;
-    p = end + 1;
-  }
-  return values;
-}
-
-class JsonClient {
- public:
-  // From robot `from`'s ctl0 address to its server's (`to`; robot i's are 127.77.0.(4i+2) and
-  // 127.77.0.(4i+1)).
-  explicit JsonClient(const char* from, const char* to = "127.77.0.1")
-      : fd_(socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0)) {
-    sockaddr_in local{};
-    local.sin_family = AF_INET;
-    inet_pton(AF_INET, from, &local.sin_addr);
-    EXPECT_EQ(bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local), 0);
-    server_.sin_family = AF_INET;
-    server_.sin_port = htons(TestJsonPort());
-    inet_pton(AF_INET, to, &server_.sin_addr);
-  }
-  ~JsonClient() { close(fd_); }
-  void Send(const std::string& bytes) {
-    sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&server_),
-           sizeof server_);
-  }
-  // One reply, or "" after `timeout_ms`.
-  std::string Receive(int timeout_ms = 2000) {
-    if (!WaitReadable(fd_, timeout_ms)) return "";
-    char buffer[2048];
-    const ssize_t n = recv(fd_, buffer, sizeof buffer, 0);
-    return n > 0 ? std::string(buffer, n) : "";
-  }
-  int fd() const { return fd_; }
-
- private:
-  int fd_;
-  sockaddr_in server_{};
-};
 
 // Sends one packet and returns its reply, driving the server on this thread as a clock would:
 // the packet is handled, then the world advances a step at a time until the reply is out (at

@@ -2,8 +2,11 @@
 // lidar, IMU at rest, determinism.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "physics_mujoco/frames.h"
 #include "physics_mujoco/physics_mujoco.h"
@@ -285,6 +288,47 @@ TEST(WorldTest, ImuNoiseIsSeededAndDiffersPerRobot) {
   EXPECT_EQ(a1.accel_m_s2.z, a2.accel_m_s2.z);
   EXPECT_NE(a1.gyro_rad_s.x, 0);
   EXPECT_NE(a1.gyro_rad_s.x, b1.gyro_rad_s.x);
+}
+
+// PhysicsServer steps each robot as its own autopilot answers (docs/physics.md, "Stepping an
+// iteration"): robots advanced apart, each in its own chunks, fly bit for bit as robots
+// advanced together, on one thread or two.
+TEST(WorldTest, RobotsAdvancedApartFlyAsRobotsAdvancedTogether) {
+  std::string robots;
+  for (int i = 0; i < 5; ++i) {
+    robots += "robot { name: \"r" + std::to_string(i) + "\" position_m { x: " +
+              std::to_string(2 * i) + " z: 3 } }\n";
+  }
+  const Scenario scenario = MakeScenario(robots);
+  for (const int threads : {1, 2}) {
+    World together(scenario);
+    World apart(scenario, WorldOptions{Integrator::kRk4, threads});
+    for (World* world : {&together, &apart}) {
+      for (int i = 0; i < 5; ++i) world->SetRotorSpeeds(i, {900.0 + i, 1000, 1010, 995});
+    }
+    // Robot i in chunks of i + 1 steps (robot 4: 5 at a time), the robots listed in turn.
+    int64_t left[5] = {100, 100, 100, 100, 100};
+    for (bool stepping = true; stepping;) {
+      stepping = false;
+      std::vector<RobotSteps> chunk;
+      for (int i = 4; i >= 0; --i) {
+        const int steps = static_cast<int>(std::min<int64_t>(i + 1, left[i]));
+        if (steps == 0) continue;
+        chunk.push_back({i, steps});
+        left[i] -= steps;
+        stepping = true;
+      }
+      apart.Advance(chunk);
+    }
+    together.Advance(100);
+    for (int i = 0; i < 5; ++i) {
+      EXPECT_EQ(apart.steps(i), 100);
+      testing::ExpectSamePose(together.Pose(i), apart.Pose(i), "robot " + std::to_string(i));
+      const ImuSample a = together.Imu(i), b = apart.Imu(i);
+      EXPECT_EQ(a.accel_m_s2.z, b.accel_m_s2.z) << i;
+      EXPECT_EQ(a.gyro_rad_s.x, b.gyro_rad_s.x) << i;
+    }
+  }
 }
 
 TEST(WorldTest, ThreadCountDoesNotChangeResults) {
