@@ -16,6 +16,7 @@
 #include "runner/run_medium.h"
 #include "runner/run_parts.h"
 #include "runner/run_report.h"
+#include "runner/run_stages.h"
 
 namespace sitlnet::runner {
 namespace {
@@ -132,46 +133,80 @@ std::vector<RunReport::NodeLateness> RealtimeNodes(const Scenario& scenario,
   return nodes;
 }
 
+// A fleet's central host: the run's stages (runner/run_stages.h). Nothing namespaced, no image.
+class FleetCentralRun final : public RunStages {
+ public:
+  // `report` holds the run folder. `scenario` and `options` must outlive this.
+  FleetCentralRun(const Scenario& scenario, const RunOptions& options, RunReport report,
+                  TimeNs begin_ns)
+      : scenario_(scenario), options_(options), begin_ns_(begin_ns), report_(std::move(report)) {}
+  RunReport TakeReport() { return std::move(report_); }
+
+ protected:
+  void Refuse() override { RefuseFleetOptions(scenario_, options_); }
+  // The node hosts, accepted before anything exists; then the run folder.
+  bool Open(int stop_fd) override {
+    if (const RobotPlan* station = RelayedGroundStation(scenario_)) {
+      std::fprintf(stderr,
+                   "sitlnet run: ground station \"%s\" is on node '%s': its `sitlnet node` relays "
+                   "its MAVLink to a GCS (docs/autopilots.md, \"Ground stations\")\n",
+                   station->name.c_str(), scenario_.nodes[station->node].name.c_str());
+    }
+    try {
+      nodes_ = AcceptNodeHosts(scenario_, options_, stop_fd);
+    } catch (const Error& error) {
+      std::fprintf(stderr, "sitlnet run: %s\n", error.what());
+      report_.exit_code = 1;
+      return false;
+    }
+    if (nodes_.empty()) {
+      report_.interrupted = true;
+      report_.exit_code = 130;
+      return false;
+    }
+    MakeRunFolder(report_.run_dir);
+    WriteEffectiveScenario(scenario_, report_.run_dir);
+    return true;
+  }
+  void SetUp() override {
+    // Realtime: the bridge at the priority one host gives it.
+    if (!scenario_.lockstep()) {
+      RequestRealtimeRunPriority(options_.realtime_priority, "sitlnet run");
+    }
+    setup_ = std::make_unique<FleetSetup>(scenario_, options_, report_.run_dir, std::move(nodes_));
+  }
+  bool Loop(int stop_fd) override {
+    run_ = std::make_unique<CoordinatedRun>(setup_.get(), &setup_->physics(), options_,
+                                            report_.run_dir, stop_fd);
+    loop_ = run_->Run();
+    RecordLoopTimes(loop_, begin_ns_, &report_);
+    return true;
+  }
+  void Stop() override {
+    setup_->medium_records().Flush();
+    report_.fleet_links = setup_->physics().link_stats();
+    if (!scenario_.lockstep()) report_.fleet_realtime = RealtimeNodes(scenario_, setup_->ports());
+  }
+  void Report() override { ReportRun(*setup_, loop_, &report_); }
+
+ private:
+  const Scenario& scenario_;
+  const RunOptions& options_;
+  const TimeNs begin_ns_;
+  RunReport report_;
+  std::vector<std::unique_ptr<fleet::NodeLink>> nodes_;  // Until the setup takes them.
+  std::unique_ptr<FleetSetup> setup_;
+  std::unique_ptr<CoordinatedRun> run_;  // Destroyed before the setup.
+  LoopOutcome loop_;
+};
+
 }  // namespace
 
 RunReport RunOnNodeHosts(const Scenario& scenario, const RunOptions& options, RunReport report,
                          TimeNs begin_ns) {
-  RefuseFleetOptions(scenario, options);
-  if (const RobotPlan* station = RelayedGroundStation(scenario)) {
-    std::fprintf(stderr,
-                 "sitlnet run: ground station \"%s\" is on node '%s': its `sitlnet node` relays "
-                 "its MAVLink to a GCS (docs/autopilots.md, \"Ground stations\")\n",
-                 station->name.c_str(), scenario.nodes[station->node].name.c_str());
-  }
-  StopSignal stop;  // Ctrl-C from here on stops in order.
-  std::vector<std::unique_ptr<fleet::NodeLink>> nodes;
-  try {
-    nodes = AcceptNodeHosts(scenario, options, stop.fd());
-  } catch (const Error& error) {
-    std::fprintf(stderr, "sitlnet run: %s\n", error.what());
-    report.exit_code = 1;
-    return report;
-  }
-  if (nodes.empty()) {
-    report.interrupted = true;
-    report.exit_code = 130;
-    return report;
-  }
-  MakeRunFolder(report.run_dir);
-  WriteEffectiveScenario(scenario, report.run_dir);
-  // Realtime: the bridge at the priority one host gives it.
-  if (!scenario.lockstep()) RequestRealtimeRunPriority(options.realtime_priority, "sitlnet run");
-  FleetSetup setup(scenario, options, report.run_dir, std::move(nodes));
-  CoordinatedRun run(&setup, &setup.physics(), options, report.run_dir, stop.fd());
-  const LoopOutcome loop = run.Run();
-  report.startup_ns = loop.begin_ns - begin_ns;
-  report.loop_ns = loop.end_ns - loop.begin_ns;
-  report.self_cpu_s = loop.self_cpu_s;
-  setup.medium_records().Flush();
-  report.fleet_links = setup.physics().link_stats();
-  if (!scenario.lockstep()) report.fleet_realtime = RealtimeNodes(scenario, setup.ports());
-  ReportRun(setup, loop, &report);
-  return report;
+  FleetCentralRun run(scenario, options, std::move(report), begin_ns);
+  run.Run();
+  return run.TakeReport();
 }
 
 }  // namespace sitlnet::runner

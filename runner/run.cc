@@ -1,4 +1,5 @@
-// `sitlnet run`: the stages of a run of one scenario (setup, run, report), in order.
+// `sitlnet run`: loads the scenario, then runs its stages (runner/run_stages.h) on this host, or
+// as the central host of its node hosts (runner/fleet_run.cc).
 #include <sys/resource.h>
 
 #include <ctime>
@@ -17,6 +18,7 @@
 #include "runner/run_record.h"
 #include "runner/run_report.h"
 #include "runner/run_setup.h"
+#include "runner/run_stages.h"
 #include "runner/runner.h"
 
 namespace sitlnet::runner {
@@ -55,6 +57,65 @@ void RefuseRemoteInRealtime(const Scenario& scenario, const RunOptions& options)
   }
 }
 
+// `sitlnet run` with every robot on this host: the run's stages (runner/run_stages.h).
+class OneHostRun final : public RunStages {
+ public:
+  // `report` holds the run folder. `scenario` and `options` must outlive this.
+  OneHostRun(const Scenario& scenario, const RunOptions& options, RunReport report,
+             TimeNs begin_ns)
+      : scenario_(scenario), options_(options), begin_ns_(begin_ns), report_(std::move(report)) {}
+  RunReport TakeReport() { return std::move(report_); }
+
+ protected:
+  void Refuse() override {
+    RefuseRemoteInRealtime(scenario_, options_);
+    GcsEndpointsOf(options_.gcs);  // A bad --gcs is refused before anything is created.
+  }
+  void PrepareHost() override { PrepareRobotHost(scenario_, scenario_.robots.size()); }
+  bool Open(int stop_fd) override {
+    MakeRunFolder(report_.run_dir);
+    WriteEffectiveScenario(scenario_, report_.run_dir);
+    return AcceptRemoteMedium(scenario_, options_, stop_fd, &remote_medium_, &report_);
+  }
+  // Namespaces, physics, medium, images. Torn down in reverse when this goes.
+  void SetUp() override {
+    setup_ = std::make_unique<RunSetup>(scenario_, options_, report_.run_dir,
+                                        std::move(remote_medium_));
+  }
+  // The coordinator's iterations, the robots supervised.
+  bool Loop(int stop_fd) override {
+    physics_ = std::make_unique<LocalPhysics>(setup_.get(), options_, report_.run_dir);
+    run_ = std::make_unique<CoordinatedRun>(setup_.get(), physics_.get(), options_,
+                                            report_.run_dir, stop_fd);
+    loop_ = run_->Run();
+    RecordLoopTimes(loop_, begin_ns_, &report_);
+    return true;
+  }
+  void Stop() override {
+    StopRobots(&setup_->robots(), &setup_->clock_publishers(), &report_);
+    report_.stop_ns = MonotonicNowNs() - loop_.end_ns;
+    report_.gcs_relay = StopGcsRelay(setup_->gcs_relay());
+    // Every image is reaped by now and nothing else was a child yet (gnuplot
+    // runs later), so the children's usage is the robots'.
+    report_.robots_cpu_s = CpuSeconds(RUSAGE_CHILDREN);
+    setup_->medium_records().Flush();
+  }
+  // Exit code, summary, plots.
+  void Report() override { ReportRun(*setup_, loop_, &report_); }
+
+ private:
+  const Scenario& scenario_;
+  const RunOptions& options_;
+  const TimeNs begin_ns_;
+  RunReport report_;
+  std::unique_ptr<network_side::RemoteMedium> remote_medium_;  // Until the setup takes it.
+  // Destroyed in the reverse order: the run, the physics, then the setup.
+  std::unique_ptr<RunSetup> setup_;
+  std::unique_ptr<LocalPhysics> physics_;
+  std::unique_ptr<CoordinatedRun> run_;
+  LoopOutcome loop_;
+};
+
 }  // namespace
 
 // The scenario with the command line's overrides applied, revalidated.
@@ -86,34 +147,9 @@ RunReport RunScenario(const RunOptions& options) {
   if (RunsOnNodeHosts(scenario, options)) {
     return RunOnNodeHosts(scenario, options, std::move(report), begin_ns);
   }
-  RefuseRemoteInRealtime(scenario, options);
-  GcsEndpointsOf(options.gcs);  // A bad --gcs is refused before anything is created.
-  PrepareRobotHost(scenario, scenario.robots.size());
-  StopSignal stop;  // Ctrl-C from here on stops in order.
-  MakeRunFolder(report.run_dir);
-  WriteEffectiveScenario(scenario, report.run_dir);
-  std::unique_ptr<network_side::RemoteMedium> remote_medium;
-  if (!AcceptRemoteMedium(scenario, options, stop.fd(), &remote_medium, &report)) return report;
-
-  // Setup: namespaces, physics, medium, images. Torn down in reverse when `setup` goes.
-  RunSetup setup(scenario, options, report.run_dir, std::move(remote_medium));
-  // Run: the coordinator's iterations, the robots supervised.
-  LocalPhysics physics(&setup, options, report.run_dir);
-  CoordinatedRun run(&setup, &physics, options, report.run_dir, stop.fd());
-  const LoopOutcome loop = run.Run();
-  report.startup_ns = loop.begin_ns - begin_ns;
-  report.loop_ns = loop.end_ns - loop.begin_ns;
-  report.self_cpu_s = loop.self_cpu_s;
-  StopRobots(&setup.robots(), &setup.clock_publishers(), &report);
-  report.stop_ns = MonotonicNowNs() - loop.end_ns;
-  report.gcs_relay = StopGcsRelay(setup.gcs_relay());
-  // Every image is reaped by now and nothing else was a child yet (gnuplot
-  // runs later), so the children's usage is the robots'.
-  report.robots_cpu_s = CpuSeconds(RUSAGE_CHILDREN);
-  setup.medium_records().Flush();
-  // Report: exit code, summary, plots.
-  ReportRun(setup, loop, &report);
-  return report;
+  OneHostRun run(scenario, options, std::move(report), begin_ns);
+  run.Run();
+  return run.TakeReport();
 }
 
 }  // namespace sitlnet::runner
