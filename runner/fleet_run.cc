@@ -72,7 +72,7 @@ class FleetPhysics final : public RunPhysics {
                    run_dir + "/trajectories.csv", options.trajectory_period_ns) {}
   coordinator::Connector& connector() override { return recording_; }
   void Flush() override { recording_.Flush(); }
-  std::optional<ClosestApproach> closest_approach() const override {
+  std::optional<run_formats::ClosestApproach> closest_approach() const override {
     return recording_.closest_approach();
   }
   std::vector<fleet::FleetLinkStats> link_stats() const { return fleet_.link_stats(); }
