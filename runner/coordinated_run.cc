@@ -21,12 +21,6 @@ std::vector<IterationObserver*> NetworkObservers(RobotSupervisor* supervisor,
 
 }  // namespace
 
-void RecordLoopTimes(const LoopOutcome& loop, TimeNs begin_ns, RunReport* report) {
-  report->startup_ns = loop.begin_ns - begin_ns;
-  report->loop_ns = loop.end_ns - loop.begin_ns;
-  report->self_cpu_s = loop.self_cpu_s;
-}
-
 CoordinatedRun::CoordinatedRun(RunParts* setup, RunPhysics* physics, const RunOptions& options,
                                const std::string& run_dir, int interrupt_fd)
     : physics_(*physics),

@@ -29,10 +29,6 @@ struct LoopOutcome {
   std::optional<run_formats::ClosestApproach> closest_approach;  // Over trajectories.csv's samples.
 };
 
-// The run's phases from `loop` into report->startup_ns (since `begin_ns`, the run's start),
-// loop_ns and self_cpu_s.
-void RecordLoopTimes(const LoopOutcome& loop, TimeNs begin_ns, RunReport* report);
-
 class CoordinatedRun {
  public:
   // Creates metrics.csv (throws Error naming the file). `setup` and `physics` must outlive this;

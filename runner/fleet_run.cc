@@ -6,7 +6,7 @@
 
 #include "coordinator/coordinator.h"
 #include "fleet/node_link.h"
-#include "runner/coordinated_run.h"
+#include "runner/central_stages.h"
 #include "runner/cpu_time.h"
 #include "runner/gcs_relay_stage.h"
 #include "runner/physics_options.h"
@@ -15,8 +15,6 @@
 #include "runner/run_folder.h"
 #include "runner/run_medium.h"
 #include "runner/run_parts.h"
-#include "runner/run_report.h"
-#include "runner/run_stages.h"
 
 namespace sitlnet::runner {
 namespace {
@@ -134,13 +132,9 @@ std::vector<RunReport::NodeLateness> RealtimeNodes(const Scenario& scenario,
 }
 
 // A fleet's central host: the run's stages (runner/run_stages.h). Nothing namespaced, no image.
-class FleetCentralRun final : public RunStages {
+class FleetCentralRun final : public CentralStages {
  public:
-  // `report` holds the run folder. `scenario` and `options` must outlive this.
-  FleetCentralRun(const Scenario& scenario, const RunOptions& options, RunReport report,
-                  TimeNs begin_ns)
-      : scenario_(scenario), options_(options), begin_ns_(begin_ns), report_(std::move(report)) {}
-  RunReport TakeReport() { return std::move(report_); }
+  using CentralStages::CentralStages;
 
  protected:
   void Refuse() override { RefuseFleetOptions(scenario_, options_); }
@@ -175,29 +169,17 @@ class FleetCentralRun final : public RunStages {
     }
     setup_ = std::make_unique<FleetSetup>(scenario_, options_, report_.run_dir, std::move(nodes_));
   }
-  bool Loop(int stop_fd) override {
-    run_ = std::make_unique<CoordinatedRun>(setup_.get(), &setup_->physics(), options_,
-                                            report_.run_dir, stop_fd);
-    loop_ = run_->Run();
-    RecordLoopTimes(loop_, begin_ns_, &report_);
-    return true;
-  }
+  RunParts& parts() override { return *setup_; }
+  RunPhysics& physics() override { return setup_->physics(); }
   void Stop() override {
     setup_->medium_records().Flush();
     report_.fleet_links = setup_->physics().link_stats();
     if (!scenario_.lockstep()) report_.fleet_realtime = RealtimeNodes(scenario_, setup_->ports());
   }
-  void Report() override { ReportRun(*setup_, loop_, &report_); }
 
  private:
-  const Scenario& scenario_;
-  const RunOptions& options_;
-  const TimeNs begin_ns_;
-  RunReport report_;
   std::vector<std::unique_ptr<fleet::NodeLink>> nodes_;  // Until the setup takes them.
   std::unique_ptr<FleetSetup> setup_;
-  std::unique_ptr<CoordinatedRun> run_;  // Destroyed before the setup.
-  LoopOutcome loop_;
 };
 
 }  // namespace

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "coordinator/coordinator.h"
-#include "runner/coordinated_run.h"
+#include "runner/central_stages.h"
 #include "runner/cpu_time.h"
 #include "runner/fleet_run.h"
 #include "runner/gcs_relay_stage.h"
@@ -16,9 +16,7 @@
 #include "runner/robot_stop.h"
 #include "runner/run_folder.h"
 #include "runner/run_record.h"
-#include "runner/run_report.h"
 #include "runner/run_setup.h"
-#include "runner/run_stages.h"
 #include "runner/runner.h"
 
 namespace sitlnet::runner {
@@ -58,13 +56,9 @@ void RefuseRemoteInRealtime(const Scenario& scenario, const RunOptions& options)
 }
 
 // `sitlnet run` with every robot on this host: the run's stages (runner/run_stages.h).
-class OneHostRun final : public RunStages {
+class OneHostRun final : public CentralStages {
  public:
-  // `report` holds the run folder. `scenario` and `options` must outlive this.
-  OneHostRun(const Scenario& scenario, const RunOptions& options, RunReport report,
-             TimeNs begin_ns)
-      : scenario_(scenario), options_(options), begin_ns_(begin_ns), report_(std::move(report)) {}
-  RunReport TakeReport() { return std::move(report_); }
+  using CentralStages::CentralStages;
 
  protected:
   void Refuse() override {
@@ -77,20 +71,15 @@ class OneHostRun final : public RunStages {
     WriteEffectiveScenario(scenario_, report_.run_dir);
     return AcceptRemoteMedium(scenario_, options_, stop_fd, &remote_medium_, &report_);
   }
-  // Namespaces, physics, medium, images. Torn down in reverse when this goes.
+  // Namespaces, physics, medium, images, torn down in reverse when this goes; then the physics
+  // side that records trajectories.csv.
   void SetUp() override {
     setup_ = std::make_unique<RunSetup>(scenario_, options_, report_.run_dir,
                                         std::move(remote_medium_));
-  }
-  // The coordinator's iterations, the robots supervised.
-  bool Loop(int stop_fd) override {
     physics_ = std::make_unique<LocalPhysics>(setup_.get(), options_, report_.run_dir);
-    run_ = std::make_unique<CoordinatedRun>(setup_.get(), physics_.get(), options_,
-                                            report_.run_dir, stop_fd);
-    loop_ = run_->Run();
-    RecordLoopTimes(loop_, begin_ns_, &report_);
-    return true;
   }
+  RunParts& parts() override { return *setup_; }
+  RunPhysics& physics() override { return *physics_; }
   void Stop() override {
     StopRobots(&setup_->robots(), &setup_->clock_publishers(), &report_);
     report_.stop_ns = MonotonicNowNs() - loop_.end_ns;
@@ -100,20 +89,11 @@ class OneHostRun final : public RunStages {
     report_.robots_cpu_s = CpuSeconds(RUSAGE_CHILDREN);
     setup_->medium_records().Flush();
   }
-  // Exit code, summary, plots.
-  void Report() override { ReportRun(*setup_, loop_, &report_); }
 
  private:
-  const Scenario& scenario_;
-  const RunOptions& options_;
-  const TimeNs begin_ns_;
-  RunReport report_;
   std::unique_ptr<network_side::RemoteMedium> remote_medium_;  // Until the setup takes it.
-  // Destroyed in the reverse order: the run, the physics, then the setup.
   std::unique_ptr<RunSetup> setup_;
-  std::unique_ptr<LocalPhysics> physics_;
-  std::unique_ptr<CoordinatedRun> run_;
-  LoopOutcome loop_;
+  std::unique_ptr<LocalPhysics> physics_;  // Destroyed before the setup.
 };
 
 }  // namespace
