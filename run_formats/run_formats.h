@@ -18,6 +18,31 @@
 
 namespace sitlnet::run_formats {
 
+//------------------ Timing per simulated second (metrics.csv; second_timing.cc) -------------------
+// The iterations' timing per simulated second (metrics.csv's stf and lag_ns): what the view's
+// timeline draws, live and replayed, from the same arithmetic.
+
+// The iterations that start in second `second` (start_ns / 1 s).
+struct SecondTiming {
+  int64_t second = 0;
+  int64_t iterations = 0;
+  double stf_mean = 0, stf_max = 0;
+  TimeNs lag_max_ns = 0;
+};
+
+// Sums iterations, in start order, into seconds. A few additions per iteration, no allocation.
+class SecondTimingAccumulator {
+ public:
+  // Adds one iteration. Returns the previous second once this iteration starts a later one.
+  std::optional<SecondTiming> Add(TimeNs start_ns, double stf, TimeNs lag_ns);
+  // The last second, if it has an iteration; then starts afresh.
+  std::optional<SecondTiming> Finish();
+
+ private:
+  SecondTiming current_;
+  double stf_sum_ = 0;
+};
+
 //----------------------------------------- The live sink ------------------------------------------
 // What `sitlnet run --view` is told while the run goes (view/live_feed.h): the robots' poses at
 // every trajectories.csv sample, each second's links as links.csv will count them, each
@@ -74,31 +99,6 @@ class LiveSink {
   // Coordinator thread, a few times a second of wall time in a run with a GCS relay: every
   // vehicle the relay heard, by system id, at simulated time `time_ns`.
   virtual void Vehicles(TimeNs /*time_ns*/, const std::vector<LiveVehicle>& /*vehicles*/) {}
-};
-
-//------------------ Timing per simulated second (metrics.csv; second_timing.cc) -------------------
-// The iterations' timing per simulated second (metrics.csv's stf and lag_ns): what the view's
-// timeline draws, live and replayed, from the same arithmetic.
-
-// The iterations that start in second `second` (start_ns / 1 s).
-struct SecondTiming {
-  int64_t second = 0;
-  int64_t iterations = 0;
-  double stf_mean = 0, stf_max = 0;
-  TimeNs lag_max_ns = 0;
-};
-
-// Sums iterations, in start order, into seconds. A few additions per iteration, no allocation.
-class SecondTimingAccumulator {
- public:
-  // Adds one iteration. Returns the previous second once this iteration starts a later one.
-  std::optional<SecondTiming> Add(TimeNs start_ns, double stf, TimeNs lag_ns);
-  // The last second, if it has an iteration; then starts afresh.
-  std::optional<SecondTiming> Finish();
-
- private:
-  SecondTiming current_;
-  double stf_sum_ = 0;
 };
 
 //----------------------------- Closest approach (closest_approach.cc) -----------------------------

@@ -12,14 +12,14 @@ namespace sitlnet::runner {
 
 class CentralStages : public RunStages {
  public:
-  RunReport TakeReport() { return std::move(report_); }
-
- protected:
   // `report` holds the run folder; `begin_ns`: the run's start (RunScenario's). `scenario` and
   // `options` must outlive this.
   CentralStages(const Scenario& scenario, const RunOptions& options, RunReport report,
                 TimeNs begin_ns)
       : scenario_(scenario), options_(options), report_(std::move(report)), begin_ns_(begin_ns) {}
+  RunReport TakeReport() { return std::move(report_); }
+
+ protected:
 
   // What SetUp brought up: the run's parts and its physics side.
   virtual RunParts& parts() = 0;
