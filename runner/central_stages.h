@@ -20,7 +20,6 @@ class CentralStages : public RunStages {
   RunReport TakeReport() { return std::move(report_); }
 
  protected:
-
   // What SetUp brought up: the run's parts and its physics side.
   virtual RunParts& parts() = 0;
   virtual RunPhysics& physics() = 0;

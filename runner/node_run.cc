@@ -169,9 +169,9 @@ class NodeHostRun final : public RunStages {
   }
   // Connects to the central and serves its iterations until its Stop.
   bool Loop(int stop_fd) override {
-    service_ = std::make_unique<NodeService>(scenario_, slice_, setup_.get(), &realtime_,
-                                             gcs_clock_ ? &*gcs_clock_ : nullptr,
-                                             options_.run.program);
+    service_ =
+        std::make_unique<NodeService>(scenario_, slice_, setup_.get(), &realtime_,
+                                      gcs_clock_ ? &*gcs_clock_ : nullptr, options_.run.program);
     std::fprintf(stderr, "sitlnet node: %s: connecting to the central host at %s\n",
                  described_.c_str(), endpoint_.ToString().c_str());
     channel_.emplace(ConnectToCentral(endpoint_, options_.connect_timeout_ns));

@@ -74,8 +74,8 @@ class OneHostRun final : public CentralStages {
   // Namespaces, physics, medium, images, torn down in reverse when this goes; then the physics
   // side that records trajectories.csv.
   void SetUp() override {
-    setup_ = std::make_unique<RunSetup>(scenario_, options_, report_.run_dir,
-                                        std::move(remote_medium_));
+    setup_ =
+        std::make_unique<RunSetup>(scenario_, options_, report_.run_dir, std::move(remote_medium_));
     physics_ = std::make_unique<LocalPhysics>(setup_.get(), options_, report_.run_dir);
   }
   RunParts& parts() override { return *setup_; }
