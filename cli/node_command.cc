@@ -1,7 +1,5 @@
 // `sitlnet node SCENARIO --node NAME --connect HOST:PORT`: a node host of a fleet
 // (runner/node_run.h).
-#include <signal.h>
-
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -40,14 +38,9 @@ struct NodeArguments {
 // After the run: idle until SIGINT or SIGTERM, so that a pod's restart policy does not start
 // the node again.
 void Linger() {
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  sigprocmask(SIG_BLOCK, &signals, nullptr);
+  const StopSignal stop;
   std::fprintf(stderr, "sitlnet node: lingering until SIGTERM (--linger)\n");
-  int signal = 0;
-  sigwait(&signals, &signal);
+  stop.Wait();
 }
 
 int Node(NodeArguments& arguments) {

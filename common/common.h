@@ -151,6 +151,8 @@ class StopSignal {
   // Readable once a signal arrived (or Request() was called).
   int fd() const { return read_fd_; }
   bool requested() const;
+  // Blocks until a signal arrived (or Request() was called); at once if one did already.
+  void Wait() const;
   // The signal that arrived (0 if Request() or none).
   int signal_number() const;
   // Same effect as a signal (tests, a CLI "stop" command, another thread).

@@ -57,6 +57,12 @@ bool StopSignal::requested() const {
   return poll(&p, 1, 0) == 1;
 }
 
+void StopSignal::Wait() const {
+  pollfd p{read_fd_, POLLIN, 0};
+  while (poll(&p, 1, -1) < 0 && errno == EINTR) {
+  }
+}
+
 int StopSignal::signal_number() const { return g_signal.load(); }
 
 void StopSignal::Request() {

@@ -9,12 +9,12 @@
 
 #include "coordinator/coordinator.h"
 #include "network_side/network_side.h"
+#include "run_formats/run_formats.h"
 #include "runner/gcs_relay_stage.h"
 #include "runner/progress_line.h"
 #include "runner/robot_supervisor.h"
 #include "runner/run_parts.h"
 #include "runner/runner.h"
-#include "runner/second_timing.h"
 
 namespace sitlnet::runner {
 
@@ -26,7 +26,7 @@ struct LoopOutcome {
   TimeNs begin_ns = 0;  // Monotonic instants of the loop's start and end.
   TimeNs end_ns = 0;
   double self_cpu_s = 0;  // user+sys of this process (all threads) at the loop's end.
-  std::optional<ClosestApproach> closest_approach;  // Over trajectories.csv's samples.
+  std::optional<run_formats::ClosestApproach> closest_approach;  // Over trajectories.csv's samples.
 };
 
 class CoordinatedRun {
@@ -52,8 +52,8 @@ class CoordinatedRun {
   coordinator::CoordinatorOptions run_options_;
   coordinator::MetricsCsvWriter metrics_csv_;
   coordinator::MetricsCollector metrics_;
-  LiveSink* live_;                       // May be null.
-  SecondTimingAccumulator live_timing_;  // For live_, on the coordinator's thread.
+  run_formats::LiveSink* live_;                       // May be null.
+  run_formats::SecondTimingAccumulator live_timing_;  // For live_, on the coordinator's thread.
 };
 
 }  // namespace sitlnet::runner

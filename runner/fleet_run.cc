@@ -6,7 +6,7 @@
 
 #include "coordinator/coordinator.h"
 #include "fleet/node_link.h"
-#include "runner/coordinated_run.h"
+#include "runner/central_stages.h"
 #include "runner/cpu_time.h"
 #include "runner/gcs_relay_stage.h"
 #include "runner/physics_options.h"
@@ -15,7 +15,6 @@
 #include "runner/run_folder.h"
 #include "runner/run_medium.h"
 #include "runner/run_parts.h"
-#include "runner/run_report.h"
 
 namespace sitlnet::runner {
 namespace {
@@ -71,7 +70,7 @@ class FleetPhysics final : public RunPhysics {
                    run_dir + "/trajectories.csv", options.trajectory_period_ns) {}
   coordinator::Connector& connector() override { return recording_; }
   void Flush() override { recording_.Flush(); }
-  std::optional<ClosestApproach> closest_approach() const override {
+  std::optional<run_formats::ClosestApproach> closest_approach() const override {
     return recording_.closest_approach();
   }
   std::vector<fleet::FleetLinkStats> link_stats() const { return fleet_.link_stats(); }
@@ -132,46 +131,64 @@ std::vector<RunReport::NodeLateness> RealtimeNodes(const Scenario& scenario,
   return nodes;
 }
 
+// A fleet's central host: the run's stages (runner/run_stages.h). Nothing namespaced, no image.
+class FleetCentralRun final : public CentralStages {
+ public:
+  using CentralStages::CentralStages;
+
+ protected:
+  void Refuse() override { RefuseFleetOptions(scenario_, options_); }
+  // The node hosts, accepted before anything exists; then the run folder.
+  bool Open(int stop_fd) override {
+    if (const RobotPlan* station = RelayedGroundStation(scenario_)) {
+      std::fprintf(stderr,
+                   "sitlnet run: ground station \"%s\" is on node '%s': its `sitlnet node` relays "
+                   "its MAVLink to a GCS (docs/autopilots.md, \"Ground stations\")\n",
+                   station->name.c_str(), scenario_.nodes[station->node].name.c_str());
+    }
+    try {
+      nodes_ = AcceptNodeHosts(scenario_, options_, stop_fd);
+    } catch (const Error& error) {
+      std::fprintf(stderr, "sitlnet run: %s\n", error.what());
+      report_.exit_code = 1;
+      return false;
+    }
+    if (nodes_.empty()) {
+      report_.interrupted = true;
+      report_.exit_code = 130;
+      return false;
+    }
+    MakeRunFolder(report_.run_dir);
+    WriteEffectiveScenario(scenario_, report_.run_dir);
+    return true;
+  }
+  void SetUp() override {
+    // Realtime: the bridge at the priority one host gives it.
+    if (!scenario_.lockstep()) {
+      RequestRealtimeRunPriority(options_.realtime_priority, "sitlnet run");
+    }
+    setup_ = std::make_unique<FleetSetup>(scenario_, options_, report_.run_dir, std::move(nodes_));
+  }
+  RunParts& parts() override { return *setup_; }
+  RunPhysics& physics() override { return setup_->physics(); }
+  void Stop() override {
+    setup_->medium_records().Flush();
+    report_.fleet_links = setup_->physics().link_stats();
+    if (!scenario_.lockstep()) report_.fleet_realtime = RealtimeNodes(scenario_, setup_->ports());
+  }
+
+ private:
+  std::vector<std::unique_ptr<fleet::NodeLink>> nodes_;  // Until the setup takes them.
+  std::unique_ptr<FleetSetup> setup_;
+};
+
 }  // namespace
 
 RunReport RunOnNodeHosts(const Scenario& scenario, const RunOptions& options, RunReport report,
                          TimeNs begin_ns) {
-  RefuseFleetOptions(scenario, options);
-  if (const RobotPlan* station = RelayedGroundStation(scenario)) {
-    std::fprintf(stderr,
-                 "sitlnet run: ground station \"%s\" is on node '%s': its `sitlnet node` relays "
-                 "its MAVLink to a GCS (docs/autopilots.md, \"Ground stations\")\n",
-                 station->name.c_str(), scenario.nodes[station->node].name.c_str());
-  }
-  StopSignal stop;  // Ctrl-C from here on stops in order.
-  std::vector<std::unique_ptr<fleet::NodeLink>> nodes;
-  try {
-    nodes = AcceptNodeHosts(scenario, options, stop.fd());
-  } catch (const Error& error) {
-    std::fprintf(stderr, "sitlnet run: %s\n", error.what());
-    report.exit_code = 1;
-    return report;
-  }
-  if (nodes.empty()) {
-    report.interrupted = true;
-    report.exit_code = 130;
-    return report;
-  }
-  MakeRunFolder(report.run_dir);
-  WriteEffectiveScenario(scenario, report.run_dir);
-  // Realtime: the bridge at the priority one host gives it.
-  if (!scenario.lockstep()) RequestRealtimeRunPriority(options.realtime_priority, "sitlnet run");
-  FleetSetup setup(scenario, options, report.run_dir, std::move(nodes));
-  CoordinatedRun run(&setup, &setup.physics(), options, report.run_dir, stop.fd());
-  const LoopOutcome loop = run.Run();
-  report.startup_ns = loop.begin_ns - begin_ns;
-  report.loop_ns = loop.end_ns - loop.begin_ns;
-  report.self_cpu_s = loop.self_cpu_s;
-  setup.medium_records().Flush();
-  report.fleet_links = setup.physics().link_stats();
-  if (!scenario.lockstep()) report.fleet_realtime = RealtimeNodes(scenario, setup.ports());
-  ReportRun(setup, loop, &report);
-  return report;
+  FleetCentralRun run(scenario, options, std::move(report), begin_ns);
+  run.Run();
+  return run.TakeReport();
 }
 
 }  // namespace sitlnet::runner

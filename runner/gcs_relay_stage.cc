@@ -91,7 +91,7 @@ void GcsRelayLive::IterationEnded(const proto::coord::Start& start) {
   if (now_ns < next_wall_ns_) return;
   next_wall_ns_ = now_ns + kPeriodNs;
   const gcs::GcsRelayCounters counters = relay_.counters();
-  std::vector<LiveVehicle> vehicles;
+  std::vector<run_formats::LiveVehicle> vehicles;
   vehicles.reserve(counters.vehicles.size());
   for (const gcs::VehicleCounters& v : counters.vehicles) {
     vehicles.push_back({RobotOfAddress(scenario_, v.address), v.system_id, v.messages,

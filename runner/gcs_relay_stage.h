@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "gcs_link/gcs_link.h"
+#include "run_formats/run_formats.h"
 #include "runner/iteration_observer.h"
-#include "runner/live_sink.h"
 #include "runner/runner.h"
 #include "scenario/scenario.h"
 
@@ -66,21 +66,21 @@ class GcsRelayClock final : public IterationObserver {
   bool timebase_given_ = false;
 };
 
-// Tells the live view what the GCS heard of each vehicle (LiveSink::Vehicles): at the first
-// iteration's end, then at most every kPeriodNs of wall time, a copy of the relay's counters
+// Tells the live view what the GCS heard of each vehicle (run_formats::LiveSink::Vehicles): at the
+// first iteration's end, then at most every kPeriodNs of wall time, a copy of the relay's counters
 // (a lock the relay's thread holds for one wake-up at most). The page asks twice a second.
 class GcsRelayLive final : public IterationObserver {
  public:
   static constexpr TimeNs kPeriodNs = 200 * kNsPerMs;
   // `scenario`, `relay` and `live` must outlive this.
-  GcsRelayLive(const Scenario* scenario, const gcs::GcsRelay* relay, LiveSink* live)
+  GcsRelayLive(const Scenario* scenario, const gcs::GcsRelay* relay, run_formats::LiveSink* live)
       : scenario_(*scenario), relay_(*relay), live_(*live) {}
   void IterationEnded(const proto::coord::Start& start) override;
 
  private:
   const Scenario& scenario_;
   const gcs::GcsRelay& relay_;
-  LiveSink& live_;
+  run_formats::LiveSink& live_;
   TimeNs next_wall_ns_ = 0;
 };
 

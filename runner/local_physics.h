@@ -19,7 +19,7 @@ class LocalPhysics final : public RunPhysics {
   LocalPhysics(RunSetup* setup, const RunOptions& options, const std::string& run_dir);
   coordinator::Connector& connector() override { return *connector_; }
   void Flush() override { recording_.Flush(); }
-  std::optional<ClosestApproach> closest_approach() const override {
+  std::optional<run_formats::ClosestApproach> closest_approach() const override {
     return recording_.closest_approach();
   }
 

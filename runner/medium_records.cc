@@ -3,16 +3,16 @@
 #include <cstdio>
 #include <ctime>
 
-#include "runner/outputs.h"
+#include "run_formats/run_formats.h"
 #include "runner/summary.h"
 
 namespace sitlnet::runner {
 
 MediumRecords::MediumRecords(const std::string& run_dir, int robots, bool lockstep,
-                             LossLog* losses)
+                             run_formats::LossLog* losses)
     : pcap_(run_dir + "/medium.pcap", "", 256, "pcap"),
       epoch_offset_ns_(lockstep ? 0 : static_cast<TimeNs>(std::time(nullptr)) * kNsPerS),
-      deliveries_(run_dir + "/deliveries.csv", kDeliveryHeader),
+      deliveries_(run_dir + "/deliveries.csv", run_formats::kDeliveryHeader),
       connectivity_(robots, kConnectivityWindowNs, kConnectivitySampleNs),
       losses_(losses) {
   pcap_.AppendRecord(tapbridge::PcapFileHeader());  // Buffered: written with the first records.

@@ -6,8 +6,7 @@
 #include <string>
 
 #include "common/common.h"
-#include "runner/connectivity.h"
-#include "runner/loss_log.h"
+#include "run_formats/run_formats.h"
 #include "tapbridge/tapbridge.h"
 
 namespace sitlnet::runner {
@@ -18,12 +17,13 @@ class MediumRecords {
   // Error naming the file. pcap timestamps are virtual in lockstep, so that runs are
   // byte-identical, and wall-clock dates in realtime.
   // `losses` (may be null; outlives this): losses.csv.gz and links.csv, finished by Flush.
-  MediumRecords(const std::string& run_dir, int robots, bool lockstep, LossLog* losses);
+  MediumRecords(const std::string& run_dir, int robots, bool lockstep,
+                run_formats::LossLog* losses);
   // Records every air frame and delivery of `bridge` from now on; this must outlive its use.
   void Attach(tapbridge::BridgeCore* bridge);
-  ConnectivityTracker& connectivity() { return connectivity_; }
+  run_formats::ConnectivityTracker& connectivity() { return connectivity_; }
   // The loss log (losses.csv.gz, links.csv), or null when the run records no losses.
-  const LossLog* losses() const { return losses_; }
+  const run_formats::LossLog* losses() const { return losses_; }
   // deliveries.csv, medium.pcap, then the loss log; throws Error naming the file that cannot
   // be written.
   void Flush();
@@ -32,8 +32,8 @@ class MediumRecords {
   LineFile pcap_;
   TimeNs epoch_offset_ns_;
   LineFile deliveries_;
-  ConnectivityTracker connectivity_;
-  LossLog* losses_;
+  run_formats::ConnectivityTracker connectivity_;
+  run_formats::LossLog* losses_;
 };
 
 }  // namespace sitlnet::runner

@@ -17,6 +17,7 @@
 #include "runner/robot_stop.h"
 #include "runner/robot_supervisor.h"
 #include "runner/run_folder.h"
+#include "runner/run_stages.h"
 #include "tapbridge/tap_port.h"
 
 namespace sitlnet::runner {
@@ -99,74 +100,130 @@ coordinator::Channel ConnectToCentral(const coordinator::Endpoint& endpoint, Tim
   }
 }
 
+// What serves the central's iterations on a node: the physics of its robots, their TAPs, the
+// node's side of the link, its robots supervised (and the relay's clock, if any, told).
+struct NodeService {
+  NodeService(const Scenario& scenario, const fleet::NodeSlice& slice, NodeSetup* setup,
+              clock::Timebase* realtime, GcsRelayClock* gcs_clock, const std::string& program)
+      : physics(scenario, &setup->physics_server(), RobotLockstep(scenario, scenario.lockstep())),
+        ports(slice,
+              [&scenario](int robot) {
+                return std::make_unique<tapbridge::TapPort>(scenario.robots[robot].netns, "wlan0");
+              }),
+        node(&physics, &ports, scenario.lockstep() ? nullptr : realtime),
+        supervisor(&setup->robots(),
+                   scenario.spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP, nullptr,
+                   program),
+        supervised(&node, gcs_clock ? std::vector<IterationObserver*>{&supervisor, gcs_clock}
+                                    : std::vector<IterationObserver*>{&supervisor}) {}
+
+  physics_side::PhysicsServerSimulator physics;
+  fleet::NodePorts ports;
+  fleet::NodeSimulator node;
+  RobotSupervisor supervisor;
+  ObservedSimulator supervised;
+};
+
+// A node host: the run's stages (runner/run_stages.h). The outputs are the central's.
+class NodeHostRun final : public RunStages {
+ public:
+  // Loads the scenario and finds this node's slice (throws Error naming them).
+  explicit NodeHostRun(const NodeOptions& options)
+      : options_(options),
+        scenario_(ApplyRunOverrides(LoadScenarioFile(options.run.scenario_path), options.run)),
+        slice_(SliceOf(scenario_, options.node)),
+        realtime_(scenario_.spec.timing().realtime_factor()) {}
+  // The reason of the central's Stop, or "interrupted".
+  const std::string& reason() const { return reason_; }
+
+ protected:
+  void Refuse() override {
+    RefuseUnsupported(scenario_);
+    endpoint_ = coordinator::ParseEndpoint(options_.connect);
+    GcsEndpointsOf(options_.run.gcs);  // A bad --gcs is refused before anything is created.
+    if (!options_.run.secret_file.empty()) {
+      secret_ = coordinator::LoadSecretFile(options_.run.secret_file);
+    }
+  }
+  void PrepareHost() override { PrepareRobotHost(scenario_, slice_.robots.size()); }
+  bool Open(int /*stop_fd*/) override {
+    out_dir_ = options_.run.out_dir.empty() ? "runs/" + scenario_.name + "-" + slice_.name
+                                            : options_.run.out_dir;
+    MakeRunFolder(out_dir_);
+    described_ = fleet::DescribeNode(scenario_, slice_);
+    std::fprintf(stderr, "sitlnet node: %s: bringing up %s -> %s\n", scenario_.name.c_str(),
+                 described_.c_str(), out_dir_.c_str());
+    return true;
+  }
+  void SetUp() override {
+    // Realtime: the node's physics and TAP reads at the priority one host gives them.
+    if (!scenario_.lockstep()) {
+      RequestRealtimeRunPriority(options_.run.realtime_priority, "sitlnet node");
+    }
+    setup_ = std::make_unique<NodeSetup>(scenario_, options_.run, out_dir_, slice_, &realtime_);
+    gcs_relay_ = StartNodeGcsRelay(scenario_, slice_, options_.run, out_dir_);
+    // gcs.tlog is stamped with each iteration's start in both pacings: this node's realtime
+    // clock may begin again when it runs late (NodeSimulator), and the relay keeps the one it
+    // was given.
+    if (gcs_relay_) gcs_clock_.emplace(gcs_relay_.get(), &realtime_, /*lockstep=*/true);
+  }
+  // Connects to the central and serves its iterations until its Stop.
+  bool Loop(int stop_fd) override {
+    service_ =
+        std::make_unique<NodeService>(scenario_, slice_, setup_.get(), &realtime_,
+                                      gcs_clock_ ? &*gcs_clock_ : nullptr, options_.run.program);
+    std::fprintf(stderr, "sitlnet node: %s: connecting to the central host at %s\n",
+                 described_.c_str(), endpoint_.ToString().c_str());
+    channel_.emplace(ConnectToCentral(endpoint_, options_.connect_timeout_ns));
+    const coordinator::ConnectorIdentity identity{slice_.name, coordinator::Role::kNode,
+                                                  fleet::NodeScenarioHash(scenario_), secret_};
+    if (!coordinator::HandshakeWithCoordinator(*channel_, identity,
+                                               fleet::NodeHello(slice_, service_->supervised),
+                                               options_.connect_timeout_ns, stop_fd)) {
+      reason_ = "interrupted";
+      return false;
+    }
+    // Readiness is timed from the run's start: the images waited for the central meanwhile.
+    for (RobotSlot& robot : setup_->robots()) robot.started_wall_ns = MonotonicNowNs();
+    const uint64_t sent_before = channel_->bytes_sent();
+    const uint64_t received_before = channel_->bytes_received();
+    reason_ = coordinator::ServeIterations(*channel_, service_->supervised, stop_fd);
+    // The node's count of its link, the other end of the central's (summary.json "fleet_links").
+    std::fprintf(stderr,
+                 "sitlnet node: %s: %llu B sent to the central host and %llu B received after the "
+                 "handshake\n",
+                 described_.c_str(),
+                 static_cast<unsigned long long>(channel_->bytes_sent() - sent_before),
+                 static_cast<unsigned long long>(channel_->bytes_received() - received_before));
+    return true;
+  }
+  // The robots stop when the setup goes (~NodeSetup).
+  void Stop() override { StopGcsRelay(gcs_relay_.get(), options_.run.program); }
+
+ private:
+  const NodeOptions& options_;
+  const Scenario scenario_;
+  const fleet::NodeSlice slice_;
+  coordinator::Endpoint endpoint_;
+  std::string secret_;
+  std::string out_dir_;
+  std::string described_;
+  clock::Timebase realtime_;  // This node's clock of the run in realtime; lockstep: unused.
+  // Destroyed in the reverse order: the link, the service, the relay, then the robots.
+  std::unique_ptr<NodeSetup> setup_;
+  std::unique_ptr<gcs::GcsRelay> gcs_relay_;
+  std::optional<GcsRelayClock> gcs_clock_;
+  std::unique_ptr<NodeService> service_;
+  std::optional<coordinator::Channel> channel_;
+  std::string reason_;
+};
+
 }  // namespace
 
 std::string ServeNodeHost(const NodeOptions& options) {
-  const Scenario scenario =
-      ApplyRunOverrides(LoadScenarioFile(options.run.scenario_path), options.run);
-  const fleet::NodeSlice slice = SliceOf(scenario, options.node);
-  RefuseUnsupported(scenario);
-  const coordinator::Endpoint endpoint = coordinator::ParseEndpoint(options.connect);
-  GcsEndpointsOf(options.run.gcs);  // A bad --gcs is refused before anything is created.
-  const std::string secret = options.run.secret_file.empty()
-                                 ? std::string()
-                                 : coordinator::LoadSecretFile(options.run.secret_file);
-  PrepareRobotHost(scenario, slice.robots.size());
-  StopSignal stop;  // Ctrl-C from here on stops in order.
-  const std::string out_dir = options.run.out_dir.empty()
-                                  ? "runs/" + scenario.name + "-" + slice.name
-                                  : options.run.out_dir;
-  MakeRunFolder(out_dir);
-  const std::string described = fleet::DescribeNode(scenario, slice);
-  std::fprintf(stderr, "sitlnet node: %s: bringing up %s -> %s\n", scenario.name.c_str(),
-               described.c_str(), out_dir.c_str());
-  // Realtime: the node's physics and TAP reads at the priority one host gives them.
-  if (!scenario.lockstep())
-    RequestRealtimeRunPriority(options.run.realtime_priority, "sitlnet node");
-  clock::Timebase realtime(scenario.spec.timing().realtime_factor());  // Lockstep: unused.
-  NodeSetup setup(scenario, options.run, out_dir, slice, &realtime);
-  const std::unique_ptr<gcs::GcsRelay> gcs_relay =
-      StartNodeGcsRelay(scenario, slice, options.run, out_dir);
-  // gcs.tlog is stamped with each iteration's start in both pacings: this node's realtime clock
-  // may begin again when it runs late (NodeSimulator), and the relay keeps the one it was given.
-  std::optional<GcsRelayClock> gcs_clock;
-  if (gcs_relay) gcs_clock.emplace(gcs_relay.get(), &realtime, /*lockstep=*/true);
-
-  physics_side::PhysicsServerSimulator physics(scenario, &setup.physics_server(),
-                                               RobotLockstep(scenario, scenario.lockstep()));
-  fleet::NodePorts ports(slice, [&scenario](int robot) {
-    return std::make_unique<tapbridge::TapPort>(scenario.robots[robot].netns, "wlan0");
-  });
-  fleet::NodeSimulator node(&physics, &ports, scenario.lockstep() ? nullptr : &realtime);
-  RobotSupervisor supervisor(
-      &setup.robots(), scenario.spec.on_robot_failure() == proto::Scenario::ROBOT_FAILURE_STOP,
-      nullptr, options.run.program);
-  std::vector<IterationObserver*> observers = {&supervisor};
-  if (gcs_clock) observers.push_back(&*gcs_clock);
-  ObservedSimulator supervised(&node, observers);
-
-  std::fprintf(stderr, "sitlnet node: %s: connecting to the central host at %s\n",
-               described.c_str(), endpoint.ToString().c_str());
-  coordinator::Channel channel = ConnectToCentral(endpoint, options.connect_timeout_ns);
-  const coordinator::ConnectorIdentity identity{slice.name, coordinator::Role::kNode,
-                                                fleet::NodeScenarioHash(scenario), secret};
-  if (!coordinator::HandshakeWithCoordinator(channel, identity, fleet::NodeHello(slice, supervised),
-                                             options.connect_timeout_ns, stop.fd())) {
-    return "interrupted";
-  }
-  // Readiness is timed from the run's start: the images waited for the central meanwhile.
-  for (RobotSlot& robot : setup.robots()) robot.started_wall_ns = MonotonicNowNs();
-  const uint64_t sent_before = channel.bytes_sent(), received_before = channel.bytes_received();
-  const std::string reason = coordinator::ServeIterations(channel, supervised, stop.fd());
-  // The node's count of its link, the other end of the central's (summary.json "fleet_links").
-  std::fprintf(stderr,
-               "sitlnet node: %s: %llu B sent to the central host and %llu B received after the "
-               "handshake\n",
-               described.c_str(),
-               static_cast<unsigned long long>(channel.bytes_sent() - sent_before),
-               static_cast<unsigned long long>(channel.bytes_received() - received_before));
-  StopGcsRelay(gcs_relay.get(), options.run.program);  // Its counts on stderr only.
-  return reason;
+  NodeHostRun run(options);
+  run.Run();
+  return run.reason();
 }
 
 }  // namespace sitlnet::runner

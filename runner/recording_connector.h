@@ -31,7 +31,7 @@ class RecordingConnector final : public coordinator::Connector {
   bool runs_on_caller_thread() const override { return inner_.runs_on_caller_thread(); }
   void Stop(const std::string& reason) override { inner_.Stop(reason); }
   void Flush() { recorder_.Flush(); }
-  const std::optional<ClosestApproach>& closest_approach() const {
+  const std::optional<run_formats::ClosestApproach>& closest_approach() const {
     return recorder_.closest_approach();
   }
 

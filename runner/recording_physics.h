@@ -10,7 +10,7 @@
 #include "coordinator/connector.h"
 #include "physics_mujoco/physics_mujoco.h"
 #include "ros2_clock/ros2_clock.h"
-#include "runner/live_sink.h"
+#include "run_formats/run_formats.h"
 #include "runner/trajectory_recorder.h"
 
 namespace sitlnet::runner {
@@ -31,11 +31,11 @@ class RecordingPhysics final : public coordinator::Simulator {
   // /clock publishers read it).
   void ShareTimeWith(ros2_clock::SharedVirtualTime* shared) { shared_time_ = shared; }
   void Flush() { recorder_.Flush(); }
-  const std::optional<ClosestApproach>& closest_approach() const {
+  const std::optional<run_formats::ClosestApproach>& closest_approach() const {
     return recorder_.closest_approach();
   }
   // `sink` (may be null; outlives this) is told every sample too.
-  void SetLiveSink(LiveSink* sink) { recorder_.SetLiveSink(sink); }
+  void SetLiveSink(run_formats::LiveSink* sink) { recorder_.SetLiveSink(sink); }
 
  private:
   coordinator::Simulator& inner_;

@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <vector>
 
+#include "run_formats/run_formats.h"
 #include "runner/boot_progress.h"
-#include "runner/log_cause.h"
 
 namespace sitlnet::runner {
 namespace {
@@ -117,8 +117,9 @@ std::vector<RobotSlot> StartImages(const Scenario& scenario, const RunOptions& o
     if (const auto status = slot.process->WaitExit(left_ns); status && *status != 0) {
       throw Error("robot \"" + slot.name + "\": its image exited at once with status " +
                   std::to_string(*status) +
-                  LogSays(FirstErrorLine(ReadLogTail(slot.process->log_path()))) + "; see " +
-                  slot.process->log_path());
+                  run_formats::LogSays(run_formats::FirstErrorLine(
+                      run_formats::ReadLogTail(slot.process->log_path()))) +
+                  "; see " + slot.process->log_path());
     }
   }
   return robots;
@@ -211,7 +212,8 @@ void WaitForRobotsToSpeak(const Scenario& scenario, std::vector<RobotSlot>& robo
         if (const std::optional<int> status = robot.process->PollExit()) {
           throw Error(why + ": robot \"" + plan.name + "\" exited (status " +
                       std::to_string(*status) + ") before it spoke to physics" +
-                      LogSays(FirstErrorLine(ReadLogTail(robot.process->log_path()))) +
+                      run_formats::LogSays(run_formats::FirstErrorLine(
+                          run_formats::ReadLogTail(robot.process->log_path()))) +
                       " (log: " + robot.process->log_path() + ")");
         }
         silent.push_back(plan.index);
@@ -233,7 +235,8 @@ void WaitForRobotsToSpeak(const Scenario& scenario, std::vector<RobotSlot>& robo
       const std::vector<int>& named = still.empty() ? silent : still;
       std::string names;
       for (int index : named) names += (names.empty() ? "" : ", ") + robots[index].name;
-      const std::string last = LastLine(ReadLogTail(robots[named[0]].process->log_path()));
+      const std::string last =
+          run_formats::LastLine(run_formats::ReadLogTail(robots[named[0]].process->log_path()));
       throw Error(why + ": robots " + names +
                   " sent no MotorCommand (nor servo frame, nor PX4 connection) " +
                   (still.empty() ? "within the start bound, " + std::to_string(bound_ns / kNsPerMs) +

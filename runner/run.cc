@@ -1,11 +1,12 @@
-// `sitlnet run`: the stages of a run of one scenario (setup, run, report), in order.
+// `sitlnet run`: loads the scenario, then runs its stages (runner/run_stages.h) on this host, or
+// as the central host of its node hosts (runner/fleet_run.cc).
 #include <sys/resource.h>
 
 #include <ctime>
 #include <memory>
 
 #include "coordinator/coordinator.h"
-#include "runner/coordinated_run.h"
+#include "runner/central_stages.h"
 #include "runner/cpu_time.h"
 #include "runner/fleet_run.h"
 #include "runner/gcs_relay_stage.h"
@@ -15,7 +16,6 @@
 #include "runner/robot_stop.h"
 #include "runner/run_folder.h"
 #include "runner/run_record.h"
-#include "runner/run_report.h"
 #include "runner/run_setup.h"
 #include "runner/runner.h"
 
@@ -55,6 +55,47 @@ void RefuseRemoteInRealtime(const Scenario& scenario, const RunOptions& options)
   }
 }
 
+// `sitlnet run` with every robot on this host: the run's stages (runner/run_stages.h).
+class OneHostRun final : public CentralStages {
+ public:
+  using CentralStages::CentralStages;
+
+ protected:
+  void Refuse() override {
+    RefuseRemoteInRealtime(scenario_, options_);
+    GcsEndpointsOf(options_.gcs);  // A bad --gcs is refused before anything is created.
+  }
+  void PrepareHost() override { PrepareRobotHost(scenario_, scenario_.robots.size()); }
+  bool Open(int stop_fd) override {
+    MakeRunFolder(report_.run_dir);
+    WriteEffectiveScenario(scenario_, report_.run_dir);
+    return AcceptRemoteMedium(scenario_, options_, stop_fd, &remote_medium_, &report_);
+  }
+  // Namespaces, physics, medium, images, torn down in reverse when this goes; then the physics
+  // side that records trajectories.csv.
+  void SetUp() override {
+    setup_ =
+        std::make_unique<RunSetup>(scenario_, options_, report_.run_dir, std::move(remote_medium_));
+    physics_ = std::make_unique<LocalPhysics>(setup_.get(), options_, report_.run_dir);
+  }
+  RunParts& parts() override { return *setup_; }
+  RunPhysics& physics() override { return *physics_; }
+  void Stop() override {
+    StopRobots(&setup_->robots(), &setup_->clock_publishers(), &report_);
+    report_.stop_ns = MonotonicNowNs() - loop_.end_ns;
+    report_.gcs_relay = StopGcsRelay(setup_->gcs_relay());
+    // Every image is reaped by now and nothing else was a child yet (gnuplot
+    // runs later), so the children's usage is the robots'.
+    report_.robots_cpu_s = CpuSeconds(RUSAGE_CHILDREN);
+    setup_->medium_records().Flush();
+  }
+
+ private:
+  std::unique_ptr<network_side::RemoteMedium> remote_medium_;  // Until the setup takes it.
+  std::unique_ptr<RunSetup> setup_;
+  std::unique_ptr<LocalPhysics> physics_;  // Destroyed before the setup.
+};
+
 }  // namespace
 
 // The scenario with the command line's overrides applied, revalidated.
@@ -86,34 +127,9 @@ RunReport RunScenario(const RunOptions& options) {
   if (RunsOnNodeHosts(scenario, options)) {
     return RunOnNodeHosts(scenario, options, std::move(report), begin_ns);
   }
-  RefuseRemoteInRealtime(scenario, options);
-  GcsEndpointsOf(options.gcs);  // A bad --gcs is refused before anything is created.
-  PrepareRobotHost(scenario, scenario.robots.size());
-  StopSignal stop;  // Ctrl-C from here on stops in order.
-  MakeRunFolder(report.run_dir);
-  WriteEffectiveScenario(scenario, report.run_dir);
-  std::unique_ptr<network_side::RemoteMedium> remote_medium;
-  if (!AcceptRemoteMedium(scenario, options, stop.fd(), &remote_medium, &report)) return report;
-
-  // Setup: namespaces, physics, medium, images. Torn down in reverse when `setup` goes.
-  RunSetup setup(scenario, options, report.run_dir, std::move(remote_medium));
-  // Run: the coordinator's iterations, the robots supervised.
-  LocalPhysics physics(&setup, options, report.run_dir);
-  CoordinatedRun run(&setup, &physics, options, report.run_dir, stop.fd());
-  const LoopOutcome loop = run.Run();
-  report.startup_ns = loop.begin_ns - begin_ns;
-  report.loop_ns = loop.end_ns - loop.begin_ns;
-  report.self_cpu_s = loop.self_cpu_s;
-  StopRobots(&setup.robots(), &setup.clock_publishers(), &report);
-  report.stop_ns = MonotonicNowNs() - loop.end_ns;
-  report.gcs_relay = StopGcsRelay(setup.gcs_relay());
-  // Every image is reaped by now and nothing else was a child yet (gnuplot
-  // runs later), so the children's usage is the robots'.
-  report.robots_cpu_s = CpuSeconds(RUSAGE_CHILDREN);
-  setup.medium_records().Flush();
-  // Report: exit code, summary, plots.
-  ReportRun(setup, loop, &report);
-  return report;
+  OneHostRun run(scenario, options, std::move(report), begin_ns);
+  run.Run();
+  return run.TakeReport();
 }
 
 }  // namespace sitlnet::runner

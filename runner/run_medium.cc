@@ -16,7 +16,7 @@ RunMedium::RunMedium(const Scenario& scenario, const RunOptions& options,
   } else {
     medium = tapbridge::MakeMacPhySimMedium(scenario);
     if (options.record_losses) {
-      loss_log_ = MakeLossLog(run_dir, scenario);
+      loss_log_ = run_formats::MakeLossLog(run_dir, scenario);
       loss_log_->SetLiveSink(options.live);
       medium->SetTraceSink([log = loss_log_.get()](const mac::TraceEvent& e) { log->Add(e); });
     }

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "network_side/network_side.h"
-#include "runner/loss_log.h"
+#include "run_formats/run_formats.h"
 #include "runner/medium_records.h"
 #include "runner/runner.h"
 #include "scenario/scenario.h"
@@ -35,7 +35,7 @@ class RunMedium {
 
  private:
   network_side::RemoteMedium* remote_medium_ = nullptr;
-  std::unique_ptr<LossLog> loss_log_;  // Outlives the bridge: its medium writes to it.
+  std::unique_ptr<run_formats::LossLog> loss_log_;  // Outlives the bridge: its medium writes to it.
   std::unique_ptr<tapbridge::BridgeCore> bridge_;
   std::unique_ptr<MediumRecords> records_;
 };

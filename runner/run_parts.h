@@ -8,11 +8,11 @@
 #include <vector>
 
 #include "clock/clock.h"
-#include "gcs_link/gcs_link.h"
 #include "coordinator/coordinator.h"
+#include "gcs_link/gcs_link.h"
 #include "network_side/network_side.h"
 #include "physics_mujoco/physics_mujoco.h"
-#include "runner/closest_approach.h"
+#include "run_formats/run_formats.h"
 #include "runner/medium_records.h"
 #include "runner/robot_slot.h"
 #include "scenario/scenario.h"
@@ -47,7 +47,7 @@ class RunPhysics {
   // Writes what trajectories.csv holds so far; throws Error naming the file.
   virtual void Flush() = 0;
   // The closest two robots came at trajectories.csv's samples; null with fewer than two robots.
-  virtual std::optional<ClosestApproach> closest_approach() const = 0;
+  virtual std::optional<run_formats::ClosestApproach> closest_approach() const = 0;
 };
 
 }  // namespace sitlnet::runner

@@ -6,8 +6,8 @@
 #define SITLNET_RUNNER_RUNNER_H_
 
 #include <cstdint>
-#include <optional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,7 +15,7 @@
 #include "fleet/fleet.h"
 #include "gcs_link/gcs_link.h"
 #include "network_side/network_side.h"
-#include "runner/live_sink.h"
+#include "run_formats/run_formats.h"
 #include "scenario/scenario.h"
 
 namespace sitlnet::runner {
@@ -59,7 +59,7 @@ struct RunOptions {
   std::vector<std::string> gcs;
   // `sitlnet run --view` (may be null; outlives the run): told the poses and each second's
   // links while the run goes, on the run's threads; it never blocks them.
-  LiveSink* live = nullptr;
+  run_formats::LiveSink* live = nullptr;
 };
 
 // A file's identity and last change: what tells a file this run wrote from one it found.

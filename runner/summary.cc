@@ -6,10 +6,8 @@
 #include <utility>
 #include <vector>
 
-#include "runner/connectivity.h"
+#include "run_formats/run_formats.h"
 #include "runner/gcs_relay_stage.h"
-#include "runner/loss_log.h"
-#include "runner/outputs.h"
 #include "runner/run_folder.h"
 #include "runner/run_record.h"
 
@@ -34,11 +32,11 @@ std::string Quote(const std::string& text) {
 std::string Seconds(TimeNs ns) { return std::to_string(static_cast<double>(ns) / kNsPerS); }
 
 // Split statistics of the communication graph.
-std::string ConnectivityJson(const std::vector<ConnectivitySample>& samples) {
+std::string ConnectivityJson(const std::vector<run_formats::ConnectivitySample>& samples) {
   int max_components = samples.empty() ? 0 : 1;
   TimeNs split_ns = 0, first_split = -1, last_merge = -1;
   int previous = 1;
-  for (const ConnectivitySample& s : samples) {
+  for (const run_formats::ConnectivitySample& s : samples) {
     max_components = std::max(max_components, s.components);
     if (s.components > 1) {
       split_ns += kConnectivitySampleNs;
@@ -58,7 +56,8 @@ std::string ConnectivityJson(const std::vector<ConnectivitySample>& samples) {
 }
 
 // The closest approach of two robots, or null with fewer than two.
-std::string SeparationJson(const Scenario& scenario, const std::optional<ClosestApproach>& closest) {
+std::string SeparationJson(const Scenario& scenario,
+                           const std::optional<run_formats::ClosestApproach>& closest) {
   if (!closest) return "null";
   return "{\"min_m\":" + std::to_string(closest->distance_m) +
          ",\"at_s\":" + Seconds(closest->time_ns) + ",\"robots\":[" +
@@ -67,9 +66,9 @@ std::string SeparationJson(const Scenario& scenario, const std::optional<Closest
 }
 
 // DATA frames at the station they are for, by link class; null when no loss log was kept.
-std::string DeliveryJson(const LossLog* losses) {
+std::string DeliveryJson(const run_formats::LossLog* losses) {
   if (losses == nullptr) return "null";
-  const auto counts = [](const DeliveryCounts& c) {
+  const auto counts = [](const run_formats::DeliveryCounts& c) {
     std::string ratio = "null";
     if (c.frames > 0) {
       ratio = std::to_string(static_cast<double>(c.delivered) / static_cast<double>(c.frames));
@@ -77,7 +76,7 @@ std::string DeliveryJson(const LossLog* losses) {
     return "{\"frames\":" + std::to_string(c.frames) +
            ",\"delivered\":" + std::to_string(c.delivered) + ",\"ratio\":" + ratio + "}";
   };
-  const DeliveryByLinkClass& by_class = losses->delivery_by_link_class();
+  const run_formats::DeliveryByLinkClass& by_class = losses->delivery_by_link_class();
   return "{\"line_of_sight\":" + counts(by_class.line_of_sight) +
          ",\"obstructed\":" + counts(by_class.obstructed) + "}";
 }
@@ -283,16 +282,17 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
                           const coordinator::MetricsSummary& metrics, int64_t iterations_done,
                           const std::vector<RobotSlot>& robots, tapbridge::BridgeCore& bridge,
                           const physics::PhysicsServer* physics, MediumRecords& records,
-                          const std::optional<ClosestApproach>& closest,
+                          const std::optional<run_formats::ClosestApproach>& closest,
                           const std::string& failure) {
   const std::string& dir = report.run_dir;
   const int robot_count = static_cast<int>(scenario.robots.size());
   const TimeNs simulated_ns = iterations_done * scenario.iteration_ns;
   const auto samples = records.connectivity().Finish(simulated_ns);
-  WriteConnectivityCsv(dir + "/connectivity.csv", samples, robot_count);
+  run_formats::WriteConnectivityCsv(dir + "/connectivity.csv", samples, robot_count);
 
   std::vector<std::string> warnings;
-  const std::vector<std::string> plots = DrawPlots(dir, scenario, scenario.name, &warnings);
+  const std::vector<std::string> plots =
+      run_formats::DrawPlots(dir, scenario, scenario.name, &warnings);
   for (const std::string& warning : warnings) {
     std::fprintf(stderr, "sitlnet run: warning: %s\n", warning.c_str());
   }

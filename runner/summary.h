@@ -8,8 +8,7 @@
 
 #include "coordinator/metrics.h"
 #include "physics_mujoco/physics_mujoco.h"
-#include "runner/closest_approach.h"
-#include "runner/connectivity.h"
+#include "run_formats/run_formats.h"
 #include "runner/medium_records.h"
 #include "runner/robot_slot.h"
 #include "runner/runner.h"
@@ -29,7 +28,7 @@ void WriteSummaryAndPlots(const Scenario& scenario, const RunReport& report,
                           const coordinator::MetricsSummary& metrics, int64_t iterations_done,
                           const std::vector<RobotSlot>& robots, tapbridge::BridgeCore& bridge,
                           const physics::PhysicsServer* physics, MediumRecords& records,
-                          const std::optional<ClosestApproach>& closest,
+                          const std::optional<run_formats::ClosestApproach>& closest,
                           const std::string& failure);
 
 }  // namespace sitlnet::runner

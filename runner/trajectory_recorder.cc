@@ -2,13 +2,13 @@
 
 #include <cmath>
 
-#include "runner/outputs.h"
+#include "run_formats/run_formats.h"
 
 namespace sitlnet::runner {
 
 TrajectoryRecorder::TrajectoryRecorder(const physics::GeodeticFrame& frame,
                                        const std::string& csv_path)
-    : frame_(frame), csv_(csv_path, kTrajectoryHeader) {}
+    : frame_(frame), csv_(csv_path, run_formats::kTrajectoryHeader) {}
 
 void TrajectoryRecorder::Record(TimeNs time_ns, const proto::coord::Poses& poses) {
   const int robots = poses.position_m_size() / 3;
@@ -22,7 +22,7 @@ void TrajectoryRecorder::Record(TimeNs time_ns, const proto::coord::Poses& poses
   }
   live_poses_.resize(live_ != nullptr ? robots : 0);
   for (int i = 0; i < robots; ++i) {
-    PoseRow row;
+    run_formats::PoseRow row;
     row.time_ns = time_ns;
     row.robot = i;
     row.x_m = poses.position_m(3 * i);
@@ -39,7 +39,7 @@ void TrajectoryRecorder::Record(TimeNs time_ns, const proto::coord::Poses& poses
     row.latitude_deg = where.latitude_deg;
     row.longitude_deg = where.longitude_deg;
     row.altitude_m = where.altitude_m;
-    csv_.Append(FormatPoseRow(row));
+    csv_.Append(run_formats::FormatPoseRow(row));
     if (live_ != nullptr) {
       live_poses_[i] = {row.x_m, row.y_m, row.z_m, std::hypot(row.vx_m_s, row.vy_m_s, row.vz_m_s)};
     }

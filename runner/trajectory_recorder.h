@@ -11,8 +11,7 @@
 
 #include "common/common.h"
 #include "physics_mujoco/physics_mujoco.h"
-#include "runner/closest_approach.h"
-#include "runner/live_sink.h"
+#include "run_formats/run_formats.h"
 #include "sitlnet/coordinator.pb.h"
 
 namespace sitlnet::runner {
@@ -28,18 +27,18 @@ class TrajectoryRecorder {
   void Record(TimeNs time_ns, const proto::coord::Poses& poses);
   void Flush() { csv_.Flush(); }
   // `sink` (may be null; outlives this) is told every sample too.
-  void SetLiveSink(LiveSink* sink) { live_ = sink; }
+  void SetLiveSink(run_formats::LiveSink* sink) { live_ = sink; }
   // The closest two robots came at the samples recorded so far.
-  const std::optional<ClosestApproach>& closest_approach() const {
+  const std::optional<run_formats::ClosestApproach>& closest_approach() const {
     return closest_approach_.closest();
   }
 
  private:
   physics::GeodeticFrame frame_;
   LineFile csv_;
-  LiveSink* live_ = nullptr;
-  std::vector<LivePose> live_poses_;  // Reused: no allocation per sample.
-  ClosestApproachTracker closest_approach_;
+  run_formats::LiveSink* live_ = nullptr;
+  std::vector<run_formats::LivePose> live_poses_;  // Reused: no allocation per sample.
+  run_formats::ClosestApproachTracker closest_approach_;
   std::vector<double> positions_m_;  // Reused: the sample's positions for the tracker.
 };
 

@@ -45,7 +45,7 @@ struct BridgeCore::Impl {
   // Realtime driver.
   EventLoop* loop = nullptr;
   std::weak_ptr<const void> loop_lifetime;  // Expired: the loop is gone, do not touch it.
-  int timer_fd = -1;
+  UniqueFd timer_fd;
   clock::Timebase timebase;  // Set by StartRealtime.
   TimeNs armed_wall_ns = -1;
   TimeNs stopped_at_ns = -1;  // Virtual time when StopRealtime ran.
@@ -150,7 +150,7 @@ struct BridgeCore::Impl {
       spec.it_value.tv_nsec = wall % kNsPerS;
       if (wall <= 0) spec.it_value.tv_nsec = 1;  // 0 would disarm.
     }
-    timerfd_settime(timer_fd, TFD_TIMER_ABSTIME, &spec, nullptr);
+    timerfd_settime(timer_fd.get(), TFD_TIMER_ABSTIME, &spec, nullptr);
     armed_wall_ns = wall;
   }
 
@@ -276,11 +276,11 @@ void BridgeCore::StartRealtime(EventLoop* loop, const clock::Timebase& timebase)
   impl_->loop = loop;
   impl_->loop_lifetime = loop->lifetime();
   impl_->timebase = timebase;
-  impl_->timer_fd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
-  if (impl_->timer_fd < 0) throw Error(SystemErrorMessage("timerfd_create", errno));
-  loop->Add(impl_->timer_fd, EPOLLIN, [this](uint32_t) {
+  impl_->timer_fd.Reset(timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC));
+  if (!impl_->timer_fd.valid()) throw Error(SystemErrorMessage("timerfd_create", errno));
+  loop->Add(impl_->timer_fd.get(), EPOLLIN, [this](uint32_t) {
     uint64_t expirations = 0;
-    [[maybe_unused]] ssize_t n = read(impl_->timer_fd, &expirations, sizeof expirations);
+    [[maybe_unused]] ssize_t n = read(impl_->timer_fd.get(), &expirations, sizeof expirations);
     impl_->armed_wall_ns = -1;  // Fired: re-arm even for the same instant.
   });
   for (size_t i = 0; i < impl_->ports.size(); ++i) {
@@ -300,11 +300,10 @@ void BridgeCore::StopRealtime() {
     for (auto& port : impl.ports) {
       if (port && port->fd() >= 0) impl.loop->Remove(port->fd());
     }
-    impl.loop->Remove(impl.timer_fd);
+    impl.loop->Remove(impl.timer_fd.get());
     impl.loop->SetAfterBatch(nullptr);
   }
-  close(impl.timer_fd);
-  impl.timer_fd = -1;
+  impl.timer_fd.Reset();
   impl.loop = nullptr;
 }
 

@@ -35,19 +35,13 @@ ControlClient::ControlClient(const std::string& socket_path) {
     throw Error("control socket path too long: " + socket_path);
   }
   std::memcpy(address.sun_path, socket_path.c_str(), socket_path.size() + 1);
-  fd_ = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (fd_ < 0) throw Error(SystemErrorMessage("socket", errno));
-  if (connect(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
+  fd_.Reset(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+  if (!fd_.valid()) throw Error(SystemErrorMessage("socket", errno));
+  if (connect(fd_.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
     const int err = errno;
-    close(fd_);
-    fd_ = -1;
     throw Error(SystemErrorMessage(
         "connect to medium daemon at " + socket_path + " (is `sitlnet medium` running?)", err));
   }
-}
-
-ControlClient::~ControlClient() {
-  if (fd_ >= 0) close(fd_);
 }
 
 std::string ControlClient::Call(const std::string& request_bytes) {
@@ -57,17 +51,17 @@ std::string ControlClient::Call(const std::string& request_bytes) {
   message += request_bytes;
   size_t done = 0;
   while (done < message.size()) {
-    const ssize_t w = send(fd_, message.data() + done, message.size() - done, MSG_NOSIGNAL);
+    const ssize_t w = send(fd_.get(), message.data() + done, message.size() - done, MSG_NOSIGNAL);
     if (w < 0 && errno == EINTR) continue;
     if (w <= 0) throw Error(SystemErrorMessage("send to medium daemon", errno));
     done += w;
   }
   char header[4];
-  ReadExactly(fd_, header, 4, "read from medium daemon");
+  ReadExactly(fd_.get(), header, 4, "read from medium daemon");
   uint32_t length = 0;
   for (int i = 0; i < 4; ++i) length |= uint32_t{static_cast<uint8_t>(header[i])} << (8 * i);
   std::string response(length, '\0');
-  ReadExactly(fd_, response.data(), length, "read from medium daemon");
+  ReadExactly(fd_.get(), response.data(), length, "read from medium daemon");
   return response;
 }
 

@@ -37,11 +37,8 @@ sockaddr_un SocketAddress(const std::string& path) {
 
 bool ControlSocketAnswers(const std::string& path) {
   const sockaddr_un address = SocketAddress(path);
-  const int probe = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  const bool live =
-      connect(probe, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
-  close(probe);
-  return live;
+  const UniqueFd probe(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+  return connect(probe.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
 }
 
 ControlServer::ControlServer(const std::string& path, EventLoop* loop, BridgeCore* core,
@@ -51,37 +48,35 @@ ControlServer::ControlServer(const std::string& path, EventLoop* loop, BridgeCor
   // A live daemon answers: refuse. A stale socket file (daemon killed): remove.
   if (ControlSocketAnswers(path)) throw Error("a medium daemon already serves " + path);
   unlink(path.c_str());
-  listen_fd_ = socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-  if (listen_fd_ < 0) throw Error(SystemErrorMessage("socket for " + path, errno));
-  if (bind(listen_fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0 ||
-      listen(listen_fd_, 16) != 0) {
-    const int err = errno;
-    close(listen_fd_);
+  listen_fd_.Reset(socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
+  if (!listen_fd_.valid()) throw Error(SystemErrorMessage("socket for " + path, errno));
+  if (bind(listen_fd_.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0 ||
+      listen(listen_fd_.get(), 16) != 0) {
+    const int err = errno;  // The member's fd is closed as the constructor throws.
     throw Error(SystemErrorMessage("listen on control socket " + path, err));
   }
   // Owner only, whatever the umask: robots share the host's filesystem, and connecting to a
   // Unix socket needs write permission on it (docs/security.md).
   if (chmod(path.c_str(), 0600) != 0) {
     const int err = errno;
-    close(listen_fd_);
     throw Error(SystemErrorMessage("chmod 0600 control socket " + path, err));
   }
-  loop_->Add(listen_fd_, EPOLLIN, [this](uint32_t) { Accept(); });
+  loop_->Add(listen_fd_.get(), EPOLLIN, [this](uint32_t) { Accept(); });
 }
 
 ControlServer::~ControlServer() {
   while (!connections_.empty()) Close(connections_.begin()->first);
-  loop_->Remove(listen_fd_);
-  close(listen_fd_);
+  loop_->Remove(listen_fd_.get());
   unlink(path_.c_str());
 }
 
 void ControlServer::Accept() {
   for (;;) {
-    const int fd = accept4(listen_fd_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
-    if (fd < 0) return;
+    UniqueFd accepted(accept4(listen_fd_.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
+    if (!accepted.valid()) return;
+    const int fd = accepted.get();
     auto connection = std::make_unique<Connection>();
-    connection->fd = fd;
+    connection->fd = std::move(accepted);
     connections_[fd] = std::move(connection);
     loop_->Add(fd, EPOLLIN | EPOLLRDHUP, [this, fd](uint32_t events) { OnEvent(fd, events); });
   }
@@ -149,7 +144,7 @@ void ControlServer::HandleRequest(Connection* c, const std::string& bytes) {
   } else if (request.has_subscribe_pcap()) {
     c->out += Frame(response.SerializeAsString());
     c->out += PcapFileHeader();
-    const int fd = c->fd;
+    const int fd = c->fd.get();
     c->subscriber_id = fanout_->AddSubscriber([this, fd](const std::string& record) {
       auto it = connections_.find(fd);
       if (it == connections_.end()) return false;
@@ -169,7 +164,7 @@ void ControlServer::HandleRequest(Connection* c, const std::string& bytes) {
 
 void ControlServer::Flush(Connection* c) {
   while (!c->out.empty()) {
-    const ssize_t n = send(c->fd, c->out.data(), c->out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+    const ssize_t n = send(c->fd.get(), c->out.data(), c->out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
     if (n > 0) {
       c->out.erase(0, n);
       continue;
@@ -183,7 +178,7 @@ void ControlServer::Flush(Connection* c) {
   }
   const bool want_out = !c->out.empty();
   if (want_out != c->want_out) {
-    loop_->Modify(c->fd, EPOLLIN | EPOLLRDHUP | (want_out ? uint32_t{EPOLLOUT} : 0u));
+    loop_->Modify(c->fd.get(), EPOLLIN | EPOLLRDHUP | (want_out ? uint32_t{EPOLLOUT} : 0u));
     c->want_out = want_out;
   }
 }
@@ -196,8 +191,7 @@ void ControlServer::Close(int fd) {
     if (!fanout_->active()) core_->SetAirFrameCapture(false);
   }
   loop_->Remove(fd);
-  close(fd);
-  connections_.erase(it);
+  connections_.erase(it);  // Closes its fd.
 }
 
 proto::MediumStatus ControlServer::Status() const {

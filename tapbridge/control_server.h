@@ -29,7 +29,7 @@ class ControlServer {
 
  private:
   struct Connection {
-    int fd = -1;
+    UniqueFd fd;
     std::string in;
     std::string out;
     int subscriber_id = 0;  // Nonzero once subscribed to the pcap stream.
@@ -45,7 +45,7 @@ class ControlServer {
   EventLoop* loop_;
   BridgeCore* core_;
   PcapFanout* fanout_;
-  int listen_fd_ = -1;
+  UniqueFd listen_fd_;
   std::map<int, std::unique_ptr<Connection>> connections_;
 };
 

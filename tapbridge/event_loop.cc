@@ -10,7 +10,7 @@
 namespace sitlnet::tapbridge {
 
 struct EventLoop::Impl {
-  int epoll_fd = -1;
+  UniqueFd epoll_fd;
   bool stopped = false;
   // Callbacks by fd; a callback may Remove its own or other fds, so dispatch
   // looks each fd up again rather than holding iterators.
@@ -20,17 +20,17 @@ struct EventLoop::Impl {
 };
 
 EventLoop::EventLoop() : impl_(std::make_unique<Impl>()) {
-  impl_->epoll_fd = epoll_create1(EPOLL_CLOEXEC);
-  if (impl_->epoll_fd < 0) throw Error(SystemErrorMessage("epoll_create1", errno));
+  impl_->epoll_fd.Reset(epoll_create1(EPOLL_CLOEXEC));
+  if (!impl_->epoll_fd.valid()) throw Error(SystemErrorMessage("epoll_create1", errno));
 }
 
-EventLoop::~EventLoop() { close(impl_->epoll_fd); }
+EventLoop::~EventLoop() = default;
 
 void EventLoop::Add(int fd, uint32_t events, std::function<void(uint32_t)> callback) {
   epoll_event event{};
   event.events = events;
   event.data.fd = fd;
-  if (epoll_ctl(impl_->epoll_fd, EPOLL_CTL_ADD, fd, &event) != 0) {
+  if (epoll_ctl(impl_->epoll_fd.get(), EPOLL_CTL_ADD, fd, &event) != 0) {
     throw Error(SystemErrorMessage("epoll_ctl add fd " + std::to_string(fd), errno));
   }
   impl_->callbacks[fd] = std::make_shared<std::function<void(uint32_t)>>(std::move(callback));
@@ -40,13 +40,13 @@ void EventLoop::Modify(int fd, uint32_t events) {
   epoll_event event{};
   event.events = events;
   event.data.fd = fd;
-  if (epoll_ctl(impl_->epoll_fd, EPOLL_CTL_MOD, fd, &event) != 0) {
+  if (epoll_ctl(impl_->epoll_fd.get(), EPOLL_CTL_MOD, fd, &event) != 0) {
     throw Error(SystemErrorMessage("epoll_ctl mod fd " + std::to_string(fd), errno));
   }
 }
 
 void EventLoop::Remove(int fd) {
-  epoll_ctl(impl_->epoll_fd, EPOLL_CTL_DEL, fd, nullptr);
+  epoll_ctl(impl_->epoll_fd.get(), EPOLL_CTL_DEL, fd, nullptr);
   impl_->callbacks.erase(fd);
 }
 
@@ -56,7 +56,7 @@ void EventLoop::SetAfterBatch(std::function<void()> callback) {
 
 void EventLoop::RunOnce(int timeout_ms) {
   epoll_event events[64];
-  const int n = epoll_wait(impl_->epoll_fd, events, 64, timeout_ms);
+  const int n = epoll_wait(impl_->epoll_fd.get(), events, 64, timeout_ms);
   if (n < 0 && errno != EINTR) throw Error(SystemErrorMessage("epoll_wait", errno));
   for (int i = 0; i < n; ++i) {
     const auto it = impl_->callbacks.find(events[i].data.fd);

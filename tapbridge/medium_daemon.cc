@@ -1,6 +1,6 @@
-// The medium daemon (`sitlnet medium SCENARIO`): main() reads like a script.
-// Parse options, build the medium, attach the TAPs, open the outputs, serve
-// the control socket, run the realtime loop until SIGINT/SIGTERM.
+// The medium daemon's library call (its thin main: cli/medium_command.cc; the shape every daemon
+// has: docs/architecture.md, "Processes"). It reads like a script: build the medium, attach the
+// TAPs, open the outputs, serve the control socket, run the realtime loop until SIGINT/SIGTERM.
 #include <signal.h>
 #include <sys/epoll.h>
 #include <sys/inotify.h>

@@ -25,15 +25,13 @@ bool WriteAll(int fd, const std::string& bytes) {
 
 }  // namespace
 
-PcapFanout::~PcapFanout() {
-  if (file_fd_ >= 0) close(file_fd_);
-}
+PcapFanout::~PcapFanout() = default;
 
 void PcapFanout::OpenFile(const std::string& path) {
-  file_fd_ = open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (file_fd_ < 0) throw Error(SystemErrorMessage("create pcap file " + path, errno));
+  file_fd_.Reset(open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
+  if (!file_fd_.valid()) throw Error(SystemErrorMessage("create pcap file " + path, errno));
   file_path_ = path;
-  if (!WriteAll(file_fd_, PcapFileHeader())) {
+  if (!WriteAll(file_fd_.get(), PcapFileHeader())) {
     throw Error(SystemErrorMessage("write pcap file " + path, errno));
   }
 }
@@ -52,12 +50,11 @@ void PcapFanout::OnFrame(const AirFrame& frame) {
   if (!active()) return;
   const std::string record = EncodePcapRecord(frame, epoch_offset_ns_);
   ++records_;
-  if (file_fd_ >= 0 && !WriteAll(file_fd_, record)) {
+  if (file_fd_.valid() && !WriteAll(file_fd_.get(), record)) {
     // A full disk must not stop the medium: stop writing the file, say so once.
     std::fprintf(stderr, "sitlnet medium: %s; pcap file closed\n",
                  SystemErrorMessage("write pcap file " + file_path_, errno).c_str());
-    close(file_fd_);
-    file_fd_ = -1;
+    file_fd_.Reset();
   }
   for (const Subscriber& s : subscribers_) {
     if (!s.send(record)) ++subscriber_drops_;

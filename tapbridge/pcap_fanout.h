@@ -26,7 +26,7 @@ class PcapFanout {
   // whole and counted, so the stream stays parseable).
   int AddSubscriber(std::function<bool(const std::string&)> send);
   void RemoveSubscriber(int id);
-  bool active() const { return file_fd_ >= 0 || !subscribers_.empty(); }
+  bool active() const { return file_fd_.valid() || !subscribers_.empty(); }
 
   void OnFrame(const AirFrame& frame);
 
@@ -39,7 +39,7 @@ class PcapFanout {
     std::function<bool(const std::string&)> send;
   };
   TimeNs epoch_offset_ns_;
-  int file_fd_ = -1;
+  UniqueFd file_fd_;
   std::string file_path_;
   std::vector<Subscriber> subscribers_;
   int next_id_ = 1;

@@ -28,33 +28,28 @@ TapPort::TapPort(const std::string& netns, const std::string& ifname)
     // seq_open_net binds the file to the opener's namespace: later reads from the root
     // namespace still show the robot's devices.
     nns::ScopedNetns inside(netns);
-    proc_net_dev_fd_ = open("/proc/thread-self/net/dev", O_RDONLY | O_CLOEXEC);
+    proc_net_dev_fd_.Reset(open("/proc/thread-self/net/dev", O_RDONLY | O_CLOEXEC));
   }
-  fd_ = tap.Release();
-}
-
-TapPort::~TapPort() {
-  if (fd_ >= 0) close(fd_);
-  if (proc_net_dev_fd_ >= 0) close(proc_net_dev_fd_);
+  fd_ = std::move(tap);
 }
 
 ssize_t TapPort::Read(std::span<uint8_t> buffer) {
-  const ssize_t n = read(fd_, buffer.data(), buffer.size());
+  const ssize_t n = read(fd_.get(), buffer.data(), buffer.size());
   if (n >= 0) return n;
   if (errno == EAGAIN || errno == EWOULDBLOCK) return 0;
   return -errno;
 }
 
 int TapPort::Write(std::span<const uint8_t> frame) {
-  const ssize_t n = write(fd_, frame.data(), frame.size());
+  const ssize_t n = write(fd_.get(), frame.data(), frame.size());
   if (n == static_cast<ssize_t>(frame.size())) return 0;
   return n < 0 ? -errno : -EIO;
 }
 
 std::optional<uint64_t> TapPort::KernelTxDropped() {
-  if (proc_net_dev_fd_ < 0) return std::nullopt;
+  if (!proc_net_dev_fd_.valid()) return std::nullopt;
   char text[16384];
-  const ssize_t n = pread(proc_net_dev_fd_, text, sizeof text - 1, 0);
+  const ssize_t n = pread(proc_net_dev_fd_.get(), text, sizeof text - 1, 0);
   if (n <= 0) return std::nullopt;
   text[n] = '\0';
   std::istringstream lines(text);

@@ -21,11 +21,10 @@ class TapPort : public Port {
   // nns::AttachTap. Throws Error 'attach to TAP "<ifname>" in namespace "<netns>": <why>',
   // also when the device does not exist ("no such device": it is never created here).
   TapPort(const std::string& netns, const std::string& ifname);
-  ~TapPort() override;
   TapPort(const TapPort&) = delete;
   TapPort& operator=(const TapPort&) = delete;
 
-  int fd() const override { return fd_; }
+  int fd() const override { return fd_.get(); }
   const std::string& netns() const { return netns_; }
   // Inode of the namespace attached to (to notice a namespace replaced).
   ino_t netns_inode() const { return netns_inode_; }
@@ -41,8 +40,8 @@ class TapPort : public Port {
  private:
   std::string netns_;
   std::string ifname_;
-  int fd_ = -1;
-  int proc_net_dev_fd_ = -1;
+  UniqueFd fd_;
+  UniqueFd proc_net_dev_fd_;
   ino_t netns_inode_ = 0;
 };
 

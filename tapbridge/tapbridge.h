@@ -297,16 +297,13 @@ int RunMediumDaemon(const Scenario& scenario, const DaemonOptions& options);
 class ControlClient {
  public:
   explicit ControlClient(const std::string& socket_path);  // Throws Error.
-  ~ControlClient();
-  ControlClient(const ControlClient&) = delete;
-  ControlClient& operator=(const ControlClient&) = delete;
   // Serialized MediumRequest in, serialized MediumResponse out. Throws Error.
   std::string Call(const std::string& request_bytes);
   // After a subscribe_pcap response, the socket carries a raw pcap stream.
-  int fd() const { return fd_; }
+  int fd() const { return fd_.get(); }
 
  private:
-  int fd_ = -1;
+  UniqueFd fd_;
 };
 
 }  // namespace sitlnet::tapbridge

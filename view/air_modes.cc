@@ -125,7 +125,8 @@ void AirModeReader::Datagram(TimeNs time_ns, int robot, const uint8_t* data, siz
 }
 
 std::vector<ModeChange> ReadAirModes(const std::string& pcap_path, int robots) {
-  const int fd = open(pcap_path.c_str(), O_RDONLY | O_CLOEXEC);
+  const UniqueFd file(open(pcap_path.c_str(), O_RDONLY | O_CLOEXEC));
+  const int fd = file.get();
   if (fd < 0) {
     if (errno == ENOENT) return {};
     throw Error("open \"" + pcap_path + "\": " + std::strerror(errno));
@@ -141,10 +142,8 @@ std::vector<ModeChange> ReadAirModes(const std::string& pcap_path, int robots) {
       reader.Push(buffer.data(), static_cast<size_t>(n));
     }
   } catch (const Error& error) {
-    close(fd);
     throw Error("\"" + pcap_path + "\": " + error.what());
   }
-  close(fd);
   // Each robot's frames are in time order; the file interleaves robots by end of transmission.
   std::vector<ModeChange> changes = reader.changes();
   std::stable_sort(changes.begin(), changes.end(),

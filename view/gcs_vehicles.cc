@@ -63,7 +63,7 @@ GcsVehicle VehicleOfJson(const Struct& object, const std::vector<std::string>& r
 
 }  // namespace
 
-GcsVehicle GcsVehicleOf(const runner::LiveVehicle& v) {
+GcsVehicle GcsVehicleOf(const run_formats::LiveVehicle& v) {
   GcsVehicle vehicle;
   vehicle.robot = v.robot;
   vehicle.system_id = v.system_id;

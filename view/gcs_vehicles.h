@@ -1,6 +1,6 @@
 // What the run's GCS relay heard of each vehicle (gcs_link/, docs/autopilots.md "Ground
 // stations"), as the page shows it: the robot, its flight mode, armed or not, and the MAVLink
-// loss the GCS saw. Live from the run (runner::LiveVehicle); replayed from summary.json's
+// loss the GCS saw. Live from the run (run_formats::LiveVehicle); replayed from summary.json's
 // "gcs_relay", the counts at the run's end.
 #ifndef SITLNET_VIEW_GCS_VEHICLES_H_
 #define SITLNET_VIEW_GCS_VEHICLES_H_
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "runner/live_sink.h"
+#include "run_formats/run_formats.h"
 
 namespace sitlnet::view {
 
@@ -25,7 +25,7 @@ struct GcsVehicle {
 };
 
 // `vehicle` with its mode named.
-GcsVehicle GcsVehicleOf(const runner::LiveVehicle& vehicle);
+GcsVehicle GcsVehicleOf(const run_formats::LiveVehicle& vehicle);
 
 // summary.json's gcs_relay.vehicles, each robot found by name in `robot_names` (index order).
 // Empty when the run had no relay, or summary.json is not JSON or predates the field "robot".

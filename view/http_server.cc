@@ -50,8 +50,9 @@ std::string BindFailure(const ListenAddress& address) {
   } else {
     return "not a numeric address";
   }
-  const int fd = socket(storage.ss_family, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) return SystemErrorMessage("socket", errno);
+  const UniqueFd socket_fd(socket(storage.ss_family, SOCK_STREAM | SOCK_CLOEXEC, 0));
+  if (!socket_fd.valid()) return SystemErrorMessage("socket", errno);
+  const int fd = socket_fd.get();
   const int yes = 1;
   setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);  // As cpp-httplib does.
   std::string why = "refused";
@@ -60,7 +61,6 @@ std::string BindFailure(const ListenAddress& address) {
   } else if (listen(fd, 1) != 0) {
     why = std::strerror(errno);
   }
-  close(fd);
   return why;
 }
 

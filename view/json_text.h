@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "common/common.h"
-#include "runner/live_sink.h"
+#include "run_formats/run_formats.h"
 #include "sitlnet/scenario.pb.h"
 #include "view/air_modes.h"
 

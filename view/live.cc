@@ -79,7 +79,7 @@ LiveView::~LiveView() {
   state_->thread.join();
 }
 
-runner::LiveSink* LiveView::sink() { return &state_->feed; }
+run_formats::LiveSink* LiveView::sink() { return &state_->feed; }
 
 std::string LiveView::CostLine() const {
   const LiveFeed::Cost cost = state_->feed.cost();

@@ -17,7 +17,7 @@ void LiveFeed::TryUpdate(Update&& update) {
   spent_ns_ += MonotonicNowNs() - begin_ns;
 }
 
-void LiveFeed::Poses(TimeNs time_ns, const std::vector<runner::LivePose>& poses) {
+void LiveFeed::Poses(TimeNs time_ns, const std::vector<run_formats::LivePose>& poses) {
   TryUpdate([&](LiveSnapshot& shared) {
     shared.time_ns = time_ns;
     shared.poses = poses;  // Same size every time: no allocation after the first.
@@ -31,7 +31,7 @@ void LiveFeed::Poses(TimeNs time_ns, const std::vector<runner::LivePose>& poses)
   });
 }
 
-void LiveFeed::Links(int64_t second, const std::vector<runner::LinkRow>& rows) {
+void LiveFeed::Links(int64_t second, const std::vector<run_formats::LinkRow>& rows) {
   TryUpdate([&](LiveSnapshot& shared) {
     shared.link_second = second;
     shared.links = rows;
@@ -48,14 +48,14 @@ void LiveFeed::Components(TimeNs time_ns, int components, const std::vector<int>
   });
 }
 
-void LiveFeed::Timing(const runner::SecondTiming& second) {
+void LiveFeed::Timing(const run_formats::SecondTiming& second) {
   TryUpdate([&](LiveSnapshot& shared) {
     if (shared.timing.size() == kTimingSeconds) shared.timing.erase(shared.timing.begin());
     shared.timing.push_back(second);
   });
 }
 
-void LiveFeed::Vehicles(TimeNs time_ns, const std::vector<runner::LiveVehicle>& vehicles) {
+void LiveFeed::Vehicles(TimeNs time_ns, const std::vector<run_formats::LiveVehicle>& vehicles) {
   TryUpdate([&](LiveSnapshot& shared) {
     shared.vehicles_time_ns = time_ns;
     shared.vehicles = vehicles;

@@ -1,7 +1,7 @@
 // What the live view shows of a running run: the latest poses, a trail per robot, the latest
 // second's links, the timeline (connectivity components, timing per second), and what the GCS
 // relay heard of each vehicle. The run's
-// threads write it through runner::LiveSink without ever waiting: an update that finds the
+// threads write it through run_formats::LiveSink without ever waiting: an update that finds the
 // server reading is skipped (and counted).
 #ifndef SITLNET_VIEW_LIVE_FEED_H_
 #define SITLNET_VIEW_LIVE_FEED_H_
@@ -11,7 +11,7 @@
 #include <mutex>
 #include <vector>
 
-#include "runner/live_sink.h"
+#include "run_formats/run_formats.h"
 #include "view/timeline_json.h"
 
 namespace sitlnet::view {
@@ -23,19 +23,19 @@ struct TrailPoint {
 
 struct LiveSnapshot {
   TimeNs time_ns = -1;  // Of `poses`; -1 before the first sample.
-  std::vector<runner::LivePose> poses;
+  std::vector<run_formats::LivePose> poses;
   std::vector<std::vector<TrailPoint>> trails;
   int64_t link_second = -1;  // Of `links`; -1 before the first whole second.
-  std::vector<runner::LinkRow> links;
+  std::vector<run_formats::LinkRow> links;
   TimeNs components_time_ns = -1;  // Of the latest connectivity sample; -1 before the first.
   std::vector<ComponentsChange> connectivity;  // Where the components changed, the last ones.
-  std::vector<runner::SecondTiming> timing;    // The last seconds' timing.
+  std::vector<run_formats::SecondTiming> timing;  // The last seconds' timing.
   TimeNs vehicles_time_ns = -1;  // Of `vehicles`; -1 before the first (or without a GCS relay).
-  std::vector<runner::LiveVehicle> vehicles;  // What the GCS relay heard, by system id.
+  std::vector<run_formats::LiveVehicle> vehicles;  // What the GCS relay heard, by system id.
   uint64_t skipped_updates = 0;
 };
 
-class LiveFeed final : public runner::LiveSink {
+class LiveFeed final : public run_formats::LiveSink {
  public:
   // A trail keeps a point every kTrailPeriodNs of simulated time, the last kTrailPoints of them.
   static constexpr TimeNs kTrailPeriodNs = 500 * kNsPerMs;
@@ -45,11 +45,11 @@ class LiveFeed final : public runner::LiveSink {
   static constexpr size_t kTimelineChanges = 1000;
   static constexpr size_t kTimingSeconds = 600;
 
-  void Poses(TimeNs time_ns, const std::vector<runner::LivePose>& poses) override;
-  void Links(int64_t second, const std::vector<runner::LinkRow>& rows) override;
+  void Poses(TimeNs time_ns, const std::vector<run_formats::LivePose>& poses) override;
+  void Links(int64_t second, const std::vector<run_formats::LinkRow>& rows) override;
   void Components(TimeNs time_ns, int components, const std::vector<int>& component_of) override;
-  void Timing(const runner::SecondTiming& second) override;
-  void Vehicles(TimeNs time_ns, const std::vector<runner::LiveVehicle>& vehicles) override;
+  void Timing(const run_formats::SecondTiming& second) override;
+  void Vehicles(TimeNs time_ns, const std::vector<run_formats::LiveVehicle>& vehicles) override;
   // The server's copy (it waits for the lock; the run's threads never do).
   LiveSnapshot Snapshot() const;
 

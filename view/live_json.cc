@@ -9,7 +9,7 @@ namespace sitlnet::view {
 std::string LiveJson(const LiveSnapshot& snapshot, const std::vector<ModeChange>& modes) {
   const std::string time = Seconds(snapshot.time_ns);
   std::string json = "{\"time_s\":" + (snapshot.time_ns < 0 ? "null" : time);
-  json += ",\"robots\":" + Array(snapshot.poses, [&](const runner::LivePose& pose) {
+  json += ",\"robots\":" + Array(snapshot.poses, [&](const run_formats::LivePose& pose) {
             return "[" + time + "," + Number(pose.x_m) + "," + Number(pose.y_m) + "," +
                    Number(pose.z_m) + "," + Number(pose.speed_m_s) + "]";
           });
@@ -19,7 +19,7 @@ std::string LiveJson(const LiveSnapshot& snapshot, const std::vector<ModeChange>
             });
           });
   json += ",\"link_second\":" + std::to_string(snapshot.link_second);
-  json += ",\"links\":" + Array(snapshot.links, [](const runner::LinkRow& row) {
+  json += ",\"links\":" + Array(snapshot.links, [](const run_formats::LinkRow& row) {
             const double ratio = row.frames > 0 ? static_cast<double>(row.delivered) /
                                                       static_cast<double>(row.frames)
                                                 : -1;
@@ -32,7 +32,7 @@ std::string LiveJson(const LiveSnapshot& snapshot, const std::vector<ModeChange>
   json += ",\"skipped_updates\":" + std::to_string(snapshot.skipped_updates);
   json += ",\"modes\":" + ModeChangesArray(modes);
   std::vector<GcsVehicle> vehicles;
-  for (const runner::LiveVehicle& vehicle : snapshot.vehicles)
+  for (const run_formats::LiveVehicle& vehicle : snapshot.vehicles)
     vehicles.push_back(GcsVehicleOf(vehicle));
   json += ",\"gcs_time_s\":" +
           (snapshot.vehicles_time_ns < 0 ? "null" : Seconds(snapshot.vehicles_time_ns));

@@ -11,18 +11,16 @@ namespace sitlnet::view {
 LiveModes::LiveModes(const std::string& run_dir, int robots)
     : path_(run_dir + "/medium.pcap"), robots_(robots), reader_(robots) {}
 
-LiveModes::~LiveModes() {
-  if (fd_ >= 0) close(fd_);
-}
+LiveModes::~LiveModes() = default;
 
 void LiveModes::Update() {
   if (failed_) return;
-  if (fd_ < 0) fd_ = open(path_.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd_ < 0) return;  // Not created yet (or a run without one): no modes.
+  if (!fd_.valid()) fd_.Reset(open(path_.c_str(), O_RDONLY | O_CLOEXEC));
+  if (!fd_.valid()) return;  // Not created yet (or a run without one): no modes.
   uint8_t buffer[1 << 16];
   try {
     for (;;) {
-      const ssize_t n = read(fd_, buffer, sizeof buffer);
+      const ssize_t n = read(fd_.get(), buffer, sizeof buffer);
       if (n < 0 && errno == EINTR) continue;
       if (n <= 0) return;
       reader_.Push(buffer, static_cast<size_t>(n));

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/common.h"
 #include "view/air_modes.h"
 
 namespace sitlnet::view {
@@ -29,7 +30,7 @@ class LiveModes {
  private:
   std::string path_;
   int robots_;
-  int fd_ = -1;
+  UniqueFd fd_;
   bool failed_ = false;
   AirModeReader reader_;
 };

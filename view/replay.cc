@@ -1,7 +1,4 @@
 // ServeReplay: the run folder's documents, the server, and the signals that stop it.
-#include <poll.h>
-
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -24,9 +21,7 @@ namespace {
 void ServeUntilStopSignal(HttpServer* server) {
   StopSignal stop;
   std::thread waiter([&stop, server] {
-    pollfd ready{stop.fd(), POLLIN, 0};
-    while (poll(&ready, 1, -1) < 0 && errno == EINTR) {
-    }
+    stop.Wait();
     server->Stop();
   });
   {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "runner/loss_log.h"
+#include "run_formats/run_formats.h"
 #include "view/gcs_vehicles.h"
 #include "view/json_text.h"
 
@@ -37,7 +37,7 @@ std::string RunJson(const Scenario& scenario, const std::string& run_dir, TimeNs
                    Number(box->yaw_deg()) + "}";
           });
   std::vector<std::string> columns;
-  for (const char* c = runner::kLossHeader; *c != '\0'; ++c) {
+  for (const char* c = run_formats::kLossHeader; *c != '\0'; ++c) {
     if (columns.empty() || *c == ',') columns.emplace_back();
     if (*c != ',') columns.back() += *c;
   }

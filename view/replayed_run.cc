@@ -10,8 +10,7 @@
 #include <sstream>
 
 #include "coordinator/metrics.h"
-#include "runner/loss_log.h"
-#include "runner/outputs.h"
+#include "run_formats/run_formats.h"
 
 namespace sitlnet::view {
 namespace {
@@ -85,7 +84,7 @@ std::string RequireFile(const std::string& run_dir, const std::string& name, con
 
 void ReadTrajectories(const std::string& path, ReplayedRun* record) {
   std::istringstream text(ReadText(path));
-  CsvReader csv(path, runner::kTrajectoryHeader,
+  CsvReader csv(path, run_formats::kTrajectoryHeader,
                 [&](std::string* line) { return static_cast<bool>(std::getline(text, *line)); });
   const int robots = static_cast<int>(record->scenario.robots.size());
   std::vector<std::string> cells;
@@ -115,7 +114,7 @@ void ReadLinks(const std::string& path, ReplayedRun* record) {
   const std::string whole = ReadText(path);
   const bool with_rates = whole.compare(0, whole.find('\n'), kLinkHeaderWithoutRates) != 0;
   std::istringstream text(whole);
-  CsvReader csv(path, with_rates ? runner::kLinkHeader : kLinkHeaderWithoutRates,
+  CsvReader csv(path, with_rates ? run_formats::kLinkHeader : kLinkHeaderWithoutRates,
                 [&](std::string* line) { return static_cast<bool>(std::getline(text, *line)); });
   std::vector<std::string> cells;
   while (csv.Next(with_rates ? 10 : 8, &cells)) {
@@ -162,8 +161,8 @@ void ReadMetrics(const std::string& path, ReplayedRun* record) {
   CsvReader csv(path, header.c_str(),
                 [&](std::string* line) { return static_cast<bool>(std::getline(text, *line)); });
   std::vector<std::string> cells;
-  runner::SecondTimingAccumulator seconds;
-  const auto keep = [&](std::optional<runner::SecondTiming> second) {
+  run_formats::SecondTimingAccumulator seconds;
+  const auto keep = [&](std::optional<run_formats::SecondTiming> second) {
     if (second) record->timing.push_back(*second);
   };
   while (csv.Next(8, &cells)) {
@@ -192,7 +191,7 @@ void ReadLosses(const std::string& path, ReplayedRun* record) {
     if (error != Z_OK && error != Z_BUF_ERROR) throw Error(path + ": " + message);
     return !line->empty();
   };
-  CsvReader csv(path, runner::kLossHeader, read_line);
+  CsvReader csv(path, run_formats::kLossHeader, read_line);
   LossRow row;
   while (csv.Next(13, &row.cells)) {
     row.time_ns = csv.Parse<TimeNs>(row.cells[0], "time_ns");

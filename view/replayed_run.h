@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "common/common.h"
-#include "runner/second_timing.h"
+#include "run_formats/run_formats.h"
 #include "scenario/scenario.h"
 #include "view/air_modes.h"
 #include "view/timeline_json.h"
@@ -52,7 +52,7 @@ struct ReplayedRun {
   std::vector<LinkSecond> links;      // links.csv, in file order
   std::vector<LossRow> losses;        // losses.csv.gz, in file order (by end of transmission)
   std::vector<ComponentsChange> connectivity;  // connectivity.csv's rows where they change
-  std::vector<runner::SecondTiming> timing;    // metrics.csv per simulated second
+  std::vector<run_formats::SecondTiming> timing;  // metrics.csv per simulated second
   std::string summary_json;           // summary.json as written
   std::vector<ModeChange> modes;      // heard in medium.pcap (view/air_modes.h); none without it
   // Indices into `losses` per (from, station), in file order.

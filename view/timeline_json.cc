@@ -11,13 +11,13 @@ void AppendIfChanged(TimeNs time_ns, int components, const std::vector<int>& com
 }
 
 std::string TimelineMembers(const std::vector<ComponentsChange>& changes,
-                            const std::vector<runner::SecondTiming>& timing) {
+                            const std::vector<run_formats::SecondTiming>& timing) {
   std::string json =
       "\"connectivity\":" + Array(changes, [](const ComponentsChange& change) {
         return "[" + Seconds(change.time_ns) + "," + std::to_string(change.components) + "," +
                Array(change.component_of, [](int c) { return std::to_string(c); }) + "]";
       });
-  json += ",\"timing\":" + Array(timing, [](const runner::SecondTiming& s) {
+  json += ",\"timing\":" + Array(timing, [](const run_formats::SecondTiming& s) {
             return "[" + std::to_string(s.second) + "," + std::to_string(s.iterations) + "," +
                    Number(s.stf_mean) + "," + Number(s.stf_max) + "," +
                    Number(static_cast<double>(s.lag_max_ns) / kNsPerMs) + "]";

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "common/common.h"
-#include "runner/second_timing.h"
+#include "run_formats/run_formats.h"
 
 namespace sitlnet::view {
 
@@ -25,7 +25,7 @@ void AppendIfChanged(TimeNs time_ns, int components, const std::vector<int>& com
 // "connectivity": [[time_s, components, [component_of...]], ...], "timing": [[second,
 // iterations, stf_mean, stf_max, lag_max_ms], ...]: two members of a JSON object, no braces.
 std::string TimelineMembers(const std::vector<ComponentsChange>& changes,
-                            const std::vector<runner::SecondTiming>& timing);
+                            const std::vector<run_formats::SecondTiming>& timing);
 
 }  // namespace sitlnet::view
 

@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-#include "runner/live_sink.h"
+#include "run_formats/run_formats.h"
 #include "scenario/scenario.h"
 #include "view/listen_address.h"
 
@@ -39,7 +39,7 @@ class LiveView {
   LiveView& operator=(const LiveView&) = delete;
 
   const std::string& url() const { return url_; }
-  runner::LiveSink* sink();
+  run_formats::LiveSink* sink();
   // "live view: N updates (S skipped: the server was reading), X ms on the run's threads, R
   // requests answered": what the view cost the run.
   std::string CostLine() const;

@@ -19,8 +19,7 @@
 #include <set>
 #include <sstream>
 
-#include "runner/loss_log.h"
-#include "runner/outputs.h"
+#include "run_formats/run_formats.h"
 #include "tests/integration/run_test_util.h"
 
 namespace sitlnet::nns::testing {
@@ -514,7 +513,7 @@ std::string WriteSplitFolder() {
   std::filesystem::create_directories(dir);
   std::filesystem::copy_file(integration_test::SourceDir() + "/scenarios/arrow_flocking.textproto",
                              dir + "/scenario.textproto");
-  std::string trajectories = std::string(runner::kTrajectoryHeader) + "\n";
+  std::string trajectories = std::string(run_formats::kTrajectoryHeader) + "\n";
   for (int sample = 0; sample < 3; ++sample) {
     for (int robot = 0; robot < 4; ++robot) {
       char row[256];
@@ -526,7 +525,7 @@ std::string WriteSplitFolder() {
     }
   }
   WriteText(dir + "/trajectories.csv", trajectories);
-  std::string links = std::string(runner::kLinkHeader) + "\n";
+  std::string links = std::string(run_formats::kLinkHeader) + "\n";
   for (int from = 0; from < 4; ++from) {
     for (int to = 0; to < 4; ++to) {
       if (from == to) continue;
@@ -536,7 +535,7 @@ std::string WriteSplitFolder() {
     }
   }
   WriteText(dir + "/links.csv", links);
-  WriteText(dir + "/losses.csv.gz", std::string(runner::kLossHeader) + "\n", /*gzip=*/true);
+  WriteText(dir + "/losses.csv.gz", std::string(run_formats::kLossHeader) + "\n", /*gzip=*/true);
   WriteText(dir + "/connectivity.csv",
             "time_s,components,robot_0,robot_1,robot_2,robot_3\n0.100000,2,0,1,0,1\n");
   WriteText(dir + "/metrics.csv",

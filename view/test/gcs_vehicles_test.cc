@@ -37,7 +37,7 @@ TEST(GcsVehiclesTest, ARunWithoutARelayOrASummaryThatIsNotJsonHasNone) {
 }
 
 TEST(GcsVehiclesTest, ALiveVehicleOfAnotherAutopilotShowsItsCustomMode) {
-  runner::LiveVehicle live;
+  run_formats::LiveVehicle live;
   live.robot = 4;
   live.system_id = 5;
   live.messages = 7;
@@ -48,7 +48,7 @@ TEST(GcsVehiclesTest, ALiveVehicleOfAnotherAutopilotShowsItsCustomMode) {
   EXPECT_EQ(GcsVehiclesArray({GcsVehicleOf(live)}),
             "[{\"robot\":4,\"system_id\":5,\"mode\":\"custom mode 0\",\"armed\":true,"
             "\"messages\":7,\"sequence_gaps\":0,\"loss\":0}]");
-  EXPECT_EQ(GcsVehiclesArray({GcsVehicleOf(runner::LiveVehicle{})}),
+  EXPECT_EQ(GcsVehiclesArray({GcsVehicleOf(run_formats::LiveVehicle{})}),
             "[{\"robot\":null,\"system_id\":0,\"mode\":null,\"armed\":null,\"messages\":0,"
             "\"sequence_gaps\":0,\"loss\":null}]");
 }

@@ -6,8 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "runner/loss_log.h"
-#include "runner/outputs.h"
+#include "run_formats/run_formats.h"
 
 namespace sitlnet::view::testing {
 
@@ -32,7 +31,7 @@ std::string WriteRunFolder(const std::string& name, const std::string& losses) {
             "robot { name: \"b\" position_m { x: 10 y: 0 z: 0.2 } }\n"
             "obstacle { name: \"wall\" center_m { x: 5 y: 5 z: 2 } size_m { x: 2 y: 4 z: 4 } "
             "yaw_deg: 90 }\n");
-  std::string trajectories = std::string(runner::kTrajectoryHeader) + "\n";
+  std::string trajectories = std::string(run_formats::kTrajectoryHeader) + "\n";
   for (const char* row :
        {"0.000,0,0.0000,0.0000,0.2000", "0.000,1,10.0000,0.0000,0.2000",
         "0.100,0,0.5000,0.0000,1.0000", "0.100,1,10.0000,-0.2500,1.0000",
@@ -42,9 +41,10 @@ std::string WriteRunFolder(const std::string& name, const std::string& losses) {
                     "47.39774200,8.54559400,488.2000\n";
   }
   WriteFile(dir + "/trajectories.csv", trajectories);
-  WriteFile(dir + "/links.csv", std::string(runner::kLinkHeader) +
-                                    "\n0,0,1,4,3,0.75,collision,1,54,\n0,1,-1,0,0,,queue_full,2,0,\n");
-  WriteFile(dir + "/losses.csv.gz", std::string(runner::kLossHeader) + "\n" + losses, true);
+  WriteFile(dir + "/links.csv",
+            std::string(run_formats::kLinkHeader) +
+                "\n0,0,1,4,3,0.75,collision,1,54,\n0,1,-1,0,0,,queue_full,2,0,\n");
+  WriteFile(dir + "/losses.csv.gz", std::string(run_formats::kLossHeader) + "\n" + losses, true);
   // Apart at 0.1 s, together at 0.2 s and 0.3 s (the last is no change).
   WriteFile(dir + "/connectivity.csv",
             "time_s,components,robot_0,robot_1\n0.100000,2,0,1\n0.200000,1,0,0\n"

@@ -1,6 +1,6 @@
-// The cause line quoted from a robot's log when it could not start (runner/log_cause.h). The
+// The cause line quoted from a robot's log when it could not start (run_formats/log_cause.cc). The
 // logs are what the real autopilots printed in tests/integration/autopilot_faults_test.cc.
-#include "runner/log_cause.h"
+#include "run_formats/run_formats.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <string>
 
-namespace sitlnet::runner {
+namespace sitlnet::run_formats {
 namespace {
 
 TEST(LogCause, TheFirstComplaintOfAProgramThatExitedIsItsCause) {
@@ -55,4 +55,4 @@ TEST(LogCause, ALongLogKeepsItsEndWithoutACutFirstLine) {
 }
 
 }  // namespace
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::run_formats

@@ -1,4 +1,4 @@
-#include "runner/loss_log.h"
+#include "run_formats/run_formats.h"
 
 #include <zlib.h>
 
@@ -11,7 +11,7 @@
 
 #include "mac_phy_sim/scenario_adapter.h"
 
-namespace sitlnet::runner {
+namespace sitlnet::run_formats {
 namespace {
 
 constexpr size_t kDeflateInputBytes = 1 << 16;  // CSV text gathered before each deflate call.
@@ -354,4 +354,4 @@ std::unique_ptr<LossLog> MakeLossLog(const std::string& run_dir, const Scenario&
                                    config.preamble_detect_min_rssi_dbm);
 }
 
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::run_formats

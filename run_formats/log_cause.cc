@@ -1,4 +1,4 @@
-#include "runner/log_cause.h"
+#include "run_formats/run_formats.h"
 
 #include <algorithm>
 #include <cctype>
@@ -6,7 +6,7 @@
 #include <sstream>
 #include <vector>
 
-namespace sitlnet::runner {
+namespace sitlnet::run_formats {
 namespace {
 
 constexpr size_t kMaxLineChars = 200;
@@ -72,4 +72,4 @@ std::string LogSays(const std::string& line) {
   return line.empty() ? "" : "; its log says \"" + line + "\"";
 }
 
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::run_formats

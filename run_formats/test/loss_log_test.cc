@@ -1,6 +1,6 @@
 // losses.csv.gz and links.csv written from the medium's own trace: the hidden
 // pair of mac_phy_sim's causes_test (A and C hidden from each other around B).
-#include "runner/loss_log.h"
+#include "run_formats/run_formats.h"
 
 #include <gtest/gtest.h>
 #include <zlib.h>
@@ -12,7 +12,7 @@
 #include <tuple>
 #include <vector>
 
-namespace sitlnet::runner {
+namespace sitlnet::run_formats {
 namespace {
 
 constexpr MacAddress kBroadcast{{0xff, 0xff, 0xff, 0xff, 0xff, 0xff}};
@@ -187,4 +187,4 @@ TEST(LossLogTest, CountsDeliveriesByLineOfSightAndObstructedLinks) {
 }
 
 }  // namespace
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::run_formats

@@ -1,4 +1,4 @@
-#include "runner/outputs.h"
+#include "run_formats/run_formats.h"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
-namespace sitlnet::runner {
+namespace sitlnet::run_formats {
 namespace {
 
 bool IsPng(const std::string& path) {
@@ -71,4 +71,4 @@ TEST(OutputsTest, GnuplotDrawsThreePngsAndTheFolderNameIsNoCommand) {
 }
 
 }  // namespace
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::run_formats

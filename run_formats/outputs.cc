@@ -1,4 +1,4 @@
-#include "runner/outputs.h"
+#include "run_formats/run_formats.h"
 
 #include <fcntl.h>
 #include <sys/wait.h>
@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace sitlnet::runner {
+namespace sitlnet::run_formats {
 
 std::string FormatPoseRow(const PoseRow& r) {
   // Degrees to 1e-8 (about a millimetre), like the metres beside them (0.1 mm).
@@ -104,4 +104,4 @@ std::vector<std::string> DrawPlots(const std::string& run_dir, const Scenario& s
   return {run_dir + "/trajectories.png", run_dir + "/connectivity.png", run_dir + "/stf.png"};
 }
 
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::run_formats

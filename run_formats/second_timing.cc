@@ -1,8 +1,8 @@
-#include "runner/second_timing.h"
+#include "run_formats/run_formats.h"
 
 #include <algorithm>
 
-namespace sitlnet::runner {
+namespace sitlnet::run_formats {
 
 std::optional<SecondTiming> SecondTimingAccumulator::Add(TimeNs start_ns, double stf,
                                                          TimeNs lag_ns) {
@@ -26,4 +26,4 @@ std::optional<SecondTiming> SecondTimingAccumulator::Finish() {
   return done;
 }
 
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::run_formats

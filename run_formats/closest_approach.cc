@@ -1,8 +1,8 @@
-#include "runner/closest_approach.h"
+#include "run_formats/run_formats.h"
 
 #include <cmath>
 
-namespace sitlnet::runner {
+namespace sitlnet::run_formats {
 
 void ClosestApproachTracker::Sample(TimeNs time_ns, const std::vector<double>& positions_m) {
   const int robots = static_cast<int>(positions_m.size() / 3);
@@ -28,4 +28,4 @@ void ClosestApproachTracker::Sample(TimeNs time_ns, const std::vector<double>& p
   closest_ = ClosestApproach{std::sqrt(best_m2), time_ns, best_a, best_b};
 }
 
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::run_formats

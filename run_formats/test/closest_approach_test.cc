@@ -1,10 +1,10 @@
 // summary.json's "separation": the closest two robots came over the samples, by brute force on
 // hand-placed positions (the oracle is the arithmetic: a 3-4-5 triangle, a tie, a later miss).
-#include "runner/closest_approach.h"
+#include "run_formats/run_formats.h"
 
 #include <gtest/gtest.h>
 
-namespace sitlnet::runner {
+namespace sitlnet::run_formats {
 namespace {
 
 TEST(ClosestApproachTest, NullUntilTwoRobotsAreSampled) {
@@ -36,4 +36,4 @@ TEST(ClosestApproachTest, KeepsTheSmallestDistanceItsFirstInstantAndThePair) {
 }
 
 }  // namespace
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::run_formats

@@ -1,9 +1,9 @@
-#include "runner/connectivity.h"
+#include "run_formats/run_formats.h"
 
 #include <algorithm>
 #include <numeric>
 
-namespace sitlnet::runner {
+namespace sitlnet::run_formats {
 namespace {
 
 int Find(std::vector<int>& parent, int i) {
@@ -64,4 +64,4 @@ void ConnectivityTracker::SampleUntilBefore(TimeNs time_ns) {
   }
 }
 
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::run_formats

@@ -1,8 +1,8 @@
-#include "runner/connectivity.h"
+#include "run_formats/run_formats.h"
 
 #include <gtest/gtest.h>
 
-namespace sitlnet::runner {
+namespace sitlnet::run_formats {
 namespace {
 
 constexpr TimeNs kS = kNsPerS;
@@ -46,4 +46,4 @@ TEST(ConnectivityTest, ADeliveryAtASampleInstantCountsForThatSample) {
 }
 
 }  // namespace
-}  // namespace sitlnet::runner
+}  // namespace sitlnet::run_formats
