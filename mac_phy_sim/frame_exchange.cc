@@ -360,15 +360,23 @@ size_t FramesHeld(const AccessFunction& f) {
 // cells by up to 4 % either way at 3 seeds (docs/validation.md).
 bool WipesAtEveryArrival(const State& s) { return UsesBlockAck(s) && !s.config.aggregation; }
 
-// Whether the frame in service of `ac` waits for channel access: not sent yet, or waiting to be
-// retried, no exchange of `ac` under way. ns-3 3.37 keeps that frame in its WifiMacQueue, whose
-// wipes take it when it expired (WifiMacQueueContainer::DoExtractExpiredMpdus takes every
-// expired MPDU at the queue's head), making room for the frame arriving.
-bool WaitsForAccess(const State& s, int station, int ac) {
+// Whether an exchange holds the frame in service of `ac`: on the air (a group frame, or an
+// exchange of `ac` under way) or its DATA due a SIFS after the CTS its RTS got. ns-3 3.37's
+// frame exchange manager sends the PSDU it holds even when a wipe took it out of the
+// WifiMacQueue (WifiMacQueue::Insert only removes it from the queue).
+bool HeldByExchange(const State& s, int station, int ac) {
   const StationState& st = s.stations[station];
-  if (!WipesAtEveryArrival(s) || !st.acs[ac].has_current || st.response_pending) return false;
-  if (st.exchange_ac != ac) return true;
-  return st.exchange == Exchange::kIdle && st.transmitting_tx < 0;
+  if (st.exchange_ac != ac) return false;
+  return st.exchange != Exchange::kIdle || st.transmitting_tx >= 0 ||
+         (st.response_pending && st.response_kind == FrameKind::kData);
+}
+
+// Whether the frame in service of `ac` waits for channel access: not sent yet, or waiting to be
+// retried, no exchange holding it. ns-3 3.37 keeps that frame in its WifiMacQueue, whose wipes
+// take it when it expired (WifiMacQueueContainer::DoExtractExpiredMpdus takes every expired MPDU
+// at the queue's head), making room for the frame arriving.
+bool WaitsForAccess(const State& s, int station, int ac) {
+  return s.stations[station].acs[ac].has_current && !HeldByExchange(s, station, ac);
 }
 
 // Releases the TXOP of `ac` and draws a new backoff (ns-3's NotifyChannelReleased).
@@ -391,13 +399,19 @@ void OnEnqueue(State& s, int station, Bytes ethernet) {
   size_t expired_in_flight = 0;
   const bool queue_full = FramesHeld(af) >= s.config.queue_limit_frames;
   if (WipesAtEveryArrival(s) || queue_full) {
-    // With aggregation the frame in service is in ns-3's queue too and goes if it expired,
-    // unless an exchange holds it (ExpireInFlight).
-    const bool in_exchange = st.exchange != Exchange::kIdle && st.exchange_ac == ac;
-    DropExpired(s, station, ac,
-                WaitsForAccess(s, station, ac) ||
-                    (queue_full && s.config.aggregation && !in_exchange));
+    // The frame in service is in ns-3's queue too: with aggregation (at a full queue) and on
+    // 802.11ac without it (at every arrival) it goes if it expired while it waits for access.
+    const bool wipe_current = WipesAtEveryArrival(s) || (queue_full && s.config.aggregation);
+    const bool current_waits = WaitsForAccess(s, station, ac);
+    DropExpired(s, station, ac, wipe_current && current_waits);
     expired_in_flight = ExpireInFlight(s, station, ac);
+    // Held by an exchange (a group frame on the air, DATA due a SIFS after its CTS), ns-3 takes
+    // the expired frame out of its queue yet sends it: room, but it stays in service.
+    if (wipe_current && !current_waits && expired_in_flight == 0 && af.has_current &&
+        s.config.queue_max_delay_ns > 0 &&
+        af.current.enqueued_ns + s.config.queue_max_delay_ns <= s.now_ns) {
+      expired_in_flight = 1;
+    }
   }
   if (FramesHeld(af) - expired_in_flight >= s.config.queue_limit_frames) {
     ++st.counters.queue_drops;

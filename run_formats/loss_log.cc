@@ -223,10 +223,13 @@ void LossLog::Add(const mac::TraceEvent& event) {
   if (event.drop) {
     const mac::DropRecord& d = *event.drop;
     const int to = StationOf(d.destination);
+    // A frame dropped before it was given a sequence number has none: the field stays empty.
+    char sequence[8] = "";
+    if (d.has_sequence_number) std::snprintf(sequence, sizeof sequence, "%u", d.sequence_number);
     char row[160];
-    const int n = std::snprintf(row, sizeof row, "%lld,%d,%d,DATA,%u,,%d,%s,,,,,\n",
-                                static_cast<long long>(d.time_ns), d.station, to,
-                                d.sequence_number, d.station, DropName(d.reason));
+    const int n = std::snprintf(row, sizeof row, "%lld,%d,%d,DATA,%s,,%d,%s,,,,,\n",
+                                static_cast<long long>(d.time_ns), d.station, to, sequence,
+                                d.station, DropName(d.reason));
     pending_.append(row, static_cast<size_t>(n));
     Counts& c = Link(d.time_ns, d.station, to);
     ++c.losses[d.reason == mac::DropReason::kRetryLimit  ? kRetryLimit

@@ -9,7 +9,7 @@
 # no_culling (SITLNET_PHYSICS_CULL_TILE_M=0: every robot's model holds every obstacle);
 # SITLNET_PHYSICS_THREADS=1; SITLNET_PHYSICS_INTEGRATOR=euler; no obstacles
 # (gen_scenario.py --no-obstacles); no obstacles + euler. Realtime variants: realtime (as
-# run.sh: sitlnet's threads at SCHED_FIFO 10, its default, images at normal priority),
+# run.sh: sitlnet's threads at SCHED_FIFO, its default (10 when measured, 60 now), images normal),
 # realtime_normal (--rt-priority 0) and realtime_fifo_all (the whole run under `chrt -f 10`,
 # images included: sitlnet leaves an inherited realtime policy alone; about one core for S s).
 # Rows in OUT/ablation_runs.csv, medians in docs/scale_ablation.csv. Called by run.sh.

@@ -107,6 +107,34 @@ TEST(LossLogTest, WritesEveryReceptionAboveTheNoiseFloorAndPerSecondLinks) {
   EXPECT_EQ(links, expected);
 }
 
+// A drop row carries the frame's sequence number only if the frame was given one: a frame that
+// met a full queue never was (mac::DropRecord::has_sequence_number).
+TEST(LossLogTest, ADropRowHasASequenceNumberOnlyIfTheFrameWasGivenOne) {
+  const std::string dir = ::testing::TempDir() + "/loss_log_drop_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::vector<MacAddress> macs = {RobotMac(0), RobotMac(1)};
+  mac::TraceEvent never_numbered;
+  never_numbered.drop = mac::DropRecord{};
+  never_numbered.drop->time_ns = 1000;
+  never_numbered.drop->destination = macs[1];
+  mac::TraceEvent numbered = never_numbered;
+  numbered.drop->time_ns = 2000;
+  numbered.drop->reason = mac::DropReason::kRetryLimit;
+  numbered.drop->sequence_number = 7;
+  numbered.drop->has_sequence_number = true;
+  {
+    LossLog log(dir, macs, -94, -82);
+    log.Add(never_numbered);
+    log.Add(numbered);
+    log.Finish();
+  }
+  const std::vector<std::string> rows = Lines(Gunzip(dir + "/losses.csv.gz"));
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[1].rfind("1000,0,1,DATA,,,0,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[2].rfind("2000,0,1,DATA,7,,0,", 0), 0u) << rows[2];
+}
+
 // Issue 44, item 5: an 802.11n link's row names its MCS and rate, those of its last DATA frame
 // in the second (here MCS 7 at 65 Mb/s, then MCS 4 at 39 Mb/s: IEEE 802.11-2016 Table 19-27).
 TEST(LossLogTest, ALinksRowNamesTheRateAndMcsOfItsLastDataFrame) {

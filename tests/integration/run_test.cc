@@ -704,10 +704,11 @@ TEST(RunTest, Ros2ClockReachesARobotOnItsLoopbackInBothPacings) {
   RunCommand({"rm", "-rf", out});
 }
 
-// Realtime pacing: sitlnet's own threads ask for SCHED_FIFO 10 (a busy host otherwise delays the
-// loop by milliseconds, docs/performance.md); the robot's software must not inherit it. The
-// image reports its own policy and its parent's (the `sitlnet run` process) with chrt. It runs
-// without the sandbox, whose PID namespace would hide the parent, and says so in a warning.
+// Realtime pacing: sitlnet's own threads ask for SCHED_FIFO kDefaultRealtimePriority (a busy
+// host otherwise delays the loop by milliseconds, docs/performance.md); the robot's software must
+// not inherit it. The image reports its own policy and its parent's (the `sitlnet run` process)
+// with chrt. It runs without the sandbox, whose PID namespace would hide the parent, and says so
+// in a warning.
 TEST(RunTest, RealtimeRunIsFifoButItsImagesAreNot) {
   SITLNET_REQUIRE_NNS_PRIVILEGES();
   const std::string manifest = WriteImageManifest(

@@ -235,8 +235,8 @@ TEST(TapbridgeBadInput, DaemonRestartReattaches) {
   EXPECT_TRUE(Pings(scenario, "a", 1));
 }
 
-// The daemon asks for SCHED_FIFO kDefaultRealtimePriority (docs/tapbridge.md). With CAP_SYS_NICE it gets it; without
-// (the min-caps pass) it says so in one line, stays SCHED_OTHER and serves the medium all the
+// The daemon asks for SCHED_FIFO kDefaultRealtimePriority (docs/tapbridge.md). With CAP_SYS_NICE
+// it gets it; without (the min-caps pass) it says so in one line, stays SCHED_OTHER and serves the medium all the
 // same. chrt (util-linux) observes the policy of the daemon's main thread, which asked.
 TEST(TapbridgeDaemon, SchedFifoWithCapSysNiceElseOneWarningAndNormalPriority) {
   SITLNET_REQUIRE_ROOT();
