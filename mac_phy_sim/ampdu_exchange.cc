@@ -285,7 +285,7 @@ bool TrySendAmpdu(State& s, int station) {
 }
 
 // ns-3 3.37 builds the A-MPDU before it protects it (HtFrameExchangeManager::SendDataFrame,
-// ht-frame-exchange-manager.cc:508-516), so the RTS/CTS decision sees the whole PSDU.
+// ht-frame-exchange-manager.cc:506-522), so the RTS/CTS decision sees the whole PSDU.
 int PlannedAmpduBytes(State& s, int station, TimeNs rts_protection_ns) {
   StationState& st = s.stations[station];
   const int ac = st.exchange_ac;
