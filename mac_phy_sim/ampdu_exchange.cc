@@ -62,43 +62,64 @@ bool HasQueuedData(const AccessFunction& af, const MacAddress& recipient, int ti
   return (af.has_current && ours(af.current)) || std::any_of(af.queue.begin(), af.queue.end(), ours);
 }
 
-// Takes from the queue the MPDUs that join `current` in an A-MPDU (ns-3 3.37's
-// MpduAggregator::GetNextAmpdu): same receiver and TID, inside the Block Ack window that starts
-// at `current`, while the A-MPDU stays within `max_bytes` and its PPDU within 5484 us and what
-// is left of the TXOP (less SIFS and the BlockAck). Returns the PSDU length.
-int CollectAmpdu(State& s, int station, int ac, uint32_t max_bytes) {
+// The MPDUs that join `current` in an A-MPDU (ns-3 3.37's MpduAggregator::GetNextAmpdu): same
+// receiver and TID, inside the Block Ack window that starts at `current`, while the A-MPDU
+// stays within `max_bytes` and its PPDU within 5484 us and what is left of the TXOP (less SIFS
+// and the BlockAck). With `take` they move from the queue to ampdu_rest, numbered; without,
+// the walk only measures (PlannedAmpduBytes). Once the A-MPDU is longer than
+// `rts_threshold_bytes` (0: never) its protection becomes RTS/CTS and `rts_protection_ns` leaves
+// the TXOP too (ns-3's QosFrameExchangeManager::TryAddMpdu, qos-frame-exchange-manager.cc:331-375).
+// Returns the PSDU length; *mpdus counts the MPDUs.
+int WalkAmpdu(State& s, int station, int ac, uint32_t max_bytes, bool take,
+              uint32_t rts_threshold_bytes, TimeNs rts_protection_ns, int* mpdus) {
   StationState& st = s.stations[station];
   AccessFunction& af = st.acs[ac];
   QueuedFrame& f = af.current;
   const ModeEntry& mode = f.rate->data;
-  TimeNs limit_ns = kMaxPpduDurationNs;
-  if (af.txop_start_ns >= 0) {
-    limit_ns = std::min(limit_ns,
-                        RemainingTxopNs(s, af, ac) - s.phy.sifs_ns - BlockAckNs(*f.rate));
-  }
+  const bool in_txop = af.txop_start_ns >= 0;
+  const TimeNs txop_left_ns =
+      in_txop ? RemainingTxopNs(s, af, ac) - s.phy.sifs_ns - BlockAckNs(*f.rate) : 0;
+  auto limit_ns = [&](int bytes) {
+    if (!in_txop) return kMaxPpduDurationNs;
+    const bool rts = rts_threshold_bytes > 0 && static_cast<uint32_t>(bytes) > rts_threshold_bytes;
+    return std::min(kMaxPpduDurationNs, txop_left_ns - (rts ? rts_protection_ns : 0));
+  };
+  // Without `take` nothing is numbered: the frames that would be count on from the next number.
+  const uint16_t first = f.sequence_assigned ? f.sequence_number
+                                             : PeekSequence(s, station, f.destination, f.tid);
+  int numbered = f.sequence_assigned ? 0 : 1;
   int bytes = AmpduBytesIfAggregated(0, DataMpduBytes(s, f));
-  for (auto it = af.queue.begin();
-       it != af.queue.end() && static_cast<int>(af.ampdu_rest.size()) + 1 < kMaxAmpduSubframes;) {
+  int count = 1 + static_cast<int>(af.ampdu_rest.size());
+  for (auto it = af.queue.begin(); it != af.queue.end() && count < kMaxAmpduSubframes;) {
     if (!ForAgreement(*it, f.destination, f.tid)) {
       ++it;
       continue;
     }
-    const uint16_t sequence = it->sequence_assigned
-                                  ? it->sequence_number
-                                  : PeekSequence(s, station, it->destination, it->tid);
-    if (SequenceDistance(f.sequence_number, sequence) >= kBlockAckWindow) break;
+    const uint16_t sequence =
+        it->sequence_assigned
+            ? it->sequence_number
+            : static_cast<uint16_t>((PeekSequence(s, station, it->destination, it->tid) + numbered) &
+                                    0x0fff);
+    if (SequenceDistance(first, sequence) >= kBlockAckWindow) break;
     const int with = AmpduBytesIfAggregated(bytes, DataMpduBytes(s, *it));
     if (static_cast<uint32_t>(with) > max_bytes ||
-        PpduDurationNs(mode.mode, mode.header, with) > limit_ns) {
+        PpduDurationNs(mode.mode, mode.header, with) > limit_ns(with)) {
       break;
     }
     bytes = with;
+    ++count;
+    if (!take) {
+      if (!it->sequence_assigned) ++numbered;
+      ++it;
+      continue;
+    }
     AssignSequence(s, station, *it);
     it->rate = f.rate;
     it->rts_rate = f.rts_rate;
     af.ampdu_rest.push_back(std::move(*it));
     it = af.queue.erase(it);
   }
+  *mpdus = count;
   return bytes;
 }
 
@@ -255,10 +276,34 @@ bool TrySendAmpdu(State& s, int station) {
   }
   const uint32_t max_bytes = MaxAmpduBytes(s, ac, f.rate->data.mode);
   if (max_bytes == 0) return false;
-  const int psdu_bytes = CollectAmpdu(s, station, ac, max_bytes);
+  // After the RTS/CTS (if any) the TXOP left already excludes them: no protection to leave out.
+  int mpdus = 0;
+  const int psdu_bytes = WalkAmpdu(s, station, ac, max_bytes, true, 0, 0, &mpdus);
   if (af.ampdu_rest.empty()) return false;
   SendAmpdu(s, station, psdu_bytes);
   return true;
+}
+
+// ns-3 3.37 builds the A-MPDU before it protects it (HtFrameExchangeManager::SendDataFrame,
+// ht-frame-exchange-manager.cc:506-522), so the RTS/CTS decision sees the whole PSDU.
+int PlannedAmpduBytes(State& s, int station, TimeNs rts_protection_ns) {
+  StationState& st = s.stations[station];
+  const int ac = st.exchange_ac;
+  const QueuedFrame& f = st.acs[ac].current;
+  if (f.type != MpduType::kData || f.group ||
+      EstablishedAgreement(s, station, f.destination, f.tid) == nullptr) {
+    return 0;
+  }
+  const uint32_t max_bytes = MaxAmpduBytes(s, ac, f.rate->data.mode);
+  if (max_bytes == 0) return 0;
+  int mpdus = 0;
+  const int bytes = WalkAmpdu(s, station, ac, max_bytes, false, s.config.rts_threshold_bytes,
+                              rts_protection_ns, &mpdus);
+  return mpdus > 1 ? bytes : 0;
+}
+
+TimeNs AmpduAndBlockAckNs(const QueuedFrame& f, int psdu_bytes) {
+  return PpduDurationNs(f.rate->data.mode, f.rate->data.header, psdu_bytes) + BlockAckNs(*f.rate);
 }
 
 void BlockAckMissed(State& s, int station) {

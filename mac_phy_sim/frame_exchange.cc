@@ -264,13 +264,27 @@ void SendData(State& s, int station) {
   st.exchange = f.group ? Exchange::kIdle : Exchange::kWaitAck;
 }
 
-// ChooseRates, and the lowest basic rate for an action frame.
+// RTS, SIFS, CTS, SIFS before the DATA of `f` (ns-3's protection time).
+TimeNs RtsCtsNs(const State& s, const QueuedFrame& f) {
+  return PpduDurationNs(f.rts_mode->mode, f.rts_mode->header, kRtsBytes) + 2 * s.phy.sifs_ns +
+         f.rts_rate->cts_ns;
+}
+
+// ChooseRates, and the lowest basic rate for an action frame. With aggregation the A-MPDU is
+// planned now, and RTS/CTS protects it when the whole PSDU is longer than rts_threshold_bytes:
+// ns-3 3.37 compares the PSDU's size as each MPDU joins (WifiDefaultProtectionManager::TryAddMpdu
+// -> GetSizeIfAddMpdu, wifi-default-protection-manager.cc:95-96; NeedRts,
+// wifi-remote-station-manager.cc:1093). Without aggregation each MPDU is compared, as before.
 void ChooseFrameRates(State& s, int station) {
   ChooseRates(s, station);
   QueuedFrame& f = Exchanging(s, station).current;
   if (f.type != MpduType::kData) {
     f.rate = f.rts_rate = ManagementRate(s);
     f.use_rts = false;
+  } else if (s.config.aggregation && !f.group && s.config.rts_threshold_bytes > 0) {
+    f.ampdu_bytes = PlannedAmpduBytes(s, station, RtsCtsNs(s, f));
+    const int psdu_bytes = f.ampdu_bytes > 0 ? f.ampdu_bytes : DataMpduBytes(s, f);
+    f.use_rts = psdu_bytes > static_cast<int>(s.config.rts_threshold_bytes);
   }
 }
 
@@ -289,8 +303,10 @@ void SendCurrent(State& s, int station) {
   // RTS Duration: CTS + DATA + ACK + 3 SIFS (9.3.1.2). RTS at the control
   // rate of the DATA rate (or Ideal's RTS rate); CTS answers at the control
   // rate of the RTS's. Within a TXOP: the rest of the TXOP (ns-3's GetRtsDurationId).
-  TimeNs duration_ns =
-      3 * s.phy.sifs_ns + f.rts_rate->cts_ns + DataDurationNs(s, f) + f.rate->ack_ns;
+  // An A-MPDU's: its PPDU and the BlockAck instead.
+  const TimeNs data_and_answer_ns = f.ampdu_bytes > 0 ? AmpduAndBlockAckNs(f, f.ampdu_bytes)
+                                                      : DataDurationNs(s, f) + f.rate->ack_ns;
+  TimeNs duration_ns = 3 * s.phy.sifs_ns + f.rts_rate->cts_ns + data_and_answer_ns;
   if (af.txop_start_ns >= 0) {
     duration_ns = RemainingTxopNs(s, af, ac) -
                   PpduDurationNs(rts_mode.mode, rts_mode.header, kRtsBytes);

@@ -102,7 +102,9 @@ struct MediumConfig {
   bool shadowing = true;                    // Sommer et al. 2011 obstacle model.
   double shadowing_db_per_wall = 9;         // beta
   double shadowing_db_per_m = 0.4;          // gamma
-  uint32_t rts_threshold_bytes = 0;         // MPDUs longer than this use RTS/CTS; 0: never.
+  // MPDUs (with aggregation: the whole A-MPDU, as in ns-3 3.37) longer than this use RTS/CTS;
+  // 0: never.
+  uint32_t rts_threshold_bytes = 0;
   // Per-station drop-tail transmit queue, the frame in service included
   // (ns-3 3.37 WifiMacQueue: MaxSize 500 packets, MaxDelay 500 ms; frames
   // older than the delay are dropped when a frame arrives at a full queue).

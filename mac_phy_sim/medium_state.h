@@ -92,6 +92,9 @@ struct QueuedFrame {
   // BlockAck keeps and a BlockAck or missed ACK that reports it lost leaves (TO_RETRANSMIT).
   bool in_flight = false;
   bool use_rts = false;
+  // With aggregation: the A-MPDU the current attempt plans (PlannedAmpduBytes), whose length
+  // decides use_rts and whose airtime the RTS's Duration covers; 0: a single MPDU.
+  int ampdu_bytes = 0;
   const RateEntry* rate = nullptr;      // DATA rate of the current attempt (rate_control.cc).
   const RateEntry* rts_rate = nullptr;  // Times the CTS answering the current attempt's RTS.
   const ModeEntry* rts_mode = nullptr;  // Mode of the current attempt's RTS.
@@ -392,6 +395,12 @@ bool HasBlockAckReqToSend(State& s, int station, int ac);
 // The frame in service goes with others for the same receiver and TID as an A-MPDU, if it is
 // under an agreement and any other fits (true: sent).
 bool TrySendAmpdu(State& s, int station);
+// The PSDU length of the A-MPDU TrySendAmpdu would send now for the frame in service (its rates
+// chosen), nothing taken from the queue; 0 if it would go alone. An A-MPDU longer than
+// rts_threshold_bytes leaves `rts_protection_ns` (RTS, CTS, 2 SIFS) out of the TXOP.
+int PlannedAmpduBytes(State& s, int station, TimeNs rts_protection_ns);
+// Airtime of an A-MPDU of `psdu_bytes` at `f`'s rate and of the BlockAck answering it (no SIFS).
+TimeNs AmpduAndBlockAckNs(const QueuedFrame& f, int psdu_bytes);
 // No BlockAck came after an A-MPDU or a BlockAckReq (ns-3's BlockAckTimeout, MissedBlockAck).
 void BlockAckMissed(State& s, int station);
 // An MPDU given up (retry limit, expiry, internal collision): ns-3's NotifyPacketDiscarded.

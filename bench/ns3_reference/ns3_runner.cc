@@ -117,8 +117,8 @@ Ns3Outcome RunNs3Case(const Case& c, const Ns3Radio& radio, uint32_t run) {
   WifiHelper wifi;
   wifi.SetStandard(Ns3Standard(c.standard));
   // No RTS: ns-3's default threshold, 65535 B, which no MPDU and no A-MPDU within HT's limit
-  // exceeds. ns-3 compares the whole PSDU (WifiDefaultProtectionManager), so an A-MPDU above the
-  // default would go with RTS/CTS, which mac_phy_sim never sends for it (it compares MPDUs):
+  // exceeds. ns-3 compares the whole PSDU (WifiDefaultProtectionManager), as mac_phy_sim does,
+  // so an A-MPDU above the default would go with RTS/CTS; mac_phy_sim's default (0) is never:
   // with a larger limit the threshold is raised above it.
   const uint32_t no_rts_bytes = std::max<uint32_t>(65535, radio.be_max_ampdu_bytes);
   const UintegerValue rts_threshold(c.rts_threshold_bytes == 0 ? no_rts_bytes

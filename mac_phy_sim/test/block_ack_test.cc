@@ -122,6 +122,48 @@ TEST(BlockAckTest, AmpduStopsAtThePpduDurationLimitAndTheSizeLimit) {
   EXPECT_EQ(FirstAmpduMpdus(RunPair(off, 100, 1, 20 * kNsPerMs)), 0);
 }
 
+// ns-3 3.37 compares the whole PSDU with RtsCtsThreshold as each MPDU joins the A-MPDU
+// (WifiDefaultProtectionManager::TryAddMpdu with WifiTxParameters::GetSizeIfAddMpdu, then
+// WifiRemoteStationManager::NeedRts: size > threshold). Five 1538 B MPDUs (8000 B limit) make a
+// 7718 B A-MPDU: a 4000 B threshold, above every MPDU, protects it with RTS/CTS, whose Duration
+// covers the A-MPDU and its BlockAck (9.3.1.2); an 8000 B threshold, above the A-MPDU, does not.
+TEST(BlockAckTest, RtsCtsProtectsAnAmpduLongerThanTheThresholdThoughEachMpduIsShorter) {
+  MediumConfig config = Ht(7);
+  config.max_ampdu_bytes[static_cast<int>(AccessCategory::kBestEffort)] = 8000;
+  config.rts_threshold_bytes = 4000;
+  const std::vector<TxRecord> txs = RunPair(config, 100, 1, 20 * kNsPerMs);
+  EXPECT_EQ(FirstAmpduMpdus(txs), 5);
+  int protected_ampdus = 0;
+  for (size_t i = 0; i < txs.size(); ++i) {
+    const bool starts_ampdu = txs[i].ampdu_reference.has_value() &&
+                              (i == 0 || txs[i - 1].ampdu_reference != txs[i].ampdu_reference);
+    if (!starts_ampdu) continue;
+    ASSERT_GE(i, 2u);
+    EXPECT_EQ(txs[i - 2].kind, FrameKind::kRts);
+    EXPECT_EQ(txs[i - 1].kind, FrameKind::kCts);
+    size_t last = i;
+    while (last + 1 < txs.size() && txs[last + 1].ampdu_reference == txs[i].ampdu_reference) {
+      ++last;
+    }
+    if (last + 1 >= txs.size()) break;
+    ASSERT_EQ(txs[last + 1].kind, FrameKind::kBlockAck);
+    // The RTS's NAV ends with the BlockAck (Duration in whole microseconds, rounded up).
+    const TimeNs nav_ns = txs[i - 2].duration_us * kNsPerUs;
+    const TimeNs until_block_ack_end_ns = txs[last + 1].end_ns - txs[i - 2].end_ns;
+    EXPECT_GE(nav_ns, until_block_ack_end_ns);
+    EXPECT_LT(nav_ns, until_block_ack_end_ns + kNsPerUs);
+    ++protected_ampdus;
+  }
+  EXPECT_GE(protected_ampdus, 10);
+
+  config.rts_threshold_bytes = 8000;
+  const std::vector<TxRecord> unprotected = RunPair(config, 100, 1, 20 * kNsPerMs);
+  EXPECT_EQ(FirstAmpduMpdus(unprotected), 5);
+  EXPECT_EQ(std::count_if(unprotected.begin(), unprotected.end(),
+                          [](const TxRecord& t) { return t.kind == FrameKind::kRts; }),
+            0);
+}
+
 // No A-MPDU holds more than the 64-MPDU window: VHT MCS 9, 80 MHz (390 Mb/s) with ns-3's VHT
 // cap of 1048575 B would fit about 170 frames in 5484 us.
 TEST(BlockAckTest, AmpduStaysWithinTheBlockAckWindow) {
