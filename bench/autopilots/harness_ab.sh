@@ -10,6 +10,8 @@
 set -euo pipefail
 old=$1 new=$2 seconds=${3:-10} rounds=${4:-3} sizes=${5:-"1 8 16"}
 here=$(dirname "$0")
+# shellcheck source=bench/autopilots/abba_rounds.sh
+source "$here/abba_rounds.sh"
 rows=$(mktemp /tmp/sitlnet-harness-ab-XXXXXX)
 work=$(mktemp -d /tmp/sitlnet-harness-ab-XXXXXX)
 trap 'rm -rf "$rows" "$work"' EXIT
@@ -22,14 +24,7 @@ run() {  # LABEL BUILD KIND N
     sed "s/^/$1,/" | tee -a "$rows"
 }
 echo "build,kind,robots,stf,answers,syscalls_per_step,switches_per_step,cpu_us_per_step,physics_syscalls_per_step,step_switches_per_step,loop_s"
-for r in $(seq 1 "$rounds"); do
-  for n in $sizes; do
-    for kind in ${KINDS:-test-px4 test-json}; do
-      if (( r % 2 )); then run old "$old" "$kind" "$n"; run new "$new" "$kind" "$n"
-      else run new "$new" "$kind" "$n"; run old "$old" "$kind" "$n"; fi
-    done
-  done
-done
+abba_rounds "$rounds" "$sizes" "${KINDS:-test-px4 test-json}" "$old" "$new"
 python3 - "$rows" <<'PY'
 import statistics, sys
 rows = [line.strip().split(",") for line in open(sys.argv[1]) if line.strip()]

@@ -11,6 +11,8 @@
 set -euo pipefail
 old=$1 new=$2 seconds=${3:-20} rounds=${4:-3} sizes=${5:-16}
 here=$(dirname "$0")
+# shellcheck source=bench/autopilots/abba_rounds.sh
+source "$here/abba_rounds.sh"
 rows=$(mktemp /tmp/sitlnet-real-fleet-ab-XXXXXX)
 trap 'rm -f "$rows"' EXIT
 run() {  # LABEL BUILD KIND N
@@ -18,14 +20,7 @@ run() {  # LABEL BUILD KIND N
     tee -a "$rows"
 }
 echo "build,kind,robots,run,pacing,stf_mean,loop_s,cpu_s_per_autopilot_per_virtual_s,lag_p99_ms,timing_complaints,load1,min_frames_per_virtual_s"
-for r in $(seq 1 "$rounds"); do
-  for n in $sizes; do
-    for kind in ${KINDS:-px4 arducopter}; do
-      if (( r % 2 )); then run old "$old" "$kind" "$n"; run new "$new" "$kind" "$n"
-      else run new "$new" "$kind" "$n"; run old "$old" "$kind" "$n"; fi
-    done
-  done
-done
+abba_rounds "$rounds" "$sizes" "${KINDS:-px4 arducopter}" "$old" "$new"
 python3 - "$rows" <<'PY'
 import statistics, sys
 groups = {}
